@@ -1,0 +1,155 @@
+// `manylights bench culling`: culling and shading GPU time as lights grow, for clustered, tiled and no
+// culling, measured in one run on one device. Prints a table and writes a CSV. Times are GPU
+// timestamps (per-pass means over --frames after one warm-up frame); lights per pixel come from one
+// extra frame with statistics on, so the counting loop never inflates the timed frames.
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "host/scene_host.h"
+#include "scenes/scenes.h"
+#include "shaders/shared/config.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace ml {
+
+static const char* kBenchHelp = R"(usage: manylights bench culling [options]
+Culling and shading time against light count, for each culling mode, in one run.
+  --size WxH       image size (default 640x360)
+  --lights LIST    comma-separated light counts (default 64,256,1024,4096)
+  --frames N       timed frames per configuration (default 5)
+  --seed S         scene seed (default 1)
+  --csv FILE       CSV output (default out/bench_culling.csv)
+)";
+
+namespace {
+struct Row {
+    uint32_t lights;
+    CullingMode mode;
+    double cullMs, evalMs, gbufferMs;
+    double evaluated, reaching;
+    uint32_t overflow;
+};
+
+Result<std::vector<uint32_t>> parseList(const std::string& text) {
+    std::vector<uint32_t> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        auto v = cli::parseUint("--lights", item, 1, ML_MAX_LIGHTS);
+        if (!v) return fail(v.error());
+        out.push_back(v.value());
+    }
+    if (out.empty()) return fail("--lights: empty list");
+    return out;
+}
+
+Result<std::vector<FrameReport>> runFrames(Module& m, uint32_t count) {
+    Device& d = m.device();
+    std::vector<FrameReport> reports;
+    for (uint32_t i = 0; i < count; ++i) {
+        VkCommandBuffer cmd = d.beginOneTime();
+        if (auto r = m.record(cmd); !r) return fail(r.error());
+        d.endOneTime(cmd);
+        m.collect();
+        for (auto& r : m.takeReports()) reports.push_back(r);
+    }
+    return reports;
+}
+} // namespace
+
+int runBench(int argc, char** argv) {
+    if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
+        std::fputs(kBenchHelp, argc < 3 ? stderr : stdout);
+        return argc < 3 ? 2 : 0;
+    }
+    if (std::string(argv[2]) != "culling")
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling)");
+    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});
+    if (!args) return usageError("bench", args.error());
+    if (args->help) {
+        std::fputs(kBenchHelp, stdout);
+        return 0;
+    }
+    auto size = cli::parseSize("--size", args->get("--size", "640x360"));
+    auto list = parseList(args->get("--lights", "64,256,1024,4096"));
+    auto frames = cli::parseUint("--frames", args->get("--frames", "5"), 1, 1000);
+    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    for (const std::string* e : {&size.error(), &list.error(), &frames.error(), &seed.error()})
+        if (!e->empty()) return usageError("bench", *e);
+    std::string csvPath = args->get("--csv", "out/bench_culling.csv");
+    auto [width, height] = size.value();
+
+    std::vector<Row> rows;
+    std::string deviceName;
+    for (uint32_t lights : list.value()) {
+        auto scene = loadScene("night-city", lights, seed.value());
+        if (!scene) return runError("bench", scene.error());
+        auto module = Module::create({});
+        if (!module) return runError("bench", module.error());
+        Module& m = *module.value();
+        deviceName = m.device().name;
+        auto binding = bindScene(m, scene.value());
+        if (!binding) return runError("bench", binding.error());
+        if (auto r = m.createTargets(width, height); !r) return runError("bench", r.error());
+        for (CullingMode mode : {CullingMode::Clustered, CullingMode::Tiled, CullingMode::None}) {
+            m.setCulling(mode);
+            m.setStatistics(true);
+            auto counted = runFrames(m, 1);
+            m.setStatistics(false);
+            auto warm = runFrames(m, 1);
+            auto timed = runFrames(m, frames.value());
+            if (!counted || !warm || !timed) return runError("bench", "frame failed");
+            vkDeviceWaitIdle(m.device().device);
+            m.collect();
+            for (auto& r : m.takeReports()) timed->push_back(r);
+            Row row{lights, mode, 0, 0, 0, 0, 0, 0};
+            uint32_t n = 0;
+            for (const auto& r : timed.value()) {
+                row.cullMs += r.times.ms[uint32_t(Pass::ClusterBounds)] + r.times.ms[uint32_t(Pass::LightAssign)];
+                row.evalMs += r.times.ms[uint32_t(Pass::Evaluate)];
+                row.gbufferMs += r.times.ms[uint32_t(Pass::GBuffer)];
+                ++n;
+            }
+            row.cullMs /= n;
+            row.evalMs /= n;
+            row.gbufferMs /= n;
+            if (counted->empty()) return runError("bench", "no statistics frame arrived");
+            const FrameStats& s = counted->front().stats;
+            row.evaluated = s.lightsPerPixelEvaluatedMean;
+            row.reaching = s.lightsPerPixelReachingMean;
+            row.overflow = s.clusterOverflowCount;
+            rows.push_back(row);
+            std::fprintf(stderr, "  %u lights, %s: cull %.2f ms, evaluate %.2f ms\n", lights, cullingName(mode),
+                         row.cullMs, row.evalMs);
+        }
+    }
+
+    std::printf("bench culling: night-city, %ux%u, %u timed frames each, %s\n", width, height, frames.value(),
+                deviceName.c_str());
+    std::printf("| lights | culling   | cull ms | evaluate ms | cull+eval ms | vs none | evaluated/px | reaching/px | overflow |\n");
+    std::printf("|-------:|-----------|--------:|------------:|-------------:|--------:|-------------:|------------:|---------:|\n");
+    std::ostringstream csv;
+    csv << "lights,culling,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_none,evaluated_per_pixel,"
+           "reaching_per_pixel,overflow_clusters\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        const Row& none = rows[i - (i % 3) + 2];
+        double total = r.cullMs + r.evalMs, noneTotal = none.cullMs + none.evalMs;
+        double speedup = total > 0 ? noneTotal / total : 0;
+        std::printf("| %6u | %-9s | %7.2f | %11.2f | %12.2f | %6.2fx | %12.2f | %11.2f | %8u |\n", r.lights,
+                    cullingName(r.mode), r.cullMs, r.evalMs, total, speedup, r.evaluated, r.reaching, r.overflow);
+        csv << r.lights << "," << cullingName(r.mode) << "," << r.cullMs << "," << r.evalMs << "," << r.gbufferMs << ","
+            << total << "," << speedup << "," << r.evaluated << "," << r.reaching << "," << r.overflow << "\n";
+    }
+    auto slash = csvPath.find_last_of('/');
+    if (slash != std::string::npos)
+        if (auto r = cli::makeDirectory(csvPath.substr(0, slash)); !r) return runError("bench", r.error());
+    std::ofstream f(csvPath);
+    if (!f || !(f << csv.str())) return runError("bench", csvPath + ": cannot write");
+    std::printf("wrote %s\n", csvPath.c_str());
+    return 0;
+}
+
+} // namespace ml

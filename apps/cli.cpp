@@ -1,0 +1,56 @@
+#include "apps/cli.h"
+
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+
+namespace ml::cli {
+
+Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>& valued,
+                   const std::set<std::string>& switches) {
+    Args a;
+    for (int i = first; i < argc; ++i) {
+        std::string s = argv[i];
+        if (s == "--help" || s == "-h") {
+            a.help = true;
+            continue;
+        }
+        if (valued.count(s)) {
+            if (i + 1 >= argc) return fail(s + ": missing value");
+            a.values[s] = argv[++i];
+        } else if (switches.count(s)) {
+            a.switches.insert(s);
+        } else {
+            return fail("unknown argument '" + s + "' (see --help)");
+        }
+    }
+    return a;
+}
+
+Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi) {
+    char* end = nullptr;
+    errno = 0;
+    long long v = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || *end || errno || v < lo || v > hi)
+        return fail(flag + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
+    return uint32_t(v);
+}
+
+Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const std::string& text) {
+    auto x = text.find('x');
+    if (x == std::string::npos) return fail(flag + ": '" + text + "' is not WIDTHxHEIGHT");
+    auto w = parseUint(flag + " width", text.substr(0, x), 1, 16384);
+    if (!w) return fail(w.error());
+    auto h = parseUint(flag + " height", text.substr(x + 1), 1, 16384);
+    if (!h) return fail(h.error());
+    return std::make_pair(w.value(), h.value());
+}
+
+Result<void> makeDirectory(const std::string& path) {
+    std::error_code ec;
+    std::filesystem::create_directories(path, ec);
+    if (ec) return fail(path + ": cannot create directory: " + ec.message());
+    return {};
+}
+
+} // namespace ml::cli

@@ -1,0 +1,33 @@
+// Command-line parsing shared by the subcommands: --flag value pairs and bare --switches, with
+// one-line errors naming the flag and the reason.
+#pragma once
+#include "engine/result.h"
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace ml::cli {
+
+struct Args {
+    std::map<std::string, std::string> values;
+    std::set<std::string> switches;
+    bool help = false;
+
+    bool has(const std::string& flag) const { return values.count(flag) || switches.count(flag); }
+    std::string get(const std::string& flag, const std::string& fallback) const {
+        auto it = values.find(flag);
+        return it == values.end() ? fallback : it->second;
+    }
+};
+
+// `valued` flags take a value; `switches` take none. Anything else is an error.
+Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>& valued,
+                   const std::set<std::string>& switches);
+Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi);
+Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const std::string& text);
+Result<void> makeDirectory(const std::string& path);
+
+} // namespace ml::cli

@@ -1,0 +1,11 @@
+// Subcommands of the `manylights` command line. Each prints --help and exits non-zero with one line
+// naming the problem on bad input.
+#pragma once
+#include <string>
+
+namespace ml {
+int runDemo(int argc, char** argv);
+int runBench(int argc, char** argv);
+int usageError(const char* command, const std::string& message); // exit code 2
+int runError(const char* command, const std::string& message);   // exit code 1
+} // namespace ml

@@ -1,0 +1,33 @@
+// manylights: the command line. `manylights help` lists the subcommands.
+#include "apps/commands.h"
+
+#include <cstdio>
+#include <cstring>
+
+namespace ml {
+int usageError(const char* command, const std::string& message) {
+    std::fprintf(stderr, "manylights %s: %s\n", command, message.c_str());
+    return 2;
+}
+int runError(const char* command, const std::string& message) {
+    std::fprintf(stderr, "manylights %s: %s\n", command, message.c_str());
+    return 1;
+}
+} // namespace ml
+
+static const char* kHelp = R"(usage: manylights <command> [options]
+Many shadowed lights on Vulkan. Commands (each takes --help):
+  demo    render the night city (or a glTF scene) headless; images, GPU profile and stats
+  bench   benchmarks: `bench culling` (lights x culling mode, table and CSV)
+)";
+
+int main(int argc, char** argv) {
+    if (argc < 2 || !std::strcmp(argv[1], "help") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+        std::fputs(kHelp, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    if (!std::strcmp(argv[1], "demo")) return ml::runDemo(argc, argv);
+    if (!std::strcmp(argv[1], "bench")) return ml::runBench(argc, argv);
+    std::fprintf(stderr, "manylights: unknown command '%s' (see manylights help)\n", argv[1]);
+    return 2;
+}

@@ -1,0 +1,100 @@
+#include "apps/report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace ml {
+
+namespace {
+Result<void> writeText(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary);
+    if (!f) return fail(path + ": cannot open for writing");
+    f << text;
+    if (!f) return fail(path + ": write failed");
+    return {};
+}
+std::string num(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "%.6g", v);
+    return buf;
+}
+} // namespace
+
+Result<void> writeProfile(const std::string& path, const std::vector<FrameReport>& reports) {
+    // Chrome trace events ("X" complete events, microseconds), one per pass per frame, on the GPU clock
+    // relative to the first pass of the first frame. Opens in Perfetto and chrome://tracing.
+    double origin = 1e300;
+    for (const auto& r : reports)
+        for (uint32_t p = 0; p < kPassCount; ++p)
+            if (r.times.ran[p]) origin = std::min(origin, r.times.startMs[p]);
+    std::ostringstream o;
+    o << "{\"displayTimeUnit\":\"ms\",\"traceEvents\":[\n";
+    bool first = true;
+    for (const auto& r : reports)
+        for (uint32_t p = 0; p < kPassCount; ++p) {
+            if (!r.times.ran[p]) continue;
+            o << (first ? "" : ",\n") << "{\"name\":\"" << passName(Pass(p)) << "\",\"cat\":\"gpu\",\"ph\":\"X\",\"pid\":1,"
+              << "\"tid\":1,\"ts\":" << num((r.times.startMs[p] - origin) * 1000.0)
+              << ",\"dur\":" << num(r.times.ms[p] * 1000.0) << ",\"args\":{\"frame\":" << r.frame << "}}";
+            first = false;
+        }
+    o << "\n]}\n";
+    return writeText(path, o.str());
+}
+
+Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameReport>& reports) {
+    std::ostringstream o;
+    o << "frame,pass,gpu_ms\n";
+    for (const auto& r : reports)
+        for (uint32_t p = 0; p < kPassCount; ++p)
+            if (r.times.ran[p]) o << r.frame << "," << passName(Pass(p)) << "," << num(r.times.ms[p]) << "\n";
+    return writeText(path, o.str());
+}
+
+Result<void> writeStats(const std::string& path, const RunInfo& info, const std::vector<FrameReport>& reports) {
+    if (reports.empty()) return fail(path + ": no frame results arrived (nothing to report)");
+    // Per-frame counts come from the last frame; times are means over all frames.
+    const FrameStats& s = reports.back().stats;
+    double total = 0;
+    std::vector<double> passMean(kPassCount, 0.0);
+    std::vector<uint32_t> passCount(kPassCount, 0);
+    for (const auto& r : reports) {
+        total += r.times.totalMs();
+        for (uint32_t p = 0; p < kPassCount; ++p)
+            if (r.times.ran[p]) passMean[p] += r.times.ms[p], passCount[p]++;
+    }
+    std::ostringstream o;
+    o << "{\n";
+    o << "  \"scene\": \"" << info.scene << "\",\n  \"culling\": \"" << info.culling << "\",\n";
+    o << "  \"device\": \"" << info.device << "\",\n";
+    o << "  \"width\": " << info.width << ",\n  \"height\": " << info.height << ",\n";
+    o << "  \"frames\": " << reports.size() << ",\n  \"seed\": " << info.seed << ",\n";
+    o << "  \"lights_total\": " << s.lightsTotal << ",\n";
+    o << "  \"lights_visible\": " << s.lightsVisible << ",\n";
+    o << "  \"clusters\": " << s.clusters << ",\n";
+    o << "  \"clusters_occupied\": " << s.clustersOccupied << ",\n";
+    o << "  \"cluster_lights_mean\": " << num(s.clusterLightsMean) << ",\n";
+    o << "  \"cluster_lights_max\": " << s.clusterLightsMax << ",\n";
+    o << "  \"cluster_overflow_count\": " << s.clusterOverflowCount << ",\n";
+    o << "  \"light_list_entries\": " << s.poolEntries << ",\n";
+    o << "  \"light_list_capacity\": " << s.poolCapacity << ",\n";
+    o << "  \"surface_pixels\": " << s.surfacePixels << ",\n";
+    o << "  \"lights_per_pixel_evaluated_mean\": " << num(s.lightsPerPixelEvaluatedMean) << ",\n";
+    o << "  \"lights_per_pixel_reaching_mean\": " << num(s.lightsPerPixelReachingMean) << ",\n";
+    double tight = s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
+    o << "  \"culling_tightness\": " << num(tight) << ",\n";
+    o << "  \"frame_gpu_ms_mean\": " << num(total / reports.size()) << ",\n";
+    o << "  \"pass_gpu_ms_mean\": {";
+    bool first = true;
+    for (uint32_t p = 0; p < kPassCount; ++p) {
+        if (!passCount[p]) continue;
+        o << (first ? "" : ", ") << "\"" << passName(Pass(p)) << "\": " << num(passMean[p] / passCount[p]);
+        first = false;
+    }
+    o << "}\n}\n";
+    return writeText(path, o.str());
+}
+
+} // namespace ml

@@ -1,0 +1,139 @@
+#include "apps/window.h"
+
+#include "engine/resources.h"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+namespace ml {
+
+Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uint32_t height) {
+    std::unique_ptr<Window> w(new Window());
+    w->module_ = &module;
+    w->width_ = width;
+    w->height_ = height;
+    Device& d = module.device();
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    w->window_ = glfwCreateWindow(int(width), int(height), "manylights", nullptr, nullptr);
+    if (!w->window_) return fail("--window: could not open a window (no display?)");
+    if (glfwCreateWindowSurface(d.instance, w->window_, nullptr, &w->surface_) != VK_SUCCESS)
+        return fail("--window: could not create a Vulkan surface for the window");
+    VkBool32 supported = VK_FALSE;
+    vkGetPhysicalDeviceSurfaceSupportKHR(d.physicalDevice, d.queueFamily, w->surface_, &supported);
+    if (!supported) return fail("--window: the device's queue cannot present to this window");
+    VkSurfaceCapabilitiesKHR caps;
+    vkGetPhysicalDeviceSurfaceCapabilitiesKHR(d.physicalDevice, w->surface_, &caps);
+    if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+        return fail("--window: swapchain images cannot be blit targets on this surface");
+    uint32_t nf = 0;
+    vkGetPhysicalDeviceSurfaceFormatsKHR(d.physicalDevice, w->surface_, &nf, nullptr);
+    std::vector<VkSurfaceFormatKHR> formats(nf);
+    vkGetPhysicalDeviceSurfaceFormatsKHR(d.physicalDevice, w->surface_, &nf, formats.data());
+    VkSurfaceFormatKHR format = formats[0];
+    for (auto f : formats)
+        if (f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) format = f;
+    w->extent_ = caps.currentExtent.width != ~0u ? caps.currentExtent : VkExtent2D{width, height};
+    VkSwapchainCreateInfoKHR sci{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
+    sci.surface = w->surface_;
+    sci.minImageCount = std::max(2u, caps.minImageCount);
+    if (caps.maxImageCount) sci.minImageCount = std::min(sci.minImageCount, caps.maxImageCount);
+    sci.imageFormat = format.format;
+    sci.imageColorSpace = format.colorSpace;
+    sci.imageExtent = w->extent_;
+    sci.imageArrayLayers = 1;
+    sci.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    sci.preTransform = caps.currentTransform;
+    sci.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    sci.presentMode = VK_PRESENT_MODE_FIFO_KHR;
+    sci.clipped = VK_TRUE;
+    VK_CHECK(vkCreateSwapchainKHR(d.device, &sci, nullptr, &w->swapchain_));
+    uint32_t ni = 0;
+    vkGetSwapchainImagesKHR(d.device, w->swapchain_, &ni, nullptr);
+    w->images_.resize(ni);
+    vkGetSwapchainImagesKHR(d.device, w->swapchain_, &ni, w->images_.data());
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pci.queueFamilyIndex = d.queueFamily;
+    VK_CHECK(vkCreateCommandPool(d.device, &pci, nullptr, &w->pool_));
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = w->pool_;
+    ai.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(d.device, &ai, &w->cmd_));
+    VkSemaphoreCreateInfo semi{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->acquired_));
+    VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->rendered_));
+    VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    fi.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+    VK_CHECK(vkCreateFence(d.device, &fi, nullptr, &w->fence_));
+    return w;
+}
+
+Window::~Window() {
+    if (!module_) return;
+    Device& d = module_->device();
+    vkDeviceWaitIdle(d.device);
+    if (fence_) vkDestroyFence(d.device, fence_, nullptr);
+    if (acquired_) vkDestroySemaphore(d.device, acquired_, nullptr);
+    if (rendered_) vkDestroySemaphore(d.device, rendered_, nullptr);
+    if (pool_) vkDestroyCommandPool(d.device, pool_, nullptr);
+    if (swapchain_) vkDestroySwapchainKHR(d.device, swapchain_, nullptr);
+    if (surface_) vkDestroySurfaceKHR(d.instance, surface_, nullptr);
+    if (window_) glfwDestroyWindow(window_);
+}
+
+bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
+
+Result<void> Window::frame(Module& module) {
+    Device& d = module.device();
+    glfwPollEvents();
+    VK_CHECK(vkWaitForFences(d.device, 1, &fence_, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(d.device, 1, &fence_));
+    uint32_t index = 0;
+    VK_CHECK(vkAcquireNextImageKHR(d.device, swapchain_, UINT64_MAX, acquired_, VK_NULL_HANDLE, &index));
+    VK_CHECK(vkResetCommandBuffer(cmd_, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
+    if (auto r = module.record(cmd_); !r) return r;
+    VkImage target = images_[index];
+    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_BLIT_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkImageBlit blit{};
+    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.srcOffsets[1] = {int32_t(width_), int32_t(height_), 1};
+    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    blit.dstOffsets[1] = {int32_t(extent_.width), int32_t(extent_.height), 1};
+    vkCmdBlitImage(cmd_, module.outputImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+    imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+    VK_CHECK(vkEndCommandBuffer(cmd_));
+    VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.waitSemaphoreCount = 1;
+    si.pWaitSemaphores = &acquired_;
+    si.pWaitDstStageMask = &waitStage;
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd_;
+    si.signalSemaphoreCount = 1;
+    si.pSignalSemaphores = &rendered_;
+    VK_CHECK(vkQueueSubmit(d.queue, 1, &si, fence_));
+    VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    pi.waitSemaphoreCount = 1;
+    pi.pWaitSemaphores = &rendered_;
+    pi.swapchainCount = 1;
+    pi.pSwapchains = &swapchain_;
+    pi.pImageIndices = &index;
+    VkResult r = vkQueuePresentKHR(d.queue, &pi);
+    if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR) return fail(std::string("present failed: ") + vkResultName(r));
+    return {};
+}
+
+} // namespace ml

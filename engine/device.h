@@ -1,0 +1,90 @@
+// Device: the Vulkan instance, physical device, logical device and one graphics+compute queue.
+//
+// Headless by default (lavapipe on machines without a GPU). The module either creates these itself or
+// borrows a host engine's handles (DeviceBorrow). Requirements, checked with a clear message:
+// Vulkan 1.3 (dynamic rendering, synchronization2), VK_EXT_mesh_shader with task and mesh shaders,
+// VK_KHR_push_descriptor, timestamps on the queue, 64-bit shader atomics.
+//
+// Validation: on when DeviceOptions::validation is set or the environment has ML_VALIDATION=1. Every
+// validation error or warning is printed and counted (validationErrors()); tests fail on a non-zero
+// count. Performance warnings are printed and counted apart (validationPerfWarnings()), not failed.
+#pragma once
+#include "engine/result.h"
+#include "engine/vk_check.h"
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace ml {
+
+struct DeviceOptions {
+    bool validation = false;   // also on when ML_VALIDATION=1
+    bool window = false;       // create surface-capable instance (GLFW); needs a display
+    std::string preferDevice;  // substring of the device name; empty = first suitable
+};
+
+// Handles a host engine already owns. The host keeps ownership; the module never destroys them.
+// The device must have been created with the features listed above enabled.
+struct DeviceBorrow {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+};
+
+class Device {
+  public:
+    static Result<std::unique_ptr<Device>> create(const DeviceOptions& options);
+    static Result<std::unique_ptr<Device>> borrow(const DeviceBorrow& handles);
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+    VkPhysicalDeviceProperties properties{};
+    VkPhysicalDeviceMemoryProperties memoryProperties{};
+    std::string name;
+    float timestampPeriodNs = 1.0f;
+
+    // Command helpers for setup work and tests: record into a one-off command buffer, submit, wait.
+    VkCommandBuffer beginOneTime() const;
+    void endOneTime(VkCommandBuffer cmd) const;
+
+    // Debug labels (no-ops without VK_EXT_debug_utils).
+    void beginLabel(VkCommandBuffer cmd, const char* name) const;
+    void endLabel(VkCommandBuffer cmd) const;
+    void setName(VkObjectType type, uint64_t handle, const char* name) const;
+
+    uint32_t memoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const;
+    bool validationEnabled() const { return validation_; }
+
+    PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
+    PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks = nullptr;
+
+  private:
+    Device() = default;
+    Result<void> loadFunctions();
+    bool owned_ = false;
+    bool validation_ = false;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkCommandPool setupPool_ = VK_NULL_HANDLE;
+    PFN_vkCmdBeginDebugUtilsLabelEXT beginLabel_ = nullptr;
+    PFN_vkCmdEndDebugUtilsLabelEXT endLabel_ = nullptr;
+    PFN_vkSetDebugUtilsObjectNameEXT setName_ = nullptr;
+};
+
+// Validation message counters, process-wide (the messenger callback has no other home).
+uint32_t validationErrors();
+uint32_t validationPerfWarnings();
+void resetValidationCounters();
+
+} // namespace ml

@@ -1,0 +1,27 @@
+// G-buffer raster pass (module-owned targets): depth D32, world normal RGBA16F, albedo RGBA8. One
+// indexed indirect multi-draw over all instances; vertices are pulled from a storage buffer.
+#pragma once
+#include "engine/program.h"
+
+namespace ml {
+
+struct GBufferTargets {
+    Image depth, normal, albedo;
+};
+
+class GBufferPass {
+  public:
+    void create(const Device& device);
+    void destroy(const Device& device);
+    GBufferTargets createTargets(const Device& device, uint32_t width, uint32_t height) const;
+    // Leaves depth, normal and albedo in SHADER_READ_ONLY_OPTIMAL.
+    void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets, const Buffer& frame,
+                const Buffer& vertices, const Buffer& indices, const Buffer& instances, const Buffer& draws,
+                uint32_t drawCount) const;
+
+  private:
+    ShaderModule vs_, fs_;
+    Program program_;
+};
+
+} // namespace ml

@@ -1,0 +1,165 @@
+// manylights: the public module API. A host engine uses only this header.
+//
+//   auto module = ml::Module::create({});                 // or borrow the host's device: options.borrow
+//   ml::MeshId box = module->addMesh({vertices, indices, /*closed*/ true}).value();
+//   module->addInstance(box, transform, albedo, /*dynamic*/ false);
+//   module->addLight(spot);                               // validated: a bad value returns an error
+//   module->createTargets(1280, 720);                     // or setTargets(host G-buffer views)
+//   each frame: module->setCamera(cam); module->setInstanceTransform(...);
+//               module->record(cmd);                      // G-buffer (own targets), culling, evaluation
+//               submit cmd; later module->reports() gives per-pass GPU ms and frame statistics.
+//
+// Frames in flight: record() uses slot (frame % framesInFlight) for its per-frame buffers and
+// queries. The host must have waited for the frame that last used a slot before recording into it
+// again (the usual fence per frame in flight); record() then reads that frame's results without
+// stalling.
+#pragma once
+#include "engine/device.h"
+#include "engine/profiler.h"
+#include "engine/result.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace ml {
+
+enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2 };
+const char* cullingName(CullingMode mode);
+Result<CullingMode> parseCulling(const std::string& name);
+
+// How per-pass GPU times are measured (engine/profiler.h): Auto picks Fenced on CPU devices (lavapipe),
+// whose timestamps do not bracket compute work, and Timestamps elsewhere.
+enum class TimingChoice : uint32_t { Auto, Timestamps, Fenced };
+
+struct ModuleOptions {
+    DeviceOptions device;               // when the module makes its own device
+    std::optional<DeviceBorrow> borrow; // when the host hands over its device
+    CullingMode culling = CullingMode::Clustered;
+    bool statistics = true;             // per-pixel light counts in the evaluation pass (costs a loop)
+    uint32_t framesInFlight = 2;
+    TimingChoice timing = TimingChoice::Auto;
+};
+
+struct MeshVertex {
+    float position[3];
+    float normal[3];
+};
+static_assert(sizeof(MeshVertex) == 24);
+
+struct MeshDesc {
+    std::span<const MeshVertex> vertices;
+    std::span<const uint32_t> indices; // triangle list, CCW front faces
+    bool closed = false;               // watertight: static shadow bakes may use exit depths
+    std::string name;
+};
+
+enum class LightKind : uint32_t { Spot = 0, Point = 1, Directional = 2 };
+
+struct LightDesc {
+    LightKind kind = LightKind::Spot;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 10.0f;
+    float outerAngle = 0.6f; // half angle, radians, (0, pi/2) for spots
+    float innerAngle = 0.4f; // [0, outer]
+    bool dynamic = false;
+};
+
+struct CameraDesc {
+    glm::vec3 position{0.0f};
+    glm::vec3 target{0.0f, 0.0f, -1.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovY = 1.0f;
+    float nearPlane = 0.1f;
+    float farPlane = 500.0f;
+};
+
+// G-buffer images the host renders itself. Formats: depth D32_SFLOAT (Vulkan zero-to-one, LESS),
+// normal RGBA16F (world-space unit normal in xyz), albedo RGBA8 (linear). All three in
+// SHADER_READ_ONLY_OPTIMAL when record() runs; output is RGBA8 storage in GENERAL layout.
+struct HostTargets {
+    uint32_t width = 0, height = 0;
+    VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;
+    VkImageView output = VK_NULL_HANDLE;
+};
+
+struct FrameStats {
+    uint32_t lightsTotal = 0;
+    uint32_t lightsVisible = 0;
+    uint32_t clusters = 0;          // clusters in the grid (tiles x slices)
+    uint32_t clustersOccupied = 0;  // clusters holding at least one pixel
+    double clusterLightsMean = 0;   // over occupied clusters
+    uint32_t clusterLightsMax = 0;
+    uint32_t clusterOverflowCount = 0;
+    uint32_t poolEntries = 0;       // light-list entries used (capacity in poolCapacity)
+    uint32_t poolCapacity = 0;
+    uint64_t surfacePixels = 0;
+    double lightsPerPixelEvaluatedMean = 0; // over pixels with geometry
+    double lightsPerPixelReachingMean = 0;
+};
+
+struct FrameReport {
+    uint64_t frame = 0;
+    PassTimes times;
+    FrameStats stats;
+};
+
+using MeshId = uint32_t;
+using InstanceId = uint32_t;
+using LightId = uint32_t;
+
+class Module {
+  public:
+    static Result<std::unique_ptr<Module>> create(const ModuleOptions& options);
+    ~Module();
+
+    Result<MeshId> addMesh(const MeshDesc& mesh);
+    Result<InstanceId> addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo, bool dynamic);
+    Result<void> setInstanceTransform(InstanceId instance, const glm::mat4& transform);
+    Result<LightId> addLight(const LightDesc& light);
+    Result<void> setLight(LightId id, const LightDesc& light);
+    Result<void> setCamera(const CameraDesc& camera);
+    void setCulling(CullingMode mode);
+    void setStatistics(bool enabled);
+
+    // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).
+    Result<void> createTargets(uint32_t width, uint32_t height);
+    // Host-owned G-buffer (record() skips the G-buffer pass).
+    Result<void> setTargets(const HostTargets& targets);
+
+    // Records the frame's passes into the host's command buffer.
+    Result<void> record(VkCommandBuffer cmd);
+    // Reports of frames whose results have arrived, oldest first; clears them. Call after the host
+    // waited for the frames (e.g. vkQueueWaitIdle) to get the newest ones too: collect() reads every
+    // slot without waiting.
+    void collect();
+    std::vector<FrameReport> takeReports();
+
+    // Convenience for headless hosts: waits for the queue, copies the output image (module-owned
+    // targets) to RGBA8 bytes, row-major, top row first.
+    Result<void> readOutput(std::vector<uint8_t>& rgba);
+
+    // The module-owned output (RGBA8, GENERAL layout after record()); for hosts that present or copy it.
+    VkImage outputImage() const;
+    Device& device();
+    TimingMode timingMode() const;
+    uint32_t lightCount() const;
+
+    struct Impl;
+    // Internal state, for tests that compare intermediate buffers with the CPU references
+    // (engine/module_impl.h). Hosts have no use for it.
+    Impl& internals() { return *impl_; }
+
+  private:
+    explicit Module(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace ml

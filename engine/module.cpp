@@ -1,0 +1,388 @@
+// The frame driver behind the public API (engine/manylights.h): owns the scene buffers, per-slot
+// frame data, the passes and the profiler, and records a frame:
+//   [gbuffer] -> cluster_bounds -> light_assign -> evaluate     (culling skipped in mode None)
+#include "engine/manylights.h"
+
+#include "culling/culling.h"
+#include "engine/gbuffer.h"
+#include "engine/module_impl.h"
+#include "lights/lights.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <cstring>
+
+namespace ml {
+
+const char* cullingName(CullingMode mode) {
+    switch (mode) {
+    case CullingMode::Clustered: return "clustered";
+    case CullingMode::Tiled: return "tiled";
+    case CullingMode::None: return "none";
+    }
+    return "?";
+}
+
+Result<CullingMode> parseCulling(const std::string& name) {
+    if (name == "clustered") return CullingMode::Clustered;
+    if (name == "tiled") return CullingMode::Tiled;
+    if (name == "none") return CullingMode::None;
+    return fail("unknown culling mode '" + name + "' (clustered, tiled or none)");
+}
+
+Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Module::~Module() {
+    if (impl_) impl_->destroy();
+}
+Device& Module::device() { return *impl_->device; }
+TimingMode Module::timingMode() const { return impl_->timing; }
+VkImage Module::outputImage() const { return impl_->output.image; }
+uint32_t Module::lightCount() const { return uint32_t(impl_->lights.size()); }
+void Module::setCulling(CullingMode mode) { impl_->culling = mode; }
+void Module::setStatistics(bool enabled) { impl_->statistics = enabled; }
+
+Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
+    auto impl = std::make_unique<Impl>();
+    auto device = options.borrow ? Device::borrow(*options.borrow) : Device::create(options.device);
+    if (!device) return fail(device.error());
+    impl->device = std::move(device.value());
+    impl->culling = options.culling;
+    impl->statistics = options.statistics;
+    impl->timing = options.timing == TimingChoice::Timestamps ? TimingMode::Timestamps
+                   : options.timing == TimingChoice::Fenced   ? TimingMode::Fenced
+                   : impl->device->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? TimingMode::Fenced
+                                                                                        : TimingMode::Timestamps;
+    impl->slots.resize(std::max(1u, options.framesInFlight));
+    impl->init();
+    return std::unique_ptr<Module>(new Module(std::move(impl)));
+}
+
+void Module::Impl::init() {
+    const Device& d = *device;
+    gbuffer.create(d);
+    cull.create(d);
+    evalShader = ML_SHADER(d, spv_evaluate_comp);
+    profiler.create(d, uint32_t(slots.size()));
+    profiler.mode = timing;
+    for (auto& s : slots) {
+        s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame_constants");
+        s.lights = createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
+        s.counters = createBuffer(d, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters");
+        s.slices = createBuffer(d, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far");
+    }
+}
+
+void Module::Impl::destroy() {
+    const Device& d = *device;
+    vkDeviceWaitIdle(d.device);
+    gbuffer.destroy(d);
+    cull.destroy(d);
+    for (auto& [key, p] : evalPrograms) destroyProgram(d, p);
+    destroyShader(d, evalShader);
+    profiler.destroy(d);
+    for (auto& s : slots) {
+        destroyBuffer(d, s.frame);
+        destroyBuffer(d, s.lights);
+        destroyBuffer(d, s.counters);
+        destroyBuffer(d, s.slices);
+        destroyBuffer(d, s.instances);
+    }
+    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback}) destroyBuffer(d, *b);
+    destroyTargets();
+}
+
+void Module::Impl::destroyTargets() {
+    const Device& d = *device;
+    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &hdr, &output}) destroyImage(d, *i);
+}
+
+Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
+    auto& m = *impl_;
+    if (mesh.indices.size() % 3) return fail("mesh '" + mesh.name + "': index count is not a multiple of 3");
+    for (size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= mesh.vertices.size())
+            return fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " = " +
+                        std::to_string(mesh.indices[i]) + " is past the " + std::to_string(mesh.vertices.size()) +
+                        " vertices");
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+        for (float f : mesh.vertices[i].position)
+            if (!std::isfinite(f)) return fail("mesh '" + mesh.name + "': vertex " + std::to_string(i) + " is not finite");
+    Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size())};
+    m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+    m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
+    m.meshes.push_back(r);
+    m.geometryDirty = true;
+    return MeshId(m.meshes.size() - 1);
+}
+
+Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo, bool dynamic) {
+    auto& m = *impl_;
+    if (mesh >= m.meshes.size()) return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist");
+    m.instances.push_back({mesh, transform, albedo, dynamic});
+    m.geometryDirty = true;
+    return InstanceId(m.instances.size() - 1);
+}
+
+Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transform) {
+    if (id >= impl_->instances.size()) return fail("setInstanceTransform: instance " + std::to_string(id) + " does not exist");
+    impl_->instances[id].transform = transform;
+    return {};
+}
+
+Result<LightId> Module::addLight(const LightDesc& light) {
+    if (impl_->lights.size() >= ML_MAX_LIGHTS)
+        return fail("addLight: the module holds at most " + std::to_string(ML_MAX_LIGHTS) + " lights");
+    if (auto v = validateLight(light); !v) return fail("light " + std::to_string(impl_->lights.size()) + ": " + v.error());
+    impl_->lights.push_back(light);
+    return LightId(impl_->lights.size() - 1);
+}
+
+Result<void> Module::setLight(LightId id, const LightDesc& light) {
+    if (id >= impl_->lights.size()) return fail("setLight: light " + std::to_string(id) + " does not exist");
+    if (auto v = validateLight(light); !v) return fail("light " + std::to_string(id) + ": " + v.error());
+    impl_->lights[id] = light;
+    return {};
+}
+
+Result<void> Module::setCamera(const CameraDesc& c) {
+    if (!(c.nearPlane > 0) || !(c.farPlane > c.nearPlane) || !(c.fovY > 0 && c.fovY < 3.1f))
+        return fail("camera: need 0 < near < far and 0 < fovY < pi");
+    if (glm::length(c.target - c.position) <= 0) return fail("camera: target equals position");
+    impl_->camera = c;
+    return {};
+}
+
+Result<void> Module::createTargets(uint32_t width, uint32_t height) {
+    if (width == 0 || height == 0 || width > 16384 || height > 16384)
+        return fail("size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1x1..16384x16384");
+    auto& m = *impl_;
+    vkDeviceWaitIdle(m.device->device);
+    m.destroyTargets();
+    m.targets = m.gbuffer.createTargets(*m.device, width, height);
+    m.ownTargets = true;
+    m.width = width;
+    m.height = height;
+    m.createOutput(true);
+    return {};
+}
+
+Result<void> Module::setTargets(const HostTargets& t) {
+    if (!t.width || !t.height || !t.depth || !t.normal || !t.albedo || !t.output)
+        return fail("setTargets: width, height and the depth, normal, albedo and output views are all required");
+    auto& m = *impl_;
+    vkDeviceWaitIdle(m.device->device);
+    m.destroyTargets();
+    m.ownTargets = false;
+    m.width = t.width;
+    m.height = t.height;
+    m.host = t;
+    m.createOutput(false);
+    return {};
+}
+
+void Module::Impl::createOutput(bool withOutput) {
+    hdr = createImage(*device, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
+                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr");
+    if (withOutput)
+        output = createImage(*device, width, height, VK_FORMAT_R8G8B8A8_UNORM,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output");
+    cullingMode = CullingMode(~0u); // force resize of the cluster buffers
+}
+
+const Program& Module::Impl::evalProgram() {
+    uint32_t key = uint32_t(culling) * 2 + (statistics ? 1 : 0);
+    auto it = evalPrograms.find(key);
+    if (it != evalPrograms.end()) return it->second;
+    Program p = createComputeProgram(*device, evalShader, 0,
+                                     {{/*kSpecCullingMode*/ 0, uint32_t(culling)}, {/*kSpecStats*/ 1, statistics ? 1u : 0u}});
+    return evalPrograms.emplace(key, p).first->second;
+}
+
+void Module::Impl::uploadGeometry() {
+    const Device& d = *device;
+    vkDeviceWaitIdle(d.device); // geometry changes are rare (load time); frames in flight may read it
+    ensureBuffer(d, vertexBuffer, vertices.size() * sizeof(MeshVertex), kStorageBufferUsage, "vertices");
+    ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
+    if (!vertices.empty()) upload(vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex));
+    if (!indices.empty()) upload(indexBuffer, indices.data(), indices.size() * 4);
+    ensureBuffer(d, drawBuffer, instances.size() * sizeof(VkDrawIndexedIndirectCommand),
+                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
+    auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
+    for (size_t i = 0; i < instances.size(); ++i) {
+        const MeshRange& r = meshes[instances[i].mesh];
+        draws[i] = {r.indexCount, 1, r.firstIndex, int32_t(r.firstVertex), uint32_t(i)};
+    }
+    for (auto& s : slots) ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage, "instances");
+    geometryDirty = false;
+}
+
+Result<void> Module::record(VkCommandBuffer cmd) {
+    auto& m = *impl_;
+    if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
+    if (m.geometryDirty) m.uploadGeometry();
+    const Device& d = *m.device;
+    uint32_t slotIndex = uint32_t(m.frameIndex % m.slots.size());
+    Impl::Slot& slot = m.slots[slotIndex];
+    if (slot.pending) m.collectSlot(slotIndex); // the host waited for this slot's previous frame
+
+    CullingMode mode = m.culling;
+    ClusterGrid grid = mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(m.width, m.height, mode);
+    if (mode != m.cullingMode || grid.count() != m.cull.grid.count()) {
+        vkDeviceWaitIdle(d.device);
+        m.cull.resize(d, grid, m.poolOverride);
+        m.cullingMode = mode;
+    }
+
+    // Frame constants.
+    const CameraDesc& c = m.camera;
+    glm::mat4 view = glm::lookAt(c.position, c.target, c.up);
+    glm::mat4 proj = glm::perspectiveRH_ZO(c.fovY, float(m.width) / float(m.height), c.nearPlane, c.farPlane);
+    proj[1][1] *= -1.0f; // Vulkan clip space has +y down
+    gpu::FrameConstants fc{};
+    fc.viewProj = proj * view;
+    fc.invViewProj = glm::inverse(fc.viewProj);
+    fc.cameraPosition = glm::vec4(c.position, 1.0f);
+    fc.size = glm::uvec4(m.width, m.height, grid.tilesX, grid.tilesY);
+    fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
+    fc.ambient = glm::vec4(0.020f, 0.024f, 0.040f, m.exposure);
+    fc.sky = glm::vec4(0.006f, 0.009f, 0.022f, 0.0f);
+    fc.limits = glm::uvec4(m.cull.poolCapacity, grid.count(), 0, 0);
+
+    // Visible lights: bounding sphere against the camera frustum.
+    auto planes = frustumPlanes(fc.viewProj);
+    auto* gl = slot.lights.as<gpu::GpuLight>();
+    uint32_t visible = 0;
+    for (uint32_t i = 0; i < m.lights.size(); ++i) {
+        const LightDesc& l = m.lights[i];
+        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
+        gl[visible++] = toGpuLight(l, i);
+    }
+    fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
+    upload(slot.frame, &fc, sizeof(fc));
+    std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
+    upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
+    auto* inst = slot.instances.as<GpuInstance>();
+    for (size_t i = 0; i < m.instances.size(); ++i) {
+        inst[i].model = m.instances[i].transform;
+        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(m.instances[i].transform))));
+        inst[i].albedo = glm::vec4(m.instances[i].albedo, 1.0f);
+    }
+    slot.lightsTotal = uint32_t(m.lights.size());
+    slot.lightsVisible = visible;
+    slot.clusters = mode == CullingMode::None ? 0 : grid.count();
+    slot.poolCapacity = m.cull.poolCapacity;
+    slot.mode = mode;
+    slot.frameNumber = m.frameIndex;
+    m.lastConstants = fc;
+    m.lastSliceFar = sliceFar;
+    m.lastLights.assign(gl, gl + visible);
+
+    VkImageView depthView = m.ownTargets ? m.targets.depth.view : m.host.depth;
+    VkImageView normalView = m.ownTargets ? m.targets.normal.view : m.host.normal;
+    VkImageView albedoView = m.ownTargets ? m.targets.albedo.view : m.host.albedo;
+    VkImageView outputView = m.ownTargets ? m.output.view : m.host.output;
+    m.profiler.beginFrame(cmd, slotIndex);
+    m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
+        // Previous frames may still read the shared cluster buffers and targets: order after them.
+        fullBarrier(c, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        vkCmdFillBuffer(c, slot.counters.buffer, 0, VK_WHOLE_SIZE, 0);
+        fullBarrier(c, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+    });
+    if (m.ownTargets)
+        m.profiler.run(cmd, Pass::GBuffer, [&](VkCommandBuffer c) {
+            m.gbuffer.record(d, c, m.targets, slot.frame, m.vertexBuffer, m.indexBuffer, slot.instances, m.drawBuffer,
+                             uint32_t(m.instances.size()));
+        });
+    if (mode != CullingMode::None)
+        m.cull.record(d, cmd, slot.frame, slot.slices, slot.lights, depthView, slot.counters, m.profiler);
+
+    const Program& eval = m.evalProgram();
+    m.profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        if (m.ownTargets)
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        bindProgram(d, c, eval,
+                    {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool,
+                     Descriptor(Image{.view = depthView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                     Descriptor(Image{.view = normalView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                     Descriptor(Image{.view = albedoView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                     Descriptor(m.hdr), Descriptor(Image{.view = outputView}), slot.counters},
+                    nullptr, 0);
+        vkCmdDispatch(c, (m.width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (m.height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
+                      1);
+        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+    });
+
+    slot.pending = true;
+    m.frameIndex++;
+    return {};
+}
+
+void Module::Impl::collectSlot(uint32_t index) {
+    Slot& s = slots[index];
+    FrameReport r;
+    r.frame = s.frameNumber;
+    if (!profiler.read(index, r.times)) return; // not complete yet: keep pending
+    const auto& c = *s.counters.as<gpu::FrameCounters>();
+    FrameStats& st = r.stats;
+    st.lightsTotal = s.lightsTotal;
+    st.lightsVisible = s.lightsVisible;
+    st.clusters = s.clusters;
+    st.clustersOccupied = c.occupiedClusters;
+    st.clusterLightsMean = c.occupiedClusters ? double(c.clusterLightsSum) / c.occupiedClusters : 0.0;
+    st.clusterLightsMax = c.maxClusterLights;
+    st.clusterOverflowCount = c.overflowClusters;
+    st.poolEntries = std::min(c.poolCursor, s.poolCapacity);
+    st.poolCapacity = s.poolCapacity;
+    st.surfacePixels = c.surfacePixels;
+    if (c.surfacePixels) {
+        st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
+        st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);
+    }
+    reports.push_back(r);
+    s.pending = false;
+}
+
+void Module::collect() {
+    for (uint32_t i = 0; i < impl_->slots.size(); ++i) {
+        // Oldest first: slot of frame (frameIndex - slots + k).
+        uint64_t f = impl_->frameIndex + i;
+        uint32_t slot = uint32_t(f % impl_->slots.size());
+        if (impl_->slots[slot].pending) impl_->collectSlot(slot);
+    }
+}
+
+std::vector<FrameReport> Module::takeReports() {
+    std::vector<FrameReport> out;
+    out.swap(impl_->reports);
+    return out;
+}
+
+Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
+    auto& m = *impl_;
+    if (!m.ownTargets) return fail("readOutput: the output image belongs to the host (setTargets)");
+    const Device& d = *m.device;
+    VK_CHECK(vkQueueWaitIdle(d.queue));
+    size_t bytes = size_t(m.width) * m.height * 4;
+    ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
+    VkCommandBuffer cmd = m.device->beginOneTime();
+    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    copyImageToBuffer(cmd, m.output, m.readback);
+    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                 VK_ACCESS_2_HOST_READ_BIT);
+    m.device->endOneTime(cmd);
+    rgba.resize(bytes);
+    std::memcpy(rgba.data(), m.readback.data, bytes);
+    return {};
+}
+
+} // namespace ml

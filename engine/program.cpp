@@ -1,0 +1,318 @@
+#include "engine/program.h"
+
+#include <cassert>
+#include <cstdio>
+#include <vector>
+
+namespace ml {
+
+namespace {
+
+// Minimal SPIR-V reflection: entry stage, LocalSize, and the descriptor type of every set-0 binding.
+// Opcodes and enums from the SPIR-V specification, section 3.
+enum : uint32_t {
+    OpEntryPoint = 15, OpExecutionMode = 16, OpTypeImage = 25, OpTypeSampler = 26, OpTypeSampledImage = 27,
+    OpTypeArray = 28, OpTypeRuntimeArray = 29, OpTypeStruct = 30, OpTypePointer = 32, OpVariable = 59,
+    OpDecorate = 71, OpTypeAccelerationStructureKHR = 5341
+};
+enum : uint32_t { DecBlock = 2, DecBufferBlock = 3, DecBinding = 33, DecDescriptorSet = 34 };
+enum : uint32_t { ScUniformConstant = 0, ScUniform = 2, ScPushConstant = 9, ScStorageBuffer = 12 };
+
+struct Id {
+    uint32_t opcode = 0;
+    uint32_t typeId = 0;
+    uint32_t storageClass = 0;
+    uint32_t binding = ~0u, set = ~0u;
+    uint32_t sampled = 0; // OpTypeImage Sampled operand
+    bool block = false, bufferBlock = false;
+};
+
+void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
+    assert(words >= 5 && code[0] == 0x07230203);
+    uint32_t bound = code[3];
+    std::vector<Id> ids(bound);
+    for (size_t i = 5; i < words;) {
+        uint32_t op = code[i] & 0xffff, n = code[i] >> 16;
+        const uint32_t* ins = code + i;
+        switch (op) {
+        case OpEntryPoint:
+            switch (ins[1]) {
+            case 0: sm.stage = VK_SHADER_STAGE_VERTEX_BIT; break;
+            case 4: sm.stage = VK_SHADER_STAGE_FRAGMENT_BIT; break;
+            case 5: sm.stage = VK_SHADER_STAGE_COMPUTE_BIT; break;
+            case 5364: sm.stage = VK_SHADER_STAGE_TASK_BIT_EXT; break;
+            case 5365: sm.stage = VK_SHADER_STAGE_MESH_BIT_EXT; break;
+            default: break;
+            }
+            break;
+        case OpExecutionMode:
+            if (ins[2] == 17) { // LocalSize
+                sm.localSize[0] = ins[3];
+                sm.localSize[1] = ins[4];
+                sm.localSize[2] = ins[5];
+            }
+            break;
+        case OpDecorate:
+            if (ins[2] == DecBinding) ids[ins[1]].binding = ins[3];
+            if (ins[2] == DecDescriptorSet) ids[ins[1]].set = ins[3];
+            if (ins[2] == DecBlock) ids[ins[1]].block = true;
+            if (ins[2] == DecBufferBlock) ids[ins[1]].bufferBlock = true;
+            break;
+        case OpTypeImage:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].sampled = ins[7];
+            break;
+        case OpTypeSampler:
+        case OpTypeSampledImage:
+        case OpTypeStruct:
+        case OpTypeAccelerationStructureKHR: ids[ins[1]].opcode = op; break;
+        case OpTypeArray:
+        case OpTypeRuntimeArray:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].typeId = ins[2];
+            break;
+        case OpTypePointer:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].storageClass = ins[2];
+            ids[ins[1]].typeId = ins[3];
+            break;
+        case OpVariable:
+            ids[ins[2]].opcode = op;
+            ids[ins[2]].typeId = ins[1];
+            ids[ins[2]].storageClass = ins[3];
+            break;
+        default: break;
+        }
+        i += n ? n : 1;
+    }
+    for (const Id& v : ids) {
+        if (v.opcode != OpVariable) continue;
+        if (v.storageClass == ScPushConstant) sm.usesPushConstants = true;
+        if (v.binding == ~0u) continue;
+        if (v.set != 0) {
+            std::fprintf(stderr, "%s: only descriptor set 0 is supported\n", sm.name.c_str());
+            std::abort();
+        }
+        const Id* t = &ids[ids[v.typeId].typeId]; // pointer -> pointee
+        if (t->opcode == OpTypeArray || t->opcode == OpTypeRuntimeArray) t = &ids[t->typeId];
+        VkDescriptorType type;
+        if (t->opcode == OpTypeStruct)
+            type = (v.storageClass == ScStorageBuffer || t->bufferBlock) ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                                         : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        else if (t->opcode == OpTypeImage)
+            type = t->sampled == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        else if (t->opcode == OpTypeSampledImage) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        else if (t->opcode == OpTypeSampler) type = VK_DESCRIPTOR_TYPE_SAMPLER;
+        else {
+            std::fprintf(stderr, "%s: binding %u has an unsupported descriptor type\n", sm.name.c_str(), v.binding);
+            std::abort();
+        }
+        if (v.binding >= 32) {
+            std::fprintf(stderr, "%s: binding %u >= 32\n", sm.name.c_str(), v.binding);
+            std::abort();
+        }
+        sm.bindingMask |= 1u << v.binding;
+        sm.bindingTypes[v.binding] = type;
+    }
+}
+
+struct SpecData {
+    std::vector<VkSpecializationMapEntry> entries;
+    std::vector<uint32_t> values;
+    VkSpecializationInfo info{};
+    SpecData(std::initializer_list<SpecConstant> spec) {
+        for (auto& s : spec) {
+            entries.push_back({s.id, uint32_t(values.size() * 4), 4});
+            values.push_back(s.value);
+        }
+        info.mapEntryCount = uint32_t(entries.size());
+        info.pMapEntries = entries.data();
+        info.dataSize = values.size() * 4;
+        info.pData = values.data();
+    }
+};
+
+void createLayout(const Device& device, Program& p, std::initializer_list<const ShaderModule*> shaders,
+                  uint32_t pushSize) {
+    uint32_t mask = 0;
+    for (const ShaderModule* s : shaders) {
+        p.stages |= s->stage;
+        for (uint32_t b = 0; b < 32; ++b) {
+            if (!(s->bindingMask & (1u << b))) continue;
+            if ((mask & (1u << b)) && p.bindingTypes[b] != s->bindingTypes[b]) {
+                std::fprintf(stderr, "%s: binding %u has different types across stages\n", s->name.c_str(), b);
+                std::abort();
+            }
+            mask |= 1u << b;
+            p.bindingTypes[b] = s->bindingTypes[b];
+        }
+    }
+    // Bindings must be dense (0..n-1) so descriptors are given in binding order without gaps.
+    while (mask & (1u << p.bindingCount)) p.bindingCount++;
+    if (mask != (p.bindingCount == 32 ? ~0u : (1u << p.bindingCount) - 1)) {
+        std::fprintf(stderr, "%s: descriptor bindings must be dense from 0 (mask %x)\n", p.name.c_str(), mask);
+        std::abort();
+    }
+    std::vector<VkDescriptorSetLayoutBinding> bindings;
+    for (uint32_t b = 0; b < p.bindingCount; ++b) bindings.push_back({b, p.bindingTypes[b], 1, p.stages, nullptr});
+    VkDescriptorSetLayoutCreateInfo sci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    sci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    sci.bindingCount = uint32_t(bindings.size());
+    sci.pBindings = bindings.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
+    VkPushConstantRange range{p.stages, 0, pushSize};
+    VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    lci.setLayoutCount = 1;
+    lci.pSetLayouts = &p.setLayout;
+    lci.pushConstantRangeCount = pushSize ? 1 : 0;
+    lci.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(device.device, &lci, nullptr, &p.layout));
+    p.pushSize = pushSize;
+}
+
+} // namespace
+
+ShaderModule loadShader(const Device& device, const uint32_t* code, size_t bytes, const char* name) {
+    ShaderModule sm;
+    sm.name = name;
+    reflect(sm, code, bytes / 4);
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = bytes;
+    ci.pCode = code;
+    VK_CHECK(vkCreateShaderModule(device.device, &ci, nullptr, &sm.module));
+    return sm;
+}
+
+void destroyShader(const Device& device, ShaderModule& shader) {
+    if (shader.module) vkDestroyShaderModule(device.device, shader.module, nullptr);
+    shader.module = VK_NULL_HANDLE;
+}
+
+Program createComputeProgram(const Device& device, const ShaderModule& shader, uint32_t pushSize,
+                             std::initializer_list<SpecConstant> spec) {
+    Program p;
+    p.name = shader.name;
+    p.bindPoint = VK_PIPELINE_BIND_POINT_COMPUTE;
+    createLayout(device, p, {&shader}, pushSize);
+    for (int i = 0; i < 3; ++i) p.localSize[i] = shader.localSize[i];
+    SpecData sd(spec);
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = shader.module;
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
+    ci.layout = p.layout;
+    VK_CHECK(vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
+    return p;
+}
+
+Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
+                              uint32_t pushSize, const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
+    Program p;
+    p.name = (*shaders.begin())->name;
+    p.bindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    createLayout(device, p, shaders, pushSize);
+    SpecData sd(spec);
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    for (const ShaderModule* s : shaders) {
+        VkPipelineShaderStageCreateInfo st{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        st.stage = s->stage;
+        st.module = s->module;
+        st.pName = "main";
+        st.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
+        stages.push_back(st);
+    }
+    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = 1;
+    vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.lineWidth = 1.0f;
+    rs.cullMode = state.cull;
+    rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    rs.depthClampEnable = state.depthClamp;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = state.depthTest;
+    ds.depthWriteEnable = state.depthWrite;
+    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    std::vector<VkPipelineColorBlendAttachmentState> blends(state.colorFormats.size());
+    for (auto& b : blends) b.colorWriteMask = 0xF;
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = uint32_t(blends.size());
+    cb.pAttachments = blends.data();
+    VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = 2;
+    dy.pDynamicStates = dyn;
+    VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    ri.colorAttachmentCount = uint32_t(state.colorFormats.size());
+    ri.pColorAttachmentFormats = state.colorFormats.data();
+    ri.depthAttachmentFormat = state.depthFormat;
+    VkGraphicsPipelineCreateInfo ci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &ri};
+    ci.stageCount = uint32_t(stages.size());
+    ci.pStages = stages.data();
+    ci.pVertexInputState = &vi;
+    ci.pInputAssemblyState = &ia;
+    ci.pViewportState = &vp;
+    ci.pRasterizationState = &rs;
+    ci.pMultisampleState = &ms;
+    ci.pDepthStencilState = &ds;
+    ci.pColorBlendState = &cb;
+    ci.pDynamicState = &dy;
+    ci.layout = p.layout;
+    VK_CHECK(vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
+    return p;
+}
+
+void destroyProgram(const Device& device, Program& p) {
+    if (p.pipeline) vkDestroyPipeline(device.device, p.pipeline, nullptr);
+    if (p.layout) vkDestroyPipelineLayout(device.device, p.layout, nullptr);
+    if (p.setLayout) vkDestroyDescriptorSetLayout(device.device, p.setLayout, nullptr);
+    p = Program{};
+}
+
+void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
+                 std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize) {
+    if (descriptors.size() != p.bindingCount || pushSize != p.pushSize) {
+        std::fprintf(stderr, "%s: %zu descriptors / %u push bytes given, shader wants %u / %u\n", p.name.c_str(),
+                     descriptors.size(), pushSize, p.bindingCount, p.pushSize);
+        std::abort();
+    }
+    vkCmdBindPipeline(cmd, p.bindPoint, p.pipeline);
+    VkWriteDescriptorSet writes[32];
+    VkDescriptorBufferInfo bufferInfos[32];
+    VkDescriptorImageInfo imageInfos[32];
+    uint32_t b = 0;
+    for (const Descriptor& d : descriptors) {
+        VkWriteDescriptorSet& w = writes[b];
+        w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstBinding = b;
+        w.descriptorCount = 1;
+        w.descriptorType = p.bindingTypes[b];
+        bool isBuffer = w.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
+                        w.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        if (isBuffer != (d.buffer != VK_NULL_HANDLE)) {
+            std::fprintf(stderr, "%s: binding %u expects a%s\n", p.name.c_str(), b, isBuffer ? " buffer" : "n image");
+            std::abort();
+        }
+        if (isBuffer) {
+            bufferInfos[b] = {d.buffer, d.offset, d.range};
+            w.pBufferInfo = &bufferInfos[b];
+        } else {
+            imageInfos[b] = {d.sampler, d.view, d.layout};
+            w.pImageInfo = &imageInfos[b];
+        }
+        ++b;
+    }
+    if (b) device.cmdPushDescriptorSet(cmd, p.bindPoint, p.layout, 0, b, writes);
+    if (pushSize) vkCmdPushConstants(cmd, p.layout, p.stages, 0, pushSize, push);
+}
+
+} // namespace ml

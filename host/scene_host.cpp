@@ -1,0 +1,80 @@
+#include "host/scene_host.h"
+
+#include <stb/stb_image_write.h>
+
+#include <vector>
+
+namespace ml {
+
+LightDesc toLightDesc(const Light& l) {
+    LightDesc d;
+    d.kind = LightKind(uint32_t(l.type));
+    d.position = l.position;
+    d.direction = l.direction;
+    d.color = l.color;
+    d.intensity = l.intensity;
+    d.range = l.range;
+    d.outerAngle = l.outerAngle;
+    d.innerAngle = l.innerAngle;
+    d.dynamic = l.dynamic;
+    return d;
+}
+
+CameraDesc toCameraDesc(const Camera& c) {
+    CameraDesc d;
+    d.position = c.position;
+    d.target = c.target;
+    d.fovY = c.fovY;
+    d.nearPlane = c.nearPlane;
+    d.farPlane = c.farPlane;
+    return d;
+}
+
+Result<SceneBinding> bindScene(Module& module, const Scene& scene) {
+    static_assert(sizeof(Vertex) == sizeof(MeshVertex), "scene and module vertices share a layout");
+    SceneBinding b;
+    std::vector<MeshId> meshIds;
+    for (const Mesh& m : scene.meshes) {
+        MeshDesc d;
+        d.vertices = {reinterpret_cast<const MeshVertex*>(m.vertices.data()), m.vertices.size()};
+        d.indices = m.indices;
+        d.closed = m.closed;
+        d.name = m.name;
+        auto id = module.addMesh(d);
+        if (!id) return fail(scene.name + ": " + id.error());
+        meshIds.push_back(id.value());
+    }
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& inst = scene.instances[i];
+        if (inst.mesh >= meshIds.size()) return fail(scene.name + ": instance " + std::to_string(i) + " has no mesh");
+        auto id = module.addInstance(meshIds[inst.mesh], inst.transform, inst.albedo, inst.dynamic);
+        if (!id) return fail(scene.name + ": " + id.error());
+        b.instances.push_back(id.value());
+    }
+    for (const Light& l : scene.lights) {
+        auto id = module.addLight(toLightDesc(l));
+        if (!id) return fail(scene.name + ": " + id.error());
+        b.lights.push_back(id.value());
+    }
+    if (auto r = module.setCamera(toCameraDesc(scene.camera)); !r) return fail(scene.name + ": " + r.error());
+    return b;
+}
+
+Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding& b) {
+    for (size_t i = 0; i < scene.instances.size(); ++i)
+        if (scene.instances[i].dynamic)
+            if (auto r = module.setInstanceTransform(b.instances[i], scene.instances[i].transform); !r) return r;
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        if (scene.lights[i].dynamic)
+            if (auto r = module.setLight(b.lights[i], toLightDesc(scene.lights[i])); !r) return r;
+    return {};
+}
+
+Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
+    if (rgba.size() < size_t(width) * height * 4) return fail(path + ": image data is smaller than its size");
+    if (!stbi_write_png(path.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4)))
+        return fail(path + ": cannot write PNG (does the folder exist and is it writable?)");
+    return {};
+}
+
+} // namespace ml

@@ -1,0 +1,25 @@
+// A host of the module API: hands a Scene (scenes/) to ml::Module and keeps dynamic instances and
+// lights moving. Uses only engine/manylights.h, like any host engine would.
+#pragma once
+#include "engine/manylights.h"
+#include "scenes/scene.h"
+
+namespace ml {
+
+struct SceneBinding {
+    std::vector<InstanceId> instances; // scene instance -> module instance
+    std::vector<LightId> lights;       // scene light -> module light
+};
+
+LightDesc toLightDesc(const Light& light);
+CameraDesc toCameraDesc(const Camera& camera);
+
+// Registers meshes, instances and lights; sets the camera.
+Result<SceneBinding> bindScene(Module& module, const Scene& scene);
+// After animateScene: pushes dynamic instance transforms and dynamic lights.
+Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding& binding);
+
+// PNG writing for RGBA8 rows (top row first). One-line error naming the path.
+Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
+
+} // namespace ml

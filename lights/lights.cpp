@@ -1,0 +1,71 @@
+#include "lights/lights.h"
+
+#include <cmath>
+#include <string>
+
+namespace ml {
+
+namespace {
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+} // namespace
+
+Result<void> validateLight(const LightDesc& l) {
+    if (uint32_t(l.kind) > uint32_t(LightKind::Directional)) return fail("light kind is not spot, point or directional");
+    if (!finite3(l.position)) return fail("light position is not finite");
+    if (!finite3(l.direction)) return fail("light direction is not finite");
+    if (!finite3(l.color)) return fail("light colour is not finite");
+    if (l.color.x < 0 || l.color.y < 0 || l.color.z < 0) return fail("light colour is negative");
+    if (!std::isfinite(l.intensity) || l.intensity < 0) return fail("light intensity is negative or not finite");
+    if (l.kind != LightKind::Directional) {
+        if (!std::isfinite(l.range) || l.range <= 0) return fail("light range must be finite and > 0");
+    }
+    if (l.kind != LightKind::Point) {
+        float len = glm::length(l.direction);
+        if (!(len > 1e-6f)) return fail("light direction has zero length");
+    }
+    if (l.kind == LightKind::Spot) {
+        if (!std::isfinite(l.outerAngle) || l.outerAngle <= 0 || l.outerAngle >= 1.5707963f)
+            return fail("spot outer half angle must be in (0, pi/2) radians");
+        if (!std::isfinite(l.innerAngle) || l.innerAngle < 0 || l.innerAngle > l.outerAngle)
+            return fail("spot inner half angle must be in [0, outer]");
+    }
+    return {};
+}
+
+gpu::GpuLight toGpuLight(const LightDesc& l, uint32_t id) {
+    gpu::GpuLight g{};
+    glm::vec3 dir = l.kind == LightKind::Point ? glm::vec3(0, -1, 0) : glm::normalize(l.direction);
+    float outer = l.kind == LightKind::Spot ? l.outerAngle : 3.14159265f;
+    float inner = l.kind == LightKind::Spot ? l.innerAngle : 3.14159265f;
+    g.positionRange = glm::vec4(l.position, l.range);
+    g.directionCosOuter = glm::vec4(dir, std::cos(outer));
+    g.colorSinOuter = glm::vec4(l.color * l.intensity, std::sin(outer));
+    g.params = glm::vec4(std::cos(inner), 1.0f / (l.range * l.range), 0, 0);
+    g.info = glm::uvec4(uint32_t(l.kind), l.dynamic ? 1u : 0u, 0u, id);
+    return g;
+}
+
+glm::vec4 lightBoundingSphere(const LightDesc& l) {
+    if (l.kind == LightKind::Point) return glm::vec4(l.position, l.range);
+    glm::vec3 dir = glm::normalize(l.direction);
+    float a = l.outerAngle;
+    if (a > 0.78539816f) return glm::vec4(l.position, l.range); // wide cone: the range sphere is smaller
+    // Sphere through the apex and the cap's rim: radius r / (2 cos a), centre along the axis.
+    float radius = l.range / (2.0f * std::cos(a));
+    return glm::vec4(l.position + dir * radius, radius);
+}
+
+std::array<glm::vec4, 6> frustumPlanes(const glm::mat4& vp) {
+    glm::mat4 m = glm::transpose(vp);
+    std::array<glm::vec4, 6> p = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[2], m[3] - m[2]};
+    for (auto& plane : p) plane /= glm::length(glm::vec3(plane));
+    return p;
+}
+
+bool sphereInFrustum(const std::array<glm::vec4, 6>& planes, glm::vec4 s) {
+    for (const auto& p : planes)
+        if (glm::dot(glm::vec3(p), glm::vec3(s)) + p.w < -s.w) return false;
+    return true;
+}
+
+} // namespace ml

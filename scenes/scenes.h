@@ -1,0 +1,37 @@
+// Scene sources: the procedural night city and glTF files. Every loader is deterministic for a seed and
+// returns a Result whose error is one line naming the file and the reason; none of them throws or
+// crashes on malformed input.
+#pragma once
+#include "scenes/scene.h"
+
+namespace ml {
+
+struct NightCityOptions {
+    uint32_t seed = 1;
+    uint32_t lights = 256; // total lights, headlights included; 1..4096
+    uint32_t blocksX = 6, blocksZ = 6;
+    uint32_t cars = 8; // each carries two headlight spotlights
+};
+
+// A grid of streets and blocks: closed buildings of varied height and footprint, open geometry
+// (awnings, fences, foliage cards), street lamps with downward spotlights, facade floodlights, coloured
+// signs, and cars driving along the streets (dynamic instances with headlights).
+Result<Scene> makeNightCity(const NightCityOptions& options);
+
+// Loads a .gltf or .glb file (tinygltf). Places `lights` spotlights procedurally (deterministic from
+// `seed`) when the file has none. Marks each mesh closed or open.
+Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed);
+
+// "night-city" or a path ending in .gltf / .glb.
+Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed);
+
+// Every edge shared by exactly two triangles with opposite directions (after welding equal positions).
+bool isClosedMesh(const Mesh& mesh);
+
+// Moves cars along their paths to time `seconds` and carries attached lights with their instances.
+void animateScene(Scene& scene, double seconds);
+
+// Recomputes scene.boundsMin/boundsMax from the instances.
+void updateBounds(Scene& scene);
+
+} // namespace ml

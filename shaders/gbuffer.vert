@@ -1,0 +1,24 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// G-buffer vertices: pulled from storage buffers (no vertex input state); the draw's firstInstance is
+// the instance index, so one indirect multi-draw renders every instance.
+#include "shaders/shared/glsl_common.h"
+
+struct GpuVertex { float px, py, pz, nx, ny, nz; };
+struct GpuInstance { mat4 model; mat4 normalMatrix; vec4 albedo; };
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Vertices { GpuVertex vertices[]; };
+layout(binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
+
+layout(location = 0) out vec3 outNormal;
+layout(location = 1) out vec3 outAlbedo;
+
+void main() {
+    GpuVertex v = vertices[gl_VertexIndex];
+    GpuInstance inst = instances[gl_InstanceIndex];
+    vec4 world = inst.model * vec4(v.px, v.py, v.pz, 1.0);
+    outNormal = mat3(inst.normalMatrix) * vec3(v.nx, v.ny, v.nz);
+    outAlbedo = inst.albedo.rgb;
+    gl_Position = frame.viewProj * world;
+}

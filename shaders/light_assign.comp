@@ -1,0 +1,84 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Light assignment: one workgroup per screen tile. The tile's occupied clusters (from cluster_bounds)
+// are loaded into shared memory; each thread takes one visible light at a time and tests it against
+// every occupied cluster (range sphere exact, spot cone against the cluster's bounding sphere).
+// Pass A counts, the group allocates each cluster's list from the global pool with one atomic, and
+// pass B writes the indices. A cluster whose list does not fit is marked ML_CLUSTER_OVERFLOW and
+// counted; its pixels then test every visible light, so no light is ever dropped.
+#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/light_math.h"
+
+layout(local_size_x = ML_ASSIGN_GROUP) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 2, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
+layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; }; // (offset, count) per cluster
+layout(binding = 4, std430) writeonly buffer Pool { uint pool[]; };
+layout(binding = 5, std430) buffer Counters { FrameCounters counters; };
+
+shared vec3 sLo[ML_MAX_SLICES];
+shared vec3 sHi[ML_MAX_SLICES];
+shared uint sOccupied[ML_MAX_SLICES]; // compacted list of occupied slice indices
+shared uint sOccupiedCount;
+shared uint sCount[ML_MAX_SLICES];
+shared uint sOffset[ML_MAX_SLICES];
+
+void main() {
+    uint slices = frame.cluster.x;
+    uint tile = gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x;
+    uint li = gl_LocalInvocationIndex;
+    uint lightCount = frame.cluster.z;
+
+    if (li == 0) {
+        uint n = 0;
+        for (uint s = 0; s < slices; ++s) {
+            ClusterBounds b = bounds[tile * slices + s];
+            if (b.lo.w != 0.0) { sOccupied[n] = s; sLo[s] = b.lo.xyz; sHi[s] = b.hi.xyz; ++n; }
+            sCount[s] = 0;
+        }
+        sOccupiedCount = n;
+    }
+    barrier();
+    uint occupied = sOccupiedCount;
+
+    // Pass A: count.
+    for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
+        GpuLight L = lights[l];
+        for (uint i = 0; i < occupied; ++i) {
+            uint s = sOccupied[i];
+            if (lightTouchesBox(L, sLo[s], sHi[s])) atomicAdd(sCount[s], 1u);
+        }
+    }
+    barrier();
+
+    // Allocate: one thread per slice.
+    for (uint s = li; s < slices; s += ML_ASSIGN_GROUP) {
+        uint count = sCount[s];
+        uint offset = 0;
+        if (count > 0) {
+            offset = atomicAdd(counters.poolCursor, count);
+            if (offset + count > frame.limits.x) {
+                offset = ML_CLUSTER_OVERFLOW;
+                atomicAdd(counters.overflowClusters, 1u);
+            }
+            atomicAdd(counters.clusterLightsSum, uint64_t(count));
+            atomicMax(counters.maxClusterLights, count);
+        }
+        sOffset[s] = offset;
+        ranges[tile * slices + s] = uvec2(offset, count);
+        sCount[s] = 0; // reused as the write cursor
+    }
+    barrier();
+
+    // Pass B: write (order within a list is unspecified; the reference compares sorted lists).
+    for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
+        GpuLight L = lights[l];
+        for (uint i = 0; i < occupied; ++i) {
+            uint s = sOccupied[i];
+            if (sOffset[s] != ML_CLUSTER_OVERFLOW && lightTouchesBox(L, sLo[s], sHi[s]))
+                pool[sOffset[s] + atomicAdd(sCount[s], 1u)] = l;
+        }
+    }
+}

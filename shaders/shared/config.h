@@ -1,0 +1,44 @@
+// Limits and workgroup sizes, shared by C++ and GLSL. Each has the reason for its value.
+#ifndef ML_CONFIG_H
+#define ML_CONFIG_H
+
+// 4096: the mission's upper bound for lights in one scene (`--lights` up to 4096). Light indices in
+// cluster lists are 32-bit, so the bound is about memory and time, not encoding.
+#define ML_MAX_LIGHTS 4096
+
+// Clustered mode: 8x8-pixel tiles, 64 exponential depth slices. Measured on the night city at 320x180
+// (manylights demo, culling_tightness = evaluated / reaching lights per pixel): 16 px / 32 slices
+// gave 4.4, 8 px / 32 slices 2.6 (with the cone's bounding-sphere test only), 8 px / 64 slices with
+// the pyramid test 1.75. 64 slices give a slice depth ratio (far/near)^(1/64) ~ 1.14 for 0.1..500 m;
+// 8x8 = 64 threads per bounds group. Bounds are then tightened to the pixels in each cluster.
+#define ML_TILE_SIZE 8
+#define ML_MAX_SLICES 64
+
+// Light-assignment workgroup: one thread per light in chunks of 64 (one subgroup or two on most
+// GPUs; lavapipe runs 8-wide SIMD, 64 keeps per-group overhead low for up to 4096 lights).
+#define ML_ASSIGN_GROUP 64
+
+// Evaluation pass: 8x8 pixels per workgroup (64 threads) keeps neighbouring pixels, which mostly share
+// a cluster, in one group.
+#define ML_EVAL_GROUP 8
+
+// The light-index pool holds this many entries per cluster of the grid before clusters overflow; an
+// overflowing cluster is counted and its pixels fall back to testing every visible light, so no light is
+// lost. Most clusters are empty (no pixels: 2% occupied on the night city), so 16 per grid cluster is
+// ~700 per occupied one: 16 x 921,600 clusters (1280x720) x 4 B = 59 MiB at most.
+#define ML_POOL_PER_CLUSTER 16
+
+// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w).
+#define ML_CULL_CLUSTERED 0
+#define ML_CULL_TILED 1
+#define ML_CULL_NONE 2
+
+// Light types (GpuLight.info.x); same values as ml::LightType.
+#define ML_LIGHT_SPOT 0
+#define ML_LIGHT_POINT 1
+#define ML_LIGHT_DIRECTIONAL 2
+
+// Marks an overflowed cluster in ClusterRange.offset.
+#define ML_CLUSTER_OVERFLOW 0xFFFFFFFFu
+
+#endif

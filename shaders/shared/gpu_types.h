@@ -1,0 +1,80 @@
+// GPU structs, defined once for C++ and GLSL. Only vec4/uvec4/mat4 members (and 64-bit counters at
+// 8-byte offsets), so std140/std430 and C++ agree without padding rules; C++ static_asserts sizes and
+// offsets below.
+#ifndef ML_GPU_TYPES_H
+#define ML_GPU_TYPES_H
+
+#include "shaders/shared/config.h"
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace ml::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uvec2 = glm::uvec2;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+using uint64_t = ::uint64_t;
+#define ML_STRUCT(name) struct name
+#else
+#define ML_STRUCT(name) struct name
+#endif
+
+// One light, 80 bytes. Spot: cone around `direction` with half angle outer (cos/sin kept for the
+// cone-sphere test) and a smooth edge starting at inner. Point: cosOuter = -1. Directional: position
+// unused, range = +inf in effect (info.x says so).
+ML_STRUCT(GpuLight) {
+    vec4 positionRange;     // xyz world position, w range (metres)
+    vec4 directionCosOuter; // xyz unit direction, w cos(outer half angle)
+    vec4 colorSinOuter;     // rgb colour * intensity, w sin(outer half angle)
+    vec4 params;            // x cos(inner half angle), y 1/range^2, zw unused
+    uvec4 info;             // x type (ML_LIGHT_*), y flags, z static shadow method, w shadow record
+};
+
+// Per-frame constants (uniform buffer), 240 bytes.
+ML_STRUCT(FrameConstants) {
+    mat4 viewProj;
+    mat4 invViewProj;
+    vec4 cameraPosition; // xyz, w unused
+    uvec4 size;          // x width, y height, z tiles x, w tiles y
+    uvec4 cluster;       // x slices, y tile size, z visible light count, w culling mode
+    vec4 depth;          // x near, y far, z near*far, w far-near
+    vec4 ambient;        // rgb ambient (moonlight), w exposure
+    vec4 sky;            // rgb background, w unused
+    uvec4 limits;        // x light-list pool capacity (entries), y cluster count, zw unused
+};
+
+// World-space bounds of the pixels that fall into one cluster (tile x slice). lo.w = 1 when at
+// least one pixel is in the cluster, else 0 (the cluster is skipped).
+ML_STRUCT(ClusterBounds) {
+    vec4 lo;
+    vec4 hi;
+};
+
+// Frame statistics written by the passes with atomics, read back one frame later.
+ML_STRUCT(FrameCounters) {
+    uint poolCursor;        // light-list entries allocated
+    uint overflowClusters;  // clusters whose list did not fit in the pool
+    uint occupiedClusters;  // clusters holding at least one pixel
+    uint maxClusterLights;  // longest list (including overflowed ones' true length)
+    uint64_t clusterLightsSum; // sum of list lengths over occupied clusters
+    uint64_t surfacePixels;    // pixels with geometry
+    uint64_t evaluatedSum;     // sum over surface pixels of lights evaluated
+    uint64_t reachingSum;      // sum over surface pixels of lights whose cone and range hold the point
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(GpuLight) == 80);
+static_assert(offsetof(GpuLight, info) == 64);
+static_assert(sizeof(FrameConstants) == 240);
+static_assert(offsetof(FrameConstants, size) == 144);
+static_assert(offsetof(FrameConstants, limits) == 224);
+static_assert(sizeof(ClusterBounds) == 32);
+static_assert(sizeof(FrameCounters) == 48);
+static_assert(offsetof(FrameCounters, clusterLightsSum) == 16);
+} // namespace ml::gpu
+#endif
+
+#endif

@@ -1,0 +1,117 @@
+// Light bounds tests and pixel reconstruction, one source for GLSL and the C++ references.
+//
+// The culling reference (culling/cluster_reference.cpp) compiles these very functions, so CPU and GPU
+// agree bit for bit as long as both evaluate the same IEEE operations in the same order: every
+// intermediate is `precise` in GLSL (no contraction to fma, no reassociation) and the C++ build uses
+// -ffp-contract=off. Only +, -, *, /, sqrt, min and max appear: all correctly rounded on both sides.
+#ifndef ML_LIGHT_MATH_H
+#define ML_LIGHT_MATH_H
+
+#include "shaders/shared/gpu_types.h"
+
+#ifdef __cplusplus
+#include <cmath>
+namespace ml::gpu {
+using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+#define ML_FN inline
+#define ML_PRECISE
+using std::sqrt;
+inline float max(float a, float b) { return a > b ? a : b; }
+inline float min(float a, float b) { return a < b ? a : b; }
+#else
+#define ML_FN
+#define ML_PRECISE precise
+#endif
+
+// Squared distance from p to the box [lo, hi] (0 inside).
+ML_FN float boxDistanceSq(vec3 lo, vec3 hi, vec3 p) {
+    ML_PRECISE float dx = max(max(lo.x - p.x, p.x - hi.x), 0.0f);
+    ML_PRECISE float dy = max(max(lo.y - p.y, p.y - hi.y), 0.0f);
+    ML_PRECISE float dz = max(max(lo.z - p.z, p.z - hi.z), 0.0f);
+    ML_PRECISE float d2 = dx * dx + dy * dy + dz * dz;
+    return d2;
+}
+
+// Conservative: false only when no point of the box [lo, hi] can receive light from L.
+// Range: exact sphere-box distance. Spot cone: cone against the box's bounding sphere (the
+// closest-point form of the cone-sphere test: the sphere is outside when its centre lies farther than
+// its radius from the cone's surface, or wholly behind the apex).
+ML_FN bool lightTouchesBox(GpuLight L, vec3 lo, vec3 hi) {
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) return true;
+    vec3 p = vec3(L.positionRange.x, L.positionRange.y, L.positionRange.z);
+    ML_PRECISE float r = L.positionRange.w;
+    if (boxDistanceSq(lo, hi, p) > r * r) return false;
+    if (L.info.x != ML_LIGHT_SPOT) return true;
+    ML_PRECISE float ex = (hi.x - lo.x) * 0.5f, ey = (hi.y - lo.y) * 0.5f, ez = (hi.z - lo.z) * 0.5f;
+    // A little slack so rounding in the test can never cull a box that a pixel test would accept.
+    ML_PRECISE float radius = sqrt(ex * ex + ey * ey + ez * ez) * 1.0001f + 1e-4f;
+    ML_PRECISE float vx = lo.x + ex - p.x, vy = lo.y + ey - p.y, vz = lo.z + ez - p.z;
+    ML_PRECISE float vlen2 = vx * vx + vy * vy + vz * vz;
+    ML_PRECISE float v1 = vx * L.directionCosOuter.x + vy * L.directionCosOuter.y + vz * L.directionCosOuter.z;
+    ML_PRECISE float cosA = L.directionCosOuter.w, sinA = L.colorSinOuter.w;
+    ML_PRECISE float distToCone = cosA * sqrt(max(vlen2 - v1 * v1, 0.0f)) - v1 * sinA;
+    if (distToCone > radius) return false;
+    if (cosA >= 0.0f && v1 < -radius) return false;
+    // An octagonal pyramid circumscribing the cone: 8 planes through the apex, each tangent to the
+    // cone along a generator (normal n = sin(a) d - cos(a) u for a unit u perpendicular to d). The box
+    // is outside when its farthest corner along some n is behind that plane. Much tighter than the
+    // bounding sphere for the flat, wide boxes of ground clusters.
+    ML_PRECISE float dx = L.directionCosOuter.x, dy = L.directionCosOuter.y, dz = L.directionCosOuter.z;
+    // e1 = normalize(cross(ref, d)), ref the world axis least aligned with d; e2 = cross(d, e1).
+    bool useX = dx * dx < 0.5f;
+    ML_PRECISE float cx = useX ? 0.0f : -dz, cy = useX ? -dz : 0.0f, cz = useX ? dy : dx;
+    ML_PRECISE float cinv = 1.0f / sqrt(cx * cx + cy * cy + cz * cz);
+    ML_PRECISE float e1x = cx * cinv, e1y = cy * cinv, e1z = cz * cinv;
+    ML_PRECISE float e2x = dy * e1z - dz * e1y, e2y = dz * e1x - dx * e1z, e2z = dx * e1y - dy * e1x;
+    for (int k = 0; k < 8; ++k) {
+        // cos and sin of k * 45 degrees, as literals so both languages use the same values.
+        float ck = (k == 0) ? 1.0f : (k == 4) ? -1.0f : (k == 2 || k == 6) ? 0.0f : (k == 1 || k == 7) ? 0.70710678f : -0.70710678f;
+        float sk = (k == 2) ? 1.0f : (k == 6) ? -1.0f : (k == 0 || k == 4) ? 0.0f : (k == 1 || k == 3) ? 0.70710678f : -0.70710678f;
+        ML_PRECISE float nx = sinA * dx - cosA * (ck * e1x + sk * e2x);
+        ML_PRECISE float ny = sinA * dy - cosA * (ck * e1y + sk * e2y);
+        ML_PRECISE float nz = sinA * dz - cosA * (ck * e1z + sk * e2z);
+        ML_PRECISE float far = nx * ((nx > 0.0f ? hi.x : lo.x) - p.x) + ny * ((ny > 0.0f ? hi.y : lo.y) - p.y) +
+                               nz * ((nz > 0.0f ? hi.z : lo.z) - p.z);
+        if (far < -1e-3f) return false; // 1 mm of slack against rounding
+    }
+    return true;
+}
+
+// Exact: does the light's cone and range contain the point x? (The shading is zero outside.)
+ML_FN bool lightReachesPoint(GpuLight L, vec3 x) {
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) return true;
+    ML_PRECISE float vx = x.x - L.positionRange.x, vy = x.y - L.positionRange.y, vz = x.z - L.positionRange.z;
+    ML_PRECISE float d2 = vx * vx + vy * vy + vz * vz;
+    ML_PRECISE float r = L.positionRange.w;
+    if (!(d2 < r * r)) return false;
+    if (L.info.x != ML_LIGHT_SPOT) return true;
+    ML_PRECISE float c = vx * L.directionCosOuter.x + vy * L.directionCosOuter.y + vz * L.directionCosOuter.z;
+    ML_PRECISE float cosA = L.directionCosOuter.w;
+    // c / |v| > cosA without a division or square root of d2.
+    if (cosA >= 0.0f) return c > 0.0f && c * c > cosA * cosA * d2;
+    return c >= 0.0f || c * c < cosA * cosA * d2;
+}
+
+// Linear view depth from a [0,1] depth-buffer value of a Vulkan (zero-to-one) perspective projection.
+ML_FN float linearDepth(float d, vec4 depthParams) {
+    ML_PRECISE float z = depthParams.z / (depthParams.y - d * depthParams.w);
+    return z;
+}
+
+// World position of pixel (px, py) at depth-buffer value d. The matrix product is written out so both
+// languages sum the terms in the same order.
+ML_FN vec3 worldFromPixel(uint px, uint py, float d, mat4 invViewProj, uvec4 size) {
+    ML_PRECISE float nx = (float(px) + 0.5f) / float(size.x) * 2.0f - 1.0f;
+    ML_PRECISE float ny = (float(py) + 0.5f) / float(size.y) * 2.0f - 1.0f;
+    ML_PRECISE float X = invViewProj[0][0] * nx + invViewProj[1][0] * ny + invViewProj[2][0] * d + invViewProj[3][0];
+    ML_PRECISE float Y = invViewProj[0][1] * nx + invViewProj[1][1] * ny + invViewProj[2][1] * d + invViewProj[3][1];
+    ML_PRECISE float Z = invViewProj[0][2] * nx + invViewProj[1][2] * ny + invViewProj[2][2] * d + invViewProj[3][2];
+    ML_PRECISE float W = invViewProj[0][3] * nx + invViewProj[1][3] * ny + invViewProj[2][3] * d + invViewProj[3][3];
+    return vec3(X / W, Y / W, Z / W);
+}
+
+#ifdef __cplusplus
+} // namespace ml::gpu
+#endif
+#endif

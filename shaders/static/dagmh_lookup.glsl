@@ -1,0 +1,95 @@
+// DAG-MH lookup: line-by-line twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h (layout
+// documented there and in docs/dagmh-encoding.md).
+#ifndef ML_DAGMH_LOOKUP_GLSL
+#define ML_DAGMH_LOOKUP_GLSL
+#include "common_static.glsl"
+
+// Header word indices and record sizes (dagfmt).
+const uint ML_DAG_LEVELS = 3u;
+const uint ML_DAG_SKIP_LEVEL = 4u;
+const uint ML_DAG_SKIP_OFFSET = 9u;
+const uint ML_DAG_NODE_OFFSET = 10u;
+const uint ML_DAG_TREELET_OFFSET = 12u;
+const uint ML_DAG_CHUNK_OFFSET = 14u;
+const uint ML_DAG_FACTOR_OFFSET = 15u;
+const uint ML_DAG_CHUNK_WORDS = 5u;
+const uint ML_DAG_TREELET_WORDS = 3u;
+const uint ML_DAG_SKIP_WORDS = 4u;
+
+// Value retrieval (paper Alg. 2, integer version).
+uint dagmhValue(uint base, uint index) {
+    uint ch = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET] + ML_DAG_CHUNK_WORDS * (index >> 5u);
+    uint j = index & 31u;
+    uint bm = ML_STATIC_DATA[ch + 1u];
+    if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
+    uint k = mlPopc(bm & mlLowMask(j));
+    uint meta = ML_STATIC_DATA[ch + 4u];
+    uint b = meta & 63u;
+    uint f = 0u;
+    if (b != 0u) {
+        uint pos = (meta >> 6u) * 8u + k * b;
+        uint w = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET] + (pos >> 5u);
+        uint sh = pos & 31u;
+        f = ML_STATIC_DATA[w] >> sh;
+        if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
+        f &= mlLowMask(b);
+    }
+    if (b == 32u) return f; // raw 32-bit fallback
+    return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * f;
+}
+
+uint dagmhLookup(uint base, uint x, uint y) {
+    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
+    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+    uint e = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET] + ML_DAG_SKIP_WORDS * (((y >> (L - S)) << S) + (x >> (L - S)));
+    uint kind = ML_STATIC_DATA[e] & 255u;
+    uint depth = ML_STATIC_DATA[e] >> 8u;
+    uint ptr = ML_STATIC_DATA[e + 1u];
+    uint vcount = ML_STATIC_DATA[e + 2u];
+    uint vlast = ML_STATIC_DATA[e + 3u];
+    uint nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
+    while (kind == 1u) {
+        uint flags = ML_STATIC_DATA[nodes + ptr];
+        if ((flags & 256u) != 0u) vlast = vcount;
+        if (depth >= L) break;
+        uint s = L - depth - 1u;
+        uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+        uint t = (flags >> (2u * c)) & 3u;
+        if (t == 0u) break;
+        uint rank = 0u, n = 0u;
+        for (uint i = 0u; i < 4u; ++i) {
+            uint present = ((flags >> (2u * i)) & 3u) != 0u ? 1u : 0u;
+            if (i < c) rank += present;
+            n += present;
+        }
+        uint child = ML_STATIC_DATA[nodes + ptr + 1u + rank];
+        vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[nodes + ptr + n + rank];
+        ptr = child;
+        depth += 1u;
+        kind = t;
+    }
+    if (kind == 2u) {
+        uint tb = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET] + ML_DAG_TREELET_WORDS * ptr;
+        for (uint i = 0u; i < 4u; ++i) {
+            uint lvl = 3u - i;
+            if (depth + lvl > L) continue;
+            uint idx = lvl;
+            for (uint j = 1u; j <= lvl; ++j) {
+                uint s = L - depth - j;
+                uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+                idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
+            }
+            uint wi = idx >> 5u;
+            if (((ML_STATIC_DATA[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
+                uint before = mlPopc(ML_STATIC_DATA[tb + wi] & mlLowMask(idx & 31u));
+                if (wi > 0u) before += mlPopc(ML_STATIC_DATA[tb]);
+                if (wi > 1u) before += mlPopc(ML_STATIC_DATA[tb + 1u]);
+                vlast = vcount + before;
+                break;
+            }
+        }
+    }
+    return dagmhValue(base, vlast);
+}
+
+#endif

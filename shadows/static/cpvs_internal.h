@@ -1,0 +1,50 @@
+// CPVS internals shared by cpvs_build.cpp (insertion, compression) and cpvs_layout.cpp (flat words).
+// Not part of the public API; see cpvs.h for the algorithm overview.
+#pragma once
+#include "shadows/static/cpvs.h"
+
+#include <vector>
+
+namespace ml::cpvs_detail {
+
+using Node = CpvsOctree::Node;
+
+// A DAG in construction: levels[k] holds nodes of size 8 << k (k = 0 .. top, the grid cell size). A
+// node's child c (bit 0 x, bit 1 y, bit 2 z: near slices first) is homogeneous when its childMask bit is
+// clear (value in shadowMask), else child[c] indexes levels[k - 1] (or leaves when k = 0). Unused child
+// slots are 0 so nodes compare by plain memberwise comparison.
+struct Dag {
+    uint32_t resolution = 0, log2Resolution = 0, gridLog2 = 0, cellLog2 = 0;
+    std::vector<std::vector<Node>> levels;
+    std::vector<uint64_t> leaves; // 4^3 voxels, bit x + 4 y + 16 z
+    // (2^g)^3 grid cells, index x + G (y + G z): 0 lit, 1 shadowed, else 2 + node index in levels.back()
+    std::vector<uint32_t> grid;
+};
+
+// Section 3.2 insertion. progress(f) with f in [0, 1] after each grid layer.
+Dag insert(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
+           const std::function<void(float)>& progress);
+
+// Section 4.1: sort and merge every level from the leaves up; equality on full node content.
+void compressBottomUp(Dag& dag);
+
+// Section 4.2: 64-bit hashes bottom-up from contents, then top-down: per level, nodes with equal hash
+// are merged only after a full structural comparison confirms them; children of merged-away nodes are
+// never visited. Returns the number of hash collisions met (kept apart). hashBits < 64 truncates the
+// hash (tests force collisions with it).
+uint64_t compressTopDown(Dag& dag, uint32_t hashBits);
+
+std::vector<uint32_t> writeLayout(const CpvsSpace& space, const Dag& dag);
+
+inline bool operator<(const Node& a, const Node& b) {
+    if (a.childMask != b.childMask) return a.childMask < b.childMask;
+    if (a.shadowMask != b.shadowMask) return a.shadowMask < b.shadowMask;
+    for (int i = 0; i < 8; ++i)
+        if (a.child[i] != b.child[i]) return a.child[i] < b.child[i];
+    return false;
+}
+inline bool operator==(const Node& a, const Node& b) {
+    return !(a < b) && !(b < a);
+}
+
+} // namespace ml::cpvs_detail

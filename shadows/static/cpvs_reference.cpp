@@ -1,0 +1,153 @@
+// CPVS verification against the voxelisation derived directly from the depth maps, and a brute-force
+// uncompressed sparse voxel octree for small resolutions (the tests show the DAG encodes exactly it).
+#include "shadows/static/cpvs.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+namespace ml {
+
+namespace {
+
+class ColumnWalk {
+  public:
+    ColumnWalk(const uint32_t* d, CpvsVerifyReport& r) : d_(d), r_(r) {}
+
+    void column(uint32_t x, uint32_t y, CpvsColumn ref) {
+        x_ = x;
+        y_ = y;
+        ref_ = ref;
+        const uint32_t gl = d_[kCpvsHGridLog2], cellLog2 = d_[kCpvsHLog2Resolution] - gl, g = 1u << gl;
+        const uint32_t grid = d_[kCpvsHGrid];
+        for (uint32_t cz = 0; cz < g; ++cz) {
+            uint32_t e = d_[grid + ((cz << gl | (y >> cellLog2)) << gl | (x >> cellLog2))];
+            if (e == kCpvsLit || e == kCpvsShadowed)
+                run(cz << cellLog2, 1u << cellLog2, e == kCpvsShadowed);
+            else
+                walk(e, cellLog2, cz << cellLog2);
+        }
+    }
+
+  private:
+    void walk(uint32_t ptr, uint32_t sizeLog2, uint32_t z0) {
+        const uint32_t half = 1u << (sizeLog2 - 1), h = d_[ptr];
+        const uint32_t cxy = ((x_ & half) ? 1u : 0u) | ((y_ & half) ? 2u : 0u);
+        for (uint32_t cz = 0; cz < 2; ++cz) {
+            const uint32_t bit = 1u << (cxy | cz << 2), zc = z0 + cz * half;
+            if (!(h & bit)) {
+                run(zc, half, (h >> 8) & bit);
+                continue;
+            }
+            uint32_t p = d_[ptr + 1 + std::popcount(h & (bit - 1))];
+            if (half > 4) {
+                walk(p, sizeLog2 - 1, zc);
+                continue;
+            }
+            uint64_t leaf = uint64_t(d_[p]) | uint64_t(d_[p + 1]) << 32;
+            for (uint32_t dz = 0; dz < 4; ++dz)
+                run(zc + dz, 1, (leaf >> ((x_ & 3) + 4 * (y_ & 3) + 16 * dz)) & 1u);
+        }
+    }
+    // slices [z, z + len) hold `shadowed`; the reference wants lit below litEnd, shadowed from shadowBegin
+    void run(uint32_t z, uint32_t len, bool shadowed) {
+        const uint32_t end = z + len;
+        const uint32_t litHi = std::min(end, ref_.litEnd), shLo = std::max(z, ref_.shadowBegin);
+        const uint64_t lit = litHi > z ? litHi - z : 0, sh = end > shLo ? end - shLo : 0;
+        r_.checked += lit + sh;
+        r_.undefined += len - lit - sh;
+        r_.mismatches += shadowed ? lit : sh;
+    }
+
+    const uint32_t* d_;
+    CpvsVerifyReport& r_;
+    uint32_t x_ = 0, y_ = 0;
+    CpvsColumn ref_;
+};
+
+} // namespace
+
+CpvsVerifyReport verifyCpvs(const uint32_t* d, const DualDepthMap& map) {
+    CpvsVerifyReport r;
+    float nearPlane, farPlane;
+    std::memcpy(&nearPlane, &d[kCpvsHNearBits], 4);
+    std::memcpy(&farPlane, &d[kCpvsHFarBits], 4);
+    const uint32_t n = d[kCpvsHResolution];
+    auto space = makeCpvsSpace(n, nearPlane, farPlane);
+    if (!space || map.resolution != n || map.enter.size() != size_t(n) * n ||
+        map.exit.size() != size_t(n) * n) {
+        r.mismatches = 1; // nothing comparable
+        return r;
+    }
+    // the stored slice thresholds must be the ones eq. 1 gives (the lookup's depth -> slice map)
+    for (uint32_t s = 0; s <= n; ++s)
+        if (d[d[kCpvsHThresholds] + s] != space->thresholds[s]) ++r.mismatches;
+    ColumnWalk walk(d, r);
+    for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+            size_t i = size_t(y) * n + x;
+            walk.column(x, y, cpvsReferenceColumn(*space, map.enter[i], map.exit[i]));
+        }
+    return r;
+}
+
+namespace {
+
+struct OctreeBuilder {
+    uint32_t n;
+    std::vector<uint8_t> vox; // x + N (y + N z)
+    CpvsOctree& t;
+
+    // kind 0 lit, 1 shadowed, 2 node / leaf (id)
+    std::pair<uint8_t, uint32_t> build(uint32_t sizeLog2, uint32_t x0, uint32_t y0, uint32_t z0) {
+        const uint32_t size = 1u << sizeLog2;
+        uint64_t count = 0;
+        for (uint32_t z = z0; z < z0 + size; ++z)
+            for (uint32_t y = y0; y < y0 + size; ++y)
+                for (uint32_t x = x0; x < x0 + size; ++x) count += vox[(size_t(z) * n + y) * n + x];
+        if (count == 0) return {0, 0};
+        if (count == uint64_t(size) * size * size) return {1, 0};
+        if (size == 4) {
+            uint64_t leaf = 0;
+            for (uint32_t i = 0; i < 64; ++i)
+                if (vox[(size_t(z0 + i / 16) * n + y0 + (i / 4) % 4) * n + x0 + i % 4])
+                    leaf |= uint64_t(1) << i;
+            t.leaves.push_back(leaf);
+            return {2, uint32_t(t.leaves.size() - 1)};
+        }
+        CpvsOctree::Node node;
+        const uint32_t h = size / 2;
+        for (uint32_t c = 0; c < 8; ++c) {
+            auto [kind, id] =
+                build(sizeLog2 - 1, x0 + (c & 1) * h, y0 + ((c >> 1) & 1) * h, z0 + (c >> 2) * h);
+            if (kind == 2) {
+                node.childMask |= uint8_t(1u << c);
+                node.child[c] = id;
+            } else if (kind == 1) {
+                node.shadowMask |= uint8_t(1u << c);
+            }
+        }
+        auto& level = t.levels[sizeLog2 - 3];
+        level.push_back(node);
+        return {2, uint32_t(level.size() - 1)};
+    }
+};
+
+} // namespace
+
+CpvsOctree cpvsBuildOctree(uint32_t resolution,
+                           const std::function<bool(uint32_t, uint32_t, uint32_t)>& shadowed) {
+    CpvsOctree t;
+    t.resolution = resolution;
+    const uint32_t lg = uint32_t(std::countr_zero(resolution));
+    t.levels.resize(lg - 2);
+    OctreeBuilder b{resolution, std::vector<uint8_t>(size_t(resolution) * resolution * resolution), t};
+    for (uint32_t z = 0; z < resolution; ++z)
+        for (uint32_t y = 0; y < resolution; ++y)
+            for (uint32_t x = 0; x < resolution; ++x)
+                b.vox[(size_t(z) * resolution + y) * resolution + x] = shadowed(x, y, z) ? 1 : 0;
+    t.rootKind = b.build(lg, 0, 0, 0).first;
+    return t;
+}
+
+} // namespace ml

@@ -1,0 +1,168 @@
+// DAG-MH: the MH quadtree stored as a DAG with separately compressed depth values (Scandolo, Eisemann
+// 2021, ../shared/papers/dagmh-scandolo-eisemann-2021.txt). The value encoding (paper sections 3.3/3.4
+// are missing from the text) is designed in docs/dagmh-encoding.md.
+//
+// Structure (sec. 3.1, 3.2, 3.5, 3.7):
+//   - The MH tree's values are numbered in depth-first (preorder) order. The structure keeps only the
+//     topology, deduplicated bottom-up as a DAG; each inner node carries value counts so a traversal can
+//     track v_count (index of the first value of the current subtree) and v_last (index of the deepest
+//     value seen so far).
+//   - Subtrees of height <= 3 (4 levels: 1 + 4 + 16 + 64 = 85 nodes) are treelets: an 85-bit bitmap of
+//     valued positions in depth-first order, bit index n + 21 l0 + 5 l1 + l2 (n = level in the treelet,
+//     l_i = child index on the path). A value's index is v_count + set bits before its bit. Lookup
+//     checks the deepest level first (paper Alg. 1).
+//   - A dense skip list at level S = clamp(L - 7, 0, 6) stores the traversal state for every node
+//     position at that level (paper: level 6 for large maps; smaller maps get a smaller S so the list
+//     stays a few percent of the total).
+//   - Values: chunks of 32 with a representative value, a 32-bit "has factor" bitmap, and multiply-add
+//     factors value = c_l + c_f * k with k of the smallest bit width b; b = 32 stores raw values.
+// Layout (words):
+//   header[20]: magic 'DGM1' | version 1 | resolution | levels L | skip level S | root kind (1 inner,
+//     2 treelet) | root pointer | values | chunks | skip offset | node offset | node words | treelet
+//     offset | treelets | chunk offset | factor offset | factor words | total words | checksum | 0
+//   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8, pointer,
+//     v_count, v_last; entry index = Y * 2^S + X.
+//   nodes: inner node = flags (2 bits per child c: 0 absent, 1 inner, 2 treelet; bit 8: the node has a
+//     value) | n child pointers (inner: word index into nodes, always smaller than the node's own;
+//     treelet: treelet index) | n - 1 prefix counts (values before child rank r >= 1 in the subtree,
+//     the node's own value included). Size 2n words.
+//   treelets: 3 words each (85 bits used).
+//   chunks: 5 words each: representative | bitmap (bit j: value j has a factor) | c_l | c_f |
+//     meta = b (bits 0..5) | byte offset of the chunk's factors in the factor stream << 6.
+//   factors: bit stream, little-endian within words, each chunk starting at a byte boundary.
+// Empty texels decode to exactly kDepthEmpty.
+#pragma once
+#include "engine/result.h"
+#include "shadows/static/dual_depth.h"
+#include "shadows/static/format_common.h"
+#include "shadows/static/mh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ml {
+
+namespace dagfmt {
+constexpr uint32_t kMagic = stat::fourcc('D', 'G', 'M', '1');
+constexpr uint32_t kHeaderWords = 20;
+enum : uint32_t {
+    kMagicWord,
+    kVersion,
+    kResolution,
+    kLevels,
+    kSkipLevel,
+    kRootKind,
+    kRootPtr,
+    kValues,
+    kChunks,
+    kSkipOffset,
+    kNodeOffset,
+    kNodeWords,
+    kTreeletOffset,
+    kTreelets,
+    kChunkOffset,
+    kFactorOffset,
+    kFactorWords,
+    kTotalWords,
+    kChecksum,
+    kReserved
+};
+constexpr uint32_t kChunkValues = 32, kChunkWords = 5, kTreeletWords = 3, kSkipWords = 4;
+constexpr uint32_t kMaxFactorBytes = 1u << 26;
+
+// Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
+void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
+} // namespace dagfmt
+
+struct DagMhStats {
+    uint64_t innerNodes = 0, treelets = 0, values = 0, chunks = 0, rawChunks = 0, factors = 0, factorBits = 0;
+    uint64_t treeInner = 0, treeTreelets = 0; // before deduplication
+};
+
+Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* stats = nullptr);
+Result<std::vector<uint32_t>> encodeDAGMH(const DualDepthMap& map);
+Result<void> validateDAGMH(const uint32_t* data, size_t size);
+stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size);
+
+// Value retrieval (paper Alg. 2, integer version). GLSL twin in shaders/static/dagmh_lookup.glsl.
+inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index) {
+    uint32_t ch = base + data[base + dagfmt::kChunkOffset] + dagfmt::kChunkWords * (index >> 5u);
+    uint32_t j = index & 31u;
+    uint32_t bm = data[ch + 1u];
+    if (((bm >> j) & 1u) == 0u) return data[ch];
+    uint32_t k = stat::popc(bm & stat::lowMask(j));
+    uint32_t meta = data[ch + 4u];
+    uint32_t b = meta & 63u;
+    uint32_t f = 0u;
+    if (b != 0u) {
+        uint32_t pos = (meta >> 6u) * 8u + k * b;
+        uint32_t w = base + data[base + dagfmt::kFactorOffset] + (pos >> 5u);
+        uint32_t sh = pos & 31u;
+        f = data[w] >> sh;
+        if (sh + b > 32u) f |= data[w + 1u] << (32u - sh);
+        f &= stat::lowMask(b);
+    }
+    if (b == 32u) return f; // raw 32-bit fallback
+    return data[ch + 2u] + data[ch + 3u] * f;
+}
+
+// Only valid on a buffer validateDAGMH accepted; x, y < resolution.
+inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    uint32_t L = data[base + dagfmt::kLevels];
+    uint32_t S = data[base + dagfmt::kSkipLevel];
+    uint32_t e = base + data[base + dagfmt::kSkipOffset] +
+                 dagfmt::kSkipWords * (((y >> (L - S)) << S) + (x >> (L - S)));
+    uint32_t kind = data[e] & 255u;
+    uint32_t depth = data[e] >> 8u;
+    uint32_t ptr = data[e + 1u];
+    uint32_t vcount = data[e + 2u];
+    uint32_t vlast = data[e + 3u];
+    uint32_t nodes = base + data[base + dagfmt::kNodeOffset];
+    while (kind == 1u) {
+        uint32_t flags = data[nodes + ptr];
+        if ((flags & 256u) != 0u) vlast = vcount;
+        if (depth >= L) break;
+        uint32_t s = L - depth - 1u;
+        uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+        uint32_t t = (flags >> (2u * c)) & 3u;
+        if (t == 0u) break;
+        uint32_t rank = 0u, n = 0u;
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            uint32_t present = ((flags >> (2u * i)) & 3u) != 0u ? 1u : 0u;
+            if (i < c) rank += present;
+            n += present;
+        }
+        uint32_t child = data[nodes + ptr + 1u + rank];
+        vcount += rank == 0u ? ((flags >> 8u) & 1u) : data[nodes + ptr + n + rank];
+        ptr = child;
+        depth += 1u;
+        kind = t;
+    }
+    if (kind == 2u) {
+        uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * ptr;
+        for (uint32_t i = 0u; i < 4u; ++i) {
+            uint32_t lvl = 3u - i;
+            if (depth + lvl > L) continue;
+            uint32_t idx = lvl;
+            for (uint32_t j = 1u; j <= lvl; ++j) {
+                uint32_t s = L - depth - j;
+                uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+                idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
+            }
+            uint32_t wi = idx >> 5u;
+            if (((data[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
+                uint32_t before = stat::popc(data[tb + wi] & stat::lowMask(idx & 31u));
+                if (wi > 0u) before += stat::popc(data[tb]);
+                if (wi > 1u) before += stat::popc(data[tb + 1u]);
+                vlast = vcount + before;
+                break;
+            }
+        }
+    }
+    return dagmhValue(data, base, vlast);
+}
+inline uint32_t dagmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
+    return dagmhLookup(data, 0u, x, y);
+}
+
+} // namespace ml

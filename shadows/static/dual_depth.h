@@ -1,0 +1,57 @@
+// Dual depth maps: the input of every static shadow method (SM, MH, MMH, DAG-MH, CPVS).
+//
+// A static light sees the scene through a square perspective frustum (a spotlight's cone, or one cube
+// face of a point light). Each texel holds an interval [enter, exit] of light-space depth along the
+// ray through the texel centre:
+//   enter = depth of the first surface the ray meets;
+//   exit  = depth where the ray leaves the closed object it entered there (the first back face after
+//           enter that closes it). For open (not watertight) meshes exit = enter.
+// "Lossless" for a compressed structure means: every value it returns for a texel lies in
+// [enter, exit], so a shadow test of any receiver outside closed objects is unchanged.
+//
+// Depth is integer: linear light-space distance along the light's axis, quantised to 32 bits over
+// [0, far] (quantizeDepth). Integer depth lets CPU and GPU decoders agree bit for bit.
+// A texel whose ray meets nothing holds kDepthEmpty in both enter and exit.
+//
+// Texel (x, y) covers NDC [x/res*2-1, (x+1)/res*2-1] horizontally, row y = 0 at NDC y = -1; its
+// sample point is the centre. Rasterisation follows the top-left-free rule "centre inside the
+// triangle, ties resolved by the edge function's sign >= 0", which the CPU reference and the GPU bake
+// both document.
+#pragma once
+#include "engine/result.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace ml {
+
+constexpr uint32_t kDepthEmpty = 0xFFFFFFFFu;
+
+// A light's square perspective view: world -> light view (looking down -Z), full vertical = horizontal
+// field of view, and the depth range [nearPlane, farPlane] (farPlane = the light's range).
+struct LightFrustum {
+    glm::mat4 view{1.0f};
+    float fov = 1.0f; // full angle, radians, < pi
+    float nearPlane = 0.05f;
+    float farPlane = 10.0f;
+};
+
+// Linear distance z in [0, far] -> [0, 0xFFFFFFFE]; values past far clamp. kDepthEmpty stays free.
+inline uint32_t quantizeDepth(float z, float farPlane) {
+    double t = double(z) / double(farPlane);
+    if (!(t > 0.0)) return 0u;
+    if (t >= 1.0) return 0xFFFFFFFEu;
+    return uint32_t(t * 4294967294.0);
+}
+inline float dequantizeDepth(uint32_t d, float farPlane) { return float(double(d) / 4294967294.0 * farPlane); }
+
+struct DualDepthMap {
+    uint32_t resolution = 0; // width = height
+    std::vector<uint32_t> enter; // resolution * resolution, row-major, row 0 at NDC y = -1
+    std::vector<uint32_t> exit;
+    uint32_t at(uint32_t x, uint32_t y) const { return enter[size_t(y) * resolution + x]; }
+};
+
+} // namespace ml

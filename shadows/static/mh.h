@@ -1,0 +1,123 @@
+// MH: multiresolution hierarchy of depth intervals (Scandolo, Bauszat, Eisemann 2016, "Compressed
+// multiresolution hierarchies", summarised in ../shared/papers/mmh-*.txt section 2.2 and
+// dagmh-*.txt section 3).
+//
+// Construction (buildMhTree): level L = the texels, each an interval [enter, exit] (empty texels
+// [kDepthEmpty, kDepthEmpty]; texels past a non-power-of-two resolution are "don't care" [0, 2^32-1]).
+// Bottom-up, every 2x2 group picks the point covered by the most child intervals (ties: the widest
+// intersection, then the lowest child); the parent gets the intersection of those children, which are
+// removed (represented implicitly by the parent). The others stay. Repeat up to the 1x1 root.
+// Invariant: a node's interval lies inside the interval of every texel it represents implicitly, so
+// the deepest value on a texel's path is lossless. The sparse result is a quadtree with leaf, full
+// inner (value + children) and empty inner (children only) nodes.
+//
+// Serialized layout (words; the same node layout is used by MMH, with relative values):
+//   header[12]: magic 'MH01' | version 1 | resolution | levels L | root type (1 leaf, 2 full) |
+//               node offset (12) | node words | total words | valued nodes | inner records |
+//               checksum (word-wise FNV-1a over all other words) | 0
+//   nodes: root record, then child groups. A record is: leaf [value]; full inner [value][header];
+//          empty inner [header]. header = child types (2 bits per child c = 2*ybit + xbit, bits 2c..2c+1:
+//          0 absent, 1 leaf, 2 full, 3 empty) | offset << 8, offset = words from the header word to its
+//          child group (> 0, < 2^24). A group holds the present children's records in child order, so a
+//          child's position is the group start plus the record sizes of the present children before it.
+//   Groups are laid out in depth-first (preorder) order of their parent, so offsets are positive.
+// Lookup: the value of the deepest valued node on the texel's path (absent child -> current value).
+// Empty texels decode to exactly kDepthEmpty (their interval is the single point).
+#pragma once
+#include "engine/result.h"
+#include "shadows/static/dual_depth.h"
+#include "shadows/static/format_common.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ml {
+
+// Construction-side sparse quadtree shared by the MH, MMH and DAG-MH encoders.
+struct MhTree {
+    struct Node {
+        uint32_t lo = 0, hi = 0; // interval (meaningful when valued)
+        int32_t child[4] = {-1, -1, -1, -1};
+        uint8_t valued = 0;
+        uint8_t depth = 0; // 0 = root, levels = texels
+        bool inner() const { return child[0] >= 0 || child[1] >= 0 || child[2] >= 0 || child[3] >= 0; }
+        // Type as seen from the parent: 1 leaf, 2 full inner, 3 empty inner.
+        uint32_t type() const { return inner() ? (valued ? 2u : 3u) : 1u; }
+    };
+    uint32_t resolution = 0, levels = 0;
+    std::vector<Node> nodes; // preorder; nodes[0] is the root (always valued)
+    size_t valuedCount() const;
+};
+
+Result<MhTree> buildMhTree(const DualDepthMap& map);
+
+namespace mhfmt {
+constexpr uint32_t kMagicMH = stat::fourcc('M', 'H', '0', '1');
+constexpr uint32_t kMagicMMH = stat::fourcc('M', 'M', 'H', '1');
+constexpr uint32_t kHeaderWords = 12;
+enum : uint32_t {
+    kMagic,
+    kVersion,
+    kResolution,
+    kLevels,
+    kRootType,
+    kNodeOffset,
+    kNodeWords,
+    kTotalWords,
+    kValued,
+    kInnerRecords,
+    kChecksum,
+    kReserved
+};
+constexpr uint32_t kMaxOffset = (1u << 24) - 1u;
+
+// Shared serializer for MH and MMH. value[n] is the word stored for node n (absolute for MH, relative
+// for MMH). redirect[n] >= 0 makes inner node n point at node redirect[n]'s child group (MMH merge);
+// nodes with skip[n] are not written (inside a redirected subtree). headerPos/groupPos (optional)
+// receive each node's header word and child group position in the node array.
+Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<uint32_t>& value,
+                                        const std::vector<int32_t>* redirect,
+                                        const std::vector<uint8_t>* skip, uint32_t magic,
+                                        std::vector<uint32_t>* headerPos = nullptr,
+                                        std::vector<uint32_t>* groupPos = nullptr);
+// Checks the header, checksum and every reachable record and group against the buffer's bounds.
+Result<void> validate(const uint32_t* data, size_t size, uint32_t magic);
+stat::ByteBreakdown breakdown(const uint32_t* data, size_t size);
+} // namespace mhfmt
+
+Result<std::vector<uint32_t>> encodeMH(const DualDepthMap& map);
+Result<std::vector<uint32_t>> encodeMH(const MhTree& tree);
+Result<void> validateMH(const uint32_t* data, size_t size);
+// Bytes per part: header, nodes (header words of inner records), values (value words).
+stat::ByteBreakdown breakdownMH(const uint32_t* data, size_t size);
+
+// GLSL twin: shaders/static/mh_lookup.glsl. Only valid on a buffer validateMH accepted; x, y < resolution.
+inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    uint32_t levels = data[base + mhfmt::kLevels];
+    uint32_t p = base + data[base + mhfmt::kNodeOffset];
+    uint32_t value = data[p];
+    if (data[base + mhfmt::kRootType] == 1u) return value;
+    uint32_t hp = p + 1u;
+    uint32_t hdr = data[hp];
+    for (uint32_t s = levels; s > 0u; --s) {
+        uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
+        uint32_t t = (hdr >> (2u * c)) & 3u;
+        if (t == 0u) return value;
+        uint32_t q = hp + (hdr >> 8u);
+        // Record sizes by type: absent 0, leaf 1, full 2, empty 1 (2-bit table 0x64).
+        for (uint32_t i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
+        if (t != 3u) {
+            value = data[q];
+            q += 1u;
+        }
+        if (t == 1u) return value;
+        hp = q;
+        hdr = data[hp];
+    }
+    return value;
+}
+inline uint32_t mhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
+    return mhLookup(data, 0u, x, y);
+}
+
+} // namespace ml

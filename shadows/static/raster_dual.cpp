@@ -1,0 +1,224 @@
+// CPU reference dual depth rasteriser; the rules (clipping, fixed point, tie rule, hit walk) are in
+// raster_dual.h.
+#include "shadows/static/raster_dual.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ml {
+
+namespace {
+
+constexpr int64_t kSub = 256;  // sub-texel steps per texel
+constexpr double kGuard = 2.0; // guard band, NDC units
+
+using V3 = glm::dvec3;
+
+bool lexLess(const V3& a, const V3& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+}
+
+// Clips a convex polygon against f(v) >= 0. The intersection point of an edge is computed from its
+// end points in lexicographic order, so both triangles that share the edge get the same point.
+template <class F> void clipPolygon(std::vector<V3>& poly, std::vector<V3>& tmp, F f) {
+    tmp.clear();
+    size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+        V3 a = poly[i], b = poly[(i + 1) % n];
+        double fa = f(a), fb = f(b);
+        if (fa >= 0.0) tmp.push_back(a);
+        if ((fa >= 0.0) != (fb >= 0.0)) {
+            if (lexLess(b, a)) std::swap(a, b), std::swap(fa, fb);
+            double t = fa / (fa - fb);
+            tmp.push_back(a + (b - a) * t);
+        }
+    }
+    poly.swap(tmp);
+}
+
+int64_t floorDiv(int64_t a, int64_t b) {
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+} // namespace
+
+CasterTriangles castersFromScene(const Scene& scene) {
+    CasterTriangles out;
+    for (const Instance& inst : scene.instances) {
+        if (inst.dynamic || inst.mesh >= scene.meshes.size()) continue;
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        bool mirror = glm::determinant(glm::mat3(inst.transform)) < 0.0f;
+        for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+            uint32_t ia = mesh.indices[i], ib = mesh.indices[i + 1], ic = mesh.indices[i + 2];
+            if (ia >= mesh.vertices.size() || ib >= mesh.vertices.size() || ic >= mesh.vertices.size())
+                continue;
+            glm::vec3 a = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ia].position, 1.0f));
+            glm::vec3 b = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ib].position, 1.0f));
+            glm::vec3 c = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ic].position, 1.0f));
+            if (mirror) std::swap(b, c);
+            out.add(a, b, c, mesh.closed);
+        }
+    }
+    return out;
+}
+
+LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
+    LightFrustum f;
+    glm::vec3 dir = glm::normalize(light.direction);
+    glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    f.view = glm::lookAt(light.position, light.position + dir, up);
+    f.fov = 2.0f * light.outerAngle;
+    f.nearPlane = nearPlane;
+    f.farPlane = light.range;
+    return f;
+}
+
+DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum,
+                               uint32_t resolution)
+    : res_(resolution), far_(frustum.farPlane) {
+    const double t = std::tan(double(frustum.fov) * 0.5);
+    const double n = frustum.nearPlane, fa = frustum.farPlane;
+    std::vector<V3> poly, tmp;
+    size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
+    for (size_t tri = 0; tri < count; ++tri) {
+        poly.clear();
+        for (int k = 0; k < 3; ++k) {
+            glm::vec4 v = frustum.view * glm::vec4(casters.positions[tri * 3 + k], 1.0f);
+            poly.push_back(V3(v.x, v.y, -double(v.z))); // z holds the depth d = -Z
+        }
+        clipPolygon(poly, tmp, [&](const V3& v) { return v.z - n; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return fa - v.z; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z - v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z + v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z - v.y; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z + v.y; });
+        if (poly.size() < 3) continue;
+        // Project: NDC = x / (d tan), pixel = (NDC + 1) / 2 * res, fixed = round(pixel * 256).
+        std::vector<int64_t> fx(poly.size()), fy(poly.size());
+        std::vector<double> inv(poly.size());
+        for (size_t k = 0; k < poly.size(); ++k) {
+            double d = std::max(poly[k].z, n);
+            fx[k] = std::llround((poly[k].x / (d * t) + 1.0) * 0.5 * double(res_) * double(kSub));
+            fy[k] = std::llround((poly[k].y / (d * t) + 1.0) * 0.5 * double(res_) * double(kSub));
+            inv[k] = 1.0 / d;
+        }
+        for (size_t k = 1; k + 1 < poly.size(); ++k) {
+            size_t id[3] = {0, k, k + 1};
+            Tri tr;
+            for (int j = 0; j < 3; ++j) tr.x[j] = fx[id[j]], tr.y[j] = fy[id[j]], tr.invDepth[j] = inv[id[j]];
+            int64_t area =
+                (tr.x[1] - tr.x[0]) * (tr.y[2] - tr.y[0]) - (tr.x[2] - tr.x[0]) * (tr.y[1] - tr.y[0]);
+            if (area == 0) continue;
+            bool front = area > 0;
+            if (!front)
+                std::swap(tr.x[1], tr.x[2]), std::swap(tr.y[1], tr.y[2]),
+                    std::swap(tr.invDepth[1], tr.invDepth[2]);
+            tr.kind = casters.closed[tri] ? (front ? 0 : 2) : 1;
+            int64_t ymin = std::min({tr.y[0], tr.y[1], tr.y[2]}),
+                    ymax = std::max({tr.y[0], tr.y[1], tr.y[2]});
+            // Rows whose centre y*256+128 lies in [ymin, ymax].
+            int64_t r0 = floorDiv(ymin - kSub / 2 + kSub - 1, kSub), r1 = floorDiv(ymax - kSub / 2, kSub);
+            r0 = std::max<int64_t>(r0, 0), r1 = std::min<int64_t>(r1, int64_t(res_) - 1);
+            if (r0 > r1) continue;
+            tr.yMin = int32_t(r0), tr.yMax = int32_t(r1);
+            tris_.push_back(tr);
+        }
+    }
+    std::stable_sort(tris_.begin(), tris_.end(), [](const Tri& a, const Tri& b) { return a.yMin < b.yMin; });
+}
+
+void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const {
+    const uint64_t rowTexels = res_;
+    const uint64_t tileTexels = uint64_t(y1 - y0) * rowTexels;
+    // Hit key: local texel (30 bits) | depth (32 bits) | kind (2 bits); sorting orders hits per texel
+    // by depth, then closed front < open < closed back.
+    std::vector<uint64_t> hits;
+    for (const Tri& tr : tris_) {
+        if (tr.yMin >= int32_t(y1)) break;
+        if (tr.yMax < int32_t(y0)) continue;
+        int64_t xmin = std::min({tr.x[0], tr.x[1], tr.x[2]}), xmax = std::max({tr.x[0], tr.x[1], tr.x[2]});
+        int64_t c0 = floorDiv(xmin - kSub / 2 + kSub - 1, kSub), c1 = floorDiv(xmax - kSub / 2, kSub);
+        c0 = std::max<int64_t>(c0, 0), c1 = std::min<int64_t>(c1, int64_t(res_) - 1);
+        if (c0 > c1) continue;
+        // Edge i is opposite vertex i: from v[i+1] to v[i+2]. E = A (px - ax) + B (py - ay).
+        int64_t A[3], B[3], bias[3];
+        for (int i = 0; i < 3; ++i) {
+            int a = (i + 1) % 3, b = (i + 2) % 3;
+            int64_t dx = tr.x[b] - tr.x[a], dy = tr.y[b] - tr.y[a];
+            A[i] = -dy, B[i] = dx;
+            bool owns = dy < 0 || (dy == 0 && dx > 0);
+            bias[i] = owns ? 0 : 1;
+        }
+        const int64_t area = B[0] * (tr.y[0] - tr.y[1]) + A[0] * (tr.x[0] - tr.x[1]);
+        const double invArea = 1.0 / double(area);
+        int32_t ys = std::max(tr.yMin, int32_t(y0)), ye = std::min(tr.yMax, int32_t(y1) - 1);
+        for (int32_t y = ys; y <= ye; ++y) {
+            int64_t py = int64_t(y) * kSub + kSub / 2, px = c0 * kSub + kSub / 2;
+            int64_t e[3];
+            for (int i = 0; i < 3; ++i) {
+                int a = (i + 1) % 3;
+                e[i] = A[i] * (px - tr.x[a]) + B[i] * (py - tr.y[a]);
+            }
+            for (int64_t x = c0; x <= c1; ++x) {
+                if (e[0] - bias[0] >= 0 && e[1] - bias[1] >= 0 && e[2] - bias[2] >= 0) {
+                    double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
+                                   double(e[2]) * tr.invDepth[2]) *
+                                  invArea;
+                    uint32_t depth = quantizeDepth(float(1.0 / invd), far_);
+                    uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x);
+                    hits.push_back(local << 34 | uint64_t(depth) << 2 | tr.kind);
+                }
+                for (int i = 0; i < 3; ++i) e[i] += A[i] * kSub;
+            }
+        }
+    }
+    std::sort(hits.begin(), hits.end());
+    std::fill(enter, enter + tileTexels, kDepthEmpty);
+    std::fill(exit, exit + tileTexels, kDepthEmpty);
+    size_t i = 0;
+    while (i < hits.size()) {
+        uint64_t texel = hits[i] >> 34;
+        size_t j = i;
+        while (j < hits.size() && (hits[j] >> 34) == texel) ++j;
+        uint32_t first = uint32_t(hits[i] >> 2);
+        uint32_t out = first;
+        if ((hits[i] & 3u) == 0u) { // entered a closed mesh: walk until outside all closed geometry
+            int count = 0;
+            out = 0xFFFFFFFEu;
+            for (size_t k = i; k < j; ++k) {
+                uint32_t kind = uint32_t(hits[k] & 3u);
+                count += kind == 0 ? 1 : kind == 2 ? -1 : 0;
+                if (count <= 0) {
+                    out = uint32_t(hits[k] >> 2);
+                    break;
+                }
+            }
+        }
+        enter[texel] = first;
+        exit[texel] = out;
+        i = j;
+    }
+}
+
+DualDepthMap DualRasterizer::render(uint64_t tileTexels) const {
+    DualDepthMap map;
+    map.resolution = res_;
+    map.enter.assign(size_t(res_) * res_, kDepthEmpty);
+    map.exit.assign(size_t(res_) * res_, kDepthEmpty);
+    uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res_, 1), 1, res_));
+    for (uint32_t y0 = 0; y0 < res_; y0 += rows) {
+        uint32_t y1 = std::min(res_, y0 + rows);
+        renderRows(y0, y1, map.enter.data() + size_t(y0) * res_, map.exit.data() + size_t(y0) * res_);
+    }
+    return map;
+}
+
+DualDepthMap rasterizeDual(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t resolution) {
+    return DualRasterizer(casters, frustum, resolution).render();
+}
+
+} // namespace ml

@@ -1,0 +1,81 @@
+// CPU reference rasteriser for dual depth maps (the input of SM, MH, MMH, DAG-MH; see dual_depth.h).
+//
+// Algorithm (a tiled scanline / bounding-box rasteriser, no GPU):
+//   1. Every triangle goes to the light's view space and is clipped (Sutherland-Hodgman) against the
+//      near plane, the far plane and a guard band at NDC +-2 on the four sides. The guard band keeps the
+//      fixed-point coordinates below 2^26 at 64K^2, so edge functions stay exact in int64.
+//   2. The clipped polygon is fanned into triangles and projected to fixed point: 8 sub-texel bits
+//      (1/256 texel). Edge functions are exact integers; the texel centre (x + 0.5, y + 0.5) is a fixed
+//      point too, so a centre on an edge is decided exactly.
+//   3. Tie rule (top-left, in place of dual_depth.h's ">= 0"): with the triangle walked counter-
+//      clockwise (NDC, y up), a centre strictly inside is covered; a centre exactly on an edge is covered
+//      only when that edge points downward (dy < 0), or is horizontal and points to +x. The neighbour
+//      across a shared edge walks it the other way, so exactly one of the two owns the centre. ">= 0"
+//      would count the centre twice on a shared front edge and once on the back, and a closed mesh
+//      would then never be "left" again. Clipping computes intersection points from the edge's end
+//      points in a canonical order, so a shared edge is cut identically on both sides.
+//   4. Per covered centre a hit (depth, kind) is recorded; the depth is the linear distance along the
+//      light's -Z, interpolated perspective-correctly (1/z is affine in screen space) in double and
+//      quantised with quantizeDepth(float(z), far). Front faces are counter-clockwise seen from the light.
+//   5. Per texel the hits are sorted by depth; at equal depth a closed front face comes first, then open
+//      faces, then closed back faces. enter = first hit. If the first hit is a closed front face, a
+//      counter over closed faces (+1 front, -1 back, open faces ignored) is run from it and exit = depth
+//      of the first hit where it drops to 0; if it never does (back faces beyond far), exit = far
+//      (0xFFFFFFFE). Otherwise (open face, or a closed back face, e.g. the light inside a mesh)
+//      exit = enter. No hit: enter = exit = kDepthEmpty.
+// Rows are rendered in tiles (renderRows) so that only one tile's hit list is held at a time.
+#pragma once
+#include "shadows/static/dual_depth.h"
+#include "scenes/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ml {
+
+// World-space triangle soup: 3 positions per triangle, and per triangle whether its mesh is closed
+// (watertight and consistently wound, counter-clockwise front faces).
+struct CasterTriangles {
+    std::vector<glm::vec3> positions;
+    std::vector<uint8_t> closed;
+    size_t triangleCount() const { return closed.size(); }
+    void add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, bool isClosed) {
+        positions.push_back(a), positions.push_back(b), positions.push_back(c);
+        closed.push_back(isClosed ? 1 : 0);
+    }
+};
+
+// The static (non-dynamic) instances of a scene as world-space triangles. Instances whose transform
+// mirrors (negative determinant) get their winding swapped so that front faces stay front faces.
+CasterTriangles castersFromScene(const Scene& scene);
+
+// A spotlight's frustum: looking along its direction, full angle 2 * outerAngle, far = range.
+LightFrustum spotLightFrustum(const Light& light, float nearPlane = 0.05f);
+
+class DualRasterizer {
+  public:
+    DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t resolution);
+
+    // Renders rows [y0, y1) into enter/exit, each (y1 - y0) * resolution words, row-major.
+    void renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const;
+    // The whole map, in tiles of at most `tileTexels` texels.
+    DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
+
+    size_t projectedTriangles() const { return tris_.size(); }
+
+  private:
+    struct Tri {
+        int64_t x[3], y[3]; // fixed point, 1/256 texel, counter-clockwise
+        double invDepth[3];
+        int32_t yMin, yMax; // covered texel rows (inclusive), before tiling
+        uint8_t kind;       // 0 closed front, 1 open, 2 closed back
+    };
+    std::vector<Tri> tris_; // sorted by yMin
+    uint32_t res_;
+    float far_;
+};
+
+// Convenience: rasterise the whole map.
+DualDepthMap rasterizeDual(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t resolution);
+
+} // namespace ml

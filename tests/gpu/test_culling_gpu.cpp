@@ -1,0 +1,140 @@
+// GPU light culling against its CPU reference (culling/culling.h) on the night city: cluster bounds
+// bit for bit, light lists exactly (as sorted sets), and the per-pixel counts of the statistics.
+#include "gpu_test_util.h"
+
+#include "shaders/shared/light_math.h"
+
+#include <algorithm>
+
+namespace ml::test {
+
+namespace {
+
+struct Fixture {
+    std::unique_ptr<Module> module;
+    Scene scene;
+};
+
+Fixture renderCity(CullingMode mode, uint32_t lights, uint32_t width = 320, uint32_t height = 180) {
+    Fixture f;
+    f.module = makeModule(mode);
+    auto s = loadScene("night-city", lights, 7);
+    EXPECT_TRUE(s.ok()) << s.error();
+    f.scene = s.value();
+    auto b = bindScene(*f.module, f.scene);
+    EXPECT_TRUE(b.ok()) << b.error();
+    EXPECT_TRUE(f.module->createTargets(width, height).ok());
+    renderFrame(*f.module);
+    return f;
+}
+
+void compareWithReference(Module& m, CullingMode mode) {
+    auto& impl = m.internals();
+    auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
+    const ClusterGrid& grid = impl.cull.grid;
+    ASSERT_EQ(ref.bounds.size(), grid.count());
+    if (mode == CullingMode::Tiled) ASSERT_EQ(grid.slices, 1u);
+    auto* bounds = impl.cull.bounds.as<gpu::ClusterBounds>();
+    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    auto* pool = impl.cull.pool.as<uint32_t>();
+    size_t occupied = 0, entries = 0;
+    for (uint32_t c = 0; c < grid.count(); ++c) {
+        ASSERT_EQ(0, std::memcmp(&bounds[c], &ref.bounds[c], sizeof(gpu::ClusterBounds))) << "cluster " << c;
+        if (ref.bounds[c].lo.w == 0.0f) continue;
+        ++occupied;
+        ASSERT_NE(ranges[c].x, ML_CLUSTER_OVERFLOW) << "unexpected overflow in cluster " << c;
+        std::vector<uint32_t> gpuList(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+        std::sort(gpuList.begin(), gpuList.end());
+        ASSERT_EQ(gpuList, ref.lists[c]) << "cluster " << c;
+        entries += gpuList.size();
+    }
+    EXPECT_GT(occupied, 100u);
+    EXPECT_GT(entries, 20u) << "lists too small to mean anything";
+    std::printf("  %s: %zu occupied clusters, %zu list entries identical\n", cullingName(mode), occupied, entries);
+}
+
+} // namespace
+
+TEST(GpuCulling, ClusteredListsEqualCpuReference) {
+    auto f = renderCity(CullingMode::Clustered, 256);
+    compareWithReference(*f.module, CullingMode::Clustered);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuCulling, TiledListsEqualCpuReference) {
+    auto f = renderCity(CullingMode::Tiled, 256);
+    compareWithReference(*f.module, CullingMode::Tiled);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuCulling, ManyLightsListsEqualCpuReference) {
+    auto f = renderCity(CullingMode::Clustered, 2048, 192, 108);
+    compareWithReference(*f.module, CullingMode::Clustered);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// Every light that reaches a pixel is in that pixel's list (the cluster test is conservative), and
+// the GPU's per-pixel counters equal the CPU's.
+TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
+    auto f = renderCity(CullingMode::Clustered, 256);
+    Module& m = *f.module;
+    auto& impl = m.internals();
+    auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    const auto& fc = impl.lastConstants;
+    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    auto* pool = impl.cull.pool.as<uint32_t>();
+    uint64_t surface = 0, reaching = 0, evaluated = 0;
+    for (uint32_t y = 0; y < fc.size.y; ++y)
+        for (uint32_t x = 0; x < fc.size.x; ++x) {
+            float d = depth[size_t(y) * fc.size.x + x];
+            if (!(d < 1.0f)) continue;
+            ++surface;
+            glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
+            uint32_t s = sliceOf(gpu::linearDepth(d, fc.depth), impl.lastSliceFar, fc.cluster.x);
+            uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
+            std::vector<uint32_t> list(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+            evaluated += list.size();
+            for (uint32_t l = 0; l < impl.lastLights.size(); ++l)
+                if (gpu::lightReachesPoint(impl.lastLights[l], p)) {
+                    ++reaching;
+                    ASSERT_NE(std::find(list.begin(), list.end(), l), list.end())
+                        << "light " << l << " reaches pixel " << x << "," << y << " but is not in its cluster";
+                }
+        }
+    auto reports = m.takeReports();
+    ASSERT_EQ(reports.size(), 1u);
+    const FrameStats& st = reports[0].stats;
+    EXPECT_EQ(st.surfacePixels, surface);
+    EXPECT_DOUBLE_EQ(st.lightsPerPixelReachingMean, double(reaching) / surface);
+    EXPECT_DOUBLE_EQ(st.lightsPerPixelEvaluatedMean, double(evaluated) / surface);
+    EXPECT_GT(reaching, 0u);
+    EXPECT_EQ(st.lightsTotal, 256u);
+    EXPECT_EQ(st.clusterOverflowCount, 0u);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// A pool too small for the lists: overflowing clusters are counted, and their pixels test every
+// visible light, so the image equals the one rendered with room to spare.
+TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
+    auto f = renderCity(CullingMode::Clustered, 256);
+    Module& m = *f.module;
+    std::vector<uint8_t> full, overflowed;
+    ASSERT_TRUE(m.readOutput(full).ok());
+    m.takeReports();
+    m.internals().poolOverride = 16;
+    m.internals().cullingMode = CullingMode(~0u); // resize with the small pool
+    renderFrame(m);
+    ASSERT_TRUE(m.readOutput(overflowed).ok());
+    auto reports = m.takeReports();
+    ASSERT_EQ(reports.size(), 1u);
+    EXPECT_GT(reports[0].stats.clusterOverflowCount, 0u);
+    EXPECT_EQ(reports[0].stats.poolCapacity, 16u);
+    ASSERT_EQ(full.size(), overflowed.size());
+    int maxDiff = 0;
+    for (size_t i = 0; i < full.size(); ++i) maxDiff = std::max(maxDiff, std::abs(int(full[i]) - int(overflowed[i])));
+    EXPECT_LE(maxDiff, 1) << "overflowed clusters changed the image";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace ml::test

@@ -1,0 +1,118 @@
+// The evaluation pass against its CPU reference (shaders/shared/shading.h compiled for the CPU), on
+// sampled pixels of a night-city frame; and bad input to the module API.
+#include "gpu_test_util.h"
+
+#include "shaders/shared/shading.h"
+
+#include <glm/gtc/packing.hpp>
+
+#include <cmath>
+
+namespace ml::test {
+
+TEST(GpuEvaluate, SampledPixelsMatchCpuShading) {
+    auto m = makeModule();
+    auto scene = loadScene("night-city", 256, 3);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    ASSERT_TRUE(bindScene(*m, scene.value()).ok());
+    ASSERT_TRUE(m->createTargets(320, 180).ok());
+    renderFrame(*m);
+    auto& impl = m->internals();
+    const auto& fc = impl.lastConstants;
+    auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    auto albedo = readImage(*m, impl.targets.albedo, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
+    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    auto* pool = impl.cull.pool.as<uint32_t>();
+    auto half4 = [](const std::vector<uint8_t>& img, size_t i) {
+        uint64_t bits;
+        std::memcpy(&bits, img.data() + i * 8, 8);
+        return glm::vec4(glm::unpackHalf2x16(uint32_t(bits)), glm::unpackHalf2x16(uint32_t(bits >> 32)));
+    };
+    uint32_t checked = 0, lit = 0;
+    for (uint32_t y = 1; y < fc.size.y; y += 5)
+        for (uint32_t x = 2; x < fc.size.x; x += 5) {
+            size_t i = size_t(y) * fc.size.x + x;
+            glm::vec3 expected = glm::vec3(fc.sky);
+            if (depth[i] < 1.0f) {
+                glm::vec3 P = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
+                glm::vec3 N = glm::normalize(glm::vec3(half4(normal, i)));
+                glm::vec3 a = glm::vec3(albedo[i * 4], albedo[i * 4 + 1], albedo[i * 4 + 2]) / 255.0f;
+                glm::vec3 V = glm::normalize(glm::vec3(fc.cameraPosition) - P);
+                expected = a * glm::vec3(fc.ambient);
+                uint32_t s = sliceOf(gpu::linearDepth(depth[i], fc.depth), impl.lastSliceFar, fc.cluster.x);
+                uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
+                for (uint32_t k = 0; k < ranges[c].y; ++k)
+                    expected += gpu::shadeLight(impl.lastLights[pool[ranges[c].x + k]], P, N, V, a);
+                if (ranges[c].y) ++lit;
+            }
+            glm::vec3 got = glm::vec3(half4(hdr, i));
+            for (int k = 0; k < 3; ++k)
+                ASSERT_NEAR(got[k], expected[k], 2e-3f * std::abs(expected[k]) + 2e-4f)
+                    << "pixel " << x << "," << y << " channel " << k;
+            ++checked;
+        }
+    EXPECT_GT(checked, 2000u);
+    EXPECT_GT(lit, 20u) << "too few lit samples for the comparison to mean anything";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuModuleInput, BadLightsAreRejectedWithAReason) {
+    auto m = makeModule();
+    LightDesc ok;
+    EXPECT_TRUE(m->addLight(ok).ok());
+    auto check = [&](LightDesc l, const char* word) {
+        auto r = m->addLight(l);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find(word), std::string::npos) << r.error();
+    };
+    LightDesc l = ok;
+    l.position.x = NAN;
+    check(l, "position");
+    l = ok;
+    l.range = -1.0f;
+    check(l, "range");
+    l = ok;
+    l.intensity = -2.0f;
+    check(l, "intensity");
+    l = ok;
+    l.color = glm::vec3(NAN);
+    check(l, "colour");
+    l = ok;
+    l.outerAngle = 2.0f;
+    check(l, "outer");
+    l = ok;
+    l.innerAngle = 0.9f;
+    check(l, "inner");
+    l = ok;
+    l.direction = glm::vec3(0.0f);
+    check(l, "direction");
+    EXPECT_EQ(m->lightCount(), 1u) << "a rejected light must not be added";
+    EXPECT_FALSE(m->createTargets(0, 0).ok());
+    EXPECT_FALSE(m->createTargets(320, 0).ok());
+    EXPECT_FALSE(m->setInstanceTransform(99, glm::mat4(1.0f)).ok());
+    uint32_t badIndex[3] = {0, 1, 7};
+    MeshVertex v[3] = {};
+    EXPECT_FALSE(m->addMesh({v, badIndex, false, "bad"}).ok());
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuModuleInput, ZeroLightsRendersAmbientOnly) {
+    auto m = makeModule();
+    auto scene = loadScene("night-city", 1, 1);
+    ASSERT_TRUE(scene.ok());
+    scene->lights.clear();
+    ASSERT_TRUE(bindScene(*m, scene.value()).ok());
+    ASSERT_TRUE(m->createTargets(160, 90).ok());
+    renderFrame(*m);
+    auto reports = m->takeReports();
+    ASSERT_EQ(reports.size(), 1u);
+    EXPECT_EQ(reports[0].stats.lightsTotal, 0u);
+    EXPECT_EQ(reports[0].stats.lightsPerPixelEvaluatedMean, 0.0);
+    EXPECT_GT(reports[0].stats.surfacePixels, 0u);
+    for (uint32_t p = 0; p < kPassCount; ++p) EXPECT_TRUE(reports[0].times.ran[p]) << passName(Pass(p));
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace ml::test

@@ -1,0 +1,78 @@
+// The GLSL decoders (shaders/static/*_lookup.glsl) compiled as C++: `uint` is uint32_t, the SSBO is a
+// pointer, bitCount is std::popcount. Every texel must decode bit-identically to the C++ decoders, at
+// base 0 and with the buffer placed at an odd offset inside a larger array (the `base` argument).
+// The GPU run of the same text comes with the GPU tests; this pins the text itself.
+#include "static_test_util.h"
+
+#include <bit>
+
+namespace glsl {
+using uint = uint32_t;
+static const uint32_t* gStaticData = nullptr;
+inline int bitCount(uint x) {
+    return std::popcount(x);
+}
+#define ML_STATIC_DATA gStaticData
+#include "shaders/static/dagmh_lookup.glsl"
+#include "shaders/static/mh_lookup.glsl"
+#include "shaders/static/mmh_lookup.glsl"
+#undef ML_STATIC_DATA
+} // namespace glsl
+
+namespace ml::stest {
+namespace {
+
+void compareTwins(const DualDepthMap& m) {
+    const uint32_t base = 37;
+    for (int method = 0; method < 3; ++method) {
+        const Codec codec = codecs()[method];
+        SCOPED_TRACE(codec.name);
+        auto enc = codec.encode(m);
+        ASSERT_TRUE(enc.ok()) << enc.error();
+        ASSERT_TRUE(codec.validate(enc->data(), enc->size()).ok());
+        std::vector<uint32_t> shifted(base, 0xDEADBEEFu);
+        shifted.insert(shifted.end(), enc->begin(), enc->end());
+        uint64_t diff = 0;
+        for (uint32_t y = 0; y < m.resolution; ++y)
+            for (uint32_t x = 0; x < m.resolution; ++x) {
+                uint32_t cpu = codec.lookup(enc->data(), x, y);
+                glsl::gStaticData = shifted.data();
+                uint32_t g = method == 0   ? glsl::mhLookup(base, x, y)
+                             : method == 1 ? glsl::mmhLookup(base, x, y)
+                                           : glsl::dagmhLookup(base, x, y);
+                glsl::gStaticData = enc->data();
+                uint32_t g0 = method == 0   ? glsl::mhLookup(0, x, y)
+                              : method == 1 ? glsl::mmhLookup(0, x, y)
+                                            : glsl::dagmhLookup(0, x, y);
+                diff += (g != cpu) + (g0 != cpu);
+            }
+        EXPECT_EQ(diff, 0u);
+    }
+}
+
+TEST(StaticGlslTwins, BitIdenticalSynthetic) {
+    compareTwins(syntheticMap(512, 77));
+    compareTwins(syntheticMap(300, 78));
+}
+
+TEST(StaticGlslTwins, BitIdenticalRaster) {
+    CasterTriangles c;
+    std::mt19937 rng(21);
+    for (int i = 0; i < 60; ++i) {
+        glm::vec3 p(float(rng() % 100) / 10 - 5, float(rng() % 100) / 10 - 5, -3.0f - float(rng() % 50) / 10);
+        glm::vec3 q = p + glm::vec3(0.3f + float(rng() % 10) / 10);
+        glm::vec3 v[8];
+        for (int k = 0; k < 8; ++k) v[k] = {k & 1 ? q.x : p.x, k & 2 ? q.y : p.y, k & 4 ? q.z : p.z};
+        const int f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (auto& q4 : f)
+            c.add(v[q4[0]], v[q4[1]], v[q4[2]], i % 4 != 0), c.add(v[q4[0]], v[q4[2]], v[q4[3]], i % 4 != 0);
+    }
+    LightFrustum fr;
+    fr.fov = 1.2f;
+    fr.farPlane = 12.0f;
+    compareTwins(rasterizeDual(c, fr, 512));
+}
+
+} // namespace
+} // namespace ml::stest

@@ -1,0 +1,186 @@
+// CPU reference rasteriser: analytic checks at every texel (closed box: enter = front face, exit = back
+// or side face; open quad: exit = enter; misses: empty), tiling, far-plane and inside-a-mesh rules.
+#include "static_test_util.h"
+
+#include <cmath>
+
+namespace ml::stest {
+namespace {
+
+// Axis-aligned box with outward, counter-clockwise faces.
+void addBox(CasterTriangles& c, glm::vec3 lo, glm::vec3 hi, bool closed) {
+    glm::vec3 center = (lo + hi) * 0.5f;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            glm::vec3 n(0.0f);
+            n[axis] = side ? 1.0f : -1.0f;
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            glm::vec3 p[4];
+            for (int k = 0; k < 4; ++k) {
+                p[k][axis] = side ? hi[axis] : lo[axis];
+                p[k][u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+                p[k][v] = (k >= 2) ? hi[v] : lo[v];
+            }
+            glm::vec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
+            if (glm::dot(face, n) < 0.0f) std::swap(p[1], p[3]);
+            (void)center;
+            c.add(p[0], p[1], p[2], closed);
+            c.add(p[0], p[2], p[3], closed);
+        }
+}
+
+LightFrustum originFrustum() {
+    LightFrustum f; // view = identity: light at the origin looking down -Z
+    f.fov = 1.0f;
+    f.nearPlane = 0.05f;
+    f.farPlane = 10.0f;
+    return f;
+}
+
+TEST(StaticRaster, ClosedBoxEnterExitAnalytic) {
+    CasterTriangles c;
+    addBox(c, {-1, -1, -7}, {1, 1, -5}, true);
+    const uint32_t res = 256;
+    LightFrustum f = originFrustum();
+    DualDepthMap m = rasterizeDual(c, f, res);
+    const double t = std::tan(0.5);
+    uint64_t covered = 0, checked = 0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) {
+            double nx = (x + 0.5) / res * 2 - 1, ny = (y + 0.5) / res * 2 - 1;
+            double mm = std::max(std::abs(nx), std::abs(ny)) * t;                     // |lateral| / depth
+            if (std::abs(mm * 5 - 1) < 1e-3 || std::abs(mm * 7 - 1) < 1e-3) continue; // on a silhouette
+            ++checked;
+            size_t i = size_t(y) * res + x;
+            if (mm * 5 > 1) {
+                EXPECT_EQ(m.enter[i], kDepthEmpty) << x << "," << y;
+                EXPECT_EQ(m.exit[i], kDepthEmpty) << x << "," << y;
+                continue;
+            }
+            ++covered;
+            double exitDepth = std::min(7.0, 1.0 / mm);
+            EXPECT_NEAR(dequantizeDepth(m.enter[i], f.farPlane), 5.0, 1e-4) << x << "," << y;
+            // Side faces are seen at grazing angles: a vertex snapped by 1/512 texel moves their depth by
+            // up to d^2 tan(fov/2) * (2 / res) / 512.
+            double tol = 1e-4 + exitDepth * exitDepth * t * (2.0 / res) / 256.0;
+            EXPECT_NEAR(dequantizeDepth(m.exit[i], f.farPlane), exitDepth, tol) << x << "," << y;
+        }
+    EXPECT_GT(covered, 2000u);
+    EXPECT_GT(checked, res * res - 400);
+}
+
+TEST(StaticRaster, OpenQuadExitEqualsEnterAndEmptyElsewhere) {
+    CasterTriangles c;
+    glm::vec3 a(-1, -1, -4), b(1, -1, -4), d(1, 1, -4), e(-1, 1, -4);
+    c.add(a, b, d, false), c.add(a, d, e, false);
+    addBox(c, {-0.5f, -3, -8}, {0.5f, 3, -6}, true); // partly behind the quad
+    const uint32_t res = 256;
+    LightFrustum f = originFrustum();
+    DualDepthMap m = rasterizeDual(c, f, res);
+    const double t = std::tan(0.5);
+    uint64_t quad = 0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) {
+            double nx = (x + 0.5) / res * 2 - 1, ny = (y + 0.5) / res * 2 - 1;
+            size_t i = size_t(y) * res + x;
+            double qx = std::abs(nx) * t * 4, qy = std::abs(ny) * t * 4;
+            if (qx < 0.999 && qy < 0.999) {
+                ++quad;
+                EXPECT_NEAR(dequantizeDepth(m.enter[i], f.farPlane), 4.0, 1e-4);
+                EXPECT_EQ(m.exit[i], m.enter[i]);
+            } else if (qx > 1.001 || qy > 1.001) {
+                // Outside the quad: the box (front at 6) or nothing.
+                bool box = std::abs(nx) * t * 6 < 0.499 && std::abs(ny) * t * 6 < 2.999;
+                bool miss = std::abs(nx) * t * 6 > 0.501 || std::abs(ny) * t * 6 > 3.001;
+                if (box) {
+                    EXPECT_NEAR(dequantizeDepth(m.enter[i], f.farPlane), 6.0, 1e-4) << x << "," << y;
+                    EXPECT_GT(m.exit[i], m.enter[i]) << x << "," << y;
+                }
+                if (miss) {
+                    EXPECT_EQ(m.enter[i], kDepthEmpty) << x << "," << y;
+                }
+            }
+        }
+    EXPECT_GT(quad, 1000u);
+}
+
+TEST(StaticRaster, TilesMatchWholeMap) {
+    CasterTriangles c;
+    std::mt19937 rng(5);
+    for (int i = 0; i < 30; ++i) {
+        glm::vec3 p(float(rng() % 100) / 10 - 5, float(rng() % 100) / 10 - 5, -3.0f - float(rng() % 50) / 10);
+        addBox(c, p, p + glm::vec3(0.5f + float(rng() % 10) / 10), i % 2 == 0);
+    }
+    LightFrustum f = originFrustum();
+    DualRasterizer r(c, f, 300);
+    DualDepthMap whole = r.render(uint64_t(300) * 300), tiled = r.render(300 * 7);
+    EXPECT_TRUE(whole.enter == tiled.enter);
+    EXPECT_TRUE(whole.exit == tiled.exit);
+    // And a single row band rendered on its own equals the same rows of the whole map.
+    std::vector<uint32_t> en(300 * 10), ex(300 * 10);
+    r.renderRows(100, 110, en.data(), ex.data());
+    EXPECT_TRUE(std::equal(en.begin(), en.end(), whole.enter.begin() + 300 * 100));
+    EXPECT_TRUE(std::equal(ex.begin(), ex.end(), whole.exit.begin() + 300 * 100));
+}
+
+TEST(StaticRaster, FarPlaneAndLightInsideMesh) {
+    const uint32_t res = 64;
+    LightFrustum f = originFrustum();
+    {
+        // A box straddling far: its back faces are clipped, the ray stays inside until far.
+        CasterTriangles c;
+        addBox(c, {-1, -1, -12}, {1, 1, -9}, true);
+        DualDepthMap m = rasterizeDual(c, f, res);
+        size_t i = size_t(res / 2) * res + res / 2;
+        EXPECT_NEAR(dequantizeDepth(m.enter[i], f.farPlane), 9.0, 1e-4);
+        EXPECT_EQ(m.exit[i], 0xFFFFFFFEu);
+    }
+    {
+        // The light inside a closed box: the first hit is a back face, so exit = enter.
+        CasterTriangles c;
+        addBox(c, {-3, -3, -3}, {3, 3, 3}, true);
+        DualDepthMap m = rasterizeDual(c, f, res);
+        for (size_t i = 0; i < m.enter.size(); ++i) {
+            ASSERT_NE(m.enter[i], kDepthEmpty);
+            ASSERT_EQ(m.exit[i], m.enter[i]);
+        }
+    }
+}
+
+// Quad a-b-c-d split along the diagonal a-c, wound counter-clockwise around `outward`.
+void addQuad(CasterTriangles& t, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, glm::vec3 outward) {
+    if (glm::dot(glm::cross(b - a, c - a), outward) < 0.0f) std::swap(b, d);
+    t.add(a, b, c, true);
+    t.add(a, c, d, true);
+}
+
+TEST(StaticRaster, SharedEdgesCountedOnce) {
+    // A closed box whose front face is split along x = y, a line through texel centres, and whose back
+    // face is split along the other diagonal, which misses every centre. With a ">= 0" tie rule the
+    // centres on the front diagonal are entered twice but left once, and would never be left.
+    CasterTriangles c;
+    const float lo = -1.0f, hi = 1.3f, zf = -4.0f, zb = -6.0f;
+    glm::vec3 f00(lo, lo, zf), f10(hi, lo, zf), f11(hi, hi, zf), f01(lo, hi, zf);
+    glm::vec3 b00(lo, lo, zb), b10(hi, lo, zb), b11(hi, hi, zb), b01(lo, hi, zb);
+    addQuad(c, f00, f10, f11, f01, {0, 0, 1});  // front, diagonal f00-f11 (x = y)
+    addQuad(c, b10, b11, b01, b00, {0, 0, -1}); // back, diagonal b10-b01 (x + y = 0.3)
+    addQuad(c, f00, f10, b10, b00, {0, -1, 0});
+    addQuad(c, f01, f11, b11, b01, {0, 1, 0});
+    addQuad(c, f00, f01, b01, b00, {-1, 0, 0});
+    addQuad(c, f10, f11, b11, b10, {1, 0, 0});
+    LightFrustum f = originFrustum();
+    DualDepthMap m = rasterizeDual(c, f, 128);
+    uint32_t diagonal = 0;
+    for (uint32_t y = 0; y < 128; ++y)
+        for (uint32_t x = 0; x < 128; ++x) {
+            size_t i = size_t(y) * 128 + x;
+            if (m.enter[i] == kDepthEmpty) continue;
+            diagonal += x == y;
+            ASSERT_NE(m.exit[i], 0xFFFFFFFEu) << "texel " << x << "," << y << " never left the box";
+            ASSERT_GT(m.exit[i], m.enter[i]) << "texel " << x << "," << y;
+        }
+    EXPECT_GT(diagonal, 10u);
+}
+
+} // namespace
+} // namespace ml::stest
