@@ -101,9 +101,13 @@ int runDemo(int argc, char** argv) {
                    writeStats(out + "/stats.json", info, reports)})
         if (!r) return runError("demo", r.error());
     const FrameStats& s = reports.back().stats;
-    std::printf("lights %u (visible %u), clusters %u, lights/pixel evaluated %.2f, reaching %.2f, overflow %u\n",
-                s.lightsTotal, s.lightsVisible, s.clusters, s.lightsPerPixelEvaluatedMean,
-                s.lightsPerPixelReachingMean, s.clusterOverflowCount);
+    if (mo.statistics)
+        std::printf("lights %u (visible %u), clusters %u, lights/pixel evaluated %.2f, reaching %.2f, overflow %u\n",
+                    s.lightsTotal, s.lightsVisible, s.clusters, s.lightsPerPixelEvaluatedMean,
+                    s.lightsPerPixelReachingMean, s.clusterOverflowCount);
+    else
+        std::printf("lights %u (visible %u), clusters %u, overflow %u (per-pixel counts off: --no-stats)\n",
+                    s.lightsTotal, s.lightsVisible, s.clusters, s.clusterOverflowCount);
     std::printf("wrote %s/frame_*.png, profile.json, frames.csv, stats.json\n", out.c_str());
     if (d.validationEnabled() && validationErrors()) {
         std::fprintf(stderr, "manylights demo: %u validation errors\n", validationErrors());
