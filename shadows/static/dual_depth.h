@@ -14,9 +14,9 @@
 // A texel whose ray meets nothing holds kDepthEmpty in both enter and exit.
 //
 // Texel (x, y) covers NDC [x/res*2-1, (x+1)/res*2-1] horizontally, row y = 0 at NDC y = -1; its
-// sample point is the centre. Rasterisation follows the top-left-free rule "centre inside the
-// triangle, ties resolved by the edge function's sign >= 0", which the CPU reference and the GPU bake
-// both document.
+// sample point is the centre. Rasterisation uses a top-left rule on fixed-point edge functions
+// (raster_dual.h): with a plain ">= 0" rule a centre on an edge shared by two front faces would be
+// entered twice and left once, and its exit would run to far (StaticRaster.SharedEdgesCountedOnce).
 #pragma once
 #include "engine/result.h"
 
