@@ -23,11 +23,16 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --out DIR        output folder (default out/demo)
   --window         also show the frames in a window (needs a display)
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
+  --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
+  --static-res N   resolution of those bakes (default 512)
+  --pcf R          static shadow filter radius: 0 one tap (default), 1 = 3x3, 2 = 5x5 ... 4 = 9x9
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
 int runDemo(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 2, {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out"},
+    auto args = cli::parse(argc, argv, 2,
+                           {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
+                            "--static", "--static-res", "--pcf"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -39,9 +44,15 @@ int runDemo(int argc, char** argv) {
     auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
     auto culling = parseCulling(args->get("--culling", "clustered"));
-    for (const std::string* e : {&frames.error(), &size.error(), &lights.error(), &seed.error(), &culling.error()})
+    for (const std::string* e :
+         {&frames.error(), &size.error(), &lights.error(), &seed.error(), &culling.error()})
         if (!e->empty()) return usageError("demo", *e);
     std::string out = args->get("--out", "out/demo");
+    auto staticMethod = parseStaticMethod(args->get("--static", "none"));
+    auto staticRes = cli::parseUint("--static-res", args->get("--static-res", "512"), 8, 16384);
+    auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
+    for (const std::string* e : {&staticMethod.error(), &staticRes.error(), &pcf.error()})
+        if (!e->empty()) return usageError("demo", *e);
     bool window = args->has("--window");
 
     auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value());
@@ -60,6 +71,12 @@ int runDemo(int argc, char** argv) {
     auto binding = bindScene(m, scene.value());
     if (!binding) return runError("demo", binding.error());
     if (auto r = m.createTargets(width, height); !r) return runError("demo", r.error());
+    if (staticMethod.value() != StaticMethod::None) {
+        auto baked =
+            bakeStaticShadows(m, scene.value(), binding.value(), staticMethod.value(), staticRes.value());
+        if (!baked) return runError("demo", baked.error());
+        if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
+    }
     std::unique_ptr<Window> win;
     if (window) {
         auto w = Window::open(m, width, height);
@@ -89,8 +106,7 @@ int runDemo(int argc, char** argv) {
         if (auto r = writePng(out + name, width, height, rgba); !r) return runError("demo", r.error());
         m.collect();
         for (auto& r : m.takeReports()) reports.push_back(r);
-        if (!reports.empty())
-            std::printf("  frame %u: %.2f ms GPU\n", f, reports.back().times.totalMs());
+        if (!reports.empty()) std::printf("  frame %u: %.2f ms GPU\n", f, reports.back().times.totalMs());
     }
     vkDeviceWaitIdle(d.device);
     m.collect();
@@ -102,9 +118,10 @@ int runDemo(int argc, char** argv) {
         if (!r) return runError("demo", r.error());
     const FrameStats& s = reports.back().stats;
     if (mo.statistics)
-        std::printf("lights %u (visible %u), clusters %u, lights/pixel evaluated %.2f, reaching %.2f, overflow %u\n",
-                    s.lightsTotal, s.lightsVisible, s.clusters, s.lightsPerPixelEvaluatedMean,
-                    s.lightsPerPixelReachingMean, s.clusterOverflowCount);
+        std::printf(
+            "lights %u (visible %u), clusters %u, lights/pixel evaluated %.2f, reaching %.2f, overflow %u\n",
+            s.lightsTotal, s.lightsVisible, s.clusters, s.lightsPerPixelEvaluatedMean,
+            s.lightsPerPixelReachingMean, s.clusterOverflowCount);
     else
         std::printf("lights %u (visible %u), clusters %u, overflow %u (per-pixel counts off: --no-stats)\n",
                     s.lightsTotal, s.lightsVisible, s.clusters, s.clusterOverflowCount);

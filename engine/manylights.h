@@ -17,6 +17,7 @@
 #include "engine/device.h"
 #include "engine/profiler.h"
 #include "engine/result.h"
+#include "shadows/static/static_method.h"
 
 #include <glm/glm.hpp>
 
@@ -70,6 +71,15 @@ struct LightDesc {
     float outerAngle = 0.6f; // half angle, radians, (0, pi/2) for spots
     float innerAngle = 0.4f; // [0, outer]
     bool dynamic = false;
+};
+
+// A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
+// out of bounds) and the frustum it was rendered with. A bake file (shadows/static/bake_file.h) holds
+// these per light.
+struct StaticShadowDesc {
+    StaticMethod method = StaticMethod::None;
+    LightFrustum frustum;
+    std::span<const uint32_t> words;
 };
 
 struct CameraDesc {
@@ -126,8 +136,14 @@ class Module {
     Result<LightId> addLight(const LightDesc& light);
     Result<void> setLight(LightId id, const LightDesc& light);
     Result<void> setCamera(const CameraDesc& camera);
+    // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
+    // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9).
+    Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);
+    void clearStaticShadow(LightId id);
+    Result<void> setShadowFilter(uint32_t pcfRadius);
     void setCulling(CullingMode mode);
     void setStatistics(bool enabled);
+    Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
 
     // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).
     Result<void> createTargets(uint32_t width, uint32_t height);

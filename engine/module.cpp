@@ -7,6 +7,7 @@
 #include "engine/gbuffer.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
+#include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -17,9 +18,12 @@ namespace ml {
 
 const char* cullingName(CullingMode mode) {
     switch (mode) {
-    case CullingMode::Clustered: return "clustered";
-    case CullingMode::Tiled: return "tiled";
-    case CullingMode::None: return "none";
+    case CullingMode::Clustered:
+        return "clustered";
+    case CullingMode::Tiled:
+        return "tiled";
+    case CullingMode::None:
+        return "none";
     }
     return "?";
 }
@@ -35,12 +39,30 @@ Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Module::~Module() {
     if (impl_) impl_->destroy();
 }
-Device& Module::device() { return *impl_->device; }
-TimingMode Module::timingMode() const { return impl_->timing; }
-VkImage Module::outputImage() const { return impl_->output.image; }
-uint32_t Module::lightCount() const { return uint32_t(impl_->lights.size()); }
-void Module::setCulling(CullingMode mode) { impl_->culling = mode; }
-void Module::setStatistics(bool enabled) { impl_->statistics = enabled; }
+Device& Module::device() {
+    return *impl_->device;
+}
+TimingMode Module::timingMode() const {
+    return impl_->timing;
+}
+VkImage Module::outputImage() const {
+    return impl_->output.image;
+}
+uint32_t Module::lightCount() const {
+    return uint32_t(impl_->lights.size());
+}
+void Module::setCulling(CullingMode mode) {
+    impl_->culling = mode;
+}
+void Module::setStatistics(bool enabled) {
+    impl_->statistics = enabled;
+}
+Result<void> Module::setExposure(float exposure) {
+    if (!(exposure > 0.0f) || !std::isfinite(exposure))
+        return fail("setExposure: exposure must be finite and > 0");
+    impl_->exposure = exposure;
+    return {};
+}
 
 Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     auto impl = std::make_unique<Impl>();
@@ -51,8 +73,9 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     impl->statistics = options.statistics;
     impl->timing = options.timing == TimingChoice::Timestamps ? TimingMode::Timestamps
                    : options.timing == TimingChoice::Fenced   ? TimingMode::Fenced
-                   : impl->device->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? TimingMode::Fenced
-                                                                                        : TimingMode::Timestamps;
+                   : impl->device->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+                       ? TimingMode::Fenced
+                       : TimingMode::Timestamps;
     impl->slots.resize(std::max(1u, options.framesInFlight));
     impl->init();
     return std::unique_ptr<Module>(new Module(std::move(impl)));
@@ -66,8 +89,10 @@ void Module::Impl::init() {
     profiler.create(d, uint32_t(slots.size()));
     profiler.mode = timing;
     for (auto& s : slots) {
-        s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "frame_constants");
-        s.lights = createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
+        s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                               "frame_constants");
+        s.lights =
+            createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
         s.counters = createBuffer(d, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters");
         s.slices = createBuffer(d, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far");
     }
@@ -88,7 +113,8 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.slices);
         destroyBuffer(d, s.instances);
     }
-    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback}) destroyBuffer(d, *b);
+    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords})
+        destroyBuffer(d, *b);
     destroyTargets();
 }
 
@@ -103,11 +129,12 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     for (size_t i = 0; i < mesh.indices.size(); ++i)
         if (mesh.indices[i] >= mesh.vertices.size())
             return fail("mesh '" + mesh.name + "': index " + std::to_string(i) + " = " +
-                        std::to_string(mesh.indices[i]) + " is past the " + std::to_string(mesh.vertices.size()) +
-                        " vertices");
+                        std::to_string(mesh.indices[i]) + " is past the " +
+                        std::to_string(mesh.vertices.size()) + " vertices");
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
         for (float f : mesh.vertices[i].position)
-            if (!std::isfinite(f)) return fail("mesh '" + mesh.name + "': vertex " + std::to_string(i) + " is not finite");
+            if (!std::isfinite(f))
+                return fail("mesh '" + mesh.name + "': vertex " + std::to_string(i) + " is not finite");
     Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size())};
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
@@ -116,16 +143,19 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     return MeshId(m.meshes.size() - 1);
 }
 
-Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo, bool dynamic) {
+Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo,
+                                       bool dynamic) {
     auto& m = *impl_;
-    if (mesh >= m.meshes.size()) return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist");
+    if (mesh >= m.meshes.size())
+        return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist");
     m.instances.push_back({mesh, transform, albedo, dynamic});
     m.geometryDirty = true;
     return InstanceId(m.instances.size() - 1);
 }
 
 Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transform) {
-    if (id >= impl_->instances.size()) return fail("setInstanceTransform: instance " + std::to_string(id) + " does not exist");
+    if (id >= impl_->instances.size())
+        return fail("setInstanceTransform: instance " + std::to_string(id) + " does not exist");
     impl_->instances[id].transform = transform;
     return {};
 }
@@ -133,8 +163,10 @@ Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transf
 Result<LightId> Module::addLight(const LightDesc& light) {
     if (impl_->lights.size() >= ML_MAX_LIGHTS)
         return fail("addLight: the module holds at most " + std::to_string(ML_MAX_LIGHTS) + " lights");
-    if (auto v = validateLight(light); !v) return fail("light " + std::to_string(impl_->lights.size()) + ": " + v.error());
+    if (auto v = validateLight(light); !v)
+        return fail("light " + std::to_string(impl_->lights.size()) + ": " + v.error());
     impl_->lights.push_back(light);
+    impl_->shadows.emplace_back();
     return LightId(impl_->lights.size() - 1);
 }
 
@@ -143,6 +175,65 @@ Result<void> Module::setLight(LightId id, const LightDesc& light) {
     if (auto v = validateLight(light); !v) return fail("light " + std::to_string(id) + ": " + v.error());
     impl_->lights[id] = light;
     return {};
+}
+
+Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow) {
+    auto& m = *impl_;
+    if (id >= m.lights.size())
+        return fail("setStaticShadow: light " + std::to_string(id) + " does not exist");
+    if (shadow.method == StaticMethod::None) {
+        clearStaticShadow(id);
+        return {};
+    }
+    if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
+        return fail("setStaticShadow: light " + std::to_string(id) + ": " + v.error());
+    const LightFrustum& f = shadow.frustum;
+    if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) || !(f.fov > 0 && f.fov < 3.1f))
+        return fail("setStaticShadow: light " + std::to_string(id) +
+                    ": frustum needs 0 < near < far, 0 < fov < pi");
+    m.shadows[id] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
+    m.shadowsDirty = true;
+    return {};
+}
+
+void Module::clearStaticShadow(LightId id) {
+    if (id >= impl_->shadows.size()) return;
+    impl_->shadows[id] = {};
+    impl_->shadowsDirty = true;
+}
+
+Result<void> Module::setShadowFilter(uint32_t radius) {
+    if (radius > ML_MAX_PCF_RADIUS)
+        return fail("setShadowFilter: PCF radius " + std::to_string(radius) + " > " +
+                    std::to_string(ML_MAX_PCF_RADIUS));
+    impl_->pcfRadius = radius;
+    impl_->shadowsDirty = true;
+    return {};
+}
+
+void Module::Impl::uploadShadows() {
+    const Device& d = *device;
+    vkDeviceWaitIdle(d.device); // bakes change at load time; frames in flight may read the buffers
+    records.clear();
+    recordOfLight.assign(lights.size(), ML_NO_SHADOW);
+    size_t words = 0;
+    for (const auto& s : shadows) words += s.words.size();
+    ensureBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words");
+    uint32_t base = 0;
+    for (size_t i = 0; i < shadows.size(); ++i) {
+        const StaticShadow& s = shadows[i];
+        if (s.method == StaticMethod::None) continue;
+        upload(staticWords, s.words.data(), s.words.size() * 4, size_t(base) * 4);
+        recordOfLight[i] = uint32_t(records.size());
+        records.push_back(makeShadowRecord(s.method, s.frustum, base,
+                                           staticResolution(s.method, s.words.data()), pcfRadius));
+        base += uint32_t(s.words.size());
+    }
+    ensureBuffer(d, shadowRecords, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage,
+                 "shadow_records");
+    if (!records.empty())
+        upload(shadowRecords, records.data(), records.size() * sizeof(gpu::GpuShadowRecord));
+    shadowsDirty = false;
 }
 
 Result<void> Module::setCamera(const CameraDesc& c) {
@@ -155,7 +246,8 @@ Result<void> Module::setCamera(const CameraDesc& c) {
 
 Result<void> Module::createTargets(uint32_t width, uint32_t height) {
     if (width == 0 || height == 0 || width > 16384 || height > 16384)
-        return fail("size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1x1..16384x16384");
+        return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " is outside 1x1..16384x16384");
     auto& m = *impl_;
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
@@ -169,7 +261,8 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
 
 Result<void> Module::setTargets(const HostTargets& t) {
     if (!t.width || !t.height || !t.depth || !t.normal || !t.albedo || !t.output)
-        return fail("setTargets: width, height and the depth, normal, albedo and output views are all required");
+        return fail(
+            "setTargets: width, height and the depth, normal, albedo and output views are all required");
     auto& m = *impl_;
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
@@ -194,8 +287,9 @@ const Program& Module::Impl::evalProgram() {
     uint32_t key = uint32_t(culling) * 2 + (statistics ? 1 : 0);
     auto it = evalPrograms.find(key);
     if (it != evalPrograms.end()) return it->second;
-    Program p = createComputeProgram(*device, evalShader, 0,
-                                     {{/*kSpecCullingMode*/ 0, uint32_t(culling)}, {/*kSpecStats*/ 1, statistics ? 1u : 0u}});
+    Program p = createComputeProgram(
+        *device, evalShader, 0,
+        {{/*kSpecCullingMode*/ 0, uint32_t(culling)}, {/*kSpecStats*/ 1, statistics ? 1u : 0u}});
     return evalPrograms.emplace(key, p).first->second;
 }
 
@@ -213,7 +307,9 @@ void Module::Impl::uploadGeometry() {
         const MeshRange& r = meshes[instances[i].mesh];
         draws[i] = {r.indexCount, 1, r.firstIndex, int32_t(r.firstVertex), uint32_t(i)};
     }
-    for (auto& s : slots) ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage, "instances");
+    for (auto& s : slots)
+        ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage,
+                     "instances");
     geometryDirty = false;
 }
 
@@ -221,13 +317,15 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     auto& m = *impl_;
     if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
     if (m.geometryDirty) m.uploadGeometry();
+    if (m.shadowsDirty || m.recordOfLight.size() != m.lights.size()) m.uploadShadows();
     const Device& d = *m.device;
     uint32_t slotIndex = uint32_t(m.frameIndex % m.slots.size());
     Impl::Slot& slot = m.slots[slotIndex];
     if (slot.pending) m.collectSlot(slotIndex); // the host waited for this slot's previous frame
 
     CullingMode mode = m.culling;
-    ClusterGrid grid = mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(m.width, m.height, mode);
+    ClusterGrid grid =
+        mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(m.width, m.height, mode);
     if (mode != m.cullingMode || grid.count() != m.cull.grid.count()) {
         vkDeviceWaitIdle(d.device);
         m.cull.resize(d, grid, m.poolOverride);
@@ -256,7 +354,8 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     for (uint32_t i = 0; i < m.lights.size(); ++i) {
         const LightDesc& l = m.lights[i];
         if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
-        gl[visible++] = toGpuLight(l, i);
+        gl[visible] = toGpuLight(l, i);
+        gl[visible++].info.z = m.recordOfLight[i];
     }
     fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
     upload(slot.frame, &fc, sizeof(fc));
@@ -291,8 +390,8 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     });
     if (m.ownTargets)
         m.profiler.run(cmd, Pass::GBuffer, [&](VkCommandBuffer c) {
-            m.gbuffer.record(d, c, m.targets, slot.frame, m.vertexBuffer, m.indexBuffer, slot.instances, m.drawBuffer,
-                             uint32_t(m.instances.size()));
+            m.gbuffer.record(d, c, m.targets, slot.frame, m.vertexBuffer, m.indexBuffer, slot.instances,
+                             m.drawBuffer, uint32_t(m.instances.size()));
         });
     if (mode != CullingMode::None)
         m.cull.record(d, cmd, slot.frame, slot.slices, slot.lights, depthView, slot.counters, m.profiler);
@@ -303,18 +402,19 @@ Result<void> Module::record(VkCommandBuffer cmd) {
                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                         VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0,
+                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         bindProgram(d, c, eval,
                     {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool,
                      Descriptor(Image{.view = depthView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
                      Descriptor(Image{.view = normalView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
                      Descriptor(Image{.view = albedoView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                     Descriptor(m.hdr), Descriptor(Image{.view = outputView}), slot.counters},
+                     Descriptor(m.hdr), Descriptor(Image{.view = outputView}), slot.counters, m.staticWords,
+                     m.shadowRecords},
                     nullptr, 0);
-        vkCmdDispatch(c, (m.width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (m.height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
-                      1);
+        vkCmdDispatch(c, (m.width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
+                      (m.height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
         fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
     });
@@ -372,13 +472,14 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     size_t bytes = size_t(m.width) * m.height * 4;
     ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
     VkCommandBuffer cmd = m.device->beginOneTime();
-    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_READ_BIT);
     copyImageToBuffer(cmd, m.output, m.readback);
-    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                 VK_ACCESS_2_HOST_READ_BIT);
+    imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                 VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     m.device->endOneTime(cmd);
     rgba.resize(bytes);
     std::memcpy(rgba.data(), m.readback.data, bytes);

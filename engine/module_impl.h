@@ -44,7 +44,7 @@ struct Module::Impl {
     CullingMode cullingMode = CullingMode(~0u); // mode the cluster buffers are sized for
     bool statistics = true;
     TimingMode timing = TimingMode::Timestamps;
-    float exposure = 1.0f;
+    float exposure = 3.0f; // night scenes: lamps of ~40 cd at 6 m give ~0.1 before exposure
     uint32_t poolOverride = 0; // tests: force a small light-list pool
 
     std::vector<MeshVertex> vertices;
@@ -52,6 +52,17 @@ struct Module::Impl {
     std::vector<MeshRange> meshes;
     std::vector<InstanceData> instances;
     std::vector<LightDesc> lights;
+    struct StaticShadow {
+        StaticMethod method = StaticMethod::None;
+        LightFrustum frustum;
+        std::vector<uint32_t> words;
+    };
+    std::vector<StaticShadow> shadows; // per light; method None = no shadow
+    uint32_t pcfRadius = 0;
+    bool shadowsDirty = true;
+    Buffer staticWords, shadowRecords;
+    std::vector<uint32_t> recordOfLight; // light -> record index or ML_NO_SHADOW
+    std::vector<gpu::GpuShadowRecord> records;
     CameraDesc camera;
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
@@ -81,6 +92,7 @@ struct Module::Impl {
     void destroyTargets();
     void createOutput(bool withOutput);
     void uploadGeometry();
+    void uploadShadows();
     const Program& evalProgram();
     void collectSlot(uint32_t index);
 };

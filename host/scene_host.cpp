@@ -2,6 +2,10 @@
 
 #include <stb/stb_image_write.h>
 
+#include "shadows/static/raster_dual.h"
+
+#include <chrono>
+#include <cstdio>
 #include <vector>
 
 namespace ml {
@@ -46,7 +50,8 @@ Result<SceneBinding> bindScene(Module& module, const Scene& scene) {
     }
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& inst = scene.instances[i];
-        if (inst.mesh >= meshIds.size()) return fail(scene.name + ": instance " + std::to_string(i) + " has no mesh");
+        if (inst.mesh >= meshIds.size())
+            return fail(scene.name + ": instance " + std::to_string(i) + " has no mesh");
         auto id = module.addInstance(meshIds[inst.mesh], inst.transform, inst.albedo, inst.dynamic);
         if (!id) return fail(scene.name + ": " + id.error());
         b.instances.push_back(id.value());
@@ -63,14 +68,40 @@ Result<SceneBinding> bindScene(Module& module, const Scene& scene) {
 Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding& b) {
     for (size_t i = 0; i < scene.instances.size(); ++i)
         if (scene.instances[i].dynamic)
-            if (auto r = module.setInstanceTransform(b.instances[i], scene.instances[i].transform); !r) return r;
+            if (auto r = module.setInstanceTransform(b.instances[i], scene.instances[i].transform); !r)
+                return r;
     for (size_t i = 0; i < scene.lights.size(); ++i)
         if (scene.lights[i].dynamic)
             if (auto r = module.setLight(b.lights[i], toLightDesc(scene.lights[i])); !r) return r;
     return {};
 }
 
-Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba) {
+Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
+                                   StaticMethod method, uint32_t resolution) {
+    CasterTriangles casters = castersFromScene(scene);
+    uint32_t baked = 0, candidates = 0;
+    for (const Light& l : scene.lights) candidates += !l.dynamic && l.type == LightType::Spot;
+    auto t0 = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        if (l.dynamic || l.type != LightType::Spot) continue; // dynamic lights get virtual shadow maps
+        LightFrustum f = spotLightFrustum(l);
+        DualDepthMap map = rasterizeDual(casters, f, resolution);
+        auto words = encodeStatic(method, map, {f.nearPlane, f.farPlane, {}});
+        if (!words) return fail(scene.name + ": light " + std::to_string(i) + ": " + words.error());
+        if (auto r = module.setStaticShadow(binding.lights[i], {method, f, words.value()}); !r)
+            return fail(r.error());
+        ++baked;
+        if (baked % 16 == 0 || baked == candidates)
+            std::fprintf(stderr, "  baked %u/%u static lights (%s %u^2), %.1f s\n", baked, candidates,
+                         staticMethodName(method), resolution,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return baked;
+}
+
+Result<void> writePng(const std::string& path, uint32_t width, uint32_t height,
+                      const std::vector<uint8_t>& rgba) {
     if (rgba.size() < size_t(width) * height * 4) return fail(path + ": image data is smaller than its size");
     if (!stbi_write_png(path.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4)))
         return fail(path + ": cannot write PNG (does the folder exist and is it writable?)");

@@ -19,6 +19,11 @@ Result<SceneBinding> bindScene(Module& module, const Scene& scene);
 // After animateScene: pushes dynamic instance transforms and dynamic lights.
 Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding& binding);
 
+// Bakes every static spot light's shadow in-process (CPU rasteriser, shadows/static/raster_dual.h) and
+// attaches it. Progress on stderr. Returns the number of lights baked.
+Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
+                                   StaticMethod method, uint32_t resolution);
+
 // PNG writing for RGBA8 rows (top row first). One-line error naming the path.
 Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
 

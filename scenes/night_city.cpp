@@ -347,6 +347,12 @@ class CityBuilder {
             addInstance(kBoxMesh, boxAt(foot, {0.16f, 6.0f, 0.16f}), glm::vec3(0.2f, 0.21f, 0.22f));
             addInstance(kBoxMesh, upright(foot + c.street * 0.65f + kUp * 5.9f, c.street, 0.1f, 0.1f, 1.3f),
                         glm::vec3(0.2f, 0.21f, 0.22f));
+            // Street furniture in the pool: a bench along the curb and a bollard towards the street, so
+            // each lamp's pool holds casters (closed boxes) whose shadows the static methods must keep.
+            addInstance(kBoxMesh, boxAt(foot + c.along * 1.6f - c.street * 0.6f, {1.8f, 0.5f, 0.5f}),
+                        glm::vec3(0.35f, 0.25f, 0.18f));
+            addInstance(kBoxMesh, boxAt(foot - c.along * 1.4f + c.street * 0.3f, {0.3f, 1.0f, 0.3f}),
+                        glm::vec3(0.3f, 0.3f, 0.32f));
             bool sodium = rng.chance(0.65f);
             glm::vec3 color = sodium ? glm::vec3(1.0f, 0.6f, 0.25f) : glm::vec3(1.0f, 0.92f, 0.8f);
             scene_.lights.push_back(spot(foot + c.street * 1.2f + kUp * 5.85f, -kUp + c.street * 0.12f, color,

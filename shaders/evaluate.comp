@@ -22,13 +22,20 @@ layout(binding = 7) uniform texture2D albedoImage;
 layout(binding = 8, rgba16f) uniform writeonly image2D hdrImage;
 layout(binding = 9, rgba8) uniform writeonly image2D outputImage;
 layout(binding = 10, std430) buffer Counters { FrameCounters counters; };
+layout(binding = 11, std430) readonly buffer StaticWords { uint staticWords[]; };
+layout(binding = 12, std430) readonly buffer ShadowRecords { GpuShadowRecord shadowRecords[]; };
+#define ML_STATIC_DATA staticWords
+#define CPVS_DATA staticWords
+#include "shaders/static/static_visibility.glsl"
 
 shared uint sEvaluated, sReaching, sSurface;
 
-// Visibility hook: static (baked DAG-MH / CPVS) times dynamic (virtual shadow map) visibility of light
-// `index` at P. The shadow issues attach here; until then every light is unshadowed.
+// Visibility hook: static (baked SM / MH / MMH / DAG-MH / CPVS) times dynamic (virtual shadow map,
+// not built yet) visibility of light `index` at P.
 float lightVisibility(uint index, GpuLight L, vec3 P, vec3 N) {
-    return 1.0;
+    float v = 1.0;
+    if (L.info.z != ML_NO_SHADOW) v *= staticVisibility(shadowRecords[L.info.z], P, N);
+    return v;
 }
 
 vec3 shade(uint index, vec3 P, vec3 N, vec3 V, vec3 albedo) {

@@ -38,6 +38,19 @@
 #define ML_LIGHT_POINT 1
 #define ML_LIGHT_DIRECTIONAL 2
 
+// GpuLight.info.z of a light without a baked static shadow.
+#define ML_NO_SHADOW 0xFFFFFFFFu
+
+// Static shadow methods (StaticMethod in shadows/static/static_method.h; stored in bake files).
+#define ML_STATIC_SM 1
+#define ML_STATIC_MH 2
+#define ML_STATIC_MMH 3
+#define ML_STATIC_DAGMH 4
+#define ML_STATIC_CPVS 5
+
+// Largest PCF radius of the static lookups: 4 = 9x9 (the CPVS issue's maximum).
+#define ML_MAX_PCF_RADIUS 4
+
 // Marks an overflowed cluster in ClusterRange.offset.
 #define ML_CLUSTER_OVERFLOW 0xFFFFFFFFu
 

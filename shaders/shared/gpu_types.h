@@ -30,7 +30,15 @@ ML_STRUCT(GpuLight) {
     vec4 directionCosOuter; // xyz unit direction, w cos(outer half angle)
     vec4 colorSinOuter;     // rgb colour * intensity, w sin(outer half angle)
     vec4 params;            // x cos(inner half angle), y 1/range^2, zw unused
-    uvec4 info;             // x type (ML_LIGHT_*), y flags, z static shadow method, w shadow record
+    uvec4 info;             // x type (ML_LIGHT_*), y flags, z static shadow record (ML_NO_SHADOW: none), w light id
+};
+
+// A light's baked static shadow (shadows/static/static_method.h): where its words start in the one
+// static-shadow buffer, and the light frustum they were rendered with. 96 bytes.
+ML_STRUCT(GpuShadowRecord) {
+    mat4 view;     // world -> light view (the light looks down -Z)
+    vec4 frustum;  // x tan(fov / 2), y near, z far, w log(far / near)
+    uvec4 info;    // x method (StaticMethod), y base word, z resolution, w PCF radius (0 = one tap)
 };
 
 // Per-frame constants (uniform buffer), 240 bytes.
@@ -72,6 +80,8 @@ static_assert(sizeof(FrameConstants) == 240);
 static_assert(offsetof(FrameConstants, size) == 144);
 static_assert(offsetof(FrameConstants, limits) == 224);
 static_assert(sizeof(ClusterBounds) == 32);
+static_assert(sizeof(GpuShadowRecord) == 96);
+static_assert(offsetof(GpuShadowRecord, info) == 80);
 static_assert(sizeof(FrameCounters) == 48);
 static_assert(offsetof(FrameCounters, clusterLightsSum) == 16);
 } // namespace ml::gpu

@@ -1,0 +1,67 @@
+// Static shadow visibility of one receiver for one light with a baked record: the mapping from a world
+// point to the light's texel and quantised depth, the bias, and the PCF loop over the decoders.
+// CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare).
+//
+// Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by one texel's world
+// size (normal-offset bias: it grows with the texel footprint, so it holds at grazing angles where a
+// constant depth bias fails) and then compared with a further half-texel depth bias. PCF averages the
+// binary tests of (2r+1)^2 texels around it.
+// CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_lookup.glsl).
+#ifndef ML_STATIC_VISIBILITY_GLSL
+#define ML_STATIC_VISIBILITY_GLSL
+
+#include "shaders/static/common_static.glsl"
+#include "shaders/static/mh_lookup.glsl"
+#include "shaders/static/mmh_lookup.glsl"
+#include "shaders/static/dagmh_lookup.glsl"
+#include "shaders/static/cpvs_lookup.glsl"
+
+uint staticQuantize(float z, float far) {
+    // float version of quantizeDepth: 4294967040 is the largest float below 2^32.
+    float t = clamp(z / far, 0.0, 1.0);
+    return t >= 1.0 ? 0xFFFFFFFEu : uint(t * 4294967040.0);
+}
+
+uint staticDepthAt(uint method, uint base, uint x, uint y) {
+    if (method == ML_STATIC_SM)
+        return ML_STATIC_DATA[base + 6u + y * ML_STATIC_DATA[base + 2u] + x];
+    if (method == ML_STATIC_MH) return mhLookup(base, x, y);
+    if (method == ML_STATIC_MMH) return mmhLookup(base, x, y);
+    return dagmhLookup(base, x, y);
+}
+
+float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
+    uint method = rec.info.x, base = rec.info.y, res = rec.info.z;
+    int radius = int(rec.info.w);
+    float tanHalf = rec.frustum.x, far = rec.frustum.z;
+    vec3 vp = (rec.view * vec4(P, 1.0)).xyz;
+    vec3 vn = mat3(rec.view) * N;
+    float z = -vp.z;
+    if (z <= rec.frustum.y) return 1.0;
+    if (method == ML_STATIC_CPVS) {
+        vec2 ndc = vp.xy / (z * tanHalf);
+        ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
+        uint s = cpvsSliceOfDepth(base, staticQuantize(z, far));
+        ivec3 nq = cpvsVoxelNormal(vn, ndc.x, ndc.y, tanHalf, rec.frustum.w);
+        uint lit = cpvsPcfLitCount(base, t.x, t.y, int(s), nq, radius);
+        return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
+    }
+    float texelWorld = 2.0 * z * tanHalf / float(res);
+    vec3 q = vp + vn * texelWorld;
+    float zq = -q.z;
+    if (zq <= rec.frustum.y) return 1.0;
+    vec2 ndc = q.xy / (zq * tanHalf);
+    ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
+    uint depth = staticQuantize(max(zq - 0.5 * texelWorld, 0.0), far);
+    uint lit = 0u;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+            int x = t.x + dx, y = t.y + dy;
+            // Outside the map the light's cone does not reach: count as lit.
+            if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
+            if (depth <= staticDepthAt(method, base, uint(x), uint(y))) lit += 1u;
+        }
+    return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
+}
+
+#endif

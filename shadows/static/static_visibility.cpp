@@ -1,0 +1,62 @@
+#include "shadows/static/static_visibility.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ml {
+
+gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f, uint32_t base,
+                                      uint32_t resolution, uint32_t pcfRadius) {
+    gpu::GpuShadowRecord r{};
+    r.view = f.view;
+    r.frustum =
+        glm::vec4(std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane, std::log(f.farPlane / f.nearPlane));
+    r.info = glm::uvec4(uint32_t(method), base, resolution, std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS));
+    return r;
+}
+
+uint32_t staticQuantizeFloat(float z, float farPlane) {
+    float t = std::clamp(z / farPlane, 0.0f, 1.0f);
+    return t >= 1.0f ? 0xFFFFFFFEu : uint32_t(t * 4294967040.0f);
+}
+
+float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N) {
+    const StaticMethod method = StaticMethod(rec.info.x);
+    const uint32_t base = rec.info.y, res = rec.info.z;
+    const int radius = int(rec.info.w);
+    const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
+    glm::vec3 vp = glm::vec3(rec.view * glm::vec4(P, 1.0f));
+    glm::vec3 vn = glm::mat3(rec.view) * N;
+    float z = -vp.z;
+    if (z <= rec.frustum.y) return 1.0f;
+    const float taps = float((2 * radius + 1) * (2 * radius + 1));
+    if (method == StaticMethod::CPVS) {
+        glm::vec2 ndc = glm::vec2(vp) / (z * tanHalf);
+        glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
+        uint32_t s = cpvsSliceOfDepth(data, base, staticQuantizeFloat(z, farPlane));
+        float nView[3] = {vn.x, vn.y, vn.z};
+        int32_t nq[3];
+        cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
+        return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
+    }
+    float texelWorld = 2.0f * z * tanHalf / float(res);
+    glm::vec3 q = vp + vn * texelWorld;
+    float zq = -q.z;
+    if (zq <= rec.frustum.y) return 1.0f;
+    glm::vec2 ndc = glm::vec2(q) / (zq * tanHalf);
+    glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
+    uint32_t depth = staticQuantizeFloat(std::max(zq - 0.5f * texelWorld, 0.0f), farPlane);
+    uint32_t lit = 0;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+            int x = t.x + dx, y = t.y + dy;
+            if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) {
+                ++lit;
+                continue;
+            }
+            if (depth <= lookupStaticDepth(method, data, base, uint32_t(x), uint32_t(y))) ++lit;
+        }
+    return float(lit) / taps;
+}
+
+} // namespace ml

@@ -1,0 +1,20 @@
+// CPU twin of shaders/static/static_visibility.glsl: static shadow visibility of one receiver for one
+// light's baked record (see there for the bias and the filter). Used by the evaluation pass's CPU
+// reference and by accuracy measurements that run without a GPU.
+#pragma once
+#include "shaders/shared/gpu_types.h"
+#include "shadows/static/static_method.h"
+
+namespace ml {
+
+// The record of a light frustum and a bake: method, base word in `data`, resolution, PCF radius.
+gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& frustum, uint32_t base,
+                                      uint32_t resolution, uint32_t pcfRadius);
+
+// Receiver depth in the light's integer depth space, as the shader quantises it (float arithmetic).
+uint32_t staticQuantizeFloat(float z, float farPlane);
+
+// Visibility in [0, 1] (fraction of lit PCF taps). `data` holds the validated words of the record.
+float staticVisibility(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P, glm::vec3 N);
+
+} // namespace ml
