@@ -54,6 +54,7 @@ struct GraphicsState {
     std::vector<VkFormat> colorFormats;
     VkFormat depthFormat = VK_FORMAT_UNDEFINED;
     VkCullModeFlags cull = VK_CULL_MODE_BACK_BIT;
+    VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     bool depthTest = true;
     bool depthWrite = true;
     bool depthClamp = false;
