@@ -14,7 +14,8 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling [options]
+static const char* kBenchHelp = R"(usage: manylights bench culling|static [options]
+(`manylights bench static --help` for the static shadow benchmark)
 Culling and shading time against light count, for each culling mode, in one run.
   --size WxH       image size (default 640x360)
   --lights LIST    comma-separated light counts (default 64,256,1024,4096)
@@ -64,8 +65,9 @@ int runBench(int argc, char** argv) {
         std::fputs(kBenchHelp, argc < 3 ? stderr : stdout);
         return argc < 3 ? 2 : 0;
     }
+    if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling)");
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
     auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {

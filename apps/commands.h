@@ -6,6 +6,10 @@
 namespace ml {
 int runDemo(int argc, char** argv);
 int runBench(int argc, char** argv);
+int runBenchStatic(int argc, char** argv);
+int runBake(int argc, char** argv);
+int runInspect(int argc, char** argv);
+int runVerify(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1
 } // namespace ml

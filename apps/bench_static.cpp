@@ -1,0 +1,346 @@
+// `manylights bench static`: every static shadow method at every resolution on the same lights of one
+// scene, measured in one run: bytes (against the 32-bit map), bake seconds split into rendering the dual
+// maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
+// (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
+// lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
+// against time.
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/module_impl.h"
+#include "host/scene_host.h"
+#include "scenes/scenes.h"
+#include "shaders/shared/light_math.h"
+#include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/reference/raytrace.h"
+#include "shadows/static/static_visibility.h"
+
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace ml {
+
+static const char* kHelp = R"(usage: manylights bench static [options]
+Static shadow methods x resolutions on the same lights, in one run: bytes, bake time (render, encode),
+evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, CSV and charts in --out.
+  --scene S        night-city (default) or a .gltf / .glb file
+  --methods LIST   comma-separated, default sm,mh,mmh,dagmh,cpvs
+  --res LIST       comma-separated resolutions, default 1024,2048,4096,8192
+  --lights N       static spot lights measured (the N in view that light the most pixels), default 8
+  --size WxH       view for the evaluation time and the accuracy receivers, default 640x360
+  --frames N       timed frames per configuration, default 3
+  --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
+  --seed S         scene seed, default 1
+  --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
+)";
+
+namespace {
+Result<std::vector<std::string>> splitList(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty()) out.push_back(item);
+    if (out.empty()) return fail("empty list '" + text + "'");
+    return out;
+}
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Receiver {
+    glm::vec3 p, n;
+};
+
+struct Row {
+    std::string method;
+    uint32_t res = 0, lights = 0;
+    uint64_t bytes = 0, mapBytes = 0;
+    double renderS = 0, encodeS = 0, evalMs = 0;
+    uint64_t compared = 0, mismatches = 0;
+    double meanAbs = 0;
+};
+
+double evaluateMs(Module& m, uint32_t frames) {
+    Device& d = m.device();
+    m.takeReports();
+    for (uint32_t i = 0; i < frames + 1; ++i) { // one warm-up frame
+        VkCommandBuffer cmd = d.beginOneTime();
+        (void)m.record(cmd);
+        d.endOneTime(cmd);
+    }
+    vkDeviceWaitIdle(d.device);
+    m.collect();
+    auto reports = m.takeReports();
+    double sum = 0;
+    uint32_t n = 0;
+    for (size_t i = 1; i < reports.size(); ++i, ++n) sum += reports[i].times.ms[uint32_t(Pass::Evaluate)];
+    return n ? sum / n : 0.0;
+}
+
+// One data file per method (gnuplot joins the points of a file with lines), then two charts.
+Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
+    std::vector<std::string> methods;
+    for (const Row& r : rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+    std::string script = dir + "/charts.gp";
+    std::ofstream gp(script);
+    gp << "set terminal pngcairo size 900,600\nset key outside right\nset grid\nset logscale x 2\n"
+          "set ylabel 'disagreement with ray-traced visibility (%)'\n";
+    for (const auto& m : methods) {
+        std::ofstream dat(dir + "/" + m + ".dat");
+        dat << "# bytes_per_light eval_ms disagreement_percent res\n";
+        for (const Row& r : rows)
+            if (r.method == m)
+                dat << double(r.bytes) / r.lights << " " << r.evalMs << " "
+                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << "\n";
+    }
+    for (int chart = 0; chart < 2; ++chart) {
+        gp << "set output '" << dir << (chart ? "/accuracy_vs_time.png'\n" : "/accuracy_vs_bytes.png'\n");
+        gp << (chart ? "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n"
+                     : "set xlabel 'bytes per light'\n");
+        gp << "plot ";
+        for (size_t i = 0; i < methods.size(); ++i)
+            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << (chart ? 2 : 1)
+               << ":3 with linespoints title '" << methods[i] << "'";
+        gp << "\n";
+    }
+    gp.close();
+    std::string cmd = "gnuplot '" + script + "' 2>&1";
+    if (std::system(cmd.c_str()) != 0)
+        return fail("gnuplot failed on " + script + " (is gnuplot-nox installed?)");
+    return {};
+}
+} // namespace
+
+int runBenchStatic(int argc, char** argv) {
+    auto args = cli::parse(
+        argc, argv, 3,
+        {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed", "--out"}, {});
+    if (!args) return usageError("bench static", args.error());
+    if (args->help) {
+        std::fputs(kHelp, stdout);
+        return 0;
+    }
+    auto methodNames = splitList(args->get("--methods", "sm,mh,mmh,dagmh,cpvs"));
+    auto resNames = splitList(args->get("--res", "1024,2048,4096,8192"));
+    auto count = cli::parseUint("--lights", args->get("--lights", "8"), 1, 4096);
+    auto size = cli::parseSize("--size", args->get("--size", "640x360"));
+    auto frames = cli::parseUint("--frames", args->get("--frames", "3"), 1, 100);
+    auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
+    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    for (const std::string* e : {&methodNames.error(), &resNames.error(), &count.error(), &size.error(),
+                                 &frames.error(), &pcf.error(), &seed.error()})
+        if (!e->empty()) return usageError("bench static", *e);
+    std::vector<StaticMethod> methods;
+    for (const auto& n : methodNames.value()) {
+        auto m = parseStaticMethod(n);
+        if (!m || m.value() == StaticMethod::None)
+            return usageError("bench static", m ? "method none" : m.error());
+        methods.push_back(m.value());
+    }
+    std::vector<uint32_t> resolutions;
+    for (const auto& n : resNames.value()) {
+        auto r = cli::parseUint("--res", n, 16, 65536);
+        if (!r) return usageError("bench static", r.error());
+        resolutions.push_back(r.value());
+    }
+    const std::string out = args->get("--out", "out/bench_static");
+    if (auto r = cli::makeDirectory(out); !r) return runError("bench static", r.error());
+    const std::string sceneName = args->get("--scene", "night-city");
+
+    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value());
+    if (!scene) return runError("bench static", scene.error());
+    auto module = Module::create({});
+    if (!module) return runError("bench static", module.error());
+    Module& m = *module.value();
+    auto binding = bindScene(m, scene.value());
+    if (!binding) return runError("bench static", binding.error());
+    auto [width, height] = size.value();
+    if (auto r = m.createTargets(width, height); !r) return runError("bench static", r.error());
+    m.setStatistics(false);
+    if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("bench static", r.error());
+
+    // Receivers: the G-buffer of one frame.
+    evaluateMs(m, 1);
+    auto& impl = m.internals();
+    const auto& fc = impl.lastConstants;
+    std::vector<Receiver> receivers;
+    {
+        Device& d = m.device();
+        Buffer rb =
+            createBuffer(d, size_t(width) * height * 12, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "bench_readback");
+        VkCommandBuffer cmd = d.beginOneTime();
+        for (const Image* img : {&impl.targets.depth, &impl.targets.normal}) {
+            imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                         VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                         VK_ACCESS_2_TRANSFER_READ_BIT);
+            VkBufferImageCopy region{};
+            region.bufferOffset = img == &impl.targets.depth ? 0 : size_t(width) * height * 4;
+            region.imageSubresource = {img->aspect, 0, 0, 1};
+            region.imageExtent = {width, height, 1};
+            vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer, 1,
+                                   &region);
+            imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                         VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                         VK_ACCESS_2_MEMORY_READ_BIT);
+        }
+        d.endOneTime(cmd);
+        const float* depth = rb.as<float>();
+        const uint64_t* normal =
+            reinterpret_cast<const uint64_t*>(rb.as<char>() + size_t(width) * height * 4);
+        for (uint32_t y = 0; y < height; ++y)
+            for (uint32_t x = 0; x < width; ++x) {
+                size_t i = size_t(y) * width + x;
+                if (!(depth[i] < 1.0f)) continue;
+                glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
+                glm::vec3 n(glm::unpackHalf2x16(uint32_t(normal[i])),
+                            glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);
+                receivers.push_back({p, glm::normalize(n)});
+            }
+        destroyBuffer(d, rb);
+    }
+
+    // Lights: static spots reaching the most receivers.
+    std::vector<std::pair<size_t, uint32_t>> ranked;
+    for (uint32_t i = 0; i < scene->lights.size(); ++i) {
+        const Light& l = scene->lights[i];
+        if (l.dynamic || l.type != LightType::Spot) continue;
+        size_t n = 0;
+        for (const Receiver& r : receivers) n += inLightCone(l, r.p);
+        if (n) ranked.push_back({n, i});
+    }
+    std::sort(ranked.rbegin(), ranked.rend());
+    if (ranked.size() > count.value()) ranked.resize(count.value());
+    if (ranked.empty())
+        return runError("bench static", sceneName + ": no static spot light reaches the view");
+
+    // Ray-traced truth per light, over the receivers in its cone.
+    auto rays = RayReference::build(scene.value(), true);
+    if (!rays) return runError("bench static", rays.error());
+    struct LightSet {
+        uint32_t light;
+        LightFrustum frustum;
+        std::vector<uint32_t> receivers;
+        std::vector<uint8_t> truth;
+    };
+    std::vector<LightSet> sets;
+    for (auto [n, i] : ranked) {
+        LightSet s{i, spotLightFrustum(scene->lights[i]), {}, {}};
+        std::vector<glm::vec3> ps, ns;
+        for (uint32_t r = 0; r < receivers.size(); ++r)
+            if (inLightCone(scene->lights[i], receivers[r].p)) {
+                s.receivers.push_back(r);
+                ps.push_back(receivers[r].p);
+                ns.push_back(receivers[r].n);
+            }
+        s.truth.resize(ps.size());
+        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, 0.02f, s.truth.data());
+        sets.push_back(std::move(s));
+    }
+    std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", scene->name.c_str(),
+                 sets.size(), [&] {
+                     size_t n = 0;
+                     for (auto& s : sets) n += s.receivers.size();
+                     return n;
+                 }());
+
+    auto renderer = DualDepthRenderer::create(m.device());
+    if (!renderer) return runError("bench static", renderer.error());
+    CasterTriangles casters = castersFromScene(scene.value());
+    std::vector<Row> rows;
+    for (uint32_t res : resolutions) {
+        std::vector<DualDepthMap> maps;
+        double renderS = 0;
+        for (const LightSet& s : sets) {
+            auto t0 = std::chrono::steady_clock::now();
+            auto map = renderer.value()->render(casters, s.frustum, res);
+            if (!map) return runError("bench static", map.error());
+            renderS += seconds(t0);
+            maps.push_back(std::move(map.value()));
+        }
+        for (StaticMethod method : methods) {
+            Row row;
+            row.method = staticMethodName(method);
+            row.res = res;
+            row.lights = uint32_t(sets.size());
+            row.renderS = renderS;
+            row.mapBytes = uint64_t(res) * res * 4 * sets.size();
+            std::vector<std::vector<uint32_t>> encoded;
+            for (size_t k = 0; k < sets.size(); ++k) {
+                auto t0 = std::chrono::steady_clock::now();
+                auto words =
+                    encodeStatic(method, maps[k], {sets[k].frustum.nearPlane, sets[k].frustum.farPlane, {}});
+                if (!words) return runError("bench static", words.error());
+                row.encodeS += seconds(t0);
+                row.bytes += words->size() * 4;
+                if (auto r = m.setStaticShadow(binding->lights[sets[k].light],
+                                               {method, sets[k].frustum, words.value()});
+                    !r)
+                    return runError("bench static", r.error());
+                encoded.push_back(std::move(words.value()));
+            }
+            row.evalMs = evaluateMs(m, frames.value());
+            // Accuracy: the method's visibility (the CPU twin of the shader's lookup) against the rays.
+            Disagreement total;
+            for (size_t k = 0; k < sets.size(); ++k) {
+                auto rec = makeShadowRecord(method, sets[k].frustum, 0, res, pcf.value());
+                std::vector<float> vis;
+                for (uint32_t r : sets[k].receivers)
+                    vis.push_back(staticVisibility(rec, encoded[k].data(), receivers[r].p, receivers[r].n));
+                total.merge(compareVisibility(vis, sets[k].truth));
+            }
+            row.compared = total.compared;
+            row.mismatches = total.mismatches;
+            row.meanAbs = total.meanAbsDiff;
+            rows.push_back(row);
+            std::fprintf(
+                stderr,
+                "  %-5s %5u^2: %10llu bytes, render %.2f s, encode %.2f s, eval %.1f ms, %.3f%% wrong\n",
+                row.method.c_str(), res, (unsigned long long)row.bytes, row.renderS, row.encodeS, row.evalMs,
+                100.0 * total.rate());
+        }
+        for (const LightSet& s : sets) m.clearStaticShadow(binding->lights[s.light]);
+    }
+    // Unshadowed evaluation time, same lights and view, for reference.
+    double noneMs = evaluateMs(m, frames.value());
+
+    std::printf("bench static: %s, %zu lights, view %ux%u, pcf %u, %s\n", scene->name.c_str(), sets.size(),
+                width, height, pcf.value(), m.device().name.c_str());
+    std::printf("| method | res | bytes/light | vs 32-bit map | render s | encode s | eval ms | eval vs sm | "
+                "wrong %% |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::ostringstream csv;
+    csv << "method,res,lights,bytes_total,map32_bytes,render_s,encode_s,eval_ms,eval_vs_sm,compared,"
+           "disagreement,"
+           "mean_abs_diff\n";
+    for (const Row& r : rows) {
+        double smMs = 0;
+        for (const Row& s : rows)
+            if (s.method == "sm" && s.res == r.res) smMs = s.evalMs;
+        double vsSm = smMs > 0 ? r.evalMs / smMs : 0;
+        double rate = r.compared ? double(r.mismatches) / r.compared : 0;
+        std::printf("| %s | %u | %.0f | 1/%.1f | %.2f | %.2f | %.1f | %.2fx | %.3f |\n", r.method.c_str(),
+                    r.res, double(r.bytes) / r.lights, double(r.mapBytes) / r.bytes, r.renderS, r.encodeS,
+                    r.evalMs, vsSm, 100.0 * rate);
+        csv << r.method << "," << r.res << "," << r.lights << "," << r.bytes << "," << r.mapBytes << ","
+            << r.renderS << "," << r.encodeS << "," << r.evalMs << "," << vsSm << "," << r.compared << ","
+            << rate << "," << r.meanAbs << "\n";
+    }
+    std::printf("evaluation pass without static shadows: %.1f ms\n", noneMs);
+    std::ofstream f(out + "/bench_static.csv");
+    if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
+    f.close();
+    if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
+    std::printf("wrote %s/bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png\n", out.c_str());
+    return 0;
+}
+
+} // namespace ml
