@@ -46,6 +46,7 @@ Result<std::vector<uint32_t>> encodeStatic(StaticMethod method, const DualDepthM
         p.progress = options.progress;
         auto bake = bakeCpvs(map, p);
         if (!bake) return fail(bake.error());
+        if (options.cpvsStats) *options.cpvsStats = bake->stats;
         return std::move(bake->data);
     }
     case StaticMethod::None:

@@ -30,6 +30,7 @@ inline bool isDepthMethod(StaticMethod m) {
 struct StaticEncodeOptions {
     float nearPlane = 0.05f, farPlane = 10.0f; // the light frustum's (CPVS voxel space needs them)
     std::function<void(float)> progress;       // CPVS only
+    CpvsStats* cpvsStats = nullptr;            // CPVS only: receives the bake's timings and counts
 };
 
 Result<std::vector<uint32_t>> encodeStatic(StaticMethod method, const DualDepthMap& map,
