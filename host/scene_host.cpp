@@ -2,6 +2,7 @@
 
 #include <stb/stb_image_write.h>
 
+#include "shadows/gpu/dual_depth_gpu.h"
 #include "shadows/static/raster_dual.h"
 
 #include <chrono>
@@ -79,6 +80,8 @@ Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding&
 Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
                                    StaticMethod method, uint32_t resolution) {
     CasterTriangles casters = castersFromScene(scene);
+    auto renderer = DualDepthRenderer::create(module.device());
+    if (!renderer) return fail(renderer.error());
     uint32_t baked = 0, candidates = 0;
     for (const Light& l : scene.lights) candidates += !l.dynamic && l.type == LightType::Spot;
     auto t0 = std::chrono::steady_clock::now();
@@ -86,8 +89,9 @@ Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const Sce
         const Light& l = scene.lights[i];
         if (l.dynamic || l.type != LightType::Spot) continue; // dynamic lights get virtual shadow maps
         LightFrustum f = spotLightFrustum(l);
-        DualDepthMap map = rasterizeDual(casters, f, resolution);
-        auto words = encodeStatic(method, map, {f.nearPlane, f.farPlane, {}});
+        auto map = renderer.value()->render(casters, f, resolution);
+        if (!map) return fail(scene.name + ": light " + std::to_string(i) + ": " + map.error());
+        auto words = encodeStatic(method, map.value(), {f.nearPlane, f.farPlane, {}});
         if (!words) return fail(scene.name + ": light " + std::to_string(i) + ": " + words.error());
         if (auto r = module.setStaticShadow(binding.lights[i], {method, f, words.value()}); !r)
             return fail(r.error());

@@ -12,18 +12,19 @@ const uint ML_DAG_NODE_OFFSET = 10u;
 const uint ML_DAG_TREELET_OFFSET = 12u;
 const uint ML_DAG_CHUNK_OFFSET = 14u;
 const uint ML_DAG_FACTOR_OFFSET = 15u;
-const uint ML_DAG_CHUNK_WORDS = 5u;
+const uint ML_DAG_CHUNK_WORDS = 6u;
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
 
-// Value retrieval (paper Alg. 2, integer version).
-uint dagmhValue(uint base, uint index) {
+// Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
+// texel at the top-left corner of the cell of the MH node that holds the value.
+uint dagmhValue(uint base, uint index, uint px, uint py) {
     uint ch = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET] + ML_DAG_CHUNK_WORDS * (index >> 5u);
     uint j = index & 31u;
     uint bm = ML_STATIC_DATA[ch + 1u];
     if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
     uint k = mlPopc(bm & mlLowMask(j));
-    uint meta = ML_STATIC_DATA[ch + 4u];
+    uint meta = ML_STATIC_DATA[ch + 5u];
     uint b = meta & 63u;
     uint f = 0u;
     if (b != 0u) {
@@ -35,7 +36,9 @@ uint dagmhValue(uint base, uint index) {
         f &= mlLowMask(b);
     }
     if (b == 32u) return f; // raw 32-bit fallback
-    return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * f;
+    uint wy = ML_STATIC_DATA[ch + 4u];
+    uint by = uint(int(wy) >> 5); // 27-bit signed y slope, arithmetic shift
+    return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
 }
 
 uint dagmhLookup(uint base, uint x, uint y) {
@@ -43,14 +46,18 @@ uint dagmhLookup(uint base, uint x, uint y) {
     uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
     uint e = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET] + ML_DAG_SKIP_WORDS * (((y >> (L - S)) << S) + (x >> (L - S)));
     uint kind = ML_STATIC_DATA[e] & 255u;
-    uint depth = ML_STATIC_DATA[e] >> 8u;
+    uint depth = (ML_STATIC_DATA[e] >> 8u) & 255u;
+    uint dlast = ML_STATIC_DATA[e] >> 16u; // depth of the node that holds value vlast
     uint ptr = ML_STATIC_DATA[e + 1u];
     uint vcount = ML_STATIC_DATA[e + 2u];
     uint vlast = ML_STATIC_DATA[e + 3u];
     uint nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
     while (kind == 1u) {
         uint flags = ML_STATIC_DATA[nodes + ptr];
-        if ((flags & 256u) != 0u) vlast = vcount;
+        if ((flags & 256u) != 0u) {
+            vlast = vcount;
+            dlast = depth;
+        }
         if (depth >= L) break;
         uint s = L - depth - 1u;
         uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
@@ -85,11 +92,13 @@ uint dagmhLookup(uint base, uint x, uint y) {
                 if (wi > 0u) before += mlPopc(ML_STATIC_DATA[tb]);
                 if (wi > 1u) before += mlPopc(ML_STATIC_DATA[tb + 1u]);
                 vlast = vcount + before;
+                dlast = depth + lvl;
                 break;
             }
         }
     }
-    return dagmhValue(base, vlast);
+    uint s = L - dlast;
+    return dagmhValue(base, vlast, (x >> s) << s, (y >> s) << s);
 }
 
 #endif

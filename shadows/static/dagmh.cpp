@@ -18,9 +18,10 @@ void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_
     const uint32_t S = data[base + kSkipLevel];
     const uint32_t nodes = base + data[base + kNodeOffset];
     uint32_t kind = data[base + kRootKind], ptr = data[base + kRootPtr], depth = 0, vcount = 0, vlast = 0;
+    uint32_t dlast = 0;
     while (kind == 1u && depth < S) {
         uint32_t flags = data[nodes + ptr];
-        if ((flags & 256u) != 0u) vlast = vcount;
+        if ((flags & 256u) != 0u) vlast = vcount, dlast = depth;
         uint32_t s = S - depth - 1u;
         uint32_t c = (((Y >> s) & 1u) << 1u) | ((X >> s) & 1u);
         uint32_t t = (flags >> (2u * c)) & 3u;
@@ -39,7 +40,7 @@ void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_
         ptr = child, depth += 1u, kind = t;
     }
     if (kind == 0u) ptr = 0u, vcount = 0u, depth = 0u; // resolved: only v_last matters
-    out[0] = kind | depth << 8u, out[1] = ptr, out[2] = vcount, out[3] = vlast;
+    out[0] = kind | depth << 8u | dlast << 16u, out[1] = ptr, out[2] = vcount, out[3] = vlast;
 }
 
 } // namespace dagfmt
@@ -48,90 +49,189 @@ namespace {
 
 // ---- value chunks (docs/dagmh-encoding.md) ----
 
+struct Val {
+    uint32_t lo, hi, px, py;
+};
+
 struct ChunkCode {
-    uint32_t rep = 0, bitmap = 0, cl = 0, cf = 0, b = 0;
+    uint32_t rep = 0, bitmap = 0, a = 0, bx = 0, by = 0, sh = 0, b = 0;
     std::vector<uint32_t> k; // factor per set bit, in bit order
 };
 
-// Smallest b (0..31, else 32 = raw) with c_l + c_f * k_i in [lo_i, hi_i], 0 <= k_i < 2^b, for all i.
-// Two lattices are tried for each b, smallest b first: the exact one through every lower bound
-// (c_f = gcd), and c_l = min lo, c_f = ceil(span / (2^b - 1)), k_i = ceil((lo_i - c_l) / c_f), which
-// uses the interval widths; every k_i is in range by construction and membership in [lo_i, hi_i] is
-// checked with the decoder's arithmetic.
-void fitFactors(const std::vector<uint32_t>& lo, const std::vector<uint32_t>& hi, ChunkCode& out) {
-    const size_t m = lo.size();
-    out.k.assign(m, 0);
-    if (m == 0) return;
-    uint32_t minLo = *std::min_element(lo.begin(), lo.end()), maxLo = *std::max_element(lo.begin(), lo.end());
-    uint32_t minHi = *std::min_element(hi.begin(), hi.end());
-    if (maxLo <= minHi) { // one common point: 0 bits
-        out.b = 0, out.cl = maxLo, out.cf = 0;
-        return;
-    }
-    const uint64_t span = uint64_t(maxLo) - minLo;
-    // Lattice through every lower bound: c_f = G = gcd(lo_i - min lo), k_i = (lo_i - min lo) / G decodes
-    // to lo_i exactly. Depths that came from float interpolation are multiples of a power of two, so
-    // G often removes several low bits. Bits needed: b_G = bits(span / G).
-    uint32_t G = 0;
-    for (size_t i = 0; i < m; ++i) G = std::gcd(G, lo[i] - minLo);
-    uint32_t bG = uint32_t(std::bit_width(uint32_t(span / G)));
-    for (uint32_t b = 1; b <= 31; ++b) {
-        if (b >= bG) {
-            out.b = bG, out.cl = minLo, out.cf = G;
-            for (size_t i = 0; i < m; ++i) out.k[i] = (lo[i] - minLo) / G;
-            return;
-        }
-        uint64_t steps = (uint64_t(1) << b) - 1u;
-        uint64_t g = std::max<uint64_t>(1, (span + steps - 1) / steps);
-        if (g > 0xFFFFFFFFull) continue;
-        bool ok = true;
-        for (size_t i = 0; i < m && ok; ++i) {
-            uint64_t k = (uint64_t(lo[i]) - minLo + g - 1) / g;
-            uint64_t v = uint64_t(minLo) + g * k;
-            uint32_t decoded = minLo + uint32_t(g) * uint32_t(k); // the decoder's uint32 arithmetic
-            ok = k <= steps && v <= hi[i] && decoded == v && decoded >= lo[i];
-            out.k[i] = uint32_t(k);
-        }
-        if (ok) {
-            out.b = b, out.cl = minLo, out.cf = uint32_t(g);
-            return;
-        }
-    }
-    out.b = 32, out.cl = 0, out.cf = 1; // raw fallback: the value itself
-    for (size_t i = 0; i < m; ++i) out.k[i] = lo[i];
+// The decoder's arithmetic (dagmhValue) for a slot with a factor.
+uint32_t decodeFactor(const ChunkCode& c, const Val& v, uint32_t f) {
+    if (c.b == 32) return f;
+    uint32_t wy = (c.by << 5) | c.sh;
+    uint32_t by = uint32_t(int32_t(wy) >> 5);
+    return c.a + c.bx * v.px + by * v.py + (f << (wy & 31u));
 }
 
-// The representative is the point covered by the most intervals; every distinct maximal-coverage
-// subset is tried and the one whose remaining values need the fewest factor bits wins.
-ChunkCode encodeChunk(const uint32_t* lo, const uint32_t* hi, uint32_t count) {
-    uint32_t bestCov = 0;
-    std::vector<std::pair<uint32_t, uint32_t>> cands; // (mask, point)
-    for (uint32_t i = 0; i < count; ++i) {
-        uint32_t p = lo[i], mask = 0, cov = 0;
-        for (uint32_t j = 0; j < count; ++j)
-            if (lo[j] <= p && p <= hi[j]) mask |= 1u << j, ++cov;
-        if (cov > bestCov) bestCov = cov, cands.clear();
-        if (cov == bestCov) cands.push_back({mask, p});
+constexpr int64_t kMaxSlopeY = (int64_t(1) << 26) - 1; // B_y is stored in 27 bits (signed)
+
+// Spread of the residual intervals under the plane (bx, by): max(lo - P) - min(hi - P).
+int64_t spread(const std::vector<const Val*>& v, int64_t bx, int64_t by) {
+    int64_t maxU = INT64_MIN, minW = INT64_MAX;
+    for (const Val* p : v) {
+        int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
+        maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
     }
-    std::sort(cands.begin(), cands.end());
-    cands.erase(std::unique(cands.begin(), cands.end(), [](auto& a, auto& b) { return a.first == b.first; }),
-                cands.end());
+    return maxU - minW;
+}
+
+// Plane + factors for the values in v (all with a factor): value = A + bx px + by py + (k << sh).
+// The plane minimises the spread (a convex piecewise-linear function of the integer slopes): least
+// squares on the interval midpoints as the start, then an integer pattern search. Every value is then
+// checked with the decoder's uint32 arithmetic; on any miss the chunk falls back to raw values.
+void fitPlane(const std::vector<const Val*>& v, ChunkCode& out) {
+    const size_t m = v.size();
+    out.k.assign(m, 0);
+    out.bx = out.by = out.sh = 0;
+    if (m == 0) {
+        out.b = 0, out.a = 0;
+        return;
+    }
+    int64_t bx = 0, by = 0;
+    int64_t best = spread(v, 0, 0);
+    if (m >= 2 && best > 0) {
+        double mx = 0, my = 0, mv = 0;
+        for (const Val* p : v) mx += p->px, my += p->py, mv += (double(p->lo) + double(p->hi)) * 0.5;
+        mx /= double(m), my /= double(m), mv /= double(m);
+        double sxx = 0, sxy = 0, syy = 0, sxv = 0, syv = 0;
+        for (const Val* p : v) {
+            double dx = p->px - mx, dy = p->py - my, dv = (double(p->lo) + double(p->hi)) * 0.5 - mv;
+            sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxv += dx * dv, syv += dy * dv;
+        }
+        double det = sxx * syy - sxy * sxy, fx = 0, fy = 0;
+        if (det > 1e-9 * std::max(1.0, sxx * syy))
+            fx = (syy * sxv - sxy * syv) / det, fy = (sxx * syv - sxy * sxv) / det;
+        else if (sxx > 0)
+            fx = sxv / sxx;
+        else if (syy > 0)
+            fy = syv / syy;
+        auto clampS = [](double f, int64_t lim) {
+            return int64_t(std::llround(std::clamp(f, -double(lim), double(lim))));
+        };
+        int64_t cx = clampS(fx, INT32_MAX), cy = clampS(fy, kMaxSlopeY);
+        int64_t s = spread(v, cx, cy);
+        if (s < best) best = s, bx = cx, by = cy;
+        // Pattern search over the 8 neighbours with halving steps.
+        for (int64_t step = int64_t(1) << 12; step >= 1 && best > 0; step >>= 1) {
+            for (int iter = 0; iter < 64; ++iter) {
+                bool moved = false;
+                for (int d = 0; d < 8; ++d) {
+                    static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1},
+                                         kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+                    int64_t nx = bx + kDx[d] * step, ny = by + kDy[d] * step;
+                    if (nx > INT32_MAX || nx < INT32_MIN || ny > kMaxSlopeY || ny < -kMaxSlopeY - 1) continue;
+                    int64_t t = spread(v, nx, ny);
+                    if (t < best) best = t, bx = nx, by = ny, moved = true;
+                }
+                if (!moved) break;
+            }
+        }
+    }
+    int64_t maxU = INT64_MIN, minW = INT64_MAX;
+    uint64_t minWidth = UINT64_MAX;
+    for (const Val* p : v) {
+        int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
+        maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
+        minWidth = std::min<uint64_t>(minWidth, uint64_t(p->hi) - p->lo);
+    }
+    // Lattice step 2^sh: every residual interval is at least 2^sh - 1 wide, so each holds a point.
+    uint32_t sh = std::min<uint32_t>(31, uint32_t(std::bit_width(minWidth + 1)) - 1);
+    const int64_t a = minW;
+    uint64_t steps = maxU > a ? (uint64_t(maxU - a) + (uint64_t(1) << sh) - 1) >> sh : 0;
+    out.b = uint32_t(std::bit_width(steps));
+    out.bx = uint32_t(int32_t(bx)), out.by = uint32_t(int32_t(by)) & 0x07FFFFFFu, out.sh = sh;
+    out.a = uint32_t(uint64_t(a));
+    bool ok = out.b < 32;
+    for (size_t i = 0; i < m && ok; ++i) {
+        int64_t pr = bx * int64_t(v[i]->px) + by * int64_t(v[i]->py);
+        int64_t u = int64_t(v[i]->lo) - pr;
+        out.k[i] = u > a ? uint32_t((uint64_t(u - a) + (uint64_t(1) << sh) - 1) >> sh) : 0u;
+        uint32_t d = decodeFactor(out, *v[i], out.k[i]);
+        ok = d >= v[i]->lo && d <= v[i]->hi;
+    }
+    if (!ok) { // raw fallback: the value itself
+        out.b = 32, out.a = out.bx = out.by = out.sh = 0;
+        for (size_t i = 0; i < m; ++i) out.k[i] = v[i]->lo;
+    }
+}
+
+// Chooses the representative (its coverage set decodes to it with no factor) and the plane for the
+// rest. Representative candidates: none; every distinct maximal-coverage set (up to 8); then, twice,
+// the coverage sets of the two values at the extremes of the residual spread under the best plane so
+// far (an off-plane group, e.g. a second surface or empty texels, is better served by the
+// representative than by widening every factor). The fewest factor bits win; ties keep the earlier.
+ChunkCode encodeChunk(const Val* vals, uint32_t count) {
+    auto coverage = [&](uint32_t p) {
+        uint32_t mask = 0;
+        for (uint32_t j = 0; j < count; ++j)
+            if (vals[j].lo <= p && p <= vals[j].hi) mask |= 1u << j;
+        return mask;
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> cands{{0u, 0u}}; // (covered mask, point)
+    uint32_t bestCov = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> maxSets;
+    for (uint32_t i = 0; i < count; ++i) {
+        uint32_t mask = coverage(vals[i].lo), cov = uint32_t(std::popcount(mask));
+        if (cov > bestCov) bestCov = cov, maxSets.clear();
+        if (cov == bestCov) maxSets.push_back({mask, vals[i].lo});
+    }
+    std::sort(maxSets.begin(), maxSets.end());
+    maxSets.erase(
+        std::unique(maxSets.begin(), maxSets.end(), [](auto& a, auto& b) { return a.first == b.first; }),
+        maxSets.end());
+    if (bestCov >= 2) {
+        if (maxSets.size() > 8) maxSets.resize(8);
+        cands.insert(cands.end(), maxSets.begin(), maxSets.end());
+    }
+    std::vector<const Val*> rest;
+    std::vector<uint32_t> tried;
     ChunkCode best;
     uint64_t bestBits = UINT64_MAX;
-    std::vector<uint32_t> rl, rh;
-    for (auto [mask, p] : cands) {
-        rl.clear(), rh.clear();
+    auto tryMask = [&](uint32_t mask, uint32_t p) {
+        if (std::find(tried.begin(), tried.end(), mask) != tried.end()) return;
+        tried.push_back(mask);
+        rest.clear();
         for (uint32_t j = 0; j < count; ++j)
-            if (!(mask & (1u << j))) rl.push_back(lo[j]), rh.push_back(hi[j]);
+            if (!(mask & (1u << j))) rest.push_back(&vals[j]);
         ChunkCode c;
-        // A point in the intersection of the covered intervals: the largest lo among them (p itself).
         c.rep = p;
         c.bitmap = ~mask & stat::lowMask(count);
-        fitFactors(rl, rh, c);
-        uint64_t bits = uint64_t(rl.size()) * c.b;
+        fitPlane(rest, c);
+        uint64_t bits = uint64_t(rest.size()) * c.b;
         if (bits < bestBits) bestBits = bits, best = std::move(c);
+    };
+    for (auto [mask, p] : cands) tryMask(mask, p);
+    for (int round = 0; round < 2 && bestBits > 0 && best.b < 32; ++round) {
+        const int64_t bx = int32_t(best.bx), by = int32_t(best.by << 5) >> 5;
+        int64_t maxU = INT64_MIN, minW = INT64_MAX;
+        uint32_t jU = 0, jW = 0;
+        for (uint32_t j = 0; j < count; ++j) {
+            int64_t pr = bx * int64_t(vals[j].px) + by * int64_t(vals[j].py);
+            int64_t u = int64_t(vals[j].lo) - pr, w = int64_t(vals[j].hi) - pr;
+            if (u > maxU) maxU = u, jU = j;
+            if (w < minW) minW = w, jW = j;
+        }
+        tryMask(coverage(vals[jU].lo), vals[jU].lo);
+        tryMask(coverage(vals[jW].lo), vals[jW].lo);
     }
     return best;
+}
+
+// Full-resolution texel at the top-left corner of every node's cell.
+std::vector<std::array<uint32_t, 2>> nodeCorners(const MhTree& tree) {
+    std::vector<std::array<uint32_t, 2>> pos(tree.nodes.size(), {0u, 0u});
+    for (size_t i = 0; i < tree.nodes.size(); ++i) {
+        const auto& nd = tree.nodes[i];
+        if (nd.depth >= tree.levels) continue;
+        uint32_t s = tree.levels - nd.depth - 1u;
+        for (uint32_t c = 0; c < 4; ++c)
+            if (nd.child[c] >= 0)
+                pos[nd.child[c]] = {pos[i][0] + ((c & 1u) << s), pos[i][1] + ((c >> 1) << s)};
+    }
+    return pos;
 }
 
 struct VecHash {
@@ -220,29 +320,34 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     }
     st.innerNodes = nodeIds.size(), st.treelets = treelets.size();
     // ---- values, in preorder (= node index order), chunks of 32 ----
-    std::vector<uint32_t> vlo, vhi;
-    for (const auto& nd : tree.nodes)
-        if (nd.valued) vlo.push_back(nd.lo), vhi.push_back(nd.hi);
-    const uint32_t numValues = uint32_t(vlo.size());
+    std::vector<Val> vals;
+    {
+        std::vector<std::array<uint32_t, 2>> pos = nodeCorners(tree);
+        for (size_t i = 0; i < n; ++i)
+            if (tree.nodes[i].valued)
+                vals.push_back({tree.nodes[i].lo, tree.nodes[i].hi, pos[i][0], pos[i][1]});
+    }
+    const uint32_t numValues = uint32_t(vals.size());
     const uint32_t numChunks = (numValues + kChunkValues - 1) / kChunkValues;
     std::vector<uint32_t> chunks(size_t(numChunks) * kChunkWords, 0), factors;
     uint64_t bitPos = 0;
     for (uint32_t c = 0; c < numChunks; ++c) {
         uint32_t count = std::min(kChunkValues, numValues - c * kChunkValues);
-        ChunkCode code = encodeChunk(&vlo[size_t(c) * kChunkValues], &vhi[size_t(c) * kChunkValues], count);
+        ChunkCode code = encodeChunk(&vals[size_t(c) * kChunkValues], count);
         bitPos = (bitPos + 7) / 8 * 8;
         if (bitPos / 8 >= kMaxFactorBytes) return fail("DAG-MH: factor stream exceeds 64 MiB");
         uint32_t* w = &chunks[size_t(c) * kChunkWords];
-        w[0] = code.rep, w[1] = code.bitmap, w[2] = code.cl, w[3] = code.cf;
-        w[4] = code.b | uint32_t(bitPos / 8) << 6;
+        w[0] = code.rep, w[1] = code.bitmap, w[2] = code.a, w[3] = code.bx, w[4] = code.by << 5 | code.sh;
+        w[5] = code.b | uint32_t(bitPos / 8) << 6;
         st.rawChunks += code.b == 32;
         st.factors += code.k.size();
-        for (uint32_t k : code.k) {
-            for (uint32_t bit = 0; bit < code.b; ++bit, ++bitPos) {
+        auto put = [&](uint32_t k, uint32_t bits) {
+            for (uint32_t bit = 0; bit < bits; ++bit, ++bitPos) {
                 if ((bitPos >> 5) >= factors.size()) factors.push_back(0);
                 if ((k >> bit) & 1u) factors[bitPos >> 5] |= 1u << (bitPos & 31);
             }
-        }
+        };
+        for (uint32_t k : code.k) put(k, code.b);
         st.factorBits += uint64_t(code.k.size()) * code.b;
     }
     if (factors.size() < (bitPos + 31) / 32) factors.resize((bitPos + 31) / 32, 0);
@@ -251,7 +356,8 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     const uint32_t S = uint32_t(std::clamp<int32_t>(int32_t(L) - 7, 0, 6));
     const uint32_t skipEntries = 1u << (2 * S);
     std::vector<uint32_t> out(kHeaderWords, 0);
-    out[kMagicWord] = kMagic, out[kVersion] = 1, out[kResolution] = tree.resolution, out[kLevels] = L;
+    out[kMagicWord] = kMagic, out[kVersion] = kVersionNumber, out[kResolution] = tree.resolution,
+    out[kLevels] = L;
     out[kSkipLevel] = S, out[kRootKind] = refKind[0], out[kRootPtr] = refPtr[0];
     out[kValues] = numValues, out[kChunks] = numChunks;
     out[kSkipOffset] = kHeaderWords;
@@ -290,7 +396,7 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (!data || size < kHeaderWords)
         return bad("buffer of " + std::to_string(size) + " words is shorter than its header");
     if (data[kMagicWord] != kMagic) return bad("wrong magic");
-    if (data[kVersion] != 1) return bad("unsupported version " + std::to_string(data[kVersion]));
+    if (data[kVersion] != kVersionNumber) return bad("unsupported version " + std::to_string(data[kVersion]));
     if (data[kTotalWords] != size)
         return bad("total words " + std::to_string(data[kTotalWords]) + " != buffer size " +
                    std::to_string(size));
@@ -389,12 +495,25 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
         uint32_t count = uint32_t(std::min<uint64_t>(kChunkValues, numValues - c * kChunkValues));
         if (w[1] & ~stat::lowMask(count))
             return bad("chunk " + std::to_string(c) + " bitmap past its values");
-        uint32_t b = w[4] & 63u;
+        uint32_t b = w[5] & 63u;
         if (b > 32) return bad("chunk " + std::to_string(c) + " bit width " + std::to_string(b));
-        if (uint64_t(w[4] >> 6) * 8u + uint64_t(stat::popc(w[1])) * b > factorBits)
+        if (uint64_t(w[5] >> 6) * 8u + uint64_t(stat::popc(w[1])) * b > factorBits)
             return bad("chunk " + std::to_string(c) + " factors past the stream");
     }
     return {};
+}
+
+uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data) {
+    uint64_t bad = 0;
+    uint32_t i = 0;
+    std::vector<std::array<uint32_t, 2>> pos = nodeCorners(tree);
+    for (size_t n = 0; n < tree.nodes.size(); ++n) {
+        const auto& nd = tree.nodes[n];
+        if (!nd.valued) continue;
+        uint32_t v = dagmhValue(data, 0, i++, pos[n][0], pos[n][1]);
+        bad += v < nd.lo || v > nd.hi;
+    }
+    return bad;
 }
 
 stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size) {

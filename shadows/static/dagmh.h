@@ -14,21 +14,22 @@
 //   - A dense skip list at level S = clamp(L - 7, 0, 6) stores the traversal state for every node
 //     position at that level (paper: level 6 for large maps; smaller maps get a smaller S so the list
 //     stays a few percent of the total).
-//   - Values: chunks of 32 with a representative value, a 32-bit "has factor" bitmap, and multiply-add
-//     factors value = c_l + c_f * k with k of the smallest bit width b; b = 32 stores raw values.
+//   - Values: chunks of 32 with a representative value, a 32-bit "has factor" bitmap, and a plane
+//     predictor: value = A + B_x px + B_y py + (k << sh) (uint32 arithmetic), (px, py) the texel at the
+//     top-left corner of the value's node cell, k of the smallest bit width b; b = 32 stores raw values.
 // Layout (words):
 //   header[20]: magic 'DGM1' | version 1 | resolution | levels L | skip level S | root kind (1 inner,
 //     2 treelet) | root pointer | values | chunks | skip offset | node offset | node words | treelet
 //     offset | treelets | chunk offset | factor offset | factor words | total words | checksum | 0
-//   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8, pointer,
-//     v_count, v_last; entry index = Y * 2^S + X.
+//   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8 | d_last << 16
+//     (depth of the node holding v_last), pointer, v_count, v_last; entry index = Y * 2^S + X.
 //   nodes: inner node = flags (2 bits per child c: 0 absent, 1 inner, 2 treelet; bit 8: the node has a
 //     value) | n child pointers (inner: word index into nodes, always smaller than the node's own;
 //     treelet: treelet index) | n - 1 prefix counts (values before child rank r >= 1 in the subtree,
 //     the node's own value included). Size 2n words.
 //   treelets: 3 words each (85 bits used).
-//   chunks: 5 words each: representative | bitmap (bit j: value j has a factor) | c_l | c_f |
-//     meta = b (bits 0..5) | byte offset of the chunk's factors in the factor stream << 6.
+//   chunks: 6 words each: representative | bitmap (bit j: value j has a factor) | A | B_x |
+//     B_y << 5 | sh (B_y 27-bit signed) | meta = b (bits 0..5) | byte offset of the chunk's factors << 6.
 //   factors: bit stream, little-endian within words, each chunk starting at a byte boundary.
 // Empty texels decode to exactly kDepthEmpty.
 #pragma once
@@ -67,10 +68,11 @@ enum : uint32_t {
     kChecksum,
     kReserved
 };
-constexpr uint32_t kChunkValues = 32, kChunkWords = 5, kTreeletWords = 3, kSkipWords = 4;
+constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipWords = 4;
 constexpr uint32_t kMaxFactorBytes = 1u << 26;
 
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
+constexpr uint32_t kVersionNumber = 2;
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
 } // namespace dagfmt
 
@@ -83,15 +85,20 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* stats 
 Result<std::vector<uint32_t>> encodeDAGMH(const DualDepthMap& map);
 Result<void> validateDAGMH(const uint32_t* data, size_t size);
 stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size);
+// Encoder self-check: decodes every value of `tree` from `data` (an encoding of it) with the lookup's
+// arithmetic and counts the values outside their node's interval.
+uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data);
 
-// Value retrieval (paper Alg. 2, integer version). GLSL twin in shaders/static/dagmh_lookup.glsl.
-inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index) {
+// Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor; see
+// docs/dagmh-encoding.md). (px, py) is the full-resolution texel of the top-left corner of the cell of
+// the MH node that holds the value. GLSL twin in shaders/static/dagmh_lookup.glsl.
+inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index, uint32_t px, uint32_t py) {
     uint32_t ch = base + data[base + dagfmt::kChunkOffset] + dagfmt::kChunkWords * (index >> 5u);
     uint32_t j = index & 31u;
     uint32_t bm = data[ch + 1u];
     if (((bm >> j) & 1u) == 0u) return data[ch];
     uint32_t k = stat::popc(bm & stat::lowMask(j));
-    uint32_t meta = data[ch + 4u];
+    uint32_t meta = data[ch + 5u];
     uint32_t b = meta & 63u;
     uint32_t f = 0u;
     if (b != 0u) {
@@ -103,7 +110,9 @@ inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index) 
         f &= stat::lowMask(b);
     }
     if (b == 32u) return f; // raw 32-bit fallback
-    return data[ch + 2u] + data[ch + 3u] * f;
+    uint32_t wy = data[ch + 4u];
+    uint32_t by = uint32_t(int32_t(wy) >> 5); // 27-bit signed y slope, arithmetic shift
+    return data[ch + 2u] + data[ch + 3u] * px + by * py + (f << (wy & 31u));
 }
 
 // Only valid on a buffer validateDAGMH accepted; x, y < resolution.
@@ -113,14 +122,18 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
     uint32_t e = base + data[base + dagfmt::kSkipOffset] +
                  dagfmt::kSkipWords * (((y >> (L - S)) << S) + (x >> (L - S)));
     uint32_t kind = data[e] & 255u;
-    uint32_t depth = data[e] >> 8u;
+    uint32_t depth = (data[e] >> 8u) & 255u;
+    uint32_t dlast = data[e] >> 16u; // depth of the node that holds value vlast
     uint32_t ptr = data[e + 1u];
     uint32_t vcount = data[e + 2u];
     uint32_t vlast = data[e + 3u];
     uint32_t nodes = base + data[base + dagfmt::kNodeOffset];
     while (kind == 1u) {
         uint32_t flags = data[nodes + ptr];
-        if ((flags & 256u) != 0u) vlast = vcount;
+        if ((flags & 256u) != 0u) {
+            vlast = vcount;
+            dlast = depth;
+        }
         if (depth >= L) break;
         uint32_t s = L - depth - 1u;
         uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
@@ -155,11 +168,13 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
                 if (wi > 0u) before += stat::popc(data[tb]);
                 if (wi > 1u) before += stat::popc(data[tb + 1u]);
                 vlast = vcount + before;
+                dlast = depth + lvl;
                 break;
             }
         }
     }
-    return dagmhValue(data, base, vlast);
+    uint32_t s = L - dlast;
+    return dagmhValue(data, base, vlast, (x >> s) << s, (y >> s) << s);
 }
 inline uint32_t dagmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return dagmhLookup(data, 0u, x, y);
