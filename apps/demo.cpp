@@ -25,6 +25,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
   --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512)
+  --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --pcf R          static shadow filter radius: 0 one tap (default), 1 = 3x3, 2 = 5x5 ... 4 = 9x9
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
@@ -32,7 +33,7 @@ Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/
 int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
-                            "--static", "--static-res", "--pcf"},
+                            "--static", "--static-res", "--pcf", "--camera"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -76,6 +77,15 @@ int runDemo(int argc, char** argv) {
             bakeStaticShadows(m, scene.value(), binding.value(), staticMethod.value(), staticRes.value());
         if (!baked) return runError("demo", baked.error());
         if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
+    }
+    if (args->has("--camera")) {
+        float v[6];
+        const std::string text = args->get("--camera", "");
+        if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6)
+            return usageError("demo", "--camera: '" + text + "' is not X,Y,Z,TX,TY,TZ");
+        scene->camera.position = {v[0], v[1], v[2]};
+        scene->camera.target = {v[3], v[4], v[5]};
+        if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r) return usageError("demo", r.error());
     }
     std::unique_ptr<Window> win;
     if (window) {

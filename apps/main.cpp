@@ -19,6 +19,9 @@ static const char* kHelp = R"(usage: manylights <command> [options]
 Many shadowed lights on Vulkan. Commands (each takes --help):
   demo    render the night city (or a glTF scene) headless; images, GPU profile and stats
   bench   benchmarks: `bench culling` (lights x culling mode, table and CSV)
+  bake    bake static spot lights' shadows (sm, mh, mmh, dagmh, cpvs) into one bake file
+  inspect validate a bake file and report its method, resolution, lights and bytes per part
+  verify  re-render a bake file's lights and check every texel or voxel (last line JSON)
 )";
 
 int main(int argc, char** argv) {
@@ -28,6 +31,9 @@ int main(int argc, char** argv) {
     }
     if (!std::strcmp(argv[1], "demo")) return ml::runDemo(argc, argv);
     if (!std::strcmp(argv[1], "bench")) return ml::runBench(argc, argv);
+    if (!std::strcmp(argv[1], "bake")) return ml::runBake(argc, argv);
+    if (!std::strcmp(argv[1], "inspect")) return ml::runInspect(argc, argv);
+    if (!std::strcmp(argv[1], "verify")) return ml::runVerify(argc, argv);
     std::fprintf(stderr, "manylights: unknown command '%s' (see manylights help)\n", argv[1]);
     return 2;
 }

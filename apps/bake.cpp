@@ -1,0 +1,301 @@
+// `manylights bake`, `inspect` and `verify`: the static shadow bake file from the command line.
+//   bake     renders each selected static spot light's dual depth map and encodes it (one file per scene);
+//   inspect  validates a bake file and reports its method, resolution, lights and bytes per part;
+//   verify   re-creates the scene, re-renders every light and checks every texel (or voxel).
+// Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
+#include "apps/cli.h"
+#include "shadows/gpu/dual_depth_gpu.h"
+#include "apps/commands.h"
+#include "scenes/scenes.h"
+#include "shadows/static/bake.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+
+namespace ml {
+
+namespace {
+
+const char* kBakeHelp = R"(usage: manylights bake --method M --res N --lights SEL --out FILE [options]
+Bakes the static shadows of a scene's static spot lights into one bake file.
+  --scene S          night-city (default), or a .gltf / .glb file
+  --scene-lights N   lights the scene is created with, 1..4096 (default 256)
+  --seed S           scene seed (default 1)
+  --method M         sm, mh, mmh, dagmh or cpvs
+  --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384)
+  --lights SEL       scene lights to bake: all, N, A-B, or a comma list (e.g. 0-7,12)
+  --out FILE         the bake file to write
+  --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
+                     the file records it and verify re-renders with the same one
+  --quiet            no progress lines on stderr
+Dynamic lights and non-spot lights among the selection are skipped and listed, never silently.
+)";
+
+const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
+Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
+bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+  --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
+)";
+
+const char* kVerifyHelp = R"(usage: manylights verify FILE [--quiet]
+Re-creates the baked scene, re-renders every light's dual depth map and checks every texel
+(sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
+(cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
+The last line on stdout is {"checked": N, "mismatches": M}.
+Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed).
+  --quiet   no progress lines on stderr
+)";
+
+std::string jsonString(const std::string& s) {
+    std::string o = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\', o += char(c);
+        } else if (c < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+            o += buf;
+        } else {
+            o += char(c);
+        }
+    }
+    return o + "\"";
+}
+
+// Progress on stderr, at most one line a second, so short runs stay quiet and long ones show the light,
+// the phase, the overall percentage and the elapsed time.
+BakeProgressFn progressPrinter(const char* command, bool quiet) {
+    if (quiet) return {};
+    auto lastPrint = std::make_shared<double>(0.0);
+    return [command, lastPrint](const BakeProgress& p) {
+        if (p.elapsedSeconds - *lastPrint < 1.0) return;
+        *lastPrint = p.elapsedSeconds;
+        std::fprintf(stderr, "manylights %s: [%3.0f%%] light %u (%u/%u) %-6s %8.1f s\n", command,
+                     100.0 * p.fraction, p.light, p.ordinal + 1, p.count, p.phase, p.elapsedSeconds);
+    };
+}
+
+// The positional FILE of inspect / verify, and the remaining flags.
+Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
+                                                       const std::set<std::string>& switches) {
+    std::string file;
+    std::vector<char*> rest = {argv[0], argv[1]};
+    for (int i = 2; i < argc; ++i) {
+        std::string s = argv[i];
+        if (!s.empty() && s[0] == '-') {
+            rest.push_back(argv[i]);
+        } else if (file.empty()) {
+            file = s;
+        } else {
+            return fail("more than one FILE ('" + file + "' and '" + s + "')");
+        }
+    }
+    auto args = cli::parse(int(rest.size()), rest.data(), 2, {}, switches);
+    if (!args) return fail(args.error());
+    if (file.empty() && !args->help) return fail("missing FILE (see --help)");
+    return std::make_pair(file, args.value());
+}
+
+// The Vulkan dual depth renderer (shadows/gpu/dual_depth_gpu.h) as a DualRenderFn; owns its device.
+struct GpuDualRenderer {
+    std::unique_ptr<Device> device;
+    std::unique_ptr<DualDepthRenderer> renderer;
+    Result<DualRenderFn> make() {
+        auto d = Device::create({});
+        if (!d) return fail(d.error());
+        device = std::move(d.value());
+        auto r = DualDepthRenderer::create(*device);
+        if (!r) return fail(r.error());
+        renderer = std::move(r.value());
+        DualDepthRenderer* p = renderer.get();
+        return DualRenderFn([p](const CasterTriangles& c, const LightFrustum& f, uint32_t res) {
+            return p->render(c, f, res);
+        });
+    }
+    ~GpuDualRenderer() {
+        renderer.reset(); // before the device it was created on
+    }
+};
+
+} // namespace
+
+int runBake(int argc, char** argv) {
+    auto args = cli::parse(
+        argc, argv, 2,
+        {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer"},
+        {"--quiet"});
+    if (!args) return usageError("bake", args.error());
+    if (args->help) {
+        std::fputs(kBakeHelp, stdout);
+        return 0;
+    }
+    for (const char* required : {"--method", "--res", "--lights", "--out"})
+        if (!args->has(required))
+            return usageError("bake", std::string(required) + ": required (see --help)");
+    auto method = parseStaticMethod(args->get("--method", ""));
+    if (method && method.value() == StaticMethod::None) method = fail("method 'none' cannot be baked");
+    auto res = cli::parseUint("--res", args->get("--res", ""), 1, kBakeMaxResolution);
+    auto sceneLights = cli::parseUint("--scene-lights", args->get("--scene-lights", "256"), 1, 4096);
+    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    if (!method) return usageError("bake", "--method: " + method.error());
+    for (const std::string* e : {&res.error(), &sceneLights.error(), &seed.error()})
+        if (!e->empty()) return usageError("bake", *e);
+    if (method.value() == StaticMethod::CPVS)
+        if (auto s = makeCpvsSpace(res.value(), 1.0f, 2.0f); !s)
+            return usageError("bake", "--res: " + s.error());
+    const std::string out = args->get("--out", "");
+    if (out.empty()) return usageError("bake", "--out: empty path");
+    // Fail before a long bake, not after it.
+    const std::filesystem::path outDir = std::filesystem::absolute(out).parent_path();
+    if (!std::filesystem::is_directory(outDir))
+        return usageError("bake", "--out: " + outDir.string() + " is not a directory");
+
+    const std::string rendererName = args->get("--renderer", "gpu");
+    if (rendererName != "gpu" && rendererName != "cpu")
+        return usageError("bake", "--renderer: '" + rendererName + "' is not gpu or cpu");
+    const BakeRenderer rendererKind = rendererName == "gpu" ? BakeRenderer::Gpu : BakeRenderer::Cpu;
+    GpuDualRenderer gpu;
+    DualRenderFn render = cpuDualRenderer();
+    if (rendererKind == BakeRenderer::Gpu) {
+        auto fn = gpu.make();
+        if (!fn) return runError("bake", fn.error());
+        render = fn.value();
+    }
+    SceneSpec spec{args->get("--scene", "night-city"), sceneLights.value(), seed.value()};
+    auto scene = loadScene(spec.scene, spec.lights, spec.seed);
+    if (!scene) return usageError("bake", scene.error());
+    for (const auto& w : scene->warnings) std::fprintf(stderr, "manylights bake: warning: %s\n", w.c_str());
+    auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
+    if (!lights) return usageError("bake", lights.error());
+
+    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
+                staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
+    std::fflush(stdout);
+    auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
+                           progressPrinter("bake", args->has("--quiet")), render);
+    if (!baked) return runError("bake", baked.error());
+    baked->file.renderer = rendererKind;
+    for (const SkippedLight& s : baked->skipped)
+        std::printf("skipped light %u: %s\n", s.light, s.reason.c_str());
+    for (const LightBakeStats& l : baked->lights)
+        std::printf("light %u: render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
+                    l.renderSeconds, l.encodeSeconds,
+                    100.0 * double(l.coveredTexels) / (double(res.value()) * res.value()),
+                    (unsigned long long)l.bytes);
+    if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
+    BakeBytes b = bakeFileBytes(baked->file);
+    std::printf("wrote %s: %zu lights baked, %zu skipped, %llu bytes; render %.2f s, encode %.2f s\n",
+                out.c_str(), baked->file.records.size(), baked->skipped.size(), (unsigned long long)b.total(),
+                baked->renderSeconds, baked->encodeSeconds);
+    if (validationErrors())
+        return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
+    return 0;
+}
+
+int runInspect(int argc, char** argv) {
+    auto fa = fileAndFlags(argc, argv, {"--json"});
+    if (!fa) return usageError("inspect", fa.error());
+    auto& [path, args] = fa.value();
+    if (args.help) {
+        std::fputs(kInspectHelp, stdout);
+        return 0;
+    }
+    auto file = readBakeFile(path);
+    if (!file) return usageError("inspect", file.error());
+    const BakeFile& f = file.value();
+    std::vector<BakeRecordBytes> per;
+    BakeBytes b = bakeFileBytes(f, &per);
+    const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4;
+    if (args.has("--json")) {
+        std::printf(
+            "{\"file\": %s, \"version\": %u, \"scene\": {\"name\": %s, \"lights\": %u, \"seed\": %u},\n",
+            jsonString(path).c_str(), bakefmt::kVersion, jsonString(f.scene.scene).c_str(), f.scene.lights,
+            f.scene.seed);
+        std::printf(" \"method\": \"%s\", \"resolution\": %u, \"lights\": %zu, \"bytes_total\": %llu,\n",
+                    staticMethodName(f.method), f.resolution, f.records.size(),
+                    (unsigned long long)b.total());
+        std::printf(
+            " \"bytes\": {\"headers\": %llu, \"skip_list\": %llu, \"nodes\": %llu, \"treelets\": %llu, "
+            "\"values\": %llu, \"factors\": %llu},\n",
+            (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.nodes,
+            (unsigned long long)b.treelets, (unsigned long long)b.values, (unsigned long long)b.factors);
+        std::printf(" \"map_bytes_per_light\": %llu,\n \"per_light\": [", (unsigned long long)mapBytes);
+        for (size_t i = 0; i < f.records.size(); ++i) {
+            const BakeRecord& r = f.records[i];
+            const stat::ByteBreakdown& p = per[i].parts;
+            std::printf(
+                "%s\n  {\"light\": %u, \"bytes\": %llu, \"fov\": %.9g, \"near\": %.9g, \"far\": %.9g, "
+                "\"parts\": {\"headers\": %llu, \"skip_list\": %llu, \"nodes\": %llu, \"treelets\": %llu, "
+                "\"values\": %llu, \"factors\": %llu}}",
+                i ? "," : "", r.light, (unsigned long long)(r.data.size() * 4), r.frustum.fov,
+                r.frustum.nearPlane, r.frustum.farPlane, (unsigned long long)p.header,
+                (unsigned long long)p.skipList, (unsigned long long)p.nodes, (unsigned long long)p.treelets,
+                (unsigned long long)p.values, (unsigned long long)p.factors);
+        }
+        std::printf("]}\n");
+        return 0;
+    }
+    std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", path.c_str(), bakefmt::kVersion,
+                f.scene.scene.c_str(), f.scene.lights, f.scene.seed);
+    std::printf("method %s, resolution %u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
+                staticMethodName(f.method), f.resolution, f.records.size(), (unsigned long long)b.total(),
+                f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(mapBytes * f.records.size()),
+                f.records.size());
+    std::printf("bytes: headers %llu, skip list %llu, nodes %llu, treelets %llu, values %llu, factors %llu\n",
+                (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.nodes,
+                (unsigned long long)b.treelets, (unsigned long long)b.values, (unsigned long long)b.factors);
+    std::printf("%8s %12s %8s %8s %8s\n", "light", "bytes", "of map", "fov", "far");
+    for (const BakeRecord& r : f.records)
+        std::printf("%8u %12llu %7.2f%% %8.3f %8.2f\n", r.light, (unsigned long long)(r.data.size() * 4),
+                    100.0 * double(r.data.size() * 4) / double(mapBytes), r.frustum.fov, r.frustum.farPlane);
+    return 0;
+}
+
+int runVerify(int argc, char** argv) {
+    auto fa = fileAndFlags(argc, argv, {"--quiet"});
+    if (!fa) return usageError("verify", fa.error());
+    auto& [path, args] = fa.value();
+    if (args.help) {
+        std::fputs(kVerifyHelp, stdout);
+        return 0;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    auto file = readBakeFile(path);
+    if (!file) return usageError("verify", file.error());
+    const BakeFile& f = file.value();
+    std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n", path.c_str(),
+                staticMethodName(f.method), f.resolution, f.records.size(), f.scene.scene.c_str(),
+                f.scene.lights, f.scene.seed);
+    std::fflush(stdout);
+    // Re-render with the renderer that made the bake (the file says which).
+    GpuDualRenderer gpu;
+    DualRenderFn render = cpuDualRenderer();
+    if (f.renderer == BakeRenderer::Gpu) {
+        auto fn = gpu.make();
+        if (!fn) return runError("verify", fn.error());
+        render = fn.value();
+    }
+    auto rep = verifyBake(f, render, progressPrinter("verify", args.has("--quiet")));
+    if (!rep) return usageError("verify", path + ": " + rep.error());
+    const char* unit = f.method == StaticMethod::CPVS ? "voxels" : "texels";
+    for (const VerifyLight& l : rep->lights) {
+        std::printf("light %u: %llu %s checked, %llu mismatches", l.light, (unsigned long long)l.checked,
+                    unit, (unsigned long long)l.mismatches);
+        if (f.method == StaticMethod::CPVS) std::printf(", %llu undefined", (unsigned long long)l.undefined);
+        std::printf(" (render %.2f s, check %.2f s)\n", l.renderSeconds, l.checkSeconds);
+    }
+    for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", e.c_str());
+    std::printf("total %.2f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    std::printf("{\"checked\": %llu, \"mismatches\": %llu}\n", (unsigned long long)rep->checked,
+                (unsigned long long)rep->mismatches);
+    if (validationErrors())
+        return runError("verify", std::to_string(validationErrors()) + " Vulkan validation errors");
+    return rep->mismatches ? 1 : 0;
+}
+
+} // namespace ml

@@ -1,0 +1,263 @@
+#include "shadows/static/bake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace ml {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The CPU rasteriser, tile by tile, telling `onFraction` how far it got (DualRasterizer::render without
+// the progress would leave a long 16K^2 render silent).
+DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t res,
+                         uint64_t tileTexels, const std::function<void(double)>& onFraction) {
+    DualRasterizer raster(casters, frustum, res);
+    DualDepthMap map;
+    map.resolution = res;
+    map.enter.assign(size_t(res) * res, kDepthEmpty);
+    map.exit.assign(size_t(res) * res, kDepthEmpty);
+    const uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res, 1), 1, res));
+    for (uint32_t y0 = 0; y0 < res; y0 += rows) {
+        const uint32_t y1 = std::min(res, y0 + rows);
+        raster.renderRows(y0, y1, map.enter.data() + size_t(y0) * res, map.exit.data() + size_t(y0) * res);
+        if (onFraction) onFraction(double(y1) / res);
+    }
+    return map;
+}
+
+// Why a light cannot be baked, or "" when it can.
+std::string skipReason(const Light& l) {
+    if (l.dynamic) return "dynamic light (moves; its shadows come from virtual shadow maps)";
+    if (l.type == LightType::Point) return "point light (static methods bake spot lights only)";
+    if (l.type == LightType::Directional) return "directional light (static methods bake spot lights only)";
+    if (l.type != LightType::Spot) return "unknown light type";
+    const LightFrustum f = spotLightFrustum(l);
+    if (!(f.fov > 0.0f && f.fov < 3.14159f)) return "cone angle outside (0, 90) degrees";
+    if (!(std::isfinite(f.farPlane) && f.farPlane > f.nearPlane)) return "range not beyond the near plane";
+    const float* m = &f.view[0][0];
+    for (int i = 0; i < 16; ++i)
+        if (!std::isfinite(m[i])) return "position or direction not finite";
+    return "";
+}
+
+bool sameFrustum(const LightFrustum& a, const LightFrustum& b) {
+    return std::memcmp(&a.view[0][0], &b.view[0][0], sizeof(float) * 16) == 0 && a.fov == b.fov &&
+           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
+}
+
+} // namespace
+
+DualRenderFn cpuDualRenderer(uint64_t tileTexels) {
+    return [tileTexels](const CasterTriangles& casters, const LightFrustum& frustum,
+                        uint32_t res) -> Result<DualDepthMap> {
+        return renderTiled(casters, frustum, res, tileTexels, {});
+    };
+}
+
+Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
+                             const std::vector<uint32_t>& lightsIn, const BakeProgressFn& progress,
+                             const DualRenderFn& render) {
+    if (!isDepthMethod(method) && method != StaticMethod::CPVS)
+        return fail("bake: method '" + std::string(staticMethodName(method)) + "' cannot be baked");
+    if (res == 0 || res > kBakeMaxResolution)
+        return fail("bake: resolution " + std::to_string(res) + " outside 1.." +
+                    std::to_string(kBakeMaxResolution));
+    std::vector<uint32_t> lights = lightsIn;
+    std::sort(lights.begin(), lights.end());
+    lights.erase(std::unique(lights.begin(), lights.end()), lights.end());
+    if (lights.empty()) return fail("bake: no lights selected");
+    if (lights.back() >= scene.lights.size())
+        return fail("bake: light " + std::to_string(lights.back()) + " is not below the scene's " +
+                    std::to_string(scene.lights.size()) + " lights");
+
+    BakeResult out;
+    out.file.scene = spec;
+    out.file.method = method;
+    out.file.resolution = res;
+    std::vector<uint32_t> todo;
+    for (uint32_t i : lights) {
+        std::string why = skipReason(scene.lights[i]);
+        if (why.empty())
+            todo.push_back(i);
+        else
+            out.skipped.push_back({i, why});
+    }
+    if (todo.empty())
+        return fail("bake: none of the " + std::to_string(lights.size()) +
+                    " selected lights is a static spot light (first skipped: light " +
+                    std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
+    if (method == StaticMethod::CPVS) {
+        // Fail before rendering anything (CPVS needs a power of two in 64..16384).
+        auto space = makeCpvsSpace(res, 1.0f, 2.0f);
+        if (!space) return fail("bake: " + space.error());
+    }
+
+    const CasterTriangles casters = castersFromScene(scene);
+    const auto t0 = Clock::now();
+    const uint32_t n = uint32_t(todo.size());
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t li = todo[k];
+        auto report = [&](const char* phase, double within) {
+            if (progress)
+                progress({li, k, n, phase, (k + std::clamp(within, 0.0, 1.0)) / n, secondsSince(t0)});
+        };
+        const LightFrustum frustum = spotLightFrustum(scene.lights[li]);
+        LightBakeStats st;
+        st.light = li;
+
+        // Render: half of a light's share of the progress; encode: the other half.
+        report("render", 0.0);
+        auto tr = Clock::now();
+        Result<DualDepthMap> map =
+            render ? render(casters, frustum, res)
+                   : Result<DualDepthMap>(renderTiled(casters, frustum, res, kBakeTileTexels,
+                                                      [&](double f) { report("render", 0.5 * f); }));
+        if (!map) return fail("bake: light " + std::to_string(li) + ": render: " + map.error());
+        if (map->resolution != res || map->enter.size() != size_t(res) * res ||
+            map->exit.size() != map->enter.size())
+            return fail("bake: light " + std::to_string(li) +
+                        ": the renderer returned a map of the wrong size");
+        st.renderSeconds = secondsSince(tr);
+        for (size_t i = 0; i < map->enter.size(); ++i)
+            st.coveredTexels += map->enter[i] != kDepthEmpty, st.closedTexels += map->exit[i] > map->enter[i];
+
+        report("encode", 0.5);
+        auto te = Clock::now();
+        StaticEncodeOptions eo;
+        eo.nearPlane = frustum.nearPlane, eo.farPlane = frustum.farPlane;
+        eo.progress = [&](float f) { report("encode", 0.5 + 0.5 * double(f)); };
+        auto words = encodeStatic(method, map.value(), eo);
+        if (!words) return fail("bake: light " + std::to_string(li) + ": encode: " + words.error());
+        st.encodeSeconds = secondsSince(te);
+        st.bytes = words->size() * 4;
+        out.renderSeconds += st.renderSeconds, out.encodeSeconds += st.encodeSeconds;
+        out.file.records.push_back({li, method, res, frustum, std::move(words.value())});
+        out.lights.push_back(st);
+        report("done", 1.0);
+    }
+    return out;
+}
+
+Result<std::vector<uint32_t>> parseLightSelection(const std::string& text, uint32_t lightCount) {
+    std::vector<uint32_t> out;
+    if (text == "all") {
+        for (uint32_t i = 0; i < lightCount; ++i) out.push_back(i);
+        return out;
+    }
+    auto number = [&](const std::string& s, const std::string& item) -> Result<uint32_t> {
+        if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos)
+            return fail("--lights: '" + item + "' is not a light index, a range A-B or 'all'");
+        uint32_t v = uint32_t(std::strtoul(s.c_str(), nullptr, 10));
+        if (v >= lightCount)
+            return fail("--lights: light " + s + " out of range (the scene has " +
+                        std::to_string(lightCount) + " lights, 0.." +
+                        std::to_string(lightCount ? lightCount - 1 : 0) + ")");
+        return v;
+    };
+    if (text.empty()) return fail("--lights: empty selection");
+    size_t start = 0;
+    while (start <= text.size()) {
+        size_t comma = text.find(',', start);
+        std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        size_t dash = item.find('-');
+        auto lo = number(item.substr(0, dash), item);
+        if (!lo) return fail(lo.error());
+        uint32_t hi = lo.value();
+        if (dash != std::string::npos) {
+            auto h = number(item.substr(dash + 1), item);
+            if (!h) return fail(h.error());
+            if (h.value() < lo.value()) return fail("--lights: range '" + item + "' runs backwards");
+            hi = h.value();
+        }
+        for (uint32_t i = lo.value(); i <= hi; ++i) out.push_back(i);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, const DualRenderFn& render,
+                                     const BakeProgressFn& progress) {
+    VerifyReport rep;
+    const CasterTriangles casters = castersFromScene(scene);
+    const auto t0 = Clock::now();
+    const uint32_t n = uint32_t(file.records.size());
+    for (uint32_t k = 0; k < n; ++k) {
+        const BakeRecord& rec = file.records[k];
+        const std::string where =
+            "record " + std::to_string(k) + " (light " + std::to_string(rec.light) + ")";
+        auto report = [&](const char* phase, double within) {
+            if (progress) progress({rec.light, k, n, phase, (k + within) / n, secondsSince(t0)});
+        };
+        // The scene must still be the baked one: a changed generator or glTF file would show up as
+        // mismatches that are not the codec's fault.
+        if (rec.light >= scene.lights.size())
+            return fail(where + ": the scene has only " + std::to_string(scene.lights.size()) + " lights");
+        const Light& light = scene.lights[rec.light];
+        if (std::string why = skipReason(light); !why.empty())
+            return fail(where + ": the scene's light is no longer bakeable: " + why);
+        if (!sameFrustum(spotLightFrustum(light), rec.frustum))
+            return fail(where +
+                        ": the light's frustum differs from the baked one (scene changed since the bake?)");
+
+        VerifyLight vl;
+        vl.light = rec.light;
+        report("render", 0.0);
+        auto tr = Clock::now();
+        Result<DualDepthMap> map =
+            render ? render(casters, rec.frustum, rec.resolution)
+                   : Result<DualDepthMap>(renderTiled(casters, rec.frustum, rec.resolution, kBakeTileTexels,
+                                                      [&](double f) { report("render", 0.5 * f); }));
+        if (!map) return fail(where + ": render: " + map.error());
+        if (map->resolution != rec.resolution ||
+            map->enter.size() != size_t(rec.resolution) * rec.resolution ||
+            map->exit.size() != map->enter.size())
+            return fail(where + ": the renderer returned a map of the wrong size");
+        vl.renderSeconds = secondsSince(tr);
+
+        report("check", 0.5);
+        auto tc = Clock::now();
+        const uint32_t* d = rec.data.data();
+        const uint32_t res = rec.resolution;
+        if (rec.method == StaticMethod::CPVS) {
+            CpvsVerifyReport c = verifyCpvs(d, map.value());
+            vl.checked = c.checked, vl.undefined = c.undefined, vl.mismatches = c.mismatches;
+            if (c.mismatches && rep.examples.size() < 8)
+                rep.examples.push_back(where + ": " + std::to_string(c.mismatches) + " voxels disagree");
+        } else {
+            for (uint32_t y = 0; y < res; ++y) {
+                for (uint32_t x = 0; x < res; ++x) {
+                    const size_t i = size_t(y) * res + x;
+                    const uint32_t e = map->enter[i], f = std::max(e, map->exit[i]);
+                    const uint32_t v = lookupStaticDepth(rec.method, d, 0, x, y);
+                    const bool ok = e == kDepthEmpty ? v == kDepthEmpty : (e <= v && v <= f);
+                    if (!ok && ++vl.mismatches && rep.examples.size() < 8)
+                        rep.examples.push_back(where + ": texel (" + std::to_string(x) + ", " +
+                                               std::to_string(y) + ") decodes " + std::to_string(v) +
+                                               " outside [" + std::to_string(e) + ", " + std::to_string(f) +
+                                               "]");
+                }
+                if ((y & 255) == 255) report("check", 0.5 + 0.5 * double(y + 1) / res);
+            }
+            vl.checked = uint64_t(res) * res;
+        }
+        vl.checkSeconds = secondsSince(tc);
+        rep.checked += vl.checked, rep.mismatches += vl.mismatches, rep.undefined += vl.undefined;
+        rep.lights.push_back(vl);
+        report("done", 1.0);
+    }
+    return rep;
+}
+
+} // namespace ml

@@ -1,0 +1,101 @@
+// The bake driver: static lights of a scene -> dual depth maps -> a static method's words -> BakeFile,
+// and its inverse check, verify: re-render every baked light and compare every texel (or voxel).
+//
+// Rendering goes through a DualRenderFn so that a GPU renderer can replace the CPU rasteriser later
+// without touching the driver; both must produce the same maps (raster_dual.h defines them).
+// Lights that cannot be baked (dynamic lights, point and directional lights) are never dropped
+// silently: they come back in BakeResult::skipped with the reason.
+#pragma once
+#include "engine/result.h"
+#include "scenes/scenes.h"
+#include "shadows/static/bake_file.h"
+#include "shadows/static/raster_dual.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ml {
+
+using DualRenderFn =
+    std::function<Result<DualDepthMap>(const CasterTriangles&, const LightFrustum&, uint32_t resolution)>;
+
+// Row tiles of at most this many texels (4096 x 1024): a tile's hit lists are what the rasteriser holds
+// in memory at once, so the tile bounds the bake's memory beside the map itself.
+constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
+constexpr uint32_t kBakeMaxResolution = 16384;
+
+// The CPU rasteriser (DualRasterizer::render in row tiles).
+DualRenderFn cpuDualRenderer(uint64_t tileTexels = kBakeTileTexels);
+
+struct BakeProgress {
+    uint32_t light = 0;              // scene light index
+    uint32_t ordinal = 0, count = 0; // this is light `ordinal` (0-based) of `count` being processed
+    const char* phase = "";          // "render", "encode", "check", "done"
+    double fraction = 0;             // of the whole bake or verify, 0..1
+    double elapsedSeconds = 0;       // since the bake or verify started
+};
+using BakeProgressFn = std::function<void(const BakeProgress&)>;
+
+struct SkippedLight {
+    uint32_t light = 0;
+    std::string reason;
+};
+
+struct LightBakeStats {
+    uint32_t light = 0;
+    double renderSeconds = 0, encodeSeconds = 0;
+    uint64_t coveredTexels = 0, closedTexels = 0; // texels with a hit, and with exit > enter
+    uint64_t bytes = 0;                           // the record's data
+};
+
+struct BakeResult {
+    BakeFile file;
+    std::vector<SkippedLight> skipped;
+    std::vector<LightBakeStats> lights; // one per record, same order
+    double renderSeconds = 0, encodeSeconds = 0;
+};
+
+// Bakes the selected scene lights (indices into scene.lights, any order, duplicates ignored; records
+// come out sorted by light index). `spec` is what re-creates `scene` (stored for verify). Fails when
+// an index is out of range, the resolution is not one the method encodes, or no selected light can be
+// baked. An empty `render` uses the CPU rasteriser, reporting progress per tile.
+Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method,
+                             uint32_t resolution, const std::vector<uint32_t>& lights,
+                             const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
+
+// "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
+// Errors are one line: malformed items and indices not below lightCount.
+Result<std::vector<uint32_t>> parseLightSelection(const std::string& text, uint32_t lightCount);
+
+struct VerifyLight {
+    uint32_t light = 0;
+    uint64_t checked = 0, mismatches = 0, undefined = 0; // undefined: CPVS voxels inside closed objects
+    double renderSeconds = 0, checkSeconds = 0;
+};
+
+struct VerifyReport {
+    uint64_t checked = 0, mismatches = 0, undefined = 0;
+    std::vector<VerifyLight> lights;
+    std::vector<std::string> examples; // the first few mismatches, one line each
+};
+
+// Re-renders each record's dual depth map from `scene` (which must be the file's scene) with the
+// record's frustum, and checks every texel: depth methods enter <= lookup <= exit, empty texels exactly
+// kDepthEmpty; CPVS every voxel against the voxelisation of the maps (verifyCpvs; undefined voxels are
+// counted apart). Fails (rather than counting mismatches) when the scene no longer matches the file:
+// a record's light missing, not a static spot, or with a different frustum.
+Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene,
+                                     const DualRenderFn& render = {}, const BakeProgressFn& progress = {});
+
+// Reloads the scene from the file's SceneSpec, then verifyBakeScene. Inline on purpose: the static
+// library does not link the scene loaders, its callers (the command line, the tests) do.
+inline Result<VerifyReport> verifyBake(const BakeFile& file, const DualRenderFn& render = {},
+                                       const BakeProgressFn& progress = {}) {
+    auto scene = loadScene(file.scene.scene, file.scene.lights, file.scene.seed);
+    if (!scene) return fail("cannot re-create the baked scene: " + scene.error());
+    return verifyBakeScene(file, scene.value(), render, progress);
+}
+
+} // namespace ml

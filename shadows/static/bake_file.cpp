@@ -1,0 +1,262 @@
+#include "shadows/static/bake_file.h"
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+
+namespace ml {
+
+using namespace bakefmt;
+
+// The file is defined as little-endian words; on a little-endian host the words are the bytes.
+static_assert(std::endian::native == std::endian::little, "bake files assume a little-endian host");
+
+namespace {
+
+constexpr size_t kNoSkip = std::numeric_limits<size_t>::max();
+
+uint32_t sceneWords(size_t bytes) {
+    return uint32_t((bytes + 3) / 4);
+}
+uint32_t floatBits(float f) {
+    return std::bit_cast<uint32_t>(f);
+}
+float bitsFloat(uint32_t w) {
+    return std::bit_cast<float>(w);
+}
+uint64_t join(uint32_t lo, uint32_t hi) {
+    return uint64_t(lo) | uint64_t(hi) << 32;
+}
+
+bool validMethod(uint32_t m) {
+    return m >= uint32_t(StaticMethod::SM) && m <= uint32_t(StaticMethod::CPVS);
+}
+
+// Checks everything, and fills `out` when it is not null (validation alone needs no copy of the data).
+Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count, BakeFile* out) {
+    auto bad = [&](const std::string& why) { return fail(name + ": " + why); };
+    if (count < kFixedHeaderWords)
+        return bad("file is " + std::to_string(count * 4) + " bytes, shorter than the " +
+                   std::to_string(kFixedHeaderWords * 4) + "-byte header");
+    if (w[kHMagic] != kMagic) return bad("not a manylights bake file (wrong magic)");
+    if (w[kHVersion] != kVersion)
+        return bad("unsupported version " + std::to_string(w[kHVersion]) + " (this build reads " +
+                   std::to_string(kVersion) + ")");
+    // The header's length must be known (and inside the file) before its checksum can be computed.
+    const uint32_t sceneBytes = w[kHSceneBytes];
+    if (sceneBytes == 0 || sceneBytes > kMaxSceneBytes)
+        return bad("header: scene string length " + std::to_string(sceneBytes) + " outside 1.." +
+                   std::to_string(kMaxSceneBytes));
+    const uint32_t headerWords = kFixedHeaderWords + sceneWords(sceneBytes);
+    if (w[kHHeaderWords] != headerWords)
+        return bad("header: header size " + std::to_string(w[kHHeaderWords]) + " words does not match its " +
+                   std::to_string(sceneBytes) + "-byte scene string");
+    if (headerWords > count) return bad("header: truncated (file ends inside the header)");
+    if (w[kHChecksum] != stat::checksumWords(w, headerWords, kHChecksum))
+        return bad("header: checksum mismatch");
+    if ((w[kHFlags] & ~kFlagGpuRenderer) != 0)
+        return bad("header: unknown flags " + std::to_string(w[kHFlags]));
+    if (w[kHReserved] != 0) return bad("header: reserved word is not 0");
+    if (!validMethod(w[kHMethod])) return bad("header: unknown method " + std::to_string(w[kHMethod]));
+    const StaticMethod method = StaticMethod(w[kHMethod]);
+    const uint32_t res = w[kHResolution];
+    if (res == 0 || res > kMaxResolution)
+        return bad("header: resolution " + std::to_string(res) + " out of range");
+    const uint32_t records = w[kHRecordCount];
+    if (records > kMaxRecords)
+        return bad("header: record count " + std::to_string(records) + " out of range");
+    if (w[kHSceneLights] == 0) return bad("header: scene light count is 0");
+    if (w[kHRecordWords] != kRecordWords)
+        return bad("header: record size " + std::to_string(w[kHRecordWords]) + " words (expected " +
+                   std::to_string(kRecordWords) + ")");
+    if (w[kHRecordOffset] != headerWords) return bad("header: record table does not follow the header");
+    const uint64_t total = join(w[kHTotalLo], w[kHTotalHi]);
+    if (total != count)
+        return bad("header: file should be " + std::to_string(total * 4) + " bytes but is " +
+                   std::to_string(uint64_t(count) * 4) + " (truncated or extended)");
+    std::string scene(reinterpret_cast<const char*>(w + kFixedHeaderWords), sceneBytes);
+    if (scene.find('\0') != std::string::npos) return bad("header: scene string contains a NUL byte");
+    for (uint32_t b = sceneBytes; b < sceneWords(sceneBytes) * 4; ++b)
+        if (reinterpret_cast<const char*>(w + kFixedHeaderWords)[b] != 0)
+            return bad("header: scene string padding is not zero");
+    const uint64_t dataBegin = uint64_t(headerWords) + uint64_t(records) * kRecordWords;
+    if (dataBegin > count) return bad("record table: truncated (file ends inside the record table)");
+
+    if (out) {
+        out->scene = {scene, w[kHSceneLights], w[kHSeed]};
+        out->renderer = (w[kHFlags] & kFlagGpuRenderer) ? BakeRenderer::Gpu : BakeRenderer::Cpu;
+        out->method = method;
+        out->resolution = res;
+        out->records.clear();
+        out->records.reserve(records);
+    }
+    std::set<uint32_t> lightsSeen;
+    uint64_t expectedOffset = dataBegin;
+    for (uint32_t r = 0; r < records; ++r) {
+        const uint32_t* rec = w + headerWords + size_t(r) * kRecordWords;
+        auto badRec = [&](const std::string& why) { return bad("record " + std::to_string(r) + ": " + why); };
+        if (rec[kRChecksum] != stat::checksumWords(rec, kRecordWords, kRChecksum))
+            return badRec("record checksum mismatch");
+        for (uint32_t i = kRChecksum + 1; i < kRecordWords; ++i)
+            if (rec[i] != 0) return badRec("reserved word " + std::to_string(i) + " is not 0");
+        if (rec[kRLight] >= w[kHSceneLights])
+            return badRec("light " + std::to_string(rec[kRLight]) + " is not below the scene's " +
+                          std::to_string(w[kHSceneLights]) + " lights");
+        if (!lightsSeen.insert(rec[kRLight]).second)
+            return badRec("light " + std::to_string(rec[kRLight]) + " appears twice");
+        if (rec[kRMethod] != uint32_t(method)) return badRec("method differs from the file's");
+        if (rec[kRResolution] != res) return badRec("resolution differs from the file's");
+        LightFrustum f;
+        float* m = &f.view[0][0];
+        for (int i = 0; i < 16; ++i) m[i] = bitsFloat(rec[kRView + i]);
+        f.fov = bitsFloat(rec[kRFov]), f.nearPlane = bitsFloat(rec[kRNear]),
+        f.farPlane = bitsFloat(rec[kRFar]);
+        for (int i = 0; i < 16; ++i)
+            if (!std::isfinite(m[i])) return badRec("view matrix is not finite");
+        if (!(f.fov > 0.0f && f.fov < 3.14159f)) return badRec("field of view out of range");
+        if (!(f.nearPlane > 0.0f && f.farPlane > f.nearPlane && std::isfinite(f.farPlane)))
+            return badRec("near/far planes out of range");
+        const uint64_t offset = join(rec[kROffsetLo], rec[kROffsetHi]);
+        const uint64_t words = join(rec[kRWordsLo], rec[kRWordsHi]);
+        // Data blocks are packed back to back in record order: this one rule excludes overlaps, gaps and
+        // blocks inside the header or the record table.
+        if (offset != expectedOffset)
+            return badRec("data offset " + std::to_string(offset) + " (expected " +
+                          std::to_string(expectedOffset) + ": data blocks must follow each other)");
+        if (words == 0) return badRec("data is empty");
+        if (words > count - offset)
+            return badRec("data of " + std::to_string(words) + " words runs past the end of the file");
+        const uint32_t* data = w + offset;
+        if (rec[kRDataChecksum] != stat::checksumWords(data, size_t(words), kNoSkip))
+            return badRec("data checksum mismatch");
+        if (auto v = validateStatic(method, data, size_t(words)); !v) return badRec(v.error());
+        if (staticResolution(method, data) != res) return badRec("data resolution differs from the record's");
+        if (method == StaticMethod::CPVS &&
+            (data[kCpvsHNearBits] != rec[kRNear] || data[kCpvsHFarBits] != rec[kRFar]))
+            return badRec("CPVS depth range differs from the record's frustum");
+        expectedOffset = offset + words;
+        if (out)
+            out->records.push_back({rec[kRLight], method, res, f, std::vector<uint32_t>(data, data + words)});
+    }
+    if (expectedOffset != count)
+        return bad(std::to_string(count - expectedOffset) + " words after the last record's data");
+    return {};
+}
+
+} // namespace
+
+Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
+    const SceneSpec& s = file.scene;
+    if (s.scene.empty() || s.scene.size() > kMaxSceneBytes || s.scene.find('\0') != std::string::npos)
+        return fail("bake file: scene string must be 1.." + std::to_string(kMaxSceneBytes) +
+                    " bytes without NUL");
+    if (!validMethod(uint32_t(file.method))) return fail("bake file: no method");
+    if (file.records.size() > kMaxRecords) return fail("bake file: too many records");
+    const uint32_t headerWords = kFixedHeaderWords + sceneWords(s.scene.size());
+    uint64_t total = headerWords + uint64_t(file.records.size()) * kRecordWords;
+    for (const BakeRecord& r : file.records) total += r.data.size();
+    std::vector<uint32_t> w(size_t(total), 0u); // zero-filled: padding and reserved words are defined
+
+    w[kHMagic] = kMagic, w[kHVersion] = kVersion,
+    w[kHFlags] = file.renderer == BakeRenderer::Gpu ? kFlagGpuRenderer : 0u, w[kHHeaderWords] = headerWords;
+    w[kHMethod] = uint32_t(file.method), w[kHResolution] = file.resolution;
+    w[kHRecordCount] = uint32_t(file.records.size());
+    w[kHSceneLights] = s.lights, w[kHSeed] = s.seed, w[kHSceneBytes] = uint32_t(s.scene.size());
+    w[kHRecordOffset] = headerWords, w[kHRecordWords] = kRecordWords;
+    w[kHTotalLo] = uint32_t(total), w[kHTotalHi] = uint32_t(total >> 32);
+    std::memcpy(w.data() + kFixedHeaderWords, s.scene.data(), s.scene.size());
+    w[kHChecksum] = stat::checksumWords(w.data(), headerWords, kHChecksum);
+
+    uint64_t offset = headerWords + uint64_t(file.records.size()) * kRecordWords;
+    for (size_t r = 0; r < file.records.size(); ++r) {
+        const BakeRecord& br = file.records[r];
+        uint32_t* rec = w.data() + headerWords + r * kRecordWords;
+        rec[kRLight] = br.light, rec[kRMethod] = uint32_t(br.method), rec[kRResolution] = br.resolution;
+        const float* m = &br.frustum.view[0][0];
+        for (int i = 0; i < 16; ++i) rec[kRView + i] = floatBits(m[i]);
+        rec[kRFov] = floatBits(br.frustum.fov);
+        rec[kRNear] = floatBits(br.frustum.nearPlane), rec[kRFar] = floatBits(br.frustum.farPlane);
+        rec[kROffsetLo] = uint32_t(offset), rec[kROffsetHi] = uint32_t(offset >> 32);
+        rec[kRWordsLo] = uint32_t(br.data.size()), rec[kRWordsHi] = uint32_t(uint64_t(br.data.size()) >> 32);
+        if (!br.data.empty()) std::memcpy(w.data() + offset, br.data.data(), br.data.size() * 4);
+        rec[kRDataChecksum] = stat::checksumWords(br.data.data(), br.data.size(), kNoSkip);
+        rec[kRChecksum] = stat::checksumWords(rec, kRecordWords, kRChecksum);
+        offset += br.data.size();
+    }
+    return w;
+}
+
+Result<BakeFile> parseBakeFile(const std::string& name, const uint32_t* words, size_t count) {
+    BakeFile f;
+    if (auto r = parseWords(name, words, count, &f); !r) return fail(r.error());
+    return f;
+}
+
+Result<void> writeBakeFile(const std::string& path, const BakeFile& file) {
+    auto words = serializeBakeFile(file);
+    if (!words) return fail(path + ": " + words.error());
+    // Never write a file the reader would reject: the same checks, before anything touches the disk.
+    if (auto v = parseWords(path, words->data(), words->size(), nullptr); !v)
+        return fail("refusing to write an invalid bake file: " + v.error());
+    // Write beside the target and rename, so an interrupted write never leaves a half file under `path`.
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
+        if (!os) return fail(tmp + ": cannot open for writing: " + std::strerror(errno));
+        os.write(reinterpret_cast<const char*>(words->data()), std::streamsize(words->size() * 4));
+        os.flush();
+        if (!os) {
+            std::string why = std::strerror(errno);
+            std::error_code ignored;
+            std::filesystem::remove(tmp, ignored);
+            return fail(tmp + ": write failed: " + why);
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        return fail(path + ": cannot rename " + tmp + ": " + ec.message());
+    }
+    return {};
+}
+
+Result<BakeFile> readBakeFile(const std::string& path) {
+    std::ifstream is(path, std::ios::binary | std::ios::ate);
+    if (!is) return fail(path + ": cannot open: " + std::strerror(errno));
+    const std::streamoff size = is.tellg();
+    if (size < 0) return fail(path + ": cannot read its size");
+    std::vector<uint32_t> words(size_t(size) / 4);
+    is.seekg(0);
+    if (!is.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4)))
+        return fail(path + ": read failed");
+    // Name the more useful problem first: some other file, rather than a bake file cut mid-word.
+    if (!words.empty() && words[0] != kMagic)
+        return fail(path + ": not a manylights bake file (wrong magic)");
+    if (size % 4 != 0)
+        return fail(path + ": size " + std::to_string(size) +
+                    " bytes is not a whole number of words (truncated?)");
+    return parseBakeFile(path, words.data(), words.size());
+}
+
+BakeBytes bakeFileBytes(const BakeFile& file, std::vector<BakeRecordBytes>* perRecord) {
+    BakeBytes b;
+    b.headers = uint64_t(kFixedHeaderWords + sceneWords(file.scene.scene.size())) * 4;
+    if (perRecord) perRecord->clear();
+    for (const BakeRecord& r : file.records) {
+        stat::ByteBreakdown p = breakdownStatic(r.method, r.data.data(), r.data.size());
+        b.headers += kRecordWords * 4 + p.header;
+        b.skipList += p.skipList, b.nodes += p.nodes, b.treelets += p.treelets;
+        b.values += p.values, b.factors += p.factors;
+        if (perRecord) perRecord->push_back({r.light, p, kRecordWords * 4});
+    }
+    return b;
+}
+
+} // namespace ml
