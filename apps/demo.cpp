@@ -23,6 +23,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --out DIR        output folder (default out/demo)
   --window         also show the frames in a window (needs a display)
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
+  --bake FILE      static shadows from a bake file (manylights bake) of this scene, lights and seed
   --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
@@ -33,7 +34,7 @@ Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/
 int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
-                            "--static", "--static-res", "--pcf", "--camera"},
+                            "--static", "--static-res", "--pcf", "--camera", "--bake"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -72,6 +73,16 @@ int runDemo(int argc, char** argv) {
     auto binding = bindScene(m, scene.value());
     if (!binding) return runError("demo", binding.error());
     if (auto r = m.createTargets(width, height); !r) return runError("demo", r.error());
+    if (args->has("--bake")) {
+        if (staticMethod.value() != StaticMethod::None) return usageError("demo", "--bake and --static exclude each other");
+        auto n = attachBakeFile(m, binding.value(), args->get("--bake", ""), args->get("--scene", "night-city"),
+                                lights.value(), seed.value());
+        if (!n) return runError("demo", n.error());
+        std::printf("static shadows of %u lights from %s\n", n.value(), args->get("--bake", "").c_str());
+    }
+    if (args->has("--bake") || staticMethod.value() != StaticMethod::None) {
+        if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
+    }
     if (staticMethod.value() != StaticMethod::None) {
         auto baked =
             bakeStaticShadows(m, scene.value(), binding.value(), staticMethod.value(), staticRes.value());

@@ -3,6 +3,7 @@
 #include <stb/stb_image_write.h>
 
 #include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/static/bake_file.h"
 #include "shadows/static/raster_dual.h"
 
 #include <chrono>
@@ -102,6 +103,23 @@ Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const Sce
                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     return baked;
+}
+
+Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, const std::string& path,
+                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed) {
+    auto file = readBakeFile(path);
+    if (!file) return fail(file.error());
+    const SceneSpec& s = file->scene;
+    if (s.scene != sceneName || s.lights != sceneLights || s.seed != seed)
+        return fail(path + ": baked for scene '" + s.scene + "' with " + std::to_string(s.lights) + " lights, seed " +
+                    std::to_string(s.seed) + ", not '" + sceneName + "' with " + std::to_string(sceneLights) +
+                    " lights, seed " + std::to_string(seed));
+    for (const BakeRecord& r : file->records) {
+        if (r.light >= binding.lights.size()) return fail(path + ": light " + std::to_string(r.light) + " not in scene");
+        if (auto a = module.setStaticShadow(binding.lights[r.light], {r.method, r.frustum, r.data}); !a)
+            return fail(path + ": " + a.error());
+    }
+    return uint32_t(file->records.size());
 }
 
 Result<void> writePng(const std::string& path, uint32_t width, uint32_t height,

@@ -24,6 +24,11 @@ Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding&
 Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
                                    StaticMethod method, uint32_t resolution);
 
+// Attaches every record of a bake file (shadows/static/bake_file.h) to its light. The file must have
+// been baked from this scene (same name, light count and seed), else a one-line error says what differs.
+Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, const std::string& path,
+                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed);
+
 // PNG writing for RGBA8 rows (top row first). One-line error naming the path.
 Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
 
