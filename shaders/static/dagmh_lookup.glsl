@@ -41,25 +41,37 @@ uint dagmhValue(uint base, uint index, uint px, uint py) {
     return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
 }
 
-uint dagmhLookup(uint base, uint x, uint y) {
+// The lookup in three steps (twin of dagmhStart / dagmhDescend / dagmhFinish / dagmhPcfPrefix).
+struct DagmhState {
+    uint kind, depth, dlast, ptr, vcount, vlast;
+};
+
+DagmhState dagmhStart(uint base, uint x, uint y) {
     uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
     uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
     uint e = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET] + ML_DAG_SKIP_WORDS * (((y >> (L - S)) << S) + (x >> (L - S)));
-    uint kind = ML_STATIC_DATA[e] & 255u;
-    uint depth = (ML_STATIC_DATA[e] >> 8u) & 255u;
-    uint dlast = ML_STATIC_DATA[e] >> 16u; // depth of the node that holds value vlast
-    uint ptr = ML_STATIC_DATA[e + 1u];
-    uint vcount = ML_STATIC_DATA[e + 2u];
-    uint vlast = ML_STATIC_DATA[e + 3u];
+    DagmhState st;
+    st.kind = ML_STATIC_DATA[e] & 255u;
+    st.depth = (ML_STATIC_DATA[e] >> 8u) & 255u;
+    st.dlast = ML_STATIC_DATA[e] >> 16u; // depth of the node that holds value vlast
+    st.ptr = ML_STATIC_DATA[e + 1u];
+    st.vcount = ML_STATIC_DATA[e + 2u];
+    st.vlast = ML_STATIC_DATA[e + 3u];
+    return st;
+}
+
+DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
+    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
     uint nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
-    while (kind == 1u) {
-        uint flags = ML_STATIC_DATA[nodes + ptr];
+    while (st.kind == 1u) {
+        if (st.depth >= stop) break;
+        uint flags = ML_STATIC_DATA[nodes + st.ptr];
         if ((flags & 256u) != 0u) {
-            vlast = vcount;
-            dlast = depth;
+            st.vlast = st.vcount;
+            st.dlast = st.depth;
         }
-        if (depth >= L) break;
-        uint s = L - depth - 1u;
+        if (st.depth >= L) break;
+        uint s = L - st.depth - 1u;
         uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
         uint t = (flags >> (2u * c)) & 3u;
         if (t == 0u) break;
@@ -69,20 +81,26 @@ uint dagmhLookup(uint base, uint x, uint y) {
             if (i < c) rank += present;
             n += present;
         }
-        uint child = ML_STATIC_DATA[nodes + ptr + 1u + rank];
-        vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[nodes + ptr + n + rank];
-        ptr = child;
-        depth += 1u;
-        kind = t;
+        uint child = ML_STATIC_DATA[nodes + st.ptr + 1u + rank];
+        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[nodes + st.ptr + n + rank];
+        st.ptr = child;
+        st.depth += 1u;
+        st.kind = t;
     }
-    if (kind == 2u) {
-        uint tb = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET] + ML_DAG_TREELET_WORDS * ptr;
+    return st;
+}
+
+uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
+    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
+    st = dagmhDescend(base, x, y, st, L + 1u);
+    if (st.kind == 2u) {
+        uint tb = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET] + ML_DAG_TREELET_WORDS * st.ptr;
         for (uint i = 0u; i < 4u; ++i) {
             uint lvl = 3u - i;
-            if (depth + lvl > L) continue;
+            if (st.depth + lvl > L) continue;
             uint idx = lvl;
             for (uint j = 1u; j <= lvl; ++j) {
-                uint s = L - depth - j;
+                uint s = L - st.depth - j;
                 uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
                 idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
             }
@@ -91,14 +109,35 @@ uint dagmhLookup(uint base, uint x, uint y) {
                 uint before = mlPopc(ML_STATIC_DATA[tb + wi] & mlLowMask(idx & 31u));
                 if (wi > 0u) before += mlPopc(ML_STATIC_DATA[tb]);
                 if (wi > 1u) before += mlPopc(ML_STATIC_DATA[tb + 1u]);
-                vlast = vcount + before;
-                dlast = depth + lvl;
+                st.vlast = st.vcount + before;
+                st.dlast = st.depth + lvl;
                 break;
             }
         }
     }
-    uint s = L - dlast;
-    return dagmhValue(base, vlast, (x >> s) << s, (y >> s) << s);
+    uint s = L - st.dlast;
+    return dagmhValue(base, st.vlast, (x >> s) << s, (y >> s) << s);
+}
+
+uint dagmhLookup(uint base, uint x, uint y) {
+    return dagmhFinish(base, x, y, dagmhStart(base, x, y));
+}
+
+// kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).
+const uint ML_DAG_NO_PREFIX = 255u;
+DagmhState dagmhPcfPrefix(uint base, uint x0, uint y0, uint x1, uint y1) {
+    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
+    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+    uint diff = (x0 ^ x1) | (y0 ^ y1);
+    uint bits = 0u;
+    while ((diff >> bits) != 0u) ++bits;
+    uint sharedLevels = L - bits; // levels above which every tap takes the same children
+    DagmhState st = dagmhStart(base, x0, y0);
+    if (sharedLevels < S) {
+        st.kind = ML_DAG_NO_PREFIX;
+        return st;
+    }
+    return dagmhDescend(base, x0, y0, st, sharedLevels);
 }
 
 #endif

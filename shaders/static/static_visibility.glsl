@@ -53,13 +53,23 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     vec2 ndc = q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
     uint depth = staticQuantize(max(zq - 0.5 * texelWorld, 0.0), far);
+    // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
+    ivec2 lo = clamp(t - radius, ivec2(0), ivec2(int(res) - 1));
+    ivec2 hi = clamp(t + radius, ivec2(0), ivec2(int(res) - 1));
+    bool usePrefix = false;
+    DagmhState prefix;
+    if (method == ML_STATIC_DAGMH && radius > 0) {
+        prefix = dagmhPcfPrefix(base, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
+        usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
+    }
     uint lit = 0u;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
             // Outside the map the light's cone does not reach: count as lit.
             if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
-            if (depth <= staticDepthAt(method, base, uint(x), uint(y))) lit += 1u;
+            uint d = usePrefix ? dagmhFinish(base, uint(x), uint(y), prefix) : staticDepthAt(method, base, uint(x), uint(y));
+            if (depth <= d) lit += 1u;
         }
     return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
 }

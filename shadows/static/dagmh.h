@@ -116,26 +116,41 @@ inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index, 
 }
 
 // Only valid on a buffer validateDAGMH accepted; x, y < resolution.
-inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+// The lookup in three steps, so that the taps of a PCF kernel can share the traversal above the level
+// where they part (dagmhPcfPrefix, hierarchical PCF): the skip-list entry of (x, y); the descent towards
+// (x, y) while depth < stop; the rest of the descent, the treelet and the value.
+struct DagmhState {
+    uint32_t kind, depth, dlast, ptr, vcount, vlast;
+};
+
+inline DagmhState dagmhStart(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
     uint32_t L = data[base + dagfmt::kLevels];
     uint32_t S = data[base + dagfmt::kSkipLevel];
     uint32_t e = base + data[base + dagfmt::kSkipOffset] +
                  dagfmt::kSkipWords * (((y >> (L - S)) << S) + (x >> (L - S)));
-    uint32_t kind = data[e] & 255u;
-    uint32_t depth = (data[e] >> 8u) & 255u;
-    uint32_t dlast = data[e] >> 16u; // depth of the node that holds value vlast
-    uint32_t ptr = data[e + 1u];
-    uint32_t vcount = data[e + 2u];
-    uint32_t vlast = data[e + 3u];
+    DagmhState st;
+    st.kind = data[e] & 255u;
+    st.depth = (data[e] >> 8u) & 255u;
+    st.dlast = data[e] >> 16u; // depth of the node that holds value vlast
+    st.ptr = data[e + 1u];
+    st.vcount = data[e + 2u];
+    st.vlast = data[e + 3u];
+    return st;
+}
+
+inline DagmhState dagmhDescend(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st,
+                               uint32_t stop) {
+    uint32_t L = data[base + dagfmt::kLevels];
     uint32_t nodes = base + data[base + dagfmt::kNodeOffset];
-    while (kind == 1u) {
-        uint32_t flags = data[nodes + ptr];
+    while (st.kind == 1u) {
+        if (st.depth >= stop) break;
+        uint32_t flags = data[nodes + st.ptr];
         if ((flags & 256u) != 0u) {
-            vlast = vcount;
-            dlast = depth;
+            st.vlast = st.vcount;
+            st.dlast = st.depth;
         }
-        if (depth >= L) break;
-        uint32_t s = L - depth - 1u;
+        if (st.depth >= L) break;
+        uint32_t s = L - st.depth - 1u;
         uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
         uint32_t t = (flags >> (2u * c)) & 3u;
         if (t == 0u) break;
@@ -145,20 +160,26 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
             if (i < c) rank += present;
             n += present;
         }
-        uint32_t child = data[nodes + ptr + 1u + rank];
-        vcount += rank == 0u ? ((flags >> 8u) & 1u) : data[nodes + ptr + n + rank];
-        ptr = child;
-        depth += 1u;
-        kind = t;
+        uint32_t child = data[nodes + st.ptr + 1u + rank];
+        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : data[nodes + st.ptr + n + rank];
+        st.ptr = child;
+        st.depth += 1u;
+        st.kind = t;
     }
-    if (kind == 2u) {
-        uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * ptr;
+    return st;
+}
+
+inline uint32_t dagmhFinish(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st) {
+    uint32_t L = data[base + dagfmt::kLevels];
+    st = dagmhDescend(data, base, x, y, st, L + 1u);
+    if (st.kind == 2u) {
+        uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * st.ptr;
         for (uint32_t i = 0u; i < 4u; ++i) {
             uint32_t lvl = 3u - i;
-            if (depth + lvl > L) continue;
+            if (st.depth + lvl > L) continue;
             uint32_t idx = lvl;
             for (uint32_t j = 1u; j <= lvl; ++j) {
-                uint32_t s = L - depth - j;
+                uint32_t s = L - st.depth - j;
                 uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
                 idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
             }
@@ -167,15 +188,40 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
                 uint32_t before = stat::popc(data[tb + wi] & stat::lowMask(idx & 31u));
                 if (wi > 0u) before += stat::popc(data[tb]);
                 if (wi > 1u) before += stat::popc(data[tb + 1u]);
-                vlast = vcount + before;
-                dlast = depth + lvl;
+                st.vlast = st.vcount + before;
+                st.dlast = st.depth + lvl;
                 break;
             }
         }
     }
-    uint32_t s = L - dlast;
-    return dagmhValue(data, base, vlast, (x >> s) << s, (y >> s) << s);
+    uint32_t s = L - st.dlast;
+    return dagmhValue(data, base, st.vlast, (x >> s) << s, (y >> s) << s);
 }
+
+inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    return dagmhFinish(data, base, x, y, dagmhStart(data, base, x, y));
+}
+
+// Hierarchical PCF: the state shared by every texel of the block [x0, x1] x [y0, y1] (in the map),
+// descended once to the deepest level where all of them lie in one node. kind = kNoPrefix when the
+// block straddles skip-list entries (then each tap starts from its own entry).
+constexpr uint32_t kDagNoPrefix = 255u;
+inline DagmhState dagmhPcfPrefix(const uint32_t* data, uint32_t base, uint32_t x0, uint32_t y0, uint32_t x1,
+                                 uint32_t y1) {
+    uint32_t L = data[base + dagfmt::kLevels];
+    uint32_t S = data[base + dagfmt::kSkipLevel];
+    uint32_t diff = (x0 ^ x1) | (y0 ^ y1);
+    uint32_t bits = 0u;
+    while ((diff >> bits) != 0u) ++bits;
+    uint32_t sharedLevels = L - bits; // levels above which every tap takes the same children
+    DagmhState st = dagmhStart(data, base, x0, y0);
+    if (sharedLevels < S) {
+        st.kind = kDagNoPrefix;
+        return st;
+    }
+    return dagmhDescend(data, base, x0, y0, st, sharedLevels);
+}
+
 inline uint32_t dagmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return dagmhLookup(data, 0u, x, y);
 }

@@ -46,6 +46,15 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     glm::vec2 ndc = glm::vec2(q) / (zq * tanHalf);
     glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
     uint32_t depth = staticQuantizeFloat(std::max(zq - 0.5f * texelWorld, 0.0f), farPlane);
+    // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
+    glm::ivec2 lo = glm::clamp(t - radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
+    glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
+    bool usePrefix = false;
+    DagmhState prefix{};
+    if (method == StaticMethod::DAGMH && radius > 0) {
+        prefix = dagmhPcfPrefix(data, base, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
+        usePrefix = prefix.kind != kDagNoPrefix;
+    }
     uint32_t lit = 0;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
@@ -54,7 +63,9 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
                 ++lit;
                 continue;
             }
-            if (depth <= lookupStaticDepth(method, data, base, uint32_t(x), uint32_t(y))) ++lit;
+            uint32_t d = usePrefix ? dagmhFinish(data, base, uint32_t(x), uint32_t(y), prefix)
+                                   : lookupStaticDepth(method, data, base, uint32_t(x), uint32_t(y));
+            if (depth <= d) ++lit;
         }
     return float(lit) / taps;
 }

@@ -178,7 +178,11 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
-TEST(GpuStatic, EvaluationWithDagMhMatchesCpu) {
+// DAG-MH with 5x5 PCF takes the hierarchical path (taps share the traversal prefix).
+TEST(GpuStatic, EvaluationWithDagMhPcf5x5MatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::DAGMH, 2);
+}
+TEST(GpuStatic, EvaluationWithDagMhOneTapMatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::DAGMH, 0);
 }
 TEST(GpuStatic, EvaluationWithMhPcf5x5MatchesCpu) {

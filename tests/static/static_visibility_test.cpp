@@ -46,6 +46,10 @@ CasterTriangles groundAndBox(glm::vec3 lo, glm::vec3 hi) {
 }
 } // namespace
 
+CasterTriangles groundAndBoxForPcf(glm::vec3 lo, glm::vec3 hi) {
+    return groundAndBox(lo, hi);
+}
+
 class StaticBias : public ::testing::TestWithParam<float> {};
 
 // Light elevation above the ground: 30, 10 and 5 degrees (60..85 degrees from the normal).
@@ -104,4 +108,41 @@ TEST_P(StaticBias, NoAcneAtGrazingAnglesAndShadowsWhereBlocked) {
 
 INSTANTIATE_TEST_SUITE_P(Elevations, StaticBias, ::testing::Values(30.0f, 10.0f, 5.0f));
 
+} // namespace ml
+
+namespace ml {
+// Hierarchical PCF: every tap decoded from a shared prefix equals its own full lookup, for every
+// block position and radius 1..4 on a real map.
+TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
+    const glm::vec3 lo(-0.5f, 0.0f, 1.5f), hi(0.5f, 1.0f, 2.5f);
+    CasterTriangles casters = groundAndBoxForPcf(lo, hi);
+    Light light;
+    light.position = glm::vec3(0.3f, 6.0f, -1.0f);
+    light.direction = glm::normalize(glm::vec3(0.0f, 0.0f, 2.0f) - light.position);
+    light.range = 20.0f;
+    light.outerAngle = 0.7f;
+    LightFrustum f = spotLightFrustum(light);
+    const uint32_t res = 256;
+    DualDepthMap map = rasterizeDual(casters, f, res);
+    auto words = encodeStatic(StaticMethod::DAGMH, map);
+    ASSERT_TRUE(words.ok()) << words.error();
+    const uint32_t* d = words->data();
+    uint64_t shared = 0, taps = 0;
+    for (int r = 1; r <= 4; ++r)
+        for (int cy = 0; cy < int(res); ++cy)
+            for (int cx = 0; cx < int(res); ++cx) {
+                int x0 = std::max(cx - r, 0), y0 = std::max(cy - r, 0);
+                int x1 = std::min(cx + r, int(res) - 1), y1 = std::min(cy + r, int(res) - 1);
+                DagmhState prefix = dagmhPcfPrefix(d, 0, x0, y0, x1, y1);
+                if (prefix.kind == kDagNoPrefix) continue;
+                ++shared;
+                for (int y = y0; y <= y1; ++y)
+                    for (int x = x0; x <= x1; ++x, ++taps)
+                        ASSERT_EQ(dagmhFinish(d, 0, x, y, prefix), dagmhLookup(d, 0, x, y))
+                            << "block at " << cx << "," << cy << " radius " << r << " tap " << x << "," << y;
+            }
+    EXPECT_GT(shared, 100000u);
+    std::printf("  %llu blocks shared a prefix, %llu taps identical\n", (unsigned long long)shared,
+                (unsigned long long)taps);
+}
 } // namespace ml
