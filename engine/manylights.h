@@ -80,6 +80,7 @@ struct StaticShadowDesc {
     StaticMethod method = StaticMethod::None;
     LightFrustum frustum;
     std::span<const uint32_t> words;
+    uint32_t face = 0; // point lights: cube face 0..5 (+X, -X, +Y, -Y, +Z, -Z; pointLightFaceFrustum)
 };
 
 struct CameraDesc {

@@ -173,6 +173,10 @@ Result<LightId> Module::addLight(const LightDesc& light) {
 Result<void> Module::setLight(LightId id, const LightDesc& light) {
     if (id >= impl_->lights.size()) return fail("setLight: light " + std::to_string(id) + " does not exist");
     if (auto v = validateLight(light); !v) return fail("light " + std::to_string(id) + ": " + v.error());
+    if (light.kind != impl_->lights[id].kind) { // its bakes were made for the other kind's frustums
+        impl_->shadows[id] = {};
+        impl_->shadowsDirty = true;
+    }
     impl_->lights[id] = light;
     return {};
 }
@@ -181,8 +185,16 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     auto& m = *impl_;
     if (id >= m.lights.size())
         return fail("setStaticShadow: light " + std::to_string(id) + " does not exist");
+    const uint32_t faces = m.lights[id].kind == LightKind::Point ? 6u : 1u;
+    if (shadow.face >= faces)
+        return fail("setStaticShadow: light " + std::to_string(id) + ": face " + std::to_string(shadow.face) +
+                    (faces == 1 ? " (a spot light has face 0 only)" : " (a point light has faces 0..5)"));
+    if (m.lights[id].kind == LightKind::Directional)
+        return fail("setStaticShadow: light " + std::to_string(id) +
+                    ": directional lights take no static bake");
     if (shadow.method == StaticMethod::None) {
-        clearStaticShadow(id);
+        m.shadows[id][shadow.face] = {};
+        m.shadowsDirty = true;
         return {};
     }
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
@@ -191,7 +203,7 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) || !(f.fov > 0 && f.fov < 3.1f))
         return fail("setStaticShadow: light " + std::to_string(id) +
                     ": frustum needs 0 < near < far, 0 < fov < pi");
-    m.shadows[id] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
+    m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
     m.shadowsDirty = true;
     return {};
 }
@@ -199,7 +211,7 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
 void Module::clearStaticShadow(LightId id) {
     if (id >= impl_->shadows.size()) return;
     impl_->shadows[id] = {};
-    impl_->shadowsDirty = true;
+    impl_->shadowsDirty = true; // all faces
 }
 
 Result<void> Module::setShadowFilter(uint32_t radius) {
@@ -217,17 +229,28 @@ void Module::Impl::uploadShadows() {
     records.clear();
     recordOfLight.assign(lights.size(), ML_NO_SHADOW);
     size_t words = 0;
-    for (const auto& s : shadows) words += s.words.size();
+    for (const auto& faces : shadows)
+        for (const auto& s : faces) words += s.words.size();
     ensureBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words");
     uint32_t base = 0;
     for (size_t i = 0; i < shadows.size(); ++i) {
-        const StaticShadow& s = shadows[i];
-        if (s.method == StaticMethod::None) continue;
-        upload(staticWords, s.words.data(), s.words.size() * 4, size_t(base) * 4);
+        const uint32_t faceCount = lights[i].kind == LightKind::Point ? 6u : 1u;
+        bool any = false;
+        for (uint32_t f = 0; f < faceCount; ++f) any |= shadows[i][f].method != StaticMethod::None;
+        if (!any) continue;
+        // Consecutive records, one per face; a face without a bake gets method 0 (unshadowed).
         recordOfLight[i] = uint32_t(records.size());
-        records.push_back(makeShadowRecord(s.method, s.frustum, base,
-                                           staticResolution(s.method, s.words.data()), pcfRadius));
-        base += uint32_t(s.words.size());
+        for (uint32_t f = 0; f < faceCount; ++f) {
+            const StaticShadow& s = shadows[i][f];
+            if (s.method == StaticMethod::None) {
+                records.push_back(gpu::GpuShadowRecord{});
+                continue;
+            }
+            upload(staticWords, s.words.data(), s.words.size() * 4, size_t(base) * 4);
+            records.push_back(makeShadowRecord(s.method, s.frustum, base,
+                                               staticResolution(s.method, s.words.data()), pcfRadius));
+            base += uint32_t(s.words.size());
+        }
     }
     ensureBuffer(d, shadowRecords, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage,
                  "shadow_records");

@@ -8,6 +8,7 @@
 
 #include "evaluate.comp.spv.h"
 
+#include <array>
 #include <map>
 
 namespace ml {
@@ -57,7 +58,7 @@ struct Module::Impl {
         LightFrustum frustum;
         std::vector<uint32_t> words;
     };
-    std::vector<StaticShadow> shadows; // per light; method None = no shadow
+    std::vector<std::array<StaticShadow, 6>> shadows; // per light and cube face (spots: face 0)
     uint32_t pcfRadius = 0;
     bool shadowsDirty = true;
     Buffer staticWords, shadowRecords;

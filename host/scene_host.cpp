@@ -84,7 +84,7 @@ Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const Sce
     auto renderer = DualDepthRenderer::create(module.device());
     if (!renderer) return fail(renderer.error());
     uint32_t baked = 0, candidates = 0;
-    for (const Light& l : scene.lights) candidates += !l.dynamic && l.type == LightType::Spot;
+    for (const Light& l : scene.lights) candidates += !l.dynamic && !lightFrustums(l).empty();
     auto t0 = std::chrono::steady_clock::now();
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
@@ -111,12 +111,14 @@ Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, con
     if (!file) return fail(file.error());
     const SceneSpec& s = file->scene;
     if (s.scene != sceneName || s.lights != sceneLights || s.seed != seed)
-        return fail(path + ": baked for scene '" + s.scene + "' with " + std::to_string(s.lights) + " lights, seed " +
-                    std::to_string(s.seed) + ", not '" + sceneName + "' with " + std::to_string(sceneLights) +
-                    " lights, seed " + std::to_string(seed));
+        return fail(path + ": baked for scene '" + s.scene + "' with " + std::to_string(s.lights) +
+                    " lights, seed " + std::to_string(s.seed) + ", not '" + sceneName + "' with " +
+                    std::to_string(sceneLights) + " lights, seed " + std::to_string(seed));
     for (const BakeRecord& r : file->records) {
-        if (r.light >= binding.lights.size()) return fail(path + ": light " + std::to_string(r.light) + " not in scene");
-        if (auto a = module.setStaticShadow(binding.lights[r.light], {r.method, r.frustum, r.data}); !a)
+        if (r.light >= binding.lights.size())
+            return fail(path + ": light " + std::to_string(r.light) + " not in scene");
+        if (auto a = module.setStaticShadow(binding.lights[r.light], {r.method, r.frustum, r.data, r.face});
+            !a)
             return fail(path + ": " + a.error());
     }
     return uint32_t(file->records.size());

@@ -34,7 +34,13 @@ shared uint sEvaluated, sReaching, sSurface;
 // not built yet) visibility of light `index` at P.
 float lightVisibility(uint index, GpuLight L, vec3 P, vec3 N) {
     float v = 1.0;
-    if (L.info.z != ML_NO_SHADOW) v *= staticVisibility(shadowRecords[L.info.z], P, N);
+    if (L.info.z != ML_NO_SHADOW) {
+        // Point lights have six consecutive records, one per cube face (method 0 = face not baked).
+        uint r = L.info.z;
+        if (L.info.x == ML_LIGHT_POINT) r += pointLightFace(P - L.positionRange.xyz);
+        GpuShadowRecord rec = shadowRecords[r];
+        if (rec.info.x != 0u) v *= staticVisibility(rec, P, N);
+    }
     return v;
 }
 

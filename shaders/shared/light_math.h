@@ -93,6 +93,16 @@ ML_FN bool lightReachesPoint(GpuLight L, vec3 x) {
     return c >= 0.0f || c * c < cosA * cosA * d2;
 }
 
+// The cube face of a point light that direction d (light -> point) falls in: 0 +X, 1 -X, 2 +Y, 3 -Y,
+// 4 +Z, 5 -Z; the largest |component| wins, ties go to the earlier axis. Each face's 90-degree frustum
+// (pointLightFaceFrustum) covers exactly its directions.
+ML_FN uint pointLightFace(vec3 d) {
+    float ax = d.x < 0.0f ? -d.x : d.x, ay = d.y < 0.0f ? -d.y : d.y, az = d.z < 0.0f ? -d.z : d.z;
+    if (ax >= ay && ax >= az) return d.x >= 0.0f ? 0u : 1u;
+    if (ay >= az) return d.y >= 0.0f ? 2u : 3u;
+    return d.z >= 0.0f ? 4u : 5u;
+}
+
 // Linear view depth from a [0,1] depth-buffer value of a Vulkan (zero-to-one) perspective projection.
 ML_FN float linearDepth(float d, vec4 depthParams) {
     ML_PRECISE float z = depthParams.z / (depthParams.y - d * depthParams.w);

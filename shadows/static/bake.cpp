@@ -37,15 +37,17 @@ DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& fru
 // Why a light cannot be baked, or "" when it can.
 std::string skipReason(const Light& l) {
     if (l.dynamic) return "dynamic light (moves; its shadows come from virtual shadow maps)";
-    if (l.type == LightType::Point) return "point light (static methods bake spot lights only)";
-    if (l.type == LightType::Directional) return "directional light (static methods bake spot lights only)";
-    if (l.type != LightType::Spot) return "unknown light type";
-    const LightFrustum f = spotLightFrustum(l);
-    if (!(f.fov > 0.0f && f.fov < 3.14159f)) return "cone angle outside (0, 90) degrees";
-    if (!(std::isfinite(f.farPlane) && f.farPlane > f.nearPlane)) return "range not beyond the near plane";
-    const float* m = &f.view[0][0];
-    for (int i = 0; i < 16; ++i)
-        if (!std::isfinite(m[i])) return "position or direction not finite";
+    if (l.type == LightType::Directional)
+        return "directional light (static methods bake spot lights and point lights' cube faces)";
+    if (l.type != LightType::Spot && l.type != LightType::Point) return "unknown light type";
+    for (const LightFrustum& f : lightFrustums(l)) {
+        if (!(f.fov > 0.0f && f.fov < 3.14159f)) return "cone angle outside (0, 90) degrees";
+        if (!(std::isfinite(f.farPlane) && f.farPlane > f.nearPlane))
+            return "range not beyond the near plane";
+        const float* m = &f.view[0][0];
+        for (int i = 0; i < 16; ++i)
+            if (!std::isfinite(m[i])) return "position or direction not finite";
+    }
     return "";
 }
 
@@ -83,17 +85,19 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
     out.file.scene = spec;
     out.file.method = method;
     out.file.resolution = res;
-    std::vector<uint32_t> todo;
+    // (light, face): a spot bakes one map, a point light one per cube face.
+    std::vector<std::pair<uint32_t, uint32_t>> todo;
     for (uint32_t i : lights) {
         std::string why = skipReason(scene.lights[i]);
         if (why.empty())
-            todo.push_back(i);
+            for (uint32_t face = 0; face < lightFrustums(scene.lights[i]).size(); ++face)
+                todo.push_back({i, face});
         else
             out.skipped.push_back({i, why});
     }
     if (todo.empty())
         return fail("bake: none of the " + std::to_string(lights.size()) +
-                    " selected lights is a static spot light (first skipped: light " +
+                    " selected lights is a static spot or point light (first skipped: light " +
                     std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
     if (method == StaticMethod::CPVS) {
         // Fail before rendering anything (CPVS needs a power of two in 64..16384).
@@ -105,12 +109,12 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
     const auto t0 = Clock::now();
     const uint32_t n = uint32_t(todo.size());
     for (uint32_t k = 0; k < n; ++k) {
-        const uint32_t li = todo[k];
+        const uint32_t li = todo[k].first, face = todo[k].second;
         auto report = [&](const char* phase, double within) {
             if (progress)
                 progress({li, k, n, phase, (k + std::clamp(within, 0.0, 1.0)) / n, secondsSince(t0)});
         };
-        const LightFrustum frustum = spotLightFrustum(scene.lights[li]);
+        const LightFrustum frustum = lightFrustums(scene.lights[li])[face];
         LightBakeStats st;
         st.light = li;
 
@@ -140,7 +144,7 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
         st.encodeSeconds = secondsSince(te);
         st.bytes = words->size() * 4;
         out.renderSeconds += st.renderSeconds, out.encodeSeconds += st.encodeSeconds;
-        out.file.records.push_back({li, method, res, frustum, std::move(words.value())});
+        out.file.records.push_back({li, face, method, res, frustum, std::move(words.value())});
         out.lights.push_back(st);
         report("done", 1.0);
     }
@@ -207,7 +211,8 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
         const Light& light = scene.lights[rec.light];
         if (std::string why = skipReason(light); !why.empty())
             return fail(where + ": the scene's light is no longer bakeable: " + why);
-        if (!sameFrustum(spotLightFrustum(light), rec.frustum))
+        if (rec.face >= lightFrustums(light).size() ||
+            !sameFrustum(lightFrustums(light)[rec.face], rec.frustum))
             return fail(where +
                         ": the light's frustum differs from the baked one (scene changed since the bake?)");
 

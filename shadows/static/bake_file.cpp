@@ -95,20 +95,22 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         out->records.clear();
         out->records.reserve(records);
     }
-    std::set<uint32_t> lightsSeen;
+    std::set<uint64_t> lightsSeen; // light * 8 + face
     uint64_t expectedOffset = dataBegin;
     for (uint32_t r = 0; r < records; ++r) {
         const uint32_t* rec = w + headerWords + size_t(r) * kRecordWords;
         auto badRec = [&](const std::string& why) { return bad("record " + std::to_string(r) + ": " + why); };
         if (rec[kRChecksum] != stat::checksumWords(rec, kRecordWords, kRChecksum))
             return badRec("record checksum mismatch");
-        for (uint32_t i = kRChecksum + 1; i < kRecordWords; ++i)
+        if (rec[kRFace] > 5) return badRec("cube face " + std::to_string(rec[kRFace]) + " is not 0..5");
+        for (uint32_t i = kRFace + 1; i < kRecordWords; ++i)
             if (rec[i] != 0) return badRec("reserved word " + std::to_string(i) + " is not 0");
         if (rec[kRLight] >= w[kHSceneLights])
             return badRec("light " + std::to_string(rec[kRLight]) + " is not below the scene's " +
                           std::to_string(w[kHSceneLights]) + " lights");
-        if (!lightsSeen.insert(rec[kRLight]).second)
-            return badRec("light " + std::to_string(rec[kRLight]) + " appears twice");
+        if (!lightsSeen.insert(uint64_t(rec[kRLight]) * 8u + rec[kRFace]).second)
+            return badRec("light " + std::to_string(rec[kRLight]) + " face " + std::to_string(rec[kRFace]) +
+                          " appears twice");
         if (rec[kRMethod] != uint32_t(method)) return badRec("method differs from the file's");
         if (rec[kRResolution] != res) return badRec("resolution differs from the file's");
         LightFrustum f;
@@ -141,7 +143,8 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
             return badRec("CPVS depth range differs from the record's frustum");
         expectedOffset = offset + words;
         if (out)
-            out->records.push_back({rec[kRLight], method, res, f, std::vector<uint32_t>(data, data + words)});
+            out->records.push_back(
+                {rec[kRLight], rec[kRFace], method, res, f, std::vector<uint32_t>(data, data + words)});
     }
     if (expectedOffset != count)
         return bad(std::to_string(count - expectedOffset) + " words after the last record's data");
@@ -177,6 +180,7 @@ Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
         const BakeRecord& br = file.records[r];
         uint32_t* rec = w.data() + headerWords + r * kRecordWords;
         rec[kRLight] = br.light, rec[kRMethod] = uint32_t(br.method), rec[kRResolution] = br.resolution;
+        rec[kRFace] = br.face;
         const float* m = &br.frustum.view[0][0];
         for (int i = 0; i < 16; ++i) rec[kRView + i] = floatBits(m[i]);
         rec[kRFov] = floatBits(br.frustum.fov);

@@ -12,7 +12,7 @@
 //   record table [H, H + count * 32), one record per baked light, in increasing data offset:
 //     0 scene light index   3..18 view matrix (16 floats, column-major)   22, 23 data offset (lo, hi)
 //     1 method              19 fov   20 near   21 far (floats)              24, 25 data words (lo, hi)
-//     2 resolution          26 data checksum   27 record checksum   28..31 reserved (0)
+//     2 resolution          26 data checksum   27 record checksum   28 cube face  29..31 reserved (0)
 //   data        [H + count * 32, total): each record's words, back to back, no gaps
 //
 // Checksums are word-wise FNV-1a (format_common.h): the header's over words [0, H) and a record's over
@@ -74,6 +74,7 @@ enum : uint32_t {
     kRWordsHi = 25,
     kRDataChecksum = 26,
     kRChecksum = 27,
+    kRFace = 28, // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
 };
 } // namespace bakefmt
 
@@ -86,6 +87,7 @@ struct SceneSpec {
 
 struct BakeRecord {
     uint32_t light = 0; // index into the scene's lights
+    uint32_t face = 0;  // point lights: cube face 0..5
     StaticMethod method = StaticMethod::None;
     uint32_t resolution = 0;
     LightFrustum frustum;

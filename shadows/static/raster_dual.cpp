@@ -77,6 +77,26 @@ LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
     return f;
 }
 
+LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane) {
+    static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::vec3 axis = axes[face % 6];
+    const glm::vec3 up = face == 2 || face == 3 ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    LightFrustum f;
+    f.view = glm::lookAt(light.position, light.position + axis, up);
+    f.fov = 1.57079633f;
+    f.nearPlane = nearPlane;
+    f.farPlane = light.range;
+    return f;
+}
+
+std::vector<LightFrustum> lightFrustums(const Light& light) {
+    if (light.type == LightType::Spot) return {spotLightFrustum(light)};
+    if (light.type != LightType::Point) return {};
+    std::vector<LightFrustum> out;
+    for (uint32_t face = 0; face < 6; ++face) out.push_back(pointLightFaceFrustum(light, face));
+    return out;
+}
+
 DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum,
                                uint32_t resolution)
     : res_(resolution), far_(frustum.farPlane) {

@@ -52,6 +52,13 @@ CasterTriangles castersFromScene(const Scene& scene);
 // A spotlight's frustum: looking along its direction, full angle 2 * outerAngle, far = range.
 LightFrustum spotLightFrustum(const Light& light, float nearPlane = 0.05f);
 
+// A point light's cube face (0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z): 90 degrees, far = range. The face a
+// direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
+// ties to the earlier axis).
+LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane = 0.05f);
+// The frustums a static light bakes: one for a spot, six for a point light, none otherwise.
+std::vector<LightFrustum> lightFrustums(const Light& light);
+
 class DualRasterizer {
   public:
     DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t resolution);

@@ -1,5 +1,7 @@
 #include "shadows/static/static_visibility.h"
 
+#include "shaders/shared/light_math.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -68,6 +70,15 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
             if (depth <= d) ++lit;
         }
     return float(lit) / taps;
+}
+
+float lightStaticVisibility(const gpu::GpuLight& L, const gpu::GpuShadowRecord* records, const uint32_t* data,
+                            glm::vec3 P, glm::vec3 N) {
+    if (L.info.z == ML_NO_SHADOW) return 1.0f;
+    uint32_t r = L.info.z;
+    if (L.info.x == ML_LIGHT_POINT) r += gpu::pointLightFace(P - glm::vec3(L.positionRange));
+    if (records[r].info.x == 0u) return 1.0f;
+    return staticVisibility(records[r], data, P, N);
 }
 
 } // namespace ml

@@ -356,12 +356,16 @@ TEST_F(BakeScene, SkippedLightsAreReported) {
     std::vector<uint32_t> sel = {spots[0], spots[1], spots[2], dynamicLights[0]};
     auto baked = bakeScene(s, spec_, StaticMethod::MH, 64, sel);
     ASSERT_TRUE(baked.ok()) << baked.error();
-    ASSERT_EQ(baked->file.records.size(), 1u);
+    // The spot bakes one map, the point light one per cube face; the others are skipped with reasons.
+    ASSERT_EQ(baked->file.records.size(), 7u);
     EXPECT_EQ(baked->file.records[0].light, spots[0]);
-    ASSERT_EQ(baked->skipped.size(), 3u);
+    for (uint32_t f = 0; f < 6; ++f) {
+        EXPECT_EQ(baked->file.records[1 + f].light, spots[1]);
+        EXPECT_EQ(baked->file.records[1 + f].face, f);
+    }
+    ASSERT_EQ(baked->skipped.size(), 2u);
     std::map<uint32_t, std::string> why;
     for (const SkippedLight& k : baked->skipped) why[k.light] = k.reason;
-    EXPECT_NE(why[spots[1]].find("point"), std::string::npos);
     EXPECT_NE(why[spots[2]].find("directional"), std::string::npos);
     EXPECT_NE(why[dynamicLights[0]].find("dynamic"), std::string::npos);
     // Nothing bakeable: an error naming a skipped light, not an empty file.
