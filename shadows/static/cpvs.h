@@ -32,6 +32,10 @@
 //   compress    bottom-up sort and merge of every level (section 4.1), or top-down hash compression
 //               (section 4.2); equality is always decided on the full content, never on a hash alone.
 //               (cpvs_build.cpp)
+//   regions     the default: insert and sort-compress one sub-DAG per x, y block of grid columns, then
+//               merge the sub-DAGs' sorted levels pairwise from the leaves up (section 4.3). Equal nodes
+//               are found by full content comparison; the result is the bottom-up DAG, byte for byte.
+//               (cpvs_regions.cpp)
 //   layout      flat uint32 words: header, slice thresholds, a grid of pointers replacing the top levels
 //               (section 6.3), inner nodes with child masks, 64-bit leaf masks for the last two levels.
 //               docs/cpvs-layout.md has the byte counts. (cpvs_layout.cpp)
@@ -114,13 +118,18 @@ enum class CpvsCompression : uint8_t {
     None,     // output the DAG right after insertion (section 3.2, "size of DAG after insertion")
     BottomUp, // sort and merge level by level from the leaves (section 4.1): the optimal DAG
     TopDown,  // hashes from contents, merged top-down, each match confirmed (section 4.2): the same DAG
+    Regions,  // sub-DAGs inserted and sorted per region, merged layer by layer (section 4.3): the same
+              // DAG, identical bytes to BottomUp
 };
 
 struct CpvsParams {
     uint32_t resolution = 0; // N; the map's resolution must match
     float nearPlane = 0.05f, farPlane = 10.0f;
     uint32_t gridLog2 = 4; // the top levels become a 2^g per axis grid of pointers; clamped to log2(N) - 3
-    CpvsCompression compression = CpvsCompression::BottomUp;
+    CpvsCompression compression = CpvsCompression::Regions;
+    // Regions only: the grid's x, y are split into 2^r per axis blocks of cells (r clamped to gridLog2),
+    // each a column through every slice; (2^r)^2 sub-DAGs. Default: one sub-DAG per column of grid cells.
+    uint32_t regionLog2 = 4;
     std::function<void(float)> progress; // called with a fraction in [0, 1], monotone; may be empty
     uint32_t hashBits = 64;              // TopDown only; < 64 forces collisions (tests of the confirm)
 };
@@ -130,6 +139,8 @@ struct CpvsBytes {
 };
 
 struct CpvsStats {
+    // compressMs is all compression after insertion; for Regions it is the sub-DAG sorts plus mergeMs, so
+    // precompute + insert + compress + layout is the whole bake in every mode.
     double precomputeMs = 0, insertMs = 0, compressMs = 0, layoutMs = 0;
     uint64_t nodesInserted = 0, leavesInserted = 0; // after insertion (culling included)
     uint64_t nodesFinal = 0, leavesFinal = 0;       // after compression
@@ -137,6 +148,11 @@ struct CpvsStats {
     uint64_t hashCollisions = 0;                    // TopDown: equal hashes refuted by the confirm
     std::vector<uint64_t> nodesPerLevel;            // final inner nodes, index 0 = 8^3 nodes
     CpvsBytes bytes;
+    // Region build (section 4.3). Other modes: one region, the peaks are the whole insertion.
+    double mergeMs = 0;                                 // merging the sub-DAGs (part of compressMs)
+    uint32_t regions = 1;                               // sub-DAGs built
+    uint64_t regionNodesPeak = 0, regionLeavesPeak = 0; // inserted by the largest region
+    uint64_t liveBytesPeak = 0; // most bytes of DAG nodes, leaves and grid entries alive at once
 };
 
 struct CpvsBake {

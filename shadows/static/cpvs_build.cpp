@@ -45,9 +45,12 @@ inline uint64_t quadrant(uint64_t m, uint32_t cx, uint32_t cy) {
 
 class Inserter {
   public:
-    Inserter(const CpvsPrecompute& pre, Dag& dag, uint32_t topLevel) : pre_(pre), dag_(dag) {
+    // Footprints of the tiles [tx0, tx0 + tw) x [ty0, ty0 + tw) only (tw a power of two, the block of cells
+    // inserted): the per-footprint entries are kept for those alone.
+    Inserter(const CpvsPrecompute& pre, Dag& dag, uint32_t topLevel, uint32_t tx0, uint32_t ty0, uint32_t tw)
+        : pre_(pre), dag_(dag), tx0_(tx0), ty0_(ty0), tw_(tw) {
         entries_.resize(topLevel + 1);
-        for (uint32_t k = 0; k <= topLevel; ++k) entries_[k].resize(pre.minT[k].size());
+        for (uint32_t k = 0; k <= topLevel; ++k) entries_[k].resize(size_t(tw >> k) * (tw >> k));
         dag_.levels.resize(topLevel + 1);
     }
 
@@ -57,7 +60,7 @@ class Inserter {
         const uint32_t mn = pre_.minT[k][f], mx = pre_.maxT[k][f];
         if (mn >= z0 + size) return {0, 0, mn}; // all columns lit through the volume
         if (mx <= z0) return {1, 0, kInf};      // all columns shadowed from its first slice
-        Entry& e = entries_[k][f];
+        Entry& e = entries_[k][size_t(fy - (ty0_ >> k)) * (tw_ >> k) + (fx - (tx0_ >> k))];
         if (e.node != kNone && e.next >= z0 + size) return {2, e.node, e.next};
 
         Node node;
@@ -120,6 +123,7 @@ class Inserter {
 
     const CpvsPrecompute& pre_;
     Dag& dag_;
+    uint32_t tx0_, ty0_, tw_;
     std::vector<std::vector<Entry>> entries_;
 };
 
@@ -146,25 +150,42 @@ template <class T> std::vector<uint32_t> sortUnique(std::vector<T>& items) {
 
 } // namespace
 
-Dag insert(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
-           const std::function<void(float)>& progress) {
+namespace {
+
+// Inserts the cells [x0, x0 + w) x [y0, y0 + w) x [0, G) into a fresh Dag; grid entry of cell (x, y, z) at
+// (x - x0) + w ((y - y0) + w z).
+Dag insertCells(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2, uint32_t x0,
+                uint32_t y0, uint32_t w, const std::function<void(float)>& progress) {
     Dag dag;
     dag.resolution = pre.resolution;
     dag.log2Resolution = log2Resolution;
     dag.gridLog2 = gridLog2;
     dag.cellLog2 = log2Resolution - gridLog2;
     const uint32_t topLevel = dag.cellLog2 - 3, cell = 1u << dag.cellLog2, g = 1u << gridLog2;
-    Inserter ins(pre, dag, topLevel);
-    dag.grid.resize(size_t(g) * g * g);
+    const uint32_t tilesPerCell = cell / 8;
+    Inserter ins(pre, dag, topLevel, x0 * tilesPerCell, y0 * tilesPerCell, w * tilesPerCell);
+    dag.grid.resize(size_t(w) * w * g);
     for (uint32_t z = 0; z < g; ++z) { // z outermost: each footprint sees its volumes near to far
-        for (uint32_t y = 0; y < g; ++y)
-            for (uint32_t x = 0; x < g; ++x) {
-                Ref r = ins.build(topLevel, x, y, z * cell);
-                dag.grid[(size_t(z) * g + y) * g + x] = r.kind == 2 ? 2u + r.id : r.kind;
+        for (uint32_t y = 0; y < w; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                Ref r = ins.build(topLevel, x0 + x, y0 + y, z * cell);
+                dag.grid[(size_t(z) * w + y) * w + x] = r.kind == 2 ? 2u + r.id : r.kind;
             }
         if (progress) progress(float(z + 1) / float(g));
     }
     return dag;
+}
+
+} // namespace
+
+Dag insert(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
+           const std::function<void(float)>& progress) {
+    return insertCells(pre, log2Resolution, gridLog2, 0, 0, 1u << gridLog2, progress);
+}
+
+Dag insertBlock(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
+                const CellBlock& block) {
+    return insertCells(pre, log2Resolution, gridLog2, block.x0, block.y0, block.w, {});
 }
 
 void compressBottomUp(Dag& dag) {
@@ -337,17 +358,40 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params) {
     if (!pre) return fail(pre.error());
     report(0.2f);
     auto t1 = Clock::now();
-    cpvs_detail::Dag dag =
-        cpvs_detail::insert(*pre, space->log2Resolution, gridLog2, [&](float f) { report(0.2f + 0.5f * f); });
     CpvsBake bake;
     CpvsStats& st = bake.stats;
     st.tileSteps = pre->stepStart.size();
-    st.leavesInserted = dag.leaves.size();
-    for (const auto& l : dag.levels) st.nodesInserted += l.size();
-    auto t2 = Clock::now();
-    if (params.compression == CpvsCompression::BottomUp) cpvs_detail::compressBottomUp(dag);
-    if (params.compression == CpvsCompression::TopDown)
-        st.hashCollisions = cpvs_detail::compressTopDown(dag, params.hashBits);
+    cpvs_detail::Dag dag;
+    if (params.compression == CpvsCompression::Regions) {
+        cpvs_detail::RegionStats rs;
+        dag = cpvs_detail::buildRegions(*pre, space->log2Resolution, gridLog2, params.regionLog2, rs,
+                                        [&](float f) { report(0.2f + 0.7f * f); });
+        st.nodesInserted = rs.nodesInserted;
+        st.leavesInserted = rs.leavesInserted;
+        st.regions = rs.regions;
+        st.regionNodesPeak = rs.regionNodesPeak;
+        st.regionLeavesPeak = rs.regionLeavesPeak;
+        st.liveBytesPeak = rs.liveBytesPeak;
+        // the phases interleave per region: their sums
+        st.insertMs = rs.insertMs;
+        st.compressMs = rs.compressMs + rs.mergeMs;
+        st.mergeMs = rs.mergeMs;
+    } else {
+        dag = cpvs_detail::insert(*pre, space->log2Resolution, gridLog2,
+                                  [&](float f) { report(0.2f + 0.5f * f); });
+        st.leavesInserted = dag.leaves.size();
+        for (const auto& l : dag.levels) st.nodesInserted += l.size();
+        st.regionNodesPeak = st.nodesInserted;
+        st.regionLeavesPeak = st.leavesInserted;
+        st.liveBytesPeak = dag.leaves.size() * sizeof(uint64_t) + dag.grid.size() * sizeof(uint32_t) +
+                           st.nodesInserted * sizeof(cpvs_detail::Node);
+        auto t2 = Clock::now();
+        if (params.compression == CpvsCompression::BottomUp) cpvs_detail::compressBottomUp(dag);
+        if (params.compression == CpvsCompression::TopDown)
+            st.hashCollisions = cpvs_detail::compressTopDown(dag, params.hashBits);
+        st.insertMs = ms(t1, t2);
+        st.compressMs = ms(t2, Clock::now());
+    }
     report(0.9f);
     auto t3 = Clock::now();
     bake.data = cpvs_detail::writeLayout(*space, dag);
@@ -358,8 +402,6 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params) {
         st.nodesPerLevel.push_back(l.size());
     }
     st.precomputeMs = ms(t0, t1);
-    st.insertMs = ms(t1, t2);
-    st.compressMs = ms(t2, t3);
     st.layoutMs = ms(t3, t4);
     st.bytes = cpvsBytes(bake.data.data());
     report(1.0f);

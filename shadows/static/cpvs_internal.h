@@ -21,9 +21,36 @@ struct Dag {
     std::vector<uint32_t> grid;
 };
 
+// A block of grid cells: columns [x0, x0 + w) x [y0, y0 + w) of cells, every z. grid has w * w * G
+// entries, index (x - x0) + w ((y - y0) + w z), coded like Dag::grid.
+struct CellBlock {
+    uint32_t x0 = 0, y0 = 0, w = 0;
+    std::vector<uint32_t> grid;
+};
+
 // Section 3.2 insertion. progress(f) with f in [0, 1] after each grid layer.
 Dag insert(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
            const std::function<void(float)>& progress);
+
+// The same for one block of cells only (a region of the section 4.3 build; block.grid is not used): the
+// returned Dag's grid has the block's layout (w * w * G entries). Insertion never shares nodes between
+// x, y footprints, so the nodes of the blocks of a partition are exactly the nodes of insert(), split.
+Dag insertBlock(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
+                const CellBlock& block);
+
+// Section 4.3: the region build. Splits the grid's x, y into (2^regionLog2)^2 blocks, inserts and
+// bottom-up compresses each block's sub-DAG alone, and merges the sub-DAGs pairwise (binary-counter order,
+// so at most log2(regions) + 1 sub-DAGs are alive) with sorted-layer merges: equal nodes are found by full
+// content comparison, never by a hash. The result equals insert() + compressBottomUp() node for node.
+struct RegionStats {
+    uint32_t regions = 0;
+    double insertMs = 0, compressMs = 0, mergeMs = 0;
+    uint64_t nodesInserted = 0, leavesInserted = 0;
+    uint64_t regionNodesPeak = 0, regionLeavesPeak = 0; // the largest region's insertion
+    uint64_t liveBytesPeak = 0;                         // nodes + leaves held at once
+};
+Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2,
+                 RegionStats& stats, const std::function<void(float)>& progress);
 
 // Section 4.1: sort and merge every level from the leaves up; equality on full node content.
 void compressBottomUp(Dag& dag);
