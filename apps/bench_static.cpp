@@ -33,6 +33,7 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --lights N       static spot lights measured (the N in view that light the most pixels), default 8
   --size WxH       view for the evaluation time and the accuracy receivers, default 640x360
   --frames N       timed frames per configuration, default 3
+  --camera X,Y,Z,TX,TY,TZ  view for the evaluation time and receivers (default: the scene's)
   --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
   --seed S         scene seed, default 1
   --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
@@ -120,9 +121,10 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 } // namespace
 
 int runBenchStatic(int argc, char** argv) {
-    auto args = cli::parse(
-        argc, argv, 3,
-        {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed", "--out"}, {});
+    auto args = cli::parse(argc, argv, 3,
+                           {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
+                            "--seed", "--out", "--camera"},
+                           {});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -165,6 +167,16 @@ int runBenchStatic(int argc, char** argv) {
     auto [width, height] = size.value();
     if (auto r = m.createTargets(width, height); !r) return runError("bench static", r.error());
     m.setStatistics(false);
+    if (args->has("--camera")) {
+        float v[6];
+        const std::string text = args->get("--camera", "");
+        if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6)
+            return usageError("bench static", "--camera: '" + text + "' is not X,Y,Z,TX,TY,TZ");
+        scene->camera.position = {v[0], v[1], v[2]};
+        scene->camera.target = {v[3], v[4], v[5]};
+        if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r)
+            return usageError("bench static", r.error());
+    }
     if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("bench static", r.error());
 
     // Receivers: the G-buffer of one frame.
@@ -219,6 +231,11 @@ int runBenchStatic(int argc, char** argv) {
         if (n) ranked.push_back({n, i});
     }
     std::sort(ranked.rbegin(), ranked.rend());
+    for (size_t k = 0; k < ranked.size() && k < 3; ++k) {
+        const Light& l = scene->lights[ranked[k].second];
+        std::fprintf(stderr, "  light %u at %.1f,%.1f,%.1f reaches %zu receivers\n", ranked[k].second,
+                     l.position.x, l.position.y, l.position.z, ranked[k].first);
+    }
     if (ranked.size() > count.value()) ranked.resize(count.value());
     if (ranked.empty())
         return runError("bench static", sceneName + ": no static spot light reaches the view");
