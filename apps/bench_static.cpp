@@ -169,12 +169,10 @@ int runBenchStatic(int argc, char** argv) {
     if (auto r = m.createTargets(width, height); !r) return runError("bench static", r.error());
     m.setStatistics(false);
     if (args->has("--camera")) {
-        float v[6];
-        const std::string text = args->get("--camera", "");
-        if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6)
-            return usageError("bench static", "--camera: '" + text + "' is not X,Y,Z,TX,TY,TZ");
-        scene->camera.position = {v[0], v[1], v[2]};
-        scene->camera.target = {v[3], v[4], v[5]};
+        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
+        if (!v) return usageError("bench static", v.error());
+        scene->camera.position = {v.value()[0], v.value()[1], v.value()[2]};
+        scene->camera.target = {v.value()[3], v.value()[4], v.value()[5]};
         if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r)
             return usageError("bench static", r.error());
     }

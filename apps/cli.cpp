@@ -1,6 +1,7 @@
 #include "apps/cli.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -32,7 +33,8 @@ Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uin
     errno = 0;
     long long v = std::strtoll(text.c_str(), &end, 10);
     if (text.empty() || *end || errno || v < lo || v > hi)
-        return fail(flag + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
+        return fail(flag + ": '" + text + "' is not a whole number in " + std::to_string(lo) + ".." +
+                    std::to_string(hi));
     return uint32_t(v);
 }
 
@@ -44,6 +46,15 @@ Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const s
     auto h = parseUint(flag + " height", text.substr(x + 1), 1, 16384);
     if (!h) return fail(h.error());
     return std::make_pair(w.value(), h.value());
+}
+
+Result<std::array<float, 6>> parseCamera(const std::string& flag, const std::string& text) {
+    std::array<float, 6> v{};
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) !=
+        6)
+        return fail(flag + ": '" + text + "' is not X,Y,Z,TX,TY,TZ");
+    return v;
 }
 
 Result<void> makeDirectory(const std::string& path) {

@@ -4,6 +4,7 @@
 #include "engine/result.h"
 
 #include <cstdint>
+#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -29,5 +30,7 @@ Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>
 Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi);
 Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const std::string& text);
 Result<void> makeDirectory(const std::string& path);
+// "X,Y,Z,TX,TY,TZ": camera position and target (six numbers, comma-separated).
+Result<std::array<float, 6>> parseCamera(const std::string& flag, const std::string& text);
 
 } // namespace ml::cli

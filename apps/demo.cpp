@@ -74,9 +74,10 @@ int runDemo(int argc, char** argv) {
     if (!binding) return runError("demo", binding.error());
     if (auto r = m.createTargets(width, height); !r) return runError("demo", r.error());
     if (args->has("--bake")) {
-        if (staticMethod.value() != StaticMethod::None) return usageError("demo", "--bake and --static exclude each other");
-        auto n = attachBakeFile(m, binding.value(), args->get("--bake", ""), args->get("--scene", "night-city"),
-                                lights.value(), seed.value());
+        if (staticMethod.value() != StaticMethod::None)
+            return usageError("demo", "--bake and --static exclude each other");
+        auto n = attachBakeFile(m, binding.value(), args->get("--bake", ""),
+                                args->get("--scene", "night-city"), lights.value(), seed.value());
         if (!n) return runError("demo", n.error());
         std::printf("static shadows of %u lights from %s\n", n.value(), args->get("--bake", "").c_str());
     }
@@ -90,12 +91,10 @@ int runDemo(int argc, char** argv) {
         if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
     }
     if (args->has("--camera")) {
-        float v[6];
-        const std::string text = args->get("--camera", "");
-        if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6)
-            return usageError("demo", "--camera: '" + text + "' is not X,Y,Z,TX,TY,TZ");
-        scene->camera.position = {v[0], v[1], v[2]};
-        scene->camera.target = {v[3], v[4], v[5]};
+        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
+        if (!v) return usageError("demo", v.error());
+        scene->camera.position = {v.value()[0], v.value()[1], v.value()[2]};
+        scene->camera.target = {v.value()[3], v.value()[4], v.value()[5]};
         if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r) return usageError("demo", r.error());
     }
     std::unique_ptr<Window> win;

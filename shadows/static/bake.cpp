@@ -86,16 +86,16 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
     out.file.method = method;
     out.file.resolution = res;
     // (light, face): a spot bakes one map, a point light one per cube face.
-    std::vector<std::pair<uint32_t, uint32_t>> todo;
+    std::vector<std::pair<uint32_t, uint32_t>> work;
     for (uint32_t i : lights) {
         std::string why = skipReason(scene.lights[i]);
         if (why.empty())
             for (uint32_t face = 0; face < lightFrustums(scene.lights[i]).size(); ++face)
-                todo.push_back({i, face});
+                work.push_back({i, face});
         else
             out.skipped.push_back({i, why});
     }
-    if (todo.empty())
+    if (work.empty())
         return fail("bake: none of the " + std::to_string(lights.size()) +
                     " selected lights is a static spot or point light (first skipped: light " +
                     std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
@@ -107,9 +107,9 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
 
     const CasterTriangles casters = castersFromScene(scene);
     const auto t0 = Clock::now();
-    const uint32_t n = uint32_t(todo.size());
+    const uint32_t n = uint32_t(work.size());
     for (uint32_t k = 0; k < n; ++k) {
-        const uint32_t li = todo[k].first, face = todo[k].second;
+        const uint32_t li = work[k].first, face = work[k].second;
         auto report = [&](const char* phase, double within) {
             if (progress)
                 progress({li, k, n, phase, (k + std::clamp(within, 0.0, 1.0)) / n, secondsSince(t0)});

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/packing.hpp>
+
 #include <cstring>
 
 namespace ml::test {
@@ -23,19 +25,20 @@ inline std::unique_ptr<Module> makeModule(CullingMode mode = CullingMode::Cluste
 }
 
 // Copies an image that is in `layout` into host memory (tightly packed) and returns it to `layout`.
-inline std::vector<uint8_t> readImage(Module& module, const Image& image, uint32_t texelBytes, VkImageLayout layout) {
+inline std::vector<uint8_t> readImage(Module& module, const Image& image, uint32_t texelBytes,
+                                      VkImageLayout layout) {
     Device& d = module.device();
     vkQueueWaitIdle(d.queue);
-    Buffer b = createBuffer(d, VkDeviceSize(image.width) * image.height * texelBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                            "test_readback");
+    Buffer b = createBuffer(d, VkDeviceSize(image.width) * image.height * texelBytes,
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, "test_readback");
     VkCommandBuffer cmd = d.beginOneTime();
     imageBarrier(cmd, image.image, image.aspect, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                 VK_ACCESS_2_TRANSFER_READ_BIT);
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     copyImageToBuffer(cmd, image, b);
     imageBarrier(cmd, image.image, image.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout,
-                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_MEMORY_READ_BIT);
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
     d.endOneTime(cmd);
     std::vector<uint8_t> out(size_t(image.width) * image.height * texelBytes);
     std::memcpy(out.data(), b.data, out.size());
@@ -51,6 +54,13 @@ inline void renderFrame(Module& m) {
     d.endOneTime(cmd);
     vkQueueWaitIdle(d.queue);
     m.collect();
+}
+
+// Texel i of an RGBA16F image read back with readImage.
+inline glm::vec4 half4(const std::vector<uint8_t>& img, size_t i) {
+    uint64_t bits;
+    std::memcpy(&bits, img.data() + i * 8, 8);
+    return glm::vec4(glm::unpackHalf2x16(uint32_t(bits)), glm::unpackHalf2x16(uint32_t(bits >> 32)));
 }
 
 inline std::vector<float> toFloats(const std::vector<uint8_t>& bytes) {

@@ -51,7 +51,8 @@ void compareWithReference(Module& m, CullingMode mode) {
     }
     EXPECT_GT(occupied, 100u);
     EXPECT_GT(entries, 20u) << "lists too small to mean anything";
-    std::printf("  %s: %zu occupied clusters, %zu list entries identical\n", cullingName(mode), occupied, entries);
+    std::printf("  %s: %zu occupied clusters, %zu list entries identical\n", cullingName(mode), occupied,
+                entries);
 }
 
 } // namespace
@@ -99,7 +100,8 @@ TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
                 if (gpu::lightReachesPoint(impl.lastLights[l], p)) {
                     ++reaching;
                     ASSERT_NE(std::find(list.begin(), list.end(), l), list.end())
-                        << "light " << l << " reaches pixel " << x << "," << y << " but is not in its cluster";
+                        << "light " << l << " reaches pixel " << x << "," << y
+                        << " but is not in its cluster";
                 }
         }
     auto reports = m.takeReports();
@@ -132,7 +134,8 @@ TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
     EXPECT_EQ(reports[0].stats.poolCapacity, 16u);
     ASSERT_EQ(full.size(), overflowed.size());
     int maxDiff = 0;
-    for (size_t i = 0; i < full.size(); ++i) maxDiff = std::max(maxDiff, std::abs(int(full[i]) - int(overflowed[i])));
+    for (size_t i = 0; i < full.size(); ++i)
+        maxDiff = std::max(maxDiff, std::abs(int(full[i]) - int(overflowed[i])));
     EXPECT_LE(maxDiff, 1) << "overflowed clusters changed the image";
     EXPECT_EQ(validationErrors(), 0u);
 }

@@ -25,11 +25,6 @@ TEST(GpuEvaluate, SampledPixelsMatchCpuShading) {
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
     auto* pool = impl.cull.pool.as<uint32_t>();
-    auto half4 = [](const std::vector<uint8_t>& img, size_t i) {
-        uint64_t bits;
-        std::memcpy(&bits, img.data() + i * 8, 8);
-        return glm::vec4(glm::unpackHalf2x16(uint32_t(bits)), glm::unpackHalf2x16(uint32_t(bits >> 32)));
-    };
     uint32_t checked = 0, lit = 0;
     for (uint32_t y = 1; y < fc.size.y; y += 5)
         for (uint32_t x = 2; x < fc.size.x; x += 5) {

@@ -2,6 +2,7 @@
 // evaluation pass. A box on open ground under a point light: the GPU's shadow on the ground matches the
 // exact ray-box answer on every pixel away from the shadow's edge, and every face that sees ground is used.
 #include "gpu_test_util.h"
+#include "tests/common/ray_box.h"
 
 #include "shaders/shared/shading.h"
 #include "shadows/gpu/dual_depth_gpu.h"
@@ -13,20 +14,6 @@
 namespace ml::test {
 
 namespace {
-bool blockedByBox(glm::vec3 p, glm::vec3 light, glm::vec3 lo, glm::vec3 hi) {
-    glm::vec3 d = light - p;
-    float t0 = 1e-4f, t1 = 1.0f;
-    for (int i = 0; i < 3; ++i) {
-        if (std::abs(d[i]) < 1e-12f) {
-            if (p[i] < lo[i] || p[i] > hi[i]) return false;
-            continue;
-        }
-        float a = (lo[i] - p[i]) / d[i], b = (hi[i] - p[i]) / d[i];
-        t0 = std::max(t0, std::min(a, b));
-        t1 = std::min(t1, std::max(a, b));
-    }
-    return t0 < t1;
-}
 
 Scene boxOnGround(glm::vec3 lo, glm::vec3 hi, glm::vec3 lightPos) {
     Scene s;
@@ -113,9 +100,7 @@ TEST(GpuPointShadow, CubeFacesShadowTheGroundLikeRays) {
             glm::vec3 a = glm::vec3(albedo[i * 4], albedo[i * 4 + 1], albedo[i * 4 + 2]) / 255.0f;
             glm::vec3 lit = gpu::shadeLight(L, P, N, V, a);
             if (lit.x < 0.05f) continue; // too dark to read the shadow term back
-            uint64_t bits;
-            std::memcpy(&bits, hdr.data() + i * 8, 8);
-            float got = glm::unpackHalf2x16(uint32_t(bits)).x - a.x * fc.ambient.x;
+            float got = half4(hdr, i).x - a.x * fc.ambient.x;
             float vis = got / lit.x;
             bool truth = blockedByBox(P, lightPos, lo, hi);
             bool edge = false;

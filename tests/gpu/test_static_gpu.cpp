@@ -134,11 +134,6 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
     auto* pool = impl.cull.pool.as<uint32_t>();
     const uint32_t* words = impl.staticWords.as<uint32_t>();
-    auto half4 = [](const std::vector<uint8_t>& img, size_t i) {
-        uint64_t bits;
-        std::memcpy(&bits, img.data() + i * 8, 8);
-        return glm::vec4(glm::unpackHalf2x16(uint32_t(bits)), glm::unpackHalf2x16(uint32_t(bits >> 32)));
-    };
     uint32_t checked = 0, shadowed = 0, differ = 0;
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {

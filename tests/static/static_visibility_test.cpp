@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/ray_box.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
@@ -14,20 +16,6 @@ namespace ml {
 
 namespace {
 // Ray from p towards the light: does it pass through the box [lo, hi]?
-bool blocked(glm::vec3 p, glm::vec3 light, glm::vec3 lo, glm::vec3 hi) {
-    glm::vec3 d = light - p;
-    float t0 = 1e-4f, t1 = 1.0f;
-    for (int i = 0; i < 3; ++i) {
-        if (std::abs(d[i]) < 1e-12f) {
-            if (p[i] < lo[i] || p[i] > hi[i]) return false;
-            continue;
-        }
-        float a = (lo[i] - p[i]) / d[i], b = (hi[i] - p[i]) / d[i];
-        t0 = std::max(t0, std::min(a, b));
-        t1 = std::min(t1, std::max(a, b));
-    }
-    return t0 < t1;
-}
 
 CasterTriangles groundAndBox(glm::vec3 lo, glm::vec3 hi) {
     CasterTriangles c;
@@ -80,11 +68,11 @@ TEST_P(StaticBias, NoAcneAtGrazingAnglesAndShadowsWhereBlocked) {
                         continue;
                     // Skip receivers within 0.25 m of the box's footprint edge or its shadow edge: the
                     // bias may move the boundary by a texel or two there.
-                    bool b = blocked(p, light.position, lo, hi);
+                    bool b = test::blockedByBox(p, light.position, lo, hi);
                     bool near = false;
                     for (glm::vec3 o : {glm::vec3(0.25f, 0, 0), glm::vec3(-0.25f, 0, 0),
                                         glm::vec3(0, 0, 0.25f), glm::vec3(0, 0, -0.25f)})
-                        near |= blocked(p + o, light.position, lo, hi) != b;
+                        near |= test::blockedByBox(p + o, light.position, lo, hi) != b;
                     if (near ||
                         (x >= lo.x - 0.25f && x <= hi.x + 0.25f && z >= lo.z - 0.25f && z <= hi.z + 0.25f))
                         continue;
