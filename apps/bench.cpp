@@ -66,6 +66,7 @@ int runBench(int argc, char** argv) {
         return argc < 3 ? 2 : 0;
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
+    if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
     if (std::string(argv[2]) != "culling")
         return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
     auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});

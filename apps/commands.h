@@ -10,6 +10,8 @@ int runBenchStatic(int argc, char** argv);
 int runBake(int argc, char** argv);
 int runInspect(int argc, char** argv);
 int runVerify(int argc, char** argv);
+int runCheck(int argc, char** argv);
+int runBenchVsm(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1
 } // namespace ml

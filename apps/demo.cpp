@@ -5,6 +5,7 @@
 #include "apps/report.h"
 #include "apps/window.h"
 #include "host/scene_host.h"
+#include "scenes/camera_path.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
 
@@ -27,14 +28,22 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
-  --pcf R          static shadow filter radius: 0 one tap (default), 1 = 3x3, 2 = 5x5 ... 4 = 9x9
+  --pcf R          shadow filter radius (static and dynamic): 0 one tap (default), 1 = 3x3 ... 4 = 9x9
+  --path P         camera path: static (default: the scene's camera or --camera), drive, orbit
+  --dynamic M      dynamic shadows: vsm (virtual shadow maps, default) or off
+  --vsm-res N      virtual resolution of each shadow map (power of two, 256..16384; default 4096)
+  --vsm-page N     page size in texels: 32, 64 (default) or 128
+  --vsm-pool N     physical pages in the shared pool (default 4096)
+  --timing T       fenced (default: each pass submitted and timed on its own, honest on lavapipe) or
+                   timestamps (one command buffer, GPU timestamps)
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
 int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
-                            "--static", "--static-res", "--pcf", "--camera", "--bake"},
+                            "--static", "--static-res", "--pcf", "--camera", "--bake", "--path", "--dynamic",
+                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -56,6 +65,16 @@ int runDemo(int argc, char** argv) {
     for (const std::string* e : {&staticMethod.error(), &staticRes.error(), &pcf.error()})
         if (!e->empty()) return usageError("demo", *e);
     bool window = args->has("--window");
+    auto path = parseCameraPath(args->get("--path", "static"));
+    auto vsmRes = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
+    auto vsmPage = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
+    auto vsmPool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
+    for (const std::string* e : {&path.error(), &vsmRes.error(), &vsmPage.error(), &vsmPool.error()})
+        if (!e->empty()) return usageError("demo", *e);
+    const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
+    if (dynamic != "vsm" && dynamic != "off") return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
+    if (timing != "fenced" && timing != "timestamps")
+        return usageError("demo", "--timing takes fenced or timestamps, not '" + timing + "'");
 
     auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value());
     if (!scene) return runError("demo", scene.error());
@@ -66,6 +85,11 @@ int runDemo(int argc, char** argv) {
     mo.culling = culling.value();
     mo.statistics = !args->has("--no-stats");
     mo.device.window = window;
+    mo.timing = timing == "fenced" && !window ? TimingChoice::Fenced : TimingChoice::Timestamps;
+    mo.vsm.enabled = dynamic == "vsm";
+    mo.vsm.resolution = vsmRes.value();
+    mo.vsm.pageSize = vsmPage.value();
+    mo.vsm.poolPages = vsmPool.value();
     auto module = Module::create(mo);
     if (!module) return runError("demo", module.error());
     Module& m = *module.value();
@@ -113,6 +137,11 @@ int runDemo(int argc, char** argv) {
     for (uint32_t f = 0; f < frames.value(); ++f) {
         animateScene(scene.value(), f / 30.0);
         if (auto r = updateScene(m, scene.value(), binding.value()); !r) return runError("demo", r.error());
+        if (path.value() != CameraPath::Static) {
+            auto cam = cameraOnPath(scene.value(), path.value(), f / 30.0);
+            if (!cam) return runError("demo", cam.error());
+            if (auto r = m.setCamera(toCameraDesc(cam.value())); !r) return runError("demo", r.error());
+        }
         if (win) {
             if (auto r = win->frame(m); !r) return runError("demo", r.error());
         } else {
@@ -145,6 +174,18 @@ int runDemo(int argc, char** argv) {
     else
         std::printf("lights %u (visible %u), clusters %u, overflow %u (per-pixel counts off: --no-stats)\n",
                     s.lightsTotal, s.lightsVisible, s.clusters, s.clusterOverflowCount);
+    if (mo.vsm.enabled) {
+        const VsmStats& v = s.vsm;
+        std::printf("vsm: %u lights with pages, pages marked %u, allocated %u (%.1f MiB of a %.1f MiB pool), "
+                    "rendered %u, cached %u, fallbacks %u, draws %u (HPB culled %u)\n",
+                    v.lightsWithPages, v.pagesMarked, v.pagesAllocated, double(v.usedBytes) / 1048576.0,
+                    double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks, v.instancesDrawn,
+                    v.instancesCulledHpb);
+        if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot)
+            std::fprintf(stderr, "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
+                         "over the draw buffer, %u lights without a map slot\n",
+                         v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
+    }
     std::printf("wrote %s/frame_*.png, profile.json, frames.csv, stats.json\n", out.c_str());
     if (d.validationEnabled() && validationErrors()) {
         std::fprintf(stderr, "manylights demo: %u validation errors\n", validationErrors());

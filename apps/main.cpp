@@ -18,10 +18,11 @@ int runError(const char* command, const std::string& message) {
 static const char* kHelp = R"(usage: manylights <command> [options]
 Many shadowed lights on Vulkan. Commands (each takes --help):
   demo    render the night city (or a glTF scene) headless; images, GPU profile and stats
-  bench   benchmarks: `bench culling` (lights x culling mode, table and CSV)
+  bench   benchmarks: `bench culling`, `bench static`, `bench vsm` (tables, CSV, JSON)
   bake    bake static spot lights' shadows (sm, mh, mmh, dagmh, cpvs) into one bake file
   inspect validate a bake file and report its method, resolution, lights and bytes per part
   verify  re-render a bake file's lights and check every texel or voxel (last line JSON)
+  check   `check vsm`: every virtual-shadow-map lookup of a camera path against full reference maps
 )";
 
 int main(int argc, char** argv) {
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[1], "bake")) return ml::runBake(argc, argv);
     if (!std::strcmp(argv[1], "inspect")) return ml::runInspect(argc, argv);
     if (!std::strcmp(argv[1], "verify")) return ml::runVerify(argc, argv);
+    if (!std::strcmp(argv[1], "check")) return ml::runCheck(argc, argv);
     std::fprintf(stderr, "manylights: unknown command '%s' (see manylights help)\n", argv[1]);
     return 2;
 }

@@ -55,16 +55,24 @@ Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameRepo
 
 Result<void> writeStats(const std::string& path, const RunInfo& info, const std::vector<FrameReport>& reports) {
     if (reports.empty()) return fail(path + ": no frame results arrived (nothing to report)");
-    // Per-frame counts come from the last frame; times are means over all frames.
+    // Per-frame counts come from the last frame. Times: the first frame apart (first use of pipelines and
+    // memory: 10x a later frame on lavapipe), means and the median over the frames after it.
     const FrameStats& s = reports.back().stats;
+    const size_t from = reports.size() > 1 ? 1 : 0;
     double total = 0;
+    std::vector<double> frameMs;
     std::vector<double> passMean(kPassCount, 0.0);
     std::vector<uint32_t> passCount(kPassCount, 0);
-    for (const auto& r : reports) {
+    for (size_t i = from; i < reports.size(); ++i) {
+        const auto& r = reports[i];
         total += r.times.totalMs();
+        frameMs.push_back(r.times.totalMs());
         for (uint32_t p = 0; p < kPassCount; ++p)
             if (r.times.ran[p]) passMean[p] += r.times.ms[p], passCount[p]++;
     }
+    std::sort(frameMs.begin(), frameMs.end());
+    const double median = frameMs.size() % 2 ? frameMs[frameMs.size() / 2]
+                                             : 0.5 * (frameMs[frameMs.size() / 2 - 1] + frameMs[frameMs.size() / 2]);
     std::ostringstream o;
     o << "{\n";
     o << "  \"scene\": \"" << info.scene << "\",\n  \"culling\": \"" << info.culling << "\",\n";
@@ -85,7 +93,20 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
     o << "  \"lights_per_pixel_reaching_mean\": " << num(s.lightsPerPixelReachingMean) << ",\n";
     double tight = s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
     o << "  \"culling_tightness\": " << num(tight) << ",\n";
-    o << "  \"frame_gpu_ms_mean\": " << num(total / reports.size()) << ",\n";
+    o << "  \"frame_gpu_ms_first\": " << num(reports.front().times.totalMs()) << ",\n";
+    o << "  \"frame_gpu_ms_mean\": " << num(total / double(frameMs.size())) << ",\n";
+    o << "  \"frame_gpu_ms_median\": " << num(median) << ",\n";
+    const VsmStats& v = s.vsm;
+    o << "  \"vsm\": {\"pages_marked\": " << v.pagesMarked << ", \"pages_allocated\": " << v.pagesAllocated
+      << ", \"pages_cached\": " << v.pagesCached << ", \"pages_rendered\": " << v.pagesRendered
+      << ", \"pages_invalidated\": " << v.pagesInvalidated << ", \"pages_evicted\": " << v.pagesEvicted
+      << ", \"fallbacks\": " << v.fallbacks << ", \"pool_pages\": " << v.poolPages
+      << ", \"pool_bytes\": " << v.poolBytes << ", \"used_bytes\": " << v.usedBytes
+      << ", \"virtual_bytes\": " << v.virtualBytes << ", \"atlas_bytes\": " << v.atlasBytes
+      << ", \"lights_with_pages\": " << v.lightsWithPages << ", \"lights_without_slot\": " << v.lightsWithoutSlot
+      << ", \"maps_active\": " << v.mapsActive << ", \"instances_drawn\": " << v.instancesDrawn
+      << ", \"instances_culled_hpb\": " << v.instancesCulledHpb << ", \"draw_overflow\": " << v.drawOverflow
+      << "},\n";
     o << "  \"pass_gpu_ms_mean\": {";
     bool first = true;
     for (uint32_t p = 0; p < kPassCount; ++p) {

@@ -186,10 +186,11 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     if (!f13.dynamicRendering || !f13.synchronization2 || !f13.maintenance4)
         return fail(d->name + ": dynamic rendering / synchronization2 / maintenance4 missing");
     if (!f12.shaderBufferInt64Atomics || !f12.shaderSharedInt64Atomics || !f12.hostQueryReset ||
-        !f12.scalarBlockLayout || !f12.storageBuffer8BitAccess)
-        return fail(d->name + ": 64-bit atomics, host query reset, scalar layout or 8-bit storage missing");
-    if (!f2.features.shaderInt64 || !f2.features.multiDrawIndirect || !f2.features.fragmentStoresAndAtomics)
-        return fail(d->name + ": shaderInt64 / multiDrawIndirect / fragmentStoresAndAtomics missing");
+        !f12.scalarBlockLayout || !f12.storageBuffer8BitAccess || !f12.drawIndirectCount)
+        return fail(d->name + ": 64-bit atomics, host query reset, scalar layout, 8-bit storage or draw indirect count missing");
+    if (!f2.features.shaderInt64 || !f2.features.multiDrawIndirect || !f2.features.fragmentStoresAndAtomics ||
+        !f2.features.drawIndirectFirstInstance)
+        return fail(d->name + ": shaderInt64 / multiDrawIndirect / fragmentStoresAndAtomics / drawIndirectFirstInstance missing");
 
     VkPhysicalDeviceMeshShaderFeaturesEXT meshOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
     meshOn.meshShader = VK_TRUE;
@@ -198,13 +199,14 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     on13.dynamicRendering = on13.synchronization2 = on13.maintenance4 = VK_TRUE;
     VkPhysicalDeviceVulkan12Features on12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &on13};
     on12.shaderBufferInt64Atomics = on12.shaderSharedInt64Atomics = on12.hostQueryReset = VK_TRUE;
-    on12.scalarBlockLayout = on12.storageBuffer8BitAccess = VK_TRUE;
+    on12.scalarBlockLayout = on12.storageBuffer8BitAccess = on12.drawIndirectCount = VK_TRUE;
     on12.shaderInt8 = f12.shaderInt8;
     VkPhysicalDeviceVulkan11Features on11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &on12};
     on11.shaderDrawParameters = f11.shaderDrawParameters;
     on11.storageBuffer16BitAccess = f11.storageBuffer16BitAccess;
     VkPhysicalDeviceFeatures2 on2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &on11};
     on2.features.shaderInt64 = on2.features.multiDrawIndirect = on2.features.fragmentStoresAndAtomics = VK_TRUE;
+    on2.features.drawIndirectFirstInstance = VK_TRUE;
     on2.features.shaderInt16 = f2.features.shaderInt16;
 
     std::vector<const char*> devExt = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};

@@ -6,8 +6,8 @@
 //   module->addLight(spot);                               // validated: a bad value returns an error
 //   module->createTargets(1280, 720);                     // or setTargets(host G-buffer views)
 //   each frame: module->setCamera(cam); module->setInstanceTransform(...);
-//               module->record(cmd);                      // G-buffer (own targets), culling, evaluation
-//               submit cmd; later module->reports() gives per-pass GPU ms and frame statistics.
+//               module->record(cmd);                      // G-buffer (own targets), culling, shadows, evaluation
+//               submit cmd; later module->collect(); module->takeReports() give per-pass GPU ms and stats.
 //
 // Frames in flight: record() uses slot (frame % framesInFlight) for its per-frame buffers and
 // queries. The host must have waited for the frame that last used a slot before recording into it
@@ -18,6 +18,7 @@
 #include "engine/profiler.h"
 #include "engine/result.h"
 #include "shadows/static/static_method.h"
+#include "shadows/virtual/vsm_settings.h"
 
 #include <glm/glm.hpp>
 
@@ -33,15 +34,22 @@ enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2 };
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
 
-// How per-pass GPU times are measured (engine/profiler.h): Auto picks Fenced on CPU devices (lavapipe),
-// whose timestamps do not bracket compute work, and Timestamps elsewhere.
+// How per-pass GPU times are measured (engine/profiler.h).
+//   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own
+//     commands, with a timestamp pair around each. On lavapipe the timestamps do not bracket compute work
+//     (llvmpipe writes them from its rasteriser bins), so compute passes read near zero there.
+//   Fenced: a profiling mode the host opts into: record() submits each pass in its own command buffer
+//     and waits for it, timing it with the host clock (honest per-pass times on CPU devices); the host's
+//     command buffer receives nothing, so the host must have submitted and waited for its G-buffer work
+//     before calling record(). The demo and the benchmarks use it on CPU devices.
 enum class TimingChoice : uint32_t { Auto, Timestamps, Fenced };
 
 struct ModuleOptions {
     DeviceOptions device;               // when the module makes its own device
     std::optional<DeviceBorrow> borrow; // when the host hands over its device
     CullingMode culling = CullingMode::Clustered;
-    bool statistics = true;             // per-pixel light counts in the evaluation pass (costs a loop)
+    bool statistics = false;            // per-pixel light counts: a pass of its own (a brute-force loop)
+    VsmSettings vsm;                    // virtual shadow maps for dynamic casters (vsm.enabled)
     uint32_t framesInFlight = 2;
     TimingChoice timing = TimingChoice::Auto;
 };
@@ -114,6 +122,7 @@ struct FrameStats {
     uint64_t surfacePixels = 0;
     double lightsPerPixelEvaluatedMean = 0; // over pixels with geometry
     double lightsPerPixelReachingMean = 0;
+    VsmStats vsm; // virtual shadow maps (zero when disabled)
 };
 
 struct FrameReport {
@@ -133,9 +142,13 @@ class Module {
 
     Result<MeshId> addMesh(const MeshDesc& mesh);
     Result<InstanceId> addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo, bool dynamic);
+    // Dynamic instances only: a static instance's baked shadows would go stale, so moving one is refused.
+    // A non-finite transform is refused.
     Result<void> setInstanceTransform(InstanceId instance, const glm::mat4& transform);
     Result<LightId> addLight(const LightDesc& light);
     Result<void> setLight(LightId id, const LightDesc& light);
+    // Refuses non-finite values, near/far/fov out of range, target == position and `up` parallel to the
+    // view direction.
     Result<void> setCamera(const CameraDesc& camera);
     // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
     // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9).

@@ -64,6 +64,13 @@ Result<void> Module::setExposure(float exposure) {
     return {};
 }
 
+static bool finiteMatrix(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
 Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     auto impl = std::make_unique<Impl>();
     auto device = options.borrow ? Device::borrow(*options.borrow) : Device::create(options.device);
@@ -71,11 +78,30 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     impl->device = std::move(device.value());
     impl->culling = options.culling;
     impl->statistics = options.statistics;
-    impl->timing = options.timing == TimingChoice::Timestamps ? TimingMode::Timestamps
-                   : options.timing == TimingChoice::Fenced   ? TimingMode::Fenced
-                   : impl->device->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
-                       ? TimingMode::Fenced
-                       : TimingMode::Timestamps;
+    // Fenced is an explicit profiling mode (manylights.h): by default record() records into the host's
+    // command buffer on every device.
+    impl->timing = options.timing == TimingChoice::Fenced ? TimingMode::Fenced : TimingMode::Timestamps;
+    const VsmSettings& v = options.vsm;
+    if (v.enabled) {
+        auto pow2 = [](uint32_t x) { return x && !(x & (x - 1)); };
+        if (!pow2(v.resolution) || v.resolution < 256 || v.resolution > 16384)
+            return fail("vsm: resolution " + std::to_string(v.resolution) + " is not a power of two in 256..16384");
+        if (v.pageSize != 32 && v.pageSize != 64 && v.pageSize != 128)
+            return fail("vsm: page size " + std::to_string(v.pageSize) + " is not 32, 64 or 128");
+        if (v.pageSize > v.resolution) return fail("vsm: page size is larger than the resolution");
+        if (v.poolPages < 1 || v.poolPages > ML_VSM_PHYS_MASK)
+            return fail("vsm: pool pages " + std::to_string(v.poolPages) + " outside 1..16777215");
+        if (uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4 > (uint64_t(1) << 32) - 4)
+            return fail("vsm: a pool of " + std::to_string(v.poolPages) + " pages of " +
+                        std::to_string(v.pageSize) + "^2 exceeds 4 GiB");
+        if (v.maxMaps < 1 || v.maxMaps > 65536) return fail("vsm: max maps outside 1..65536");
+        if (v.clipLevels < 1 || v.clipLevels > 20) return fail("vsm: clip levels outside 1..20");
+        if (!(v.clipHalfExtent > 0) || !std::isfinite(v.clipHalfExtent) || !(v.clipDepth > 0) ||
+            !std::isfinite(v.clipDepth))
+            return fail("vsm: clip extent and depth must be finite and > 0");
+        if (v.maxDrawsPerMip < 1) return fail("vsm: max draws per mip must be >= 1");
+    }
+    impl->vsmSettings = v;
     impl->slots.resize(std::max(1u, options.framesInFlight));
     impl->init();
     return std::unique_ptr<Module>(new Module(std::move(impl)));
@@ -85,7 +111,11 @@ void Module::Impl::init() {
     const Device& d = *device;
     gbuffer.create(d);
     cull.create(d);
+    vsm.create(d, vsmSettings, uint32_t(slots.size()));
     evalShader = ML_SHADER(d, spv_evaluate_comp);
+    statsShader = ML_SHADER(d, spv_statistics_comp);
+    evalProgram = createComputeProgram(d, evalShader, 0, {{/*kSpecOutput*/ 0, 0u}});
+    statsProgram = createComputeProgram(d, statsShader, 0);
     profiler.create(d, uint32_t(slots.size()));
     profiler.mode = timing;
     for (auto& s : slots) {
@@ -103,8 +133,11 @@ void Module::Impl::destroy() {
     vkDeviceWaitIdle(d.device);
     gbuffer.destroy(d);
     cull.destroy(d);
-    for (auto& [key, p] : evalPrograms) destroyProgram(d, p);
+    destroyProgram(d, evalProgram);
+    destroyProgram(d, statsProgram);
     destroyShader(d, evalShader);
+    destroyShader(d, statsShader);
+    vsm.destroy(d);
     profiler.destroy(d);
     for (auto& s : slots) {
         destroyBuffer(d, s.frame);
@@ -135,7 +168,14 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
         for (float f : mesh.vertices[i].position)
             if (!std::isfinite(f))
                 return fail("mesh '" + mesh.name + "': vertex " + std::to_string(i) + " is not finite");
-    Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size())};
+    glm::vec3 lo(mesh.vertices.empty() ? 0.0f : 1e30f), hi(mesh.vertices.empty() ? 0.0f : -1e30f);
+    for (const MeshVertex& v : mesh.vertices) {
+        glm::vec3 p(v.position[0], v.position[1], v.position[2]);
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
+                      hi};
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
@@ -148,6 +188,10 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
     auto& m = *impl_;
     if (mesh >= m.meshes.size())
         return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist");
+    if (!finiteMatrix(transform)) return fail("addInstance: transform is not finite");
+    if (!std::isfinite(albedo.x) || !std::isfinite(albedo.y) || !std::isfinite(albedo.z) || albedo.x < 0 ||
+        albedo.y < 0 || albedo.z < 0)
+        return fail("addInstance: albedo must be finite and >= 0");
     m.instances.push_back({mesh, transform, albedo, dynamic});
     m.geometryDirty = true;
     return InstanceId(m.instances.size() - 1);
@@ -156,6 +200,11 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
 Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transform) {
     if (id >= impl_->instances.size())
         return fail("setInstanceTransform: instance " + std::to_string(id) + " does not exist");
+    if (!impl_->instances[id].dynamic)
+        return fail("setInstanceTransform: instance " + std::to_string(id) +
+                    " is static (its baked shadows would go stale); add it with dynamic = true to move it");
+    if (!finiteMatrix(transform))
+        return fail("setInstanceTransform: instance " + std::to_string(id) + ": transform is not finite");
     impl_->instances[id].transform = transform;
     return {};
 }
@@ -220,6 +269,7 @@ Result<void> Module::setShadowFilter(uint32_t radius) {
                     std::to_string(ML_MAX_PCF_RADIUS));
     impl_->pcfRadius = radius;
     impl_->shadowsDirty = true;
+    impl_->vsm.setPcfRadius(radius);
     return {};
 }
 
@@ -260,9 +310,17 @@ void Module::Impl::uploadShadows() {
 }
 
 Result<void> Module::setCamera(const CameraDesc& c) {
-    if (!(c.nearPlane > 0) || !(c.farPlane > c.nearPlane) || !(c.fovY > 0 && c.fovY < 3.1f))
-        return fail("camera: need 0 < near < far and 0 < fovY < pi");
-    if (glm::length(c.target - c.position) <= 0) return fail("camera: target equals position");
+    for (const glm::vec3* v : {&c.position, &c.target, &c.up})
+        if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || std::abs(v->x) > 1e6f ||
+            std::abs(v->y) > 1e6f || std::abs(v->z) > 1e6f)
+            return fail("camera: position, target and up must be finite and within 1e6 m");
+    if (!(c.nearPlane > 0) || !(c.farPlane > c.nearPlane) || !(c.fovY > 0 && c.fovY < 3.1f) ||
+        !std::isfinite(c.farPlane))
+        return fail("camera: need 0 < near < far (finite) and 0 < fovY < pi");
+    glm::vec3 view = c.target - c.position;
+    if (!(glm::length(view) > 1e-6f)) return fail("camera: target equals position");
+    if (!(glm::length(c.up) > 1e-6f) || glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up))) < 1e-4f)
+        return fail("camera: up is zero or parallel to the view direction");
     impl_->camera = c;
     return {};
 }
@@ -306,16 +364,6 @@ void Module::Impl::createOutput(bool withOutput) {
     cullingMode = CullingMode(~0u); // force resize of the cluster buffers
 }
 
-const Program& Module::Impl::evalProgram() {
-    uint32_t key = uint32_t(culling) * 2 + (statistics ? 1 : 0);
-    auto it = evalPrograms.find(key);
-    if (it != evalPrograms.end()) return it->second;
-    Program p = createComputeProgram(
-        *device, evalShader, 0,
-        {{/*kSpecCullingMode*/ 0, uint32_t(culling)}, {/*kSpecStats*/ 1, statistics ? 1u : 0u}});
-    return evalPrograms.emplace(key, p).first->second;
-}
-
 void Module::Impl::uploadGeometry() {
     const Device& d = *device;
     vkDeviceWaitIdle(d.device); // geometry changes are rare (load time); frames in flight may read it
@@ -339,6 +387,8 @@ void Module::Impl::uploadGeometry() {
 Result<void> Module::record(VkCommandBuffer cmd) {
     auto& m = *impl_;
     if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
+    if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)
+        return fail("record: no command buffer (the module records into the host's)");
     if (m.geometryDirty) m.uploadGeometry();
     if (m.shadowsDirty || m.recordOfLight.size() != m.lights.size()) m.uploadShadows();
     const Device& d = *m.device;
@@ -355,61 +405,24 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         m.cullingMode = mode;
     }
 
-    // Frame constants.
-    const CameraDesc& c = m.camera;
-    glm::mat4 view = glm::lookAt(c.position, c.target, c.up);
-    glm::mat4 proj = glm::perspectiveRH_ZO(c.fovY, float(m.width) / float(m.height), c.nearPlane, c.farPlane);
-    proj[1][1] *= -1.0f; // Vulkan clip space has +y down
-    gpu::FrameConstants fc{};
-    fc.viewProj = proj * view;
-    fc.invViewProj = glm::inverse(fc.viewProj);
-    fc.cameraPosition = glm::vec4(c.position, 1.0f);
-    fc.size = glm::uvec4(m.width, m.height, grid.tilesX, grid.tilesY);
-    fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
-    fc.ambient = glm::vec4(0.020f, 0.024f, 0.040f, m.exposure);
-    fc.sky = glm::vec4(0.006f, 0.009f, 0.022f, 0.0f);
-    fc.limits = glm::uvec4(m.cull.poolCapacity, grid.count(), 0, 0);
-
-    // Visible lights: bounding sphere against the camera frustum.
-    auto planes = frustumPlanes(fc.viewProj);
-    auto* gl = slot.lights.as<gpu::GpuLight>();
-    uint32_t visible = 0;
-    for (uint32_t i = 0; i < m.lights.size(); ++i) {
-        const LightDesc& l = m.lights[i];
-        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
-        gl[visible] = toGpuLight(l, i);
-        gl[visible++].info.z = m.recordOfLight[i];
-    }
-    fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
-    upload(slot.frame, &fc, sizeof(fc));
-    std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
-    upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
-    auto* inst = slot.instances.as<GpuInstance>();
-    for (size_t i = 0; i < m.instances.size(); ++i) {
-        inst[i].model = m.instances[i].transform;
-        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(m.instances[i].transform))));
-        inst[i].albedo = glm::vec4(m.instances[i].albedo, 1.0f);
-    }
-    slot.lightsTotal = uint32_t(m.lights.size());
-    slot.lightsVisible = visible;
-    slot.clusters = mode == CullingMode::None ? 0 : grid.count();
-    slot.poolCapacity = m.cull.poolCapacity;
-    slot.mode = mode;
-    slot.frameNumber = m.frameIndex;
-    m.lastConstants = fc;
-    m.lastSliceFar = sliceFar;
-    m.lastLights.assign(gl, gl + visible);
+    m.writeFrame(slot, slotIndex, grid, mode);
 
     VkImageView depthView = m.ownTargets ? m.targets.depth.view : m.host.depth;
     VkImageView normalView = m.ownTargets ? m.targets.normal.view : m.host.normal;
     VkImageView albedoView = m.ownTargets ? m.targets.albedo.view : m.host.albedo;
     VkImageView outputView = m.ownTargets ? m.output.view : m.host.output;
+    const Descriptor depth(Image{.view = depthView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    const auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    const auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT, W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+
+    // The frame as a list of passes (each a profiler entry with a debug label).
     m.profiler.beginFrame(cmd, slotIndex);
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // Previous frames may still read the shared cluster buffers and targets: order after them.
+        // The previous frame's passes may still read the cluster buffers, the shared VSM state and the
+        // targets this frame rewrites (write-after-read on one queue): order this frame after them.
         fullBarrier(c, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
         vkCmdFillBuffer(c, slot.counters.buffer, 0, VK_WHOLE_SIZE, 0);
-        fullBarrier(c, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters
     });
     if (m.ownTargets)
         m.profiler.run(cmd, Pass::GBuffer, [&](VkCommandBuffer c) {
@@ -419,32 +432,137 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (mode != CullingMode::None)
         m.cull.record(d, cmd, slot.frame, slot.slices, slot.lights, depthView, slot.counters, m.profiler);
 
-    const Program& eval = m.evalProgram();
+    VsmFrameInputs vin{&slot.frame,  &slot.slices,    &slot.lights,   &m.cull.ranges,   &m.cull.pool, depthView,
+                       normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
+    m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
+
     m.profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        // The HDR and output images are rewritten whole: their old contents are discarded.
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C, W);
         if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
-                         VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0,
-                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-        bindProgram(d, c, eval,
-                    {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool,
-                     Descriptor(Image{.view = depthView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                     Descriptor(Image{.view = normalView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                     Descriptor(Image{.view = albedoView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                     Descriptor(m.hdr), Descriptor(Image{.view = outputView}), slot.counters, m.staticWords,
-                     m.shadowRecords},
-                    nullptr, 0);
-        vkCmdDispatch(c, (m.width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
-                      (m.height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
-        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, C, W);
+        const VirtualShadowMaps& v = m.vsm;
+        const bool vsmOn = v.enabled();
+        dispatch(d, c, m.evalProgram, m.width, m.height, NoPush{},
+                 {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool, depth,
+                  Descriptor(Image{.view = normalView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                  Descriptor(Image{.view = albedoView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), Descriptor(m.hdr),
+                  Descriptor(Image{.view = outputView}), m.staticWords, m.shadowRecords,
+                  vsmOn ? v.constants(slotIndex) : slot.frame, vsmOn ? v.maps(slotIndex) : m.staticWords,
+                  vsmOn ? v.coverage(slotIndex) : m.staticWords, vsmOn ? v.table() : m.staticWords,
+                  vsmOn ? v.pagePool() : m.staticWords});
+        // HDR and output -> the host (reads, copies, presents); the module's readOutput copies.
+        memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                      VK_ACCESS_2_MEMORY_READ_BIT);
     });
+    if (m.vsm.settings().probeCapacity)
+        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordProbe(d, c, slotIndex, vin); });
+    if (m.statistics)
+        m.profiler.run(cmd, Pass::Statistics, [&](VkCommandBuffer c) {
+            dispatch(d, c, m.statsProgram, m.width, m.height, NoPush{},
+                     {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool, depth, slot.counters});
+            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
+        });
+    else
+        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
+            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
+        });
 
     slot.pending = true;
+    slot.statistics = m.statistics;
+    m.lastSlot = slotIndex;
     m.frameIndex++;
     return {};
+}
+
+// Frame constants, visible lights (with their static records and virtual maps), instances: everything
+// the host side writes into the slot's buffers for one frame.
+void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode) {
+    const CameraDesc& c = camera;
+    glm::mat4 view = glm::lookAt(c.position, c.target, c.up);
+    glm::mat4 proj = glm::perspectiveRH_ZO(c.fovY, float(width) / float(height), c.nearPlane, c.farPlane);
+    proj[1][1] *= -1.0f; // Vulkan clip space has +y down
+    gpu::FrameConstants fc{};
+    fc.viewProj = proj * view;
+    fc.invViewProj = glm::inverse(fc.viewProj);
+    fc.cameraPosition = glm::vec4(c.position, 1.0f);
+    fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
+    fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
+    fc.ambient = glm::vec4(0.020f, 0.024f, 0.040f, exposure);
+    fc.sky = glm::vec4(0.006f, 0.009f, 0.022f, 0.0f);
+    fc.limits = glm::uvec4(cull.poolCapacity, grid.count(), 0, 0);
+
+    // Visible lights: bounding sphere against the camera frustum.
+    auto planes = frustumPlanes(fc.viewProj);
+    auto* gl = slot.lights.as<gpu::GpuLight>();
+    std::vector<uint32_t> visibleIds;
+    for (uint32_t i = 0; i < lights.size(); ++i) {
+        const LightDesc& l = lights[i];
+        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
+        gl[visibleIds.size()] = toGpuLight(l, i);
+        gl[visibleIds.size()].info.z = recordOfLight[i];
+        visibleIds.push_back(i);
+    }
+    const uint32_t visible = uint32_t(visibleIds.size());
+
+    // Instances, and what the virtual shadow maps need of them and of the lights.
+    auto* inst = slot.instances.as<GpuInstance>();
+    std::vector<VsmInstance> casters(instances.size());
+    for (size_t i = 0; i < instances.size(); ++i) {
+        const InstanceData& id = instances[i];
+        inst[i].model = id.transform;
+        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
+        inst[i].albedo = glm::vec4(id.albedo, 1.0f);
+        const MeshRange& r = meshes[id.mesh];
+        VsmInstance& v = casters[i];
+        v.lo = glm::vec3(1e30f);
+        v.hi = glm::vec3(-1e30f);
+        for (uint32_t k = 0; k < 8; ++k) {
+            glm::vec3 p((k & 1) ? r.hi.x : r.lo.x, (k & 2) ? r.hi.y : r.lo.y, (k & 4) ? r.hi.z : r.lo.z);
+            glm::vec3 w = glm::vec3(id.transform * glm::vec4(p, 1.0f));
+            v.lo = glm::min(v.lo, w);
+            v.hi = glm::max(v.hi, w);
+        }
+        v.indexCount = r.indexCount;
+        v.firstIndex = r.firstIndex;
+        v.vertexOffset = r.firstVertex;
+        v.dynamic = id.dynamic;
+    }
+    if (vsm.enabled()) {
+        std::vector<VsmLight> vl(lights.size());
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const LightDesc& l = lights[i];
+            vl[i].kind = uint32_t(l.kind);
+            vl[i].position = l.position;
+            vl[i].direction = l.direction;
+            vl[i].range = l.range;
+            vl[i].outerAngle = l.outerAngle;
+            vl[i].moving = l.dynamic;
+            const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
+            bool baked = l.kind != LightKind::Directional;
+            for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
+            // A moving light's bake (if any) no longer matches it: its maps take every caster.
+            vl[i].staticBake = baked && !l.dynamic;
+        }
+        std::vector<uint32_t> firstMap =
+            vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters, {c.position, c.fovY, height});
+        for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap[v];
+    }
+
+    fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
+    upload(slot.frame, &fc, sizeof(fc));
+    std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
+    upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
+    slot.lightsTotal = uint32_t(lights.size());
+    slot.lightsVisible = visible;
+    slot.clusters = mode == CullingMode::None ? 0 : grid.count();
+    slot.poolCapacity = cull.poolCapacity;
+    slot.mode = mode;
+    slot.frameNumber = frameIndex;
+    lastConstants = fc;
+    lastSliceFar = sliceFar;
+    lastLights.assign(gl, gl + visible);
 }
 
 void Module::Impl::collectSlot(uint32_t index) {
@@ -464,7 +582,8 @@ void Module::Impl::collectSlot(uint32_t index) {
     st.poolEntries = std::min(c.poolCursor, s.poolCapacity);
     st.poolCapacity = s.poolCapacity;
     st.surfacePixels = c.surfacePixels;
-    if (c.surfacePixels) {
+    st.vsm = vsm.readStats(index);
+    if (s.statistics && c.surfacePixels) {
         st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
         st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);
     }

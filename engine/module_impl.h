@@ -5,25 +5,22 @@
 #include "engine/gbuffer.h"
 #include "engine/manylights.h"
 #include "engine/profiler.h"
+#include "shadows/virtual/vsm.h"
 
 #include "evaluate.comp.spv.h"
+#include "statistics.comp.spv.h"
 
 #include <array>
 #include <map>
 
 namespace ml {
 
-// Per-instance GPU data (gbuffer.vert's GpuInstance).
-struct GpuInstance {
-    glm::mat4 model;
-    glm::mat4 normalMatrix;
-    glm::vec4 albedo;
-};
-static_assert(sizeof(GpuInstance) == 144);
+using gpu::GpuInstance;
 
 struct Module::Impl {
     struct MeshRange {
         uint32_t firstVertex, firstIndex, indexCount;
+        glm::vec3 lo, hi; // object-space bounds
     };
     struct InstanceData {
         MeshId mesh;
@@ -38,12 +35,13 @@ struct Module::Impl {
         uint64_t frameNumber = 0;
         uint32_t lightsTotal = 0, lightsVisible = 0, clusters = 0, poolCapacity = 0;
         CullingMode mode = CullingMode::Clustered;
+        bool statistics = false;
     };
 
     std::unique_ptr<Device> device;
     CullingMode culling = CullingMode::Clustered;
     CullingMode cullingMode = CullingMode(~0u); // mode the cluster buffers are sized for
-    bool statistics = true;
+    bool statistics = false;
     TimingMode timing = TimingMode::Timestamps;
     float exposure = 3.0f; // night scenes: lamps of ~40 cd at 6 m give ~0.1 before exposure
     uint32_t poolOverride = 0; // tests: force a small light-list pool
@@ -76,8 +74,11 @@ struct Module::Impl {
 
     GBufferPass gbuffer;
     LightCulling cull;
-    ShaderModule evalShader;
-    std::map<uint32_t, Program> evalPrograms;
+    ShaderModule evalShader, statsShader;
+    Program evalProgram, statsProgram;
+    VirtualShadowMaps vsm;
+    VsmSettings vsmSettings;
+    std::vector<InstanceData> lastInstances; // for moved-caster detection (by the VSM)
     Profiler profiler;
     std::vector<Slot> slots;
     uint64_t frameIndex = 0;
@@ -87,6 +88,7 @@ struct Module::Impl {
     gpu::FrameConstants lastConstants{};
     std::vector<float> lastSliceFar;
     std::vector<gpu::GpuLight> lastLights;
+    uint32_t lastSlot = 0;
 
     void init();
     void destroy();
@@ -94,8 +96,8 @@ struct Module::Impl {
     void createOutput(bool withOutput);
     void uploadGeometry();
     void uploadShadows();
-    const Program& evalProgram();
     void collectSlot(uint32_t index);
+    void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
 
 } // namespace ml

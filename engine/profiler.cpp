@@ -10,7 +10,13 @@ const char* passName(Pass pass) {
     case Pass::GBuffer: return "gbuffer";
     case Pass::ClusterBounds: return "cluster_bounds";
     case Pass::LightAssign: return "light_assign";
+    case Pass::VsmMark: return "vsm_mark";
+    case Pass::VsmAlloc: return "vsm_alloc";
+    case Pass::VsmHpb: return "vsm_hpb";
+    case Pass::VsmCull: return "vsm_cull";
+    case Pass::VsmDraw: return "vsm_draw";
     case Pass::Evaluate: return "evaluate";
+    case Pass::Statistics: return "statistics";
     case Pass::Count: break;
     }
     return "?";

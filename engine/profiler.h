@@ -10,7 +10,19 @@
 namespace ml {
 
 // Every pass the module records. Later passes (shadows) add entries here and a name in passName().
-enum class Pass : uint32_t { GBuffer, ClusterBounds, LightAssign, Evaluate, Count };
+enum class Pass : uint32_t {
+    GBuffer,
+    ClusterBounds,
+    LightAssign,
+    VsmMark,   // virtual shadow maps: pages from the depth buffer
+    VsmAlloc,  // scan, allocate, assign (caching, invalidation, LRU)
+    VsmHpb,    // hierarchical page buffer
+    VsmCull,   // instance culling into per-mip draw lists
+    VsmDraw,   // clear and draw the dirty pages
+    Evaluate,
+    Statistics, // per-pixel light counts (optional)
+    Count
+};
 constexpr uint32_t kPassCount = uint32_t(Pass::Count);
 const char* passName(Pass pass);
 

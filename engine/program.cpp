@@ -31,6 +31,8 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
     assert(words >= 5 && code[0] == 0x07230203);
     uint32_t bound = code[3];
     std::vector<Id> ids(bound);
+    std::vector<uint32_t> constants(bound, 0);
+    uint32_t localSizeIds[3] = {0, 0, 0}; // LocalSizeId operands, resolved once the constants are read
     for (size_t i = 5; i < words;) {
         uint32_t op = code[i] & 0xffff, n = code[i] >> 16;
         const uint32_t* ins = code + i;
@@ -51,6 +53,13 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
                 sm.localSize[1] = ins[4];
                 sm.localSize[2] = ins[5];
             }
+            break;
+        case 331: // OpExecutionModeId: glslang emits LocalSizeId (38) for SPIR-V 1.6 targets
+            if (ins[2] == 38)
+                for (int k = 0; k < 3; ++k) localSizeIds[k] = ins[3 + k];
+            break;
+        case 43: // OpConstant (32-bit scalars are all the local sizes need)
+            if (n == 4) constants[ins[2]] = ins[3];
             break;
         case OpDecorate:
             if (ins[2] == DecBinding) ids[ins[1]].binding = ins[3];
@@ -85,6 +94,8 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
         }
         i += n ? n : 1;
     }
+    if (localSizeIds[0])
+        for (int k = 0; k < 3; ++k) sm.localSize[k] = constants[localSizeIds[k]];
     for (const Id& v : ids) {
         if (v.opcode != OpVariable) continue;
         if (v.storageClass == ScPushConstant) sm.usesPushConstants = true;
@@ -313,6 +324,12 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
     }
     if (b) device.cmdPushDescriptorSet(cmd, p.bindPoint, p.layout, 0, b, writes);
     if (pushSize) vkCmdPushConstants(cmd, p.layout, p.stages, 0, pushSize, push);
+}
+
+void checkGroupCount(const Program& p, uint32_t gx, uint32_t gy) {
+    if (gx <= 65535 && gy <= 65535) return;
+    std::fprintf(stderr, "%s: dispatch of %u x %u groups exceeds 65535 per dimension\n", p.name.c_str(), gx, gy);
+    std::abort();
 }
 
 } // namespace ml

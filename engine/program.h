@@ -9,6 +9,7 @@
 #include "engine/resources.h"
 
 #include <initializer_list>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -78,13 +79,23 @@ struct Descriptor {
 void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& program,
                  std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize);
 
+// Aborts naming the program when a dispatch exceeds the 65535 groups per dimension every device has.
+void checkGroupCount(const Program& program, uint32_t groupsX, uint32_t groupsY);
+
+// A program without push constants takes NoPush{}.
+struct NoPush {};
+
+// Binds, checks the push size and descriptors against the shader's reflection (bindProgram aborts with
+// the program's name on a mismatch) and dispatches ceil(threads / local size) groups.
 template <class Push>
 void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX, uint32_t threadsY,
               const Push& push, std::initializer_list<Descriptor> descriptors) {
     static_assert(sizeof(Push) <= 128, "push constants are limited to 128 bytes");
-    bindProgram(device, cmd, program, descriptors, &push, sizeof(Push));
+    constexpr uint32_t pushSize = std::is_empty_v<Push> ? 0u : uint32_t(sizeof(Push));
+    bindProgram(device, cmd, program, descriptors, &push, pushSize);
     uint32_t gx = (threadsX + program.localSize[0] - 1) / program.localSize[0];
     uint32_t gy = (threadsY + program.localSize[1] - 1) / program.localSize[1];
+    checkGroupCount(program, gx, gy);
     if (gx && gy) vkCmdDispatch(cmd, gx, gy, 1);
 }
 

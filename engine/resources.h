@@ -45,7 +45,11 @@ Image createImage(const Device& device, uint32_t width, uint32_t height, VkForma
                   const char* name);
 void destroyImage(const Device& device, Image& image);
 
-// Synchronisation2 helpers: one barrier covering all prior and later work of the given stages.
+// Synchronisation2 helpers. memoryBarrier orders one hazard: writes `srcAccess` of stages `src` before
+// accesses `dstAccess` of stages `dst` (say which resource at the call). fullBarrier covers all prior and
+// later memory work of the given stages.
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                   VkAccessFlags2 dstAccess);
 void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStageFlags2 dst);
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
                   VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,

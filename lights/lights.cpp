@@ -41,7 +41,7 @@ gpu::GpuLight toGpuLight(const LightDesc& l, uint32_t id) {
     g.directionCosOuter = glm::vec4(dir, std::cos(outer));
     g.colorSinOuter = glm::vec4(l.color * l.intensity, std::sin(outer));
     g.params = glm::vec4(std::cos(inner), 1.0f / (l.range * l.range), 0, 0);
-    g.info = glm::uvec4(uint32_t(l.kind), l.dynamic ? 1u : 0u, ML_NO_SHADOW, id);
+    g.info = glm::uvec4(uint32_t(l.kind), ML_VSM_NO_MAP, ML_NO_SHADOW, id);
     return g;
 }
 

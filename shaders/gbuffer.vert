@@ -4,8 +4,6 @@
 // the instance index, so one indirect multi-draw renders every instance.
 #include "shaders/shared/glsl_common.h"
 
-struct GpuVertex { float px, py, pz, nx, ny, nz; };
-struct GpuInstance { mat4 model; mat4 normalMatrix; vec4 albedo; };
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Vertices { GpuVertex vertices[]; };

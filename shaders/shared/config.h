@@ -54,4 +54,27 @@
 // Marks an overflowed cluster in ClusterRange.offset.
 #define ML_CLUSTER_OVERFLOW 0xFFFFFFFFu
 
+// Virtual shadow maps (shadows/virtual/). Page size, virtual resolution and pool size are runtime
+// settings (VsmSettings in engine/manylights.h); these are the fixed limits and workgroup sizes.
+// GpuLight.info.y of a light without virtual shadow maps.
+#define ML_VSM_NO_MAP 0xFFFFFFFFu
+// Allocation passes (vsm_scan, vsm_assign) work in blocks of 256 page-table entries, one workgroup
+// each: the in-block rank is a shared-memory prefix sum, and 256 entries x 4 B fit one lavapipe
+// workgroup's shared memory many times over. vsm_alloc is one workgroup of the same size.
+#define ML_VSM_BLOCK 256
+// Marking and lookup: 8x8 pixels per workgroup, as the evaluation pass (neighbours share clusters).
+#define ML_VSM_MARK_GROUP 8
+// Shadow-page clear: one workgroup per rendered page, each thread clears pageSize^2 / 256 texels.
+#define ML_VSM_CLEAR_GROUP 256
+// Instance culling: one thread per (active map, caster).
+#define ML_VSM_CULL_GROUP 64
+// Each receiver also marks the page ML_VSM_FALLBACK_MIPS mips (or clip levels) coarser than the one it
+// wants: allocation serves coarse mips first, so when the pool runs out the lookup still finds that
+// page. 3 mips up, a fallback page covers 8x8 wanted pages, so it costs 1/64 of the marked pages (and
+// draws only the casters over them), while still being a shadow at 1/8 the resolution, not none.
+#define ML_VSM_FALLBACK_MIPS 3u
+// Mips of a map: S_0 = resolution / page size pages per side, mips down to one page. 16384 / 32 gives
+// at most 10 mips; 16 leaves room and bounds the loops.
+#define ML_VSM_MAX_MIPS 16
+
 #endif

@@ -30,7 +30,22 @@ ML_STRUCT(GpuLight) {
     vec4 directionCosOuter; // xyz unit direction, w cos(outer half angle)
     vec4 colorSinOuter;     // rgb colour * intensity, w sin(outer half angle)
     vec4 params;            // x cos(inner half angle), y 1/range^2, zw unused
-    uvec4 info;             // x type (ML_LIGHT_*), y flags, z static shadow record (ML_NO_SHADOW: none), w light id
+    uvec4 info;             // x type (ML_LIGHT_*), y first virtual shadow map (ML_VSM_NO_MAP: none),
+                            // z static shadow record (ML_NO_SHADOW: none), w light id
+};
+
+// A mesh vertex as the module stores it (MeshVertex in engine/manylights.h): pulled from a storage
+// buffer by the G-buffer and shadow-page vertex shaders. 24 bytes, no padding (std430 float members).
+ML_STRUCT(GpuVertex) {
+    float px, py, pz;
+    float nx, ny, nz;
+};
+
+// Per-instance data, one per module instance and frame in flight. 144 bytes.
+ML_STRUCT(GpuInstance) {
+    mat4 model;
+    mat4 normalMatrix;
+    vec4 albedo; // rgb linear albedo, w 1
 };
 
 // A light's baked static shadow (shadows/static/static_method.h): where its words start in the one
@@ -75,6 +90,8 @@ ML_STRUCT(FrameCounters) {
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuLight) == 80);
+static_assert(sizeof(GpuVertex) == 24);
+static_assert(sizeof(GpuInstance) == 144);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(FrameConstants) == 240);
 static_assert(offsetof(FrameConstants, size) == 144);

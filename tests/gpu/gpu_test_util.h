@@ -19,6 +19,7 @@ inline std::unique_ptr<Module> makeModule(CullingMode mode = CullingMode::Cluste
     ModuleOptions o;
     o.device.validation = true;
     o.culling = mode;
+    o.statistics = true; // the tests compare the per-pixel counts
     auto m = Module::create(o);
     EXPECT_TRUE(m.ok()) << m.error();
     return m ? std::move(m.value()) : nullptr;

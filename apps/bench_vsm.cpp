@@ -1,0 +1,173 @@
+// `manylights bench vsm`: virtual shadow maps along a camera path, cached against uncached (every marked
+// page redrawn every frame) in the same run, per light kind (the seed's Table 1 shape: RMVSM section 5):
+// static spot lights, moving spot lights (headlights), point lights, the directional light. Each row is a
+// run of the path in which only that kind has maps. Times are fenced per-pass times (each pass submitted
+// and timed on its own: honest on lavapipe), means over the frames after the first (first use of
+// pipelines). Writes DIR/bench_vsm.csv (per frame) and DIR/bench_vsm.json; the last stdout line is JSON.
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "host/vsm_session.h"
+#include "shaders/shared/config.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace ml {
+
+static const char* kBenchVsmHelp = R"(usage: manylights bench vsm [options]
+Virtual shadow maps on a camera path: pass times and page counts, cached against uncached, per light kind.
+  --scene S       night-city (default) or a .gltf / .glb file
+  --path P        drive (default), orbit or static
+  --frames N      frames per run (default 20; the first is reported apart)
+  --size WxH      frame size (default 640x360)
+  --lights N      lights in the scene (default 256)
+  --bake FILE     static bake of this scene (then static lights' maps hold dynamic casters only)
+  --vsm-res N     virtual resolution (default 4096)
+  --vsm-page N    page size: 32, 64 (default), 128
+  --vsm-pool N    physical pages (default 4096)
+  --kinds LIST    rows to run, comma-separated from static-spot,moving-spot,point,directional (default all)
+  --out DIR       output folder (default out/bench_vsm)
+Last stdout line: {"cached_draw_ms_mean": ..., "uncached_draw_ms_mean": ..., "pages_allocated_mean": ...,
+"fallbacks_total": ..., ...}
+)";
+
+namespace {
+
+struct Row {
+    std::string kind;
+    bool cached = true;
+    double markMs = 0, allocMs = 0, hpbMs = 0, cullMs = 0, drawMs = 0, frames = 0;
+    double marked = 0, allocated = 0, rendered = 0, draws = 0;
+    uint64_t fallbacks = 0;
+    uint32_t lightsWithPages = 0;
+};
+
+} // namespace
+
+int runBenchVsm(int argc, char** argv) {
+    auto args = cli::parse(argc, argv, 3,
+                           {"--scene", "--path", "--frames", "--size", "--lights", "--bake", "--vsm-res", "--vsm-page",
+                            "--vsm-pool", "--kinds", "--out"},
+                           {});
+    if (!args) return usageError("bench vsm", args.error());
+    if (args->help) {
+        std::fputs(kBenchVsmHelp, stdout);
+        return 0;
+    }
+    auto path = parseCameraPath(args->get("--path", "drive"));
+    auto frames = cli::parseUint("--frames", args->get("--frames", "20"), 2, 100000);
+    auto size = cli::parseSize("--size", args->get("--size", "640x360"));
+    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
+    auto res = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
+    auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
+    auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
+    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &res.error(),
+                                 &page.error(), &pool.error()})
+        if (!e->empty()) return usageError("bench vsm", *e);
+    std::vector<std::string> kinds;
+    {
+        std::stringstream ss(args->get("--kinds", "static-spot,moving-spot,point,directional"));
+        for (std::string k; std::getline(ss, k, ',');) {
+            if (k != "static-spot" && k != "moving-spot" && k != "point" && k != "directional")
+                return usageError("bench vsm", "--kinds: unknown kind '" + k + "' (static-spot, moving-spot, point, directional)");
+            kinds.push_back(k);
+        }
+    }
+    const std::string out = args->get("--out", "out/bench_vsm");
+    if (auto r = cli::makeDirectory(out); !r) return runError("bench vsm", r.error());
+
+    std::ostringstream csv;
+    csv << "kind,caching,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,pages_rendered,"
+           "pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages\n";
+    std::vector<Row> rows;
+    for (const std::string& kind : kinds)
+        for (bool cached : {false, true}) {
+            VsmSessionOptions o;
+            o.scene = args->get("--scene", "night-city");
+            o.lights = lights.value();
+            std::tie(o.width, o.height) = size.value();
+            o.path = path.value();
+            o.bake = args->get("--bake", "");
+            o.module.timing = TimingChoice::Fenced;
+            o.module.vsm.resolution = res.value();
+            o.module.vsm.pageSize = page.value();
+            o.module.vsm.poolPages = pool.value();
+            o.module.vsm.caching = cached;
+            o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
+            o.module.vsm.movingLights = kind != "static-spot";
+            o.module.vsm.staticLights = kind != "moving-spot";
+            auto session = VsmSession::create(o);
+            if (!session) return runError("bench vsm", session.error());
+            Row row;
+            row.kind = kind;
+            row.cached = cached;
+            for (uint32_t f = 0; f < frames.value(); ++f) {
+                auto r = session.value()->frame(f);
+                if (!r) return runError("bench vsm", r.error());
+                const PassTimes& t = r->times;
+                const VsmStats& v = r->stats.vsm;
+                auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
+                csv << kind << "," << (cached ? "cached" : "uncached") << "," << f << "," << ms(Pass::VsmMark) << ","
+                    << ms(Pass::VsmAlloc) << "," << ms(Pass::VsmHpb) << "," << ms(Pass::VsmCull) << ","
+                    << ms(Pass::VsmDraw) << "," << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered
+                    << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
+                    << v.instancesCulledHpb << "," << v.lightsWithPages << "\n";
+                row.fallbacks += v.fallbacks;
+                if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
+                row.markMs += ms(Pass::VsmMark);
+                row.allocMs += ms(Pass::VsmAlloc);
+                row.hpbMs += ms(Pass::VsmHpb);
+                row.cullMs += ms(Pass::VsmCull);
+                row.drawMs += ms(Pass::VsmDraw);
+                row.marked += v.pagesMarked;
+                row.allocated += v.pagesAllocated;
+                row.rendered += v.pagesRendered;
+                row.draws += v.instancesDrawn;
+                row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
+                row.frames += 1;
+            }
+            for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked, &row.allocated,
+                              &row.rendered, &row.draws})
+                *x /= std::max(row.frames, 1.0);
+            rows.push_back(row);
+            std::fprintf(stderr, "  %s %s: draw %.2f ms, %.0f pages rendered per frame\n", kind.c_str(),
+                         cached ? "cached" : "uncached", row.drawMs, row.rendered);
+        }
+
+    std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
+                cameraPathName(path.value()), size.value().first, size.value().second, res.value(), page.value(),
+                pool.value(), frames.value());
+    std::printf("| kind | caching | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | pages marked | allocated | rendered | draws | fallbacks |\n");
+    std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    double cachedDraw = 0, uncachedDraw = 0, allocated = 0;
+    uint64_t fallbacks = 0;
+    std::ostringstream json;
+    for (const Row& r : rows) {
+        std::printf("| %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %.1f | %.1f | %.1f | %llu |\n",
+                    r.kind.c_str(), r.cached ? "cached" : "uncached", r.lightsWithPages, r.markMs, r.allocMs, r.hpbMs,
+                    r.cullMs, r.drawMs, r.marked, r.allocated, r.rendered, r.draws, (unsigned long long)r.fallbacks);
+        (r.cached ? cachedDraw : uncachedDraw) += r.drawMs;
+        allocated += r.cached ? r.allocated : 0.0;
+        fallbacks += r.fallbacks;
+        json << (json.tellp() > 0 ? ", " : "") << "\"" << r.kind << "_" << (r.cached ? "cached" : "uncached")
+             << "_draw_ms\": " << r.drawMs;
+    }
+    for (const Row& c : rows)
+        for (const Row& u : rows)
+            if (c.cached && !u.cached && c.kind == u.kind && u.drawMs > 0)
+                std::printf("%s: cached draw = %.1f %% of uncached\n", c.kind.c_str(), 100.0 * c.drawMs / u.drawMs);
+    std::ofstream(out + "/bench_vsm.csv") << csv.str();
+    char line[512];
+    std::snprintf(line, sizeof(line),
+                  "{\"cached_draw_ms_mean\": %.4f, \"uncached_draw_ms_mean\": %.4f, \"pages_allocated_mean\": %.2f, "
+                  "\"fallbacks_total\": %llu, ",
+                  cachedDraw / std::max<size_t>(kinds.size(), 1), uncachedDraw / std::max<size_t>(kinds.size(), 1),
+                  allocated / std::max<size_t>(kinds.size(), 1), (unsigned long long)fallbacks);
+    const std::string last = std::string(line) + json.str() + "}";
+    std::ofstream(out + "/bench_vsm.json") << last << "\n";
+    std::printf("wrote %s/bench_vsm.csv and bench_vsm.json\n%s\n", out.c_str(), last.c_str());
+    return 0;
+}
+
+} // namespace ml

@@ -1,0 +1,178 @@
+// `manylights check vsm`: every virtual-shadow-map lookup of a path's frames against a full reference
+// depth map of the same casters at the same mip, rendered by the CPU rasteriser (shadows/static/
+// raster_dual.h, exact top-left coverage). The probe pass (vsm_probe.comp) records, per shaded pixel and
+// light with maps, the map, mip and texel the evaluation pass read and the depth it found there.
+// A record disagrees when the texel is empty in one map and not the other, when the depths differ by more
+// than the float-versus-double interpolation tolerance of the static dual-depth test (2e-5 of the range
+// plus 1/64 of the local depth step), when a "no caster" answer has a caster in the reference, or when
+// no page was found at any mip. Last stdout line: JSON; exit 0 only when something was checked and
+// nothing disagreed.
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/module_impl.h"
+#include "host/vsm_session.h"
+#include "shadows/static/raster_dual.h"
+#include "shadows/virtual/vsm_math.h"
+
+#include <cstdio>
+#include <map>
+
+namespace ml {
+
+static const char* kCheckHelp = R"(usage: manylights check vsm [options]
+Checks every virtual-shadow-map lookup of a camera path against full reference maps (CPU rasteriser).
+  --scene S      night-city (default) or a .gltf / .glb file
+  --path P       drive (default), orbit or static
+  --frames N     frames of the path (default 10)
+  --size WxH     frame size (default 320x180)
+  --lights N     lights in the scene (default 256)
+  --seed S       scene seed (default 1)
+  --bake FILE    static bake of this scene: its lights' maps then hold dynamic casters only
+  --vsm-res N    virtual resolution (default 1024)
+  --vsm-page N   page size (default 64)
+  --vsm-pool N   physical pages (default 4096)
+  --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
+Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
+Directional lights' clip levels (orthographic) have no CPU reference rasteriser yet: counted, not checked.
+)";
+
+namespace {
+
+// World-space triangles of the instances a map draws, transformed as vsm_draw.vert does (vsmPoint).
+CasterTriangles mapCasters(const Scene& scene, bool dynamicOnly) {
+    CasterTriangles t;
+    for (const Instance& inst : scene.instances) {
+        if (dynamicOnly && !inst.dynamic) continue;
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+            glm::vec3 p[3];
+            for (int k = 0; k < 3; ++k) p[k] = gpu::vsmPoint(inst.transform, mesh.vertices[mesh.indices[i + k]].position);
+            t.add(p[0], p[1], p[2], false); // open: only the enter depth is compared
+        }
+    }
+    return t;
+}
+
+} // namespace
+
+int runCheck(int argc, char** argv) {
+    if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
+        std::fputs(kCheckHelp, argc < 3 ? stderr : stdout);
+        return argc < 3 ? 2 : 0;
+    }
+    if (std::string(argv[2]) != "vsm") return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
+    auto args = cli::parse(argc, argv, 3,
+                           {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake", "--vsm-res",
+                            "--vsm-page", "--vsm-pool", "--pcf"},
+                           {});
+    if (!args) return usageError("check vsm", args.error());
+    if (args->help) {
+        std::fputs(kCheckHelp, stdout);
+        return 0;
+    }
+    auto path = parseCameraPath(args->get("--path", "drive"));
+    auto frames = cli::parseUint("--frames", args->get("--frames", "10"), 1, 100000);
+    auto size = cli::parseSize("--size", args->get("--size", "320x180"));
+    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
+    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    auto res = cli::parseUint("--vsm-res", args->get("--vsm-res", "1024"), 256, 16384);
+    auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
+    auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
+    auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
+    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(),
+                                 &res.error(), &page.error(), &pool.error(), &pcf.error()})
+        if (!e->empty()) return usageError("check vsm", *e);
+
+    VsmSessionOptions o;
+    o.scene = args->get("--scene", "night-city");
+    o.lights = lights.value();
+    o.seed = seed.value();
+    std::tie(o.width, o.height) = size.value();
+    o.path = path.value();
+    o.bake = args->get("--bake", "");
+    o.module.vsm.resolution = res.value();
+    o.module.vsm.pageSize = page.value();
+    o.module.vsm.poolPages = pool.value();
+    o.module.vsm.probeCapacity = o.width * o.height * 8;
+    auto session = VsmSession::create(o);
+    if (!session) return runError("check vsm", session.error());
+    VsmSession& s = *session.value();
+    if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
+    const VirtualShadowMaps& vsm = s.module->internals().vsm;
+
+    uint64_t checked = 0, mismatches = 0, skippedDirectional = 0, fallbacks = 0, noCaster = 0, missing = 0;
+    uint32_t probeOverflow = 0;
+    for (uint32_t f = 0; f < frames.value(); ++f) {
+        auto report = s.frame(f);
+        if (!report) return runError("check vsm", report.error());
+        uint32_t overflow = 0;
+        auto probes = vsm.readProbes(s.module->internals().lastSlot, &overflow);
+        probeOverflow += overflow;
+        std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
+        uint64_t frameMismatches = 0;
+        for (const gpu::GpuVsmProbe& p : probes) {
+            const uint32_t map = p.texel.x, mip = p.texel.y, status = p.info.w;
+            const VsmMapInfo& info = vsm.mapInfo()[map];
+            if (info.gpu.info.x == ML_VSM_ORTHOGRAPHIC) {
+                ++skippedDirectional;
+                continue;
+            }
+            if (status == ML_VSM_PROBE_MISSING) {
+                ++missing;
+                ++mismatches;
+                ++frameMismatches;
+                continue;
+            }
+            auto key = std::make_pair(map, mip);
+            auto it = references.find(key);
+            if (it == references.end()) {
+                const bool dynamicOnly = info.gpu.info.y & ML_VSM_MAP_DYNAMIC_ONLY;
+                DualRasterizer raster(mapCasters(s.scene, dynamicOnly), info.frustum, res.value() >> mip);
+                it = references.emplace(key, raster.render()).first;
+            }
+            const DualDepthMap& ref = it->second;
+            const uint32_t x = p.texel.z, y = p.texel.w, n = ref.resolution;
+            const uint32_t want = ref.enter[size_t(y) * n + x], got = p.info.z;
+            bool ok;
+            if (status == ML_VSM_PROBE_NO_CASTER) {
+                ++noCaster;
+                ok = want == kDepthEmpty;
+            } else {
+                fallbacks += status == ML_VSM_PROBE_FALLBACK;
+                if (want == kDepthEmpty || got == kDepthEmpty) {
+                    ok = want == got;
+                } else {
+                    // Tolerance of tests/gpu/test_dual_depth_gpu.cpp: float vs double interpolation.
+                    uint64_t step = 0;
+                    for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                        int nx = int(x) + dx, ny = int(y) + dy;
+                        if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
+                        uint32_t v = ref.enter[size_t(ny) * n + nx];
+                        if (v != kDepthEmpty) step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
+                    }
+                    const uint64_t tol = uint64_t(4294967294.0 * 2e-5) + step / 64;
+                    ok = uint64_t(std::llabs(int64_t(got) - int64_t(want))) <= tol;
+                }
+            }
+            ++checked;
+            if (!ok) {
+                ++mismatches;
+                if (++frameMismatches <= 3)
+                    std::fprintf(stderr, "  frame %u: map %u mip %u texel (%u, %u): vsm %u, reference %u (status %u)\n", f,
+                                 map, mip, x, y, got, want, status);
+            }
+        }
+        std::fprintf(stderr, "frame %u: %zu lookups, %zu reference maps, %llu mismatches\n", f, probes.size(),
+                     references.size(), (unsigned long long)frameMismatches);
+    }
+    if (s.module->device().validationEnabled() && validationErrors())
+        std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
+    std::printf("{\"checked\": %llu, \"mismatches\": %llu, \"fallbacks\": %llu, \"no_caster\": %llu, \"missing\": %llu, "
+                "\"skipped_directional\": %llu, \"probe_overflow\": %u, \"frames\": %u}\n",
+                (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)fallbacks,
+                (unsigned long long)noCaster, (unsigned long long)missing, (unsigned long long)skippedDirectional,
+                probeOverflow, frames.value());
+    return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
+}
+
+} // namespace ml

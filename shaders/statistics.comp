@@ -1,0 +1,44 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Frame statistics (off by default in the API, on in the demo): per pixel with geometry, the lights
+// evaluated (its cluster's list, or every visible light in an overflowed cluster / without culling) and
+// the lights whose cone and range really hold the point (a brute-force loop over every visible light:
+// diagnostic cost, which is why it is a pass of its own with its own profile entry).
+#include "shaders/shared/glsl_common.h"
+
+layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = 5) uniform texture2D depthImage;
+layout(binding = 6, std430) buffer Counters { FrameCounters counters; };
+
+#include "shaders/shared/cluster_list.glsl"
+
+shared uint sEvaluated, sReaching, sSurface;
+
+void main() {
+    if (gl_LocalInvocationIndex == 0) { sEvaluated = 0; sReaching = 0; sSurface = 0; }
+    barrier();
+    uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x < frame.size.x && px.y < frame.size.y) {
+        float d = texelFetch(depthImage, ivec2(px), 0).r;
+        if (d < 1.0) {
+            vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
+            uint reaching = 0;
+            for (uint l = 0; l < frame.cluster.z; ++l) reaching += lightReachesPoint(lights[l], P) ? 1u : 0u;
+            atomicAdd(sEvaluated, clusterLights(px, d).y);
+            atomicAdd(sReaching, reaching);
+            atomicAdd(sSurface, 1u);
+        }
+    }
+    barrier();
+    if (gl_LocalInvocationIndex == 0 && sSurface > 0) {
+        atomicAdd(counters.evaluatedSum, uint64_t(sEvaluated));
+        atomicAdd(counters.reachingSum, uint64_t(sReaching));
+        atomicAdd(counters.surfacePixels, uint64_t(sSurface));
+    }
+}

@@ -1,0 +1,174 @@
+// Virtual shadow maps for dynamic casters: resolution-matched pages, one shared physical pool, caching.
+// Follows RMVSM (Sakmary & Bittner 2025, ../shared/papers/rmvsm-sakmary-bittner-2025.txt):
+//
+//   per light: a spot light is one virtual map with a mip chain (section 3.2), a point light six (one
+//     per cube face, 3.3), a directional light one map per clip level around the camera (3.1). Every
+//     map has a page table (one word per page and mip, vsm_types.h); all share one pool of physical
+//     pages (pageSize^2 uint depths).
+//   each frame, on the GPU, after light culling:
+//     vsm_mark    per pixel, for each light of its cluster list with maps, the pages its lookup reads
+//                 (resolution-matched mip, PCF kernel, bias) and the coarsest page of its fallback chain;
+//     vsm_scan    over the active maps' entries: invalidation (light moved, moved casters' old and new
+//     vsm_alloc   projected bounds: "stale" bits prepared by the CPU), LRU refresh, requests; then pages
+//     vsm_assign  for the requests in priority order (coarse mips first) from free pages, then least
+//                 recently used unmarked ones; marked pages that are not valid are rendered (DIRTY);
+//     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
+//     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
+//     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page);
+//     vsm_draw    per mip one indirect-count draw at the mip's virtual resolution; fragments of DIRTY
+//                 pages take the atomic minimum of their depth in the physical page;
+//   and the evaluation pass reads pages through the page table (vsm_common.glsl), falling back to a
+//   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently.
+//
+// "No more than the scene needs": a light with a static bake (shadows/static/) keeps only pages under
+// some dynamic caster's projected bounds ("coverage" bits, CPU, per frame) and draws dynamic casters
+// only; other lights (moving ones, or without a bake) draw every caster. Lights out of view get no
+// marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them.
+#pragma once
+#include "engine/profiler.h"
+#include "engine/program.h"
+#include "shadows/static/dual_depth.h"
+#include "shadows/virtual/vsm_settings.h"
+#include "shadows/virtual/vsm_types.h"
+
+#include <glm/glm.hpp>
+
+#include <span>
+#include <vector>
+
+namespace ml {
+
+// What the module tells the VSM each frame.
+struct VsmLight {
+    uint32_t kind = 0; // ML_LIGHT_*
+    glm::vec3 position{0.0f}, direction{0.0f, -1.0f, 0.0f};
+    float range = 10.0f, outerAngle = 0.6f;
+    bool castsShadows = true;
+    bool moving = false;     // LightDesc::dynamic
+    bool staticBake = false; // every face has a static bake: maps hold dynamic casters only
+};
+struct VsmInstance {
+    glm::vec3 lo{0.0f}, hi{0.0f}; // world bounds this frame
+    uint32_t indexCount = 0, firstIndex = 0, vertexOffset = 0;
+    bool dynamic = false;
+    bool castsShadows = true;
+};
+struct VsmCamera {
+    glm::vec3 position{0.0f};
+    float fovY = 1.0f;
+    uint32_t height = 1;
+};
+
+// Buffers of the frame that the VSM passes read.
+struct VsmFrameInputs {
+    const Buffer* frame;    // FrameConstants (uniform)
+    const Buffer* slices;   // slice boundaries
+    const Buffer* lights;   // visible GpuLights (info.y = first map, from prepare())
+    const Buffer* ranges;   // cluster lists (culling/culling.h)
+    const Buffer* pool;
+    VkImageView depth, normal; // G-buffer, SHADER_READ_ONLY_OPTIMAL
+    const Buffer* vertices;
+    const Buffer* indices;
+    const Buffer* instances; // GpuInstance per module instance
+};
+
+// Per map slot, what the CPU set up this frame (tests and `check vsm` read it).
+struct VsmMapInfo {
+    bool inUse = false;
+    uint32_t light = 0; // module light id
+    uint32_t face = 0;  // cube face or clip level
+    gpu::GpuVsmMap gpu{};
+    LightFrustum frustum; // perspective maps: the frustum a reference rasteriser uses
+};
+
+
+class VirtualShadowMaps {
+  public:
+    void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
+    void destroy(const Device& device);
+    const VsmSettings& settings() const { return settings_; }
+    bool enabled() const { return settings_.enabled; }
+    void setPcfRadius(uint32_t r) { pcf_ = r; }
+
+    // CPU part of a frame: map slots, matrices, coverage and stale bits, casters. `lights` holds every
+    // module light (by id); `visible` the ids in the visible-light buffer's order. Returns the first map
+    // slot per visible light (ML_VSM_NO_MAP: none), to go into GpuLight.info.y.
+    std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame, std::span<const VsmLight> lights,
+                                  std::span<const uint32_t> visible, std::span<const VsmInstance> instances,
+                                  const VsmCamera& camera);
+    // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
+    void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
+                const VsmFrameInputs& in);
+    // The probe pass (settings.probeCapacity > 0): records the lookups into the probe buffer.
+    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
+
+    // Evaluation-pass bindings, in vsm_common.glsl's order: constants, maps, coverage, table, pool.
+    const Buffer& constants(uint32_t slot) const { return slots_[slot].constants; }
+    const Buffer& maps(uint32_t slot) const { return slots_[slot].maps; }
+    const Buffer& coverage(uint32_t slot) const { return slots_[slot].coverage; }
+    const Buffer& table() const { return table_; }
+    const Buffer& pagePool() const { return pagePool_; }
+
+    // Statistics of the frame last recorded in `slot` (call once its fence has passed).
+    VsmStats readStats(uint32_t slot) const;
+
+    // --- for tests, `check vsm` and `bench vsm` ---
+    uint32_t pagesPerSide() const { return s0_; }
+    uint32_t mips() const { return mips_; }
+    uint32_t entriesPerMap() const { return entriesPerMap_; }
+    uint32_t mapsInUse() const { return mapsInUse_; }
+    const std::vector<VsmMapInfo>& mapInfo() const { return maps_; }
+    const gpu::VsmConstants& lastConstants() const { return lastConstants_; }
+    // Host copies of GPU state (the device must be idle): page table, owners, last use, marks, probes.
+    std::vector<uint32_t> readTable(const Device& device) const;
+    std::vector<uint32_t> readOwners(const Device& device) const;
+    std::vector<uint32_t> readLastUsed(const Device& device) const;
+    std::vector<uint32_t> readMarks(const Device& device) const;
+    std::vector<uint32_t> readPagePool(const Device& device) const;
+    std::vector<gpu::GpuVsmProbe> readProbes(uint32_t slot, uint32_t* overflow = nullptr) const;
+    // The per-slot CPU inputs of the last prepare() of that slot.
+    const std::vector<uint32_t>& coverageBits(uint32_t slot) const { return slots_[slot].coverageHost; }
+    const std::vector<uint32_t>& staleBits(uint32_t slot) const { return slots_[slot].staleHost; }
+    const std::vector<gpu::GpuVsmMap>& mapsHost(uint32_t slot) const { return slots_[slot].mapsHost; }
+    const std::vector<uint32_t>& activeMaps(uint32_t slot) const { return slots_[slot].activeHost; }
+
+  private:
+    struct Slot {
+        Buffer constants, maps, coverage, stale, active, casters, counters, probes;
+        std::vector<uint32_t> coverageHost, staleHost, activeHost;
+        std::vector<gpu::GpuVsmMap> mapsHost;
+        uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
+    };
+    struct LightState {
+        uint32_t firstMap = ML_VSM_NO_MAP, mapCount = 0, kind = 0;
+        VsmLight last;
+        bool seen = false;
+    };
+    uint32_t allocateSlots(uint32_t count);
+    void buildMap(uint32_t map, const VsmLight& light, uint32_t face, const VsmCamera& camera, bool& moved);
+
+    VsmSettings settings_;
+    uint32_t pcf_ = 0;
+    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, hpbPerMap_ = 0, mapsInUse_ = 0;
+    std::vector<Slot> slots_;
+    std::vector<LightState> lightState_;
+    std::vector<VsmMapInfo> maps_;
+    std::vector<uint32_t> freeSlots_;
+    std::vector<uint8_t> wasActive_;
+    std::vector<VsmInstance> lastInstances_;
+    gpu::VsmConstants lastConstants_{};
+
+    Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, hpb_,
+        draws_, drawInfo_, drawCounts_;
+    ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
+        probeShader_, drawVert_, drawFrag_;
+    Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,
+        probeProgram_, drawProgram_;
+};
+
+// Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside
+// the map's frustum. A box reaching behind the light covers the whole map. Used for coverage and stale
+// bits on the CPU (the GPU culling pass does the same test in vsm_cull.comp).
+bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32_t pagesPerSide, glm::uvec4& rect);
+
+} // namespace ml

@@ -1,0 +1,45 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_mark: per shaded pixel, each light of its cluster that has virtual shadow maps marks the pages
+// its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) plus the last page of
+// its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame.
+// Clustered marking: the seed (RMVSM section 6) marks against every light and names this as future work.
+#include "shaders/shared/glsl_common.h"
+#include "shadows/virtual/vsm_types.h"
+
+layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = 5) uniform texture2D depthImage;
+layout(binding = 6) uniform texture2D normalImage;
+layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
+
+#define VSM_CONST vsm
+#define VSM_MAPS vsmMaps
+#define VSM_COVER vsmCoverage
+#define VSM_MARKS vsmMarks
+#define VSM_MARKING
+#include "shaders/shared/cluster_list.glsl"
+#include "shadows/virtual/vsm_common.glsl"
+
+void main() {
+    uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x >= frame.size.x || px.y >= frame.size.y) return;
+    float d = texelFetch(depthImage, ivec2(px), 0).r;
+    if (!(d < 1.0)) return;
+    vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
+    vec3 N = vsmNormalize(texelFetch(normalImage, ivec2(px), 0).xyz);
+    uvec2 range = clusterLights(px, d);
+    for (uint i = 0; i < range.y; ++i) {
+        GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
+        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+        vsmMarkReceiver(L, L.info.y, P, N);
+    }
+}

@@ -1,0 +1,54 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_probe: the evaluation pass's virtual-shadow-map lookup, written out per (shaded pixel, light with
+// maps): the map, mip and texel it read, the depth there and how it got it (page, fallback, no caster,
+// missing). `manylights check vsm` and the tests compare each record with a full reference map of the
+// same casters at the same mip (CPU rasteriser); nothing else reads it.
+#include "shaders/shared/glsl_common.h"
+#include "shadows/virtual/vsm_types.h"
+
+layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = 5) uniform texture2D depthImage;
+layout(binding = 6) uniform texture2D normalImage;
+layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = 10, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = 11, std430) readonly buffer PagePool { uint vsmPool[]; };
+layout(binding = 12, std430) buffer Probes { uint probeCount; uint probeCapacity; uint probeOverflow; uint pad; GpuVsmProbe probes[]; };
+
+#define VSM_CONST vsm
+#define VSM_MAPS vsmMaps
+#define VSM_COVER vsmCoverage
+#define VSM_TABLE vsmTable
+#define VSM_POOL vsmPool
+#include "shaders/shared/cluster_list.glsl"
+#include "shadows/virtual/vsm_common.glsl"
+
+void main() {
+    uvec2 px = gl_GlobalInvocationID.xy;
+    if (px.x >= frame.size.x || px.y >= frame.size.y) return;
+    float d = texelFetch(depthImage, ivec2(px), 0).r;
+    if (!(d < 1.0)) return;
+    vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
+    vec3 N = texelFetch(normalImage, ivec2(px), 0).xyz;
+    uvec2 range = clusterLights(px, d);
+    for (uint i = 0; i < range.y; ++i) {
+        GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
+        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+        VsmChoice c;
+        uint status, depth;
+        vsmVisibility(L, L.info.y, P, N, c, status, depth);
+        if (c.tap.ok == 0u) continue;
+        uint slot = atomicAdd(probeCount, 1u);
+        if (slot >= probeCapacity) { atomicAdd(probeOverflow, 1u); continue; }
+        probes[slot].texel = uvec4(c.map, c.mip, uint(c.tap.texel.x), uint(c.tap.texel.y));
+        probes[slot].info = uvec4(px.y * frame.size.x + px.x, L.info.w, depth, status);
+    }
+}

@@ -1,0 +1,240 @@
+// CPU twins of vsm_mark.comp (through vsm_common.glsl's choice of map, mip and kernel) and of the
+// allocation passes vsm_scan / vsm_alloc / vsm_assign. Same functions of vsm_math.h, same order.
+#include "shadows/virtual/vsm_reference.h"
+
+#include "shadows/virtual/vsm_math.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace ml {
+
+namespace {
+
+using namespace gpu;
+
+bool testBit(const std::vector<uint32_t>& bits, uint32_t i) { return (bits[i >> 5] >> (i & 31u)) & 1u; }
+void setBit(std::vector<uint32_t>& bits, uint32_t i) { bits[i >> 5] |= 1u << (i & 31u); }
+
+struct Choice {
+    uint32_t map = 0, mip = 0, last = 0;
+    VsmTap tap{};
+};
+
+// vsm_common.glsl's vsmChoose.
+Choice choose(const VsmMarkInputs& in, const GpuLight& L, uint32_t firstMap, glm::vec3 P, glm::vec3 N) {
+    Choice c;
+    c.map = firstMap;
+    c.tap.ok = 0;
+    const VsmConstants& k = in.constants;
+    const uint32_t R = k.options.z;
+    const float footprint = vsmFootprint(glm::vec3(in.frame.cameraPosition), P, k.camera.x);
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        const uint32_t levels = in.maps[firstMap].light.z;
+        const uint32_t level = vsmPickLevel(in.maps[firstMap], P, footprint, R, levels);
+        c.last = firstMap + levels - 1;
+        for (uint32_t l = level; l < levels; ++l) {
+            c.map = firstMap + l;
+            c.tap = vsmLocate(in.maps[c.map], R, 0, P, N);
+            if (c.tap.ok) break;
+        }
+        return c;
+    }
+    if (L.info.x == ML_LIGHT_POINT) c.map = firstMap + pointLightFace(P - glm::vec3(L.positionRange));
+    const GpuVsmMap& map = in.maps[c.map];
+    glm::vec3 vp = vsmPoint(map.view, P);
+    if (!(-vp.z > map.params.y)) return c;
+    const uint32_t mips = k.page.w;
+    c.mip = vsmPickMip(vsmTexel0(map, vp, R), footprint, mips);
+    c.last = mips - 1;
+    c.tap = vsmLocate(map, R, c.mip, P, N);
+    return c;
+}
+
+void markKernel(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32_t map, uint32_t mip, VsmTap tap,
+                int radius) {
+    if (!tap.ok) return;
+    const VsmConstants& k = in.constants;
+    const int res = int(k.options.z >> mip);
+    glm::ivec2 lo = glm::clamp(tap.texel - radius, glm::ivec2(0), glm::ivec2(res - 1));
+    glm::ivec2 hi = glm::clamp(tap.texel + radius, glm::ivec2(0), glm::ivec2(res - 1));
+    const int shift = int(k.page.y);
+    for (int py = lo.y >> shift; py <= (hi.y >> shift); ++py)
+        for (int px = lo.x >> shift; px <= (hi.x >> shift); ++px) {
+            uint32_t entry = vsmEntry(k.sizes.x, k.page.z, map, mip, uint32_t(px), uint32_t(py));
+            bool needs = (in.maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0 || testBit(in.coverage, entry);
+            if (needs) setBit(marks, entry);
+        }
+}
+
+} // namespace
+
+std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
+    std::vector<uint32_t> marks(in.markWords, 0);
+    const FrameConstants& f = in.frame;
+    const uint32_t width = f.size.x, height = f.size.y;
+    const int radius = int(in.constants.options.x);
+    const uint32_t R = in.constants.options.z;
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const float d = in.depth[size_t(y) * width + x];
+            if (!(d < 1.0f)) continue;
+            glm::vec3 P = worldFromPixel(x, y, d, f.invViewProj, f.size);
+            glm::vec3 N = vsmNormalize(in.normal[size_t(y) * width + x]);
+            // clusterLights (shaders/shared/cluster_list.glsl).
+            uint32_t offset = ML_CLUSTER_OVERFLOW, count = f.cluster.z;
+            if (f.cluster.w != ML_CULL_NONE) {
+                const float z = linearDepth(d, f.depth);
+                const uint32_t slices = f.cluster.x;
+                uint32_t s = 0;
+                while (s + 1 < slices && z >= in.sliceFar[s]) ++s;
+                const uint32_t tx = x / f.cluster.y, ty = y / f.cluster.y;
+                glm::uvec2 r = in.ranges[(size_t(ty) * f.size.z + tx) * slices + s];
+                if (r.x != ML_CLUSTER_OVERFLOW) offset = r.x, count = r.y;
+            }
+            for (uint32_t i = 0; i < count; ++i) {
+                const GpuLight& L = in.lights[offset == ML_CLUSTER_OVERFLOW ? i : in.pool[offset + i]];
+                if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+                Choice c = choose(in, L, L.info.y, P, N);
+                if (!c.tap.ok) continue;
+                markKernel(in, marks, c.map, c.mip, c.tap, radius);
+                if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+                    uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
+                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius);
+                } else {
+                    uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
+                    if (fb != c.mip) markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius);
+                }
+            }
+        }
+    return marks;
+}
+
+gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint32_t>& marks,
+                                      const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
+                                      const std::vector<uint32_t>& active, const gpu::VsmConstants& k) {
+    VsmCounters c{};
+    const uint32_t s0 = k.page.z, mips = k.page.w, frame = k.sizes.w, pool = k.sizes.z;
+    // Entries of the active maps in priority order (vsm_alloc_common.glsl).
+    struct Item {
+        uint32_t entry, map, mip;
+    };
+    std::vector<Item> order;
+    for (int m = int(mips) - 1; m >= 0; --m) {
+        const uint32_t side = s0 >> m;
+        for (uint32_t map : active)
+            for (uint32_t p = 0; p < side * side; ++p)
+                order.push_back({map * k.sizes.x + vsmMipOffset(s0, uint32_t(m)) + p, map, uint32_t(m)});
+    }
+    // vsm_scan.
+    std::vector<uint32_t> requests;
+    for (const Item& it : order) {
+        uint32_t pt = st.table[it.entry] & ~ML_VSM_DIRTY;
+        if (pt & ML_VSM_VALID) {
+            bool isStale = k.options.y == 0 || (maps[it.map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, it.entry);
+            if (isStale) {
+                pt &= ~ML_VSM_VALID;
+                ++c.pagesInvalidated;
+            }
+        }
+        if (testBit(marks, it.entry)) {
+            ++c.pagesMarked;
+            if (pt & ML_VSM_ALLOCATED)
+                st.lastUsed[pt & ML_VSM_PHYS_MASK] = frame;
+            else
+                requests.push_back(it.entry);
+        }
+        st.table[it.entry] = pt;
+    }
+    // vsm_alloc: free pages, then unmarked owners from oldest to newest age bucket, by index.
+    auto pageClass = [&](uint32_t p) -> uint32_t {
+        const uint32_t owner = st.owners[p];
+        if (owner == ML_VSM_NO_OWNER) return 0;
+        if (testBit(marks, owner)) return 9;
+        const uint32_t age = std::max(frame - st.lastUsed[p], 1u);
+        return 8 - std::min(uint32_t(std::bit_width(age) - 1), 7u);
+    };
+    std::vector<uint32_t> avail;
+    uint32_t freePages = 0;
+    for (uint32_t cls = 0; cls < 9; ++cls)
+        for (uint32_t p = 0; p < pool; ++p)
+            if (pageClass(p) == cls) {
+                avail.push_back(p);
+                freePages += cls == 0;
+            }
+    c.requests = uint32_t(requests.size());
+    c.available = uint32_t(avail.size());
+    c.pagesAllocated = (pool - freePages) + std::min(c.requests, freePages);
+    // vsm_assign.
+    std::vector<uint8_t> failed(st.table.size(), 0);
+    for (size_t r = 0; r < requests.size(); ++r) {
+        const uint32_t e = requests[r];
+        if (r < avail.size()) {
+            const uint32_t p = avail[r];
+            const uint32_t old = st.owners[p];
+            if (old != ML_VSM_NO_OWNER) {
+                st.table[old] = 0;
+                ++c.pagesEvicted;
+            }
+            st.owners[p] = e;
+            st.lastUsed[p] = frame;
+            st.table[e] = ML_VSM_ALLOCATED | p;
+        } else {
+            ++c.fallbacks;
+            failed[e] = 1;
+        }
+    }
+    for (const Item& it : order) {
+        if (!testBit(marks, it.entry) || failed[it.entry]) continue;
+        uint32_t& pt = st.table[it.entry];
+        if (!(pt & ML_VSM_VALID)) {
+            pt |= ML_VSM_VALID | ML_VSM_DIRTY;
+            ++c.pagesRendered;
+            ++c.dispatchX;
+        } else {
+            ++c.pagesCached;
+        }
+    }
+    return c;
+}
+
+std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32_t>& marks,
+                               const std::vector<uint32_t>& active, const gpu::VsmConstants& k,
+                               const gpu::VsmCounters& counters) {
+    const uint32_t pool = k.sizes.z;
+    std::vector<uint32_t> seen(pool, ML_VSM_NO_OWNER);
+    for (uint32_t e = 0; e < st.table.size(); ++e) {
+        const uint32_t pt = st.table[e];
+        if (!(pt & ML_VSM_ALLOCATED)) {
+            if (pt & (ML_VSM_VALID | ML_VSM_DIRTY))
+                return "entry " + std::to_string(e) + " is valid or dirty without a physical page";
+            continue;
+        }
+        const uint32_t p = pt & ML_VSM_PHYS_MASK;
+        if (p >= pool) return "entry " + std::to_string(e) + " points past the pool";
+        if (seen[p] != ML_VSM_NO_OWNER)
+            return "physical page " + std::to_string(p) + " backs entries " + std::to_string(seen[p]) + " and " +
+                   std::to_string(e);
+        seen[p] = e;
+        if (st.owners[p] != e)
+            return "physical page " + std::to_string(p) + " is owned by " + std::to_string(st.owners[p]) +
+                   " but entry " + std::to_string(e) + " points to it";
+    }
+    for (uint32_t p = 0; p < pool; ++p)
+        if (st.owners[p] != ML_VSM_NO_OWNER && seen[p] != st.owners[p])
+            return "physical page " + std::to_string(p) + " has an owner whose entry does not point to it";
+    // Every marked entry of an active map has a page, or is counted as a fallback.
+    uint32_t unbacked = 0;
+    const uint32_t s0 = k.page.z;
+    for (uint32_t map : active)
+        for (uint32_t i = 0; i < vsmMipOffset(s0, k.page.w); ++i) {
+            const uint32_t e = map * k.sizes.x + i;
+            if (testBit(marks, e) && !(st.table[e] & ML_VSM_ALLOCATED)) ++unbacked;
+        }
+    if (unbacked != counters.fallbacks)
+        return std::to_string(unbacked) + " marked entries without a page, " + std::to_string(counters.fallbacks) +
+               " fallbacks counted";
+    return {};
+}
+
+} // namespace ml

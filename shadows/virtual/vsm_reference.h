@@ -1,0 +1,52 @@
+// CPU references of the virtual shadow map passes (shadows/virtual/vsm.h), for the tests:
+//   vsmMarkReference      vsm_mark.comp: the mark bits from the G-buffer, the cluster lists, the lights
+//                         and the frame's maps (same functions of vsm_math.h, same order: bit for bit);
+//   vsmAllocateReference  vsm_scan + vsm_alloc + vsm_assign: invalidation, LRU refresh, requests in
+//                         priority order, the ordered list of free and evictable pages, assignment,
+//                         eviction, fallbacks, and which pages render this frame. The page table, the
+//                         owners and the last-use frames it leaves equal the GPU's exactly.
+//   vsmCheckInvariants    what must hold after every frame (no physical page shared, owners and
+//                         table agree, every marked page allocated or counted as a fallback).
+#pragma once
+#include "shaders/shared/gpu_types.h"
+#include "shadows/virtual/vsm_types.h"
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace ml {
+
+struct VsmMarkInputs {
+    gpu::FrameConstants frame{};
+    std::vector<float> sliceFar;
+    std::vector<gpu::GpuLight> lights; // visible lights, info.y = first map
+    std::vector<glm::uvec2> ranges;    // cluster lists (culling/culling.h)
+    std::vector<uint32_t> pool;
+    std::vector<float> depth;          // width * height, row-major
+    std::vector<glm::vec3> normal;     // G-buffer normals as stored (RGBA16F -> float)
+    gpu::VsmConstants constants{};
+    std::vector<gpu::GpuVsmMap> maps;  // indexed by map slot
+    std::vector<uint32_t> coverage;    // one bit per entry
+    size_t markWords = 0;              // size of the mark bit array
+};
+std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in);
+
+struct VsmAllocState {
+    std::vector<uint32_t> table;    // per entry of every slot in use
+    std::vector<uint32_t> owners;   // per physical page
+    std::vector<uint32_t> lastUsed; // per physical page
+};
+// One frame of allocation. `marks` and `stale` are bit arrays over entries; `active` the active map
+// slots in order; constants as uploaded (sizes.y = active count, sizes.w = frame).
+gpu::VsmCounters vsmAllocateReference(VsmAllocState& state, const std::vector<uint32_t>& marks,
+                                      const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
+                                      const std::vector<uint32_t>& active, const gpu::VsmConstants& constants);
+
+// Empty string when the state is consistent, else the first violation.
+std::string vsmCheckInvariants(const VsmAllocState& state, const std::vector<uint32_t>& marks,
+                               const std::vector<uint32_t>& active, const gpu::VsmConstants& constants,
+                               const gpu::VsmCounters& counters);
+
+} // namespace ml

@@ -1,0 +1,38 @@
+// Settings and per-frame statistics of the virtual shadow maps (shadows/virtual/vsm.h): plain API types,
+// included by the public header engine/manylights.h.
+#pragma once
+#include <cstdint>
+
+namespace ml {
+
+struct VsmSettings {
+    bool enabled = true;
+    // Virtual resolution of every map (spot, cube face, clip level): a power of two, 256..16384.
+    uint32_t resolution = 4096;
+    // Page side in texels: 32, 64 or 128 (measured on the night city: README, `bench vsm`).
+    uint32_t pageSize = 64;
+    // Physical pages in the shared pool (4 B per texel: 4096 pages of 64^2 = 64 MiB).
+    uint32_t poolPages = 4096;
+    // Map slots (a spot light takes 1, a point light 6, a directional light clipLevels).
+    uint32_t maxMaps = 512;
+    // Directional lights: clip levels, and the half extent (metres) of level 0; level l covers 2^l that.
+    uint32_t clipLevels = 10;
+    float clipHalfExtent = 8.0f;
+    float clipDepth = 600.0f; // metres of depth each clip level's box spans along the light
+    bool caching = true;      // false: every marked page is redrawn every frame (the bench baseline)
+    uint32_t maxDrawsPerMip = 16384;
+    uint32_t kinds = 7;       // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
+    bool staticLights = true; // lights that do not move get maps
+    bool movingLights = true; // moving lights (headlights) get maps
+    uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
+};
+
+// What the VSM passes did in one frame (FrameReport::stats.vsm; stats.json's "vsm" object).
+struct VsmStats {
+    uint32_t pagesMarked = 0, pagesAllocated = 0, pagesCached = 0, pagesRendered = 0, pagesInvalidated = 0,
+             pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0, mapsActive = 0,
+             instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0, lightsWithoutSlot = 0;
+    uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
+};
+
+} // namespace ml

@@ -1,0 +1,101 @@
+// Virtual shadow map GPU structs and page-table encoding, defined once for C++ and GLSL (included by
+// shadows/virtual/*.cpp and every vsm_*.comp / vsm_draw.* shader). Layout rules as in
+// shaders/shared/gpu_types.h: vec4/uvec4/mat4 members only, static_asserted on the C++ side.
+//
+// Vocabulary (shadows/virtual/vsm.h has the algorithm):
+//   map      one virtual shadow map: a spot light, one cube face of a point light, or one clip level of
+//            a directional light. Maps live in slots 0..maxMaps-1; a light's maps are consecutive.
+//   page     pageSize^2 texels of a map at one mip. Mip m of a map has S_m = S_0 >> m pages per side,
+//            S_0 = virtualResolution / pageSize. Directional clip levels use mip 0 only.
+//   entry    one page-table word per (map, mip, page): map * entriesPerMap + mipOffset(m) + y * S_m + x.
+//   physical page  pageSize^2 uint depths in the one pool shared by every light.
+#ifndef ML_VSM_TYPES_H
+#define ML_VSM_TYPES_H
+
+#include "shaders/shared/gpu_types.h"
+
+// Page-table entry bits. The physical page index sits in the low 24 bits (16M pages: far above any
+// pool that fits in memory at 4 B per texel).
+#define ML_VSM_PHYS_MASK 0x00FFFFFFu
+#define ML_VSM_ALLOCATED 0x01000000u // a physical page backs the entry
+#define ML_VSM_VALID 0x02000000u     // the physical page holds what a fresh render would (cached)
+#define ML_VSM_DIRTY 0x04000000u     // rendered this frame (cleared and drawn into)
+#define ML_VSM_NO_OWNER 0xFFFFFFFFu  // physical page without a virtual page
+
+// GpuVsmMap.info.x: projection kind.
+#define ML_VSM_PERSPECTIVE 0u
+#define ML_VSM_ORTHOGRAPHIC 1u
+// GpuVsmMap.info.y flags.
+#define ML_VSM_MAP_DYNAMIC_ONLY 1u // the light has a static bake: pages hold dynamic casters only
+#define ML_VSM_MAP_INVALIDATE 2u   // the light moved or the slot is new: every page is stale
+
+// Lookup results of the probe pass (GpuVsmProbe.info.w).
+#define ML_VSM_PROBE_PAGE 0u      // read from a page at the wanted mip
+#define ML_VSM_PROBE_FALLBACK 1u  // read from a coarser allocated page (pool full)
+#define ML_VSM_PROBE_NO_CASTER 2u // no dynamic caster's bounds cover the texel: visibility 1
+#define ML_VSM_PROBE_MISSING 3u   // no valid page at any mip (counted; must stay 0)
+
+#ifdef __cplusplus
+namespace ml::gpu {
+#endif
+
+// One virtual map, 176 bytes, written by the CPU each frame (shadows/virtual/vsm.cpp).
+ML_STRUCT(GpuVsmMap) {
+    mat4 viewProj; // world -> clip of the whole map (NDC [-1,1]^2; viewport of the mip rescales)
+    mat4 view;     // world -> light view, looking down -Z
+    vec4 params;   // x tan(fov/2) (perspective) or half extent (orthographic), y near, z far, w unused
+    uvec4 info;    // x ML_VSM_PERSPECTIVE/ORTHOGRAPHIC, y flags, zw unused
+    uvec4 light;   // x module light id, y clip level (directional) or face, z mips, w unused
+};
+
+// Frame-wide constants of the VSM passes (uniform), 64 bytes.
+ML_STRUCT(VsmConstants) {
+    uvec4 page;    // x page size, y log2(page size), z S_0 (pages per side at mip 0), w mips of a map
+    uvec4 sizes;   // x entries per map, y maps in use (slots 0..y-1 are scanned), z pool pages, w frame
+    uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution, w coverage words per map
+    vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), yzw unused
+};
+
+// Counters written by the VSM passes with atomics, read back when the frame's slot comes round.
+ML_STRUCT(VsmCounters) {
+    uint pagesMarked;       // entries marked this frame
+    uint pagesCached;       // marked entries whose page was allocated and valid (not redrawn)
+    uint pagesRendered;     // marked entries cleared and drawn this frame
+    uint pagesInvalidated;  // entries that lost VALID this frame (moved caster or light)
+    uint pagesEvicted;      // cached pages given to another entry (least recently used first)
+    uint fallbacks;         // marked entries left without a page (pool full): lookups use a coarser mip
+    uint requests;          // marked entries without a page at the start of allocation
+    uint available;         // physical pages free or evictable this frame
+    uint pagesAllocated;    // entries with a physical page after allocation
+    uint instancesDrawn;    // (instance, map, mip) draws emitted
+    uint instancesCulledHpb; // (instance, map, mip) pairs inside range and frustum but over no dirty page
+    uint drawOverflow;      // draws that did not fit the draw buffer (counted, never silent)
+    uint dispatchX, dispatchY, dispatchZ; // clear pass: one workgroup per rendered page (indirect)
+    uint pad;
+};
+
+// A caster for the draw passes: world bounds and the indexed draw of its mesh. 48 bytes.
+ML_STRUCT(GpuCaster) {
+    vec4 lo;    // world AABB min, w unused
+    vec4 hi;    // world AABB max, w unused
+    uvec4 draw; // x index count, y first index, z vertex offset, w 1 when dynamic
+};
+
+// One shaded pixel's lookup for one light, written by the probe pass (check vsm, tests).
+ML_STRUCT(GpuVsmProbe) {
+    uvec4 texel; // x map, y mip used, z texel x, w texel y (at the mip used)
+    uvec4 info;  // x pixel index, y light id, z depth read (kDepthEmpty: empty texel), w ML_VSM_PROBE_*
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(GpuVsmMap) == 176);
+static_assert(offsetof(GpuVsmMap, params) == 128);
+static_assert(offsetof(GpuVsmMap, light) == 160);
+static_assert(sizeof(VsmConstants) == 64);
+static_assert(sizeof(VsmCounters) == 64);
+static_assert(sizeof(GpuCaster) == 48);
+static_assert(sizeof(GpuVsmProbe) == 32);
+} // namespace ml::gpu
+#endif
+
+#endif
