@@ -1,0 +1,150 @@
+// Virtual shadow maps on lavapipe against their CPU references (shadows/virtual/vsm_reference.h):
+// every frame of a path, the GPU's mark bits equal vsmMarkReference on the same G-buffer and cluster
+// lists, and the page table, owners and last-use frames after allocation equal vsmAllocateReference run
+// from the previous frame's state; the invariants hold every frame; a pool a quarter of the need counts
+// fallbacks and never leaves a lookup without a page.
+#include "gpu_test_util.h"
+#include "host/vsm_session.h"
+#include "shadows/virtual/vsm_reference.h"
+
+namespace ml::test {
+namespace {
+
+VsmSessionOptions smallPath(uint32_t width, uint32_t height) {
+    VsmSessionOptions o;
+    o.width = width;
+    o.height = height;
+    o.path = CameraPath::Drive;
+    o.module.device.validation = true;
+    o.module.vsm.resolution = 1024;
+    o.module.vsm.poolPages = 1024;
+    return o;
+}
+
+VsmMarkInputs markInputs(Module& m) {
+    auto& impl = m.internals();
+    const VirtualShadowMaps& vsm = impl.vsm;
+    const uint32_t slot = impl.lastSlot;
+    VsmMarkInputs in;
+    in.frame = impl.lastConstants;
+    in.sliceFar = impl.lastSliceFar;
+    in.lights = impl.lastLights;
+    const size_t clusters = impl.cull.grid.count();
+    const auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    in.ranges.assign(ranges, ranges + clusters);
+    const auto* pool = impl.cull.pool.as<uint32_t>();
+    in.pool.assign(pool, pool + impl.cull.poolCapacity);
+    in.depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    in.normal.resize(in.depth.size());
+    for (size_t i = 0; i < in.normal.size(); ++i) in.normal[i] = glm::vec3(half4(normal, i));
+    in.constants = vsm.lastConstants();
+    in.maps = vsm.mapsHost(slot);
+    in.coverage = vsm.coverageBits(slot);
+    in.markWords = vsm.readMarks(m.device()).size();
+    return in;
+}
+
+TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
+    resetValidationCounters();
+    auto session = VsmSession::create(smallPath(192, 108));
+    ASSERT_TRUE(session.ok()) << session.error();
+    VsmSession& s = *session.value();
+    Module& m = *s.module;
+    const VirtualShadowMaps& vsm = m.internals().vsm;
+    VsmAllocState cpu;
+    const size_t entries = size_t(vsm.settings().maxMaps) * vsm.entriesPerMap();
+    cpu.table.assign(entries, 0);
+    cpu.owners.assign(vsm.settings().poolPages, ML_VSM_NO_OWNER);
+    cpu.lastUsed.assign(vsm.settings().poolPages, 0);
+    uint64_t marked = 0, cached = 0, rendered = 0, invalidated = 0;
+    const uint32_t frames = 100;
+    for (uint32_t f = 0; f < frames; ++f) {
+        auto report = s.frame(f);
+        ASSERT_TRUE(report.ok()) << report.error();
+        const uint32_t slot = m.internals().lastSlot;
+        // Marking.
+        std::vector<uint32_t> gpuMarks = vsm.readMarks(m.device());
+        if (f % 10 == 0 || f < 3) { // the mark reference walks every pixel: every 10th frame keeps it short
+            std::vector<uint32_t> cpuMarks = vsmMarkReference(markInputs(m));
+            size_t differ = 0;
+            for (size_t w = 0; w < gpuMarks.size(); ++w) differ += gpuMarks[w] != cpuMarks[w];
+            ASSERT_EQ(differ, 0u) << "frame " << f << ": mark words differ";
+        }
+        // Allocation from the previous frame's state, with this frame's marks.
+        std::vector<uint32_t> stale = vsm.staleBits(slot);
+        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot), vsm.activeMaps(slot),
+                                                  vsm.lastConstants());
+        std::vector<uint32_t> table = vsm.readTable(m.device());
+        ASSERT_LE(table.size(), cpu.table.size());
+        size_t differ = 0;
+        for (size_t e = 0; e < table.size(); ++e) differ += table[e] != cpu.table[e];
+        ASSERT_EQ(differ, 0u) << "frame " << f << ": page-table entries differ";
+        ASSERT_EQ(vsm.readOwners(m.device()), cpu.owners) << "frame " << f;
+        ASSERT_EQ(vsm.readLastUsed(m.device()), cpu.lastUsed) << "frame " << f;
+        const VsmStats& g = report->stats.vsm;
+        EXPECT_EQ(g.pagesMarked, c.pagesMarked) << "frame " << f;
+        EXPECT_EQ(g.pagesCached, c.pagesCached) << "frame " << f;
+        EXPECT_EQ(g.pagesRendered, c.pagesRendered) << "frame " << f;
+        EXPECT_EQ(g.pagesEvicted, c.pagesEvicted) << "frame " << f;
+        EXPECT_EQ(g.pagesInvalidated, c.pagesInvalidated) << "frame " << f;
+        EXPECT_EQ(g.fallbacks, c.fallbacks) << "frame " << f;
+        EXPECT_EQ(g.pagesAllocated, c.pagesAllocated) << "frame " << f;
+        std::string bad = vsmCheckInvariants(cpu, gpuMarks, vsm.activeMaps(slot), vsm.lastConstants(), c);
+        ASSERT_TRUE(bad.empty()) << "frame " << f << ": " << bad;
+        marked += g.pagesMarked;
+        cached += g.pagesCached;
+        rendered += g.pagesRendered;
+        invalidated += g.pagesInvalidated;
+    }
+    // The path exercises what the test is about: pages were marked, rendered, kept and invalidated.
+    EXPECT_GT(marked, 0u);
+    EXPECT_GT(cached, 0u);
+    EXPECT_GT(rendered, 0u);
+    EXPECT_GT(invalidated, 0u);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuVsm, QuarterPoolCountsFallbacksAndKeepsEveryShadow) {
+    resetValidationCounters();
+    const uint32_t frames = 8;
+    uint32_t need = 0;
+    {
+        auto session = VsmSession::create(smallPath(320, 180));
+        ASSERT_TRUE(session.ok()) << session.error();
+        for (uint32_t f = 0; f < frames; ++f) {
+            auto r = session.value()->frame(f);
+            ASSERT_TRUE(r.ok()) << r.error();
+            EXPECT_EQ(r->stats.vsm.fallbacks, 0u);
+            need = std::max(need, r->stats.vsm.pagesMarked);
+        }
+    }
+    ASSERT_GT(need, 8u);
+    VsmSessionOptions o = smallPath(320, 180);
+    o.module.vsm.poolPages = need / 4;
+    o.module.vsm.probeCapacity = 320 * 180 * 8;
+    auto session = VsmSession::create(o);
+    ASSERT_TRUE(session.ok()) << session.error();
+    uint64_t fallbacks = 0, fallbackLookups = 0, lookups = 0;
+    for (uint32_t f = 0; f < frames; ++f) {
+        auto r = session.value()->frame(f);
+        ASSERT_TRUE(r.ok()) << r.error();
+        fallbacks += r->stats.vsm.fallbacks;
+        uint32_t overflow = 0;
+        auto probes = session.value()->module->internals().vsm.readProbes(session.value()->module->internals().lastSlot,
+                                                                           &overflow);
+        ASSERT_EQ(overflow, 0u);
+        for (const auto& p : probes) {
+            ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING) << "frame " << f << ": a lookup found no page at any mip";
+            fallbackLookups += p.info.w == ML_VSM_PROBE_FALLBACK;
+            ++lookups;
+        }
+    }
+    EXPECT_GT(fallbacks, 0u) << "a pool of " << need / 4 << " pages for a need of " << need;
+    EXPECT_GT(fallbackLookups, 0u);
+    EXPECT_GT(lookups, 0u);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace
+} // namespace ml::test
