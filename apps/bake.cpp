@@ -8,11 +8,14 @@
 #include "apps/commands.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake.h"
+#include "shadows/static/bake_shard.h"
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -31,8 +34,11 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
                      the file records it and verify re-renders with the same one
+  --shard I/N        bake only shard I (0-based) of N of the selected lights into a part file for
+                     `manylights merge` (same flags in every shard; the split is computed, not stored:
+                     lights dealt costliest first, 6 faces for a point light, to the least loaded shard)
   --quiet            no progress lines on stderr
-Dynamic lights and non-spot lights among the selection are skipped and listed, never silently.
+Dynamic lights and directional lights among the selection are skipped and listed, never silently.
 )";
 
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
@@ -121,12 +127,66 @@ struct GpuDualRenderer {
     }
 };
 
+// The build id of a part: a hash of this executable's bytes (another build's encoders may differ).
+Result<uint64_t> executableHash() {
+    std::ifstream is("/proc/self/exe", std::ios::binary);
+    if (!is) return fail("cannot read /proc/self/exe to identify this build");
+    uint64_t h = fnv1a64(nullptr, 0);
+    std::vector<char> buf(1 << 20);
+    while (is.read(buf.data(), std::streamsize(buf.size())) || is.gcount() > 0)
+        h = fnv1a64(buf.data(), size_t(is.gcount()), h);
+    return h;
+}
+
+// bake --shard I/N: bakes the shard's lights (maybe none) into a part file for `manylights merge`.
+int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
+              const std::vector<uint32_t>& selected, ShardId id, const std::string& out,
+              BakeRenderer rendererKind, const DualRenderFn& render, const Device* device, bool quiet) {
+    BakePart part;
+    part.shard = id;
+    part.selected = selected;
+    part.own = shardLights(scene, selected, res, id);
+    part.fingerprint = sceneFingerprint(scene);
+    auto build = executableHash();
+    if (!build) return runError("bake", build.error());
+    part.build = build.value();
+    part.device = "cpu";
+    if (device)
+        part.device = "gpu: " + device->name + ", driver " + std::to_string(device->properties.driverVersion) +
+                      ", vendor " + std::to_string(device->properties.vendorID) + ", device " +
+                      std::to_string(device->properties.deviceID);
+    part.file.scene = spec, part.file.method = method, part.file.resolution = res;
+    std::vector<uint32_t> bakeable;
+    for (uint32_t l : part.own)
+        if (bakeSkipReason(scene.lights[l]).empty())
+            bakeable.push_back(l);
+        else
+            std::printf("skipped light %u: %s\n", l, bakeSkipReason(scene.lights[l]).c_str());
+    std::printf("shard %u/%u: %zu of the %zu selected lights (%zu to bake)\n", id.index, id.count,
+                part.own.size(), selected.size(), bakeable.size());
+    double renderSeconds = 0, encodeSeconds = 0;
+    if (!bakeable.empty()) {
+        auto baked = bakeScene(scene, spec, method, res, bakeable, progressPrinter("bake", quiet), render);
+        if (!baked) return runError("bake", baked.error());
+        part.file = std::move(baked->file);
+        renderSeconds = baked->renderSeconds, encodeSeconds = baked->encodeSeconds;
+    }
+    part.file.renderer = rendererKind;
+    if (auto w = writeBakePart(out, part); !w) return runError("bake", w.error());
+    std::printf("wrote part %s: shard %u/%u, %zu records; render %.2f s, encode %.2f s\n", out.c_str(),
+                id.index, id.count, part.file.records.size(), renderSeconds, encodeSeconds);
+    if (validationErrors())
+        return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
+    return 0;
+}
+
 } // namespace
 
 int runBake(int argc, char** argv) {
     auto args = cli::parse(
         argc, argv, 2,
-        {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer"},
+        {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer",
+         "--shard"},
         {"--quiet"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
@@ -147,6 +207,12 @@ int runBake(int argc, char** argv) {
     if (method.value() == StaticMethod::CPVS)
         if (auto s = makeCpvsSpace(res.value(), 1.0f, 2.0f); !s)
             return usageError("bake", "--res: " + s.error());
+    std::optional<ShardId> shard;
+    if (args->has("--shard")) {
+        auto s = parseShard(args->get("--shard", ""));
+        if (!s) return usageError("bake", s.error());
+        shard = s.value();
+    }
     const std::string out = args->get("--out", "");
     if (out.empty()) return usageError("bake", "--out: empty path");
     // Fail before a long bake, not after it.
@@ -175,6 +241,9 @@ int runBake(int argc, char** argv) {
     std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
                 staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
     std::fflush(stdout);
+    if (shard)
+        return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
+                         rendererKind, render, gpu.device.get(), args->has("--quiet"));
     auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
                            progressPrinter("bake", args->has("--quiet")), render);
     if (!baked) return runError("bake", baked.error());

@@ -10,6 +10,7 @@ int runBenchStatic(int argc, char** argv);
 int runBake(int argc, char** argv);
 int runInspect(int argc, char** argv);
 int runVerify(int argc, char** argv);
+int runMerge(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1
 } // namespace ml

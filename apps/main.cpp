@@ -22,6 +22,7 @@ Many shadowed lights on Vulkan. Commands (each takes --help):
   bake    bake static spot lights' shadows (sm, mh, mmh, dagmh, cpvs) into one bake file
   inspect validate a bake file and report its method, resolution, lights and bytes per part
   verify  re-render a bake file's lights and check every texel or voxel (last line JSON)
+  merge   merge the parts of a sharded bake (bake --shard I/N) into one bake file
 )";
 
 int main(int argc, char** argv) {
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[1], "bake")) return ml::runBake(argc, argv);
     if (!std::strcmp(argv[1], "inspect")) return ml::runInspect(argc, argv);
     if (!std::strcmp(argv[1], "verify")) return ml::runVerify(argc, argv);
+    if (!std::strcmp(argv[1], "merge")) return ml::runMerge(argc, argv);
     std::fprintf(stderr, "manylights: unknown command '%s' (see manylights help)\n", argv[1]);
     return 2;
 }
