@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -34,6 +35,12 @@ std::string lightList(const std::vector<uint32_t>& lights) {
     for (size_t i = 0; i < lights.size() && i < 8; ++i) s += (i ? ", " : "") + std::to_string(lights[i]);
     if (lights.size() > 8) s += " and " + std::to_string(lights.size() - 8) + " more";
     return s;
+}
+
+std::string hex64(uint64_t v) {
+    char buf[24];
+    std::snprintf(buf, sizeof(buf), "%016llx", (unsigned long long)v);
+    return buf;
 }
 
 std::string shardName(ShardId id) {
@@ -275,7 +282,7 @@ Result<BakeFile> mergeBakeParts(const std::vector<BakePart>& parts, const std::v
                               std::to_string(sb.seed) + ")");
         if (a.fingerprint != b.fingerprint)
             return differ("scene fingerprint (the scene's geometry or lights changed between the shards)",
-                          std::to_string(a.fingerprint), std::to_string(b.fingerprint));
+                          hex64(a.fingerprint), hex64(b.fingerprint));
         if (a.file.method != b.file.method)
             return differ("method", staticMethodName(a.file.method), staticMethodName(b.file.method));
         if (a.file.resolution != b.file.resolution)
@@ -286,7 +293,7 @@ Result<BakeFile> mergeBakeParts(const std::vector<BakePart>& parts, const std::v
         if (a.device != b.device) return differ("device", "'" + a.device + "'", "'" + b.device + "'");
         if (a.build != b.build)
             return differ("manylights build (executable hash; bake every shard with one build)",
-                          std::to_string(a.build), std::to_string(b.build));
+                          hex64(a.build), hex64(b.build));
         if (a.shard.count != b.shard.count)
             return differ("shard count", std::to_string(a.shard.count), std::to_string(b.shard.count));
         if (a.selected != b.selected)
