@@ -35,7 +35,7 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
                      the file records it and verify re-renders with the same one
   --shard I/N        bake only shard I (0-based) of N of the selected lights into a part file for
-                     `manylights merge` (same flags in every shard; the split is computed, not stored:
+                     `manylights merge` (same flags in every shard; each computes the same split:
                      lights dealt costliest first, 6 faces for a point light, to the least loaded shard)
   --quiet            no progress lines on stderr
 Dynamic lights and directional lights among the selection are skipped and listed, never silently.
@@ -44,7 +44,9 @@ Dynamic lights and directional lights among the selection are skipped and listed
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
 Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
 bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.
   --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
+           (and part{shard, shards, selected, own[...], device} for a part)
 )";
 
 const char* kVerifyHelp = R"(usage: manylights verify FILE [--quiet]
@@ -273,9 +275,24 @@ int runInspect(int argc, char** argv) {
         std::fputs(kInspectHelp, stdout);
         return 0;
     }
-    auto file = readBakeFile(path);
+    // A part of a sharded bake is shown as its shard and the bake file it wraps.
+    std::optional<BakePart> part;
+    uint32_t magic = 0;
+    std::ifstream(path, std::ios::binary).read(reinterpret_cast<char*>(&magic), 4);
+    Result<BakeFile> file = fail("");
+    if (magic == partfmt::kMagic) {
+        auto p = readBakePart(path);
+        if (!p) return usageError("inspect", p.error());
+        part = std::move(p.value());
+        file = part->file;
+    } else {
+        file = readBakeFile(path);
+    }
     if (!file) return usageError("inspect", file.error());
     const BakeFile& f = file.value();
+    std::string ownList;
+    if (part)
+        for (uint32_t l : part->own) ownList += (ownList.empty() ? "" : ", ") + std::to_string(l);
     std::vector<BakeRecordBytes> per;
     BakeBytes b = bakeFileBytes(f, &per);
     const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4;
@@ -284,6 +301,11 @@ int runInspect(int argc, char** argv) {
             "{\"file\": %s, \"version\": %u, \"scene\": {\"name\": %s, \"lights\": %u, \"seed\": %u},\n",
             jsonString(path).c_str(), bakefmt::kVersion, jsonString(f.scene.scene).c_str(), f.scene.lights,
             f.scene.seed);
+        if (part)
+            std::printf(" \"part\": {\"shard\": %u, \"shards\": %u, \"selected\": %zu, \"own\": [%s], "
+                        "\"device\": %s},\n",
+                        part->shard.index, part->shard.count, part->selected.size(), ownList.c_str(),
+                        jsonString(part->device).c_str());
         std::printf(" \"method\": \"%s\", \"resolution\": %u, \"lights\": %zu, \"bytes_total\": %llu,\n",
                     staticMethodName(f.method), f.resolution, f.records.size(),
                     (unsigned long long)b.total());
@@ -310,6 +332,10 @@ int runInspect(int argc, char** argv) {
     }
     std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", path.c_str(), bakefmt::kVersion,
                 f.scene.scene.c_str(), f.scene.lights, f.scene.seed);
+    if (part)
+        std::printf("part of a sharded bake: shard %u/%u, lights %s of %zu selected; device %s\n",
+                    part->shard.index, part->shard.count, ownList.empty() ? "(none)" : ownList.c_str(),
+                    part->selected.size(), part->device.c_str());
     std::printf("method %s, resolution %u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
                 staticMethodName(f.method), f.resolution, f.records.size(), (unsigned long long)b.total(),
                 f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(mapBytes * f.records.size()),

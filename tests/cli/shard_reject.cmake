@@ -1,7 +1,7 @@
 # Parts that are not the shards of one bake are refused by `manylights merge` with exit status 2 and one
 # line on stderr naming the parts or lights: missing, doubled, other method / resolution / scene /
-# scene geometry / renderer / selection, damaged or truncated, a whole bake file; and inspect / verify
-# refuse a part with one line.
+# scene geometry / renderer / selection, damaged or truncated, a whole bake file; verify refuses a
+# part and inspect reports its shard.
 #   cmake -DEXE=path/to/manylights -DOUT=dir -DSCENE=tests/cli/point_light.gltf -P shard_reject.cmake
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
@@ -91,9 +91,19 @@ expect("${OUT}/good.mlbk: a whole bake file, not a part" merge ${OUT}/p0.mlbp ${
 expect("${OUT}/missing.mlbp: no such file" merge ${OUT}/p0.mlbp ${OUT}/missing.mlbp --out ${OUT}/x.mlbk)
 expect("no PART files" merge --out ${OUT}/x.mlbk)
 expect("--out: required" merge ${OUT}/p0.mlbp ${OUT}/p1.mlbp)
-# A part is not a bake file for inspect and verify.
-expect("${OUT}/p0.mlbp: one part of a sharded bake .*manylights merge" inspect ${OUT}/p0.mlbp)
+# A part is not a bake file for verify; inspect shows its shard, or refuses it when damaged.
 expect("${OUT}/p0.mlbp: one part of a sharded bake .*manylights merge" verify ${OUT}/p0.mlbp)
+expect("${OUT}/head.mlbp: header: checksum mismatch" inspect ${OUT}/head.mlbp)
+execute_process(COMMAND ${EXE} inspect ${OUT}/p1.mlbp --json RESULT_VARIABLE rc OUTPUT_VARIABLE json ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "inspect of a part exited ${rc}: ${err}")
+endif()
+string(JSON shard GET "${json}" part shard)
+string(JSON shards GET "${json}" part shards)
+string(JSON selected GET "${json}" part selected)
+if(NOT shard EQUAL 1 OR NOT shards EQUAL 2 OR NOT selected EQUAL 6)
+  message(FATAL_ERROR "inspect --json of shard 1/2 of 6 lights: ${json}")
+endif()
 # And bake rejects a malformed --shard.
 expect("--shard: '2/2' is not I/N" bake ${base} --shard 2/2 --out ${OUT}/x.mlbp)
 if(EXISTS ${OUT}/x.mlbk)
