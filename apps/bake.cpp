@@ -154,8 +154,9 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
     part.build = build.value();
     part.device = "cpu";
     if (device)
-        part.device = "gpu: " + device->name + ", driver " + std::to_string(device->properties.driverVersion) +
-                      ", vendor " + std::to_string(device->properties.vendorID) + ", device " +
+        part.device = "gpu: " + device->name + ", driver " +
+                      std::to_string(device->properties.driverVersion) + ", vendor " +
+                      std::to_string(device->properties.vendorID) + ", device " +
                       std::to_string(device->properties.deviceID);
     part.file.scene = spec, part.file.method = method, part.file.resolution = res;
     std::vector<uint32_t> bakeable;
@@ -185,11 +186,10 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
 } // namespace
 
 int runBake(int argc, char** argv) {
-    auto args = cli::parse(
-        argc, argv, 2,
-        {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer",
-         "--shard"},
-        {"--quiet"});
+    auto args = cli::parse(argc, argv, 2,
+                           {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
+                            "--renderer", "--shard"},
+                           {"--quiet"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
         std::fputs(kBakeHelp, stdout);

@@ -206,7 +206,8 @@ Result<BakePart> parseBakePart(const std::string& name, const uint32_t* w, size_
     p.file = std::move(file.value());
     for (const BakeRecord& r : p.file.records)
         if (!std::binary_search(p.own.begin(), p.own.end(), r.light))
-            return bad("record of light " + std::to_string(r.light) + " which is not one of the shard's lights");
+            return bad("record of light " + std::to_string(r.light) +
+                       " which is not one of the shard's lights");
     if (p.selected.back() >= p.file.scene.lights)
         return bad("selected light " + std::to_string(p.selected.back()) + " is not below the scene's " +
                    std::to_string(p.file.scene.lights) + " lights");
@@ -276,8 +277,9 @@ Result<BakeFile> mergeBakeParts(const std::vector<BakePart>& parts, const std::v
         };
         const SceneSpec &sa = a.file.scene, &sb = b.file.scene;
         if (sa.scene != sb.scene || sa.lights != sb.lights || sa.seed != sb.seed)
-            return differ("scene", sa.scene + " (" + std::to_string(sa.lights) + " lights, seed " +
-                                       std::to_string(sa.seed) + ")",
+            return differ("scene",
+                          sa.scene + " (" + std::to_string(sa.lights) + " lights, seed " +
+                              std::to_string(sa.seed) + ")",
                           sb.scene + " (" + std::to_string(sb.lights) + " lights, seed " +
                               std::to_string(sb.seed) + ")");
         if (a.fingerprint != b.fingerprint)
@@ -329,7 +331,8 @@ Result<BakeFile> mergeBakeParts(const std::vector<BakePart>& parts, const std::v
         for (uint32_t s = 0; s < a.shard.count; ++s)
             if (!present[s]) shards += (shards.empty() ? "" : ", ") + shardName({s, a.shard.count});
         return fail(std::string(missing.size() == 1 ? "light " : "lights ") + lightList(missing) +
-                    " of the selection in no part (missing shard" + (shards.find(',') != std::string::npos ? "s " : " ") +
+                    " of the selection in no part (missing shard" +
+                    (shards.find(',') != std::string::npos ? "s " : " ") +
                     (shards.empty() ? "unknown" : shards) + ")");
     }
     BakeFile out;
