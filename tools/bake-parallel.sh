@@ -6,11 +6,11 @@
 #     BAKE-FLAGS   exactly the flags of `manylights bake` (--method, --res, --lights, --out, ...)
 #     --jobs N     shard processes (default: nproc); each renders and encodes its own lights
 #     --keep-parts keep the part files (in OUT.parts/) instead of deleting them after the merge
-#   MANYLIGHTS=path/to/manylights overrides the binary (default: build/manylights beside this script,
+#   MANYLIGHTS=path/to/manylights overrides the binary (default: the worktree's build/manylights,
 #   else `manylights` on PATH).
 #
-# Parts and logs go to OUT.parts/ beside --out. A failing shard stops the run: its log is printed and
-# the exit status is non-zero; nothing is merged.
+# Parts and logs go to OUT.parts/ beside --out. A failing shard stops the run: its log is printed, the
+# exit status is the first failing shard's (2: bad input), and nothing is merged.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -34,17 +34,19 @@ while (($#)); do
       out=$2; shift 2 ;;
     --shard) echo "bake-parallel: --shard is chosen by the runner (see --jobs)" >&2; exit 2 ;;
     -h|--help)
-      sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+      sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) bake_args+=("$1"); shift ;;
   esac
 done
 [[ -n "$out" ]] || { echo "bake-parallel: --out: required (see --help)" >&2; exit 2; }
+[[ -d "$(dirname -- "$out")" ]] || { echo "bake-parallel: --out: $(dirname -- "$out") is not a directory" >&2; exit 2; }
 
 parts="$out.parts"
 mkdir -p "$parts"
 rm -f "$parts"/shard-*.mlbp "$parts"/shard-*.log
 
 start=$(date +%s.%N)
+echo "bake-parallel: $jobs shards running, logs in $parts/shard-I.log"
 pids=()
 for ((i = 0; i < jobs; i++)); do
   "$exe" bake "${bake_args[@]}" --shard "$i/$jobs" --out "$parts/shard-$i.mlbp" >"$parts/shard-$i.log" 2>&1 &
@@ -52,13 +54,15 @@ for ((i = 0; i < jobs; i++)); do
 done
 failed=0
 for ((i = 0; i < jobs; i++)); do
-  if ! wait "${pids[$i]}"; then
-    echo "bake-parallel: shard $i/$jobs failed; its log ($parts/shard-$i.log):" >&2
+  rc=0
+  wait "${pids[$i]}" || rc=$?
+  if ((rc != 0)); then
+    echo "bake-parallel: shard $i/$jobs failed (exit $rc); its log ($parts/shard-$i.log):" >&2
     cat "$parts/shard-$i.log" >&2
-    failed=1
+    ((failed != 0)) || failed=$rc
   fi
 done
-((failed == 0)) || exit 1
+((failed == 0)) || exit "$failed"
 
 part_files=()
 for ((i = 0; i < jobs; i++)); do part_files+=("$parts/shard-$i.mlbp"); done
