@@ -8,11 +8,14 @@
 #include "apps/commands.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake.h"
+#include "shadows/static/bake_shard.h"
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -31,14 +34,19 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
                      the file records it and verify re-renders with the same one
+  --shard I/N        bake only shard I (0-based) of N of the selected lights into a part file for
+                     `manylights merge` (same flags in every shard; each computes the same split:
+                     lights dealt costliest first, 6 faces for a point light, to the least loaded shard)
   --quiet            no progress lines on stderr
-Dynamic lights and non-spot lights among the selection are skipped and listed, never silently.
+Dynamic lights and directional lights among the selection are skipped and listed, never silently.
 )";
 
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
 Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
 bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.
   --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
+           (and part{shard, shards, selected, own[...], device} for a part)
 )";
 
 const char* kVerifyHelp = R"(usage: manylights verify FILE [--quiet]
@@ -121,13 +129,67 @@ struct GpuDualRenderer {
     }
 };
 
+// The build id of a part: a hash of this executable's bytes (another build's encoders may differ).
+Result<uint64_t> executableHash() {
+    std::ifstream is("/proc/self/exe", std::ios::binary);
+    if (!is) return fail("cannot read /proc/self/exe to identify this build");
+    uint64_t h = fnv1a64(nullptr, 0);
+    std::vector<char> buf(1 << 20);
+    while (is.read(buf.data(), std::streamsize(buf.size())) || is.gcount() > 0)
+        h = fnv1a64(buf.data(), size_t(is.gcount()), h);
+    return h;
+}
+
+// bake --shard I/N: bakes the shard's lights (maybe none) into a part file for `manylights merge`.
+int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
+              const std::vector<uint32_t>& selected, ShardId id, const std::string& out,
+              BakeRenderer rendererKind, const DualRenderFn& render, const Device* device, bool quiet) {
+    BakePart part;
+    part.shard = id;
+    part.selected = selected;
+    part.own = shardLights(scene, selected, res, id);
+    part.fingerprint = sceneFingerprint(scene);
+    auto build = executableHash();
+    if (!build) return runError("bake", build.error());
+    part.build = build.value();
+    part.device = "cpu";
+    if (device)
+        part.device = "gpu: " + device->name + ", driver " +
+                      std::to_string(device->properties.driverVersion) + ", vendor " +
+                      std::to_string(device->properties.vendorID) + ", device " +
+                      std::to_string(device->properties.deviceID);
+    part.file.scene = spec, part.file.method = method, part.file.resolution = res;
+    std::vector<uint32_t> bakeable;
+    for (uint32_t l : part.own)
+        if (bakeSkipReason(scene.lights[l]).empty())
+            bakeable.push_back(l);
+        else
+            std::printf("skipped light %u: %s\n", l, bakeSkipReason(scene.lights[l]).c_str());
+    std::printf("shard %u/%u: %zu of the %zu selected lights (%zu to bake)\n", id.index, id.count,
+                part.own.size(), selected.size(), bakeable.size());
+    double renderSeconds = 0, encodeSeconds = 0;
+    if (!bakeable.empty()) {
+        auto baked = bakeScene(scene, spec, method, res, bakeable, progressPrinter("bake", quiet), render);
+        if (!baked) return runError("bake", baked.error());
+        part.file = std::move(baked->file);
+        renderSeconds = baked->renderSeconds, encodeSeconds = baked->encodeSeconds;
+    }
+    part.file.renderer = rendererKind;
+    if (auto w = writeBakePart(out, part); !w) return runError("bake", w.error());
+    std::printf("wrote part %s: shard %u/%u, %zu records; render %.2f s, encode %.2f s\n", out.c_str(),
+                id.index, id.count, part.file.records.size(), renderSeconds, encodeSeconds);
+    if (validationErrors())
+        return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
+    return 0;
+}
+
 } // namespace
 
 int runBake(int argc, char** argv) {
-    auto args = cli::parse(
-        argc, argv, 2,
-        {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer"},
-        {"--quiet"});
+    auto args = cli::parse(argc, argv, 2,
+                           {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
+                            "--renderer", "--shard"},
+                           {"--quiet"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
         std::fputs(kBakeHelp, stdout);
@@ -147,6 +209,12 @@ int runBake(int argc, char** argv) {
     if (method.value() == StaticMethod::CPVS)
         if (auto s = makeCpvsSpace(res.value(), 1.0f, 2.0f); !s)
             return usageError("bake", "--res: " + s.error());
+    std::optional<ShardId> shard;
+    if (args->has("--shard")) {
+        auto s = parseShard(args->get("--shard", ""));
+        if (!s) return usageError("bake", s.error());
+        shard = s.value();
+    }
     const std::string out = args->get("--out", "");
     if (out.empty()) return usageError("bake", "--out: empty path");
     // Fail before a long bake, not after it.
@@ -175,6 +243,9 @@ int runBake(int argc, char** argv) {
     std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
                 staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
     std::fflush(stdout);
+    if (shard)
+        return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
+                         rendererKind, render, gpu.device.get(), args->has("--quiet"));
     auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
                            progressPrinter("bake", args->has("--quiet")), render);
     if (!baked) return runError("bake", baked.error());
@@ -204,9 +275,24 @@ int runInspect(int argc, char** argv) {
         std::fputs(kInspectHelp, stdout);
         return 0;
     }
-    auto file = readBakeFile(path);
+    // A part of a sharded bake is shown as its shard and the bake file it wraps.
+    std::optional<BakePart> part;
+    uint32_t magic = 0;
+    std::ifstream(path, std::ios::binary).read(reinterpret_cast<char*>(&magic), 4);
+    Result<BakeFile> file = fail("");
+    if (magic == partfmt::kMagic) {
+        auto p = readBakePart(path);
+        if (!p) return usageError("inspect", p.error());
+        part = std::move(p.value());
+        file = part->file;
+    } else {
+        file = readBakeFile(path);
+    }
     if (!file) return usageError("inspect", file.error());
     const BakeFile& f = file.value();
+    std::string ownList;
+    if (part)
+        for (uint32_t l : part->own) ownList += (ownList.empty() ? "" : ", ") + std::to_string(l);
     std::vector<BakeRecordBytes> per;
     BakeBytes b = bakeFileBytes(f, &per);
     const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4;
@@ -215,6 +301,11 @@ int runInspect(int argc, char** argv) {
             "{\"file\": %s, \"version\": %u, \"scene\": {\"name\": %s, \"lights\": %u, \"seed\": %u},\n",
             jsonString(path).c_str(), bakefmt::kVersion, jsonString(f.scene.scene).c_str(), f.scene.lights,
             f.scene.seed);
+        if (part)
+            std::printf(" \"part\": {\"shard\": %u, \"shards\": %u, \"selected\": %zu, \"own\": [%s], "
+                        "\"device\": %s},\n",
+                        part->shard.index, part->shard.count, part->selected.size(), ownList.c_str(),
+                        jsonString(part->device).c_str());
         std::printf(" \"method\": \"%s\", \"resolution\": %u, \"lights\": %zu, \"bytes_total\": %llu,\n",
                     staticMethodName(f.method), f.resolution, f.records.size(),
                     (unsigned long long)b.total());
@@ -241,6 +332,10 @@ int runInspect(int argc, char** argv) {
     }
     std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", path.c_str(), bakefmt::kVersion,
                 f.scene.scene.c_str(), f.scene.lights, f.scene.seed);
+    if (part)
+        std::printf("part of a sharded bake: shard %u/%u, lights %s of %zu selected; device %s\n",
+                    part->shard.index, part->shard.count, ownList.empty() ? "(none)" : ownList.c_str(),
+                    part->selected.size(), part->device.c_str());
     std::printf("method %s, resolution %u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
                 staticMethodName(f.method), f.resolution, f.records.size(), (unsigned long long)b.total(),
                 f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(mapBytes * f.records.size()),

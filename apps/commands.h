@@ -12,6 +12,7 @@ int runInspect(int argc, char** argv);
 int runVerify(int argc, char** argv);
 int runCheck(int argc, char** argv);
 int runBenchVsm(int argc, char** argv);
+int runMerge(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1
 } // namespace ml

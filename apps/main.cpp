@@ -23,6 +23,7 @@ Many shadowed lights on Vulkan. Commands (each takes --help):
   inspect validate a bake file and report its method, resolution, lights and bytes per part
   verify  re-render a bake file's lights and check every texel or voxel (last line JSON)
   check   `check vsm`: every virtual-shadow-map lookup of a camera path against full reference maps
+  merge   merge the parts of a sharded bake (bake --shard I/N) into one bake file
 )";
 
 int main(int argc, char** argv) {
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[1], "inspect")) return ml::runInspect(argc, argv);
     if (!std::strcmp(argv[1], "verify")) return ml::runVerify(argc, argv);
     if (!std::strcmp(argv[1], "check")) return ml::runCheck(argc, argv);
+    if (!std::strcmp(argv[1], "merge")) return ml::runMerge(argc, argv);
     std::fprintf(stderr, "manylights: unknown command '%s' (see manylights help)\n", argv[1]);
     return 2;
 }

@@ -58,6 +58,10 @@ bool sameFrustum(const LightFrustum& a, const LightFrustum& b) {
 
 } // namespace
 
+std::string bakeSkipReason(const Light& light) {
+    return skipReason(light);
+}
+
 DualRenderFn cpuDualRenderer(uint64_t tileTexels) {
     return [tileTexels](const CasterTriangles& casters, const LightFrustum& frustum,
                         uint32_t res) -> Result<DualDepthMap> {

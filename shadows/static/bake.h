@@ -65,6 +65,9 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
                              uint32_t resolution, const std::vector<uint32_t>& lights,
                              const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
 
+// Why bakeScene would skip this light ("" when it bakes it): the sharded bake's cost estimate needs it.
+std::string bakeSkipReason(const Light& light);
+
 // "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
 // Errors are one line: malformed items and indices not below lightCount.
 Result<std::vector<uint32_t>> parseLightSelection(const std::string& text, uint32_t lightCount);

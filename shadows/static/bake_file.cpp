@@ -43,6 +43,9 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
     if (count < kFixedHeaderWords)
         return bad("file is " + std::to_string(count * 4) + " bytes, shorter than the " +
                    std::to_string(kFixedHeaderWords * 4) + "-byte header");
+    if (w[kHMagic] == kPartMagic)
+        return bad("one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
+                   "with `manylights merge`");
     if (w[kHMagic] != kMagic) return bad("not a manylights bake file (wrong magic)");
     if (w[kHVersion] != kVersion)
         return bad("unsupported version " + std::to_string(w[kHVersion]) + " (this build reads " +
@@ -241,7 +244,7 @@ Result<BakeFile> readBakeFile(const std::string& path) {
     if (!is.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4)))
         return fail(path + ": read failed");
     // Name the more useful problem first: some other file, rather than a bake file cut mid-word.
-    if (!words.empty() && words[0] != kMagic)
+    if (!words.empty() && words[0] != kMagic && words[0] != kPartMagic)
         return fail(path + ": not a manylights bake file (wrong magic)");
     if (size % 4 != 0)
         return fail(path + ": size " + std::to_string(size) +

@@ -37,6 +37,9 @@ namespace ml {
 namespace bakefmt {
 constexpr uint32_t kMagic = stat::fourcc('M', 'L', 'B', 'K');
 constexpr uint32_t kVersion = 1;
+// A part of a sharded bake (bake_shard.h) wraps a bake file; the reader names it instead of failing
+// with "wrong magic".
+constexpr uint32_t kPartMagic = stat::fourcc('M', 'L', 'B', 'P');
 constexpr uint32_t kFixedHeaderWords = 16;
 constexpr uint32_t kRecordWords = 32;
 constexpr uint32_t kMaxSceneBytes = 4096;

@@ -1,0 +1,37 @@
+# A sharded bake through the local runner equals a single bake byte for byte.
+#   cmake -DEXE=manylights -DRUNNER=tools/bake-parallel.sh -DOUT=dir -DMETHOD=mh -DJOBS=3
+#         [-DRES=64] [-DLIGHTS=0-4,240] [-DEXTRA="--scene|file.gltf|--scene-lights|4"] -P shard_check.cmake
+# ("|" separates the extra bake arguments). The runner's shards and merge are the real CLI commands.
+if(NOT RES)
+  set(RES 64)
+endif()
+if(NOT LIGHTS)
+  set(LIGHTS 0-4,240) # five static spots and one car headlight (dynamic: skipped in both bakes)
+endif()
+string(REPLACE "|" ";" extra "${EXTRA}")
+file(MAKE_DIRECTORY ${OUT})
+string(MAKE_C_IDENTIFIER "${METHOD}_${JOBS}_${EXTRA}" tag)
+set(single ${OUT}/${tag}_single.mlbk)
+set(merged ${OUT}/${tag}_merged.mlbk)
+file(REMOVE ${single} ${merged})
+set(args --method ${METHOD} --res ${RES} --lights ${LIGHTS} --quiet ${extra})
+
+execute_process(COMMAND ${EXE} bake ${args} --out ${single} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "single bake exited ${rc}: ${err}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E env MANYLIGHTS=${EXE} bash ${RUNNER} --jobs ${JOBS} ${args} --out ${merged}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "bake-parallel.sh exited ${rc}: ${out} ${err}")
+endif()
+if(EXISTS ${merged}.parts)
+  message(FATAL_ERROR "bake-parallel.sh left its parts behind (${merged}.parts)")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${single} ${merged} RESULT_VARIABLE same)
+file(SIZE ${single} size)
+if(NOT same EQUAL 0)
+  file(SIZE ${merged} msize)
+  message(FATAL_ERROR "${METHOD}, ${JOBS} shards: merged file (${msize} bytes) differs from the single bake (${size} bytes)")
+endif()
+message(STATUS "${METHOD}, ${JOBS} shards: merged == single, ${size} bytes")
