@@ -22,6 +22,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -171,6 +172,12 @@ class Module {
     Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);
     void clearStaticShadow(LightId id);
     Result<void> setShadowFilter(uint32_t pcfRadius);
+    // Bakes and attaches the static shadows of every static, shadow-casting spot and point light (six
+    // cube faces) from the module's own static, shadow-casting instances: dual depth maps rendered on this
+    // device, encoded with `method` at `resolution`^2. `progress` (may be empty) gets (lights done, total).
+    // Returns the number of lights baked. Waits for the device (a load-time operation).
+    Result<uint32_t> bakeStaticShadows(StaticMethod method, uint32_t resolution,
+                                       const std::function<void(uint32_t, uint32_t)>& progress = {});
     void setCulling(CullingMode mode);
     void setStatistics(bool enabled);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)

@@ -7,6 +7,8 @@
 #include "engine/gbuffer.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
+#include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -174,7 +176,7 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
         hi = glm::max(hi, p);
     }
     Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
-                      hi, true};
+                      hi, true, mesh.closed};
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
@@ -356,6 +358,60 @@ void Module::clearStaticShadow(LightId light) {
     const uint32_t id = index.value();
     impl_->shadows[id] = {};
     impl_->shadowsDirty = true; // all faces
+}
+
+Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolution,
+                                           const std::function<void(uint32_t, uint32_t)>& progress) {
+    auto& m = *impl_;
+    if (method == StaticMethod::None) return fail("bakeStaticShadows: no method");
+    if (resolution < 8 || resolution > 16384)
+        return fail("bakeStaticShadows: resolution " + std::to_string(resolution) + " outside 8..16384");
+    // Static casters in world space; mirrored instances swap winding so front faces stay front faces.
+    CasterTriangles casters;
+    for (const Impl::InstanceData& inst : m.instances) {
+        if (!inst.alive || inst.dynamic || !inst.castsShadows) continue;
+        const Impl::MeshRange& r = m.meshes[inst.mesh];
+        const bool mirror = glm::determinant(glm::mat3(inst.transform)) < 0.0f;
+        for (uint32_t i = 0; i + 2 < r.indexCount; i += 3) {
+            glm::vec3 p[3];
+            for (int k = 0; k < 3; ++k) {
+                const MeshVertex& v = m.vertices[r.firstVertex + m.indices[r.firstIndex + i + k]];
+                p[k] = glm::vec3(inst.transform * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f));
+            }
+            if (mirror) std::swap(p[1], p[2]);
+            casters.add(p[0], p[1], p[2], r.closed);
+        }
+    }
+    auto renderer = DualDepthRenderer::create(*m.device);
+    if (!renderer) return fail(renderer.error());
+    std::vector<uint32_t> todo;
+    for (uint32_t i = 0; i < m.lights.size(); ++i) {
+        const LightDesc& l = m.lights[i];
+        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional) todo.push_back(i);
+    }
+    uint32_t done = 0;
+    for (uint32_t i : todo) {
+        const LightDesc& l = m.lights[i];
+        Light sl;
+        sl.type = l.kind == LightKind::Point ? LightType::Point : LightType::Spot;
+        sl.position = l.position;
+        sl.direction = l.direction;
+        sl.range = l.range;
+        sl.outerAngle = l.outerAngle;
+        const std::vector<LightFrustum> frustums = lightFrustums(sl);
+        const LightId id = makeId(i, m.lightGeneration[i], kLightIndexBits);
+        for (uint32_t face = 0; face < frustums.size(); ++face) {
+            const LightFrustum& f = frustums[face];
+            auto map = renderer.value()->render(casters, f, resolution);
+            if (!map) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + map.error());
+            auto words = encodeStatic(method, map.value(), {f.nearPlane, f.farPlane, {}});
+            if (!words) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + words.error());
+            if (auto r = setStaticShadow(id, {method, f, words.value(), face}); !r) return fail(r.error());
+        }
+        ++done;
+        if (progress) progress(done, uint32_t(todo.size()));
+    }
+    return done;
 }
 
 Result<void> Module::setShadowFilter(uint32_t radius) {

@@ -21,6 +21,7 @@ struct Module::Impl {
         uint32_t firstVertex, firstIndex, indexCount;
         glm::vec3 lo, hi; // object-space bounds
         bool alive = true;
+        bool closed = false;
     };
     struct InstanceData {
         MeshId mesh;
