@@ -104,7 +104,8 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     owners_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners");
     std::memset(owners_.data, 0xFF, owners_.size); // ML_VSM_NO_OWNER
     lastUsed_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
-    marks_ = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_marks");
+    markWords_ = bitWords;
+    marks_ = createBuffer(d, 2 * bitWords * 4, kStorageBufferUsage, "vsm_marks"); // lookup marks, fallback marks
     pagePool_ = createBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage, "vsm_pool");
     blockCounts_ = createBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
     avail_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
@@ -366,7 +367,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     gpu::VsmConstants c{};
     c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
     c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
-    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, 0u);
+    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)), 0, 0, 0);
     lastConstants_ = c;
 
@@ -409,7 +410,9 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
     profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
         // Per-frame state: marks, dirty-mip flags, draw counts (the frame-start barrier ordered these
         // clears after the previous frame's reads).
-        vkCmdFillBuffer(c, marks_.buffer, 0, std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4), 0);
+        const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
+        vkCmdFillBuffer(c, marks_.buffer, 0, used, 0);
+        vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
         vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
         vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
         memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
@@ -552,7 +555,7 @@ std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device&) const {
     return copyWords(lastUsed_, settings_.poolPages);
 }
 std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device&) const {
-    return copyWords(marks_, (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32);
+    return copyWords(marks_, 2 * markWords_);
 }
 std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device&) const {
     return copyWords(pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);

@@ -41,7 +41,7 @@ VsmMarkInputs markInputs(Module& m) {
     in.constants = vsm.lastConstants();
     in.maps = vsm.mapsHost(slot);
     in.coverage = vsm.coverageBits(slot);
-    in.markWords = vsm.readMarks(m.device()).size();
+    in.markWords = vsm.markWords();
     return in;
 }
 
