@@ -100,22 +100,23 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t entries = size_t(s.maxMaps) * entriesPerMap_;
     const size_t bitWords = (entries + 31) / 32;
 
-    table_ = createBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    owners_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners");
-    std::memset(owners_.data, 0xFF, owners_.size); // ML_VSM_NO_OWNER
-    lastUsed_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
+    // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
+    table_ = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    owners_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
+    lastUsed_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
     markWords_ = bitWords;
-    marks_ = createBuffer(d, 2 * bitWords * 4, kStorageBufferUsage, "vsm_marks"); // lookup marks, fallback marks
-    pagePool_ = createBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage, "vsm_pool");
-    blockCounts_ = createBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
-    avail_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    rendered_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    dirtyMips_ = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
-    hpb_ = createBuffer(d, size_t(s.maxMaps) * hpbPerMap_ * 4, kStorageBufferUsage, "vsm_hpb");
+    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage, "vsm_marks"); // lookup, then fallback marks
+    pagePool_ = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage,
+                                   "vsm_pool", 0xFFFFFFFFu);
+    blockCounts_ = createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+    avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
+    rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
+    dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    hpb_ = createDeviceBuffer(d, size_t(s.maxMaps) * hpbPerMap_ * 4, kStorageBufferUsage, "vsm_hpb");
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    draws_ = createBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    drawInfo_ = createBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    drawCounts_ = createBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
+    drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
+    drawCounts_ = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
 
     slots_.resize(framesInFlight);
     for (Slot& sl : slots_) {
@@ -539,26 +540,28 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
 }
 
 namespace {
-std::vector<uint32_t> copyWords(const Buffer& b, size_t words) {
-    const auto* p = b.as<uint32_t>();
-    return std::vector<uint32_t>(p, p + words);
+std::vector<uint32_t> readWords(const Device& d, const Buffer& b, size_t words) {
+    std::vector<uint8_t> bytes = readBuffer(d, b, 0, words * 4);
+    std::vector<uint32_t> out(words);
+    std::memcpy(out.data(), bytes.data(), words * 4);
+    return out;
 }
 } // namespace
 
-std::vector<uint32_t> VirtualShadowMaps::readTable(const Device&) const {
-    return copyWords(table_, size_t(mapsInUse_) * entriesPerMap_);
+std::vector<uint32_t> VirtualShadowMaps::readTable(const Device& d) const {
+    return readWords(d, table_, size_t(mapsInUse_) * entriesPerMap_);
 }
-std::vector<uint32_t> VirtualShadowMaps::readOwners(const Device&) const {
-    return copyWords(owners_, settings_.poolPages);
+std::vector<uint32_t> VirtualShadowMaps::readOwners(const Device& d) const {
+    return readWords(d, owners_, settings_.poolPages);
 }
-std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device&) const {
-    return copyWords(lastUsed_, settings_.poolPages);
+std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device& d) const {
+    return readWords(d, lastUsed_, settings_.poolPages);
 }
-std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device&) const {
-    return copyWords(marks_, 2 * markWords_);
+std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device& d) const {
+    return readWords(d, marks_, 2 * markWords_);
 }
-std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device&) const {
-    return copyWords(pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
+std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device& d) const {
+    return readWords(d, pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
 }
 std::vector<gpu::GpuVsmProbe> VirtualShadowMaps::readProbes(uint32_t slotIndex, uint32_t* overflow) const {
     const Slot& slot = slots_[slotIndex];
