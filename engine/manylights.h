@@ -29,7 +29,9 @@
 
 namespace ml {
 
-enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2 };
+// Clustered: per-light footprint assignment; ClusteredBrute: the same lists from every light against
+// every occupied cluster (kept for comparison); Tiled: one depth slice (culling/culling.h).
+enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2, ClusteredBrute = 3 };
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
 

@@ -24,6 +24,8 @@ const char* cullingName(CullingMode mode) {
         return "tiled";
     case CullingMode::None:
         return "none";
+    case CullingMode::ClusteredBrute:
+        return "clustered-brute";
     }
     return "?";
 }
@@ -32,7 +34,8 @@ Result<CullingMode> parseCulling(const std::string& name) {
     if (name == "clustered") return CullingMode::Clustered;
     if (name == "tiled") return CullingMode::Tiled;
     if (name == "none") return CullingMode::None;
-    return fail("unknown culling mode '" + name + "' (clustered, tiled or none)");
+    if (name == "clustered-brute") return CullingMode::ClusteredBrute;
+    return fail("unknown culling mode '" + name + "' (clustered, clustered-brute, tiled or none)");
 }
 
 Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

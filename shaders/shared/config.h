@@ -13,6 +13,7 @@
 // 8x8 = 64 threads per bounds group. Bounds are then tightened to the pixels in each cluster.
 #define ML_TILE_SIZE 8
 #define ML_MAX_SLICES 64
+#define ML_CLUSTER_SLICES 64
 
 // Light-assignment workgroup: one thread per light in chunks of 64 (one subgroup or two on most
 // GPUs; lavapipe runs 8-wide SIMD, 64 keeps per-group overhead low for up to 4096 lights).
@@ -28,10 +29,22 @@
 // ~700 per occupied one: 16 x 921,600 clusters (1280x720) x 4 B = 59 MiB at most.
 #define ML_POOL_PER_CLUSTER 16
 
-// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w).
+// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w). CLUSTERED
+// assigns per light over its footprint (light_footprint.comp); CLUSTERED_BRUTE is the same grid and
+// lists from every light against every occupied cluster of each tile (light_assign.comp); TILED is
+// the brute force with one slice. All three write the same ranges + pool layout.
 #define ML_CULL_CLUSTERED 0
 #define ML_CULL_TILED 1
 #define ML_CULL_NONE 2
+#define ML_CULL_CLUSTERED_BRUTE 3
+
+// Footprint assignment: one workgroup per visible light; its threads stride over the tiles of the
+// light's screen rectangle and test the occupied slices (a 64-bit mask per tile) inside its depth
+// range. 64 threads: a light's rectangle spans 1..~600 tiles at 640x360, and lavapipe runs a group as
+// 8-wide SIMD, so 64 keeps small lights at a few SIMD steps and large ones spread.
+#define ML_FOOTPRINT_GROUP 64
+// Allocation pass of the footprint mode: one thread per tile, 64 tiles per group.
+#define ML_ALLOC_GROUP 64
 
 // Light types (GpuLight.info.x); same values as ml::LightType.
 #define ML_LIGHT_SPOT 0

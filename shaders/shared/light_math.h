@@ -16,6 +16,8 @@ using vec2 = glm::vec2;
 using vec3 = glm::vec3;
 #define ML_FN inline
 #define ML_PRECISE
+using std::abs;
+using std::floor;
 using std::sqrt;
 inline float max(float a, float b) { return a > b ? a : b; }
 inline float min(float a, float b) { return a < b ? a : b; }
@@ -76,6 +78,79 @@ ML_FN bool lightTouchesBox(GpuLight L, vec3 lo, vec3 hi) {
         if (far < -1e-3f) return false; // 1 mm of slack against rounding
     }
     return true;
+}
+
+// A light's footprint in the cluster grid: tiles [x0, x1] x [y0, y1] (tiles = x0, y0, x1, y1; empty
+// when x0 > x1) and the linear view depths [depth.x, depth.y] of every point the light can reach
+// (lightReachesPoint), conservatively. Directional lights cover the whole grid.
+ML_STRUCT(LightFootprint) {
+    uvec4 tiles;
+    vec4 depth;
+};
+
+// The light's volume (range sphere; for a spot also the cone capped flat at the range: apex plus a disk
+// of radius r tan(outer) at distance r along the axis, which holds the spherical sector) is bounded in
+// the affine coordinates (x_clip, y_clip, w) = rows 0, 1, 3 of viewProj, where w is the linear view
+// depth. Clipping that box at w = near keeps it a box (camera inside the volume included), and x/w,
+// y/w are extreme at its corners. Slack: 1e-4 of the magnitudes on the box, one pixel on the
+// rectangle (a pixel's reconstructed point projects within far less than 0.5 px of its centre), 0.1 %
+// on depth (pixels' linear depth and the point's w differ by rounding only). The same function runs in
+// the shader and in the CPU reference, so both visit the same clusters.
+ML_FN LightFootprint lightFootprint(GpuLight L, mat4 vp, uvec4 size, uint tileSize, float nearPlane) {
+    LightFootprint f;
+    f.tiles = uvec4(0u, 0u, size.z - 1u, size.w - 1u);
+    f.depth = vec4(0.0f, 3.0e38f, 0.0f, 0.0f);
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) return f;
+    ML_PRECISE float px = L.positionRange.x, py = L.positionRange.y, pz = L.positionRange.z;
+    ML_PRECISE float r = L.positionRange.w;
+    ML_PRECISE float dx = L.directionCosOuter.x, dy = L.directionCosOuter.y, dz = L.directionCosOuter.z;
+    ML_PRECISE float cosA = L.directionCosOuter.w, sinA = L.colorSinOuter.w;
+    bool cone = L.info.x == ML_LIGHT_SPOT && cosA > 0.01f;
+    ML_PRECISE float disk = cone ? r * sinA / cosA : 0.0f;
+    ML_PRECISE float lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        int row = k == 2 ? 3 : k;
+        ML_PRECISE float mx = vp[0][row], my = vp[1][row], mz = vp[2][row], mt = vp[3][row];
+        ML_PRECISE float c = mx * px + my * py + mz * pz + mt;
+        ML_PRECISE float m2 = mx * mx + my * my + mz * mz;
+        ML_PRECISE float mlen = sqrt(m2);
+        ML_PRECISE float slack = 1e-4f * (mlen * (abs(px) + abs(py) + abs(pz) + r) + abs(mt));
+        ML_PRECISE float a = c - r * mlen - slack;
+        ML_PRECISE float b = c + r * mlen + slack;
+        if (cone) {
+            ML_PRECISE float md = mx * dx + my * dy + mz * dz;
+            ML_PRECISE float dc = c + r * md;
+            ML_PRECISE float ext = disk * sqrt(max(m2 - md * md, 0.0f));
+            a = max(a, min(c, dc - ext) - slack);
+            b = min(b, max(c, dc + ext) + slack);
+        }
+        lo[k] = a;
+        hi[k] = b;
+    }
+    ML_PRECISE float wNear = max(lo[2], nearPlane);
+    ML_PRECISE float wFar = hi[2];
+    if (wFar < nearPlane) {
+        f.tiles = uvec4(1u, 1u, 0u, 0u);
+        return f;
+    }
+    f.depth = vec4(wNear * 0.999f, wFar * 1.001f, 0.0f, 0.0f);
+    ML_PRECISE float x0 = lo[0] / (lo[0] < 0.0f ? wNear : wFar);
+    ML_PRECISE float x1 = hi[0] / (hi[0] > 0.0f ? wNear : wFar);
+    ML_PRECISE float y0 = lo[1] / (lo[1] < 0.0f ? wNear : wFar);
+    ML_PRECISE float y1 = hi[1] / (hi[1] > 0.0f ? wNear : wFar);
+    // Pixel i's centre is at NDC (i + 0.5) / W * 2 - 1 (worldFromPixel).
+    ML_PRECISE float W = float(size.x), H = float(size.y), T = float(tileSize);
+    ML_PRECISE float tx0 = floor(((x0 + 1.0f) * 0.5f * W - 1.0f) / T);
+    ML_PRECISE float tx1 = floor(((x1 + 1.0f) * 0.5f * W + 1.0f) / T);
+    ML_PRECISE float ty0 = floor(((y0 + 1.0f) * 0.5f * H - 1.0f) / T);
+    ML_PRECISE float ty1 = floor(((y1 + 1.0f) * 0.5f * H + 1.0f) / T);
+    ML_PRECISE float maxX = float(size.z - 1u), maxY = float(size.w - 1u);
+    if (!(tx1 >= 0.0f && ty1 >= 0.0f && tx0 <= maxX && ty0 <= maxY)) {
+        f.tiles = uvec4(1u, 1u, 0u, 0u);
+        return f;
+    }
+    f.tiles = uvec4(uint(max(tx0, 0.0f)), uint(max(ty0, 0.0f)), uint(min(tx1, maxX)), uint(min(ty1, maxY)));
+    return f;
 }
 
 // Exact: does the light's cone and range contain the point x? (The shading is zero outside.)

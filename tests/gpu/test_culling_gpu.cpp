@@ -34,7 +34,9 @@ void compareWithReference(Module& m, CullingMode mode) {
     ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
     const ClusterGrid& grid = impl.cull.grid;
     ASSERT_EQ(ref.bounds.size(), grid.count());
-    if (mode == CullingMode::Tiled) ASSERT_EQ(grid.slices, 1u);
+    if (mode == CullingMode::Tiled) {
+        ASSERT_EQ(grid.slices, 1u);
+    }
     auto* bounds = impl.cull.bounds.as<gpu::ClusterBounds>();
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
     auto* pool = impl.cull.pool.as<uint32_t>();
@@ -63,6 +65,33 @@ TEST(GpuCulling, ClusteredListsEqualCpuReference) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
+TEST(GpuCulling, ClusteredBruteListsEqualCpuReference) {
+    auto f = renderCity(CullingMode::ClusteredBrute, 256);
+    compareWithReference(*f.module, CullingMode::ClusteredBrute);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// The footprint lists are the brute-force lists restricted to each light's footprint: a subset of
+// them, cluster by cluster, and never missing a light that reaches a pixel (next test).
+TEST(GpuCulling, FootprintListsAreSubsetsOfBruteForce) {
+    auto f = renderCity(CullingMode::Clustered, 512);
+    auto& impl = f.module->internals();
+    auto depth = toFloats(readImage(*f.module, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    gpu::FrameConstants brute = impl.lastConstants;
+    brute.cluster.w = ML_CULL_CLUSTERED_BRUTE;
+    ClusterReference fp = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
+    ClusterReference bf = cullReference(depth, brute, impl.lastSliceFar, impl.lastLights);
+    size_t fpEntries = 0, bfEntries = 0;
+    for (size_t c = 0; c < fp.lists.size(); ++c) {
+        ASSERT_TRUE(std::includes(bf.lists[c].begin(), bf.lists[c].end(), fp.lists[c].begin(), fp.lists[c].end()))
+            << "cluster " << c;
+        fpEntries += fp.lists[c].size();
+        bfEntries += bf.lists[c].size();
+    }
+    std::printf("  entries: footprint %zu, brute force %zu\n", fpEntries, bfEntries);
+    EXPECT_GT(fpEntries, 100u);
+}
+
 TEST(GpuCulling, TiledListsEqualCpuReference) {
     auto f = renderCity(CullingMode::Tiled, 256);
     compareWithReference(*f.module, CullingMode::Tiled);
@@ -76,9 +105,12 @@ TEST(GpuCulling, ManyLightsListsEqualCpuReference) {
 }
 
 // Every light that reaches a pixel is in that pixel's list (the cluster test is conservative), and
-// the GPU's per-pixel counters equal the CPU's.
-TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
-    auto f = renderCity(CullingMode::Clustered, 256);
+// the GPU's per-pixel counters equal the CPU's, in every mode (none: every visible light).
+class NoLightMissing : public ::testing::TestWithParam<CullingMode> {};
+
+TEST_P(NoLightMissing, AndStatsMatch) {
+    const CullingMode mode = GetParam();
+    auto f = renderCity(mode, 256);
     Module& m = *f.module;
     auto& impl = m.internals();
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
@@ -92,9 +124,15 @@ TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
             if (!(d < 1.0f)) continue;
             ++surface;
             glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
-            uint32_t s = sliceOf(gpu::linearDepth(d, fc.depth), impl.lastSliceFar, fc.cluster.x);
-            uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
-            std::vector<uint32_t> list(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+            std::vector<uint32_t> list;
+            if (mode == CullingMode::None) {
+                for (uint32_t l = 0; l < impl.lastLights.size(); ++l) list.push_back(l);
+            } else {
+                uint32_t s = sliceOf(gpu::linearDepth(d, fc.depth), impl.lastSliceFar, fc.cluster.x);
+                uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
+                ASSERT_NE(ranges[c].x, ML_CLUSTER_OVERFLOW);
+                list.assign(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+            }
             evaluated += list.size();
             for (uint32_t l = 0; l < impl.lastLights.size(); ++l)
                 if (gpu::lightReachesPoint(impl.lastLights[l], p)) {
@@ -114,7 +152,18 @@ TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
     EXPECT_EQ(st.lightsTotal, 256u);
     EXPECT_EQ(st.clusterOverflowCount, 0u);
     EXPECT_EQ(validationErrors(), 0u);
+    std::printf("  %s: evaluated %.3f, reaching %.3f lights per pixel\n", cullingName(mode),
+                st.lightsPerPixelEvaluatedMean, st.lightsPerPixelReachingMean);
 }
+
+INSTANTIATE_TEST_SUITE_P(GpuCulling, NoLightMissing,
+                         ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute, CullingMode::Tiled,
+                                           CullingMode::None),
+                         [](const auto& info) {
+                             std::string n = cullingName(info.param);
+                             std::erase(n, '-');
+                             return n;
+                         });
 
 // A pool too small for the lists: overflowing clusters are counted, and their pixels test every
 // visible light, so the image equals the one rendered with room to spare.
