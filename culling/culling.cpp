@@ -83,6 +83,8 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
+    constexpr uint32_t kLightsPerGroup = ML_FOOTPRINT_GROUP / ML_FOOTPRINT_LANES;
+    const uint32_t lightGroups = (visible + kLightsPerGroup - 1) / kLightsPerGroup;
     profiler.run(cmd, Pass::ClusterBounds, [&](VkCommandBuffer c) {
         bindProgram(device, c, boundsProgram_,
                     {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), bounds,
@@ -100,7 +102,7 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
             if (visible) {
                 bindProgram(device, c, countProgram_,
                             {frame, slices, lights, bounds, tileMasks, counts, ranges, pool, work}, nullptr, 0);
-                vkCmdDispatch(c, visible, 1, 1);
+                vkCmdDispatch(c, lightGroups, 1, 1);
                 fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
             }
             bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters}, nullptr, 0);
@@ -109,7 +111,7 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
             if (visible) {
                 bindProgram(device, c, fillProgram_,
                             {frame, slices, lights, bounds, tileMasks, counts, ranges, pool, work}, nullptr, 0);
-                vkCmdDispatch(c, visible, 1, 1);
+                vkCmdDispatch(c, lightGroups, 1, 1);
             }
         } else {
             bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work}, nullptr, 0);

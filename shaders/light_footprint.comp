@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Footprint light assignment (clustered mode), passes A (count) and C (fill); light_alloc.comp is B.
-// One workgroup per visible light: the light's footprint (lightFootprint: screen rectangle of tiles and
+// ML_FOOTPRINT_LANES threads per visible light, several lights per workgroup: the light's footprint (lightFootprint: screen rectangle of tiles and
 // depth range, conservative, camera inside the volume included) selects tiles; within each tile only
 // the occupied slices (the tile's 64-bit mask from cluster_bounds) inside the depth range are tested,
 // with the same exact box test as the brute-force pass. So the work is the occupied clusters under
@@ -43,24 +43,25 @@ uint bitsBetween(int a, int b) {
 }
 
 void main() {
-    uint l = gl_WorkGroupID.x;
     uint li = gl_LocalInvocationIndex;
+    uint l = gl_WorkGroupID.x * (ML_FOOTPRINT_GROUP / ML_FOOTPRINT_LANES) + li / ML_FOOTPRINT_LANES;
+    uint lane = li % ML_FOOTPRINT_LANES;
     if (!kSpecFill) {
         if (li == 0) sTests = 0u;
         barrier();
     }
-    GpuLight L = lights[l];
+    GpuLight L = lights[min(l, frame.cluster.z - 1u)];
     LightFootprint f = lightFootprint(L, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
     uint slices = frame.cluster.x;
     int s0 = int(sliceOfDepth(f.depth.x, slices)), s1 = int(sliceOfDepth(f.depth.y, slices));
     uvec2 sliceMask = uvec2(bitsBetween(s0, min(s1, 31)), bitsBetween(max(s0, 32) - 32, s1 - 32));
     uint n = 0, w = 0;
-    if (f.tiles.x <= f.tiles.z && f.tiles.y <= f.tiles.w) {
+    if (l < frame.cluster.z && f.tiles.x <= f.tiles.z && f.tiles.y <= f.tiles.w) {
         w = f.tiles.z - f.tiles.x + 1u;
         n = w * (f.tiles.w - f.tiles.y + 1u);
     }
     uint tests = 0;
-    for (uint i = li; i < n; i += ML_FOOTPRINT_GROUP) {
+    for (uint i = lane; i < n; i += ML_FOOTPRINT_LANES) {
         uint tile = (f.tiles.y + i / w) * frame.size.z + f.tiles.x + i % w;
         uvec2 m = tileMasks[tile] & sliceMask;
         for (uint word = 0; word < 2; ++word) {
