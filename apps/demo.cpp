@@ -28,13 +28,16 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --static-res N   resolution of those bakes (default 512)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --pcf R          static shadow filter radius: 0 one tap (default), 1 = 3x3, 2 = 5x5 ... 4 = 9x9
+  --view V         shaded (default); lights: heat map of lights evaluated per pixel; lights-reaching:
+                   of lights whose cone and range hold the pixel's point. Colours: 0 black, 1 dark blue,
+                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between)
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
 int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
-                            "--static", "--static-res", "--pcf", "--camera", "--bake"},
+                            "--static", "--static-res", "--pcf", "--camera", "--bake", "--view"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -56,6 +59,14 @@ int runDemo(int argc, char** argv) {
     for (const std::string* e : {&staticMethod.error(), &staticRes.error(), &pcf.error()})
         if (!e->empty()) return usageError("demo", *e);
     bool window = args->has("--window");
+    const std::string viewName = args->get("--view", "shaded");
+    DebugView view = DebugView::Shaded;
+    if (viewName == "lights")
+        view = DebugView::LightsEvaluated;
+    else if (viewName == "lights-reaching")
+        view = DebugView::LightsReaching;
+    else if (viewName != "shaded")
+        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights or lights-reaching)");
 
     auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value());
     if (!scene) return runError("demo", scene.error());
@@ -69,6 +80,7 @@ int runDemo(int argc, char** argv) {
     auto module = Module::create(mo);
     if (!module) return runError("demo", module.error());
     Module& m = *module.value();
+    m.setView(view);
     auto [width, height] = size.value();
     auto binding = bindScene(m, scene.value());
     if (!binding) return runError("demo", binding.error());

@@ -7,6 +7,7 @@
 #include "light_alloc.comp.spv.h"
 #include "light_assign.comp.spv.h"
 #include "light_footprint.comp.spv.h"
+#include "view_lights.comp.spv.h"
 
 #include <algorithm>
 #include <cmath>
@@ -51,6 +52,8 @@ void LightCulling::create(const Device& device) {
     countProgram_ = createComputeProgram(device, footprintShader_, 0, {{/*kSpecFill*/ 0, 0u}});
     fillProgram_ = createComputeProgram(device, footprintShader_, 0, {{/*kSpecFill*/ 0, 1u}});
     allocProgram_ = createComputeProgram(device, allocShader_, 0);
+    viewShader_ = ML_SHADER(device, spv_view_lights_comp);
+    for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
     work = createBuffer(device, 4, kStorageBufferUsage, "cull_work");
 }
 
@@ -60,11 +63,13 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, countProgram_);
     destroyProgram(device, fillProgram_);
     destroyProgram(device, allocProgram_);
+    for (Program& p : viewPrograms_) destroyProgram(device, p);
+    destroyShader(device, viewShader_);
     destroyShader(device, boundsShader_);
     destroyShader(device, assignShader_);
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work}) destroyBuffer(device, *b);
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &viewCounts}) destroyBuffer(device, *b);
 }
 
 void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
@@ -119,6 +124,27 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
         }
         fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT);
+    });
+}
+
+void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
+                              const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
+                              uint32_t width, uint32_t height, Profiler& profiler) {
+    VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
+    if (viewCounts.size < bytes) {
+        vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
+        ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts");
+    }
+    profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
+        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        bindProgram(device, c, viewPrograms_[reaching ? 1 : 0],
+                    {frame, slices, lights, ranges,
+                     Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                     Descriptor(Image{.view = output}), viewCounts},
+                    nullptr, 0);
+        vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
+        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
     });
 }
 

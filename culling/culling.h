@@ -47,6 +47,12 @@ class LightCulling {
     // memory, written by the module just before).
     void record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                 const Buffer& lights, VkImageView depth, const Buffer& counters, class Profiler& profiler);
+    // Light-complexity view (shaders/view_lights.comp), after the evaluation pass: overwrites the
+    // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
+    // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
+    void recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
+                    const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
+                    uint32_t width, uint32_t height, class Profiler& profiler);
     // Box tests (light x cluster) the last recorded assignment ran; valid once its frame completed.
     uint32_t lastBoxTests() const { return work.data ? *work.as<uint32_t>() : 0u; }
 
@@ -58,10 +64,12 @@ class LightCulling {
     Buffer tileMasks; // uvec2 per tile: bit s set when slice s holds a pixel
     Buffer counts;    // uint per cluster (footprint mode: list lengths, then the fill cursor)
     Buffer work;      // uint: box tests run
+    Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
-    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_;
+    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, viewShader_;
     Program boundsProgram_, assignProgram_, countProgram_, fillProgram_, allocProgram_;
+    Program viewPrograms_[2]; // evaluated, reaching
 };
 
 // CPU reference of the passes from the same inputs (the depth buffer as floats, row-major). The mode

@@ -35,6 +35,10 @@ enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2, Clustere
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
 
+// What record() leaves in the output: the shaded frame, or the light-complexity heat map of lights
+// evaluated / reaching per pixel (culling/culling.h, recordView; colours in shaders/shared/heat.h).
+enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching };
+
 // How per-pass GPU times are measured (engine/profiler.h): Auto picks Fenced on CPU devices (lavapipe),
 // whose timestamps do not bracket compute work, and Timestamps elsewhere.
 enum class TimingChoice : uint32_t { Auto, Timestamps, Fenced };
@@ -146,6 +150,7 @@ class Module {
     Result<void> setShadowFilter(uint32_t pcfRadius);
     void setCulling(CullingMode mode);
     void setStatistics(bool enabled);
+    void setView(DebugView view);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
 
     // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).

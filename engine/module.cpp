@@ -60,6 +60,9 @@ void Module::setCulling(CullingMode mode) {
 void Module::setStatistics(bool enabled) {
     impl_->statistics = enabled;
 }
+void Module::setView(DebugView view) {
+    impl_->view = view;
+}
 Result<void> Module::setExposure(float exposure) {
     if (!(exposure > 0.0f) || !std::isfinite(exposure))
         return fail("setExposure: exposure must be finite and > 0");
@@ -444,6 +447,10 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
     });
+
+    if (m.view != DebugView::Shaded)
+        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
+                          outputView, m.width, m.height, m.profiler);
 
     slot.pending = true;
     m.frameIndex++;
