@@ -21,15 +21,13 @@ static const char* kBenchHelp = R"(usage: manylights bench culling|static [optio
 Culling and shading time against light count, for each culling mode, in one run.
   --size WxH       image size (default 640x360)
   --lights LIST    comma-separated light counts (default 256,1024,4096)
+  --culling LIST   modes to run (default clustered,clustered-brute,tiled,none); "vs none" needs none
   --frames N       timed frames per configuration (default 5)
   --seed S         scene seed (default 1)
   --csv FILE       CSV output (default out/bench_culling.csv)
 )";
 
 namespace {
-// "none" last: each row's speed-up is against the none row of its light count.
-constexpr CullingMode kModes[] = {CullingMode::Clustered, CullingMode::ClusteredBrute, CullingMode::Tiled,
-                                  CullingMode::None};
 
 struct Row {
     uint32_t lights;
@@ -74,7 +72,7 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) != "culling")
         return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
-    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});
+    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {
         std::fputs(kBenchHelp, stdout);
@@ -87,6 +85,17 @@ int runBench(int argc, char** argv) {
     for (const std::string* e : {&size.error(), &list.error(), &frames.error(), &seed.error()})
         if (!e->empty()) return usageError("bench", *e);
     std::string csvPath = args->get("--csv", "out/bench_culling.csv");
+    std::vector<CullingMode> modes;
+    {
+        std::stringstream ss(args->get("--culling", "clustered,clustered-brute,tiled,none"));
+        std::string item;
+        while (std::getline(ss, item, ',')) {
+            auto m = parseCulling(item);
+            if (!m) return usageError("bench", "--culling: " + m.error());
+            modes.push_back(m.value());
+        }
+        if (modes.empty()) return usageError("bench", "--culling: empty list");
+    }
     auto [width, height] = size.value();
 
     std::vector<Row> rows;
@@ -101,7 +110,7 @@ int runBench(int argc, char** argv) {
         auto binding = bindScene(m, scene.value());
         if (!binding) return runError("bench", binding.error());
         if (auto r = m.createTargets(width, height); !r) return runError("bench", r.error());
-        for (CullingMode mode : kModes) {
+        for (CullingMode mode : modes) {
             m.setCulling(mode);
             m.setStatistics(true);
             auto counted = runFrames(m, 1);
@@ -146,13 +155,11 @@ int runBench(int argc, char** argv) {
     std::ostringstream csv;
     csv << "lights,culling,bounds_ms,assign_ms,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_none,"
            "box_tests,list_entries,evaluated_per_pixel,reaching_per_pixel,overflow_clusters\n";
-    const size_t modes = std::size(kModes);
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
-        const Row& none = rows[i - (i % modes) + modes - 1];
-        double cull = r.boundsMs + r.assignMs;
-        double total = cull + r.evalMs, noneTotal = none.boundsMs + none.assignMs + none.evalMs;
-        double speedup = total > 0 ? noneTotal / total : 0;
+        double cull = r.boundsMs + r.assignMs, total = cull + r.evalMs, speedup = 0;
+        for (const Row& none : rows) // the none row of the same light count, when it ran
+            if (none.lights == r.lights && none.mode == CullingMode::None && total > 0) speedup = none.evalMs / total;
         double ratio = r.reaching > 0 ? r.evaluated / r.reaching : 0;
         std::printf("| %6u | %-15s | %9.2f | %9.2f | %7.2f | %11.2f | %12.2f | %6.2fx | %9u | %12u | %12.2f | %11.2f | %10.2f | %8u |\n",
                     r.lights, cullingName(r.mode), r.boundsMs, r.assignMs, cull, r.evalMs, total, speedup,
