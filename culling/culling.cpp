@@ -6,6 +6,7 @@
 #include "cluster_bounds.comp.spv.h"
 #include "light_alloc.comp.spv.h"
 #include "light_assign.comp.spv.h"
+#include "light_fill.comp.spv.h"
 #include "light_footprint.comp.spv.h"
 #include "view_lights.comp.spv.h"
 
@@ -49,12 +50,13 @@ void LightCulling::create(const Device& device) {
     allocShader_ = ML_SHADER(device, spv_light_alloc_comp);
     boundsProgram_ = createComputeProgram(device, boundsShader_, 0);
     assignProgram_ = createComputeProgram(device, assignShader_, 0);
-    countProgram_ = createComputeProgram(device, footprintShader_, 0, {{/*kSpecFill*/ 0, 0u}});
-    fillProgram_ = createComputeProgram(device, footprintShader_, 0, {{/*kSpecFill*/ 0, 1u}});
-    allocProgram_ = createComputeProgram(device, allocShader_, 0);
+    fillShader_ = ML_SHADER(device, spv_light_fill_comp);
+    countProgram_ = createComputeProgram(device, footprintShader_, 4);
+    allocProgram_ = createComputeProgram(device, allocShader_, 4);
+    fillProgram_ = createComputeProgram(device, fillShader_, 4);
     viewShader_ = ML_SHADER(device, spv_view_lights_comp);
     for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
-    work = createBuffer(device, 4, kStorageBufferUsage, "cull_work");
+    work = createBuffer(device, 8, kStorageBufferUsage, "cull_work");
 }
 
 void LightCulling::destroy(const Device& device) {
@@ -69,7 +71,8 @@ void LightCulling::destroy(const Device& device) {
     destroyShader(device, assignShader_);
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &viewCounts}) destroyBuffer(device, *b);
+    destroyShader(device, fillShader_);
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts}) destroyBuffer(device, *b);
 }
 
 void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
@@ -81,6 +84,8 @@ void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t p
     ensureBuffer(device, pool, VkDeviceSize(poolCapacity) * 4, kStorageBufferUsage, "cluster_pool");
     ensureBuffer(device, tileMasks, VkDeviceSize(g.tilesX) * g.tilesY * 8, kStorageBufferUsage, "tile_masks");
     ensureBuffer(device, counts, VkDeviceSize(g.count()) * 4, kStorageBufferUsage, "cluster_counts");
+    hitCapacity = std::max(1u, poolCapacity / ML_HITS_PER_POOL_ENTRY_DIV);
+    ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits");
 }
 
 void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
@@ -103,20 +108,19 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
         if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
         fullBarrier(c, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
         if (mode == ML_CULL_CLUSTERED) {
-            // Count (one group per light), allocate (one thread per tile), fill (one group per light).
+            // Count and record hits (8 threads per light), allocate (one thread per tile), scatter.
             if (visible) {
-                bindProgram(device, c, countProgram_,
-                            {frame, slices, lights, bounds, tileMasks, counts, ranges, pool, work}, nullptr, 0);
+                bindProgram(device, c, countProgram_, {frame, slices, lights, bounds, tileMasks, counts, hits, work},
+                            &hitCapacity, 4);
                 vkCmdDispatch(c, lightGroups, 1, 1);
                 fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
             }
-            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters}, nullptr, 0);
+            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work}, &hitCapacity, 4);
             vkCmdDispatch(c, (tiles + ML_ALLOC_GROUP - 1) / ML_ALLOC_GROUP, 1, 1);
             fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
             if (visible) {
-                bindProgram(device, c, fillProgram_,
-                            {frame, slices, lights, bounds, tileMasks, counts, ranges, pool, work}, nullptr, 0);
-                vkCmdDispatch(c, lightGroups, 1, 1);
+                bindProgram(device, c, fillProgram_, {hits, ranges, counts, pool, work}, &hitCapacity, 4);
+                vkCmdDispatch(c, ML_FILL_GROUPS, 1, 1);
             }
         } else {
             bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work}, nullptr, 0);

@@ -6,10 +6,10 @@
 //                   slice (exponential slices, sliceBoundaries); the world AABB of the pixels in each
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
-//   clustered (footprint; the default): light_footprint (count) -> light_alloc -> light_footprint
-//                   (fill). One group per visible light tests only the occupied clusters inside its
-//                   footprint (lightFootprint: tile rectangle x depth-slice range), with the same exact
-//                   box test; cost follows the lights' footprints, not lights x clusters.
+//   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
+//                   light_fill. Each visible light (8 threads) tests only the occupied clusters inside
+//                   its footprint (lightFootprint: tile rectangle x depth-slice range), with the same
+//                   exact box test; cost follows the lights' footprints, not lights x clusters.
 //   clustered-brute light_assign, one group per tile: every visible light against each occupied
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).
@@ -63,11 +63,13 @@ class LightCulling {
     Buffer pool;      // uint light indices
     Buffer tileMasks; // uvec2 per tile: bit s set when slice s holds a pixel
     Buffer counts;    // uint per cluster (footprint mode: list lengths, then the fill cursor)
-    Buffer work;      // uint: box tests run
+    Buffer work;      // uint box tests run, uint hits recorded
+    Buffer hits;      // uvec2 (cluster, light) per recorded hit (footprint mode)
+    uint32_t hitCapacity = 0;
     Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
-    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, viewShader_;
+    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
     Program boundsProgram_, assignProgram_, countProgram_, fillProgram_, allocProgram_;
     Program viewPrograms_[2]; // evaluated, reaching
 };

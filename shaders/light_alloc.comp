@@ -4,7 +4,9 @@
 // cluster_bounds) take consecutive ranges of the pool, allocated with one atomic per tile; a cluster
 // whose range would pass the pool's capacity is marked ML_CLUSTER_OVERFLOW and counted (its pixels
 // then test every visible light). Every cluster of the tile gets its (offset, count), empty ones (0, 0),
-// so `ranges` is the same layout the brute-force pass writes.
+// so `ranges` is the same layout the brute-force pass writes. When pass A recorded more hits than
+// `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
+// with a pool far too small for the frame (the hit buffer is sized from the pool).
 #include "shaders/shared/glsl_common.h"
 
 layout(local_size_x = ML_ALLOC_GROUP) in;
@@ -14,6 +16,8 @@ layout(binding = 1, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
 layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
 layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
+layout(binding = 5, std430) readonly buffer Work { uint workTests; uint hitCount; };
+layout(push_constant) uniform Push { uint hitCapacity; };
 
 void main() {
     uint tile = gl_GlobalInvocationID.x;
@@ -30,7 +34,7 @@ void main() {
         uint count = (mask[s >> 5] & (1u << (s & 31u))) != 0u ? counts[c] : 0u;
         uvec2 r = uvec2(0u, count);
         if (count > 0u) {
-            if (offset + count > frame.limits.x) {
+            if (offset + count > frame.limits.x || hitCount > hitCapacity) {
                 r.x = ML_CLUSTER_OVERFLOW;
                 atomicAdd(counters.overflowClusters, 1u);
             } else {

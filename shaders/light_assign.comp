@@ -48,9 +48,10 @@ void main() {
     // Pass A: count.
     for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
         GpuLight L = lights[l];
+        ConePlanes planes = conePlanes(L);
         for (uint i = 0; i < occupied; ++i) {
             uint s = sOccupied[i];
-            if (lightTouchesBox(L, sLo[s], sHi[s])) atomicAdd(sCount[s], 1u);
+            if (lightTouchesBoxWith(L, planes, sLo[s], sHi[s])) atomicAdd(sCount[s], 1u);
         }
     }
     barrier();
@@ -77,9 +78,10 @@ void main() {
     // Pass B: write (order within a list is unspecified; the reference compares sorted lists).
     for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
         GpuLight L = lights[l];
+        ConePlanes planes = conePlanes(L);
         for (uint i = 0; i < occupied; ++i) {
             uint s = sOccupied[i];
-            if (sOffset[s] != ML_CLUSTER_OVERFLOW && lightTouchesBox(L, sLo[s], sHi[s]))
+            if (sOffset[s] != ML_CLUSTER_OVERFLOW && lightTouchesBoxWith(L, planes, sLo[s], sHi[s]))
                 pool[sOffset[s] + atomicAdd(sCount[s], 1u)] = l;
         }
     }

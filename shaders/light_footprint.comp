@@ -1,21 +1,20 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Footprint light assignment (clustered mode), passes A (count) and C (fill); light_alloc.comp is B.
+// Footprint light assignment (clustered mode), pass A: count and record the hits; light_alloc.comp
+// (B) allocates, light_fill.comp (C) scatters the recorded hits into the pool.
 // ML_FOOTPRINT_LANES threads per visible light, several lights per workgroup: the light's footprint (lightFootprint: screen rectangle of tiles and
 // depth range, conservative, camera inside the volume included) selects tiles; within each tile only
 // the occupied slices (the tile's 64-bit mask from cluster_bounds) inside the depth range are tested,
 // with the same exact box test as the brute-force pass. So the work is the occupied clusters under
 // each light's footprint, not every light times every occupied cluster.
-//   kSpecFill = false: counts[c] += 1 per light touching cluster c; work.tests += box tests run.
-//   kSpecFill = true:  after light_alloc set ranges and left counts[c] = list length, each light
-//                      writes its index at ranges[c].x + (atomic decrement of counts[c]) - 1, so
-//                      counts[c] ends at 0. Overflowed clusters are skipped (their pixels test every
-//                      visible light in the evaluation pass).
+// Per hit (light l touches cluster c): counts[c] += 1, and (c, l) is appended to `hits` (capacity
+// hitCapacity; past it only hitCount grows, and light_alloc then overflows every non-empty cluster, so
+// nothing is lost). Recording the hits spares pass C a second round of box tests.
 #include "shaders/shared/glsl_common.h"
 #include "shaders/shared/light_math.h"
 
 layout(local_size_x = ML_FOOTPRINT_GROUP) in;
-layout(constant_id = 0) const bool kSpecFill = false;
+layout(push_constant) uniform Push { uint hitCapacity; };
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
@@ -23,9 +22,8 @@ layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 3, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
 layout(binding = 4, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
 layout(binding = 5, std430) buffer Counts { uint counts[]; };
-layout(binding = 6, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 7, std430) writeonly buffer Pool { uint pool[]; };
-layout(binding = 8, std430) buffer Work { uint workTests; };
+layout(binding = 6, std430) writeonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
+layout(binding = 7, std430) buffer Work { uint workTests; uint hitCount; };
 
 shared uint sTests;
 
@@ -46,11 +44,10 @@ void main() {
     uint li = gl_LocalInvocationIndex;
     uint l = gl_WorkGroupID.x * (ML_FOOTPRINT_GROUP / ML_FOOTPRINT_LANES) + li / ML_FOOTPRINT_LANES;
     uint lane = li % ML_FOOTPRINT_LANES;
-    if (!kSpecFill) {
-        if (li == 0) sTests = 0u;
-        barrier();
-    }
+    if (li == 0) sTests = 0u;
+    barrier();
     GpuLight L = lights[min(l, frame.cluster.z - 1u)];
+    ConePlanes planes = conePlanes(L);
     LightFootprint f = lightFootprint(L, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
     uint slices = frame.cluster.x;
     int s0 = int(sliceOfDepth(f.depth.x, slices)), s1 = int(sliceOfDepth(f.depth.y, slices));
@@ -72,19 +69,14 @@ void main() {
                 uint c = tile * slices + s;
                 ++tests;
                 ClusterBounds b = bounds[c];
-                if (!lightTouchesBox(L, b.lo.xyz, b.hi.xyz)) continue;
-                if (!kSpecFill) {
-                    atomicAdd(counts[c], 1u);
-                } else {
-                    uvec2 r = ranges[c];
-                    if (r.x != ML_CLUSTER_OVERFLOW) pool[r.x + atomicAdd(counts[c], 0xFFFFFFFFu) - 1u] = l;
-                }
+                if (!lightTouchesBoxWith(L, planes, b.lo.xyz, b.hi.xyz)) continue;
+                atomicAdd(counts[c], 1u);
+                uint h = atomicAdd(hitCount, 1u);
+                if (h < hitCapacity) hits[h] = uvec2(c, l);
             }
         }
     }
-    if (!kSpecFill) {
-        if (tests > 0u) atomicAdd(sTests, tests);
-        barrier();
-        if (li == 0 && sTests > 0u) atomicAdd(workTests, sTests);
-    }
+    if (tests > 0u) atomicAdd(sTests, tests);
+    barrier();
+    if (li == 0 && sTests > 0u) atomicAdd(workTests, sTests);
 }

@@ -47,6 +47,13 @@
 #define ML_FOOTPRINT_LANES 8
 // Allocation pass of the footprint mode: one thread per tile, 64 tiles per group.
 #define ML_ALLOC_GROUP 64
+// Fill pass of the footprint mode: ML_FILL_GROUPS groups of 64 threads stride over the recorded hits.
+#define ML_FILL_GROUP 64
+#define ML_FILL_GROUPS 64
+// Hits the footprint count pass records, per pool entry: the pool holds 16 entries per grid cluster
+// and frames use far fewer (0.3 M of 3.7 M at 4096 lights, 640x360), so a quarter of the pool's
+// entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
+#define ML_HITS_PER_POOL_ENTRY_DIV 4
 
 // Light types (GpuLight.info.x); same values as ml::LightType.
 #define ML_LIGHT_SPOT 0

@@ -35,11 +35,43 @@ ML_FN float boxDistanceSq(vec3 lo, vec3 hi, vec3 p) {
     return d2;
 }
 
-// Conservative: false only when no point of the box [lo, hi] can receive light from L.
-// Range: exact sphere-box distance. Spot cone: cone against the box's bounding sphere (the
-// closest-point form of the cone-sphere test: the sphere is outside when its centre lies farther than
-// its radius from the cone's surface, or wholly behind the apex).
-ML_FN bool lightTouchesBox(GpuLight L, vec3 lo, vec3 hi) {
+// The 8 planes of an octagonal pyramid circumscribing a spot light's cone (lightTouchesBox): through
+// the apex, each tangent to the cone along a generator (normal n = sin(a) d - cos(a) u for a unit u
+// perpendicular to d). They depend on the light only, so the assignment passes compute them once per
+// light; lightTouchesBox computes them per call, with the same operations, so the results are equal.
+ML_STRUCT(ConePlanes) {
+    vec3 n[8];
+};
+
+ML_FN ConePlanes conePlanes(GpuLight L) {
+    ConePlanes planes;
+    ML_PRECISE float cosA = L.directionCosOuter.w, sinA = L.colorSinOuter.w;
+    ML_PRECISE float dx = L.directionCosOuter.x, dy = L.directionCosOuter.y, dz = L.directionCosOuter.z;
+    // e1 = normalize(cross(ref, d)), ref the world axis least aligned with d; e2 = cross(d, e1).
+    bool useX = dx * dx < 0.5f;
+    ML_PRECISE float cx = useX ? 0.0f : -dz, cy = useX ? -dz : 0.0f, cz = useX ? dy : dx;
+    ML_PRECISE float cinv = 1.0f / sqrt(cx * cx + cy * cy + cz * cz);
+    ML_PRECISE float e1x = cx * cinv, e1y = cy * cinv, e1z = cz * cinv;
+    ML_PRECISE float e2x = dy * e1z - dz * e1y, e2y = dz * e1x - dx * e1z, e2z = dx * e1y - dy * e1x;
+    for (int k = 0; k < 8; ++k) {
+        // cos and sin of k * 45 degrees, as literals so both languages use the same values.
+        float ck = (k == 0) ? 1.0f : (k == 4) ? -1.0f : (k == 2 || k == 6) ? 0.0f : (k == 1 || k == 7) ? 0.70710678f : -0.70710678f;
+        float sk = (k == 2) ? 1.0f : (k == 6) ? -1.0f : (k == 0 || k == 4) ? 0.0f : (k == 1 || k == 3) ? 0.70710678f : -0.70710678f;
+        ML_PRECISE float nx = sinA * dx - cosA * (ck * e1x + sk * e2x);
+        ML_PRECISE float ny = sinA * dy - cosA * (ck * e1y + sk * e2y);
+        ML_PRECISE float nz = sinA * dz - cosA * (ck * e1z + sk * e2z);
+        planes.n[k] = vec3(nx, ny, nz);
+    }
+    return planes;
+}
+
+// Conservative: false only when no point of the box [lo, hi] can receive light from L (planes =
+// conePlanes(L)). Range: exact sphere-box distance. Spot cone: cone against the box's bounding sphere
+// (the closest-point form of the cone-sphere test: the sphere is outside when its centre lies farther
+// than its radius from the cone's surface, or wholly behind the apex), then the octagonal pyramid:
+// the box is outside when its farthest corner along some plane normal is behind that plane. Much
+// tighter than the bounding sphere for the flat, wide boxes of ground clusters.
+ML_FN bool lightTouchesBoxWith(GpuLight L, ConePlanes planes, vec3 lo, vec3 hi) {
     if (L.info.x == ML_LIGHT_DIRECTIONAL) return true;
     vec3 p = vec3(L.positionRange.x, L.positionRange.y, L.positionRange.z);
     ML_PRECISE float r = L.positionRange.w;
@@ -55,29 +87,17 @@ ML_FN bool lightTouchesBox(GpuLight L, vec3 lo, vec3 hi) {
     ML_PRECISE float distToCone = cosA * sqrt(max(vlen2 - v1 * v1, 0.0f)) - v1 * sinA;
     if (distToCone > radius) return false;
     if (cosA >= 0.0f && v1 < -radius) return false;
-    // An octagonal pyramid circumscribing the cone: 8 planes through the apex, each tangent to the
-    // cone along a generator (normal n = sin(a) d - cos(a) u for a unit u perpendicular to d). The box
-    // is outside when its farthest corner along some n is behind that plane. Much tighter than the
-    // bounding sphere for the flat, wide boxes of ground clusters.
-    ML_PRECISE float dx = L.directionCosOuter.x, dy = L.directionCosOuter.y, dz = L.directionCosOuter.z;
-    // e1 = normalize(cross(ref, d)), ref the world axis least aligned with d; e2 = cross(d, e1).
-    bool useX = dx * dx < 0.5f;
-    ML_PRECISE float cx = useX ? 0.0f : -dz, cy = useX ? -dz : 0.0f, cz = useX ? dy : dx;
-    ML_PRECISE float cinv = 1.0f / sqrt(cx * cx + cy * cy + cz * cz);
-    ML_PRECISE float e1x = cx * cinv, e1y = cy * cinv, e1z = cz * cinv;
-    ML_PRECISE float e2x = dy * e1z - dz * e1y, e2y = dz * e1x - dx * e1z, e2z = dx * e1y - dy * e1x;
     for (int k = 0; k < 8; ++k) {
-        // cos and sin of k * 45 degrees, as literals so both languages use the same values.
-        float ck = (k == 0) ? 1.0f : (k == 4) ? -1.0f : (k == 2 || k == 6) ? 0.0f : (k == 1 || k == 7) ? 0.70710678f : -0.70710678f;
-        float sk = (k == 2) ? 1.0f : (k == 6) ? -1.0f : (k == 0 || k == 4) ? 0.0f : (k == 1 || k == 3) ? 0.70710678f : -0.70710678f;
-        ML_PRECISE float nx = sinA * dx - cosA * (ck * e1x + sk * e2x);
-        ML_PRECISE float ny = sinA * dy - cosA * (ck * e1y + sk * e2y);
-        ML_PRECISE float nz = sinA * dz - cosA * (ck * e1z + sk * e2z);
+        ML_PRECISE float nx = planes.n[k].x, ny = planes.n[k].y, nz = planes.n[k].z;
         ML_PRECISE float far = nx * ((nx > 0.0f ? hi.x : lo.x) - p.x) + ny * ((ny > 0.0f ? hi.y : lo.y) - p.y) +
                                nz * ((nz > 0.0f ? hi.z : lo.z) - p.z);
         if (far < -1e-3f) return false; // 1 mm of slack against rounding
     }
     return true;
+}
+
+ML_FN bool lightTouchesBox(GpuLight L, vec3 lo, vec3 hi) {
+    return lightTouchesBoxWith(L, conePlanes(L), lo, hi);
 }
 
 // A light's footprint in the cluster grid: tiles [x0, x1] x [y0, y1] (tiles = x0, y0, x1, y1; empty

@@ -167,8 +167,10 @@ INSTANTIATE_TEST_SUITE_P(GpuCulling, NoLightMissing,
 
 // A pool too small for the lists: overflowing clusters are counted, and their pixels test every
 // visible light, so the image equals the one rendered with room to spare.
-TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
-    auto f = renderCity(CullingMode::Clustered, 256);
+class Overflow : public ::testing::TestWithParam<CullingMode> {};
+
+TEST_P(Overflow, IsCountedAndDropsNoLight) {
+    auto f = renderCity(GetParam(), 256);
     Module& m = *f.module;
     std::vector<uint8_t> full, overflowed;
     ASSERT_TRUE(m.readOutput(full).ok());
@@ -188,5 +190,12 @@ TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
     EXPECT_LE(maxDiff, 1) << "overflowed clusters changed the image";
     EXPECT_EQ(validationErrors(), 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(GpuCulling, Overflow, ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute),
+                         [](const auto& info) {
+                             std::string n = cullingName(info.param);
+                             std::erase(n, '-');
+                             return n;
+                         });
 
 } // namespace ml::test
