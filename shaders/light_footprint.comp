@@ -61,18 +61,29 @@ void main() {
     for (uint i = lane; i < n; i += ML_FOOTPRINT_LANES) {
         uint tile = (f.tiles.y + i / w) * frame.size.z + f.tiles.x + i % w;
         uvec2 m = tileMasks[tile] & sliceMask;
+        // Test first, then reserve the tile's hits with one atomic on the shared hit counter.
+        uvec2 hitMask = uvec2(0u);
         for (uint word = 0; word < 2; ++word) {
             uint bits = m[word];
             while (bits != 0u) {
-                uint s = word * 32u + uint(findLSB(bits));
+                uint bit = uint(findLSB(bits));
                 bits &= bits - 1u;
-                uint c = tile * slices + s;
+                ClusterBounds b = bounds[tile * slices + word * 32u + bit];
                 ++tests;
-                ClusterBounds b = bounds[c];
-                if (!lightTouchesBoxWith(L, planes, b.lo.xyz, b.hi.xyz)) continue;
+                if (lightTouchesBoxWith(L, planes, b.lo.xyz, b.hi.xyz)) hitMask[word] |= 1u << bit;
+            }
+        }
+        uint found = uint(bitCount(hitMask.x) + bitCount(hitMask.y));
+        if (found == 0u) continue;
+        uint h = atomicAdd(hitCount, found);
+        for (uint word = 0; word < 2; ++word) {
+            uint bits = hitMask[word];
+            while (bits != 0u) {
+                uint c = tile * slices + word * 32u + uint(findLSB(bits));
+                bits &= bits - 1u;
                 atomicAdd(counts[c], 1u);
-                uint h = atomicAdd(hitCount, 1u);
                 if (h < hitCapacity) hits[h] = uvec2(c, l);
+                ++h;
             }
         }
     }
