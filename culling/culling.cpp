@@ -77,7 +77,9 @@ void LightCulling::destroy(const Device& device) {
 
 void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
     grid = g;
-    poolCapacity = poolEntries ? poolEntries : g.count() * ML_POOL_PER_CLUSTER;
+    // Sized for the clustered grid in every mode: a tiled list holds what the tile's 64 clusters would
+    // (at 4096 lights on the default view a tile's list is ~100 lights, past 16 per grid cluster).
+    poolCapacity = poolEntries ? poolEntries : g.tilesX * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER;
     ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds), kStorageBufferUsage,
                  "cluster_bounds");
     ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges");
