@@ -4,7 +4,12 @@
 
 #include "shaders/shared/light_math.h"
 
+#include "lights/lights.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
+#include <random>
 
 namespace ml::test {
 
@@ -167,6 +172,62 @@ INSTANTIATE_TEST_SUITE_P(GpuCulling, NoLightMissing,
 
 // A pool too small for the lists: overflowing clusters are counted, and their pixels test every
 // visible light, so the image equals the one rendered with room to spare.
+// lightFootprint (CPU side of the shared function): every point a light reaches projects into its
+// tile rectangle and depth range, for random spot and point lights around, in front of, behind and
+// straddling the camera; a light around the camera covers every tile from the near plane; one wholly
+// behind the camera covers nothing.
+TEST(LightFootprint, HoldsEveryReachedPoint) {
+    const uint32_t width = 320, height = 180;
+    glm::mat4 view = glm::lookAt(glm::vec3(0, 5, 0), glm::vec3(0, 4, -10), glm::vec3(0, 1, 0));
+    glm::mat4 proj = glm::perspectiveRH_ZO(1.0f, float(width) / height, 0.1f, 500.0f);
+    proj[1][1] *= -1.0f;
+    const glm::mat4 vp = proj * view;
+    const glm::uvec4 size(width, height, (width + ML_TILE_SIZE - 1) / ML_TILE_SIZE,
+                          (height + ML_TILE_SIZE - 1) / ML_TILE_SIZE);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int checked = 0;
+    for (int i = 0; i < 400; ++i) {
+        LightDesc d;
+        d.kind = i % 3 == 0 ? LightKind::Point : LightKind::Spot;
+        d.position = glm::vec3(u(rng) * 20.0f, 5.0f + u(rng) * 5.0f, -10.0f + u(rng) * 25.0f);
+        d.direction = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0, 0.01f));
+        d.range = 2.0f + (u(rng) + 1.0f) * 8.0f;
+        d.outerAngle = 0.2f + (u(rng) + 1.0f) * 0.6f;
+        d.innerAngle = 0.5f * d.outerAngle;
+        gpu::GpuLight L = toGpuLight(d, 0);
+        gpu::LightFootprint f = gpu::lightFootprint(L, vp, size, ML_TILE_SIZE, 0.1f);
+        for (int k = 0; k < 300; ++k) {
+            glm::vec3 x = d.position + glm::vec3(u(rng), u(rng), u(rng)) * d.range;
+            if (!gpu::lightReachesPoint(L, x)) continue;
+            glm::vec4 c = vp * glm::vec4(x, 1.0f);
+            if (c.w < 0.1f) continue; // behind the near plane: no pixel sees it
+            float px = (c.x / c.w + 1.0f) * 0.5f * width, py = (c.y / c.w + 1.0f) * 0.5f * height;
+            if (px < 0 || py < 0 || px >= width || py >= height || c.w > 500.0f) continue;
+            ++checked;
+            uint32_t tx = uint32_t(px) / ML_TILE_SIZE, ty = uint32_t(py) / ML_TILE_SIZE;
+            ASSERT_TRUE(tx >= f.tiles.x && tx <= f.tiles.z && ty >= f.tiles.y && ty <= f.tiles.w)
+                << "light " << i << " point at tile " << tx << "," << ty << " outside " << f.tiles.x << ","
+                << f.tiles.y << ".." << f.tiles.z << "," << f.tiles.w;
+            ASSERT_GE(c.w, f.depth.x) << "light " << i;
+            ASSERT_LE(c.w, f.depth.y) << "light " << i;
+        }
+    }
+    EXPECT_GT(checked, 10000);
+
+    LightDesc around;
+    around.kind = LightKind::Point;
+    around.position = glm::vec3(0.5f, 5.0f, 0.5f);
+    around.range = 4.0f;
+    gpu::LightFootprint all = gpu::lightFootprint(toGpuLight(around, 0), vp, size, ML_TILE_SIZE, 0.1f);
+    EXPECT_EQ(all.tiles, glm::uvec4(0, 0, size.z - 1, size.w - 1));
+    EXPECT_LE(all.depth.x, 0.1f);
+    LightDesc behind = around;
+    behind.position = glm::vec3(0.0f, 5.0f, 20.0f);
+    gpu::LightFootprint none = gpu::lightFootprint(toGpuLight(behind, 0), vp, size, ML_TILE_SIZE, 0.1f);
+    EXPECT_GT(none.tiles.x, none.tiles.z);
+}
+
 class Overflow : public ::testing::TestWithParam<CullingMode> {};
 
 TEST_P(Overflow, IsCountedAndDropsNoLight) {
