@@ -19,7 +19,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --size WxH       image size (default 1280x720)
   --lights N       lights in the scene, 1..4096 (default 256)
   --seed S         scene seed (default 1)
-  --culling M      clustered (default), tiled or none
+  --culling M      clustered (default; footprint assignment), clustered-brute, tiled or none
   --out DIR        output folder (default out/demo)
   --window         also show the frames in a window (needs a display)
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
