@@ -2,8 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Footprint light assignment (clustered mode), pass A: count and record the hits; light_alloc.comp
 // (B) allocates, light_fill.comp (C) scatters the recorded hits into the pool.
-// ML_FOOTPRINT_LANES threads per visible light, several lights per workgroup: the light's footprint (lightFootprint: screen rectangle of tiles and
-// depth range, conservative, camera inside the volume included) selects tiles; within each tile only
+// ML_FOOTPRINT_LANES threads per visible light, several lights per workgroup: the light's footprint
+// (lightFootprint: screen rectangle of tiles and depth range, conservative, camera inside the volume
+// included) selects tiles; within each tile only
 // the occupied slices (the tile's 64-bit mask from cluster_bounds) inside the depth range are tested,
 // with the same exact box test as the brute-force pass. So the work is the occupied clusters under
 // each light's footprint, not every light times every occupied cluster.
