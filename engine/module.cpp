@@ -26,6 +26,8 @@ const char* cullingName(CullingMode mode) {
         return "tiled";
     case CullingMode::None:
         return "none";
+    case CullingMode::ClusteredBrute:
+        return "clustered-brute";
     }
     return "?";
 }
@@ -34,7 +36,8 @@ Result<CullingMode> parseCulling(const std::string& name) {
     if (name == "clustered") return CullingMode::Clustered;
     if (name == "tiled") return CullingMode::Tiled;
     if (name == "none") return CullingMode::None;
-    return fail("unknown culling mode '" + name + "' (clustered, tiled or none)");
+    if (name == "clustered-brute") return CullingMode::ClusteredBrute;
+    return fail("unknown culling mode '" + name + "' (clustered, clustered-brute, tiled or none)");
 }
 
 Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -60,6 +63,9 @@ void Module::setCulling(CullingMode mode) {
 }
 void Module::setStatistics(bool enabled) {
     impl_->statistics = enabled;
+}
+void Module::setView(DebugView view) {
+    impl_->view = view;
 }
 Result<void> Module::setExposure(float exposure) {
     if (!(exposure > 0.0f) || !std::isfinite(exposure))
@@ -623,6 +629,10 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
             memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
         });
+
+    if (m.view != DebugView::Shaded)
+        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
+                          outputView, m.width, m.height, m.profiler);
 
     slot.pending = true;
     slot.statistics = m.statistics;
