@@ -72,7 +72,7 @@ LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
     glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     f.view = glm::lookAt(light.position, light.position + dir, up);
     f.fov = 2.0f * light.outerAngle;
-    f.nearPlane = nearPlane;
+    f.nearPlane = std::min(nearPlane, light.range * 0.01f);
     f.farPlane = light.range;
     return f;
 }
@@ -84,7 +84,7 @@ LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float near
     LightFrustum f;
     f.view = glm::lookAt(light.position, light.position + axis, up);
     f.fov = 1.57079633f;
-    f.nearPlane = nearPlane;
+    f.nearPlane = std::min(nearPlane, light.range * 0.01f);
     f.farPlane = light.range;
     return f;
 }

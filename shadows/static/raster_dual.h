@@ -50,11 +50,14 @@ struct CasterTriangles {
 CasterTriangles castersFromScene(const Scene& scene);
 
 // A spotlight's frustum: looking along its direction, full angle 2 * outerAngle, far = range.
+// The near plane is min(nearPlane, range / 100): a light of 5 cm range would otherwise get near = far
+// and no bake (tests/failures Range5Centimetres). Depth is linear over [0, far], so a smaller near
+// costs no depth precision; it only keeps casters closer to the light in the map.
 LightFrustum spotLightFrustum(const Light& light, float nearPlane = 0.05f);
 
 // A point light's cube face (0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z): 90 degrees, far = range. The face a
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
-// ties to the earlier axis).
+// ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
 LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane = 0.05f);
 // The frustums a static light bakes: one for a spot, six for a point light, none otherwise.
 std::vector<LightFrustum> lightFrustums(const Light& light);
