@@ -6,6 +6,7 @@
 // against time.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/lookup_timer.h"
 #include "engine/module_impl.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
@@ -35,6 +36,11 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --frames N       timed frames per configuration, default 3
   --camera X,Y,Z,TX,TY,TZ  view for the evaluation time and receivers (default: the scene's)
   --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
+  --lookup-pcf LIST  PCF radii of the isolated lookup timing (0 = one tap .. 4 = 9x9), default
+                   0,1,2,3,4; 'none' skips it
+  --lookups K      extra lookups per pair in the timing pass (timed at 1 and 1 + K), default 8;
+                   K grows x4 until the extra lookups take >= 40 ms
+  --lookup-pairs N (receiver, light) pairs timed, evenly sampled from the compared ones, default 16384
   --seed S         scene seed, default 1
   --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
 )";
@@ -67,6 +73,8 @@ struct Row {
     std::string failed; // the encoder's error when it cannot encode a map (e.g. MH's 24-bit offsets)
     uint64_t compared = 0, mismatches = 0;
     double meanAbs = 0;
+    std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
+    std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
 };
 
 double evaluateMs(Module& m, uint32_t frames) {
@@ -124,7 +132,7 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 int runBenchStatic(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
                            {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
-                            "--seed", "--out", "--camera"},
+                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs"},
                            {});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
@@ -138,9 +146,22 @@ int runBenchStatic(int argc, char** argv) {
     auto frames = cli::parseUint("--frames", args->get("--frames", "3"), 1, 100);
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    auto extraLookups = cli::parseUint("--lookups", args->get("--lookups", "8"), 1, 1024);
+    auto lookupPairs = cli::parseUint("--lookup-pairs", args->get("--lookup-pairs", "16384"), 1, 1u << 24);
     for (const std::string* e : {&methodNames.error(), &resNames.error(), &count.error(), &size.error(),
-                                 &frames.error(), &pcf.error(), &seed.error()})
+                                 &frames.error(), &pcf.error(), &seed.error(), &extraLookups.error(),
+                                 &lookupPairs.error()})
         if (!e->empty()) return usageError("bench static", *e);
+    std::vector<uint32_t> lookupRadii;
+    if (args->get("--lookup-pcf", "0,1,2,3,4") != "none") {
+        auto names = splitList(args->get("--lookup-pcf", "0,1,2,3,4"));
+        if (!names) return usageError("bench static", names.error());
+        for (const auto& n : names.value()) {
+            auto r = cli::parseUint("--lookup-pcf", n, 0, ML_MAX_PCF_RADIUS);
+            if (!r) return usageError("bench static", r.error());
+            lookupRadii.push_back(r.value());
+        }
+    }
     std::vector<StaticMethod> methods;
     for (const auto& n : methodNames.value()) {
         auto m = parseStaticMethod(n);
@@ -271,6 +292,30 @@ int runBenchStatic(int argc, char** argv) {
                      return n;
                  }());
 
+    // Lookup timing pairs: the same (receiver, light) pairs for every method and resolution, evenly
+    // sampled from the compared ones.
+    std::vector<LookupPair> pairs;
+    {
+        size_t total = 0;
+        for (auto& s : sets) total += s.receivers.size();
+        const double step = std::max(1.0, double(total) / lookupPairs.value());
+        double next = 0;
+        size_t index = 0;
+        for (uint32_t k = 0; k < sets.size(); ++k)
+            for (uint32_t r : sets[k].receivers) {
+                if (double(index++) >= next) {
+                    pairs.push_back({receivers[r].p, receivers[r].n, k});
+                    next += step;
+                }
+            }
+    }
+    std::unique_ptr<LookupTimer> timer;
+    if (!lookupRadii.empty()) {
+        auto t = LookupTimer::create(m.device());
+        if (!t) return runError("bench static", t.error());
+        timer = std::move(t.value());
+    }
+
     auto renderer = DualDepthRenderer::create(m.device());
     if (!renderer) return runError("bench static", renderer.error());
     CasterTriangles casters = castersFromScene(scene.value());
@@ -334,6 +379,23 @@ int runBenchStatic(int argc, char** argv) {
                     return runError("bench static", r.error());
             row.evalMs = evaluateMs(m, frames.value());
             for (const LightSet& ls : sets) m.clearStaticShadow(binding->lights[ls.light]);
+            if (timer) {
+                std::vector<gpu::GpuShadowRecord> records;
+                std::vector<uint32_t> all;
+                for (size_t k = 0; k < sets.size(); ++k) {
+                    records.push_back(makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
+                    all.insert(all.end(), encoded[mi][k].begin(), encoded[mi][k].end());
+                }
+                const uint64_t range = m.device().properties.limits.maxStorageBufferRange;
+                if (all.size() * 4 > range) {
+                    row.lookupSkipped = std::to_string(all.size() * 4 >> 20) + " MiB of words > the device's " +
+                                        std::to_string(range >> 20) + " MiB storage buffer range";
+                } else {
+                    auto t = timer->measure(records, all, pairs, lookupRadii, extraLookups.value(), 3);
+                    if (!t) return runError("bench static", t.error());
+                    row.lookup = std::move(t.value());
+                }
+            }
             // Accuracy: the method's visibility (the CPU twin of the shader's lookup) against the rays.
             Disagreement total;
             for (size_t k = 0; k < sets.size(); ++k) {
@@ -410,6 +472,40 @@ int runBenchStatic(int argc, char** argv) {
                             r.precomputeS, r.insertS, r.compressS, (r.insertS + r.compressS) / r.renderS,
                             double(r.bytes) / r.lights,
                             double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
+    }
+    if (!lookupRadii.empty()) {
+        std::printf("\nIsolated lookup cost, ns per lookup (%zu pairs, timed at 1 and 1 + K lookups each, K >= %u "
+                    "grown until the K lookups take >= 40 ms; min of 3; spread = (max - min) / min):\n",
+                    pairs.size(), extraLookups.value());
+        std::printf("| method | res |");
+        for (uint32_t r : lookupRadii) std::printf(" %ux%u ns |", 2 * r + 1, 2 * r + 1);
+        std::printf(" max spread | GPU != CPU |\n|---|---:|");
+        for (size_t i = 0; i < lookupRadii.size(); ++i) std::printf("---:|");
+        std::printf("---:|---:|\n");
+        std::ostringstream lcsv;
+        lcsv << "method,res,pcf_radius,taps,ns_per_lookup,spread,gpu_cpu_mismatches,pairs,extra_lookups\n";
+        for (const Row& r : rows) {
+            if (r.lookup.empty()) {
+                std::printf("| %s | %u | %s |\n", r.method.c_str(), r.res,
+                            r.lookupSkipped.empty() ? (r.failed.empty() ? "not measured" : "cannot encode")
+                                                    : r.lookupSkipped.c_str());
+                continue;
+            }
+            double spread = 0;
+            uint64_t mism = 0;
+            std::printf("| %s | %u |", r.method.c_str(), r.res);
+            for (const LookupTiming& t : r.lookup) {
+                std::printf(" %.1f |", t.nsPerLookup);
+                spread = std::max(spread, t.spread);
+                mism += t.cpuMismatches;
+                lcsv << r.method << "," << r.res << "," << t.radius << "," << (2 * t.radius + 1) * (2 * t.radius + 1)
+                     << "," << t.nsPerLookup << "," << t.spread << "," << t.cpuMismatches << "," << pairs.size()
+                     << "," << t.lookups << "\n";
+            }
+            std::printf(" %.0f%% | %llu |\n", 100.0 * spread, (unsigned long long)mism);
+        }
+        std::ofstream lf(out + "/bench_lookup.csv");
+        if (!lf || !(lf << lcsv.str())) return runError("bench static", out + "/bench_lookup.csv: cannot write");
     }
     std::ofstream f(out + "/bench_static.csv");
     if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
