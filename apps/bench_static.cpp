@@ -12,6 +12,7 @@
 #include "scenes/scenes.h"
 #include "shaders/shared/light_math.h"
 #include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/reference/error_classes.h"
 #include "shadows/reference/raytrace.h"
 #include "shadows/static/static_visibility.h"
 
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -36,6 +38,11 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --frames N       timed frames per configuration, default 3
   --camera X,Y,Z,TX,TY,TZ  view for the evaluation time and receivers (default: the scene's)
   --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
+  --receivers R    exact (default): each G-buffer pixel's receiver is moved onto the surface the
+                   camera ray through the pixel centre hits (Embree), when that hit lies within
+                   max(5 cm, 0.2 %) of the G-buffer depth; gbuffer: the G-buffer's reconstruction
+                   (forward-Z D32 through invViewProj in float: centimetres off at 100 m, which
+                   puts receivers inside walls; error class "inside")
   --lookup-pcf LIST  PCF radii of the isolated lookup timing (0 = one tap .. 4 = 9x9), default
                    0,1,2,3,4; 'none' skips it
   --lookups K      extra lookups per pair in the timing pass (timed at 1 and 1 + K), default 8;
@@ -56,6 +63,8 @@ Result<std::vector<std::string>> splitList(const std::string& text) {
     return out;
 }
 
+constexpr float kRayBias = 0.02f; // the rays' normal offset, metres
+
 double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -75,6 +84,7 @@ struct Row {
     double meanAbs = 0;
     std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
     std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
+    ErrorCounts classes{};            // disagreements by cause (shadows/reference/error_classes.h)
 };
 
 double evaluateMs(Module& m, uint32_t frames) {
@@ -132,7 +142,8 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 int runBenchStatic(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
                            {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
-                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs"},
+                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs",
+                            "--receivers"},
                            {});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
@@ -152,6 +163,9 @@ int runBenchStatic(int argc, char** argv) {
                                  &frames.error(), &pcf.error(), &seed.error(), &extraLookups.error(),
                                  &lookupPairs.error()})
         if (!e->empty()) return usageError("bench static", *e);
+    const std::string receiverMode = args->get("--receivers", "exact");
+    if (receiverMode != "exact" && receiverMode != "gbuffer")
+        return usageError("bench static", "--receivers: '" + receiverMode + "' is not exact or gbuffer");
     std::vector<uint32_t> lookupRadii;
     if (args->get("--lookup-pcf", "0,1,2,3,4") != "none") {
         auto names = splitList(args->get("--lookup-pcf", "0,1,2,3,4"));
@@ -199,6 +213,9 @@ int runBenchStatic(int argc, char** argv) {
     }
     if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("bench static", r.error());
 
+    auto rays = RayReference::build(scene.value(), true);
+    if (!rays) return runError("bench static", rays.error());
+
     // Receivers: the G-buffer of one frame.
     evaluateMs(m, 1);
     auto& impl = m.internals();
@@ -229,6 +246,11 @@ int runBenchStatic(int argc, char** argv) {
         const float* depth = rb.as<float>();
         const uint64_t* normal =
             reinterpret_cast<const uint64_t*>(rb.as<char>() + size_t(width) * height * 4);
+        // Exact receivers: the pixel centre's camera ray in double, traced against the static scene.
+        const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
+        const glm::dvec3 eye(fc.cameraPosition);
+        uint64_t moved = 0, kept = 0;
+        double maxMove = 0;
         for (uint32_t y = 0; y < height; ++y)
             for (uint32_t x = 0; x < width; ++x) {
                 size_t i = size_t(y) * width + x;
@@ -236,8 +258,26 @@ int runBenchStatic(int argc, char** argv) {
                 glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
                 glm::vec3 n(glm::unpackHalf2x16(uint32_t(normal[i])),
                             glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);
+                if (receiverMode == "exact") {
+                    double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
+                    glm::dvec4 a = inv * glm::dvec4(nx, ny, 0.0, 1.0), b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
+                    glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
+                    double t0 = glm::length(glm::dvec3(p) - eye);
+                    RayHit h = rays->firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, float(t0 * 1.5 + 1.0));
+                    if (h.hit && std::abs(double(h.t) - t0) < std::max(0.05, 0.002 * t0)) {
+                        glm::vec3 q = glm::vec3(eye + dir * double(h.t));
+                        maxMove = std::max(maxMove, double(glm::length(q - p)));
+                        p = q;
+                        ++moved;
+                    } else {
+                        ++kept; // a dynamic instance (not in the rays) or a silhouette pixel
+                    }
+                }
                 receivers.push_back({p, glm::normalize(n)});
             }
+        if (receiverMode == "exact")
+            std::fprintf(stderr, "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
+                         (unsigned long long)moved, maxMove, (unsigned long long)kept);
         destroyBuffer(d, rb);
     }
 
@@ -261,8 +301,6 @@ int runBenchStatic(int argc, char** argv) {
         return runError("bench static", sceneName + ": no static spot light reaches the view");
 
     // Ray-traced truth per light, over the receivers in its cone.
-    auto rays = RayReference::build(scene.value(), true);
-    if (!rays) return runError("bench static", rays.error());
     struct LightSet {
         uint32_t light;
         LightFrustum frustum;
@@ -282,7 +320,7 @@ int runBenchStatic(int argc, char** argv) {
                 ns.push_back(receivers[r].n);
             }
         s.truth.resize(ps.size());
-        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, 0.02f, s.truth.data());
+        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, kRayBias, s.truth.data());
         sets.push_back(std::move(s));
     }
     std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", scene->name.c_str(),
@@ -405,6 +443,15 @@ int runBenchStatic(int argc, char** argv) {
                     vis.push_back(
                         staticVisibility(rec, encoded[mi][k].data(), receivers[r].p, receivers[r].n));
                 total.merge(compareVisibility(vis, sets[k].truth));
+                // Each disagreement's cause.
+                ErrorContext ctx{&rays.value(), rec, encoded[mi][k].data(), scene->lights[sets[k].light].position,
+                                 kRayBias};
+                for (size_t j = 0; j < vis.size(); ++j)
+                    if ((vis[j] >= 0.5f) != (sets[k].truth[j] != 0)) {
+                        const Receiver& rc = receivers[sets[k].receivers[j]];
+                        ErrorClass ec = classifyDisagreement(ctx, rc.p, rc.n);
+                        ++row.classes[uint32_t(ec)];
+                    }
             }
             encoded[mi] = {};
             row.compared = total.compared;
@@ -473,6 +520,62 @@ int runBenchStatic(int argc, char** argv) {
                             double(r.bytes) / r.lights,
                             double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
     }
+    // Disagreements by cause, as shares of the compared receivers (they add up to "wrong %"), and the
+    // convergence of the resolution class: the least-squares slope of log(rate) against log(res).
+    std::printf("\nDisagreement by cause, %% of compared receivers (shadows/reference/error_classes.h):\n");
+    std::printf("| method | res | wrong %% |");
+    for (uint32_t c = 0; c < kErrorClassCount; ++c) std::printf(" %s %% |", errorClassName(ErrorClass(c)));
+    std::printf("\n|---|---:|---:|");
+    for (uint32_t c = 0; c < kErrorClassCount; ++c) std::printf("---:|");
+    std::printf("\n");
+    std::ostringstream ccsv;
+    ccsv << "method,res,compared,mismatches";
+    for (uint32_t c = 0; c < kErrorClassCount; ++c) ccsv << "," << errorClassName(ErrorClass(c));
+    ccsv << "\n";
+    for (const Row& r : rows) {
+        if (!r.compared) continue;
+        std::printf("| %s | %u | %.3f |", r.method.c_str(), r.res, 100.0 * double(r.mismatches) / r.compared);
+        ccsv << r.method << "," << r.res << "," << r.compared << "," << r.mismatches;
+        for (uint32_t c = 0; c < kErrorClassCount; ++c) {
+            std::printf(" %.3f |", 100.0 * double(r.classes[c]) / r.compared);
+            ccsv << "," << r.classes[c];
+        }
+        std::printf("\n");
+        ccsv << "\n";
+    }
+    std::printf("\nConvergence with resolution: least-squares slope of log(class rate) on log(res) "
+                "(-1 = halves per doubling; 0 = a floor):\n| method | resolution class | all "
+                "disagreements | contact | resolution %% at lowest -> highest res |\n|---|---:|---:|---:|---|\n");
+    for (StaticMethod method : methods) {
+        auto slope = [&](auto value) {
+            double sx = 0, sy = 0, sxx = 0, sxy = 0;
+            int n = 0;
+            for (const Row& r : rows)
+                if (r.method == staticMethodName(method) && r.compared && value(r) > 0) {
+                    double x = std::log2(double(r.res)), y = std::log2(value(r));
+                    sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
+                }
+            return n >= 2 && sxx * n - sx * sx > 0 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : std::nan("");
+        };
+        auto rate = [](const Row& r, uint64_t k) { return double(k) / double(r.compared); };
+        double sRes = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Resolution)]); });
+        double sAll = slope([&](const Row& r) { return rate(r, r.mismatches); });
+        double sCon = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Contact)]); });
+        std::string path;
+        for (const Row& r : rows)
+            if (r.method == staticMethodName(method) && r.compared) {
+                char b[32];
+                std::snprintf(b, sizeof(b), "%s%.3f", path.empty() ? "" : " -> ",
+                              100.0 * rate(r, r.classes[uint32_t(ErrorClass::Resolution)]));
+                path += b;
+            }
+        std::printf("| %s | %.2f | %.2f | %.2f | %s |\n", staticMethodName(method), sRes, sAll, sCon, path.c_str());
+    }
+    {
+        std::ofstream cf(out + "/bench_classes.csv");
+        if (!cf || !(cf << ccsv.str())) return runError("bench static", out + "/bench_classes.csv: cannot write");
+    }
+
     if (!lookupRadii.empty()) {
         std::printf("\nIsolated lookup cost, ns per lookup (%zu pairs, timed at 1 and 1 + K lookups each, K >= %u "
                     "grown until the K lookups take >= 40 ms; min of 3; spread = (max - min) / min):\n",
