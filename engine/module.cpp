@@ -189,9 +189,11 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (shadow.face >= faces)
         return fail("setStaticShadow: light " + std::to_string(id) + ": face " + std::to_string(shadow.face) +
                     (faces == 1 ? " (a spot light has face 0 only)" : " (a point light has faces 0..5)"));
-    if (m.lights[id].kind == LightKind::Directional)
+    // Directional lights take orthographic bakes (directionalLightFrustum), the others perspective ones.
+    if ((m.lights[id].kind == LightKind::Directional) != shadow.frustum.orthographic())
         return fail("setStaticShadow: light " + std::to_string(id) +
-                    ": directional lights take no static bake");
+                    (shadow.frustum.orthographic() ? ": an orthographic bake needs a directional light"
+                                                   : ": a directional light needs an orthographic bake"));
     if (shadow.method == StaticMethod::None) {
         m.shadows[id][shadow.face] = {};
         m.shadowsDirty = true;
@@ -200,9 +202,10 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
         return fail("setStaticShadow: light " + std::to_string(id) + ": " + v.error());
     const LightFrustum& f = shadow.frustum;
-    if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) || !(f.fov > 0 && f.fov < 3.1f))
+    if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) ||
+        !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.1f))
         return fail("setStaticShadow: light " + std::to_string(id) +
-                    ": frustum needs 0 < near < far, 0 < fov < pi");
+                    ": frustum needs 0 < near < far, 0 < fov < pi (or a finite orthographic half side)");
     m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
     m.shadowsDirty = true;
     return {};
