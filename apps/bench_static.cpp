@@ -3,9 +3,13 @@
 // maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
 // (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
-// against time.
+// against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
+// the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
+// resolution and PCF size (apps/lookup_timer.h). Receivers are moved onto the traced surface by
+// default (--receivers), since the G-buffer's float reconstruction puts them centimetres off it.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/bench_static_tables.h"
 #include "apps/lookup_timer.h"
 #include "engine/module_impl.h"
 #include "host/scene_host.h"
@@ -49,7 +53,9 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
                    K grows x4 until the extra lookups take >= 40 ms
   --lookup-pairs N (receiver, light) pairs timed, evenly sampled from the compared ones, default 16384
   --seed S         scene seed, default 1
-  --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
+  --out DIR        bench_static.csv, bench_classes.csv (disagreements by cause), bench_lookup.csv
+                   (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png
+                   (default out/bench_static)
 )";
 
 namespace {
@@ -73,19 +79,8 @@ struct Receiver {
     glm::vec3 p, n;
 };
 
-struct Row {
-    std::string method;
-    uint32_t res = 0, lights = 0;
-    uint64_t bytes = 0, mapBytes = 0;
-    double renderS = 0, encodeS = 0, evalMs = 0;
-    double precomputeS = 0, insertS = 0, compressS = 0; // CPVS: the paper's Table 3 split of encodeS
-    std::string failed; // the encoder's error when it cannot encode a map (e.g. MH's 24-bit offsets)
-    uint64_t compared = 0, mismatches = 0;
-    double meanAbs = 0;
-    std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
-    std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
-    ErrorCounts classes{};            // disagreements by cause (shadows/reference/error_classes.h)
-};
+
+using Row = BenchStaticRow;
 
 double evaluateMs(Module& m, uint32_t frames) {
     Device& d = m.device();
@@ -520,96 +515,10 @@ int runBenchStatic(int argc, char** argv) {
                             double(r.bytes) / r.lights,
                             double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
     }
-    // Disagreements by cause, as shares of the compared receivers (they add up to "wrong %"), and the
-    // convergence of the resolution class: the least-squares slope of log(rate) against log(res).
-    std::printf("\nDisagreement by cause, %% of compared receivers (shadows/reference/error_classes.h):\n");
-    std::printf("| method | res | wrong %% |");
-    for (uint32_t c = 0; c < kErrorClassCount; ++c) std::printf(" %s %% |", errorClassName(ErrorClass(c)));
-    std::printf("\n|---|---:|---:|");
-    for (uint32_t c = 0; c < kErrorClassCount; ++c) std::printf("---:|");
-    std::printf("\n");
-    std::ostringstream ccsv;
-    ccsv << "method,res,compared,mismatches";
-    for (uint32_t c = 0; c < kErrorClassCount; ++c) ccsv << "," << errorClassName(ErrorClass(c));
-    ccsv << "\n";
-    for (const Row& r : rows) {
-        if (!r.compared) continue;
-        std::printf("| %s | %u | %.3f |", r.method.c_str(), r.res, 100.0 * double(r.mismatches) / r.compared);
-        ccsv << r.method << "," << r.res << "," << r.compared << "," << r.mismatches;
-        for (uint32_t c = 0; c < kErrorClassCount; ++c) {
-            std::printf(" %.3f |", 100.0 * double(r.classes[c]) / r.compared);
-            ccsv << "," << r.classes[c];
-        }
-        std::printf("\n");
-        ccsv << "\n";
-    }
-    std::printf("\nConvergence with resolution: least-squares slope of log(class rate) on log(res) "
-                "(-1 = halves per doubling; 0 = a floor):\n| method | resolution class | all "
-                "disagreements | contact | resolution %% at lowest -> highest res |\n|---|---:|---:|---:|---|\n");
-    for (StaticMethod method : methods) {
-        auto slope = [&](auto value) {
-            double sx = 0, sy = 0, sxx = 0, sxy = 0;
-            int n = 0;
-            for (const Row& r : rows)
-                if (r.method == staticMethodName(method) && r.compared && value(r) > 0) {
-                    double x = std::log2(double(r.res)), y = std::log2(value(r));
-                    sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
-                }
-            return n >= 2 && sxx * n - sx * sx > 0 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : std::nan("");
-        };
-        auto rate = [](const Row& r, uint64_t k) { return double(k) / double(r.compared); };
-        double sRes = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Resolution)]); });
-        double sAll = slope([&](const Row& r) { return rate(r, r.mismatches); });
-        double sCon = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Contact)]); });
-        std::string path;
-        for (const Row& r : rows)
-            if (r.method == staticMethodName(method) && r.compared) {
-                char b[32];
-                std::snprintf(b, sizeof(b), "%s%.3f", path.empty() ? "" : " -> ",
-                              100.0 * rate(r, r.classes[uint32_t(ErrorClass::Resolution)]));
-                path += b;
-            }
-        std::printf("| %s | %.2f | %.2f | %.2f | %s |\n", staticMethodName(method), sRes, sAll, sCon, path.c_str());
-    }
-    {
-        std::ofstream cf(out + "/bench_classes.csv");
-        if (!cf || !(cf << ccsv.str())) return runError("bench static", out + "/bench_classes.csv: cannot write");
-    }
-
-    if (!lookupRadii.empty()) {
-        std::printf("\nIsolated lookup cost, ns per lookup (%zu pairs, timed at 1 and 1 + K lookups each, K >= %u "
-                    "grown until the K lookups take >= 40 ms; min of 3; spread = (max - min) / min):\n",
-                    pairs.size(), extraLookups.value());
-        std::printf("| method | res |");
-        for (uint32_t r : lookupRadii) std::printf(" %ux%u ns |", 2 * r + 1, 2 * r + 1);
-        std::printf(" max spread | GPU != CPU |\n|---|---:|");
-        for (size_t i = 0; i < lookupRadii.size(); ++i) std::printf("---:|");
-        std::printf("---:|---:|\n");
-        std::ostringstream lcsv;
-        lcsv << "method,res,pcf_radius,taps,ns_per_lookup,spread,gpu_cpu_mismatches,pairs,extra_lookups\n";
-        for (const Row& r : rows) {
-            if (r.lookup.empty()) {
-                std::printf("| %s | %u | %s |\n", r.method.c_str(), r.res,
-                            r.lookupSkipped.empty() ? (r.failed.empty() ? "not measured" : "cannot encode")
-                                                    : r.lookupSkipped.c_str());
-                continue;
-            }
-            double spread = 0;
-            uint64_t mism = 0;
-            std::printf("| %s | %u |", r.method.c_str(), r.res);
-            for (const LookupTiming& t : r.lookup) {
-                std::printf(" %.1f |", t.nsPerLookup);
-                spread = std::max(spread, t.spread);
-                mism += t.cpuMismatches;
-                lcsv << r.method << "," << r.res << "," << t.radius << "," << (2 * t.radius + 1) * (2 * t.radius + 1)
-                     << "," << t.nsPerLookup << "," << t.spread << "," << t.cpuMismatches << "," << pairs.size()
-                     << "," << t.lookups << "\n";
-            }
-            std::printf(" %.0f%% | %llu |\n", 100.0 * spread, (unsigned long long)mism);
-        }
-        std::ofstream lf(out + "/bench_lookup.csv");
-        if (!lf || !(lf << lcsv.str())) return runError("bench static", out + "/bench_lookup.csv: cannot write");
-    }
+    if (auto r = printClassTables(out, rows, methods); !r) return runError("bench static", r.error());
+    if (!lookupRadii.empty())
+        if (auto r = printLookupTable(out, rows, lookupRadii, pairs.size(), extraLookups.value()); !r)
+            return runError("bench static", r.error());
     std::ofstream f(out + "/bench_static.csv");
     if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
     f.close();
