@@ -126,10 +126,10 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
                                uint32_t resolution)
     : res_(resolution), far_(frustum.farPlane), ortho_(frustum.orthographic()) {
     // Perspective: NDC = x / (d tan); orthographic: NDC = x / orthoHalf. The side clip planes are
-    // g(d) * kGuard -+ x with g(d) = tan * d or orthoHalf.
+    // kGuard * g(d) -+ x with g(d) = tan * d or orthoHalf.
     const double t = ortho_ ? 0.0 : std::tan(double(frustum.fov) * 0.5);
     const double oh = frustum.orthoHalf;
-    auto side = [&](const V3& v) { return ortho_ ? oh : t * v.z; };
+    auto side = [&](const V3& v) { return ortho_ ? kGuard * oh : kGuard * t * v.z; }; // perspective: as before
     const double n = frustum.nearPlane, fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
@@ -141,10 +141,10 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
         }
         clipPolygon(poly, tmp, [&](const V3& v) { return v.z - n; });
         if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return fa - v.z; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * side(v) - v.x; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * side(v) + v.x; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * side(v) - v.y; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * side(v) + v.y; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) - v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) + v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) - v.y; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) + v.y; });
         if (poly.size() < 3) continue;
         // Project: NDC = x / (d tan), pixel = (NDC + 1) / 2 * res, fixed = round(pixel * 256).
         std::vector<int64_t> fx(poly.size()), fy(poly.size());
