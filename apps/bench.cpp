@@ -14,8 +14,9 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static [options]
-(`manylights bench static --help` for the static shadow benchmark)
+static const char* kBenchHelp = R"(usage: manylights bench culling|static|flicker [options]
+(`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
+static shadows' temporal stability along a camera path)
 Culling and shading time against light count, for each culling mode, in one run.
   --size WxH       image size (default 640x360)
   --lights LIST    comma-separated light counts (default 64,256,1024,4096)
@@ -66,8 +67,9 @@ int runBench(int argc, char** argv) {
         return argc < 3 ? 2 : 0;
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
+    if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling, static or flicker)");
     auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {
