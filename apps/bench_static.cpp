@@ -54,8 +54,8 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --lookup-pairs N (receiver, light) pairs timed, evenly sampled from the compared ones, default 16384
   --seed S         scene seed, default 1
   --out DIR        bench_static.csv, bench_classes.csv (disagreements by cause), bench_lookup.csv
-                   (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png
-                   (default out/bench_static)
+                   (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png,
+                   accuracy_vs_lookup.png (default out/bench_static)
 )";
 
 namespace {
@@ -110,19 +110,31 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
           "set ylabel 'disagreement with ray-traced visibility (%)'\n";
     for (const auto& m : methods) {
         std::ofstream dat(dir + "/" + m + ".dat");
-        dat << "# bytes_per_light eval_ms disagreement_percent res\n";
+        dat << "# bytes_per_light eval_ms disagreement_percent res one_tap_lookup_ns\n";
         for (const Row& r : rows)
-            if (r.method == m && r.evalMs >= 0 && r.failed.empty())
+            if (r.method == m && r.evalMs >= 0 && r.failed.empty()) {
+                // The isolated one-tap lookup cost, or NaN (gnuplot skips it) when not measured.
+                double ns = std::nan("");
+                for (const LookupTiming& t : r.lookup)
+                    if (t.radius == 0) ns = t.nsPerLookup;
                 dat << double(r.bytes) / r.lights << " " << r.evalMs << " "
-                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << "\n";
+                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << " "
+                    << ns << "\n";
+            }
     }
-    for (int chart = 0; chart < 2; ++chart) {
-        gp << "set output '" << dir << (chart ? "/accuracy_vs_time.png'\n" : "/accuracy_vs_bytes.png'\n");
-        gp << (chart ? "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n"
-                     : "set xlabel 'bytes per light'\n");
-        gp << "plot ";
+    const bool anyLookup = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
+        return std::any_of(r.lookup.begin(), r.lookup.end(), [](const LookupTiming& t) { return t.radius == 0; });
+    });
+    for (int chart = 0; chart < (anyLookup ? 3 : 2); ++chart) {
+        const char* names[3] = {"/accuracy_vs_bytes.png'\n", "/accuracy_vs_time.png'\n",
+                                "/accuracy_vs_lookup.png'\n"};
+        const char* xlabels[3] = {"set xlabel 'bytes per light'\n",
+                                  "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
+                                  "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
+        const int column[3] = {1, 2, 5};
+        gp << "set output '" << dir << names[chart] << xlabels[chart] << "plot ";
         for (size_t i = 0; i < methods.size(); ++i)
-            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << (chart ? 2 : 1)
+            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << column[chart]
                << ":3 with linespoints title '" << methods[i] << "'";
         gp << "\n";
     }
@@ -523,7 +535,7 @@ int runBenchStatic(int argc, char** argv) {
     if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
     f.close();
     if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
-    std::printf("wrote %s/bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png\n", out.c_str());
+    std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n", out.c_str());
     return 0;
 }
 

@@ -190,7 +190,8 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
         return fail("setStaticShadow: light " + std::to_string(id) + ": face " + std::to_string(shadow.face) +
                     (faces == 1 ? " (a spot light has face 0 only)" : " (a point light has faces 0..5)"));
     // Directional lights take orthographic bakes (directionalLightFrustum), the others perspective ones.
-    if ((m.lights[id].kind == LightKind::Directional) != shadow.frustum.orthographic())
+    if (shadow.method != StaticMethod::None &&
+        (m.lights[id].kind == LightKind::Directional) != shadow.frustum.orthographic())
         return fail("setStaticShadow: light " + std::to_string(id) +
                     (shadow.frustum.orthographic() ? ": an orthographic bake needs a directional light"
                                                    : ": a directional light needs an orthographic bake"));
