@@ -40,7 +40,8 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
 )";
 
 namespace {
-Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi) {
+Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,
+                                       uint32_t hi) {
     std::vector<uint32_t> out;
     std::stringstream ss(text);
     std::string item;
@@ -62,8 +63,8 @@ struct Sample {
 
 int runBenchFlicker(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--methods", "--res", "--pcf", "--lights", "--size", "--frames", "--camera",
-                            "--camera-end", "--seed", "--out"},
+                           {"--scene", "--methods", "--res", "--pcf", "--lights", "--size", "--frames",
+                            "--camera", "--camera-end", "--seed", "--out"},
                            {});
     if (!args) return usageError("bench flicker", args.error());
     if (args->help) {
@@ -97,14 +98,16 @@ int runBenchFlicker(int argc, char** argv) {
     if (args->has("--camera")) {
         auto v = cli::parseCamera("--camera", args->get("--camera", ""));
         if (!v) return usageError("bench flicker", v.error());
-        eye0 = {v.value()[0], v.value()[1], v.value()[2]}, target0 = {v.value()[3], v.value()[4], v.value()[5]};
+        eye0 = {v.value()[0], v.value()[1], v.value()[2]},
+        target0 = {v.value()[3], v.value()[4], v.value()[5]};
     }
     glm::vec3 side = glm::normalize(glm::cross(target0 - eye0, glm::vec3(0, 1, 0)));
     glm::vec3 eye1 = eye0 + side * 2.0f, target1 = target0 + side * 2.0f;
     if (args->has("--camera-end")) {
         auto v = cli::parseCamera("--camera-end", args->get("--camera-end", ""));
         if (!v) return usageError("bench flicker", v.error());
-        eye1 = {v.value()[0], v.value()[1], v.value()[2]}, target1 = {v.value()[3], v.value()[4], v.value()[5]};
+        eye1 = {v.value()[0], v.value()[1], v.value()[2]},
+        target1 = {v.value()[3], v.value()[4], v.value()[5]};
     }
     const std::string out = args->get("--out", "out/bench_flicker");
     if (auto r = cli::makeDirectory(out); !r) return runError("bench flicker", r.error());
@@ -117,7 +120,8 @@ int runBenchFlicker(int argc, char** argv) {
     // facing the camera); pixels that see nothing get a zero normal.
     auto receiversOf = [&](uint32_t f, std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
         float t = F > 1 ? float(f) / float(F - 1) : 0.0f;
-        glm::dvec3 eye = glm::dvec3(glm::mix(eye0, eye1, t)), target = glm::dvec3(glm::mix(target0, target1, t));
+        glm::dvec3 eye = glm::dvec3(glm::mix(eye0, eye1, t)),
+                   target = glm::dvec3(glm::mix(target0, target1, t));
         glm::dmat4 view = glm::lookAt(eye, target, glm::dvec3(0, 1, 0));
         glm::dmat4 proj = glm::perspective(double(scene->camera.fovY), double(width) / height, 0.1, 1000.0);
         glm::dmat4 inv = glm::inverse(proj * view);
@@ -150,7 +154,8 @@ int runBenchFlicker(int argc, char** argv) {
     }
     std::sort(ranked.rbegin(), ranked.rend());
     if (ranked.size() > count.value()) ranked.resize(count.value());
-    if (ranked.empty()) return runError("bench flicker", sceneName + ": no static spot light reaches the view");
+    if (ranked.empty())
+        return runError("bench flicker", sceneName + ": no static spot light reaches the view");
 
     // Bakes: per light, per resolution, per method.
     struct Config {
@@ -191,7 +196,8 @@ int runBenchFlicker(int argc, char** argv) {
             std::vector<glm::vec3> qp, qn;
             std::vector<size_t> idx;
             for (size_t i = 0; i < ps.size(); ++i)
-                if (ns[i] != glm::vec3(0.0f) && inLightCone(l, ps[i]) && glm::dot(ns[i], l.position - ps[i]) > 0.0f)
+                if (ns[i] != glm::vec3(0.0f) && inLightCone(l, ps[i]) &&
+                    glm::dot(ns[i], l.position - ps[i]) > 0.0f)
                     qp.push_back(ps[i]), qn.push_back(ns[i]), idx.push_back(i);
             std::vector<uint8_t> truth(qp.size());
             rays->visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.02f, truth.data());
@@ -226,21 +232,23 @@ int runBenchFlicker(int argc, char** argv) {
     std::printf("bench flicker: %s, %zu lights, %u frames %ux%u from %.1f,%.1f,%.1f to %.1f,%.1f,%.1f\n",
                 scene->name.c_str(), ranked.size(), F, width, height, eye0.x, eye0.y, eye0.z, eye1.x, eye1.y,
                 eye1.z);
-    std::printf("| method | res | pcf | pixel-light pairs in consecutive frames | rays flip %% | method flips "
-                "where rays do not %% |\n|---|---:|---|---:|---:|---:|\n");
+    std::printf(
+        "| method | res | pcf | pixel-light pairs in consecutive frames | rays flip %% | method flips "
+        "where rays do not %% |\n|---|---:|---|---:|---:|---:|\n");
     std::ostringstream csv;
     csv << "method,res,pcf_radius,pairs,truth_flips,flicker\n";
     for (size_t c = 0; c < configs.size(); ++c) {
         const Config& g = configs[c];
         double rate = pairs[c] ? double(flips[c]) / double(pairs[c]) : 0.0;
-        std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f |\n", staticMethodName(g.method), g.res, 2 * g.pcf + 1,
-                    2 * g.pcf + 1, (unsigned long long)pairs[c],
+        std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f |\n", staticMethodName(g.method), g.res,
+                    2 * g.pcf + 1, 2 * g.pcf + 1, (unsigned long long)pairs[c],
                     pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0, 100.0 * rate);
         csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << pairs[c] << ","
             << truthFlips[c] << "," << flips[c] << "\n";
     }
     std::ofstream file(out + "/bench_flicker.csv");
-    if (!file || !(file << csv.str())) return runError("bench flicker", out + "/bench_flicker.csv: cannot write");
+    if (!file || !(file << csv.str()))
+        return runError("bench flicker", out + "/bench_flicker.csv: cannot write");
     std::printf("wrote %s/bench_flicker.csv\n", out.c_str());
     return 0;
 }

@@ -79,7 +79,6 @@ struct Receiver {
     glm::vec3 p, n;
 };
 
-
 using Row = BenchStaticRow;
 
 double evaluateMs(Module& m, uint32_t frames) {
@@ -123,14 +122,16 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
             }
     }
     const bool anyLookup = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
-        return std::any_of(r.lookup.begin(), r.lookup.end(), [](const LookupTiming& t) { return t.radius == 0; });
+        return std::any_of(r.lookup.begin(), r.lookup.end(),
+                           [](const LookupTiming& t) { return t.radius == 0; });
     });
     for (int chart = 0; chart < (anyLookup ? 3 : 2); ++chart) {
         const char* names[3] = {"/accuracy_vs_bytes.png'\n", "/accuracy_vs_time.png'\n",
                                 "/accuracy_vs_lookup.png'\n"};
-        const char* xlabels[3] = {"set xlabel 'bytes per light'\n",
-                                  "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
-                                  "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
+        const char* xlabels[3] = {
+            "set xlabel 'bytes per light'\n",
+            "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
+            "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
         const int column[3] = {1, 2, 5};
         gp << "set output '" << dir << names[chart] << xlabels[chart] << "plot ";
         for (size_t i = 0; i < methods.size(); ++i)
@@ -147,11 +148,11 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 } // namespace
 
 int runBenchStatic(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
-                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs",
-                            "--receivers"},
-                           {});
+    auto args =
+        cli::parse(argc, argv, 3,
+                   {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",
+                    "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers"},
+                   {});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -166,9 +167,9 @@ int runBenchStatic(int argc, char** argv) {
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
     auto extraLookups = cli::parseUint("--lookups", args->get("--lookups", "8"), 1, 1024);
     auto lookupPairs = cli::parseUint("--lookup-pairs", args->get("--lookup-pairs", "16384"), 1, 1u << 24);
-    for (const std::string* e : {&methodNames.error(), &resNames.error(), &count.error(), &size.error(),
-                                 &frames.error(), &pcf.error(), &seed.error(), &extraLookups.error(),
-                                 &lookupPairs.error()})
+    for (const std::string* e :
+         {&methodNames.error(), &resNames.error(), &count.error(), &size.error(), &frames.error(),
+          &pcf.error(), &seed.error(), &extraLookups.error(), &lookupPairs.error()})
         if (!e->empty()) return usageError("bench static", *e);
     const std::string receiverMode = args->get("--receivers", "exact");
     if (receiverMode != "exact" && receiverMode != "gbuffer")
@@ -283,7 +284,8 @@ int runBenchStatic(int argc, char** argv) {
                 receivers.push_back({p, glm::normalize(n)});
             }
         if (receiverMode == "exact")
-            std::fprintf(stderr, "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
+            std::fprintf(stderr,
+                         "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
                          (unsigned long long)moved, maxMove, (unsigned long long)kept);
         destroyBuffer(d, rb);
     }
@@ -327,7 +329,8 @@ int runBenchStatic(int argc, char** argv) {
                 ns.push_back(receivers[r].n);
             }
         s.truth.resize(ps.size());
-        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, kRayBias, s.truth.data());
+        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, kRayBias,
+                           s.truth.data());
         sets.push_back(std::move(s));
     }
     std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", scene->name.c_str(),
@@ -428,13 +431,15 @@ int runBenchStatic(int argc, char** argv) {
                 std::vector<gpu::GpuShadowRecord> records;
                 std::vector<uint32_t> all;
                 for (size_t k = 0; k < sets.size(); ++k) {
-                    records.push_back(makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
+                    records.push_back(
+                        makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
                     all.insert(all.end(), encoded[mi][k].begin(), encoded[mi][k].end());
                 }
                 const uint64_t range = m.device().properties.limits.maxStorageBufferRange;
                 if (all.size() * 4 > range) {
-                    row.lookupSkipped = std::to_string(all.size() * 4 >> 20) + " MiB of words > the device's " +
-                                        std::to_string(range >> 20) + " MiB storage buffer range";
+                    row.lookupSkipped = std::to_string(all.size() * 4 >> 20) +
+                                        " MiB of words > the device's " + std::to_string(range >> 20) +
+                                        " MiB storage buffer range";
                 } else {
                     auto t = timer->measure(records, all, pairs, lookupRadii, extraLookups.value(), 3);
                     if (!t) return runError("bench static", t.error());
@@ -451,8 +456,8 @@ int runBenchStatic(int argc, char** argv) {
                         staticVisibility(rec, encoded[mi][k].data(), receivers[r].p, receivers[r].n));
                 total.merge(compareVisibility(vis, sets[k].truth));
                 // Each disagreement's cause.
-                ErrorContext ctx{&rays.value(), rec, encoded[mi][k].data(), scene->lights[sets[k].light].position,
-                                 kRayBias};
+                ErrorContext ctx{&rays.value(), rec, encoded[mi][k].data(),
+                                 scene->lights[sets[k].light].position, kRayBias};
                 for (size_t j = 0; j < vis.size(); ++j)
                     if ((vis[j] >= 0.5f) != (sets[k].truth[j] != 0)) {
                         const Receiver& rc = receivers[sets[k].receivers[j]];
@@ -535,7 +540,8 @@ int runBenchStatic(int argc, char** argv) {
     if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
     f.close();
     if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
-    std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n", out.c_str());
+    std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n",
+                out.c_str());
     return 0;
 }
 

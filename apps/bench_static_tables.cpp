@@ -34,9 +34,10 @@ Result<void> printClassTables(const std::string& dir, const std::vector<BenchSta
         std::printf("\n");
         ccsv << "\n";
     }
-    std::printf("\nConvergence with resolution: least-squares slope of log(class rate) on log(res) "
-                "(-1 = halves per doubling; 0 = a floor):\n| method | resolution class | all "
-                "disagreements | contact | resolution %% at lowest -> highest res |\n|---|---:|---:|---:|---|\n");
+    std::printf(
+        "\nConvergence with resolution: least-squares slope of log(class rate) on log(res) "
+        "(-1 = halves per doubling; 0 = a floor):\n| method | resolution class | all "
+        "disagreements | contact | resolution %% at lowest -> highest res |\n|---|---:|---:|---:|---|\n");
     for (StaticMethod method : methods) {
         auto slope = [&](auto value) {
             double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -49,7 +50,8 @@ Result<void> printClassTables(const std::string& dir, const std::vector<BenchSta
             return n >= 2 && sxx * n - sx * sx > 0 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : std::nan("");
         };
         auto rate = [](const Row& r, uint64_t k) { return double(k) / double(r.compared); };
-        double sRes = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Resolution)]); });
+        double sRes =
+            slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Resolution)]); });
         double sAll = slope([&](const Row& r) { return rate(r, r.mismatches); });
         double sCon = slope([&](const Row& r) { return rate(r, r.classes[uint32_t(ErrorClass::Contact)]); });
         std::string path;
@@ -60,7 +62,8 @@ Result<void> printClassTables(const std::string& dir, const std::vector<BenchSta
                               100.0 * rate(r, r.classes[uint32_t(ErrorClass::Resolution)]));
                 path += b;
             }
-        std::printf("| %s | %.2f | %.2f | %.2f | %s |\n", staticMethodName(method), sRes, sAll, sCon, path.c_str());
+        std::printf("| %s | %.2f | %.2f | %.2f | %s |\n", staticMethodName(method), sRes, sAll, sCon,
+                    path.c_str());
     }
     {
         std::ofstream cf(dir + "/bench_classes.csv");
@@ -73,39 +76,40 @@ Result<void> printClassTables(const std::string& dir, const std::vector<BenchSta
 Result<void> printLookupTable(const std::string& dir, const std::vector<BenchStaticRow>& rows,
                               const std::vector<uint32_t>& lookupRadii, size_t pairs, uint32_t extraLookups) {
     using Row = BenchStaticRow;
-        std::printf("\nIsolated lookup cost, ns per lookup (%zu pairs, timed at 1 and 1 + K lookups each, K >= %u "
-                    "grown until the K lookups take >= 40 ms; min of 3; spread = (max - min) / min):\n",
-                    pairs, extraLookups);
-        std::printf("| method | res |");
-        for (uint32_t r : lookupRadii) std::printf(" %ux%u ns |", 2 * r + 1, 2 * r + 1);
-        std::printf(" max spread | GPU != CPU |\n|---|---:|");
-        for (size_t i = 0; i < lookupRadii.size(); ++i) std::printf("---:|");
-        std::printf("---:|---:|\n");
-        std::ostringstream lcsv;
-        lcsv << "method,res,pcf_radius,taps,ns_per_lookup,spread,gpu_cpu_mismatches,pairs,extra_lookups\n";
-        for (const Row& r : rows) {
-            if (r.lookup.empty()) {
-                std::printf("| %s | %u | %s |\n", r.method.c_str(), r.res,
-                            r.lookupSkipped.empty() ? (r.failed.empty() ? "not measured" : "cannot encode")
-                                                    : r.lookupSkipped.c_str());
-                continue;
-            }
-            double spread = 0;
-            uint64_t mism = 0;
-            std::printf("| %s | %u |", r.method.c_str(), r.res);
-            for (const LookupTiming& t : r.lookup) {
-                std::printf(" %.1f |", t.nsPerLookup);
-                spread = std::max(spread, t.spread);
-                mism += t.cpuMismatches;
-                lcsv << r.method << "," << r.res << "," << t.radius << "," << (2 * t.radius + 1) * (2 * t.radius + 1)
-                     << "," << t.nsPerLookup << "," << t.spread << "," << t.cpuMismatches << "," << pairs
-                     << "," << t.lookups << "\n";
-            }
-            std::printf(" %.0f%% | %llu |\n", 100.0 * spread, (unsigned long long)mism);
+    std::printf(
+        "\nIsolated lookup cost, ns per lookup (%zu pairs, timed at 1 and 1 + K lookups each, K >= %u "
+        "grown until the K lookups take >= 40 ms; min of 3; spread = (max - min) / min):\n",
+        pairs, extraLookups);
+    std::printf("| method | res |");
+    for (uint32_t r : lookupRadii) std::printf(" %ux%u ns |", 2 * r + 1, 2 * r + 1);
+    std::printf(" max spread | GPU != CPU |\n|---|---:|");
+    for (size_t i = 0; i < lookupRadii.size(); ++i) std::printf("---:|");
+    std::printf("---:|---:|\n");
+    std::ostringstream lcsv;
+    lcsv << "method,res,pcf_radius,taps,ns_per_lookup,spread,gpu_cpu_mismatches,pairs,extra_lookups\n";
+    for (const Row& r : rows) {
+        if (r.lookup.empty()) {
+            std::printf("| %s | %u | %s |\n", r.method.c_str(), r.res,
+                        r.lookupSkipped.empty() ? (r.failed.empty() ? "not measured" : "cannot encode")
+                                                : r.lookupSkipped.c_str());
+            continue;
         }
-        std::ofstream lf(dir + "/bench_lookup.csv");
-        if (!lf || !(lf << lcsv.str())) return fail(dir + "/bench_lookup.csv: cannot write");
-        return {};
+        double spread = 0;
+        uint64_t mism = 0;
+        std::printf("| %s | %u |", r.method.c_str(), r.res);
+        for (const LookupTiming& t : r.lookup) {
+            std::printf(" %.1f |", t.nsPerLookup);
+            spread = std::max(spread, t.spread);
+            mism += t.cpuMismatches;
+            lcsv << r.method << "," << r.res << "," << t.radius << ","
+                 << (2 * t.radius + 1) * (2 * t.radius + 1) << "," << t.nsPerLookup << "," << t.spread << ","
+                 << t.cpuMismatches << "," << pairs << "," << t.lookups << "\n";
+        }
+        std::printf(" %.0f%% | %llu |\n", 100.0 * spread, (unsigned long long)mism);
+    }
+    std::ofstream lf(dir + "/bench_lookup.csv");
+    if (!lf || !(lf << lcsv.str())) return fail(dir + "/bench_lookup.csv: cannot write");
+    return {};
 }
 
 } // namespace ml

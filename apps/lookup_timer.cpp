@@ -38,8 +38,8 @@ Result<std::unique_ptr<LookupTimer>> LookupTimer::create(Device& device) {
 Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::GpuShadowRecord>& records,
                                                        const std::vector<uint32_t>& words,
                                                        const std::vector<LookupPair>& pairs,
-                                                       const std::vector<uint32_t>& radii, uint32_t extraLookups,
-                                                       uint32_t repetitions) {
+                                                       const std::vector<uint32_t>& radii,
+                                                       uint32_t extraLookups, uint32_t repetitions) {
     if (pairs.empty() || records.empty() || words.empty()) return fail("lookup timing: nothing to look up");
     Device& d = *s_->device;
     const uint32_t count = uint32_t(pairs.size());
@@ -51,8 +51,8 @@ Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::Gp
         items[2 * i + 1] = glm::vec4(pairs[i].n, bits);
     }
     Buffer itemBuf = createBuffer(d, items.size() * 16, kStorageBufferUsage, "lookup_items");
-    Buffer recBuf = createBuffer(d, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage,
-                                 "lookup_records");
+    Buffer recBuf =
+        createBuffer(d, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage, "lookup_records");
     Buffer wordBuf = createBuffer(d, words.size() * 4, kStorageBufferUsage, "lookup_words");
     Buffer outBuf = createBuffer(d, size_t(count) * 4, kStorageBufferUsage, "lookup_out");
     upload(itemBuf, items.data(), items.size() * 16);

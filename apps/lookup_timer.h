@@ -1,7 +1,7 @@
 // Time per static shadow lookup, isolated from the frame (shaders/bench_lookup.comp): the same
 // (receiver, light) pairs, N lookups each, timed at 1 and 1 + K lookups per pair; the difference over
-// K * pairs is the cost of one lookup. K grows (x4) until the difference is >= 40 ms. Used by `bench static` for every method, resolution and PCF
-// size in one run.
+// K * pairs is the cost of one lookup. K grows (x4) until the difference is >= 40 ms. Used by `bench static`
+// for every method, resolution and PCF size in one run.
 #pragma once
 #include "engine/device.h"
 #include "engine/result.h"
@@ -20,9 +20,9 @@ struct LookupPair {
 };
 
 struct LookupTiming {
-    uint32_t radius = 0;   // PCF radius (0 one tap, 1 3x3 ... 4 9x9)
-    double nsPerLookup = 0; // min over repetitions of (T(1 + K) - T(1)) / (K * pairs)
-    double spread = 0;      // (max - min) / min of the repetitions' per-lookup figures
+    uint32_t radius = 0;        // PCF radius (0 one tap, 1 3x3 ... 4 9x9)
+    double nsPerLookup = 0;     // min over repetitions of (T(1 + K) - T(1)) / (K * pairs)
+    double spread = 0;          // (max - min) / min of the repetitions' per-lookup figures
     uint64_t cpuMismatches = 0; // pairs whose one-lookup GPU value differs from the CPU twin
     uint32_t lookups = 0;       // K used: grown from the caller's until K lookups take >= 40 ms
 };

@@ -36,7 +36,8 @@ ErrorClass classifyDisagreement(const ErrorContext& ctx, glm::vec3 p, glm::vec3 
     const gpu::GpuShadowRecord& rec = ctx.record;
     glm::vec3 vp = glm::vec3(rec.view * glm::vec4(p, 1.0f));
     float z = -vp.z;
-    float texel = (rec.frustum.x < 0.0f ? -2.0f * rec.frustum.x : 2.0f * z * rec.frustum.x) / float(rec.info.z);
+    float texel =
+        (rec.frustum.x < 0.0f ? -2.0f * rec.frustum.x : 2.0f * z * rec.frustum.x) / float(rec.info.z);
     float band = 1.5f * texel + ctx.rayBias;
     glm::vec3 start = p + nl * 1e-4f;
     glm::vec3 toLight2 = ctx.lightPos - start;

@@ -227,8 +227,9 @@ Result<RayReference> RayReference::build(const Scene& scene, bool staticOnly,
 }
 
 RayReference::RayReference(RayReference&& o) noexcept
-    : errors_(std::move(o.errors_)), closed_(std::move(o.closed_)), device_(o.device_), scene_(o.scene_), triangles_(o.triangles_),
-      geometries_(o.geometries_), threads_(o.threads_), packetWidth_(o.packetWidth_) {
+    : errors_(std::move(o.errors_)), closed_(std::move(o.closed_)), device_(o.device_), scene_(o.scene_),
+      triangles_(o.triangles_), geometries_(o.geometries_), threads_(o.threads_),
+      packetWidth_(o.packetWidth_) {
     o.device_ = nullptr;
     o.scene_ = nullptr;
 }

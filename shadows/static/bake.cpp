@@ -56,7 +56,8 @@ std::string skipReason(const Scene& scene, const Light& l) {
         return "unknown light type";
     }
     for (const LightFrustum& f : bakeFrustums(scene, l)) {
-        if (!f.orthographic() && !(f.fov > 0.0f && f.fov < 3.14159f)) return "cone angle outside (0, 90) degrees";
+        if (!f.orthographic() && !(f.fov > 0.0f && f.fov < 3.14159f))
+            return "cone angle outside (0, 90) degrees";
         if (!(std::isfinite(f.farPlane) && f.farPlane > f.nearPlane))
             return "range not beyond the near plane";
         const float* m = &f.view[0][0];
@@ -286,7 +287,8 @@ Result<SceneModifiers> parseSceneModifiers(const std::string& scene) {
     m.base = scene.substr(0, bar);
     while (bar != std::string::npos) {
         size_t next = scene.find('|', bar + 1);
-        std::string item = scene.substr(bar + 1, next == std::string::npos ? std::string::npos : next - bar - 1);
+        std::string item =
+            scene.substr(bar + 1, next == std::string::npos ? std::string::npos : next - bar - 1);
         bar = next;
         size_t eq = item.find('=');
         std::string key = item.substr(0, eq);
@@ -296,7 +298,8 @@ Result<SceneModifiers> parseSceneModifiers(const std::string& scene) {
             size_t pos = 0;
             while (pos <= rest.size()) {
                 size_t comma = rest.find(',', pos);
-                std::string num = rest.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+                std::string num =
+                    rest.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
                 char* end = nullptr;
                 float f = std::strtof(num.c_str(), &end);
                 if (num.empty() || *end != '\0' || !std::isfinite(f))
@@ -310,7 +313,8 @@ Result<SceneModifiers> parseSceneModifiers(const std::string& scene) {
             m.bounds = true;
             m.boundsMin = {v[0], v[1], v[2]};
             m.boundsMax = {v[3], v[4], v[5]};
-            if (!(m.boundsMax.x >= m.boundsMin.x && m.boundsMax.y >= m.boundsMin.y && m.boundsMax.z >= m.boundsMin.z))
+            if (!(m.boundsMax.x >= m.boundsMin.x && m.boundsMax.y >= m.boundsMin.y &&
+                  m.boundsMax.z >= m.boundsMin.z))
                 return fail("scene modifier '" + item + "': max below min");
         } else if (key == "light-dir" && v.size() == 3) {
             glm::vec3 d(v[0], v[1], v[2]);

@@ -111,7 +111,8 @@ inline Result<Scene> loadBakeScene(const SceneSpec& spec) {
     auto m = parseSceneModifiers(spec.scene);
     if (!m) return fail(m.error());
     const uint32_t extra = uint32_t(m->lightDirs.size());
-    if (spec.lights <= extra) return fail("scene '" + spec.scene + "': light count below its appended lights");
+    if (spec.lights <= extra)
+        return fail("scene '" + spec.scene + "': light count below its appended lights");
     auto scene = loadScene(m->base, spec.lights - extra, spec.seed);
     if (!scene) return scene;
     applySceneModifiers(scene.value(), m.value());

@@ -76,7 +76,7 @@ enum : uint32_t {
     kRWordsHi = 25,
     kRDataChecksum = 26,
     kRChecksum = 27,
-    kRFace = 28, // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
+    kRFace = 28,  // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
     kROrtho = 29, // LightFrustum::orthoHalf; 0 in files written before directional bakes
 };
 } // namespace bakefmt

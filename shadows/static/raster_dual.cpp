@@ -129,7 +129,9 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     // kGuard * g(d) -+ x with g(d) = tan * d or orthoHalf.
     const double t = ortho_ ? 0.0 : std::tan(double(frustum.fov) * 0.5);
     const double oh = frustum.orthoHalf;
-    auto side = [&](const V3& v) { return ortho_ ? kGuard * oh : kGuard * t * v.z; }; // perspective: as before
+    auto side = [&](const V3& v) {
+        return ortho_ ? kGuard * oh : kGuard * t * v.z;
+    }; // perspective: as before
     const double n = frustum.nearPlane, fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);

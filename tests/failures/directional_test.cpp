@@ -26,7 +26,9 @@ Scene boxesUnderTheMoon() {
 }
 } // namespace
 
-Scene boxesUnderTheMoonForFile() { return boxesUnderTheMoon(); }
+Scene boxesUnderTheMoonForFile() {
+    return boxesUnderTheMoon();
+}
 
 class DirectionalBake : public ::testing::TestWithParam<StaticMethod> {};
 
@@ -70,11 +72,13 @@ TEST_P(DirectionalBake, ModuleMatchesCpuAndRays) {
         glm::vec3 expected = a * glm::vec3(fc.ambient);
         for (const gpu::GpuLight& L : impl.lastLights) {
             glm::vec3 col = gpu::shadeLight(L, P, N, V, a);
-            if (col != glm::vec3(0.0f)) expected += col * lightStaticVisibility(L, impl.records.data(), gw, P, N);
+            if (col != glm::vec3(0.0f))
+                expected += col * lightStaticVisibility(L, impl.records.data(), gw, P, N);
         }
         glm::vec3 got = glm::vec3(half4(hdr, i));
         bool same = true;
-        for (int k = 0; k < 3; ++k) same &= std::abs(got[k] - expected[k]) <= 2e-3f * std::abs(expected[k]) + 2e-4f;
+        for (int k = 0; k < 3; ++k)
+            same &= std::abs(got[k] - expected[k]) <= 2e-3f * std::abs(expected[k]) + 2e-4f;
         differ += !same;
         ++checked;
         // Against the rays: receivers facing the light, a ray towards it from 2 cm off the surface.
@@ -87,7 +91,8 @@ TEST_P(DirectionalBake, ModuleMatchesCpuAndRays) {
     }
     std::printf("  directional %s %u^2: %u pixels, %u differ from the CPU reference; %u receivers vs rays, "
                 "%u shadowed, %u disagree (%.3f%%)\n",
-                staticMethodName(method), res, checked, differ, compared, shadowed, wrong, 100.0 * wrong / compared);
+                staticMethodName(method), res, checked, differ, compared, shadowed, wrong,
+                100.0 * wrong / compared);
     EXPECT_GT(checked, 8000u);
     EXPECT_LE(differ, checked / 500 + 1);
     EXPECT_GT(shadowed, 300u) << "the boxes must cast shadows for the comparison to mean anything";
@@ -113,7 +118,8 @@ TEST(DirectionalBake, KindsAndProjectionsMustMatch) {
     ASSERT_TRUE(binding.ok());
     LightFrustum ortho = directionalLightFrustum(s.lights[0].direction, s.boundsMin, s.boundsMax);
     LightFrustum persp = spotLightFrustum(s.lights[1]);
-    DualDepthMap mo = rasterizeDual(castersFromScene(s), ortho, 64), mp = rasterizeDual(castersFromScene(s), persp, 64);
+    DualDepthMap mo = rasterizeDual(castersFromScene(s), ortho, 64),
+                 mp = rasterizeDual(castersFromScene(s), persp, 64);
     auto wo = encodeStatic(StaticMethod::SM, mo, {ortho.nearPlane, ortho.farPlane, {}});
     auto wp = encodeStatic(StaticMethod::SM, mp, {persp.nearPlane, persp.farPlane, {}});
     ASSERT_TRUE(wo.ok() && wp.ok());
@@ -159,7 +165,8 @@ TEST(DirectionalBake, FileRoundTripAndVerify) {
     ASSERT_TRUE(m.ok()) << m.error();
     EXPECT_EQ(m->base, "night-city");
     ASSERT_EQ(m->lightDirs.size(), 1u);
-    EXPECT_EQ(sceneModifierString(m.value()), "night-city|bounds=-1,0,-2.5,3,4.25,5|light-dir=0.300000012,-1,0.200000003");
+    EXPECT_EQ(sceneModifierString(m.value()),
+              "night-city|bounds=-1,0,-2.5,3,4.25,5|light-dir=0.300000012,-1,0.200000003");
     EXPECT_FALSE(parseSceneModifiers("night-city|light-dir=0,0,0").ok());
     EXPECT_FALSE(parseSceneModifiers("night-city|bounds=1,2,3").ok());
     EXPECT_FALSE(parseSceneModifiers("night-city|light-dir=1,x,2").ok());

@@ -8,8 +8,8 @@ namespace ml::test {
 
 TEST(ErrorClasses, KnownReceiversGetTheirClass) {
     Scene s = groundScene("classes");
-    addBox(s, {-1, 0, -1}, {1, 2, 1});           // closed, 2 m tall
-    addQuad(s, 2.0f, 4.0f, -1.0f, 1.0f, 2.0f);  // open, 2 m up
+    addBox(s, {-1, 0, -1}, {1, 2, 1});         // closed, 2 m tall
+    addQuad(s, 2.0f, 4.0f, -1.0f, 1.0f, 2.0f); // open, 2 m up
     Light l = spotAt({1, 6, 0}, {1, 0, 0}, 20.0f, 0.8f);
     s.lights.push_back(l);
     auto rays = RayReference::build(s, true);
@@ -19,8 +19,8 @@ TEST(ErrorClasses, KnownReceiversGetTheirClass) {
     DualDepthMap map = rasterizeDual(castersFromScene(s), f, res);
     auto words = encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
     ASSERT_TRUE(words.ok()) << words.error();
-    ErrorContext ctx{&rays.value(), makeShadowRecord(StaticMethod::SM, f, 0, res, 0), words->data(), l.position,
-                     0.02f};
+    ErrorContext ctx{&rays.value(), makeShadowRecord(StaticMethod::SM, f, 0, res, 0), words->data(),
+                     l.position, 0.02f};
     const glm::vec3 up(0, 1, 0);
     // Inside the box: the first surface towards the light is the box's top from inside (a back face).
     EXPECT_EQ(classifyDisagreement(ctx, {0, 1, 0}, up), ErrorClass::Inside);

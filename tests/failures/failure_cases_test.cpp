@@ -54,7 +54,8 @@ TEST(Failures, WideSpotCone150Degrees) {
     for (int i = 0; i < 6; ++i) {
         float d = 1.5f + 2.0f * float(i);
         float a = 0.9f * float(i);
-        addBox(s, {d * std::cos(a) - 0.4f, 0, d * std::sin(a) - 0.4f}, {d * std::cos(a) + 0.4f, 1.2f, d * std::sin(a) + 0.4f});
+        addBox(s, {d * std::cos(a) - 0.4f, 0, d * std::sin(a) - 0.4f},
+               {d * std::cos(a) + 0.4f, 1.2f, d * std::sin(a) + 0.4f});
     }
     s.lights.push_back(spotAt({0, 4, 0}, {0, 0, 0}, 30.0f, 75.0f * 3.14159265f / 180.0f));
     Outcome o = runCase("wide_cone_150", s, lookFrom({0, 14, 16}, {0, 0, 2}));
@@ -127,7 +128,8 @@ TEST(Failures, OpenGeometryMarkedClosed) {
         Scene s = groundScene(lie ? "open_marked_closed" : "open_marked_open");
         addQuad(s, -1.0f, 1.0f, -1.0f, 1.0f, 1.5f, lie);
         s.lights.push_back(spotAt({0, 4, 0}, {0, 0, 0}, 10.0f, 0.7f));
-        Outcome o = runCase(lie ? "open_marked_closed" : "open_marked_open", s, lookFrom({0, 6, 6}, {0, 0, 0}));
+        Outcome o =
+            runCase(lie ? "open_marked_closed" : "open_marked_open", s, lookFrom({0, 6, 6}, {0, 0, 0}));
         ASSERT_EQ(o.baked, 1u) << bakeFailure(o.bakeErrors);
         ASSERT_GT(o.vsRays.compared, 1000u);
         if (lie)
@@ -151,7 +153,8 @@ TEST(Failures, Lights4096OverlappingOneSpot) {
     addBox(s, {1.0f, 0, 0.6f}, {1.4f, 1.5f, 1.0f});
     for (int i = 0; i < 4096; ++i) {
         int k = i % 64;
-        glm::vec3 p(-0.5f + float(k % 4) * 0.33f, 5.0f + float((k / 4) % 4) * 0.1f, -0.5f + float(k / 16) * 0.33f);
+        glm::vec3 p(-0.5f + float(k % 4) * 0.33f, 5.0f + float((k / 4) % 4) * 0.1f,
+                    -0.5f + float(k / 16) * 0.33f);
         s.lights.push_back(spotAt(p, {0, 0, 0}, 12.0f, 0.7f, 0.01f));
     }
     RunOptions opt;
@@ -184,11 +187,13 @@ TEST(Failures, Lights4096OverlappingOneSpot) {
         glm::vec3 expected = a * glm::vec3(fc.ambient);
         for (const gpu::GpuLight& L : impl.lastLights) {
             glm::vec3 col = gpu::shadeLight(L, P, N, V, a);
-            if (col != glm::vec3(0.0f)) expected += col * lightStaticVisibility(L, impl.records.data(), words, P, N);
+            if (col != glm::vec3(0.0f))
+                expected += col * lightStaticVisibility(L, impl.records.data(), words, P, N);
         }
         glm::vec3 got = glm::vec3(half4(hdr, i));
         bool same = true;
-        for (int k = 0; k < 3; ++k) same &= std::abs(got[k] - expected[k]) <= 4e-3f * std::abs(expected[k]) + 4e-4f;
+        for (int k = 0; k < 3; ++k)
+            same &= std::abs(got[k] - expected[k]) <= 4e-3f * std::abs(expected[k]) + 4e-4f;
         differ += !same;
         ++checked;
     }

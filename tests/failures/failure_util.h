@@ -35,8 +35,9 @@ namespace ml::test {
 // declares, which need not be the truth (the open-geometry-marked-closed case lies on purpose).
 inline void addBox(Scene& s, glm::vec3 lo, glm::vec3 hi, glm::vec3 albedo = glm::vec3(0.6f)) {
     s.meshes.push_back(detail::makeUnitBox());
-    glm::mat4 t = glm::translate(glm::mat4(1.0f), glm::vec3((lo.x + hi.x) * 0.5f, lo.y, (lo.z + hi.z) * 0.5f)) *
-                  glm::scale(glm::mat4(1.0f), hi - lo);
+    glm::mat4 t =
+        glm::translate(glm::mat4(1.0f), glm::vec3((lo.x + hi.x) * 0.5f, lo.y, (lo.z + hi.z) * 0.5f)) *
+        glm::scale(glm::mat4(1.0f), hi - lo);
     s.instances.push_back({uint32_t(s.meshes.size() - 1), t, albedo, false});
 }
 
@@ -72,7 +73,8 @@ inline Light spotAt(glm::vec3 position, glm::vec3 target, float range, float out
     return l;
 }
 
-inline CameraDesc lookFrom(glm::vec3 position, glm::vec3 target, float nearPlane = 0.1f, float farPlane = 500.0f) {
+inline CameraDesc lookFrom(glm::vec3 position, glm::vec3 target, float nearPlane = 0.1f,
+                           float farPlane = 500.0f) {
     CameraDesc c;
     c.position = position;
     c.target = target;
@@ -88,10 +90,10 @@ struct RunOptions {
     uint32_t resolution = 256; // static map side (the suite stays <= 256)
     uint32_t pcf = 0;
     uint32_t width = 160, height = 90;
-    float lightNear = 0.05f;       // bake frustum near plane
-    float nearOverRange = 0.0f;    // > 0: bake near = range * this instead (near/far ratio cases)
-    uint32_t measureLights = 8;    // baked lights compared with the rays (the first ones)
-    float rayBias = 0.02f;         // the rays' normal offset (a centimetre-scale scene needs less)
+    float lightNear = 0.05f;    // bake frustum near plane
+    float nearOverRange = 0.0f; // > 0: bake near = range * this instead (near/far ratio cases)
+    uint32_t measureLights = 8; // baked lights compared with the rays (the first ones)
+    float rayBias = 0.02f;      // the rays' normal offset (a centimetre-scale scene needs less)
 };
 
 struct Receiver {
@@ -103,7 +105,7 @@ struct Outcome {
     std::vector<std::string> bakeErrors; // per light that could not be baked or attached
     uint64_t surfacePixels = 0, nonFinite = 0;
     float maxHdr = 0;
-    Disagreement vsRays;             // pooled over the measured lights
+    Disagreement vsRays; // pooled over the measured lights
     std::vector<Disagreement> perLight;
     FrameStats stats;
     std::vector<uint8_t> rgba;       // tone-mapped output, for the PNG
@@ -123,7 +125,8 @@ inline bool counts(const Light& l, const Receiver& r) {
 }
 
 // Renders `scene` from `camera` with static bakes of every static spot light; see the file comment.
-inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& camera, const RunOptions& o = {}) {
+inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& camera,
+                       const RunOptions& o = {}) {
     Outcome out;
     auto m = makeModule();
     if (!m) return out;
@@ -180,8 +183,10 @@ inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& c
     for (size_t i = 0; i < size_t(o.width) * o.height; ++i) {
         glm::vec4 c = half4(hdr, i);
         for (int k = 0; k < 3; ++k) {
-            if (!std::isfinite(c[k])) ++out.nonFinite;
-            else out.maxHdr = std::max(out.maxHdr, c[k]);
+            if (!std::isfinite(c[k]))
+                ++out.nonFinite;
+            else
+                out.maxHdr = std::max(out.maxHdr, c[k]);
         }
         if (!(depth[i] < 1.0f)) continue;
         ++out.surfacePixels;
