@@ -16,8 +16,9 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static [options]
-(`manylights bench static --help` for the static shadow benchmark)
+static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker [options]
+(`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
+static shadows' temporal stability along a camera path)
 Culling and shading time against light count, for each culling mode, in one run.
   --size WxH       image size (default 640x360)
   --lights LIST    comma-separated light counts (default 256,1024,4096)
@@ -71,8 +72,9 @@ int runBench(int argc, char** argv) {
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
+    if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling, static, vsm or flicker)");
     auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {

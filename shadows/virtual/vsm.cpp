@@ -264,10 +264,10 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
         const VsmLight& l = lights[id];
         if (!l.castsShadows || !(settings_.kinds & (1u << l.kind))) continue;
         if (l.moving ? !settings_.movingLights : !settings_.staticLights) continue;
-        bool need = !l.staticBake || l.kind == ML_LIGHT_DIRECTIONAL;
+        bool need = !l.staticBake;
         for (size_t i = 0; i < instances.size() && !need; ++i)
             need = instances[i].dynamic && instances[i].castsShadows &&
-                   boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range);
+                   (l.kind == ML_LIGHT_DIRECTIONAL || boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
         needs[id] = need ? 1 : 0;
     }
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
