@@ -6,6 +6,7 @@
 #include "apps/cli.h"
 #include "shadows/gpu/dual_depth_gpu.h"
 #include "apps/commands.h"
+#include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake.h"
 
@@ -31,6 +32,7 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
                      the file records it and verify re-renders with the same one
+  --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --quiet            no progress lines on stderr
 Dynamic lights and non-spot lights among the selection are skipped and listed, never silently.
 )";
@@ -46,7 +48,9 @@ Re-creates the baked scene, re-renders every light's dual depth map and checks e
 (sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
 (cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
 The last line on stdout is {"checked": N, "mismatches": M}.
-Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed).
+Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed,
+no records: nothing checked is not a pass).
+  --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
   --quiet   no progress lines on stderr
 )";
 
@@ -127,7 +131,7 @@ int runBake(int argc, char** argv) {
     auto args = cli::parse(
         argc, argv, 2,
         {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out", "--renderer"},
-        {"--quiet"});
+        {"--quiet", "--allow-outside-scene-dir"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
         std::fputs(kBakeHelp, stdout);
@@ -153,6 +157,7 @@ int runBake(int argc, char** argv) {
     const std::filesystem::path outDir = std::filesystem::absolute(out).parent_path();
     if (!std::filesystem::is_directory(outDir))
         return usageError("bake", "--out: " + outDir.string() + " is not a directory");
+    if (auto r = io::checkReplaceable(out); !r) return usageError("bake", "--out: " + r.error());
 
     const std::string rendererName = args->get("--renderer", "gpu");
     if (rendererName != "gpu" && rendererName != "cpu")
@@ -166,13 +171,14 @@ int runBake(int argc, char** argv) {
         render = fn.value();
     }
     SceneSpec spec{args->get("--scene", "night-city"), sceneLights.value(), seed.value()};
-    auto scene = loadScene(spec.scene, spec.lights, spec.seed);
+    auto scene = loadScene(spec.scene, spec.lights, spec.seed, {args->has("--allow-outside-scene-dir")});
     if (!scene) return usageError("bake", scene.error());
-    for (const auto& w : scene->warnings) std::fprintf(stderr, "manylights bake: warning: %s\n", w.c_str());
+    for (const auto& w : scene->warnings)
+        std::fprintf(stderr, "manylights bake: warning: %s\n", io::escapeText(w).c_str());
     auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
     if (!lights) return usageError("bake", lights.error());
 
-    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
+    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", io::escapeText(spec.scene).c_str(),
                 staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
     std::fflush(stdout);
     auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
@@ -180,7 +186,7 @@ int runBake(int argc, char** argv) {
     if (!baked) return runError("bake", baked.error());
     baked->file.renderer = rendererKind;
     for (const SkippedLight& s : baked->skipped)
-        std::printf("skipped light %u: %s\n", s.light, s.reason.c_str());
+        std::printf("skipped light %u: %s\n", s.light, io::escapeText(s.reason).c_str());
     for (const LightBakeStats& l : baked->lights)
         std::printf("light %u: render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
                     l.renderSeconds, l.encodeSeconds,
@@ -189,7 +195,7 @@ int runBake(int argc, char** argv) {
     if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
     std::printf("wrote %s: %zu lights baked, %zu skipped, %llu bytes; render %.2f s, encode %.2f s\n",
-                out.c_str(), baked->file.records.size(), baked->skipped.size(), (unsigned long long)b.total(),
+                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(), (unsigned long long)b.total(),
                 baked->renderSeconds, baked->encodeSeconds);
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
@@ -239,8 +245,9 @@ int runInspect(int argc, char** argv) {
         std::printf("]}\n");
         return 0;
     }
-    std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", path.c_str(), bakefmt::kVersion,
-                f.scene.scene.c_str(), f.scene.lights, f.scene.seed);
+    // The scene string comes from the file: escaped, so it cannot add lines or terminal codes.
+    std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", io::escapeText(path).c_str(),
+                bakefmt::kVersion, io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     std::printf("method %s, resolution %u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
                 staticMethodName(f.method), f.resolution, f.records.size(), (unsigned long long)b.total(),
                 f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(mapBytes * f.records.size()),
@@ -256,7 +263,7 @@ int runInspect(int argc, char** argv) {
 }
 
 int runVerify(int argc, char** argv) {
-    auto fa = fileAndFlags(argc, argv, {"--quiet"});
+    auto fa = fileAndFlags(argc, argv, {"--quiet", "--allow-outside-scene-dir"});
     if (!fa) return usageError("verify", fa.error());
     auto& [path, args] = fa.value();
     if (args.help) {
@@ -267,9 +274,10 @@ int runVerify(int argc, char** argv) {
     auto file = readBakeFile(path);
     if (!file) return usageError("verify", file.error());
     const BakeFile& f = file.value();
-    std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n", path.c_str(),
-                staticMethodName(f.method), f.resolution, f.records.size(), f.scene.scene.c_str(),
-                f.scene.lights, f.scene.seed);
+    if (f.records.empty()) return usageError("verify", path + ": the file holds no records: nothing to verify");
+    std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n",
+                io::escapeText(path).c_str(), staticMethodName(f.method), f.resolution, f.records.size(),
+                io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     std::fflush(stdout);
     // Re-render with the renderer that made the bake (the file says which).
     GpuDualRenderer gpu;
@@ -279,7 +287,10 @@ int runVerify(int argc, char** argv) {
         if (!fn) return runError("verify", fn.error());
         render = fn.value();
     }
-    auto rep = verifyBake(f, render, progressPrinter("verify", args.has("--quiet")));
+    // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
+    auto scene = loadScene(f.scene.scene, f.scene.lights, f.scene.seed, {args.has("--allow-outside-scene-dir")});
+    if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());
+    auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
     if (!rep) return usageError("verify", path + ": " + rep.error());
     const char* unit = f.method == StaticMethod::CPVS ? "voxels" : "texels";
     for (const VerifyLight& l : rep->lights) {
@@ -288,7 +299,7 @@ int runVerify(int argc, char** argv) {
         if (f.method == StaticMethod::CPVS) std::printf(", %llu undefined", (unsigned long long)l.undefined);
         std::printf(" (render %.2f s, check %.2f s)\n", l.renderSeconds, l.checkSeconds);
     }
-    for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", e.c_str());
+    for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", io::escapeText(e).c_str());
     std::printf("total %.2f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     std::printf("{\"checked\": %llu, \"mismatches\": %llu}\n", (unsigned long long)rep->checked,

@@ -36,6 +36,7 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --camera X,Y,Z,TX,TY,TZ  view for the evaluation time and receivers (default: the scene's)
   --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
   --seed S         scene seed, default 1
+  --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
 )";
 
@@ -125,7 +126,7 @@ int runBenchStatic(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
                            {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
                             "--seed", "--out", "--camera"},
-                           {});
+                           {"--allow-outside-scene-dir"});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -158,7 +159,8 @@ int runBenchStatic(int argc, char** argv) {
     if (auto r = cli::makeDirectory(out); !r) return runError("bench static", r.error());
     const std::string sceneName = args->get("--scene", "night-city");
 
-    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value());
+    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value(),
+                           {args->has("--allow-outside-scene-dir")});
     if (!scene) return runError("bench static", scene.error());
     auto module = Module::create({});
     if (!module) return runError("bench static", module.error());
