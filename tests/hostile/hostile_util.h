@@ -131,6 +131,7 @@ inline BakeFile syntheticBake(StaticMethod method, uint32_t records = 2, uint32_
 }
 
 // ---- the command line ----
+#ifdef ML_EXE
 
 struct Run {
     int status = -1; // exit status; 128 + signal when killed
@@ -149,5 +150,6 @@ inline Run runCli(const std::string& args, int timeoutSeconds = 60) {
     r.out = readBytes(outFile);
     return r;
 }
+#endif
 
 } // namespace ml::hostile
