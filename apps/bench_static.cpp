@@ -6,6 +6,7 @@
 // against time.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "io/safe_io.h"
 #include "engine/module_impl.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
@@ -19,7 +20,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 namespace ml {
@@ -93,16 +93,17 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
     for (const Row& r : rows)
         if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
     std::string script = dir + "/charts.gp";
-    std::ofstream gp(script);
+    std::ostringstream gp;
     gp << "set terminal pngcairo size 900,600\nset key outside right\nset grid\nset logscale x 2\n"
           "set ylabel 'disagreement with ray-traced visibility (%)'\n";
     for (const auto& m : methods) {
-        std::ofstream dat(dir + "/" + m + ".dat");
+        std::ostringstream dat;
         dat << "# bytes_per_light eval_ms disagreement_percent res\n";
         for (const Row& r : rows)
             if (r.method == m && r.evalMs >= 0 && r.failed.empty())
                 dat << double(r.bytes) / r.lights << " " << r.evalMs << " "
                     << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << "\n";
+        if (auto w = io::writeFileAtomically(dir + "/" + m + ".dat", dat.str()); !w) return w;
     }
     for (int chart = 0; chart < 2; ++chart) {
         gp << "set output '" << dir << (chart ? "/accuracy_vs_time.png'\n" : "/accuracy_vs_bytes.png'\n");
@@ -114,7 +115,7 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
                << ":3 with linespoints title '" << methods[i] << "'";
         gp << "\n";
     }
-    gp.close();
+    if (auto w = io::writeFileAtomically(script, gp.str()); !w) return w;
     std::string cmd = "gnuplot '" + script + "' 2>&1";
     if (std::system(cmd.c_str()) != 0)
         return fail("gnuplot failed on " + script + " (is gnuplot-nox installed?)");
@@ -413,9 +414,8 @@ int runBenchStatic(int argc, char** argv) {
                             double(r.bytes) / r.lights,
                             double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
     }
-    std::ofstream f(out + "/bench_static.csv");
-    if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
-    f.close();
+    if (auto w = io::writeFileAtomically(out + "/bench_static.csv", csv.str()); !w)
+        return runError("bench static", w.error());
     if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
     std::printf("wrote %s/bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png\n", out.c_str());
     return 0;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <set>
 
 namespace ml {
@@ -214,11 +216,20 @@ Result<void> writeBakeFile(const std::string& path, const BakeFile& file) {
 
 Result<BakeFile> readBakeFile(const std::string& path) {
     // Regular files only (a directory or FIFO gets one line, not an allocation or a hang).
+    // The whole file is read (it is uploaded as is); a size the machine cannot hold (say a sparse file)
+    // is an error line, not an abort.
     std::vector<uint32_t> words;
-    auto size = io::readRegularFile(path, UINT64_MAX, [&](uint64_t bytes) {
-        words.assign(size_t((bytes + 3) / 4), 0u);
-        return reinterpret_cast<unsigned char*>(words.data());
-    });
+    Result<uint64_t> size = fail("");
+    try {
+        size = io::readRegularFile(path, UINT64_MAX, [&](uint64_t bytes) {
+            words.assign(size_t((bytes + 3) / 4), 0u);
+            return reinterpret_cast<unsigned char*>(words.data());
+        });
+    } catch (const std::bad_alloc&) {
+        return fail(path + ": too large to read into memory");
+    } catch (const std::length_error&) {
+        return fail(path + ": too large to read into memory");
+    }
     if (!size) return fail(size.error());
     // Name the more useful problem first: some other file, rather than a bake file cut mid-word.
     if (size.value() >= 4 && words[0] != kMagic)

@@ -66,6 +66,17 @@ TEST(HostileRead, FolderFifoAndDeviceAreRefused) {
     expectOneLine(missing.error(), "No such file");
 }
 
+// A sparse file claims terabytes without using the disk: an error line, not an abort (bad_alloc).
+TEST(HostileRead, SparseHugeBakeFile) {
+    const std::string p = fresh("sparse.mlbk");
+    hostile::writeBytes(p, std::string("MLBK", 4));
+    if (::truncate(p.c_str(), off_t(1) << 42) != 0) GTEST_SKIP() << "file system refuses a 4 TiB sparse file";
+    auto r = readBakeFile(p);
+    ASSERT_FALSE(r.ok());
+    expectOneLine(r.error(), p + ": ");
+    std::filesystem::remove(p);
+}
+
 TEST(HostileRead, SizeLimit) {
     const std::string p = fresh("big.bin");
     hostile::writeBytes(p, std::string(100, 'x'));
