@@ -178,8 +178,9 @@ int runBake(int argc, char** argv) {
     auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
     if (!lights) return usageError("bake", lights.error());
 
-    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", io::escapeText(spec.scene).c_str(),
-                staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
+    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n",
+                io::escapeText(spec.scene).c_str(), staticMethodName(method.value()), res.value(),
+                lights->size(), scene->lights.size());
     std::fflush(stdout);
     auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
                            progressPrinter("bake", args->has("--quiet")), render);
@@ -195,8 +196,8 @@ int runBake(int argc, char** argv) {
     if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
     std::printf("wrote %s: %zu lights baked, %zu skipped, %llu bytes; render %.2f s, encode %.2f s\n",
-                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(), (unsigned long long)b.total(),
-                baked->renderSeconds, baked->encodeSeconds);
+                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(),
+                (unsigned long long)b.total(), baked->renderSeconds, baked->encodeSeconds);
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
     return 0;
@@ -274,7 +275,8 @@ int runVerify(int argc, char** argv) {
     auto file = readBakeFile(path);
     if (!file) return usageError("verify", file.error());
     const BakeFile& f = file.value();
-    if (f.records.empty()) return usageError("verify", path + ": the file holds no records: nothing to verify");
+    if (f.records.empty())
+        return usageError("verify", path + ": the file holds no records: nothing to verify");
     std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n",
                 io::escapeText(path).c_str(), staticMethodName(f.method), f.resolution, f.records.size(),
                 io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
@@ -288,7 +290,8 @@ int runVerify(int argc, char** argv) {
         render = fn.value();
     }
     // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
-    auto scene = loadScene(f.scene.scene, f.scene.lights, f.scene.seed, {args.has("--allow-outside-scene-dir")});
+    auto scene =
+        loadScene(f.scene.scene, f.scene.lights, f.scene.seed, {args.has("--allow-outside-scene-dir")});
     if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());
     auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
     if (!rep) return usageError("verify", path + ": " + rep.error());

@@ -37,7 +37,8 @@ Result<void> validateCamera(const CameraDesc& c) {
         return finite3(v) && std::abs(v.x) <= kMaxCameraCoordinate && std::abs(v.y) <= kMaxCameraCoordinate &&
                std::abs(v.z) <= kMaxCameraCoordinate;
     };
-    const std::string range = " is not finite or beyond +-" + std::to_string(int(kMaxCameraCoordinate)) + " m";
+    const std::string range =
+        " is not finite or beyond +-" + std::to_string(int(kMaxCameraCoordinate)) + " m";
     if (!bounded(c.position)) return fail("camera: position" + range);
     if (!bounded(c.target)) return fail("camera: target" + range);
     if (!finite3(c.up) || !(glm::length(c.up) > 1e-6f)) return fail("camera: up is zero or not finite");

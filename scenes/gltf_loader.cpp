@@ -635,8 +635,8 @@ class Loader {
             else if (gl.type == "directional")
                 l.type = LightType::Directional;
             else
-                return error("light " + std::to_string(index) + ": unknown type \"" + io::escapeText(gl.type, 40) +
-                             "\"");
+                return error("light " + std::to_string(index) + ": unknown type \"" +
+                             io::escapeText(gl.type, 40) + "\"");
             l.position = glm::vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
             glm::vec3 d = glm::vec3(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
             if (!(glm::length(d) > 0.0f))

@@ -27,7 +27,8 @@ struct LoadOptions {
 
 // Loads a .gltf or .glb file (tinygltf). Places `lights` spotlights procedurally (deterministic from
 // `seed`) when the file has none. Marks each mesh closed or open.
-Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed, const LoadOptions& options = {});
+Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed,
+                       const LoadOptions& options = {});
 
 // "night-city" or a path ending in .gltf / .glb.
 Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,

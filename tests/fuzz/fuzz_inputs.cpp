@@ -44,9 +44,9 @@ using Bytes = std::string;
 
 void sayIteration() {
     char buf[160];
-    const int n = std::snprintf(buf, sizeof buf,
-                                "fuzz %s: crashed at iteration %llu (dump it: --dump-at %llu --dump-dir DIR)\n",
-                                gTarget, (unsigned long long)gIteration, (unsigned long long)gIteration);
+    const int n = std::snprintf(
+        buf, sizeof buf, "fuzz %s: crashed at iteration %llu (dump it: --dump-at %llu --dump-dir DIR)\n",
+        gTarget, (unsigned long long)gIteration, (unsigned long long)gIteration);
     if (n > 0) (void)!::write(2, buf, size_t(n));
 }
 void onCrash(int sig) {
@@ -89,8 +89,9 @@ class Mutator {
                 break;
             }
             case 2: { // interesting word (aligned for bake files)
-                static const uint32_t v[] = {0, 1, 2, 3, 4, 5, 6, 15, 16, 31, 32, 63, 64, 65, 0x7FFFFFFF,
-                                             0x80000000u, 0xFFFFFFFFu, 0xFFFFFFFEu, 0xFFFFFFu, 0x1000000u};
+                static const uint32_t v[] = {
+                    0,  1,  2,  3,  4,          5,           6,           15,          16,        31,
+                    32, 63, 64, 65, 0x7FFFFFFF, 0x80000000u, 0xFFFFFFFFu, 0xFFFFFFFEu, 0xFFFFFFu, 0x1000000u};
                 const size_t p = words ? (at & ~size_t(3)) : at;
                 uint32_t x = v[below(sizeof v / 4)];
                 if (chance(30)) { // small change of the word already there
@@ -114,7 +115,8 @@ class Mutator {
                 if (!tokens.empty()) b.insert(at, tokens[below(uint32_t(tokens.size()))]);
                 break;
             case 6: { // delete a range
-                const size_t len = std::min<size_t>(b.size() - at, words ? 4 * (1 + below(8)) : 1 + below(32));
+                const size_t len =
+                    std::min<size_t>(b.size() - at, words ? 4 * (1 + below(8)) : 1 + below(32));
                 b.erase(words ? (at & ~size_t(3)) : at, len);
                 break;
             }
@@ -182,8 +184,9 @@ void fixChecksums(Bytes& b, Mutator& m) {
             uint32_t* data = &w[size_t(offset)];
             const uint32_t cw = formatChecksumWord(w[kHMethod]);
             if (cw < words) {
-                data[cw] = w[kHMethod] == uint32_t(StaticMethod::CPVS) ? cpvsChecksum(data, size_t(words))
-                                                                       : stat::checksumWords(data, size_t(words), cw);
+                data[cw] = w[kHMethod] == uint32_t(StaticMethod::CPVS)
+                               ? cpvsChecksum(data, size_t(words))
+                               : stat::checksumWords(data, size_t(words), cw);
             }
             rec[kRDataChecksum] = stat::checksumWords(data, size_t(words), SIZE_MAX);
         }
@@ -213,8 +216,8 @@ uint64_t exercise(const BakeFile& f) {
 
 std::vector<Bytes> bakeSeeds() {
     std::vector<Bytes> seeds;
-    for (StaticMethod m : {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH, StaticMethod::DAGMH,
-                           StaticMethod::CPVS})
+    for (StaticMethod m :
+         {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH, StaticMethod::DAGMH, StaticMethod::CPVS})
         for (uint32_t records : {1u, 2u}) {
             auto words = serializeBakeFile(hostile::syntheticBake(m, records, records * 7));
             if (!words) {
@@ -247,18 +250,49 @@ std::vector<GltfSeed> gltfSeeds(const std::filesystem::path& dir) {
                             R"(, "extensions": {"KHR_lights_punctual": {"light": 0}}, "children": [])"),
          false},
         {hostile::glb(hostile::tetraJson(""), hostile::tetraBin()), true},
-        {hostile::glb(hostile::tetraJson("", "\"extras\": {\"a\": [[1, {\"b\": null}]]}, "), hostile::tetraBin()),
+        {hostile::glb(hostile::tetraJson("", "\"extras\": {\"a\": [[1, {\"b\": null}]]}, "),
+                      hostile::tetraBin()),
          true},
     };
 }
 
-const std::vector<std::string> kJsonTokens = {
-    "[", "]", "{", "}", "\"", ",", ":", "-1", "0", "4294967295", "2147483648", "1e308", "-1e308", "null",
-    "true", "1.5707963267948966", "\"uri\": \"../secret.bin\"", "\"uri\": \"/etc/passwd\"", "\"data:,\"",
-    "\"byteStride\": 4", "\"count\": 99999999", "\"bufferView\": 1", "\"byteOffset\": 70", "\"mode\": 0",
-    "\"children\": [0]", "\"matrix\": [0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]", "\"indices\": 0", "\\u0000", "\\\"",
-    "\x1b[2J", "\n", "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[", "\"sparse\": {\"count\": 1}",
-    "\"scale\": [0, 0, 0]", "\"rotation\": [0, 0, 0, 0]", "\"range\": -1", "\"type\": \"spot\""};
+const std::vector<std::string> kJsonTokens = {"[",
+                                              "]",
+                                              "{",
+                                              "}",
+                                              "\"",
+                                              ",",
+                                              ":",
+                                              "-1",
+                                              "0",
+                                              "4294967295",
+                                              "2147483648",
+                                              "1e308",
+                                              "-1e308",
+                                              "null",
+                                              "true",
+                                              "1.5707963267948966",
+                                              "\"uri\": \"../secret.bin\"",
+                                              "\"uri\": \"/etc/passwd\"",
+                                              "\"data:,\"",
+                                              "\"byteStride\": 4",
+                                              "\"count\": 99999999",
+                                              "\"bufferView\": 1",
+                                              "\"byteOffset\": 70",
+                                              "\"mode\": 0",
+                                              "\"children\": [0]",
+                                              "\"matrix\": [0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]",
+                                              "\"indices\": 0",
+                                              "\\u0000",
+                                              "\\\"",
+                                              "\x1b[2J",
+                                              "\n",
+                                              "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[",
+                                              "\"sparse\": {\"count\": 1}",
+                                              "\"scale\": [0, 0, 0]",
+                                              "\"rotation\": [0, 0, 0, 0]",
+                                              "\"range\": -1",
+                                              "\"type\": \"spot\""};
 
 // After a mutation of a .glb, sometimes repair the lengths so the mutant gets past the header check.
 void fixGlb(Bytes& b, Mutator& m) {
@@ -306,12 +340,15 @@ int run(const Options& o) {
         const size_t pick = m.below(uint32_t(corpus.size()));
         Bytes input = corpus[pick];
         const Bytes& other = corpus[m.below(uint32_t(corpus.size()))];
-        m.mutate(input, other, o.target == "bake" ? std::vector<std::string>{} : kJsonTokens, o.target == "bake");
+        m.mutate(input, other, o.target == "bake" ? std::vector<std::string>{} : kJsonTokens,
+                 o.target == "bake");
         if (o.target == "bake" && m.chance(85)) fixChecksums(input, m);
         if (o.target == "gltf" && binary[pick]) fixGlb(input, m);
         if (it == o.dumpAt) {
             const std::string p = o.dumpDir + "/fuzz_" + o.target + "_" + std::to_string(it) +
-                                  (o.target == "bake" ? ".mlbk" : binary[pick] ? ".glb" : ".gltf");
+                                  (o.target == "bake" ? ".mlbk"
+                                   : binary[pick]     ? ".glb"
+                                                      : ".gltf");
             hostile::writeBytes(p, input);
             std::cout << "fuzz " << o.target << ": iteration " << it << " written to " << p << "\n";
             return 0;
@@ -342,7 +379,8 @@ int run(const Options& o) {
             if (s) {
                 ok = true;
                 for (const Light& l : s->lights)
-                    if (!(l.range > 0.0f) || (l.type == LightType::Spot && !(l.outerAngle > 0.0f && l.outerAngle < 1.5707964f)))
+                    if (!(l.range > 0.0f) ||
+                        (l.type == LightType::Spot && !(l.outerAngle > 0.0f && l.outerAngle < 1.5707964f)))
                         error = "accepted a light out of range";
             } else {
                 error = s.error();
@@ -373,13 +411,14 @@ int run(const Options& o) {
         }
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::cout << "fuzz " << o.target << ": " << it << " iterations in " << s << " s (seed " << o.seed << "): "
-              << accepted << " accepted, " << rejected << " rejected with one-line errors, corpus "
+    std::cout << "fuzz " << o.target << ": " << it << " iterations in " << s << " s (seed " << o.seed
+              << "): " << accepted << " accepted, " << rejected << " rejected with one-line errors, corpus "
               << corpus.size() << ", 0 findings\n";
     std::vector<std::pair<uint64_t, std::string>> top;
     for (const auto& [k, n] : reasons) top.push_back({n, k});
     std::sort(top.rbegin(), top.rend());
-    for (size_t i = 0; i < top.size() && i < 40; ++i) std::cout << "  " << top[i].first << " " << top[i].second << "\n";
+    for (size_t i = 0; i < top.size() && i < 40; ++i)
+        std::cout << "  " << top[i].first << " " << top[i].second << "\n";
     return 0;
 }
 

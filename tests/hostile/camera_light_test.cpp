@@ -99,10 +99,10 @@ TEST(HostileLight, SpotAnglesAndRangeRefused) {
 // The command line: one line, exit 2, before any frame is rendered.
 TEST(HostileCli, CameraArgumentRefused) {
     const std::pair<const char*, const char*> cases[] = {
-        {"nan,1,2,3,4,5", "not a finite number"}, {"1,inf,2,3,4,5", "not a finite number"},
+        {"nan,1,2,3,4,5", "not a finite number"},  {"1,inf,2,3,4,5", "not a finite number"},
         {"1e39,1,1,0,0,0", "not a finite number"}, {"2e6,1,1,0,0,0", "not a finite number"},
-        {"0,10,0,0,0,0", "parallel to up"},       {"1,1,1,1,1,1", "target equals position"},
-        {"1,2,3", "is not X,Y,Z,TX,TY,TZ"},       {"1,2,3,4,5,6,7", "is not X,Y,Z,TX,TY,TZ"},
+        {"0,10,0,0,0,0", "parallel to up"},        {"1,1,1,1,1,1", "target equals position"},
+        {"1,2,3", "is not X,Y,Z,TX,TY,TZ"},        {"1,2,3,4,5,6,7", "is not X,Y,Z,TX,TY,TZ"},
         {"1,2,3,4,5,6x", "is not X,Y,Z,TX,TY,TZ"}, {"1,,3,4,5,6", "is not X,Y,Z,TX,TY,TZ"},
     };
     const std::string out = (hostile::tempDir() / "camera_out").string();

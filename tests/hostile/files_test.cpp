@@ -158,7 +158,9 @@ TEST(HostileText, EscapeText) {
     EXPECT_EQ(io::escapeText("plain name-1.glb"), "plain name-1.glb");
     EXPECT_EQ(io::escapeText("a\nb\rc\td"), "a\\nb\\rc\\td");
     EXPECT_EQ(io::escapeText(std::string("\x1b[31mred\x7f", 9)), "\\x1b[31mred\\x7f");
-    EXPECT_EQ(io::escapeText("\xc2\x9b" "2J"), "\\u009b2J"); // C1 CSI
+    EXPECT_EQ(io::escapeText("\xc2\x9b"
+                             "2J"),
+              "\\u009b2J");                                  // C1 CSI
     EXPECT_EQ(io::escapeText("caf\xc3\xa9"), "caf\xc3\xa9"); // UTF-8 text stays
     const std::string cut = io::escapeText(std::string(1000, 'z'), 50);
     EXPECT_EQ(cut, std::string(50, 'z') + "... (1000 bytes)");
@@ -192,7 +194,8 @@ TEST(HostileCli, BakeOutRefusesSymlinkAndDevice) {
     ASSERT_EQ(::symlink(victim.c_str(), link.c_str()), 0);
     const std::string fifo = makeFifo("cli_out_fifo.mlbk");
     for (const std::string& out : {link, fifo}) {
-        auto r = hostile::runCli("bake --method sm --res 16 --lights 0 --renderer cpu --quiet --out " + out, 60);
+        auto r =
+            hostile::runCli("bake --method sm --res 16 --lights 0 --renderer cpu --quiet --out " + out, 60);
         EXPECT_EQ(r.status, 2) << r.err; // refused before the bake starts
         EXPECT_NE(r.err.find("refusing to replace it"), std::string::npos) << r.err;
         EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;

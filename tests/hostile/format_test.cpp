@@ -52,8 +52,10 @@ TEST(HostileFormat, MhValueCountCannotWrap) {
         const uint32_t nodeWords = good[mhfmt::kNodeWords];
         ASSERT_EQ(uint64_t(good[mhfmt::kValued]) + good[mhfmt::kInnerRecords], nodeWords);
         // More values than node words used to print 18446744056529703216 node bytes in inspect.
-        for (auto [field, value] : {std::pair{mhfmt::kValued, nodeWords + 1}, {mhfmt::kValued, 0xFFFFFFFFu},
-                                    {mhfmt::kValued, 0u}, {mhfmt::kInnerRecords, good[mhfmt::kInnerRecords] + 1},
+        for (auto [field, value] : {std::pair{mhfmt::kValued, nodeWords + 1},
+                                    {mhfmt::kValued, 0xFFFFFFFFu},
+                                    {mhfmt::kValued, 0u},
+                                    {mhfmt::kInnerRecords, good[mhfmt::kInnerRecords] + 1},
                                     {mhfmt::kInnerRecords, 0xFFFFFFFFu}}) {
             const auto bad = forged(good, field, value, mhfmt::kChecksum);
             auto r = validateStatic(m, bad.data(), bad.size());

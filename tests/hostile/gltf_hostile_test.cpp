@@ -43,18 +43,20 @@ void expectRefused(const Result<Scene>& r, const std::string& needle) {
 TEST(HostileGltf, DeepNestingIsRefusedBeforeParsing) {
     // 30,000 nested arrays in extras overflowed the stack inside the JSON parser.
     const std::string deep = std::string(30000, '[') + std::string(30000, ']');
-    const std::string text = hostile::tetraJson(hostile::dataUri(hostile::tetraBin()),
-                                                "\"extras\": {\"x\": " + deep + "}, ");
+    const std::string text =
+        hostile::tetraJson(hostile::dataUri(hostile::tetraBin()), "\"extras\": {\"x\": " + deep + "}, ");
     const std::string p = (tempDir() / "deep.gltf").string();
     hostile::writeBytes(p, text);
     expectRefused(loadGltf(p, 2, 1), "nested deeper than 64");
     const std::string g = (tempDir() / "deep.glb").string();
-    hostile::writeBytes(g, hostile::glb(hostile::tetraJson("", "\"extras\": " + deep + ", "), hostile::tetraBin()));
+    hostile::writeBytes(
+        g, hostile::glb(hostile::tetraJson("", "\"extras\": " + deep + ", "), hostile::tetraBin()));
     expectRefused(loadGltf(g, 2, 1), "nested deeper than 64");
     // Brackets inside strings do not count; 60 real levels load.
-    const std::string fine = hostile::tetraJson(hostile::dataUri(hostile::tetraBin()),
-                                                "\"extras\": {\"s\": \"" + std::string(5000, '[') + "\", \"a\": " +
-                                                    std::string(60, '[') + std::string(60, ']') + "}, ");
+    const std::string fine =
+        hostile::tetraJson(hostile::dataUri(hostile::tetraBin()),
+                           "\"extras\": {\"s\": \"" + std::string(5000, '[') +
+                               "\", \"a\": " + std::string(60, '[') + std::string(60, ']') + "}, ");
     hostile::writeBytes(p, fine);
     auto ok = loadGltf(p, 2, 1);
     EXPECT_TRUE(ok.ok()) << ok.error();
@@ -70,7 +72,7 @@ TEST(HostileGltf, UrisStayInsideTheSceneFolder) {
     // '..' out of the folder, an absolute path, a symlink pointing out: refused by default.
     fs::create_symlink(l.secret, l.scene / "link.bin");
     for (const std::string& uri : {std::string("../secret.bin"), l.secret.string(), std::string("link.bin"),
-                                  std::string("sub/../../secret.bin")}) {
+                                   std::string("sub/../../secret.bin")}) {
         const std::string path = l.write("out.gltf", hostile::tetraJson("\"uri\": \"" + uri + "\""));
         SCOPED_TRACE(uri);
         auto r = loadGltf(path, 2, 1);
@@ -85,7 +87,8 @@ TEST(HostileGltf, UrisStayInsideTheSceneFolder) {
         EXPECT_TRUE(allowed.ok()) << allowed.error();
     }
     // The same from a .glb whose buffer names an external file.
-    const std::string g = l.write("out.glb", hostile::glb(hostile::tetraJson("\"uri\": \"../secret.bin\""), ""));
+    const std::string g =
+        l.write("out.glb", hostile::glb(hostile::tetraJson("\"uri\": \"../secret.bin\""), ""));
     expectRefused(loadGltf(g, 2, 1), "outside the scene's folder");
     // A folder or FIFO as a buffer: refused, no hang.
     fs::create_directories(l.scene / "dir.bin");
@@ -96,7 +99,8 @@ TEST(HostileGltf, UrisStayInsideTheSceneFolder) {
 // /etc/passwd as a buffer used to be read, and a failing index echoed its bytes.
 TEST(HostileGltf, SystemFileIsNotRead) {
     Layout l;
-    const std::string p = l.write("passwd.gltf", hostile::tetraJson("\"uri\": \"../../../../../../../../etc/passwd\""));
+    const std::string p =
+        l.write("passwd.gltf", hostile::tetraJson("\"uri\": \"../../../../../../../../etc/passwd\""));
     expectRefused(loadGltf(p, 2, 1), "outside the scene's folder");
 }
 
@@ -104,7 +108,8 @@ TEST(HostileGltf, MessagesDoNotEchoBytes) {
     // A broken data URI: tinygltf's message quotes the whole URI; ours gives its length.
     const std::string payload = std::string(3000, 'Q');
     const std::string p = (tempDir() / "baduri.gltf").string();
-    hostile::writeBytes(p, hostile::tetraJson("\"uri\": \"data:application/octet-stream;base64," + payload + "!\""));
+    hostile::writeBytes(
+        p, hostile::tetraJson("\"uri\": \"data:application/octet-stream;base64," + payload + "!\""));
     auto r = loadGltf(p, 2, 1);
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().find("QQQQQQQQ"), std::string::npos) << r.error();
@@ -130,14 +135,17 @@ TEST(HostileGltf, MessagesDoNotEchoBytes) {
 // KHR_lights_punctual values out of range are refused, not clamped or replaced.
 TEST(HostileGltf, PunctualLightsOutOfRangeRefused) {
     auto scene = [](const std::string& light) {
-        const std::string ext = R"("extensionsUsed": ["KHR_lights_punctual"], "extensions": {"KHR_lights_punctual": {"lights": [)" +
-                                light + "]}}, ";
+        const std::string ext =
+            R"("extensionsUsed": ["KHR_lights_punctual"], "extensions": {"KHR_lights_punctual": {"lights": [)" +
+            light + "]}}, ";
         const std::string p = (tempDir() / "light.gltf").string();
-        hostile::writeBytes(p, hostile::tetraJson(hostile::dataUri(hostile::tetraBin()), ext,
-                                                  R"(, "extensions": {"KHR_lights_punctual": {"light": 0}})"));
+        hostile::writeBytes(p,
+                            hostile::tetraJson(hostile::dataUri(hostile::tetraBin()), ext,
+                                               R"(, "extensions": {"KHR_lights_punctual": {"light": 0}})"));
         return loadGltf(p, 1, 1);
     };
-    auto good = scene(R"({"type": "spot", "intensity": 5, "range": 4, "spot": {"outerConeAngle": 0.6, "innerConeAngle": 0.3}})");
+    auto good = scene(
+        R"({"type": "spot", "intensity": 5, "range": 4, "spot": {"outerConeAngle": 0.6, "innerConeAngle": 0.3}})");
     ASSERT_TRUE(good.ok()) << good.error();
     EXPECT_FLOAT_EQ(good->lights[0].outerAngle, 0.6f);
     EXPECT_FLOAT_EQ(good->lights[0].range, 4.0f);

@@ -35,7 +35,8 @@ inline std::filesystem::path tempDir() {
 }
 
 inline void writeBytes(const std::string& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+    std::ofstream(path, std::ios::binary | std::ios::trunc)
+        .write(bytes.data(), std::streamsize(bytes.size()));
 }
 inline std::string readBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -134,7 +135,7 @@ inline BakeFile syntheticBake(StaticMethod method, uint32_t records = 2, uint32_
 #ifdef ML_EXE
 
 struct Run {
-    int status = -1; // exit status; 128 + signal when killed
+    int status = -1;      // exit status; 128 + signal when killed
     std::string out, err; // stdout, stderr
 };
 // Runs `manylights ARGS` (a shell command line: quote arguments yourself) with a timeout.
