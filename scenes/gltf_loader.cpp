@@ -122,7 +122,8 @@ struct UriGuard {
         if (!::realpath(path.c_str(), buf)) return false;
         const std::string real = buf;
         const std::string uri = io::escapeText(path, 120);
-        if (!allowOutside && real != root && real.compare(0, root.size() + 1, root + "/") != 0) {
+        const std::string prefix = root == "/" ? root : root + "/";
+        if (!allowOutside && real != root && real.compare(0, prefix.size(), prefix) != 0) {
             if (refused.empty())
                 refused = "URI '" + uri + "' resolves outside the scene's folder (refused; a trusted " +
                           "scene may allow it: --allow-outside-scene-dir)";
