@@ -92,6 +92,28 @@ Result<uint64_t> readRegularFile(const std::string& path, uint64_t maxBytes,
     return size;
 }
 
+Result<std::vector<unsigned char>> readRegularFileHead(const std::string& path, size_t bytes,
+                                                       uint64_t* fileSize) {
+    if (auto c = checkRegularFile(path); !c) return fail(c.error());
+    Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
+    if (fd.fd < 0) return fail(path + ": cannot open: " + errnoText(errno));
+    struct stat st {};
+    if (::fstat(fd.fd, &st) != 0) return fail(path + ": cannot stat: " + errnoText(errno));
+    if (!S_ISREG(st.st_mode))
+        return fail(path + ": is " + std::string(kindName(st.st_mode)) + ", not a regular file");
+    *fileSize = uint64_t(st.st_size);
+    std::vector<unsigned char> head(size_t(std::min<uint64_t>(bytes, uint64_t(st.st_size))));
+    size_t done = 0;
+    while (done < head.size()) {
+        const ssize_t got = ::read(fd.fd, head.data() + done, head.size() - done);
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) return fail(path + ": read failed: " + errnoText(errno));
+        if (got == 0) return fail(path + ": file shrank while it was read");
+        done += size_t(got);
+    }
+    return head;
+}
+
 Result<std::vector<unsigned char>> readRegularFile(const std::string& path, uint64_t maxBytes) {
     std::vector<unsigned char> bytes;
     auto r = readRegularFile(path, maxBytes, [&](uint64_t size) {

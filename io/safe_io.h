@@ -36,6 +36,10 @@ Result<uint64_t> checkRegularFile(const std::string& path, uint64_t maxBytes = U
 Result<uint64_t> readRegularFile(const std::string& path, uint64_t maxBytes,
                                  const std::function<unsigned char*(uint64_t size)>& destination);
 Result<std::vector<unsigned char>> readRegularFile(const std::string& path, uint64_t maxBytes = UINT64_MAX);
+// The first min(size, bytes) bytes of a regular file, and its whole size in *fileSize: lets a reader
+// check a header before it allocates room for the whole file.
+Result<std::vector<unsigned char>> readRegularFileHead(const std::string& path, size_t bytes,
+                                                       uint64_t* fileSize);
 
 // Whether writeFileAtomically may write `path`: it does not exist, or it is a regular file (not a
 // symlink, folder or device). Lets a command refuse before a long computation, not after it.

@@ -216,8 +216,24 @@ Result<void> writeBakeFile(const std::string& path, const BakeFile& file) {
 
 Result<BakeFile> readBakeFile(const std::string& path) {
     // Regular files only (a directory or FIFO gets one line, not an allocation or a hang).
-    // The whole file is read (it is uploaded as is); a size the machine cannot hold (say a sparse file)
-    // is an error line, not an abort.
+    // The header first: a file that is not a bake file, or whose size differs from the one its header
+    // states (say a sparse file of terabytes), is refused before room for it is allocated.
+    uint64_t fileSize = 0;
+    auto head = io::readRegularFileHead(path, kFixedHeaderWords * 4, &fileSize);
+    if (!head) return fail(head.error());
+    uint32_t h[kFixedHeaderWords] = {};
+    if (!head->empty()) std::memcpy(h, head->data(), head->size());
+    if (head->size() >= 4 && h[kHMagic] != kMagic)
+        return fail(path + ": not a manylights bake file (wrong magic)");
+    if (fileSize % 4 != 0)
+        return fail(path + ": size " + std::to_string(fileSize) +
+                    " bytes is not a whole number of words (truncated?)");
+    const uint64_t stated = join(h[kHTotalLo], h[kHTotalHi]);
+    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] == kVersion && stated != fileSize / 4)
+        return fail(path + ": header: file should be " + std::to_string(stated) + " words but is " +
+                    std::to_string(fileSize / 4) + " (truncated or extended)");
+    // Then the whole file (it is uploaded as is); a size the machine cannot hold is an error line, not
+    // an abort.
     std::vector<uint32_t> words;
     Result<uint64_t> size = fail("");
     try {

@@ -357,7 +357,7 @@ int run(const Options& o) {
         bool ok = false;
         if (o.target == "bake") {
             std::vector<uint32_t> words(input.size() / 4);
-            std::memcpy(words.data(), input.data(), words.size() * 4);
+            if (!words.empty()) std::memcpy(words.data(), input.data(), words.size() * 4);
             auto f = parseBakeFile("fuzz.mlbk", words.data(), words.size());
             if (f) {
                 ok = true;
