@@ -229,7 +229,10 @@ Result<BakeFile> readBakeFile(const std::string& path) {
         return fail(path + ": size " + std::to_string(fileSize) +
                     " bytes is not a whole number of words (truncated?)");
     const uint64_t stated = join(h[kHTotalLo], h[kHTotalHi]);
-    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] == kVersion && stated != fileSize / 4)
+    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion)
+        return fail(path + ": unsupported version " + std::to_string(h[kHVersion]) + " (this build reads " +
+                    std::to_string(kVersion) + ")");
+    if (head->size() == kFixedHeaderWords * 4 && stated != fileSize / 4)
         return fail(path + ": header: file should be " + std::to_string(stated) + " words but is " +
                     std::to_string(fileSize / 4) + " (truncated or extended)");
     // Then the whole file (it is uploaded as is); a size the machine cannot hold is an error line, not
