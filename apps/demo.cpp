@@ -40,7 +40,10 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
                    timestamps (one command buffer, GPU timestamps)
   --view V         shaded (default); lights: heat map of lights evaluated per pixel; lights-reaching:
                    of lights whose cone and range hold the pixel's point. Colours: 0 black, 1 dark blue,
-                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between)
+                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between);
+                   vsm: the virtual shadow map page each pixel's first shadowed light reads: hue =
+                   mip (0 red .. 6 magenta), bright = drawn this frame, dim = cached, grey = no
+                   dynamic caster there, white = fell back to a coarser page
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
@@ -89,8 +92,10 @@ int runDemo(int argc, char** argv) {
         view = DebugView::LightsEvaluated;
     else if (viewName == "lights-reaching")
         view = DebugView::LightsReaching;
+    else if (viewName == "vsm")
+        view = DebugView::Vsm;
     else if (viewName != "shaded")
-        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights or lights-reaching)");
+        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights, lights-reaching or vsm)");
     const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
     if (dynamic != "vsm" && dynamic != "off") return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
     if (timing != "fenced" && timing != "timestamps")

@@ -626,7 +626,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
             memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
         });
 
-    if (m.view != DebugView::Shaded)
+    if (m.view == DebugView::Vsm && m.vsm.enabled() && !m.hdrOutput)
+        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordView(d, c, slotIndex, vin, outputView); });
+    else if (m.view == DebugView::LightsEvaluated || m.view == DebugView::LightsReaching)
         m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
                           outputView, m.width, m.height, m.profiler);
 

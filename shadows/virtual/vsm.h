@@ -99,6 +99,10 @@ class VirtualShadowMaps {
     // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
     void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
                 const VsmFrameInputs& in);
+    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
+    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
+    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
+                    VkImageView output);
     // The probe pass (settings.probeCapacity > 0): records the lookups into the probe buffer.
     void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
 
@@ -167,9 +171,9 @@ class VirtualShadowMaps {
     Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, hpb_,
         draws_, drawInfo_, drawCounts_;
     ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
-        probeShader_, drawVert_, drawFrag_;
+        probeShader_, viewShader_, drawVert_, drawFrag_;
     Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,
-        probeProgram_, drawProgram_;
+        probeProgram_, viewProgram_, drawProgram_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside
