@@ -1,7 +1,7 @@
 // Light culling: clustered (froxels) and tiled, in two compute passes, with a CPU reference.
 //
-//   cluster_bounds  one group per 16x16-pixel tile: each pixel with geometry goes to its depth slice
-//                   (exponential slices, sliceBoundaries); the world AABB of the pixels in each
+//   cluster_bounds  one group per 8x8-pixel tile (ML_TILE_SIZE): each pixel with geometry goes to its
+//                   depth slice (exponential slices, sliceBoundaries); the world AABB of the pixels in each
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked.
 //   light_assign    one group per tile: every visible light is tested against each occupied cluster
 //                   (exact range-sphere vs AABB, cone vs the AABB's bounding sphere), counted,
