@@ -17,6 +17,8 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
     glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
     w->window_ = glfwCreateWindow(int(width), int(height), "manylights", nullptr, nullptr);
     if (!w->window_) return fail("--window: could not open a window (no display?)");
+    glfwSetWindowUserPointer(w->window_, w.get());
+    glfwSetKeyCallback(w->window_, &Window::onKey);
     if (glfwCreateWindowSurface(d.instance, w->window_, nullptr, &w->surface_) != VK_SUCCESS)
         return fail("--window: could not create a Vulkan surface for the window");
     VkBool32 supported = VK_FALSE;
@@ -83,10 +85,39 @@ Window::~Window() {
 }
 
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
+void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+
+void Window::onKey(GLFWwindow* window, int key, int, int action, int) {
+    if (action == GLFW_PRESS) static_cast<Window*>(glfwGetWindowUserPointer(window))->pressed_.push_back(key);
+}
+
+Window::Input Window::poll() {
+    glfwPollEvents();
+    Input in;
+    in.pressed.swap(pressed_);
+    auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
+    in.fly.forward = held(GLFW_KEY_W) - held(GLFW_KEY_S);
+    in.fly.right = held(GLFW_KEY_D) - held(GLFW_KEY_A);
+    in.fly.up = held(GLFW_KEY_E) - held(GLFW_KEY_Q);
+    in.fly.fast = held(GLFW_KEY_LEFT_SHIFT) + held(GLFW_KEY_RIGHT_SHIFT) > 0.0f;
+    // Mouse look while the left or right button is held: the movement since the previous poll.
+    double x, y;
+    glfwGetCursorPos(window_, &x, &y);
+    bool down = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
+                glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    if (down && dragging_) {
+        in.fly.lookX = float(x - cursorX_);
+        in.fly.lookY = float(y - cursorY_);
+    }
+    dragging_ = down;
+    cursorX_ = x;
+    cursorY_ = y;
+    return in;
+}
 
 Result<void> Window::frame(Module& module) {
     Device& d = module.device();
-    glfwPollEvents();
     VK_CHECK(vkWaitForFences(d.device, 1, &fence_, VK_TRUE, UINT64_MAX));
     VK_CHECK(vkResetFences(d.device, 1, &fence_));
     uint32_t index = 0;
