@@ -19,6 +19,7 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
     if (!w->window_) return fail("--window: could not open a window (no display?)");
     glfwSetWindowUserPointer(w->window_, w.get());
     glfwSetKeyCallback(w->window_, &Window::onKey);
+    glfwSetMouseButtonCallback(w->window_, &Window::onButton);
     if (glfwCreateWindowSurface(d.instance, w->window_, nullptr, &w->surface_) != VK_SUCCESS)
         return fail("--window: could not create a Vulkan surface for the window");
     VkBool32 supported = VK_FALSE;
@@ -92,6 +93,15 @@ void Window::onKey(GLFWwindow* window, int key, int, int action, int) {
     if (action == GLFW_PRESS) static_cast<Window*>(glfwGetWindowUserPointer(window))->pressed_.push_back(key);
 }
 
+// A drag starts where the button went down, even when the press and the first movement arrive
+// between two polls (slow frames on CPU devices).
+void Window::onButton(GLFWwindow* window, int, int action, int) {
+    auto* self = static_cast<Window*>(glfwGetWindowUserPointer(window));
+    if (action != GLFW_PRESS) return;
+    glfwGetCursorPos(window, &self->cursorX_, &self->cursorY_);
+    self->dragging_ = true;
+}
+
 Window::Input Window::poll() {
     glfwPollEvents();
     Input in;
@@ -101,7 +111,8 @@ Window::Input Window::poll() {
     in.fly.right = held(GLFW_KEY_D) - held(GLFW_KEY_A);
     in.fly.up = held(GLFW_KEY_E) - held(GLFW_KEY_Q);
     in.fly.fast = held(GLFW_KEY_LEFT_SHIFT) + held(GLFW_KEY_RIGHT_SHIFT) > 0.0f;
-    // Mouse look while the left or right button is held: the movement since the previous poll.
+    // Mouse look while the left or right button is held: the movement since the press or the
+    // previous poll.
     double x, y;
     glfwGetCursorPos(window_, &x, &y);
     bool down = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||

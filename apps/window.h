@@ -47,6 +47,7 @@ class Window {
     double cursorX_ = 0.0, cursorY_ = 0.0;
     bool dragging_ = false;
     static void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void onButton(GLFWwindow* window, int button, int action, int mods);
 };
 
 } // namespace ml

@@ -33,11 +33,11 @@ xdotool keydown w
 sleep 1.5
 xdotool keyup w
 xdotool mousemove --window "$wid" 80 45 mousedown 1
-sleep 0.3
-xdotool mousemove_relative 40 0
 sleep 0.5
+xdotool mousemove_relative 40 0
+sleep 1
 xdotool mouseup 1
-sleep 0.3
+sleep 0.5
 xdotool key Escape
 i=0
 while kill -0 "$demo" 2>/dev/null; do
