@@ -26,6 +26,7 @@
 
 namespace {
 constexpr uint32_t kWidth = 320, kHeight = 180;
+constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT, kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
 struct HostImage {
     VkImage image = VK_NULL_HANDLE;
@@ -107,6 +108,52 @@ void addBox(std::vector<ml::MeshVertex>& v, std::vector<uint32_t>& idx, glm::vec
             for (uint32_t i : q) idx.push_back(base + (flip ? (i == 1 ? 3 : i == 3 ? 1 : i) : i));
         }
 }
+
+// The G-buffer pipeline: dynamic rendering into normal + albedo colour attachments and D32 depth
+// (LESS, cleared to 1), vertices as ml::MeshVertex, back faces culled (CCW front faces).
+VkPipeline makePipeline(VkDevice dev, VkShaderModule vs, VkShaderModule fs, VkPipelineLayout layout) {
+    using S = VkPipelineShaderStageCreateInfo;
+    S stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
+                    .module = vs, .pName = "main"},
+                   {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+                    .module = fs, .pName = "main"}};
+    VkVertexInputBindingDescription binding{0, sizeof(ml::MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription attrs[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    VkPipelineVertexInputStateCreateInfo vi{.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+                                            .vertexBindingDescriptionCount = 1, .pVertexBindingDescriptions = &binding,
+                                            .vertexAttributeDescriptionCount = 2, .pVertexAttributeDescriptions = attrs};
+    VkPipelineInputAssemblyStateCreateInfo ia{.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+                                              .topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST};
+    VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
+    VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
+    VkPipelineViewportStateCreateInfo vp{.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+                                         .viewportCount = 1, .pViewports = &viewport, .scissorCount = 1,
+                                         .pScissors = &scissor};
+    VkPipelineRasterizationStateCreateInfo rs{.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+                                              .cullMode = VK_CULL_MODE_BACK_BIT,
+                                              .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE, .lineWidth = 1.0f};
+    VkPipelineMultisampleStateCreateInfo ms{.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+                                            .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
+    VkPipelineDepthStencilStateCreateInfo ds{.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+                                             .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE,
+                                             .depthCompareOp = VK_COMPARE_OP_LESS};
+    VkPipelineColorBlendAttachmentState blend[2]{{.colorWriteMask = 0xF}, {.colorWriteMask = 0xF}};
+    VkPipelineColorBlendStateCreateInfo cb{.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+                                           .attachmentCount = 2, .pAttachments = blend};
+    VkFormat colorFormats[2] = {kNormalFormat, kAlbedoFormat};
+    VkPipelineRenderingCreateInfo rci{.sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
+                                      .colorAttachmentCount = 2, .pColorAttachmentFormats = colorFormats,
+                                      .depthAttachmentFormat = VK_FORMAT_D32_SFLOAT};
+    VkGraphicsPipelineCreateInfo gci{.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, .pNext = &rci,
+                                     .stageCount = 2, .pStages = stages, .pVertexInputState = &vi,
+                                     .pInputAssemblyState = &ia, .pViewportState = &vp, .pRasterizationState = &rs,
+                                     .pMultisampleState = &ms, .pDepthStencilState = &ds, .pColorBlendState = &cb,
+                                     .layout = layout};
+    VkPipeline pipeline;
+    HOST_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline));
+    return pipeline;
+}
 } // namespace
 
 int main() {
@@ -149,13 +196,12 @@ int main() {
     glm::mat4 viewProj = proj * glm::lookAt(camera.position, camera.target, camera.up);
 
     // Host-owned targets.
-    const VkFormat normalFormat = VK_FORMAT_R16G16B16A16_SFLOAT, albedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
     HostImage depth = makeImage(dev, pd, VK_FORMAT_D32_SFLOAT,
                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                 VK_IMAGE_ASPECT_DEPTH_BIT);
     const VkImageUsageFlags colorUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    HostImage normal = makeImage(dev, pd, normalFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
-    HostImage albedo = makeImage(dev, pd, albedoFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
+    HostImage normal = makeImage(dev, pd, kNormalFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
+    HostImage albedo = makeImage(dev, pd, kAlbedoFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
     HostImage output = makeImage(dev, pd, VK_FORMAT_R8G8B8A8_UNORM,
                                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
     if (auto r = module.setTargets({kWidth, kHeight, depth.view, normal.view, albedo.view, output.view}); !r)
@@ -199,52 +245,7 @@ int main() {
     lci.pPushConstantRanges = &push;
     VkPipelineLayout layout;
     HOST_CHECK(vkCreatePipelineLayout(dev, &lci, nullptr, &layout));
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vs, "main"},
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main"}};
-    VkVertexInputBindingDescription binding{0, sizeof(ml::MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription attrs[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
-    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 1,
-                                            &binding, 2, attrs};
-    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
-    VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
-    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1,
-                                         &viewport, 1, &scissor};
-    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.cullMode = VK_CULL_MODE_BACK_BIT;
-    rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState blend[2]{};
-    blend[0].colorWriteMask = blend[1].colorWriteMask = 0xF;
-    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cb.attachmentCount = 2;
-    cb.pAttachments = blend;
-    VkFormat colorFormats[2] = {normalFormat, albedoFormat};
-    VkPipelineRenderingCreateInfo rci{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rci.colorAttachmentCount = 2;
-    rci.pColorAttachmentFormats = colorFormats;
-    rci.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
-    VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rci};
-    gci.stageCount = 2;
-    gci.pStages = stages;
-    gci.pVertexInputState = &vi;
-    gci.pInputAssemblyState = &ia;
-    gci.pViewportState = &vp;
-    gci.pRasterizationState = &rs;
-    gci.pMultisampleState = &ms;
-    gci.pDepthStencilState = &ds;
-    gci.pColorBlendState = &cb;
-    gci.layout = layout;
-    VkPipeline pipeline;
-    HOST_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline));
+    VkPipeline pipeline = makePipeline(dev, vs, fs, layout);
 
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr,
                                 VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, module.device().queueFamily};
@@ -288,7 +289,7 @@ int main() {
         depthAttachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
         depthAttachment.clearValue.depthStencil = {1.0f, 0};
         VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        ri.renderArea = scissor;
+        ri.renderArea = {{0, 0}, {kWidth, kHeight}};
         ri.layerCount = 1;
         ri.colorAttachmentCount = 2;
         ri.pColorAttachments = colors;
