@@ -234,7 +234,7 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT |
                           VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
         mci.pfnUserCallback = debugCallback;
-        VK_CHECK(createMessenger(d->instance, &mci, nullptr, &d->messenger_));
+        ML_VK_CHECK(createMessenger(d->instance, &mci, nullptr, &d->messenger_));
     }
 
     uint32_t count = 0;
@@ -372,7 +372,7 @@ Result<void> Device::loadFunctions() {
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = queueFamily;
-    VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &setupPool_));
+    ML_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &setupPool_));
     return {};
 }
 
@@ -395,20 +395,20 @@ VkCommandBuffer Device::beginOneTime() const {
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
     VkCommandBuffer cmd;
-    VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
+    ML_VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    ML_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
     return cmd;
 }
 
 void Device::endOneTime(VkCommandBuffer cmd) const {
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    ML_VK_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd;
-    VK_CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    VK_CHECK(vkQueueWaitIdle(queue));
+    ML_VK_CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
+    ML_VK_CHECK(vkQueueWaitIdle(queue));
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
 }
 

@@ -17,7 +17,11 @@
 #include <cstring>
 #include <vector>
 
-#define HOST_CHECK(call)                                                                                    \
+// An engine's own VK_CHECK: the module's header must leave the name free (it uses ML_VK_CHECK).
+#ifdef VK_CHECK
+#error "engine/manylights.h defines VK_CHECK, which clashes with host engines' own"
+#endif
+#define VK_CHECK(call)                                                                                    \
     do {                                                                                                    \
         if (VkResult r_ = (call); r_ != VK_SUCCESS) {                                                       \
             std::fprintf(stderr, "host_example: %s failed (%d)\n", #call, int(r_));                         \
@@ -54,19 +58,19 @@ HostImage makeImage(VkDevice dev, VkPhysicalDevice pd, VkFormat format, VkImageU
     ici.mipLevels = ici.arrayLayers = 1;
     ici.samples = VK_SAMPLE_COUNT_1_BIT;
     ici.usage = usage;
-    HOST_CHECK(vkCreateImage(dev, &ici, nullptr, &h.image));
+    VK_CHECK(vkCreateImage(dev, &ici, nullptr, &h.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(dev, h.image, &req);
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, req.size,
                             memoryType(pd, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)};
-    HOST_CHECK(vkAllocateMemory(dev, &ai, nullptr, &h.memory));
-    HOST_CHECK(vkBindImageMemory(dev, h.image, h.memory, 0));
+    VK_CHECK(vkAllocateMemory(dev, &ai, nullptr, &h.memory));
+    VK_CHECK(vkBindImageMemory(dev, h.image, h.memory, 0));
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = h.image;
     vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vci.format = format;
     vci.subresourceRange = {aspect, 0, 1, 0, 1};
-    HOST_CHECK(vkCreateImageView(dev, &vci, nullptr, &h.view));
+    VK_CHECK(vkCreateImageView(dev, &vci, nullptr, &h.view));
     return h;
 }
 
@@ -152,7 +156,7 @@ VkPipeline makePipeline(VkDevice dev, VkShaderModule vs, VkShaderModule fs, VkPi
                                      .pMultisampleState = &ms, .pDepthStencilState = &ds, .pColorBlendState = &cb,
                                      .layout = layout};
     VkPipeline pipeline;
-    HOST_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline));
+    VK_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline));
     return pipeline;
 }
 } // namespace
@@ -211,16 +215,16 @@ int main() {
     // Host buffers: vertices + indices, and the readback (host-visible, coherent).
     auto makeBuffer = [&](VkDeviceSize size, VkBufferUsageFlags usage, VkBuffer& buf, VkDeviceMemory& mem) {
         VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, nullptr, 0, size, usage};
-        HOST_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
+        VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
         VkMemoryRequirements req;
         vkGetBufferMemoryRequirements(dev, buf, &req);
         VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, req.size,
                                 memoryType(pd, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                                                        VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)};
-        HOST_CHECK(vkAllocateMemory(dev, &ai, nullptr, &mem));
-        HOST_CHECK(vkBindBufferMemory(dev, buf, mem, 0));
+        VK_CHECK(vkAllocateMemory(dev, &ai, nullptr, &mem));
+        VK_CHECK(vkBindBufferMemory(dev, buf, mem, 0));
         void* p = nullptr;
-        HOST_CHECK(vkMapMemory(dev, mem, 0, VK_WHOLE_SIZE, 0, &p));
+        VK_CHECK(vkMapMemory(dev, mem, 0, VK_WHOLE_SIZE, 0, &p));
         return static_cast<uint8_t*>(p);
     };
     const size_t vbytes = verts.size() * sizeof(ml::MeshVertex), ibytes = indices.size() * 4;
@@ -235,7 +239,7 @@ int main() {
     auto shader = [&](const uint32_t* code, size_t bytes) {
         VkShaderModuleCreateInfo sci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, nullptr, 0, bytes, code};
         VkShaderModule m;
-        HOST_CHECK(vkCreateShaderModule(dev, &sci, nullptr, &m));
+        VK_CHECK(vkCreateShaderModule(dev, &sci, nullptr, &m));
         return m;
     };
     VkShaderModule vs = shader(host_gbuffer_vert, sizeof(host_gbuffer_vert));
@@ -245,20 +249,20 @@ int main() {
     lci.pushConstantRangeCount = 1;
     lci.pPushConstantRanges = &push;
     VkPipelineLayout layout;
-    HOST_CHECK(vkCreatePipelineLayout(dev, &lci, nullptr, &layout));
+    VK_CHECK(vkCreatePipelineLayout(dev, &lci, nullptr, &layout));
     VkPipeline pipeline = makePipeline(dev, vs, fs, layout);
 
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr,
                                 VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, module.device().queueFamily};
     VkCommandPool pool;
-    HOST_CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
+    VK_CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
     VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool,
                                     VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
     VkCommandBuffer cmd;
-    HOST_CHECK(vkAllocateCommandBuffers(dev, &cai, &cmd));
+    VK_CHECK(vkAllocateCommandBuffers(dev, &cai, &cmd));
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VkFence fence;
-    HOST_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
+    VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
 
     // The image, after every frame (frame 0 too: the module must read this frame's G-buffer): a world
     // point's pixel through the host's own view-projection. The worst frame counts.
@@ -275,7 +279,7 @@ int main() {
     for (int frame = 0; frame < 3; ++frame) {
         VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
         bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        HOST_CHECK(vkBeginCommandBuffer(cmd, &bi));
+        VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
         // The G-buffer: previous frame's contents are discarded (UNDEFINED), after the module's reads.
         const auto kRead = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
         barrier(cmd, depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
@@ -333,13 +337,13 @@ int main() {
         copy.imageSubresource = {kColor, 0, 0, 1};
         copy.imageExtent = {kWidth, kHeight, 1};
         vkCmdCopyImageToBuffer(cmd, output.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback, 1, &copy);
-        HOST_CHECK(vkEndCommandBuffer(cmd));
+        VK_CHECK(vkEndCommandBuffer(cmd));
         VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         si.commandBufferCount = 1;
         si.pCommandBuffers = &cmd;
-        HOST_CHECK(vkQueueSubmit(queue, 1, &si, fence));
-        HOST_CHECK(vkWaitForFences(dev, 1, &fence, VK_TRUE, UINT64_MAX));
-        HOST_CHECK(vkResetFences(dev, 1, &fence));
+        VK_CHECK(vkQueueSubmit(queue, 1, &si, fence));
+        VK_CHECK(vkWaitForFences(dev, 1, &fence, VK_TRUE, UINT64_MAX));
+        VK_CHECK(vkResetFences(dev, 1, &fence));
         lit = std::min(lit, luminance({1.2f, 0.0f, 1.2f}));       // ground inside the spot's inner cone
         boxTop = std::min(boxTop, luminance({0.0f, 1.0f, 0.2f})); // the box's top, under the light
         dark = std::max(dark, luminance({-7.0f, 0.0f, -5.0f}));   // ground far outside the cone
