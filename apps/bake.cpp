@@ -1,5 +1,6 @@
 // `manylights bake`, `inspect` and `verify`: the static shadow bake file from the command line.
-//   bake     renders each selected static spot light's dual depth map and encodes it (one file per scene);
+//   bake     renders each selected static light's dual depth maps (a spot: one; a point light: six cube
+//            faces) and encodes them (one file per scene);
 //   inspect  validates a bake file and reports its method, resolution, lights and bytes per part;
 //   verify   re-creates the scene, re-renders every light and checks every texel (or voxel).
 // Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
@@ -26,7 +27,7 @@ namespace ml {
 namespace {
 
 const char* kBakeHelp = R"(usage: manylights bake --method M --res N --lights SEL --out FILE [options]
-Bakes the static shadows of a scene's static spot lights into one bake file.
+Bakes the static shadows of a scene's static spot and point lights (six cube faces each) into one bake file.
   --scene S          night-city (default), or a .gltf / .glb file
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)

@@ -10,9 +10,48 @@
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
 
+#include <GLFW/glfw3.h>
+
+#include <chrono>
 #include <cstdio>
 
 namespace ml {
+
+namespace {
+// The window title: culling mode and the newest frame's GPU milliseconds per pass.
+std::string windowTitle(CullingMode mode, const FrameReport& r) {
+    std::string t = std::string("manylights | ") + cullingName(mode);
+    char buf[64];
+    for (uint32_t p = 0; p < kPassCount; ++p)
+        if (r.times.ran[p]) {
+            std::snprintf(buf, sizeof(buf), " | %s %.2f", passName(Pass(p)), r.times.ms[p]);
+            t += buf;
+        }
+    std::snprintf(buf, sizeof(buf), " | total %.2f ms", r.times.totalMs());
+    return t + buf;
+}
+
+// One frame of window input: key commands (1/2/3 culling, Esc closes) and the camera.
+void steer(Window& win, Module& m, CullingMode& mode, FlyCamera& fly, const CameraDesc& base, float seconds) {
+    Window::Input in = win.poll();
+    for (int key : in.pressed) {
+        const CullingMode modes[] = {CullingMode::Clustered, CullingMode::Tiled, CullingMode::None};
+        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_3) {
+            mode = modes[key - GLFW_KEY_1];
+            m.setCulling(mode);
+            std::printf("window: culling %s\n", cullingName(mode));
+        }
+        if (key == GLFW_KEY_ESCAPE) win.close();
+    }
+    fly.update(in.fly, seconds);
+    if (auto r = m.setCamera(fly.desc(base)); !r) std::fprintf(stderr, "manylights demo: %s\n", r.error().c_str());
+}
+
+void printCamera(const char* when, const CameraDesc& c) {
+    std::printf("window: %s camera %.2f,%.2f,%.2f,%.2f,%.2f,%.2f (for --camera)\n", when, c.position.x,
+                c.position.y, c.position.z, c.target.x, c.target.y, c.target.z);
+}
+} // namespace
 
 static const char* kDemoHelp = R"(usage: manylights demo [options]
 Renders a scene lit by many spotlights and writes images and a GPU profile.
@@ -23,7 +62,10 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --seed S         scene seed (default 1)
   --culling M      clustered (default; footprint assignment), clustered-brute, tiled or none
   --out DIR        output folder (default out/demo)
-  --window         also show the frames in a window (needs a display)
+  --window         also show the frames in a window (needs a display): drag with a mouse button to
+                   look, W/A/S/D move, Q/E down/up, shift faster, 1/2/3 clustered/tiled/no culling,
+                   Esc closes; per-pass GPU ms in the title. With --frames 0 it runs until closed
+                   (no PNGs then)
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
   --bake FILE      static shadows from a bake file (manylights bake) of this scene, lights and seed
   --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
@@ -58,7 +100,8 @@ int runDemo(int argc, char** argv) {
         std::fputs(kDemoHelp, stdout);
         return 0;
     }
-    auto frames = cli::parseUint("--frames", args->get("--frames", "3"), 1, 100000);
+    bool window = args->has("--window");
+    auto frames = cli::parseUint("--frames", args->get("--frames", "3"), window ? 0 : 1, 100000);
     auto size = cli::parseSize("--size", args->get("--size", "1280x720"));
     auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
@@ -79,7 +122,6 @@ int runDemo(int argc, char** argv) {
         if (!v) return usageError("demo", v.error());
         camera = v.value();
     }
-    bool window = args->has("--window");
     auto path = parseCameraPath(args->get("--path", "static"));
     auto vsmRes = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
     auto vsmPage = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
@@ -160,7 +202,11 @@ int runDemo(int argc, char** argv) {
     Device& d = m.device();
     std::vector<FrameReport> reports;
     std::vector<uint8_t> rgba;
-    for (uint32_t f = 0; f < frames.value(); ++f) {
+    const CameraDesc baseCamera = toCameraDesc(scene->camera);
+    FlyCamera fly = FlyCamera::lookingAt(baseCamera.position, baseCamera.target);
+    if (win) printCamera("start", fly.desc(baseCamera));
+    auto last = std::chrono::steady_clock::now();
+    for (uint32_t f = 0; frames.value() == 0 || f < frames.value(); ++f) {
         animateScene(scene.value(), f / 30.0);
         if (auto r = updateScene(m, scene.value(), binding.value()); !r) return runError("demo", r.error());
         if (path.value() != CameraPath::Static) {
@@ -169,23 +215,36 @@ int runDemo(int argc, char** argv) {
             if (auto r = m.setCamera(toCameraDesc(cam.value())); !r) return runError("demo", r.error());
         }
         if (win) {
+            auto now = std::chrono::steady_clock::now();
+            // Slow frames on CPU devices: cap a step so one long frame does not throw the camera away.
+            float seconds = std::min(0.25f, std::chrono::duration<float>(now - last).count());
+            last = now;
+            steer(*win, m, culling.value(), fly, baseCamera, seconds);
+            if (win->shouldClose()) break;
             if (auto r = win->frame(m); !r) return runError("demo", r.error());
         } else {
             VkCommandBuffer cmd = d.beginOneTime();
             if (auto r = m.record(cmd); !r) return runError("demo", r.error());
             d.endOneTime(cmd);
         }
-        if (auto r = m.readOutput(rgba); !r) return runError("demo", r.error());
-        char name[64];
-        std::snprintf(name, sizeof(name), "/frame_%04u.png", f);
-        if (auto r = writePng(out + name, width, height, rgba); !r) return runError("demo", r.error());
+        if (frames.value() != 0) {
+            if (auto r = m.readOutput(rgba); !r) return runError("demo", r.error());
+            char name[64];
+            std::snprintf(name, sizeof(name), "/frame_%04u.png", f);
+            if (auto r = writePng(out + name, width, height, rgba); !r) return runError("demo", r.error());
+        }
         m.collect();
         for (auto& r : m.takeReports()) reports.push_back(r);
-        if (!reports.empty()) std::printf("  frame %u: %.2f ms GPU\n", f, reports.back().times.totalMs());
+        if (!reports.empty()) {
+            std::printf("  frame %u: %.2f ms GPU\n", f, reports.back().times.totalMs());
+            if (win) win->setTitle(windowTitle(culling.value(), reports.back()));
+        }
     }
+    if (win) printCamera("end", fly.desc(baseCamera));
     vkDeviceWaitIdle(d.device);
     m.collect();
     for (auto& r : m.takeReports()) reports.push_back(r);
+    if (reports.empty()) return runError("demo", "the window was closed before a frame completed");
 
     RunInfo info{scene->name, cullingName(mo.culling), d.name, width, height, frames.value(), seed.value()};
     for (auto r : {writeProfile(out + "/profile.json", reports), writeFramesCsv(out + "/frames.csv", reports),

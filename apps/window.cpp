@@ -17,6 +17,9 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
     glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
     w->window_ = glfwCreateWindow(int(width), int(height), "manylights", nullptr, nullptr);
     if (!w->window_) return fail("--window: could not open a window (no display?)");
+    glfwSetWindowUserPointer(w->window_, w.get());
+    glfwSetKeyCallback(w->window_, &Window::onKey);
+    glfwSetMouseButtonCallback(w->window_, &Window::onButton);
     if (glfwCreateWindowSurface(d.instance, w->window_, nullptr, &w->surface_) != VK_SUCCESS)
         return fail("--window: could not create a Vulkan surface for the window");
     VkBool32 supported = VK_FALSE;
@@ -47,7 +50,7 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
     sci.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
     sci.presentMode = VK_PRESENT_MODE_FIFO_KHR;
     sci.clipped = VK_TRUE;
-    VK_CHECK(vkCreateSwapchainKHR(d.device, &sci, nullptr, &w->swapchain_));
+    ML_VK_CHECK(vkCreateSwapchainKHR(d.device, &sci, nullptr, &w->swapchain_));
     uint32_t ni = 0;
     vkGetSwapchainImagesKHR(d.device, w->swapchain_, &ni, nullptr);
     w->images_.resize(ni);
@@ -55,17 +58,17 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = d.queueFamily;
-    VK_CHECK(vkCreateCommandPool(d.device, &pci, nullptr, &w->pool_));
+    ML_VK_CHECK(vkCreateCommandPool(d.device, &pci, nullptr, &w->pool_));
     VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     ai.commandPool = w->pool_;
     ai.commandBufferCount = 1;
-    VK_CHECK(vkAllocateCommandBuffers(d.device, &ai, &w->cmd_));
+    ML_VK_CHECK(vkAllocateCommandBuffers(d.device, &ai, &w->cmd_));
     VkSemaphoreCreateInfo semi{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-    VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->acquired_));
-    VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->rendered_));
+    ML_VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->acquired_));
+    ML_VK_CHECK(vkCreateSemaphore(d.device, &semi, nullptr, &w->rendered_));
     VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     fi.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    VK_CHECK(vkCreateFence(d.device, &fi, nullptr, &w->fence_));
+    ML_VK_CHECK(vkCreateFence(d.device, &fi, nullptr, &w->fence_));
     return w;
 }
 
@@ -83,17 +86,56 @@ Window::~Window() {
 }
 
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
+void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+
+void Window::onKey(GLFWwindow* window, int key, int, int action, int) {
+    if (action == GLFW_PRESS) static_cast<Window*>(glfwGetWindowUserPointer(window))->pressed_.push_back(key);
+}
+
+// A drag starts where the button went down, even when the press and the first movement arrive
+// between two polls (slow frames on CPU devices).
+void Window::onButton(GLFWwindow* window, int, int action, int) {
+    auto* self = static_cast<Window*>(glfwGetWindowUserPointer(window));
+    if (action != GLFW_PRESS) return;
+    glfwGetCursorPos(window, &self->cursorX_, &self->cursorY_);
+    self->dragging_ = true;
+}
+
+Window::Input Window::poll() {
+    glfwPollEvents();
+    Input in;
+    in.pressed.swap(pressed_);
+    auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
+    in.fly.forward = held(GLFW_KEY_W) - held(GLFW_KEY_S);
+    in.fly.right = held(GLFW_KEY_D) - held(GLFW_KEY_A);
+    in.fly.up = held(GLFW_KEY_E) - held(GLFW_KEY_Q);
+    in.fly.fast = held(GLFW_KEY_LEFT_SHIFT) + held(GLFW_KEY_RIGHT_SHIFT) > 0.0f;
+    // Mouse look while the left or right button is held: the movement since the press or the
+    // previous poll.
+    double x, y;
+    glfwGetCursorPos(window_, &x, &y);
+    bool down = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
+                glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    if (down && dragging_) {
+        in.fly.lookX = float(x - cursorX_);
+        in.fly.lookY = float(y - cursorY_);
+    }
+    dragging_ = down;
+    cursorX_ = x;
+    cursorY_ = y;
+    return in;
+}
 
 Result<void> Window::frame(Module& module) {
     Device& d = module.device();
-    glfwPollEvents();
-    VK_CHECK(vkWaitForFences(d.device, 1, &fence_, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(d.device, 1, &fence_));
+    ML_VK_CHECK(vkWaitForFences(d.device, 1, &fence_, VK_TRUE, UINT64_MAX));
+    ML_VK_CHECK(vkResetFences(d.device, 1, &fence_));
     uint32_t index = 0;
-    VK_CHECK(vkAcquireNextImageKHR(d.device, swapchain_, UINT64_MAX, acquired_, VK_NULL_HANDLE, &index));
-    VK_CHECK(vkResetCommandBuffer(cmd_, 0));
+    ML_VK_CHECK(vkAcquireNextImageKHR(d.device, swapchain_, UINT64_MAX, acquired_, VK_NULL_HANDLE, &index));
+    ML_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
+    ML_VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
     if (auto r = module.record(cmd_); !r) return r;
     VkImage target = images_[index];
     imageBarrier(cmd_, module.outputImage(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
@@ -114,7 +156,7 @@ Result<void> Window::frame(Module& module) {
     imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                  VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
-    VK_CHECK(vkEndCommandBuffer(cmd_));
+    ML_VK_CHECK(vkEndCommandBuffer(cmd_));
     VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.waitSemaphoreCount = 1;
@@ -124,7 +166,7 @@ Result<void> Window::frame(Module& module) {
     si.pCommandBuffers = &cmd_;
     si.signalSemaphoreCount = 1;
     si.pSignalSemaphores = &rendered_;
-    VK_CHECK(vkQueueSubmit(d.queue, 1, &si, fence_));
+    ML_VK_CHECK(vkQueueSubmit(d.queue, 1, &si, fence_));
     VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     pi.waitSemaphoreCount = 1;
     pi.pWaitSemaphores = &rendered_;

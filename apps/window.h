@@ -1,7 +1,13 @@
 // --window: shows the module's output in a GLFW window (X11/Wayland through lavapipe's WSI) by
 // blitting it into the swapchain image each frame. Fails with a clear message without a display.
+// Input for the interactive camera and key commands comes from poll(): held keys and mouse drags as
+// FlyInput, key presses in order (a press and release between two polls is not lost).
 #pragma once
 #include "engine/manylights.h"
+#include "host/fly_camera.h"
+
+#include <string>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -12,6 +18,15 @@ class Window {
     static Result<std::unique_ptr<Window>> open(Module& module, uint32_t width, uint32_t height);
     ~Window();
     bool shouldClose() const;
+    void close();
+    void setTitle(const std::string& title);
+
+    struct Input {
+        FlyInput fly;
+        std::vector<int> pressed; // GLFW key codes pressed since the last poll
+    };
+    // Processes window events; returns what the user did since the last call.
+    Input poll();
     // Records module.record() plus the blit into a fresh swapchain image, submits and presents.
     Result<void> frame(Module& module);
 
@@ -28,6 +43,11 @@ class Window {
     VkSemaphore acquired_ = VK_NULL_HANDLE, rendered_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     uint32_t width_ = 0, height_ = 0;
+    std::vector<int> pressed_;
+    double cursorX_ = 0.0, cursorY_ = 0.0;
+    bool dragging_ = false;
+    static void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void onButton(GLFWwindow* window, int button, int action, int mods);
 };
 
 } // namespace ml

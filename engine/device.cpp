@@ -12,18 +12,10 @@ namespace {
 std::atomic<uint32_t> gValidationErrors{0};
 std::atomic<uint32_t> gValidationPerf{0};
 
-// Messages that are known layer defects of the Debian 1.3.239 layers against a Vulkan 1.4 driver and
-// say nothing about our usage. Each is listed with its reason; nothing else is filtered.
-bool ignoredMessage(const VkDebugUtilsMessengerCallbackDataEXT* data) {
-    (void)data;
-    return false;
-}
-
 VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                              VkDebugUtilsMessageTypeFlagsEXT type,
                                              const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
     if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
-    if (ignoredMessage(data)) return VK_FALSE;
     bool perf = (type & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) &&
                 !(type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT);
     const char* kind = perf ? "performance" : (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "error"
@@ -58,7 +50,122 @@ bool hasDeviceExtension(VkPhysicalDevice pd, const char* name) {
         if (std::strcmp(e.extensionName, name) == 0) return true;
     return false;
 }
+
+// The features the module needs, as a chain of the structs that hold them. One instance reads what a
+// physical device supports, another what create() enables or what a host says it enabled.
+struct FeatureChain {
+    VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &mesh};
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &f13};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
+    FeatureChain() = default;
+    FeatureChain(const FeatureChain&) = delete; // the pNext links point into this object
+};
+
+// THE table: create() enables every row, borrow() checks every row; device.h lists the names (tested).
+struct FeatureRow {
+    const char* name;
+    VkBool32* (*field)(FeatureChain&);
+};
+#define ML_FEATURE(part, member) {#member, [](FeatureChain& c) { return &c.part.member; }}
+const FeatureRow kRequiredFeatures[] = {
+    ML_FEATURE(f13, dynamicRendering),         // G-buffer and dual-depth passes without render passes
+    ML_FEATURE(f13, synchronization2),         // every barrier and timestamp
+    ML_FEATURE(f13, maintenance4),             // LocalSizeId: workgroup sizes from config.h constants
+    ML_FEATURE(f12, shaderBufferInt64Atomics), // 64-bit atomicAdd on the frame counters
+    ML_FEATURE(f12, shaderSharedInt64Atomics), // no shader uses it today (kept: the module always required it)
+    ML_FEATURE(f12, hostQueryReset),           // the profiler resets its queries from the host
+    ML_FEATURE(f12, scalarBlockLayout),        // shaders/shared structs are laid out as in C++
+    ML_FEATURE(f12, storageBuffer8BitAccess),  // no shader uses it today (kept: the module always required it)
+    ML_FEATURE(f2.features, shaderInt64),              // 64-bit counters
+    ML_FEATURE(f2.features, multiDrawIndirect),        // one indirect multi-draw per G-buffer
+    ML_FEATURE(f2.features, fragmentStoresAndAtomics), // dual depth bake, shadow pages: atomics in fragments
+    ML_FEATURE(f2.features, drawIndirectFirstInstance), // shadow-page draws: firstInstance indexes drawInfo
+    ML_FEATURE(f12, drawIndirectCount),                 // one indirect-count draw per shadow-page mip
+    ML_FEATURE(mesh, meshShader),                      // no mesh/task shader yet: the virtual shadow maps'
+    ML_FEATURE(mesh, taskShader),                      // culling is planned on them (Device::cmdDrawMeshTasks)
+};
+#undef ML_FEATURE
+const char* const kRequiredExtensions[] = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+
+// Names of the rows not set in `chain`, comma-separated (empty when all are).
+std::string missingFeatures(FeatureChain& chain) {
+    std::string missing;
+    for (const FeatureRow& row : kRequiredFeatures)
+        if (!*row.field(chain)) missing += (missing.empty() ? "" : ", ") + std::string(row.name);
+    return missing;
+}
+
+// Reads a host's enabled-feature chain into `out`: the aggregate structs are copied whole, the
+// individual (promoted) structs set their members.
+void readEnabledChain(const VkPhysicalDeviceFeatures2* host, FeatureChain& out) {
+    for (auto* s = reinterpret_cast<const VkBaseInStructure*>(host); s; s = s->pNext) {
+        switch (s->sType) {
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2:
+            out.f2.features = reinterpret_cast<const VkPhysicalDeviceFeatures2*>(s)->features;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES: {
+            void* next = out.f12.pNext;
+            out.f12 = *reinterpret_cast<const VkPhysicalDeviceVulkan12Features*>(s);
+            out.f12.pNext = next;
+            break;
+        }
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES: {
+            void* next = out.f13.pNext;
+            out.f13 = *reinterpret_cast<const VkPhysicalDeviceVulkan13Features*>(s);
+            out.f13.pNext = next;
+            break;
+        }
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT: {
+            auto* m = reinterpret_cast<const VkPhysicalDeviceMeshShaderFeaturesEXT*>(s);
+            out.mesh.meshShader = m->meshShader;
+            out.mesh.taskShader = m->taskShader;
+            break;
+        }
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES:
+            out.f13.dynamicRendering = reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES:
+            out.f13.synchronization2 = reinterpret_cast<const VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
+            out.f13.maintenance4 = reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES: {
+            auto* a = reinterpret_cast<const VkPhysicalDeviceShaderAtomicInt64Features*>(s);
+            out.f12.shaderBufferInt64Atomics = a->shaderBufferInt64Atomics;
+            out.f12.shaderSharedInt64Atomics = a->shaderSharedInt64Atomics;
+            break;
+        }
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
+            out.f12.hostQueryReset = reinterpret_cast<const VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
+            out.f12.scalarBlockLayout = reinterpret_cast<const VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout;
+            break;
+        case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES:
+            out.f12.storageBuffer8BitAccess = reinterpret_cast<const VkPhysicalDevice8BitStorageFeatures*>(s)->storageBuffer8BitAccess;
+            break;
+        default: break;
+        }
+    }
+}
+
+// A queue family the module can use: graphics + compute on one queue, timestamps for the profiler.
+bool usableQueueFamily(const VkQueueFamilyProperties& q) {
+    constexpr VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    return (q.queueFlags & need) == need && q.timestampValidBits > 0;
+}
 } // namespace
+
+std::vector<std::string> requiredDeviceFeatures() {
+    std::vector<std::string> names;
+    for (const FeatureRow& row : kRequiredFeatures) names.push_back(row.name);
+    return names;
+}
+std::vector<std::string> requiredDeviceExtensions() {
+    return {std::begin(kRequiredExtensions), std::end(kRequiredExtensions)};
+}
 
 uint32_t validationErrors() { return gValidationErrors.load(); }
 uint32_t validationPerfWarnings() { return gValidationPerf.load(); }
@@ -129,7 +236,7 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT |
                           VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
         mci.pfnUserCallback = debugCallback;
-        VK_CHECK(createMessenger(d->instance, &mci, nullptr, &d->messenger_));
+        ML_VK_CHECK(createMessenger(d->instance, &mci, nullptr, &d->messenger_));
     }
 
     uint32_t count = 0;
@@ -145,10 +252,13 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
         if (!options.preferDevice.empty() && !std::strstr(props.deviceName, options.preferDevice.c_str())) continue;
         std::string why;
         if (props.apiVersion < VK_API_VERSION_1_3) why = "Vulkan 1.3 not supported";
-        else if (!hasDeviceExtension(pd, VK_EXT_MESH_SHADER_EXTENSION_NAME))
-            why = "no VK_EXT_mesh_shader (bookworm's Mesa 22 lacks it; install Mesa 25 from bookworm-backports)";
-        else if (!hasDeviceExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) why = "no VK_KHR_push_descriptor";
         else if (!props.limits.timestampComputeAndGraphics) why = "no timestamps on graphics/compute queues";
+        for (const char* ext : kRequiredExtensions)
+            if (why.empty() && !hasDeviceExtension(pd, ext))
+                why = std::string("no ") + ext +
+                      (std::strcmp(ext, VK_EXT_MESH_SHADER_EXTENSION_NAME) == 0
+                           ? " (bookworm's Mesa 22 lacks it; install Mesa 25 from bookworm-backports)"
+                           : "");
         if (why.empty()) {
             d->physicalDevice = pd;
             d->properties = props;
@@ -167,56 +277,28 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     vkGetPhysicalDeviceQueueFamilyProperties(d->physicalDevice, &qcount, qprops.data());
     d->queueFamily = ~0u;
     for (uint32_t i = 0; i < qcount; ++i)
-        if ((qprops[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
-                (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT) &&
-            qprops[i].timestampValidBits > 0) {
+        if (usableQueueFamily(qprops[i])) {
             d->queueFamily = i;
             break;
         }
     if (d->queueFamily == ~0u) return fail(d->name + ": no graphics+compute queue with timestamps");
 
-    // Features: check what we need, then enable exactly that.
-    VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
-    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &mesh};
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &f13};
-    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &f12};
-    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
-    vkGetPhysicalDeviceFeatures2(d->physicalDevice, &f2);
-    if (!mesh.meshShader || !mesh.taskShader) return fail(d->name + ": mesh and task shaders not supported");
-    if (!f13.dynamicRendering || !f13.synchronization2 || !f13.maintenance4)
-        return fail(d->name + ": dynamic rendering / synchronization2 / maintenance4 missing");
-    if (!f12.shaderBufferInt64Atomics || !f12.shaderSharedInt64Atomics || !f12.hostQueryReset ||
-        !f12.scalarBlockLayout || !f12.storageBuffer8BitAccess || !f12.drawIndirectCount)
-        return fail(d->name + ": 64-bit atomics, host query reset, scalar layout, 8-bit storage or draw indirect count missing");
-    if (!f2.features.shaderInt64 || !f2.features.multiDrawIndirect || !f2.features.fragmentStoresAndAtomics ||
-        !f2.features.drawIndirectFirstInstance)
-        return fail(d->name + ": shaderInt64 / multiDrawIndirect / fragmentStoresAndAtomics / drawIndirectFirstInstance missing");
+    // Features: check the table against what the device supports, then enable exactly the table.
+    FeatureChain supported;
+    vkGetPhysicalDeviceFeatures2(d->physicalDevice, &supported.f2);
+    if (std::string missing = missingFeatures(supported); !missing.empty())
+        return fail(d->name + ": required Vulkan features not supported: " + missing);
+    FeatureChain enabled;
+    for (const FeatureRow& row : kRequiredFeatures) *row.field(enabled) = VK_TRUE;
 
-    VkPhysicalDeviceMeshShaderFeaturesEXT meshOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
-    meshOn.meshShader = VK_TRUE;
-    meshOn.taskShader = VK_TRUE;
-    VkPhysicalDeviceVulkan13Features on13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &meshOn};
-    on13.dynamicRendering = on13.synchronization2 = on13.maintenance4 = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features on12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &on13};
-    on12.shaderBufferInt64Atomics = on12.shaderSharedInt64Atomics = on12.hostQueryReset = VK_TRUE;
-    on12.scalarBlockLayout = on12.storageBuffer8BitAccess = on12.drawIndirectCount = VK_TRUE;
-    on12.shaderInt8 = f12.shaderInt8;
-    VkPhysicalDeviceVulkan11Features on11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &on12};
-    on11.shaderDrawParameters = f11.shaderDrawParameters;
-    on11.storageBuffer16BitAccess = f11.storageBuffer16BitAccess;
-    VkPhysicalDeviceFeatures2 on2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &on11};
-    on2.features.shaderInt64 = on2.features.multiDrawIndirect = on2.features.fragmentStoresAndAtomics = VK_TRUE;
-    on2.features.drawIndirectFirstInstance = VK_TRUE;
-    on2.features.shaderInt16 = f2.features.shaderInt16;
-
-    std::vector<const char*> devExt = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> devExt(std::begin(kRequiredExtensions), std::end(kRequiredExtensions));
     if (options.window) devExt.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     float priority = 1.0f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qci.queueFamilyIndex = d->queueFamily;
     qci.queueCount = 1;
     qci.pQueuePriorities = &priority;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &on2};
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enabled.f2};
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
     dci.enabledExtensionCount = uint32_t(devExt.size());
@@ -231,6 +313,9 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
 Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
     if (!h.instance || !h.physicalDevice || !h.device || !h.queue)
         return fail("DeviceBorrow: instance, physicalDevice, device and queue must all be set");
+    if (!h.enabledFeatures || h.enabledFeatures->sType != VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2)
+        return fail("DeviceBorrow: enabledFeatures must point to the VkPhysicalDeviceFeatures2 chain the device "
+                    "was created with (Vulkan cannot report a device's enabled features)");
     std::unique_ptr<Device> d(new Device());
     d->owned_ = false;
     d->instance = h.instance;
@@ -242,8 +327,39 @@ Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
     vkGetPhysicalDeviceMemoryProperties(d->physicalDevice, &d->memoryProperties);
     d->name = d->properties.deviceName;
     d->timestampPeriodNs = d->properties.limits.timestampPeriod;
-    if (!hasDeviceExtension(d->physicalDevice, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
-        return fail(d->name + ": borrowed device lacks VK_KHR_push_descriptor");
+    const std::string who = "borrowed device (" + d->name + ")";
+    if (d->properties.apiVersion < VK_API_VERSION_1_3) return fail(who + ": Vulkan 1.3 not supported");
+
+    FeatureChain enabled;
+    readEnabledChain(h.enabledFeatures, enabled);
+    if (std::string missing = missingFeatures(enabled); !missing.empty())
+        return fail(who + ": required Vulkan features not enabled: " + missing);
+    std::string missingExt;
+    for (const char* ext : kRequiredExtensions) {
+        bool on = false;
+        for (const std::string& e : h.enabledExtensions) on = on || e == ext;
+        if (!on) missingExt += (missingExt.empty() ? "" : ", ") + std::string(ext);
+    }
+    if (!missingExt.empty()) return fail(who + ": required extensions not enabled: " + missingExt);
+
+    uint32_t qcount = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(d->physicalDevice, &qcount, nullptr);
+    std::vector<VkQueueFamilyProperties> qprops(qcount);
+    vkGetPhysicalDeviceQueueFamilyProperties(d->physicalDevice, &qcount, qprops.data());
+    if (h.queueFamily >= qcount)
+        return fail(who + ": queue family " + std::to_string(h.queueFamily) + " does not exist (" +
+                    std::to_string(qcount) + " families)");
+    if (!usableQueueFamily(qprops[h.queueFamily]))
+        return fail(who + ": queue family " + std::to_string(h.queueFamily) +
+                    " lacks graphics, compute or timestamps (the module records both kinds of pass on one queue)");
+    if (h.queueIndex >= qprops[h.queueFamily].queueCount)
+        return fail(who + ": queue index " + std::to_string(h.queueIndex) + " out of range for family " +
+                    std::to_string(h.queueFamily));
+    VkQueue expected = VK_NULL_HANDLE;
+    vkGetDeviceQueue(d->device, h.queueFamily, h.queueIndex, &expected);
+    if (expected != h.queue)
+        return fail(who + ": queue is not queue " + std::to_string(h.queueIndex) + " of family " +
+                    std::to_string(h.queueFamily) + " of this device");
     if (auto res = d->loadFunctions(); !res) return fail(res.error());
     return d;
 }
@@ -258,7 +374,7 @@ Result<void> Device::loadFunctions() {
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = queueFamily;
-    VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &setupPool_));
+    ML_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &setupPool_));
     return {};
 }
 
@@ -281,20 +397,20 @@ VkCommandBuffer Device::beginOneTime() const {
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
     VkCommandBuffer cmd;
-    VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
+    ML_VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    ML_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
     return cmd;
 }
 
 void Device::endOneTime(VkCommandBuffer cmd) const {
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    ML_VK_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd;
-    VK_CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    VK_CHECK(vkQueueWaitIdle(queue));
+    ML_VK_CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
+    ML_VK_CHECK(vkQueueWaitIdle(queue));
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
 }
 

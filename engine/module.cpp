@@ -777,7 +777,7 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     if (!m.ownTargets) return fail("readOutput: the output image belongs to the host (setTargets)");
     if (m.hdrOutput) return fail("readOutput: the module writes HDR only (ModuleOptions::hdrOutput)");
     const Device& d = *m.device;
-    VK_CHECK(vkQueueWaitIdle(d.queue));
+    ML_VK_CHECK(vkQueueWaitIdle(d.queue));
     size_t bytes = size_t(m.width) * m.height * 4;
     ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
     VkCommandBuffer cmd = m.device->beginOneTime();

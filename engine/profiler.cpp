@@ -37,7 +37,7 @@ void Profiler::create(const Device& device, uint32_t slots) {
     VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     ci.queryType = VK_QUERY_TYPE_TIMESTAMP;
     ci.queryCount = slots * kPassCount * 2;
-    VK_CHECK(vkCreateQueryPool(device.device, &ci, nullptr, &pool_));
+    ML_VK_CHECK(vkCreateQueryPool(device.device, &ci, nullptr, &pool_));
     vkResetQueryPool(device.device, pool_, 0, ci.queryCount);
 }
 

@@ -170,14 +170,14 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
     sci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     sci.bindingCount = uint32_t(bindings.size());
     sci.pBindings = bindings.data();
-    VK_CHECK(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
+    ML_VK_CHECK(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
     VkPushConstantRange range{p.stages, 0, pushSize};
     VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     lci.setLayoutCount = 1;
     lci.pSetLayouts = &p.setLayout;
     lci.pushConstantRangeCount = pushSize ? 1 : 0;
     lci.pPushConstantRanges = &range;
-    VK_CHECK(vkCreatePipelineLayout(device.device, &lci, nullptr, &p.layout));
+    ML_VK_CHECK(vkCreatePipelineLayout(device.device, &lci, nullptr, &p.layout));
     p.pushSize = pushSize;
 }
 
@@ -190,7 +190,7 @@ ShaderModule loadShader(const Device& device, const uint32_t* code, size_t bytes
     VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     ci.codeSize = bytes;
     ci.pCode = code;
-    VK_CHECK(vkCreateShaderModule(device.device, &ci, nullptr, &sm.module));
+    ML_VK_CHECK(vkCreateShaderModule(device.device, &ci, nullptr, &sm.module));
     return sm;
 }
 
@@ -214,7 +214,7 @@ Program createComputeProgram(const Device& device, const ShaderModule& shader, u
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
     ci.layout = p.layout;
-    VK_CHECK(vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    ML_VK_CHECK(vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
     device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
     return p;
 }
@@ -277,7 +277,7 @@ Program createGraphicsProgram(const Device& device, std::initializer_list<const 
     ci.pColorBlendState = &cb;
     ci.pDynamicState = &dy;
     ci.layout = p.layout;
-    VK_CHECK(vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    ML_VK_CHECK(vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
     device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
     return p;
 }

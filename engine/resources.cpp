@@ -10,7 +10,7 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = b.size;
     ci.usage = usage;
-    VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
+    ML_VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -21,9 +21,9 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
         std::fprintf(stderr, "%s:%d: no host-visible coherent memory for buffer %s\n", __FILE__, __LINE__, name);
         std::abort();
     }
-    VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
-    VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
-    VK_CHECK(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
+    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
+    ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
+    ML_VK_CHECK(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
     std::memset(b.data, 0, b.size);
     device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
     return b;
@@ -43,15 +43,15 @@ Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsage
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = b.size;
     ci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
+    ML_VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (ai.memoryTypeIndex == ~0u) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
-    VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
-    VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
+    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
+    ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
     device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
     VkCommandBuffer cmd = device.beginOneTime();
     vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
@@ -105,21 +105,21 @@ Image createImage(const Device& device, uint32_t width, uint32_t height, VkForma
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
     ci.usage = usage;
     ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
+    ML_VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device.device, img.image, &req);
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (ai.memoryTypeIndex == ~0u) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
-    VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &img.memory));
-    VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
+    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &img.memory));
+    ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.image;
     vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vi.format = format;
     vi.subresourceRange = {img.aspect, 0, 1, 0, 1};
-    VK_CHECK(vkCreateImageView(device.device, &vi, nullptr, &img.view));
+    ML_VK_CHECK(vkCreateImageView(device.device, &vi, nullptr, &img.view));
     device.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(img.image), name);
     return img;
 }

@@ -1,4 +1,4 @@
-// VK_CHECK: every Vulkan call whose failure is a bug (not an expected condition) goes through it; it
+// ML_VK_CHECK: every Vulkan call whose failure is a bug (not an expected condition) goes through it; it
 // names the file, the line and the VkResult, then aborts. Fallible setup returns Result instead.
 #pragma once
 #include <vulkan/vulkan.h>
@@ -10,7 +10,7 @@ namespace ml {
 const char* vkResultName(VkResult result);
 }
 
-#define VK_CHECK(call)                                                                                      \
+#define ML_VK_CHECK(call)                                                                                   \
     do {                                                                                                    \
         VkResult vk_check_result_ = (call);                                                                 \
         if (vk_check_result_ != VK_SUCCESS) {                                                               \

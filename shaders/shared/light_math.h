@@ -1,6 +1,6 @@
 // Light bounds tests and pixel reconstruction, one source for GLSL and the C++ references.
 //
-// The culling reference (culling/cluster_reference.cpp) compiles these very functions, so CPU and GPU
+// The culling reference (cullReference in culling/culling.cpp) compiles these very functions, so CPU and GPU
 // agree bit for bit as long as both evaluate the same IEEE operations in the same order: every
 // intermediate is `precise` in GLSL (no contraction to fma, no reassociation) and the C++ build uses
 // -ffp-contract=off. Only +, -, *, /, sqrt, min and max appear: all correctly rounded on both sides.

@@ -1,10 +1,10 @@
 // The bake driver: static lights of a scene -> dual depth maps -> a static method's words -> BakeFile,
 // and its inverse check, verify: re-render every baked light and compare every texel (or voxel).
 //
-// Rendering goes through a DualRenderFn so that a GPU renderer can replace the CPU rasteriser later
-// without touching the driver; both must produce the same maps (raster_dual.h defines them).
-// Lights that cannot be baked (dynamic lights, point and directional lights) are never dropped
-// silently: they come back in BakeResult::skipped with the reason.
+// Rendering goes through a DualRenderFn: the Vulkan renderer (shadows/gpu/dual_depth_gpu.h) or the CPU
+// rasteriser, which must produce the same maps (raster_dual.h defines them). Spot lights bake one map,
+// point lights six cube faces. Lights that cannot be baked (dynamic and directional lights) are never
+// dropped silently: they come back in BakeResult::skipped with the reason.
 #pragma once
 #include "engine/result.h"
 #include "scenes/scenes.h"
@@ -90,7 +90,7 @@ struct VerifyReport {
 // record's frustum, and checks every texel: depth methods enter <= lookup <= exit, empty texels exactly
 // kDepthEmpty; CPVS every voxel against the voxelisation of the maps (verifyCpvs; undefined voxels are
 // counted apart). Fails (rather than counting mismatches) when the scene no longer matches the file:
-// a record's light missing, not a static spot, or with a different frustum.
+// a record's light missing, not a static spot or point light, or with a different frustum.
 Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene,
                                      const DualRenderFn& render = {}, const BakeProgressFn& progress = {});
 

@@ -1,0 +1,174 @@
+// Borrowing a host's device: the documented requirement list equals the table create() enables and
+// borrow() checks; a device missing any feature or extension, or handed over with a wrong queue, is
+// refused with a line naming it; a correct borrow renders with no validation message.
+#include "gpu_test_util.h"
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace ml {
+namespace {
+
+// The names after "//   features:" / "//   extensions:" in engine/device.h's header comment.
+std::vector<std::string> documented(const std::string& key) {
+    std::ifstream in(std::string(ML_SOURCE_DIR) + "/engine/device.h");
+    EXPECT_TRUE(in.good());
+    std::vector<std::string> names;
+    std::string line;
+    const std::string prefix = "//   " + key + ":";
+    while (std::getline(in, line)) {
+        if (line.rfind(prefix, 0) != 0) continue;
+        std::istringstream words(line.substr(prefix.size()));
+        for (std::string w; words >> w;) names.push_back(w);
+    }
+    return names;
+}
+
+TEST(DeviceBorrow, DocumentedListEqualsTable) {
+    EXPECT_EQ(documented("features"), requiredDeviceFeatures());
+    EXPECT_EQ(documented("extensions"), requiredDeviceExtensions());
+    EXPECT_GE(requiredDeviceFeatures().size(), 10u);
+}
+
+// A host's device on the module's physical device, created the way a host engine would: the
+// Vulkan 1.2/1.3 feature structs and the mesh shader struct, all required features on except `without`.
+struct HostDevice {
+    VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &mesh};
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &f13};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
+    std::vector<std::string> extensions = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+
+    explicit HostDevice(const Device& d, const std::string& without = "") {
+        mesh.meshShader = mesh.taskShader = VK_TRUE;
+        f13.dynamicRendering = f13.synchronization2 = f13.maintenance4 = VK_TRUE;
+        f12.shaderBufferInt64Atomics = f12.shaderSharedInt64Atomics = f12.hostQueryReset = VK_TRUE;
+        f12.scalarBlockLayout = f12.storageBuffer8BitAccess = VK_TRUE;
+        f2.features.shaderInt64 = f2.features.multiDrawIndirect = f2.features.fragmentStoresAndAtomics = VK_TRUE;
+        f2.features.drawIndirectFirstInstance = f12.drawIndirectCount = VK_TRUE;
+        VkBool32* named[] = {&f13.dynamicRendering, &f13.synchronization2, &f13.maintenance4,
+                             &f12.shaderBufferInt64Atomics, &f12.shaderSharedInt64Atomics, &f12.hostQueryReset,
+                             &f12.scalarBlockLayout, &f12.storageBuffer8BitAccess, &f2.features.shaderInt64,
+                             &f2.features.multiDrawIndirect, &f2.features.fragmentStoresAndAtomics,
+                             &f2.features.drawIndirectFirstInstance, &f12.drawIndirectCount,
+                             &mesh.meshShader, &mesh.taskShader};
+        auto names = requiredDeviceFeatures(); // same order as `named` (checked by the test above)
+        for (size_t i = 0; i < names.size() && i < std::size(named); ++i)
+            if (names[i] == without) *named[i] = VK_FALSE;
+        if (without == "meshShader") mesh.taskShader = VK_FALSE; // task shaders require mesh shaders
+        std::vector<const char*> ext;
+        for (auto& e : extensions) ext.push_back(e.c_str());
+        float priority = 1.0f;
+        VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        qci.queueFamilyIndex = d.queueFamily;
+        qci.queueCount = 1;
+        qci.pQueuePriorities = &priority;
+        VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &f2};
+        dci.queueCreateInfoCount = 1;
+        dci.pQueueCreateInfos = &qci;
+        dci.enabledExtensionCount = uint32_t(ext.size());
+        dci.ppEnabledExtensionNames = ext.data();
+        EXPECT_EQ(vkCreateDevice(d.physicalDevice, &dci, nullptr, &device), VK_SUCCESS);
+        vkGetDeviceQueue(device, d.queueFamily, 0, &queue);
+    }
+    ~HostDevice() { vkDestroyDevice(device, nullptr); }
+    DeviceBorrow borrow(const Device& d) const {
+        DeviceBorrow b{d.instance, d.physicalDevice, device, queue, d.queueFamily, 0, &f2, extensions};
+        return b;
+    }
+};
+
+std::unique_ptr<Device> ownDevice() {
+    resetValidationCounters();
+    DeviceOptions o;
+    o.validation = true;
+    auto d = Device::create(o);
+    EXPECT_TRUE(d.ok()) << d.error();
+    return d ? std::move(d.value()) : nullptr;
+}
+
+TEST(DeviceBorrow, EachMissingFeatureIsRefusedByName) {
+    auto own = ownDevice();
+    ASSERT_TRUE(own);
+    for (const std::string& feature : requiredDeviceFeatures()) {
+        HostDevice host(*own, feature);
+        auto r = Device::borrow(host.borrow(*own));
+        ASSERT_FALSE(r.ok()) << feature << " missing but the borrow was accepted";
+        EXPECT_NE(r.error().find("not enabled: " + feature), std::string::npos) << r.error();
+        EXPECT_EQ(r.error().find('\n'), std::string::npos);
+    }
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(DeviceBorrow, MissingExtensionOrChainIsRefused) {
+    auto own = ownDevice();
+    ASSERT_TRUE(own);
+    HostDevice host(*own);
+    DeviceBorrow b = host.borrow(*own);
+    b.enabledExtensions = {VK_EXT_MESH_SHADER_EXTENSION_NAME};
+    auto r = Device::borrow(b);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("extensions not enabled: " VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME), std::string::npos)
+        << r.error();
+    b = host.borrow(*own);
+    b.enabledFeatures = nullptr;
+    r = Device::borrow(b);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("enabledFeatures"), std::string::npos) << r.error();
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(DeviceBorrow, WrongQueueIsRefused) {
+    auto own = ownDevice();
+    ASSERT_TRUE(own);
+    HostDevice host(*own);
+    DeviceBorrow b = host.borrow(*own);
+    b.queueFamily = 77; // no such family
+    auto r = Device::borrow(b);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("queue family 77 does not exist"), std::string::npos) << r.error();
+    b = host.borrow(*own);
+    b.queue = own->queue; // a queue of another device
+    r = Device::borrow(b);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("queue is not queue 0 of family"), std::string::npos) << r.error();
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(DeviceBorrow, CorrectBorrowRendersWithoutValidationMessages) {
+    auto own = ownDevice();
+    ASSERT_TRUE(own);
+    HostDevice host(*own);
+    {
+        ModuleOptions o;
+        o.borrow = host.borrow(*own);
+        auto created = Module::create(o);
+        ASSERT_TRUE(created.ok()) << created.error();
+        Module& m = *created.value();
+        EXPECT_EQ(m.device().device, host.device);
+        std::vector<MeshVertex> v = {{{-5, 0, -5}, {0, 1, 0}}, {{5, 0, -5}, {0, 1, 0}}, {{0, 0, 5}, {0, 1, 0}}};
+        std::vector<uint32_t> idx = {0, 2, 1};
+        auto mesh = m.addMesh({v, idx});
+        ASSERT_TRUE(mesh.ok()) << mesh.error();
+        ASSERT_TRUE(m.addInstance(mesh.value(), glm::mat4(1.0f), glm::vec3(0.5f), false).ok());
+        LightDesc spot;
+        spot.position = {0, 3, 0};
+        spot.intensity = 30;
+        ASSERT_TRUE(m.addLight(spot).ok());
+        ASSERT_TRUE(m.setCamera({{0, 4, 6}, {0, 0, 0}}).ok());
+        ASSERT_TRUE(m.createTargets(64, 36).ok());
+        test::renderFrame(m);
+        std::vector<uint8_t> rgba;
+        ASSERT_TRUE(m.readOutput(rgba).ok());
+        uint32_t lit = 0, maxRed = 0;
+        for (size_t i = 0; i < rgba.size(); i += 4) lit += rgba[i] > 100, maxRed = std::max<uint32_t>(maxRed, rgba[i]);
+        EXPECT_GT(lit, 20u) << "brightest red " << maxRed; // the spot's pool on the triangle
+    } // the module goes before the host's device
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace
+} // namespace ml

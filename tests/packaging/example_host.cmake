@@ -1,0 +1,51 @@
+# Consumes the module as a host engine would and runs the example host (examples/host):
+#   MODE=install: `cmake --install` into a fresh prefix, find_package(manylights) against it, build and
+#                 run the example; then compile it again from `pkg-config --cflags --libs manylights`.
+#   MODE=subdir:  add_subdirectory(<repo>) from the example's project; the consumer's cache must not
+#                 hold any test-only package (GTest, Embree, TinyGLTF); build and run the example.
+# Arguments: -DMODE= -DSOURCE=<repo> -DBUILD=<this build tree> -DOUT=<scratch dir> [-DLAUNCHER=ccache]
+cmake_minimum_required(VERSION 3.25)
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${out}\n${err}")
+  endif()
+  set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${OUT})
+set(configure -S ${SOURCE}/examples/host -B ${OUT}/build -DCMAKE_BUILD_TYPE=Release)
+if(LAUNCHER)
+  list(APPEND configure -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER} -DCMAKE_C_COMPILER_LAUNCHER=${LAUNCHER})
+endif()
+
+if(MODE STREQUAL "install")
+  run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${OUT}/prefix)
+  foreach(f include/manylights/engine/manylights.h lib/cmake/manylights/manylights-config.cmake
+            lib/cmake/manylights/manylights-config-version.cmake lib/pkgconfig/manylights.pc)
+    if(NOT EXISTS ${OUT}/prefix/${f})
+      message(FATAL_ERROR "cmake --install did not install ${f}")
+    endif()
+  endforeach()
+  run(${CMAKE_COMMAND} ${configure} -DCMAKE_PREFIX_PATH=${OUT}/prefix)
+elseif(MODE STREQUAL "subdir")
+  run(${CMAKE_COMMAND} ${configure} -DMANYLIGHTS_SOURCE_DIR=${SOURCE})
+  file(STRINGS ${OUT}/build/CMakeCache.txt test_only REGEX "^(GTest|embree|TinyGLTF)_DIR:")
+  if(test_only)
+    message(FATAL_ERROR "add_subdirectory looked for test-only packages: ${test_only}")
+  endif()
+else()
+  message(FATAL_ERROR "MODE must be install or subdir")
+endif()
+run(${CMAKE_COMMAND} --build ${OUT}/build -j2)
+run(${OUT}/build/host_example)
+message("${last_output}")
+
+if(MODE STREQUAL "install")
+  # pkg-config: the same program from the .pc file's flags alone (linked, not run again).
+  find_program(PKG_CONFIG pkg-config REQUIRED)
+  set(ENV{PKG_CONFIG_PATH} ${OUT}/prefix/lib/pkgconfig)
+  run(${PKG_CONFIG} --cflags --libs manylights)
+  separate_arguments(flags UNIX_COMMAND "${last_output}")
+  run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${flags} -o ${OUT}/host_example_pkgconfig)
+endif()
