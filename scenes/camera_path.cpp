@@ -24,10 +24,21 @@ Result<Camera> cameraOnPath(const Scene& scene, CameraPath path, double seconds)
     Camera cam = scene.camera;
     if (path == CameraPath::Static) return cam;
     if (path == CameraPath::Drive) {
-        if (scene.cars.empty() || scene.cars[0].instance >= scene.instances.size())
+        // The car whose loop passes closest to the scene camera's target (the night city's lit high
+        // street), ties to the first: a choice that does not change while the cars move.
+        size_t pick = scene.cars.size();
+        float best = 1e30f;
+        for (size_t c = 0; c < scene.cars.size(); ++c) {
+            if (scene.cars[c].instance >= scene.instances.size()) continue;
+            for (const glm::vec3& w : scene.cars[c].waypoints) {
+                const float d = glm::length(glm::vec2(w.x - cam.target.x, w.z - cam.target.z));
+                if (d < best) best = d, pick = c;
+            }
+        }
+        if (pick == scene.cars.size())
             return fail(scene.name + ": the drive path follows a car and this scene has none");
         // Car object space: front towards -Z, +Y up (scenes/animate.cpp).
-        const glm::mat4& m = scene.instances[scene.cars[0].instance].transform;
+        const glm::mat4& m = scene.instances[scene.cars[pick].instance].transform;
         glm::vec3 position(m[3]);
         glm::vec3 forward = -glm::normalize(glm::vec3(m[2]));
         cam.position = position - forward * 9.0f + glm::vec3(0.0f, 4.5f, 0.0f);

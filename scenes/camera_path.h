@@ -1,8 +1,8 @@
 // Deterministic named camera paths for the demo, the benchmarks and the tests: the camera at time t is a
 // pure function of the scene and t, so every run of a path sees the same frames.
 //   static  the scene's own camera;
-//   drive   behind and above the first car, looking ahead along its heading (night city: the car's
-//           headlights and the lamps it passes cast moving shadows into the view);
+//   drive   behind and above a car (the one whose loop passes closest to the scene camera's target),
+//           looking ahead along its heading (night city: its headlights and the lamps it passes);
 //   orbit   a circle around the scene's centre, one turn per minute, looking at the centre.
 #pragma once
 #include "scenes/scene.h"
