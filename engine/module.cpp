@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <tuple>
 
 namespace ml {
 
@@ -146,7 +147,8 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.slices);
         destroyBuffer(d, s.instances);
     }
-    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords})
+    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords,
+                      &meshletBuffer, &meshletVertexBuffer, &meshletTriangleBuffer})
         destroyBuffer(d, *b);
     destroyTargets();
 }
@@ -176,6 +178,11 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     }
     Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
                       hi};
+    r.firstMeshlet = uint32_t(m.meshlets.meshlets.size());
+    r.meshletCount = appendMeshlets(m.meshlets, mesh.vertices.empty() ? nullptr : mesh.vertices[0].position,
+                                    sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex);
+    r.closed = meshIsClosed(mesh.vertices.empty() ? nullptr : mesh.vertices[0].position, sizeof(MeshVertex),
+                            mesh.vertices.size(), mesh.indices);
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
@@ -371,6 +378,16 @@ void Module::Impl::uploadGeometry() {
     ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
     if (!vertices.empty()) upload(vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex));
     if (!indices.empty()) upload(indexBuffer, indices.data(), indices.size() * 4);
+    for (auto [b, data, bytes, name] :
+         {std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
+                     meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), "meshlets"},
+          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(), meshlets.vertices.size() * 4,
+                     "meshlet_vertices"},
+          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(), meshlets.triangles.size() * 4,
+                     "meshlet_triangles"}}) {
+        ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name);
+        if (bytes) upload(*b, data, bytes);
+    }
     ensureBuffer(d, drawBuffer, instances.size() * sizeof(VkDrawIndexedIndirectCommand),
                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
     auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
@@ -434,6 +451,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
 
     VsmFrameInputs vin{&slot.frame,  &slot.slices,    &slot.lights,   &m.cull.ranges,   &m.cull.pool, depthView,
                        normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
+    vin.meshlets = &m.meshletBuffer;
+    vin.meshletVertices = &m.meshletVertexBuffer;
+    vin.meshletTriangles = &m.meshletTriangleBuffer;
     m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
 
     m.profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
@@ -527,6 +547,9 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
         v.indexCount = r.indexCount;
         v.firstIndex = r.firstIndex;
         v.vertexOffset = r.firstVertex;
+        v.firstMeshlet = r.firstMeshlet;
+        v.meshletCount = r.meshletCount;
+        v.closed = r.closed;
         v.dynamic = id.dynamic;
     }
     if (vsm.enabled()) {

@@ -6,6 +6,7 @@
 #include "engine/manylights.h"
 #include "engine/profiler.h"
 #include "shadows/virtual/vsm.h"
+#include "shadows/virtual/vsm_meshlets.h"
 
 #include "evaluate.comp.spv.h"
 #include "statistics.comp.spv.h"
@@ -21,6 +22,8 @@ struct Module::Impl {
     struct MeshRange {
         uint32_t firstVertex, firstIndex, indexCount;
         glm::vec3 lo, hi; // object-space bounds
+        uint32_t firstMeshlet = 0, meshletCount = 0; // VSM mesh path (shadows/virtual/vsm_meshlets.h)
+        bool closed = false;
     };
     struct InstanceData {
         MeshId mesh;
@@ -65,6 +68,8 @@ struct Module::Impl {
     CameraDesc camera;
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
+    MeshletSet meshlets;
+    Buffer meshletBuffer, meshletVertexBuffer, meshletTriangleBuffer;
 
     uint32_t width = 0, height = 0;
     bool ownTargets = false;

@@ -68,6 +68,15 @@
 #define ML_VSM_CLEAR_GROUP 256
 // Instance culling: one thread per (active map, caster).
 #define ML_VSM_CULL_GROUP 64
+// Meshlets of the VSM mesh path (meshoptimizer, engine/module.cpp addMesh): at most this many vertices
+// and triangles each (meshoptimizer wants triangles a multiple of 4). 64/124 is NVIDIA's and
+// meshoptimizer's recommendation; measured on lavapipe with `bench vsm` (README, VSM meshlets).
+#define ML_MESHLET_VERTICES 64
+#define ML_MESHLET_TRIANGLES 124
+// Task shader: one meshlet per invocation, 32 per workgroup (lavapipe prefers <= 64 task invocations).
+#define ML_VSM_TASK_GROUP 32
+// Mesh shader workgroup: one thread per output vertex (and two triangles per thread).
+#define ML_VSM_MESH_GROUP 64
 // Each receiver also marks the page ML_VSM_FALLBACK_MIPS mips (or clip levels) coarser than the one it
 // wants: allocation serves coarse mips first, so when the pool runs out the lookup still finds that
 // page. 3 mips up, a fallback page covers 8x8 wanted pages, so it costs 1/64 of the marked pages (and

@@ -5,6 +5,10 @@
 
 namespace ml {
 
+// How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
+// indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
+enum class VsmRaster : uint32_t { Mesh, Vertex };
+
 struct VsmSettings {
     bool enabled = true;
     // Virtual resolution of every map (spot, cube face, clip level): a power of two, 256..16384.
@@ -25,6 +29,8 @@ struct VsmSettings {
     bool staticLights = true; // lights that do not move get maps
     bool movingLights = true; // moving lights (headlights) get maps
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
+    VsmRaster raster = VsmRaster::Mesh; // the module takes Vertex when the device has no mesh shaders
+    uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
 };
 
 // What the VSM passes did in one frame (FrameReport::stats.vsm; stats.json's "vsm" object).
@@ -33,6 +39,11 @@ struct VsmStats {
              pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0, mapsActive = 0,
              instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0, lightsWithoutSlot = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
+    // Mesh path only (zero on the vertex path): meshlets of (instance, map, mip) at each culling stage.
+    bool meshPath = false;
+    uint32_t meshletsTotal = 0, meshletsCulledFrustum = 0, meshletsCulledHpb = 0, meshletsAfterExpansion = 0,
+             meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0, meshletsAfterTask = 0,
+             trianglesAfterTask = 0, trianglesRasterized = 0;
 };
 
 } // namespace ml
