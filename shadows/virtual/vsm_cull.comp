@@ -68,5 +68,6 @@ void main() {
         draws[d * 5u + 4u] = d;        // first instance: this draw's drawInfo
         drawInfo[d] = uvec2(instance, map);
         atomicAdd(vsmCounters.instancesDrawn, 1u);
+        atomicAdd(vsmCounters.trianglesRasterized, c.draw.x / 3u); // submitted: the vertex path culls none
     }
 }

@@ -2,12 +2,20 @@
 // included by the public header engine/manylights.h.
 #pragma once
 #include <cstdint>
+#include <string_view>
 
 namespace ml {
 
 // How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
 // indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
 enum class VsmRaster : uint32_t { Mesh, Vertex };
+// `--vsm-raster mesh|vertex` of the commands: false for any other word.
+inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
+    if (word == "mesh") out = VsmRaster::Mesh;
+    else if (word == "vertex") out = VsmRaster::Vertex;
+    else return false;
+    return true;
+}
 
 struct VsmSettings {
     bool enabled = true;
@@ -39,7 +47,8 @@ struct VsmStats {
              pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0, mapsActive = 0,
              instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0, lightsWithoutSlot = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
-    // Mesh path only (zero on the vertex path): meshlets of (instance, map, mip) at each culling stage.
+    // Mesh path only (zero on the vertex path, except trianglesRasterized: the indexed draws' triangles):
+    // meshlets of (instance, map, mip) at each culling stage.
     bool meshPath = false;
     uint32_t meshletsTotal = 0, meshletsCulledFrustum = 0, meshletsCulledHpb = 0, meshletsAfterExpansion = 0,
              meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0, meshletsAfterTask = 0,

@@ -83,7 +83,8 @@ ML_STRUCT(VsmCounters) {
     uint taskCulledHpb;          // task: the meshlet's bounds over no dirty page (HPB)
     uint meshletsAfterTask;      // mesh workgroups launched
     uint trianglesAfterTask;     // triangles of those meshlets
-    uint trianglesRasterized;    // triangles the mesh shader emitted (not culled as zero-area or sample-free)
+    uint trianglesRasterized;    // triangles the mesh shader emitted (not culled as zero-area or sample-free);
+                                 // vertex path: triangles of the indexed draws
     uint pad2, pad3, pad4, pad5, pad6;
 };
 
