@@ -9,6 +9,7 @@
 // of the meshlets of (caster, map, dirty mip) each stage removed, summed over the frames after the first.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "engine/module_impl.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/config.h"
 
@@ -31,6 +32,7 @@ Virtual shadow maps on a camera path: pass times and page counts, cached against
   --vsm-pool N    physical pages (default 4096)
   --kinds LIST    rows to run, comma-separated from static-spot,moving-spot,point,directional (default all)
   --vsm-raster R  page-draw path: mesh, vertex or both (default both: every row once per path)
+  --meshlet VxT   meshlet limits: vertices x triangles (default 64x124, at most that; triangles a multiple of 4)
   --out DIR       output folder (default out/bench_vsm)
 Last stdout line: {"cached_draw_ms_mean": ..., "uncached_draw_ms_mean": ..., "pages_allocated_mean": ...,
 "fallbacks_total": ..., ...} (the means over the first path given: mesh with both)
@@ -56,7 +58,7 @@ struct Row {
 int runBenchVsm(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
                            {"--scene", "--path", "--frames", "--size", "--lights", "--bake", "--vsm-res", "--vsm-page",
-                            "--vsm-pool", "--kinds", "--out", "--vsm-raster"},
+                            "--vsm-pool", "--kinds", "--out", "--vsm-raster", "--meshlet"},
                            {});
     if (!args) return usageError("bench vsm", args.error());
     if (args->help) {
@@ -91,6 +93,8 @@ int runBenchVsm(int argc, char** argv) {
         else return usageError("bench vsm", "--vsm-raster takes mesh, vertex or both, not '" + r + "'");
     }
     auto rasterName = [](VsmRaster r) { return r == VsmRaster::Mesh ? "mesh" : "vertex"; };
+    auto meshlet = cli::parseSize("--meshlet", args->get("--meshlet", "64x124"));
+    if (!meshlet) return usageError("bench vsm", meshlet.error());
     const std::string out = args->get("--out", "out/bench_vsm");
     if (auto r = cli::makeDirectory(out); !r) return runError("bench vsm", r.error());
 
@@ -114,11 +118,18 @@ int runBenchVsm(int argc, char** argv) {
             o.module.vsm.poolPages = pool.value();
             o.module.vsm.caching = cached;
             o.module.vsm.raster = raster;
+            std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = meshlet.value();
             o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
             o.module.vsm.movingLights = kind != "static-spot";
             o.module.vsm.staticLights = kind != "moving-spot";
             auto session = VsmSession::create(o);
             if (!session) return runError("bench vsm", session.error());
+            if (rows.empty()) {
+                const auto& impl = session.value()->module->internals();
+                std::fprintf(stderr, "  %zu meshes, %zu instances, %zu meshlets of at most %u vertices / %u triangles\n",
+                             impl.meshes.size(), impl.instances.size(), impl.meshlets.meshlets.size(),
+                             meshlet.value().first, meshlet.value().second);
+            }
             Row row;
             row.kind = kind;
             row.cached = cached;

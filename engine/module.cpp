@@ -101,6 +101,12 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
             !std::isfinite(v.clipDepth))
             return fail("vsm: clip extent and depth must be finite and > 0");
         if (v.maxDrawsPerMip < 1) return fail("vsm: max draws per mip must be >= 1");
+        if (v.meshletVertices < 3 || v.meshletVertices > ML_MESHLET_VERTICES || v.meshletTriangles < 4 ||
+            v.meshletTriangles > ML_MESHLET_TRIANGLES || v.meshletTriangles % 4)
+            return fail("vsm: meshlets of " + std::to_string(v.meshletVertices) + " vertices / " +
+                        std::to_string(v.meshletTriangles) + " triangles: want 3.." +
+                        std::to_string(ML_MESHLET_VERTICES) + " / 4.." + std::to_string(ML_MESHLET_TRIANGLES) +
+                        " (a multiple of 4)");
     }
     impl->vsmSettings = v;
     impl->slots.resize(std::max(1u, options.framesInFlight));
@@ -180,7 +186,8 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
                       hi};
     r.firstMeshlet = uint32_t(m.meshlets.meshlets.size());
     r.meshletCount = appendMeshlets(m.meshlets, mesh.vertices.empty() ? nullptr : mesh.vertices[0].position,
-                                    sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex);
+                                    sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex,
+                                    m.vsmSettings.meshletVertices, m.vsmSettings.meshletTriangles);
     r.closed = meshIsClosed(mesh.vertices.empty() ? nullptr : mesh.vertices[0].position, sizeof(MeshVertex),
                             mesh.vertices.size(), mesh.indices);
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());

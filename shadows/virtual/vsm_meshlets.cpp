@@ -2,6 +2,7 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -10,9 +11,11 @@
 namespace ml {
 
 uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, size_t vertexCount,
-                        std::span<const uint32_t> indices, uint32_t firstVertex) {
+                        std::span<const uint32_t> indices, uint32_t firstVertex, uint32_t maxVertices,
+                        uint32_t maxTriangles) {
     if (indices.empty()) return 0;
-    const size_t maxV = ML_MESHLET_VERTICES, maxT = ML_MESHLET_TRIANGLES;
+    const size_t maxV = std::min<uint32_t>(maxVertices, ML_MESHLET_VERTICES);
+    const size_t maxT = std::min<uint32_t>(maxTriangles, ML_MESHLET_TRIANGLES) & ~3u;
     std::vector<meshopt_Meshlet> ms(meshopt_buildMeshletsBound(indices.size(), maxV, maxT));
     std::vector<uint32_t> verts(ms.size() * maxV);
     std::vector<unsigned char> tris(ms.size() * maxT * 3);

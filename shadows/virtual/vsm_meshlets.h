@@ -17,11 +17,13 @@ struct MeshletSet {
 };
 
 // Appends the meshlets of one mesh (indices local to its vertices; positions are the first three floats
-// of each `stride`-byte vertex) to `out`, at most ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES each.
+// of each `stride`-byte vertex) to `out`, at most maxVertices / maxTriangles each (at most
+// ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES, the mesh shader's capacity; triangles a multiple of 4).
 // Triangles keep their corner order (the rasteriser then interpolates exactly as the vertex path does).
 // Returns the number of meshlets appended.
 uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, size_t vertexCount,
-                        std::span<const uint32_t> indices, uint32_t firstVertex);
+                        std::span<const uint32_t> indices, uint32_t firstVertex,
+                        uint32_t maxVertices = ML_MESHLET_VERTICES, uint32_t maxTriangles = ML_MESHLET_TRIANGLES);
 
 // True when the mesh is a closed, consistently wound surface with outward (counter-clockwise) faces:
 // after welding vertices with bit-equal positions, every non-degenerate triangle edge a->b meets exactly

@@ -39,6 +39,10 @@ struct VsmSettings {
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
     VsmRaster raster = VsmRaster::Mesh; // the module takes Vertex when the device has no mesh shaders
     uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
+    // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity
+    // ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES (shaders/shared/config.h, which has the measurement);
+    // triangles a multiple of 4. Smaller values are for `bench vsm --meshlet`.
+    uint32_t meshletVertices = 64, meshletTriangles = 124;
 };
 
 // What the VSM passes did in one frame (FrameReport::stats.vsm; stats.json's "vsm" object).
