@@ -31,7 +31,7 @@ Virtual shadow maps on a camera path: pass times and page counts, cached against
   --vsm-page N    page size: 32, 64 (default), 128
   --vsm-pool N    physical pages (default 4096)
   --kinds LIST    rows to run, comma-separated from static-spot,moving-spot,point,directional (default all)
-  --vsm-raster R  page-draw path: mesh, vertex or both (default both: every row once per path)
+  --vsm-raster R  page-draw path: mesh, vertex, auto or both (default both: every row once per path)
   --meshlet VxT   meshlet limits: vertices x triangles (default 64x124, at most that; triangles a multiple of 4)
   --out DIR       output folder (default out/bench_vsm)
 Last stdout line: {"cached_draw_ms_mean": ..., "uncached_draw_ms_mean": ..., "pages_allocated_mean": ...,
@@ -90,7 +90,7 @@ int runBenchVsm(int argc, char** argv) {
         VsmRaster one;
         if (r == "both") rasters = {VsmRaster::Mesh, VsmRaster::Vertex};
         else if (parseVsmRaster(r, one)) rasters = {one};
-        else return usageError("bench vsm", "--vsm-raster takes mesh, vertex or both, not '" + r + "'");
+        else return usageError("bench vsm", "--vsm-raster takes mesh, vertex, auto or both, not '" + r + "'");
     }
     auto rasterName = [](VsmRaster r) { return r == VsmRaster::Mesh ? "mesh" : "vertex"; };
     auto meshlet = cli::parseSize("--meshlet", args->get("--meshlet", "64x124"));
@@ -133,7 +133,10 @@ int runBenchVsm(int argc, char** argv) {
             Row row;
             row.kind = kind;
             row.cached = cached;
-            row.raster = raster;
+            // Auto resolves at creation (vertex on CPU devices): report the path that ran.
+            const VsmRaster used =
+                session.value()->module->internals().vsm.meshPath() ? VsmRaster::Mesh : VsmRaster::Vertex;
+            row.raster = used;
             for (uint32_t f = 0; f < frames.value(); ++f) {
                 auto r = session.value()->frame(f);
                 if (!r) return runError("bench vsm", r.error());
@@ -142,7 +145,7 @@ int runBenchVsm(int argc, char** argv) {
                 auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
                 // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
                 const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
-                csv << kind << "," << (cached ? "cached" : "uncached") << "," << rasterName(raster) << "," << f << ","
+                csv << kind << "," << (cached ? "cached" : "uncached") << "," << rasterName(used) << "," << f << ","
                     << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << "," << ms(Pass::VsmHpb) << "," << cullMs << ","
                     << ms(Pass::VsmDraw) << "," << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered
                     << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
@@ -180,7 +183,7 @@ int runBenchVsm(int argc, char** argv) {
                 *x /= std::max(row.frames, 1.0);
             rows.push_back(row);
             std::fprintf(stderr, "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
-                         kind.c_str(), cached ? "cached" : "uncached", rasterName(raster), row.drawMs, row.rendered,
+                         kind.c_str(), cached ? "cached" : "uncached", rasterName(used), row.drawMs, row.rendered,
                          row.triangles);
         }
 
@@ -202,7 +205,7 @@ int runBenchVsm(int argc, char** argv) {
              << rasterName(r.raster) << "_draw_ms\": " << r.drawMs << ", \"" << r.kind << "_"
              << (r.cached ? "cached" : "uncached") << "_" << rasterName(r.raster)
              << "_triangles\": " << r.triangles;
-        if (r.raster != rasters.front()) continue;
+        if (r.raster != rows.front().raster) continue;
         (r.cached ? cachedDraw : uncachedDraw) += r.drawMs;
         allocated += r.cached ? r.allocated : 0.0;
         fallbacks += r.fallbacks;
@@ -243,7 +246,7 @@ int runBenchVsm(int argc, char** argv) {
                   "\"fallbacks_total\": %llu, \"raster\": \"%s\", ",
                   cachedDraw / std::max<size_t>(kinds.size(), 1), uncachedDraw / std::max<size_t>(kinds.size(), 1),
                   allocated / std::max<size_t>(kinds.size(), 1), (unsigned long long)fallbacks,
-                  rasters.size() > 1 ? "both" : rasterName(rasters.front()));
+                  rasters.size() > 1 ? "both" : rasterName(rows.empty() ? VsmRaster::Vertex : rows.front().raster));
     const std::string last = std::string(line) + json.str() + "}";
     std::ofstream(out + "/bench_vsm.json") << last << "\n";
     std::printf("wrote %s/bench_vsm.csv and bench_vsm.json\n%s\n", out.c_str(), last.c_str());

@@ -32,7 +32,7 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --vsm-page N   page size (default 64)
   --vsm-pool N   physical pages (default 4096)
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
-  --vsm-raster R how pages are drawn: mesh (task and mesh shaders, default) or vertex
+  --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex
 Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
 Directional lights' clip levels (orthographic) have no CPU reference rasteriser yet: counted, not checked.
 )";
@@ -83,9 +83,9 @@ int runCheck(int argc, char** argv) {
     for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(),
                                  &res.error(), &page.error(), &pool.error(), &pcf.error()})
         if (!e->empty()) return usageError("check vsm", *e);
-    VsmRaster raster = VsmRaster::Mesh;
-    if (!parseVsmRaster(args->get("--vsm-raster", "mesh"), raster))
-        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") + "' is not mesh or vertex");
+    VsmRaster raster = VsmRaster::Auto;
+    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
+        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") + "' is not auto, mesh or vertex");
 
     VsmSessionOptions o;
     o.scene = args->get("--scene", "night-city");

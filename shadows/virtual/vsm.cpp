@@ -119,10 +119,16 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     draws_ = createBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
     drawInfo_ = createBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
     drawCounts_ = createBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
-    if (settings_.raster == VsmRaster::Mesh && !d.cmdDrawMeshTasksIndirect) {
+    if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
         settings_.raster = VsmRaster::Vertex;
+    } else if (settings_.raster == VsmRaster::Auto) {
+        const bool cpu = d.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        settings_.raster = cpu ? VsmRaster::Vertex : VsmRaster::Mesh;
+        std::fprintf(stderr, "vsm: %s: shadow pages drawn with the %s\n", d.name.c_str(),
+                     cpu ? "vertex path (CPU device: faster there than task/mesh shaders, README)"
+                         : "mesh path (meshlets, task and mesh shaders)");
     }
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.

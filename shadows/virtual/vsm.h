@@ -14,7 +14,7 @@
 //                 recently used unmarked ones; marked pages that are not valid are rendered (DIRTY);
 //     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
 //     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
-//                 mesh path (settings.raster, default): vsm_expand does the same tests and appends the
+//                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and appends the
 //                 caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls meshlets
 //                 (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles covering
 //                 no sample; vsm_draw.frag is shared, so both paths write the same depths;

@@ -8,10 +8,13 @@ namespace ml {
 
 // How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
 // indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
-enum class VsmRaster : uint32_t { Mesh, Vertex };
-// `--vsm-raster mesh|vertex` of the commands: false for any other word.
+// Auto: the vertex path on CPU devices (lavapipe: measured faster there, README "VSM meshlets") and on
+// devices without mesh shaders, the mesh path otherwise. The choice is logged once at creation.
+enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
+// `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
 inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
-    if (word == "mesh") out = VsmRaster::Mesh;
+    if (word == "auto") out = VsmRaster::Auto;
+    else if (word == "mesh") out = VsmRaster::Mesh;
     else if (word == "vertex") out = VsmRaster::Vertex;
     else return false;
     return true;
@@ -37,7 +40,7 @@ struct VsmSettings {
     bool staticLights = true; // lights that do not move get maps
     bool movingLights = true; // moving lights (headlights) get maps
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
-    VsmRaster raster = VsmRaster::Mesh; // the module takes Vertex when the device has no mesh shaders
+    VsmRaster raster = VsmRaster::Auto;
     uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
     // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity
     // ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES (shaders/shared/config.h, which has the measurement);

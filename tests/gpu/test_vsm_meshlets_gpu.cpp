@@ -7,14 +7,26 @@
 #include "host/vsm_session.h"
 #include "shadows/virtual/vsm_meshlets.h"
 
+#include <cstdlib>
+
 namespace ml::test {
 namespace {
 
-VsmSessionOptions smallPath(VsmRaster raster, bool caching) {
+VsmSessionOptions smallPath(VsmRaster raster, bool caching, bool house) {
     VsmSessionOptions o;
     o.width = 192;
     o.height = 108;
     o.path = CameraPath::Drive;
+    if (house) {
+        // FZK-Haus: meshes of up to 2,508 triangles (many meshlets each, some closed), static spots.
+        // ../shared beside the checkout (ML_SHARED_DIR overrides it, e.g. from a git worktree elsewhere).
+        const char* shared = std::getenv("ML_SHARED_DIR");
+        o.scene = (shared ? std::string(shared) : std::string(ML_SOURCE_DIR) + "/../shared") + "/scenes/fzk-haus.glb";
+        o.path = CameraPath::Orbit;
+        o.lights = 12;
+        o.width = 160;
+        o.height = 90;
+    }
     o.module.device.validation = true;
     o.module.vsm.resolution = 1024;
     o.module.vsm.poolPages = 1024;
@@ -23,11 +35,11 @@ VsmSessionOptions smallPath(VsmRaster raster, bool caching) {
     return o;
 }
 
-void comparePaths(bool caching, uint32_t frames) {
+void comparePaths(bool caching, uint32_t frames, bool house = false) {
     resetValidationCounters();
-    auto meshS = VsmSession::create(smallPath(VsmRaster::Mesh, caching));
+    auto meshS = VsmSession::create(smallPath(VsmRaster::Mesh, caching, house));
     ASSERT_TRUE(meshS.ok()) << meshS.error();
-    auto vertS = VsmSession::create(smallPath(VsmRaster::Vertex, caching));
+    auto vertS = VsmSession::create(smallPath(VsmRaster::Vertex, caching, house));
     ASSERT_TRUE(vertS.ok()) << vertS.error();
     Module& mm = *meshS.value()->module;
     Module& vm = *vertS.value()->module;
@@ -36,7 +48,8 @@ void comparePaths(bool caching, uint32_t frames) {
     ASSERT_TRUE(mv.meshPath());
     ASSERT_FALSE(vv.meshPath());
     const uint32_t page = mv.settings().pageSize * mv.settings().pageSize;
-    uint64_t pagesCompared = 0, texelsWritten = 0, total = 0, afterTask = 0, rendered = 0, trianglesVertex = 0;
+    uint64_t pagesCompared = 0, texelsWritten = 0, total = 0, afterTask = 0, rendered = 0, trianglesVertex = 0,
+             taskCulled = 0, trianglesCulled = 0;
     for (uint32_t f = 0; f < frames; ++f) {
         auto rm = meshS.value()->frame(f);
         ASSERT_TRUE(rm.ok()) << rm.error();
@@ -76,6 +89,8 @@ void comparePaths(bool caching, uint32_t frames) {
                         s.trianglesAfterTask, s.trianglesRasterized, s.pagesRendered,
                         (unsigned long long)pagesCompared, (unsigned long long)texelsWritten);
         total += s.meshletsTotal;
+        taskCulled += s.taskCulledFrustum + s.taskCulledCone + s.taskCulledHpb;
+        trianglesCulled += s.trianglesAfterTask - s.trianglesRasterized;
         afterTask += s.meshletsAfterTask;
         rendered += s.pagesRendered;
         trianglesVertex += s.trianglesRasterized;
@@ -86,11 +101,17 @@ void comparePaths(bool caching, uint32_t frames) {
     EXPECT_GT(texelsWritten, 0u);
     EXPECT_GT(trianglesVertex, 0u);
     EXPECT_LT(afterTask, total);
+    if (house) { // the task and mesh shaders' culling ran and still left the pages equal
+        EXPECT_GT(taskCulled, 0u);
+        EXPECT_GT(trianglesCulled, 0u);
+    }
     EXPECT_EQ(validationErrors(), 0u);
 }
 
 TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesCached) { comparePaths(true, 12); }
 TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesUncached) { comparePaths(false, 4); }
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHaus) { comparePaths(true, 4, true); }
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHausUncached) { comparePaths(false, 3, true); }
 
 TEST(VsmMeshlets, ClosedMeshDetection) {
     // A unit cube with per-face vertices (welded by position) and outward counter-clockwise faces.
