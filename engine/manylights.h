@@ -22,6 +22,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -49,6 +50,11 @@ struct ModuleOptions {
     std::optional<DeviceBorrow> borrow; // when the host hands over its device
     CullingMode culling = CullingMode::Clustered;
     bool statistics = false;            // per-pixel light counts: a pass of its own (a brute-force loop)
+    // false: the output is tone-mapped sRGB values in an RGBA8 UNORM image (an sRGB swapchain would apply
+    // gamma twice: copy into a UNORM image, or use hdrOutput). true: HostTargets::output must be an
+    // RGBA16F storage view and receives linear HDR radiance (times exposure not applied); with
+    // module-owned targets, the HDR image is outputImage() and readOutput refuses.
+    bool hdrOutput = false;
     VsmSettings vsm;                    // virtual shadow maps for dynamic casters (vsm.enabled)
     uint32_t framesInFlight = 2;
     TimingChoice timing = TimingChoice::Auto;
@@ -78,7 +84,8 @@ struct LightDesc {
     float range = 10.0f;
     float outerAngle = 0.6f; // half angle, radians, (0, pi/2) for spots
     float innerAngle = 0.4f; // [0, outer]
-    bool dynamic = false;
+    bool dynamic = false;      // moves: its shadows are never baked (virtual shadow maps draw every caster)
+    bool castsShadows = true;  // false: no static bake is used and no virtual shadow map is made
 };
 
 // A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
@@ -147,6 +154,16 @@ class Module {
     Result<void> setInstanceTransform(InstanceId instance, const glm::mat4& transform);
     Result<LightId> addLight(const LightDesc& light);
     Result<void> setLight(LightId id, const LightDesc& light);
+    // Removal. Ids carry a generation: a removed object's id is refused afterwards, also once its slot
+    // holds a new object (lights and instances reuse slots; mesh ids are never reused). A mesh still
+    // used by an instance is not removed.
+    Result<void> removeLight(LightId id);
+    Result<void> removeInstance(InstanceId id);
+    Result<void> removeMesh(MeshId id);
+    // An instance that casts no shadow (static bakes made afterwards and virtual shadow maps skip it).
+    Result<void> setInstanceShadowCasting(InstanceId id, bool castsShadows);
+    // Linear radiance of the ambient term (times albedo) and of pixels without geometry.
+    Result<void> setEnvironment(glm::vec3 ambient, glm::vec3 sky);
     // Refuses non-finite values, near/far/fov out of range, target == position and `up` parallel to the
     // view direction.
     Result<void> setCamera(const CameraDesc& camera);
@@ -155,6 +172,12 @@ class Module {
     Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);
     void clearStaticShadow(LightId id);
     Result<void> setShadowFilter(uint32_t pcfRadius);
+    // Bakes and attaches the static shadows of every static, shadow-casting spot and point light (six
+    // cube faces) from the module's own static, shadow-casting instances: dual depth maps rendered on this
+    // device, encoded with `method` at `resolution`^2. `progress` (may be empty) gets (lights done, total).
+    // Returns the number of lights baked. Waits for the device (a load-time operation).
+    Result<uint32_t> bakeStaticShadows(StaticMethod method, uint32_t resolution,
+                                       const std::function<void(uint32_t, uint32_t)>& progress = {});
     void setCulling(CullingMode mode);
     void setStatistics(bool enabled);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
@@ -180,7 +203,7 @@ class Module {
     VkImage outputImage() const;
     Device& device();
     TimingMode timingMode() const;
-    uint32_t lightCount() const;
+    uint32_t lightCount() const; // lights not removed
 
     struct Impl;
     // Internal state, for tests that compare intermediate buffers with the CPU references

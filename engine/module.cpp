@@ -7,6 +7,8 @@
 #include "engine/gbuffer.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
+#include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -47,10 +49,12 @@ TimingMode Module::timingMode() const {
     return impl_->timing;
 }
 VkImage Module::outputImage() const {
-    return impl_->output.image;
+    return impl_->hdrOutput ? impl_->hdr.image : impl_->output.image;
 }
 uint32_t Module::lightCount() const {
-    return uint32_t(impl_->lights.size());
+    uint32_t n = 0;
+    for (uint8_t alive : impl_->lightAlive) n += alive;
+    return n;
 }
 void Module::setCulling(CullingMode mode) {
     impl_->culling = mode;
@@ -109,6 +113,7 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         " (a multiple of 4)");
     }
     impl->vsmSettings = v;
+    impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(std::max(1u, options.framesInFlight));
     impl->init();
     return std::unique_ptr<Module>(new Module(std::move(impl)));
@@ -119,10 +124,8 @@ void Module::Impl::init() {
     gbuffer.create(d);
     cull.create(d);
     vsm.create(d, vsmSettings, uint32_t(slots.size()));
-    evalShader = ML_SHADER(d, spv_evaluate_comp);
-    statsShader = ML_SHADER(d, spv_statistics_comp);
-    evalProgram = createComputeProgram(d, evalShader, 0, {{/*kSpecOutput*/ 0, 0u}});
-    statsProgram = createComputeProgram(d, statsShader, 0);
+    evaluate.create(d, hdrOutput);
+    statisticsPass.create(d);
     profiler.create(d, uint32_t(slots.size()));
     profiler.mode = timing;
     for (auto& s : slots) {
@@ -140,10 +143,8 @@ void Module::Impl::destroy() {
     vkDeviceWaitIdle(d.device);
     gbuffer.destroy(d);
     cull.destroy(d);
-    destroyProgram(d, evalProgram);
-    destroyProgram(d, statsProgram);
-    destroyShader(d, evalShader);
-    destroyShader(d, statsShader);
+    evaluate.destroy(d);
+    statisticsPass.destroy(d);
     vsm.destroy(d);
     profiler.destroy(d);
     for (auto& s : slots) {
@@ -183,13 +184,13 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
         hi = glm::max(hi, p);
     }
     Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
-                      hi};
+                      hi, true, mesh.closed};
     r.firstMeshlet = uint32_t(m.meshlets.meshlets.size());
     r.meshletCount = appendMeshlets(m.meshlets, mesh.vertices.empty() ? nullptr : mesh.vertices[0].position,
                                     sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex,
                                     m.vsmSettings.meshletVertices, m.vsmSettings.meshletTriangles);
-    r.closed = meshIsClosed(mesh.vertices.empty() ? nullptr : mesh.vertices[0].position, sizeof(MeshVertex),
-                            mesh.vertices.size(), mesh.indices);
+    r.coneCull = meshIsClosed(mesh.vertices.empty() ? nullptr : mesh.vertices[0].position, sizeof(MeshVertex),
+                              mesh.vertices.size(), mesh.indices);
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
@@ -197,57 +198,151 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     return MeshId(m.meshes.size() - 1);
 }
 
+// Ids carry a generation above the slot index, so an id of a removed object is refused instead of
+// reaching whatever reuses its slot. A slot's first object has generation 0: its id is its index.
+namespace {
+constexpr uint32_t kLightIndexBits = 12;    // ML_MAX_LIGHTS = 4096 slots
+constexpr uint32_t kInstanceIndexBits = 20; // 1M instance slots
+uint32_t makeId(uint32_t index, uint32_t generation, uint32_t bits) { return index | (generation << bits); }
+} // namespace
+
+Result<uint32_t> Module::Impl::lightIndex(LightId id, const char* what) const {
+    const uint32_t index = id & ((1u << kLightIndexBits) - 1), gen = id >> kLightIndexBits;
+    if (index >= lights.size() || !lightAlive[index] || lightGeneration[index] != gen)
+        return fail(std::string(what) + ": light " + std::to_string(id) + " does not exist (or was removed)");
+    return index;
+}
+
+Result<uint32_t> Module::Impl::instanceIndex(InstanceId id, const char* what) const {
+    const uint32_t index = id & ((1u << kInstanceIndexBits) - 1), gen = id >> kInstanceIndexBits;
+    if (index >= instances.size() || !instances[index].alive || instances[index].generation != gen)
+        return fail(std::string(what) + ": instance " + std::to_string(id) + " does not exist (or was removed)");
+    return index;
+}
+
 Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo,
                                        bool dynamic) {
     auto& m = *impl_;
-    if (mesh >= m.meshes.size())
-        return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist");
+    if (mesh >= m.meshes.size() || !m.meshes[mesh].alive)
+        return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist (or was removed)");
     if (!finiteMatrix(transform)) return fail("addInstance: transform is not finite");
     if (!std::isfinite(albedo.x) || !std::isfinite(albedo.y) || !std::isfinite(albedo.z) || albedo.x < 0 ||
         albedo.y < 0 || albedo.z < 0)
         return fail("addInstance: albedo must be finite and >= 0");
-    m.instances.push_back({mesh, transform, albedo, dynamic});
+    Impl::InstanceData data{mesh, transform, albedo, dynamic};
     m.geometryDirty = true;
+    if (!m.freeInstances.empty()) {
+        const uint32_t index = m.freeInstances.back();
+        m.freeInstances.pop_back();
+        data.generation = (m.instances[index].generation + 1) & ((1u << (32 - kInstanceIndexBits)) - 1);
+        m.instances[index] = data;
+        return InstanceId(makeId(index, data.generation, kInstanceIndexBits));
+    }
+    if (m.instances.size() >= (1u << kInstanceIndexBits))
+        return fail("addInstance: the module holds at most " + std::to_string(1u << kInstanceIndexBits) + " instances");
+    m.instances.push_back(data);
     return InstanceId(m.instances.size() - 1);
 }
 
+Result<void> Module::removeInstance(InstanceId id) {
+    auto index = impl_->instanceIndex(id, "removeInstance");
+    if (!index) return fail(index.error());
+    impl_->instances[index.value()].alive = false;
+    impl_->freeInstances.push_back(index.value());
+    impl_->geometryDirty = true;
+    return {};
+}
+
+Result<void> Module::setInstanceShadowCasting(InstanceId id, bool castsShadows) {
+    auto index = impl_->instanceIndex(id, "setInstanceShadowCasting");
+    if (!index) return fail(index.error());
+    impl_->instances[index.value()].castsShadows = castsShadows;
+    return {};
+}
+
+Result<void> Module::removeMesh(MeshId mesh) {
+    auto& m = *impl_;
+    if (mesh >= m.meshes.size() || !m.meshes[mesh].alive)
+        return fail("removeMesh: mesh id " + std::to_string(mesh) + " does not exist (or was removed)");
+    for (size_t i = 0; i < m.instances.size(); ++i)
+        if (m.instances[i].alive && m.instances[i].mesh == mesh)
+            return fail("removeMesh: mesh " + std::to_string(mesh) + " is used by instance " + std::to_string(i));
+    m.meshes[mesh].alive = false; // its id is never reused; its vertices stay until the module is destroyed
+    return {};
+}
+
 Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transform) {
-    if (id >= impl_->instances.size())
-        return fail("setInstanceTransform: instance " + std::to_string(id) + " does not exist");
-    if (!impl_->instances[id].dynamic)
+    auto index = impl_->instanceIndex(id, "setInstanceTransform");
+    if (!index) return fail(index.error());
+    auto& inst = impl_->instances[index.value()];
+    if (!inst.dynamic)
         return fail("setInstanceTransform: instance " + std::to_string(id) +
                     " is static (its baked shadows would go stale); add it with dynamic = true to move it");
     if (!finiteMatrix(transform))
         return fail("setInstanceTransform: instance " + std::to_string(id) + ": transform is not finite");
-    impl_->instances[id].transform = transform;
+    inst.transform = transform;
     return {};
 }
 
 Result<LightId> Module::addLight(const LightDesc& light) {
-    if (impl_->lights.size() >= ML_MAX_LIGHTS)
+    auto& m = *impl_;
+    if (auto v = validateLight(light); !v) return fail("addLight: " + v.error());
+    if (!m.freeLights.empty()) {
+        const uint32_t index = m.freeLights.back();
+        m.freeLights.pop_back();
+        m.lights[index] = light;
+        m.lightAlive[index] = 1;
+        m.lightGeneration[index] = (m.lightGeneration[index] + 1) & ((1u << (32 - kLightIndexBits)) - 1);
+        m.shadows[index] = {};
+        m.shadowsDirty = true;
+        return LightId(makeId(index, m.lightGeneration[index], kLightIndexBits));
+    }
+    if (m.lights.size() >= ML_MAX_LIGHTS)
         return fail("addLight: the module holds at most " + std::to_string(ML_MAX_LIGHTS) + " lights");
-    if (auto v = validateLight(light); !v)
-        return fail("light " + std::to_string(impl_->lights.size()) + ": " + v.error());
-    impl_->lights.push_back(light);
-    impl_->shadows.emplace_back();
-    return LightId(impl_->lights.size() - 1);
+    m.lights.push_back(light);
+    m.lightAlive.push_back(1);
+    m.lightGeneration.push_back(0);
+    m.shadows.emplace_back();
+    return LightId(m.lights.size() - 1);
+}
+
+Result<void> Module::removeLight(LightId id) {
+    auto index = impl_->lightIndex(id, "removeLight");
+    if (!index) return fail(index.error());
+    impl_->lightAlive[index.value()] = 0;
+    impl_->shadows[index.value()] = {};
+    impl_->shadowsDirty = true;
+    impl_->freeLights.push_back(index.value());
+    return {};
 }
 
 Result<void> Module::setLight(LightId id, const LightDesc& light) {
-    if (id >= impl_->lights.size()) return fail("setLight: light " + std::to_string(id) + " does not exist");
+    auto index = impl_->lightIndex(id, "setLight");
+    if (!index) return fail(index.error());
+    const uint32_t i = index.value();
     if (auto v = validateLight(light); !v) return fail("light " + std::to_string(id) + ": " + v.error());
-    if (light.kind != impl_->lights[id].kind) { // its bakes were made for the other kind's frustums
-        impl_->shadows[id] = {};
+    if (light.kind != impl_->lights[i].kind) { // its bakes were made for the other kind's frustums
+        impl_->shadows[i] = {};
         impl_->shadowsDirty = true;
     }
-    impl_->lights[id] = light;
+    impl_->lights[i] = light;
+    return {};
+}
+
+Result<void> Module::setEnvironment(glm::vec3 ambient, glm::vec3 sky) {
+    for (const glm::vec3* v : {&ambient, &sky})
+        if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || v->x < 0 || v->y < 0 || v->z < 0)
+            return fail("setEnvironment: ambient and sky must be finite and >= 0");
+    impl_->ambient = ambient;
+    impl_->sky = sky;
     return {};
 }
 
 Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow) {
     auto& m = *impl_;
-    if (id >= m.lights.size())
-        return fail("setStaticShadow: light " + std::to_string(id) + " does not exist");
+    auto index = m.lightIndex(id, "setStaticShadow");
+    if (!index) return fail(index.error());
+    id = index.value();
     const uint32_t faces = m.lights[id].kind == LightKind::Point ? 6u : 1u;
     if (shadow.face >= faces)
         return fail("setStaticShadow: light " + std::to_string(id) + ": face " + std::to_string(shadow.face) +
@@ -271,10 +366,66 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     return {};
 }
 
-void Module::clearStaticShadow(LightId id) {
-    if (id >= impl_->shadows.size()) return;
+void Module::clearStaticShadow(LightId light) {
+    auto index = impl_->lightIndex(light, "clearStaticShadow");
+    if (!index) return;
+    const uint32_t id = index.value();
     impl_->shadows[id] = {};
     impl_->shadowsDirty = true; // all faces
+}
+
+Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolution,
+                                           const std::function<void(uint32_t, uint32_t)>& progress) {
+    auto& m = *impl_;
+    if (method == StaticMethod::None) return fail("bakeStaticShadows: no method");
+    if (resolution < 8 || resolution > 16384)
+        return fail("bakeStaticShadows: resolution " + std::to_string(resolution) + " outside 8..16384");
+    // Static casters in world space; mirrored instances swap winding so front faces stay front faces.
+    CasterTriangles casters;
+    for (const Impl::InstanceData& inst : m.instances) {
+        if (!inst.alive || inst.dynamic || !inst.castsShadows) continue;
+        const Impl::MeshRange& r = m.meshes[inst.mesh];
+        const bool mirror = glm::determinant(glm::mat3(inst.transform)) < 0.0f;
+        for (uint32_t i = 0; i + 2 < r.indexCount; i += 3) {
+            glm::vec3 p[3];
+            for (int k = 0; k < 3; ++k) {
+                const MeshVertex& v = m.vertices[r.firstVertex + m.indices[r.firstIndex + i + k]];
+                p[k] = glm::vec3(inst.transform * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f));
+            }
+            if (mirror) std::swap(p[1], p[2]);
+            casters.add(p[0], p[1], p[2], r.closed);
+        }
+    }
+    auto renderer = DualDepthRenderer::create(*m.device);
+    if (!renderer) return fail(renderer.error());
+    std::vector<uint32_t> todo;
+    for (uint32_t i = 0; i < m.lights.size(); ++i) {
+        const LightDesc& l = m.lights[i];
+        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional) todo.push_back(i);
+    }
+    uint32_t done = 0;
+    for (uint32_t i : todo) {
+        const LightDesc& l = m.lights[i];
+        Light sl;
+        sl.type = l.kind == LightKind::Point ? LightType::Point : LightType::Spot;
+        sl.position = l.position;
+        sl.direction = l.direction;
+        sl.range = l.range;
+        sl.outerAngle = l.outerAngle;
+        const std::vector<LightFrustum> frustums = lightFrustums(sl);
+        const LightId id = makeId(i, m.lightGeneration[i], kLightIndexBits);
+        for (uint32_t face = 0; face < frustums.size(); ++face) {
+            const LightFrustum& f = frustums[face];
+            auto map = renderer.value()->render(casters, f, resolution);
+            if (!map) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + map.error());
+            auto words = encodeStatic(method, map.value(), {f.nearPlane, f.farPlane, {}});
+            if (!words) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + words.error());
+            if (auto r = setStaticShadow(id, {method, f, words.value(), face}); !r) return fail(r.error());
+        }
+        ++done;
+        if (progress) progress(done, uint32_t(todo.size()));
+    }
+    return done;
 }
 
 Result<void> Module::setShadowFilter(uint32_t radius) {
@@ -298,6 +449,7 @@ void Module::Impl::uploadShadows() {
     ensureBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words");
     uint32_t base = 0;
     for (size_t i = 0; i < shadows.size(); ++i) {
+        if (!lightAlive[i] || !lights[i].castsShadows) continue;
         const uint32_t faceCount = lights[i].kind == LightKind::Point ? 6u : 1u;
         bool any = false;
         for (uint32_t f = 0; f < faceCount; ++f) any |= shadows[i][f].method != StaticMethod::None;
@@ -372,6 +524,9 @@ Result<void> Module::setTargets(const HostTargets& t) {
 void Module::Impl::createOutput(bool withOutput) {
     hdr = createImage(*device, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
                       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr");
+    // HDR-only output keeps a small RGBA8 image for the tone-mapped binding, which is then never written.
+    if (hdrOutput && !withOutput)
+        output = createImage(*device, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, "unused_output");
     if (withOutput)
         output = createImage(*device, width, height, VK_FORMAT_R8G8B8A8_UNORM,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output");
@@ -400,7 +555,7 @@ void Module::Impl::uploadGeometry() {
     auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
     for (size_t i = 0; i < instances.size(); ++i) {
         const MeshRange& r = meshes[instances[i].mesh];
-        draws[i] = {r.indexCount, 1, r.firstIndex, int32_t(r.firstVertex), uint32_t(i)};
+        draws[i] = {instances[i].alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex), uint32_t(i)};
     }
     for (auto& s : slots)
         ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage,
@@ -463,34 +618,34 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     vin.meshletTriangles = &m.meshletTriangleBuffer;
     m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
 
-    m.profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
-        // The HDR and output images are rewritten whole: their old contents are discarded.
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C, W);
+    // The HDR and output images are rewritten whole: their old contents are discarded.
+    m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, C, W);
         if (m.ownTargets)
             imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                          VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, C, W);
-        const VirtualShadowMaps& v = m.vsm;
-        const bool vsmOn = v.enabled();
-        dispatch(d, c, m.evalProgram, m.width, m.height, NoPush{},
-                 {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool, depth,
-                  Descriptor(Image{.view = normalView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                  Descriptor(Image{.view = albedoView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), Descriptor(m.hdr),
-                  Descriptor(Image{.view = outputView}), m.staticWords, m.shadowRecords,
-                  vsmOn ? v.constants(slotIndex) : slot.frame, vsmOn ? v.maps(slotIndex) : m.staticWords,
-                  vsmOn ? v.coverage(slotIndex) : m.staticWords, vsmOn ? v.table() : m.staticWords,
-                  vsmOn ? v.pagePool() : m.staticWords});
-        // HDR and output -> the host (reads, copies, presents); the module's readOutput copies.
-        memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
-                      VK_ACCESS_2_MEMORY_READ_BIT);
     });
+    const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool, depthView,
+                                normalView,  albedoView,   m.width,      m.height};
+    const VirtualShadowMaps& v = m.vsm;
+    const bool vsmOn = v.enabled(); // without VSM any valid buffers fill its bindings (never read)
+    const ShadowInputs shadows{&m.staticWords,
+                               &m.shadowRecords,
+                               vsmOn ? &v.constants(slotIndex) : &slot.frame,
+                               vsmOn ? &v.maps(slotIndex) : &m.staticWords,
+                               vsmOn ? &v.coverage(slotIndex) : &m.staticWords,
+                               vsmOn ? &v.table() : &m.staticWords,
+                               vsmOn ? &v.pagePool() : &m.staticWords};
+    // HDR-only output: the host's output view (RGBA16F) takes the HDR radiance; the tone-mapped binding
+    // gets the module's own output image, which the shader then never writes.
+    const VkImageView hdrView = m.hdrOutput && !m.ownTargets ? m.host.output : m.hdr.view;
+    const VkImageView toneView = m.hdrOutput ? m.output.view : outputView;
+    m.evaluate.record(d, cmd, m.profiler, shading, shadows, hdrView, toneView);
     if (m.vsm.settings().probeCapacity)
         m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordProbe(d, c, slotIndex, vin); });
     if (m.statistics)
-        m.profiler.run(cmd, Pass::Statistics, [&](VkCommandBuffer c) {
-            dispatch(d, c, m.statsProgram, m.width, m.height, NoPush{},
-                     {slot.frame, slot.slices, slot.lights, m.cull.ranges, m.cull.pool, depth, slot.counters});
-            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
-        });
+        m.statisticsPass.record(d, cmd, m.profiler, shading, slot.counters);
     else
         m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
             memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
@@ -516,8 +671,8 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
     fc.cameraPosition = glm::vec4(c.position, 1.0f);
     fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
     fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
-    fc.ambient = glm::vec4(0.020f, 0.024f, 0.040f, exposure);
-    fc.sky = glm::vec4(0.006f, 0.009f, 0.022f, 0.0f);
+    fc.ambient = glm::vec4(ambient, exposure);
+    fc.sky = glm::vec4(sky, 0.0f);
     fc.limits = glm::uvec4(cull.poolCapacity, grid.count(), 0, 0);
 
     // Visible lights: bounding sphere against the camera frustum.
@@ -526,6 +681,7 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
     std::vector<uint32_t> visibleIds;
     for (uint32_t i = 0; i < lights.size(); ++i) {
         const LightDesc& l = lights[i];
+        if (!lightAlive[i]) continue;
         if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
         gl[visibleIds.size()] = toGpuLight(l, i);
         gl[visibleIds.size()].info.z = recordOfLight[i];
@@ -556,8 +712,9 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
         v.vertexOffset = r.firstVertex;
         v.firstMeshlet = r.firstMeshlet;
         v.meshletCount = r.meshletCount;
-        v.closed = r.closed;
+        v.closed = r.coneCull;
         v.dynamic = id.dynamic;
+        v.castsShadows = id.alive && id.castsShadows;
     }
     if (vsm.enabled()) {
         std::vector<VsmLight> vl(lights.size());
@@ -569,6 +726,7 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
             vl[i].range = l.range;
             vl[i].outerAngle = l.outerAngle;
             vl[i].moving = l.dynamic;
+            vl[i].castsShadows = lightAlive[i] && l.castsShadows;
             const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
             bool baked = l.kind != LightKind::Directional;
             for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
@@ -639,6 +797,7 @@ std::vector<FrameReport> Module::takeReports() {
 Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     auto& m = *impl_;
     if (!m.ownTargets) return fail("readOutput: the output image belongs to the host (setTargets)");
+    if (m.hdrOutput) return fail("readOutput: the module writes HDR only (ModuleOptions::hdrOutput)");
     const Device& d = *m.device;
     VK_CHECK(vkQueueWaitIdle(d.queue));
     size_t bytes = size_t(m.width) * m.height * 4;

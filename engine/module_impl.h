@@ -8,8 +8,7 @@
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_meshlets.h"
 
-#include "evaluate.comp.spv.h"
-#include "statistics.comp.spv.h"
+#include "lights/evaluate_pass.h"
 
 #include <array>
 #include <map>
@@ -22,14 +21,21 @@ struct Module::Impl {
     struct MeshRange {
         uint32_t firstVertex, firstIndex, indexCount;
         glm::vec3 lo, hi; // object-space bounds
-        uint32_t firstMeshlet = 0, meshletCount = 0; // VSM mesh path (shadows/virtual/vsm_meshlets.h)
+        bool alive = true;
         bool closed = false;
+        // VSM mesh path (shadows/virtual/vsm_meshlets.h): the mesh's meshlets, and whether meshIsClosed
+        // verified it closed with outward faces (the task shader's back-facing cone test).
+        uint32_t firstMeshlet = 0, meshletCount = 0;
+        bool coneCull = false;
     };
     struct InstanceData {
         MeshId mesh;
         glm::mat4 transform;
         glm::vec3 albedo;
         bool dynamic;
+        bool alive = true;
+        bool castsShadows = true;
+        uint32_t generation = 0;
     };
     // Everything one frame in flight writes from the host.
     struct Slot {
@@ -54,6 +60,11 @@ struct Module::Impl {
     std::vector<MeshRange> meshes;
     std::vector<InstanceData> instances;
     std::vector<LightDesc> lights;
+    std::vector<uint8_t> lightAlive;
+    std::vector<uint32_t> lightGeneration;
+    std::vector<uint32_t> freeLights, freeInstances;
+    glm::vec3 ambient{0.020f, 0.024f, 0.040f}; // night: moonlit blue, before exposure
+    glm::vec3 sky{0.006f, 0.009f, 0.022f};
     struct StaticShadow {
         StaticMethod method = StaticMethod::None;
         LightFrustum frustum;
@@ -79,8 +90,9 @@ struct Module::Impl {
 
     GBufferPass gbuffer;
     LightCulling cull;
-    ShaderModule evalShader, statsShader;
-    Program evalProgram, statsProgram;
+    EvaluatePass evaluate;
+    StatisticsPass statisticsPass;
+    bool hdrOutput = false;
     VirtualShadowMaps vsm;
     VsmSettings vsmSettings;
     std::vector<InstanceData> lastInstances; // for moved-caster detection (by the VSM)
@@ -102,6 +114,8 @@ struct Module::Impl {
     void uploadGeometry();
     void uploadShadows();
     void collectSlot(uint32_t index);
+    Result<uint32_t> lightIndex(LightId id, const char* what) const;
+    Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
     void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
 

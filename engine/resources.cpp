@@ -30,9 +30,53 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
 }
 
 void destroyBuffer(const Device& device, Buffer& b) {
+    if (b.memory && b.data) vkUnmapMemory(device.device, b.memory);
     if (b.buffer) vkDestroyBuffer(device.device, b.buffer, nullptr);
     if (b.memory) vkFreeMemory(device.device, b.memory, nullptr);
     b = Buffer{};
+}
+
+Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
+                          uint32_t fill) {
+    Buffer b;
+    b.size = std::max<VkDeviceSize>((size + 3) / 4 * 4, 16);
+    VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    ci.size = b.size;
+    ci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (ai.memoryTypeIndex == ~0u) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
+    VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
+    VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
+    device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
+    VkCommandBuffer cmd = device.beginOneTime();
+    vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    device.endOneTime(cmd);
+    return b;
+}
+
+std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes) {
+    std::vector<uint8_t> out(bytes);
+    if (!bytes) return out;
+    Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
+    VkCommandBuffer cmd = device.beginOneTime();
+    // Every earlier write to the buffer -> the copy.
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferCopy region{offset, 0, bytes};
+    vkCmdCopyBuffer(cmd, buffer.buffer, staging.buffer, 1, &region);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                  VK_ACCESS_2_HOST_READ_BIT);
+    device.endOneTime(cmd);
+    std::memcpy(out.data(), staging.data, bytes);
+    destroyBuffer(device, staging);
+    return out;
 }
 
 bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {

@@ -1,11 +1,16 @@
-// Buffers and images. Every buffer is host-visible and persistently mapped: on lavapipe all memory is
-// host memory, and on a discrete GPU these buffers are small per-frame data (lights, cluster lists)
-// where host-visible device memory (ReBAR) or a staging copy would be the upgrade path.
+// Buffers and images.
+//   createBuffer        host-visible, persistently mapped: per-frame data the CPU writes (frame constants,
+//                       lights, instances) and small readbacks (counters). On lavapipe all memory is host
+//                       memory; on a discrete GPU this is host-visible device memory or system memory.
+//   createDeviceBuffer  device-local, not mapped: persistent GPU state (shadow page tables and pools,
+//                       cluster lists). The host reaches it only through fillDeviceBuffer / readBuffer,
+//                       which record a copy through a staging buffer and wait (setup and tests only).
 #pragma once
 #include "engine/device.h"
 
 #include <cstring>
 #include <span>
+#include <vector>
 
 namespace ml {
 
@@ -34,6 +39,11 @@ constexpr VkBufferUsageFlags kStorageBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFE
 
 // size 0 is allowed and becomes a 16-byte buffer, so empty scenes still bind valid descriptors.
 Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name);
+// Device-local (falls back to any memory type the buffer allows); contents start as `fill` words.
+Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
+                          uint32_t fill = 0);
+// Copies `bytes` from `offset` of any buffer to the host through a staging buffer (waits for the queue).
+std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes);
 void destroyBuffer(const Device& device, Buffer& buffer);
 // Grows (recreates) when smaller than `size`; contents are not kept. Returns true when recreated.
 bool ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage, const char* name);

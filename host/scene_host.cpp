@@ -2,9 +2,7 @@
 
 #include <stb/stb_image_write.h>
 
-#include "shadows/gpu/dual_depth_gpu.h"
 #include "shadows/static/bake_file.h"
-#include "shadows/static/raster_dual.h"
 
 #include <chrono>
 #include <cstdio>
@@ -78,31 +76,17 @@ Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding&
     return {};
 }
 
-Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
-                                   StaticMethod method, uint32_t resolution) {
-    CasterTriangles casters = castersFromScene(scene);
-    auto renderer = DualDepthRenderer::create(module.device());
-    if (!renderer) return fail(renderer.error());
-    uint32_t baked = 0, candidates = 0;
-    for (const Light& l : scene.lights) candidates += !l.dynamic && !lightFrustums(l).empty();
+Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding&, StaticMethod method,
+                                   uint32_t resolution) {
     auto t0 = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue; // dynamic lights get virtual shadow maps
-        LightFrustum f = spotLightFrustum(l);
-        auto map = renderer.value()->render(casters, f, resolution);
-        if (!map) return fail(scene.name + ": light " + std::to_string(i) + ": " + map.error());
-        auto words = encodeStatic(method, map.value(), {f.nearPlane, f.farPlane, {}});
-        if (!words) return fail(scene.name + ": light " + std::to_string(i) + ": " + words.error());
-        if (auto r = module.setStaticShadow(binding.lights[i], {method, f, words.value()}); !r)
-            return fail(r.error());
-        ++baked;
-        if (baked % 16 == 0 || baked == candidates)
-            std::fprintf(stderr, "  baked %u/%u static lights (%s %u^2), %.1f s\n", baked, candidates,
+    auto baked = module.bakeStaticShadows(method, resolution, [&](uint32_t done, uint32_t total) {
+        if (done % 16 == 0 || done == total)
+            std::fprintf(stderr, "  baked %u/%u static lights (%s %u^2), %.1f s\n", done, total,
                          staticMethodName(method), resolution,
                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return baked;
+    });
+    if (!baked) return fail(scene.name + ": " + baked.error());
+    return baked.value();
 }
 
 Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, const std::string& path,

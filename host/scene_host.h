@@ -19,7 +19,7 @@ Result<SceneBinding> bindScene(Module& module, const Scene& scene);
 // After animateScene: pushes dynamic instance transforms and dynamic lights.
 Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding& binding);
 
-// Bakes every static spot and point light's shadow in-process (Vulkan dual depth maps, shadows/gpu/) and
+// Bakes every static spot and point light's shadow in-process through Module::bakeStaticShadows and
 // attaches it. Progress on stderr. Returns the number of lights baked.
 Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding& binding,
                                    StaticMethod method, uint32_t resolution);

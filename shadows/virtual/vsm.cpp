@@ -104,21 +104,23 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t entries = size_t(s.maxMaps) * entriesPerMap_;
     const size_t bitWords = (entries + 31) / 32;
 
-    table_ = createBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    owners_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners");
-    std::memset(owners_.data, 0xFF, owners_.size); // ML_VSM_NO_OWNER
-    lastUsed_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
-    marks_ = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_marks");
-    pagePool_ = createBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage, "vsm_pool");
-    blockCounts_ = createBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
-    avail_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    rendered_ = createBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    dirtyMips_ = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
-    hpb_ = createBuffer(d, size_t(s.maxMaps) * hpbPerMap_ * 4, kStorageBufferUsage, "vsm_hpb");
+    // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
+    table_ = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    owners_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
+    lastUsed_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
+    markWords_ = bitWords;
+    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage, "vsm_marks"); // lookup, then fallback marks
+    pagePool_ = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage,
+                                   "vsm_pool", 0xFFFFFFFFu);
+    blockCounts_ = createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+    avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
+    rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
+    dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    hpb_ = createDeviceBuffer(d, size_t(s.maxMaps) * hpbPerMap_ * 4, kStorageBufferUsage, "vsm_hpb");
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    draws_ = createBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    drawInfo_ = createBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    drawCounts_ = createBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
+    drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
+    drawCounts_ = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
@@ -133,9 +135,9 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        meshletList_ = createBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12, kStorageBufferUsage,
-                                    "vsm_meshlet_list");
-        meshTasks_ = createBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12, kStorageBufferUsage,
+                                          "vsm_meshlet_list");
+        meshTasks_ = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
     }
 
     slots_.resize(framesInFlight);
@@ -397,7 +399,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     gpu::VsmConstants c{};
     c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
     c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
-    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, 0u);
+    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)), 0, 0, 0);
     lastConstants_ = c;
 
@@ -440,7 +442,9 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
     profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
         // Per-frame state: marks, dirty-mip flags, draw counts (the frame-start barrier ordered these
         // clears after the previous frame's reads).
-        vkCmdFillBuffer(c, marks_.buffer, 0, std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4), 0);
+        const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
+        vkCmdFillBuffer(c, marks_.buffer, 0, used, 0);
+        vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
         vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
         vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
         if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
@@ -613,26 +617,28 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
 }
 
 namespace {
-std::vector<uint32_t> copyWords(const Buffer& b, size_t words) {
-    const auto* p = b.as<uint32_t>();
-    return std::vector<uint32_t>(p, p + words);
+std::vector<uint32_t> readWords(const Device& d, const Buffer& b, size_t words) {
+    std::vector<uint8_t> bytes = readBuffer(d, b, 0, words * 4);
+    std::vector<uint32_t> out(words);
+    std::memcpy(out.data(), bytes.data(), words * 4);
+    return out;
 }
 } // namespace
 
-std::vector<uint32_t> VirtualShadowMaps::readTable(const Device&) const {
-    return copyWords(table_, size_t(mapsInUse_) * entriesPerMap_);
+std::vector<uint32_t> VirtualShadowMaps::readTable(const Device& d) const {
+    return readWords(d, table_, size_t(mapsInUse_) * entriesPerMap_);
 }
-std::vector<uint32_t> VirtualShadowMaps::readOwners(const Device&) const {
-    return copyWords(owners_, settings_.poolPages);
+std::vector<uint32_t> VirtualShadowMaps::readOwners(const Device& d) const {
+    return readWords(d, owners_, settings_.poolPages);
 }
-std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device&) const {
-    return copyWords(lastUsed_, settings_.poolPages);
+std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device& d) const {
+    return readWords(d, lastUsed_, settings_.poolPages);
 }
-std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device&) const {
-    return copyWords(marks_, (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32);
+std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device& d) const {
+    return readWords(d, marks_, 2 * markWords_);
 }
-std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device&) const {
-    return copyWords(pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
+std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device& d) const {
+    return readWords(d, pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
 }
 std::vector<gpu::GpuVsmProbe> VirtualShadowMaps::readProbes(uint32_t slotIndex, uint32_t* overflow) const {
     const Slot& slot = slots_[slotIndex];

@@ -130,9 +130,11 @@ class VirtualShadowMaps {
     uint32_t mips() const { return mips_; }
     uint32_t entriesPerMap() const { return entriesPerMap_; }
     uint32_t mapsInUse() const { return mapsInUse_; }
+    size_t markWords() const { return markWords_; }
     const std::vector<VsmMapInfo>& mapInfo() const { return maps_; }
     const gpu::VsmConstants& lastConstants() const { return lastConstants_; }
-    // Host copies of GPU state (the device must be idle): page table, owners, last use, marks, probes.
+    // Host copies of GPU state (the device must be idle): page table, owners, last use, marks (lookup
+    // marks then fallback marks, markWords() each), probes.
     std::vector<uint32_t> readTable(const Device& device) const;
     std::vector<uint32_t> readOwners(const Device& device) const;
     std::vector<uint32_t> readLastUsed(const Device& device) const;
@@ -164,6 +166,7 @@ class VirtualShadowMaps {
     VsmSettings settings_;
     uint32_t pcf_ = 0;
     uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, hpbPerMap_ = 0, mapsInUse_ = 0;
+    size_t markWords_ = 0; // words of one mark region (lookup marks; fallback marks follow)
     std::vector<Slot> slots_;
     std::vector<LightState> lightState_;
     std::vector<VsmMapInfo> maps_;

@@ -27,7 +27,7 @@ const uint kClasses = 9u; // 0 free, 1..8 evictable from oldest (age >= 128) to 
 uint pageClass(uint p) {
     uint owner = vsmOwner[p];
     if (owner == ML_VSM_NO_OWNER) return 0u;
-    if (vsmMarked(owner)) return kClasses; // in use this frame
+    if (vsmWanted(owner)) return kClasses; // in use this frame
     uint age = max(vsm.sizes.w - vsmLastUsed[p], 1u);
     return 8u - min(uint(findMSB(age)), 7u);
 }
@@ -66,6 +66,7 @@ void main() {
     if (i == 0u) {
         vsmCounters.requests = requests;
         vsmCounters.available = count;
+        vsmCounters.pressure = requests > count ? 1u : 0u;
         // Owned before assignment (pool minus free), plus the free pages that requests take.
         vsmCounters.pagesAllocated = (pool - freePages) + min(requests, freePages);
     }

@@ -33,7 +33,12 @@ bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out u
     return false;
 }
 
+// Marked: a lookup reads the page. Wanted: marked, or reserved as a fallback page; wanted pages get memory
+// and are not evicted. The includer declares `vsm` (VsmConstants).
 bool vsmMarked(uint entry) { return (vsmMarks[entry >> 5u] & (1u << (entry & 31u))) != 0u; }
+bool vsmWanted(uint entry) {
+    return vsmMarked(entry) || (vsmMarks[vsm.options.w + (entry >> 5u)] & (1u << (entry & 31u))) != 0u;
+}
 
 shared uint sScan[ML_VSM_BLOCK];
 

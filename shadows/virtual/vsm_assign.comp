@@ -3,9 +3,10 @@
 // vsm_assign (allocation 3/3): per entry in priority order, one block per workgroup. A request of
 // global rank r takes avail[r] (vsm_alloc), evicting that page's previous entry; past the list it is
 // a fallback (counted; the lookup reads a coarser page). Every marked entry with a page that is not
-// valid is then rendered this frame: DIRTY | VALID, its physical page appended to the clear list (the
-// clear pass's indirect dispatch size), and its map's mip flagged for the draw passes.
-// Only marked entries are written, and no marked entry is ever evicted, so the writes do not race.
+// valid is then rendered this frame (and, under pressure, every reserved fallback page too): DIRTY |
+// VALID, its physical page appended to the clear list (the clear pass's indirect dispatch size), and
+// its map's mip flagged for the draw passes. Only wanted entries are written, and no wanted entry is
+// ever evicted, so the writes do not race.
 #include "shaders/shared/glsl_common.h"
 #include "shadows/virtual/vsm_types.h"
 
@@ -28,12 +29,13 @@ layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
 void main() {
     uint entry, map, mip;
     bool inside = vsmEntryOfOrder(gl_GlobalInvocationID.x, vsm, entry, map, mip);
-    bool marked = inside && vsmMarked(entry);
-    uint pt = marked ? vsmTable[entry] : 0u;
-    bool request = marked && (pt & ML_VSM_ALLOCATED) == 0u;
+    bool wanted = inside && vsmWanted(entry);
+    uint pt = wanted ? vsmTable[entry] : 0u;
+    bool request = wanted && (pt & ML_VSM_ALLOCATED) == 0u;
     uint sum;
     uint rank = vsmBlockRanks[gl_WorkGroupID.x] + vsmBlockScan(request ? 1u : 0u, sum);
-    if (!marked) return;
+    if (!wanted) return;
+    bool marked = vsmMarked(entry);
     if (request) {
         if (rank < vsmCounters.available) {
             uint p = vsmAvail[rank];
@@ -50,13 +52,13 @@ void main() {
             return;
         }
     }
-    if ((pt & ML_VSM_VALID) == 0u) {
+    if ((pt & ML_VSM_VALID) == 0u && (marked || vsmCounters.pressure != 0u)) {
         pt |= ML_VSM_VALID | ML_VSM_DIRTY;
         uint slot = atomicAdd(vsmCounters.dispatchX, 1u);
         vsmRendered[slot] = pt & ML_VSM_PHYS_MASK;
         atomicOr(vsmDirtyMips[map], 1u << mip);
         atomicAdd(vsmCounters.pagesRendered, 1u);
-    } else {
+    } else if (marked && (pt & ML_VSM_VALID) != 0u) {
         atomicAdd(vsmCounters.pagesCached, 1u);
     }
     vsmTable[entry] = pt;

@@ -5,7 +5,8 @@
 //   VSM_CONST    VsmConstants           VSM_MAPS     GpuVsmMap[]
 //   VSM_TABLE    uint[] page table      VSM_COVER    uint[] coverage bits (one per entry)
 //   VSM_POOL     uint[] physical texels (lookup only)
-//   VSM_MARKS    uint[] mark bits, coherent (marking only; define VSM_MARKING)
+//   VSM_MARKS    uint[] mark bits, coherent (marking only; define VSM_MARKING): the pages lookups read,
+//                then from word VSM_CONST.options.w the fallback pages (reserved, drawn only under pressure)
 // Which map: a spot light has one, a point light six (face by pointLightFace), a directional light one
 // per clip level. Which mip: vsm_math.h. A page "has casters" when its coverage bit is set: maps of
 // lights with a static bake keep only the pages under some dynamic caster's projected bounds (the bake
@@ -80,7 +81,7 @@ bool vsmNeedsPage(uint map, uint entry) {
 }
 
 #ifdef VSM_MARKING
-void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius) {
+void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius, uint region) {
     if (tap.ok == 0u) return;
     int res = int(VSM_CONST.options.z >> mip);
     ivec2 lo = clamp(tap.texel - radius, ivec2(0), ivec2(res - 1));
@@ -91,25 +92,28 @@ void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius) {
             uint entry = vsmEntry(VSM_CONST.sizes.x, VSM_CONST.page.z, map, mip, uint(px), uint(py));
             if (!vsmNeedsPage(map, entry)) continue;
             uint bit = 1u << (entry & 31u);
-            if ((VSM_MARKS[entry >> 5u] & bit) == 0u) atomicOr(VSM_MARKS[entry >> 5u], bit);
+            uint word = region + (entry >> 5u);
+            if ((VSM_MARKS[word] & bit) == 0u) atomicOr(VSM_MARKS[word], bit);
         }
 }
 
-// Marks the pages the lookup of (P, N) will read, and its fallback page ML_VSM_FALLBACK_MIPS mips (or
-// clip levels) coarser, so that a full pool still leaves a coarser shadow: allocation serves coarse mips
-// first, so the fallback page gets memory before the pages it stands in for.
+// Marks the pages the lookup of (P, N) will read, and reserves its fallback page ML_VSM_FALLBACK_MIPS
+// mips (or clip levels) coarser, so that a full pool still leaves a coarser shadow: allocation serves
+// coarse mips first, so the fallback page gets memory before the pages it stands in for. A fallback page
+// is drawn only in a frame where some request found no page ("pressure"); otherwise it costs memory only.
 void vsmMarkReceiver(GpuLight L, uint firstMap, vec3 P, vec3 N) {
     VsmChoice c = vsmChoose(L, firstMap, P, N);
     if (c.tap.ok == 0u) return;
     int radius = int(VSM_CONST.options.x);
-    vsmMarkKernel(c.map, c.mip, c.tap, radius);
+    vsmMarkKernel(c.map, c.mip, c.tap, radius, 0u);
+    uint fallbackWords = VSM_CONST.options.w;
     uint R = VSM_CONST.options.z;
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         uint f = min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
-        if (f != c.map) vsmMarkKernel(f, 0u, vsmLocate(VSM_MAPS[f], R, 0u, P, N), radius);
+        if (f != c.map) vsmMarkKernel(f, 0u, vsmLocate(VSM_MAPS[f], R, 0u, P, N), radius, fallbackWords);
     } else {
         uint f = min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-        if (f != c.mip) vsmMarkKernel(c.map, f, vsmLocate(VSM_MAPS[c.map], R, f, P, N), radius);
+        if (f != c.mip) vsmMarkKernel(c.map, f, vsmLocate(VSM_MAPS[c.map], R, f, P, N), radius, fallbackWords);
     }
 }
 #endif

@@ -52,7 +52,7 @@ Choice choose(const VsmMarkInputs& in, const GpuLight& L, uint32_t firstMap, glm
 }
 
 void markKernel(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32_t map, uint32_t mip, VsmTap tap,
-                int radius) {
+                int radius, size_t region) {
     if (!tap.ok) return;
     const VsmConstants& k = in.constants;
     const int res = int(k.options.z >> mip);
@@ -63,14 +63,14 @@ void markKernel(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32_t 
         for (int px = lo.x >> shift; px <= (hi.x >> shift); ++px) {
             uint32_t entry = vsmEntry(k.sizes.x, k.page.z, map, mip, uint32_t(px), uint32_t(py));
             bool needs = (in.maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0 || testBit(in.coverage, entry);
-            if (needs) setBit(marks, entry);
+            if (needs) marks[region + (entry >> 5)] |= 1u << (entry & 31u);
         }
 }
 
 } // namespace
 
 std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
-    std::vector<uint32_t> marks(in.markWords, 0);
+    std::vector<uint32_t> marks(2 * in.markWords, 0); // lookup marks, then fallback marks
     const FrameConstants& f = in.frame;
     const uint32_t width = f.size.x, height = f.size.y;
     const int radius = int(in.constants.options.x);
@@ -97,13 +97,14 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                 if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
                 Choice c = choose(in, L, L.info.y, P, N);
                 if (!c.tap.ok) continue;
-                markKernel(in, marks, c.map, c.mip, c.tap, radius);
+                markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
                 if (L.info.x == ML_LIGHT_DIRECTIONAL) {
                     uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius);
+                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, in.markWords);
                 } else {
                     uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.mip) markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius);
+                    if (fb != c.mip)
+                        markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, in.markWords);
                 }
             }
         }
@@ -115,6 +116,8 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
                                       const std::vector<uint32_t>& active, const gpu::VsmConstants& k) {
     VsmCounters c{};
     const uint32_t s0 = k.page.z, mips = k.page.w, frame = k.sizes.w, pool = k.sizes.z;
+    auto marked = [&](uint32_t e) { return testBit(marks, e); };
+    auto wanted = [&](uint32_t e) { return marked(e) || ((marks[k.options.w + (e >> 5)] >> (e & 31u)) & 1u); };
     // Entries of the active maps in priority order (vsm_alloc_common.glsl).
     struct Item {
         uint32_t entry, map, mip;
@@ -137,8 +140,8 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
                 ++c.pagesInvalidated;
             }
         }
-        if (testBit(marks, it.entry)) {
-            ++c.pagesMarked;
+        if (wanted(it.entry)) {
+            c.pagesMarked += marked(it.entry);
             if (pt & ML_VSM_ALLOCATED)
                 st.lastUsed[pt & ML_VSM_PHYS_MASK] = frame;
             else
@@ -150,7 +153,7 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     auto pageClass = [&](uint32_t p) -> uint32_t {
         const uint32_t owner = st.owners[p];
         if (owner == ML_VSM_NO_OWNER) return 0;
-        if (testBit(marks, owner)) return 9;
+        if (wanted(owner)) return 9;
         const uint32_t age = std::max(frame - st.lastUsed[p], 1u);
         return 8 - std::min(uint32_t(std::bit_width(age) - 1), 7u);
     };
@@ -165,6 +168,7 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     c.requests = uint32_t(requests.size());
     c.available = uint32_t(avail.size());
     c.pagesAllocated = (pool - freePages) + std::min(c.requests, freePages);
+    c.pressure = c.requests > c.available ? 1 : 0;
     // vsm_assign.
     std::vector<uint8_t> failed(st.table.size(), 0);
     for (size_t r = 0; r < requests.size(); ++r) {
@@ -185,13 +189,13 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         }
     }
     for (const Item& it : order) {
-        if (!testBit(marks, it.entry) || failed[it.entry]) continue;
+        if (!wanted(it.entry) || failed[it.entry]) continue;
         uint32_t& pt = st.table[it.entry];
-        if (!(pt & ML_VSM_VALID)) {
+        if (!(pt & ML_VSM_VALID) && (marked(it.entry) || c.pressure)) {
             pt |= ML_VSM_VALID | ML_VSM_DIRTY;
             ++c.pagesRendered;
             ++c.dispatchX;
-        } else {
+        } else if (marked(it.entry) && (pt & ML_VSM_VALID)) {
             ++c.pagesCached;
         }
     }
@@ -223,13 +227,14 @@ std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32
     for (uint32_t p = 0; p < pool; ++p)
         if (st.owners[p] != ML_VSM_NO_OWNER && seen[p] != st.owners[p])
             return "physical page " + std::to_string(p) + " has an owner whose entry does not point to it";
-    // Every marked entry of an active map has a page, or is counted as a fallback.
+    // Every wanted (marked or reserved) entry of an active map has a page, or is counted as a fallback.
     uint32_t unbacked = 0;
     const uint32_t s0 = k.page.z;
     for (uint32_t map : active)
         for (uint32_t i = 0; i < vsmMipOffset(s0, k.page.w); ++i) {
             const uint32_t e = map * k.sizes.x + i;
-            if (testBit(marks, e) && !(st.table[e] & ML_VSM_ALLOCATED)) ++unbacked;
+            const bool wanted = testBit(marks, e) || ((marks[k.options.w + (e >> 5)] >> (e & 31u)) & 1u);
+            if (wanted && !(st.table[e] & ML_VSM_ALLOCATED)) ++unbacked;
         }
     if (unbacked != counters.fallbacks)
         return std::to_string(unbacked) + " marked entries without a page, " + std::to_string(counters.fallbacks) +

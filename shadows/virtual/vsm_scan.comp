@@ -5,7 +5,8 @@
 //   - clears last frame's DIRTY bit;
 //   - invalidation: a page loses VALID when its light moved (map flag), when a moved caster's old or new
 //     projected bounds overlap it (the CPU's stale bits, one per entry), or always with caching off;
-//   - a marked page that has a physical page refreshes its last use (LRU); one without is a request,
+//   - a wanted page (marked or reserved as fallback) that has a physical page refreshes its last use (LRU);
+//     one without is a request,
 //     counted per block for vsm_alloc's prefix sum.
 #include "shaders/shared/glsl_common.h"
 #include "shadows/virtual/vsm_types.h"
@@ -40,8 +41,8 @@ void main() {
                 atomicAdd(vsmCounters.pagesInvalidated, 1u);
             }
         }
-        if (vsmMarked(entry)) {
-            atomicAdd(vsmCounters.pagesMarked, 1u);
+        if (vsmWanted(entry)) {
+            if (vsmMarked(entry)) atomicAdd(vsmCounters.pagesMarked, 1u);
             if ((pt & ML_VSM_ALLOCATED) != 0u) vsmLastUsed[pt & ML_VSM_PHYS_MASK] = vsm.sizes.w;
             else request = 1u;
         }

@@ -52,7 +52,8 @@ ML_STRUCT(GpuVsmMap) {
 ML_STRUCT(VsmConstants) {
     uvec4 page;    // x page size, y log2(page size), z S_0 (pages per side at mip 0), w mips of a map
     uvec4 sizes;   // x entries per map, y maps in use (slots 0..y-1 are scanned), z pool pages, w frame
-    uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution, w coverage words per map
+    uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution,
+                   // w first word of the fallback marks (they follow the lookup marks in one buffer)
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), yzw unused
 };
 
@@ -71,7 +72,7 @@ ML_STRUCT(VsmCounters) {
     uint instancesCulledHpb; // (instance, map, mip) pairs inside range and frustum but over no dirty page
     uint drawOverflow;      // draws that did not fit the draw buffer (counted, never silent)
     uint dispatchX, dispatchY, dispatchZ; // clear pass: one workgroup per rendered page (indirect)
-    uint pad;
+    uint pressure; // 1 when requests exceed the available pages: fallback pages are rendered this frame
     // Mesh path (vsm_expand.comp, vsm_draw.task, vsm_draw.mesh), in meshlets of (instance, map, mip):
     uint meshletsTotal;          // of every (caster, active map, dirty mip) the map takes (before culling)
     uint meshletsCulledFrustum;  // expansion: the instance's box outside the map's frustum

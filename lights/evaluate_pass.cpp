@@ -1,0 +1,57 @@
+#include "lights/evaluate_pass.h"
+
+#include "evaluate.comp.spv.h"
+#include "statistics.comp.spv.h"
+
+namespace ml {
+
+namespace {
+constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr auto kWrite = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+Descriptor sampled(VkImageView view) { return Descriptor(Image{.view = view}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL); }
+} // namespace
+
+void EvaluatePass::create(const Device& device, bool hdrOnly) {
+    shader_ = ML_SHADER(device, spv_evaluate_comp);
+    program_ = createComputeProgram(device, shader_, 0, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
+}
+
+void EvaluatePass::destroy(const Device& device) {
+    destroyProgram(device, program_);
+    destroyShader(device, shader_);
+}
+
+void EvaluatePass::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
+                          const ShadowInputs& s, VkImageView hdr, VkImageView output) const {
+    profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
+        dispatch(d, c, program_, in.width, in.height, NoPush{},
+                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
+                  sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
+                  *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
+                  *s.vsmPool});
+        // HDR and output -> whatever the host does next (reads, copies, presents).
+        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                      VK_ACCESS_2_MEMORY_READ_BIT);
+    });
+}
+
+void StatisticsPass::create(const Device& device) {
+    shader_ = ML_SHADER(device, spv_statistics_comp);
+    program_ = createComputeProgram(device, shader_, 0);
+}
+
+void StatisticsPass::destroy(const Device& device) {
+    destroyProgram(device, program_);
+    destroyShader(device, shader_);
+}
+
+void StatisticsPass::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
+                            const Buffer& counters) const {
+    profiler.run(cmd, Pass::Statistics, [&](VkCommandBuffer c) {
+        dispatch(d, c, program_, in.width, in.height, NoPush{},
+                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
+        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters
+    });
+}
+
+} // namespace ml

@@ -1,0 +1,144 @@
+// The public API's lifecycle and refusals (engine/manylights.h): removal with generation-checked ids,
+// shadow-casting flags, environment, HDR output, and the values a host must not get away with.
+#include "gpu_test_util.h"
+
+#include <cmath>
+
+namespace ml::test {
+namespace {
+
+MeshId addBox(Module& m) {
+    static const std::vector<MeshVertex> v = {{{-1, 0, -1}, {0, 1, 0}}, {{1, 0, -1}, {0, 1, 0}},
+                                              {{1, 0, 1}, {0, 1, 0}},   {{-1, 0, 1}, {0, 1, 0}}};
+    static const std::vector<uint32_t> i = {0, 2, 1, 0, 3, 2};
+    auto id = m.addMesh({v, i, false, "quad"});
+    EXPECT_TRUE(id.ok());
+    return id.value();
+}
+
+TEST(ModuleApi, RemovedIdsAreRefusedAndSlotsReused) {
+    auto m = makeModule();
+    LightDesc l;
+    l.position = {0, 5, 0};
+    auto a = m->addLight(l);
+    ASSERT_TRUE(a.ok());
+    EXPECT_EQ(m->lightCount(), 1u);
+    ASSERT_TRUE(m->removeLight(a.value()).ok());
+    EXPECT_EQ(m->lightCount(), 0u);
+    EXPECT_FALSE(m->setLight(a.value(), l).ok());
+    EXPECT_FALSE(m->removeLight(a.value()).ok());
+    auto b = m->addLight(l); // reuses the slot with a new generation
+    ASSERT_TRUE(b.ok());
+    EXPECT_NE(a.value(), b.value());
+    EXPECT_TRUE(m->setLight(b.value(), l).ok());
+    EXPECT_FALSE(m->setLight(a.value(), l).ok()) << "the old id must not reach the slot's new light";
+
+    MeshId mesh = addBox(*m);
+    auto inst = m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), true);
+    ASSERT_TRUE(inst.ok());
+    EXPECT_FALSE(m->removeMesh(mesh).ok()) << "a mesh in use is not removed";
+    ASSERT_TRUE(m->removeInstance(inst.value()).ok());
+    EXPECT_FALSE(m->setInstanceTransform(inst.value(), glm::mat4(1.0f)).ok());
+    auto inst2 = m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), true);
+    ASSERT_TRUE(inst2.ok());
+    EXPECT_NE(inst.value(), inst2.value());
+    ASSERT_TRUE(m->removeInstance(inst2.value()).ok());
+    EXPECT_TRUE(m->removeMesh(mesh).ok());
+    EXPECT_FALSE(m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), false).ok());
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(ModuleApi, RemovedInstanceIsNotDrawnAndEnvironmentIsUsed) {
+    auto m = makeModule();
+    MeshId mesh = addBox(*m);
+    auto inst = m->addInstance(mesh, glm::scale(glm::mat4(1.0f), glm::vec3(50.0f)), glm::vec3(0.5f), false);
+    ASSERT_TRUE(inst.ok());
+    ASSERT_TRUE(m->setCamera({{0, 10, 10}, {0, 0, 0}}).ok());
+    ASSERT_TRUE(m->createTargets(64, 36).ok());
+    ASSERT_TRUE(m->setEnvironment(glm::vec3(0.0f), glm::vec3(0.5f, 0.0f, 0.0f)).ok());
+    renderFrame(*m);
+    auto r1 = m->takeReports();
+    ASSERT_EQ(r1.size(), 1u);
+    EXPECT_GT(r1[0].stats.surfacePixels, 0u);
+    ASSERT_TRUE(m->removeInstance(inst.value()).ok());
+    renderFrame(*m);
+    auto r2 = m->takeReports();
+    ASSERT_EQ(r2.size(), 1u);
+    EXPECT_EQ(r2[0].stats.surfacePixels, 0u);
+    std::vector<uint8_t> rgba;
+    ASSERT_TRUE(m->readOutput(rgba).ok());
+    EXPECT_GT(rgba[0], 100); // the red sky, tone-mapped
+    EXPECT_LT(rgba[1], 10);
+    EXPECT_FALSE(m->setEnvironment(glm::vec3(NAN), glm::vec3(0.0f)).ok());
+    EXPECT_FALSE(m->setEnvironment(glm::vec3(0.0f), glm::vec3(-1.0f)).ok());
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(ModuleApi, RefusesBadCamerasTransformsAndMovingStaticInstances) {
+    auto m = makeModule();
+    MeshId mesh = addBox(*m);
+    auto stat = m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), false);
+    auto dyn = m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), true);
+    ASSERT_TRUE(stat.ok() && dyn.ok());
+    EXPECT_FALSE(m->setInstanceTransform(stat.value(), glm::mat4(2.0f)).ok());
+    glm::mat4 bad(1.0f);
+    bad[3][0] = NAN;
+    EXPECT_FALSE(m->setInstanceTransform(dyn.value(), bad).ok());
+    EXPECT_FALSE(m->addInstance(mesh, bad, glm::vec3(0.5f), true).ok());
+    EXPECT_FALSE(m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(NAN), true).ok());
+    EXPECT_TRUE(m->setInstanceTransform(dyn.value(), glm::mat4(2.0f)).ok());
+    CameraDesc c{{0, 10, 0}, {0, 0, 0}};
+    EXPECT_FALSE(m->setCamera(c).ok()) << "up parallel to the view direction";
+    c.up = {0, 0, 1};
+    EXPECT_TRUE(m->setCamera(c).ok());
+    c.position.x = NAN;
+    EXPECT_FALSE(m->setCamera(c).ok());
+    c.position = {0, 10, 0};
+    c.target = {0, 0, 1e9f};
+    EXPECT_FALSE(m->setCamera(c).ok());
+    c.target = {0, 0, 0};
+    c.farPlane = INFINITY;
+    EXPECT_FALSE(m->setCamera(c).ok());
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(ModuleApi, NonCastingLightsAndInstancesGetNoShadowMaps) {
+    auto scene = loadScene("night-city", 64, 1);
+    ASSERT_TRUE(scene.ok());
+    auto m = makeModule();
+    auto binding = bindScene(*m, scene.value());
+    ASSERT_TRUE(binding.ok());
+    ASSERT_TRUE(m->createTargets(160, 90).ok());
+    renderFrame(*m);
+    auto before = m->takeReports();
+    ASSERT_EQ(before.size(), 1u);
+    ASSERT_GT(before[0].stats.vsm.lightsWithPages, 0u);
+    for (size_t i = 0; i < scene->lights.size(); ++i) {
+        LightDesc d = toLightDesc(scene->lights[i]);
+        d.castsShadows = false;
+        ASSERT_TRUE(m->setLight(binding->lights[i], d).ok());
+    }
+    renderFrame(*m);
+    auto after = m->takeReports();
+    ASSERT_EQ(after.size(), 1u);
+    EXPECT_EQ(after[0].stats.vsm.lightsWithPages, 0u);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(ModuleApi, HdrOutputWritesTheHdrImageOnly) {
+    resetValidationCounters();
+    ModuleOptions o;
+    o.device.validation = true;
+    o.hdrOutput = true;
+    auto m = Module::create(o);
+    ASSERT_TRUE(m.ok()) << m.error();
+    ASSERT_TRUE(m.value()->createTargets(32, 18).ok());
+    renderFrame(*m.value());
+    std::vector<uint8_t> rgba;
+    EXPECT_FALSE(m.value()->readOutput(rgba).ok());
+    EXPECT_EQ(m.value()->outputImage(), m.value()->internals().hdr.image);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace
+} // namespace ml::test
