@@ -10,6 +10,7 @@
 #include "shadows/static/bake.h"
 #include "shadows/static/bake_shard.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -37,8 +38,14 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --shard I/N        bake only shard I (0-based) of N of the selected lights into a part file for
                      `manylights merge` (same flags in every shard; each computes the same split:
                      lights dealt costliest first, 6 faces for a point light, to the least loaded shard)
+  --light-dir X,Y,Z  also bake a static directional light shining along X,Y,Z (appended after the
+                     scene's lights and selected): one orthographic map fitted to the scene bounds
+  --bounds X0,Y0,Z0,X1,Y1,Z1  the box directional lights' maps cover (default: the scene's bounds)
+                     (directional maps are rendered by the CPU rasteriser with either --renderer;
+                     the file's scene string records these, so verify re-creates the same scene)
   --quiet            no progress lines on stderr
-Dynamic lights and directional lights among the selection are skipped and listed, never silently.
+Dynamic lights among the selection are skipped and listed, never silently. Directional lights (the
+glTF's, or --light-dir) bake one orthographic map each.
 )";
 
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
@@ -120,8 +127,10 @@ struct GpuDualRenderer {
         if (!r) return fail(r.error());
         renderer = std::move(r.value());
         DualDepthRenderer* p = renderer.get();
-        return DualRenderFn([p](const CasterTriangles& c, const LightFrustum& f, uint32_t res) {
-            return p->render(c, f, res);
+        // The Vulkan renderer is perspective only: orthographic (directional) maps use the CPU rasteriser.
+        return DualRenderFn([p, cpu = cpuDualRenderer()](const CasterTriangles& c, const LightFrustum& f,
+                                                         uint32_t res) {
+            return f.orthographic() ? cpu(c, f, res) : p->render(c, f, res);
         });
     }
     ~GpuDualRenderer() {
@@ -161,10 +170,10 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
     part.file.scene = spec, part.file.method = method, part.file.resolution = res;
     std::vector<uint32_t> bakeable;
     for (uint32_t l : part.own)
-        if (bakeSkipReason(scene.lights[l]).empty())
+        if (bakeSkipReason(scene, scene.lights[l]).empty())
             bakeable.push_back(l);
         else
-            std::printf("skipped light %u: %s\n", l, bakeSkipReason(scene.lights[l]).c_str());
+            std::printf("skipped light %u: %s\n", l, bakeSkipReason(scene, scene.lights[l]).c_str());
     std::printf("shard %u/%u: %zu of the %zu selected lights (%zu to bake)\n", id.index, id.count,
                 part.own.size(), selected.size(), bakeable.size());
     double renderSeconds = 0, encodeSeconds = 0;
@@ -188,7 +197,7 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
 int runBake(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
-                            "--renderer", "--shard"},
+                            "--renderer", "--shard", "--light-dir", "--bounds"},
                            {"--quiet"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
@@ -234,11 +243,28 @@ int runBake(int argc, char** argv) {
         render = fn.value();
     }
     SceneSpec spec{args->get("--scene", "night-city"), sceneLights.value(), seed.value()};
-    auto scene = loadScene(spec.scene, spec.lights, spec.seed);
+    SceneModifiers mods;
+    mods.base = spec.scene;
+    if (spec.scene.find('|') != std::string::npos) return usageError("bake", "--scene: '|' is not allowed");
+    if (args->has("--bounds") || args->has("--light-dir")) {
+        std::string text;
+        if (args->has("--bounds")) text += "|bounds=" + args->get("--bounds", "");
+        if (args->has("--light-dir")) text += "|light-dir=" + args->get("--light-dir", "");
+        auto m = parseSceneModifiers(spec.scene + text);
+        if (!m) return usageError("bake", m.error());
+        mods = m.value();
+        spec.scene = sceneModifierString(mods);
+        spec.lights += uint32_t(mods.lightDirs.size());
+    }
+    auto scene = loadBakeScene(spec);
     if (!scene) return usageError("bake", scene.error());
     for (const auto& w : scene->warnings) std::fprintf(stderr, "manylights bake: warning: %s\n", w.c_str());
     auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
     if (!lights) return usageError("bake", lights.error());
+    for (size_t i = 0; i < mods.lightDirs.size(); ++i) // the --light-dir lights are always baked
+        if (uint32_t li = uint32_t(scene->lights.size() - mods.lightDirs.size() + i);
+            std::find(lights->begin(), lights->end(), li) == lights->end())
+            lights->push_back(li);
 
     std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
                 staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());

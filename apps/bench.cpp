@@ -1,9 +1,11 @@
-// `manylights bench culling`: culling and shading GPU time as lights grow, for clustered, tiled and no
-// culling, measured in one run on one device. Prints a table and writes a CSV. Times are GPU
-// timestamps (per-pass means over --frames after one warm-up frame); lights per pixel come from one
-// extra frame with statistics on, so the counting loop never inflates the timed frames.
+// `manylights bench culling`: culling and shading GPU time as lights grow, for clustered (footprint),
+// clustered-brute, tiled and no culling, measured in one run on one device. Prints a table and writes
+// a CSV. Times are per-pass means over --frames after one warm-up frame (GPU timestamps, or fenced
+// submits on CPU devices); lights per pixel, box tests and list entries come from one extra frame with
+// statistics on, so the counting loop never inflates the timed frames.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "engine/module_impl.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
@@ -14,23 +16,26 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static [options]
-(`manylights bench static --help` for the static shadow benchmark)
+static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker [options]
+(`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
+static shadows' temporal stability along a camera path)
 Culling and shading time against light count, for each culling mode, in one run.
   --size WxH       image size (default 640x360)
-  --lights LIST    comma-separated light counts (default 64,256,1024,4096)
+  --lights LIST    comma-separated light counts (default 256,1024,4096)
+  --culling LIST   modes to run (default clustered,clustered-brute,tiled,none); "vs none" needs none
   --frames N       timed frames per configuration (default 5)
   --seed S         scene seed (default 1)
   --csv FILE       CSV output (default out/bench_culling.csv)
 )";
 
 namespace {
+
 struct Row {
     uint32_t lights;
     CullingMode mode;
-    double cullMs, evalMs, gbufferMs;
+    double boundsMs, assignMs, evalMs, gbufferMs;
     double evaluated, reaching;
-    uint32_t overflow;
+    uint32_t boxTests, entries, overflow;
 };
 
 Result<std::vector<uint32_t>> parseList(const std::string& text) {
@@ -67,21 +72,33 @@ int runBench(int argc, char** argv) {
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
+    if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling or static)");
-    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv"}, {});
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling, static, vsm or flicker)");
+    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {
         std::fputs(kBenchHelp, stdout);
         return 0;
     }
     auto size = cli::parseSize("--size", args->get("--size", "640x360"));
-    auto list = parseList(args->get("--lights", "64,256,1024,4096"));
+    auto list = parseList(args->get("--lights", "256,1024,4096"));
     auto frames = cli::parseUint("--frames", args->get("--frames", "5"), 1, 1000);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
     for (const std::string* e : {&size.error(), &list.error(), &frames.error(), &seed.error()})
         if (!e->empty()) return usageError("bench", *e);
     std::string csvPath = args->get("--csv", "out/bench_culling.csv");
+    std::vector<CullingMode> modes;
+    {
+        std::stringstream ss(args->get("--culling", "clustered,clustered-brute,tiled,none"));
+        std::string item;
+        while (std::getline(ss, item, ',')) {
+            auto m = parseCulling(item);
+            if (!m) return usageError("bench", "--culling: " + m.error());
+            modes.push_back(m.value());
+        }
+        if (modes.empty()) return usageError("bench", "--culling: empty list");
+    }
     auto [width, height] = size.value();
 
     std::vector<Row> rows;
@@ -96,26 +113,30 @@ int runBench(int argc, char** argv) {
         auto binding = bindScene(m, scene.value());
         if (!binding) return runError("bench", binding.error());
         if (auto r = m.createTargets(width, height); !r) return runError("bench", r.error());
-        for (CullingMode mode : {CullingMode::Clustered, CullingMode::Tiled, CullingMode::None}) {
+        for (CullingMode mode : modes) {
             m.setCulling(mode);
             m.setStatistics(true);
             auto counted = runFrames(m, 1);
             m.setStatistics(false);
             auto warm = runFrames(m, 1);
             auto timed = runFrames(m, frames.value());
-            if (!counted || !warm || !timed) return runError("bench", "frame failed");
+            if (!counted) return runError("bench", counted.error());
+            uint32_t boxTests = m.internals().cull.lastBoxTests(); // the counted frame has completed
+            if (!warm || !timed) return runError("bench", "frame failed");
             vkDeviceWaitIdle(m.device().device);
             m.collect();
             for (auto& r : m.takeReports()) timed->push_back(r);
-            Row row{lights, mode, 0, 0, 0, 0, 0, 0};
+            Row row{lights, mode, 0, 0, 0, 0, 0, 0, mode == CullingMode::None ? 0u : boxTests, 0, 0};
             uint32_t n = 0;
             for (const auto& r : timed.value()) {
-                row.cullMs += r.times.ms[uint32_t(Pass::ClusterBounds)] + r.times.ms[uint32_t(Pass::LightAssign)];
+                row.boundsMs += r.times.ms[uint32_t(Pass::ClusterBounds)];
+                row.assignMs += r.times.ms[uint32_t(Pass::LightAssign)];
                 row.evalMs += r.times.ms[uint32_t(Pass::Evaluate)];
                 row.gbufferMs += r.times.ms[uint32_t(Pass::GBuffer)];
                 ++n;
             }
-            row.cullMs /= n;
+            row.boundsMs /= n;
+            row.assignMs /= n;
             row.evalMs /= n;
             row.gbufferMs /= n;
             if (counted->empty()) return runError("bench", "no statistics frame arrived");
@@ -123,28 +144,32 @@ int runBench(int argc, char** argv) {
             row.evaluated = s.lightsPerPixelEvaluatedMean;
             row.reaching = s.lightsPerPixelReachingMean;
             row.overflow = s.clusterOverflowCount;
+            row.entries = s.poolEntries;
             rows.push_back(row);
-            std::fprintf(stderr, "  %u lights, %s: cull %.2f ms, evaluate %.2f ms\n", lights, cullingName(mode),
-                         row.cullMs, row.evalMs);
+            std::fprintf(stderr, "  %u lights, %s: cull %.2f ms (assign %.2f), evaluate %.2f ms\n", lights,
+                         cullingName(mode), row.boundsMs + row.assignMs, row.assignMs, row.evalMs);
         }
     }
 
     std::printf("bench culling: night-city, %ux%u, %u timed frames each, %s\n", width, height, frames.value(),
                 deviceName.c_str());
-    std::printf("| lights | culling   | cull ms | evaluate ms | cull+eval ms | vs none | evaluated/px | reaching/px | overflow |\n");
-    std::printf("|-------:|-----------|--------:|------------:|-------------:|--------:|-------------:|------------:|---------:|\n");
+    std::printf("| lights | culling         | bounds ms | assign ms | cull ms | evaluate ms | cull+eval ms | vs none | box tests | list entries | evaluated/px | reaching/px | eval/reach | overflow |\n");
+    std::printf("|-------:|-----------------|----------:|----------:|--------:|------------:|-------------:|--------:|----------:|-------------:|-------------:|------------:|-----------:|---------:|\n");
     std::ostringstream csv;
-    csv << "lights,culling,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_none,evaluated_per_pixel,"
-           "reaching_per_pixel,overflow_clusters\n";
+    csv << "lights,culling,bounds_ms,assign_ms,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_none,"
+           "box_tests,list_entries,evaluated_per_pixel,reaching_per_pixel,overflow_clusters\n";
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
-        const Row& none = rows[i - (i % 3) + 2];
-        double total = r.cullMs + r.evalMs, noneTotal = none.cullMs + none.evalMs;
-        double speedup = total > 0 ? noneTotal / total : 0;
-        std::printf("| %6u | %-9s | %7.2f | %11.2f | %12.2f | %6.2fx | %12.2f | %11.2f | %8u |\n", r.lights,
-                    cullingName(r.mode), r.cullMs, r.evalMs, total, speedup, r.evaluated, r.reaching, r.overflow);
-        csv << r.lights << "," << cullingName(r.mode) << "," << r.cullMs << "," << r.evalMs << "," << r.gbufferMs << ","
-            << total << "," << speedup << "," << r.evaluated << "," << r.reaching << "," << r.overflow << "\n";
+        double cull = r.boundsMs + r.assignMs, total = cull + r.evalMs, speedup = 0;
+        for (const Row& none : rows) // the none row of the same light count, when it ran
+            if (none.lights == r.lights && none.mode == CullingMode::None && total > 0) speedup = none.evalMs / total;
+        double ratio = r.reaching > 0 ? r.evaluated / r.reaching : 0;
+        std::printf("| %6u | %-15s | %9.2f | %9.2f | %7.2f | %11.2f | %12.2f | %6.2fx | %9u | %12u | %12.2f | %11.2f | %10.2f | %8u |\n",
+                    r.lights, cullingName(r.mode), r.boundsMs, r.assignMs, cull, r.evalMs, total, speedup,
+                    r.boxTests, r.entries, r.evaluated, r.reaching, ratio, r.overflow);
+        csv << r.lights << "," << cullingName(r.mode) << "," << r.boundsMs << "," << r.assignMs << "," << cull << ","
+            << r.evalMs << "," << r.gbufferMs << "," << total << "," << speedup << "," << r.boxTests << ","
+            << r.entries << "," << r.evaluated << "," << r.reaching << "," << r.overflow << "\n";
     }
     auto slash = csvPath.find_last_of('/');
     if (slash != std::string::npos)

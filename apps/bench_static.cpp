@@ -3,14 +3,20 @@
 // maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
 // (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
-// against time.
+// against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
+// the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
+// resolution and PCF size (apps/lookup_timer.h). Receivers are moved onto the traced surface by
+// default (--receivers), since the G-buffer's float reconstruction puts them centimetres off it.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/bench_static_tables.h"
+#include "apps/lookup_timer.h"
 #include "engine/module_impl.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/light_math.h"
 #include "shadows/gpu/dual_depth_gpu.h"
+#include "shadows/reference/error_classes.h"
 #include "shadows/reference/raytrace.h"
 #include "shadows/static/static_visibility.h"
 
@@ -18,6 +24,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -35,8 +42,20 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --frames N       timed frames per configuration, default 3
   --camera X,Y,Z,TX,TY,TZ  view for the evaluation time and receivers (default: the scene's)
   --pcf R          filter radius for the evaluation and accuracy (0 = one tap), default 0
+  --receivers R    exact (default): each G-buffer pixel's receiver is moved onto the surface the
+                   camera ray through the pixel centre hits (Embree), when that hit lies within
+                   max(5 cm, 0.2 %) of the G-buffer depth; gbuffer: the G-buffer's reconstruction
+                   (forward-Z D32 through invViewProj in float: centimetres off at 100 m, which
+                   puts receivers inside walls; error class "inside")
+  --lookup-pcf LIST  PCF radii of the isolated lookup timing (0 = one tap .. 4 = 9x9), default
+                   0,1,2,3,4; 'none' skips it
+  --lookups K      extra lookups per pair in the timing pass (timed at 1 and 1 + K), default 8;
+                   K grows x4 until the extra lookups take >= 40 ms
+  --lookup-pairs N (receiver, light) pairs timed, evenly sampled from the compared ones, default 16384
   --seed S         scene seed, default 1
-  --out DIR        bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png (default out/bench_static)
+  --out DIR        bench_static.csv, bench_classes.csv (disagreements by cause), bench_lookup.csv
+                   (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png,
+                   accuracy_vs_lookup.png (default out/bench_static)
 )";
 
 namespace {
@@ -50,6 +69,8 @@ Result<std::vector<std::string>> splitList(const std::string& text) {
     return out;
 }
 
+constexpr float kRayBias = 0.02f; // the rays' normal offset, metres
+
 double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -58,16 +79,7 @@ struct Receiver {
     glm::vec3 p, n;
 };
 
-struct Row {
-    std::string method;
-    uint32_t res = 0, lights = 0;
-    uint64_t bytes = 0, mapBytes = 0;
-    double renderS = 0, encodeS = 0, evalMs = 0;
-    double precomputeS = 0, insertS = 0, compressS = 0; // CPVS: the paper's Table 3 split of encodeS
-    std::string failed; // the encoder's error when it cannot encode a map (e.g. MH's 24-bit offsets)
-    uint64_t compared = 0, mismatches = 0;
-    double meanAbs = 0;
-};
+using Row = BenchStaticRow;
 
 double evaluateMs(Module& m, uint32_t frames) {
     Device& d = m.device();
@@ -97,19 +109,33 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
           "set ylabel 'disagreement with ray-traced visibility (%)'\n";
     for (const auto& m : methods) {
         std::ofstream dat(dir + "/" + m + ".dat");
-        dat << "# bytes_per_light eval_ms disagreement_percent res\n";
+        dat << "# bytes_per_light eval_ms disagreement_percent res one_tap_lookup_ns\n";
         for (const Row& r : rows)
-            if (r.method == m && r.evalMs >= 0 && r.failed.empty())
+            if (r.method == m && r.evalMs >= 0 && r.failed.empty()) {
+                // The isolated one-tap lookup cost, or NaN (gnuplot skips it) when not measured.
+                double ns = std::nan("");
+                for (const LookupTiming& t : r.lookup)
+                    if (t.radius == 0) ns = t.nsPerLookup;
                 dat << double(r.bytes) / r.lights << " " << r.evalMs << " "
-                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << "\n";
+                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << " "
+                    << ns << "\n";
+            }
     }
-    for (int chart = 0; chart < 2; ++chart) {
-        gp << "set output '" << dir << (chart ? "/accuracy_vs_time.png'\n" : "/accuracy_vs_bytes.png'\n");
-        gp << (chart ? "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n"
-                     : "set xlabel 'bytes per light'\n");
-        gp << "plot ";
+    const bool anyLookup = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
+        return std::any_of(r.lookup.begin(), r.lookup.end(),
+                           [](const LookupTiming& t) { return t.radius == 0; });
+    });
+    for (int chart = 0; chart < (anyLookup ? 3 : 2); ++chart) {
+        const char* names[3] = {"/accuracy_vs_bytes.png'\n", "/accuracy_vs_time.png'\n",
+                                "/accuracy_vs_lookup.png'\n"};
+        const char* xlabels[3] = {
+            "set xlabel 'bytes per light'\n",
+            "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
+            "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
+        const int column[3] = {1, 2, 5};
+        gp << "set output '" << dir << names[chart] << xlabels[chart] << "plot ";
         for (size_t i = 0; i < methods.size(); ++i)
-            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << (chart ? 2 : 1)
+            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << column[chart]
                << ":3 with linespoints title '" << methods[i] << "'";
         gp << "\n";
     }
@@ -122,10 +148,11 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 } // namespace
 
 int runBenchStatic(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
-                            "--seed", "--out", "--camera"},
-                           {});
+    auto args =
+        cli::parse(argc, argv, 3,
+                   {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",
+                    "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers"},
+                   {});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -138,9 +165,25 @@ int runBenchStatic(int argc, char** argv) {
     auto frames = cli::parseUint("--frames", args->get("--frames", "3"), 1, 100);
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    for (const std::string* e : {&methodNames.error(), &resNames.error(), &count.error(), &size.error(),
-                                 &frames.error(), &pcf.error(), &seed.error()})
+    auto extraLookups = cli::parseUint("--lookups", args->get("--lookups", "8"), 1, 1024);
+    auto lookupPairs = cli::parseUint("--lookup-pairs", args->get("--lookup-pairs", "16384"), 1, 1u << 24);
+    for (const std::string* e :
+         {&methodNames.error(), &resNames.error(), &count.error(), &size.error(), &frames.error(),
+          &pcf.error(), &seed.error(), &extraLookups.error(), &lookupPairs.error()})
         if (!e->empty()) return usageError("bench static", *e);
+    const std::string receiverMode = args->get("--receivers", "exact");
+    if (receiverMode != "exact" && receiverMode != "gbuffer")
+        return usageError("bench static", "--receivers: '" + receiverMode + "' is not exact or gbuffer");
+    std::vector<uint32_t> lookupRadii;
+    if (args->get("--lookup-pcf", "0,1,2,3,4") != "none") {
+        auto names = splitList(args->get("--lookup-pcf", "0,1,2,3,4"));
+        if (!names) return usageError("bench static", names.error());
+        for (const auto& n : names.value()) {
+            auto r = cli::parseUint("--lookup-pcf", n, 0, ML_MAX_PCF_RADIUS);
+            if (!r) return usageError("bench static", r.error());
+            lookupRadii.push_back(r.value());
+        }
+    }
     std::vector<StaticMethod> methods;
     for (const auto& n : methodNames.value()) {
         auto m = parseStaticMethod(n);
@@ -178,6 +221,9 @@ int runBenchStatic(int argc, char** argv) {
     }
     if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("bench static", r.error());
 
+    auto rays = RayReference::build(scene.value(), true);
+    if (!rays) return runError("bench static", rays.error());
+
     // Receivers: the G-buffer of one frame.
     evaluateMs(m, 1);
     auto& impl = m.internals();
@@ -208,6 +254,11 @@ int runBenchStatic(int argc, char** argv) {
         const float* depth = rb.as<float>();
         const uint64_t* normal =
             reinterpret_cast<const uint64_t*>(rb.as<char>() + size_t(width) * height * 4);
+        // Exact receivers: the pixel centre's camera ray in double, traced against the static scene.
+        const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
+        const glm::dvec3 eye(fc.cameraPosition);
+        uint64_t moved = 0, kept = 0;
+        double maxMove = 0;
         for (uint32_t y = 0; y < height; ++y)
             for (uint32_t x = 0; x < width; ++x) {
                 size_t i = size_t(y) * width + x;
@@ -215,8 +266,27 @@ int runBenchStatic(int argc, char** argv) {
                 glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
                 glm::vec3 n(glm::unpackHalf2x16(uint32_t(normal[i])),
                             glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);
+                if (receiverMode == "exact") {
+                    double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
+                    glm::dvec4 a = inv * glm::dvec4(nx, ny, 0.0, 1.0), b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
+                    glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
+                    double t0 = glm::length(glm::dvec3(p) - eye);
+                    RayHit h = rays->firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, float(t0 * 1.5 + 1.0));
+                    if (h.hit && std::abs(double(h.t) - t0) < std::max(0.05, 0.002 * t0)) {
+                        glm::vec3 q = glm::vec3(eye + dir * double(h.t));
+                        maxMove = std::max(maxMove, double(glm::length(q - p)));
+                        p = q;
+                        ++moved;
+                    } else {
+                        ++kept; // a dynamic instance (not in the rays) or a silhouette pixel
+                    }
+                }
                 receivers.push_back({p, glm::normalize(n)});
             }
+        if (receiverMode == "exact")
+            std::fprintf(stderr,
+                         "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
+                         (unsigned long long)moved, maxMove, (unsigned long long)kept);
         destroyBuffer(d, rb);
     }
 
@@ -240,8 +310,6 @@ int runBenchStatic(int argc, char** argv) {
         return runError("bench static", sceneName + ": no static spot light reaches the view");
 
     // Ray-traced truth per light, over the receivers in its cone.
-    auto rays = RayReference::build(scene.value(), true);
-    if (!rays) return runError("bench static", rays.error());
     struct LightSet {
         uint32_t light;
         LightFrustum frustum;
@@ -261,7 +329,8 @@ int runBenchStatic(int argc, char** argv) {
                 ns.push_back(receivers[r].n);
             }
         s.truth.resize(ps.size());
-        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, 0.02f, s.truth.data());
+        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, kRayBias,
+                           s.truth.data());
         sets.push_back(std::move(s));
     }
     std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", scene->name.c_str(),
@@ -270,6 +339,30 @@ int runBenchStatic(int argc, char** argv) {
                      for (auto& s : sets) n += s.receivers.size();
                      return n;
                  }());
+
+    // Lookup timing pairs: the same (receiver, light) pairs for every method and resolution, evenly
+    // sampled from the compared ones.
+    std::vector<LookupPair> pairs;
+    {
+        size_t total = 0;
+        for (auto& s : sets) total += s.receivers.size();
+        const double step = std::max(1.0, double(total) / lookupPairs.value());
+        double next = 0;
+        size_t index = 0;
+        for (uint32_t k = 0; k < sets.size(); ++k)
+            for (uint32_t r : sets[k].receivers) {
+                if (double(index++) >= next) {
+                    pairs.push_back({receivers[r].p, receivers[r].n, k});
+                    next += step;
+                }
+            }
+    }
+    std::unique_ptr<LookupTimer> timer;
+    if (!lookupRadii.empty()) {
+        auto t = LookupTimer::create(m.device());
+        if (!t) return runError("bench static", t.error());
+        timer = std::move(t.value());
+    }
 
     auto renderer = DualDepthRenderer::create(m.device());
     if (!renderer) return runError("bench static", renderer.error());
@@ -334,6 +427,25 @@ int runBenchStatic(int argc, char** argv) {
                     return runError("bench static", r.error());
             row.evalMs = evaluateMs(m, frames.value());
             for (const LightSet& ls : sets) m.clearStaticShadow(binding->lights[ls.light]);
+            if (timer) {
+                std::vector<gpu::GpuShadowRecord> records;
+                std::vector<uint32_t> all;
+                for (size_t k = 0; k < sets.size(); ++k) {
+                    records.push_back(
+                        makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
+                    all.insert(all.end(), encoded[mi][k].begin(), encoded[mi][k].end());
+                }
+                const uint64_t range = m.device().properties.limits.maxStorageBufferRange;
+                if (all.size() * 4 > range) {
+                    row.lookupSkipped = std::to_string(all.size() * 4 >> 20) +
+                                        " MiB of words > the device's " + std::to_string(range >> 20) +
+                                        " MiB storage buffer range";
+                } else {
+                    auto t = timer->measure(records, all, pairs, lookupRadii, extraLookups.value(), 3);
+                    if (!t) return runError("bench static", t.error());
+                    row.lookup = std::move(t.value());
+                }
+            }
             // Accuracy: the method's visibility (the CPU twin of the shader's lookup) against the rays.
             Disagreement total;
             for (size_t k = 0; k < sets.size(); ++k) {
@@ -343,6 +455,15 @@ int runBenchStatic(int argc, char** argv) {
                     vis.push_back(
                         staticVisibility(rec, encoded[mi][k].data(), receivers[r].p, receivers[r].n));
                 total.merge(compareVisibility(vis, sets[k].truth));
+                // Each disagreement's cause.
+                ErrorContext ctx{&rays.value(), rec, encoded[mi][k].data(),
+                                 scene->lights[sets[k].light].position, kRayBias};
+                for (size_t j = 0; j < vis.size(); ++j)
+                    if ((vis[j] >= 0.5f) != (sets[k].truth[j] != 0)) {
+                        const Receiver& rc = receivers[sets[k].receivers[j]];
+                        ErrorClass ec = classifyDisagreement(ctx, rc.p, rc.n);
+                        ++row.classes[uint32_t(ec)];
+                    }
             }
             encoded[mi] = {};
             row.compared = total.compared;
@@ -411,11 +532,16 @@ int runBenchStatic(int argc, char** argv) {
                             double(r.bytes) / r.lights,
                             double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
     }
+    if (auto r = printClassTables(out, rows, methods); !r) return runError("bench static", r.error());
+    if (!lookupRadii.empty())
+        if (auto r = printLookupTable(out, rows, lookupRadii, pairs.size(), extraLookups.value()); !r)
+            return runError("bench static", r.error());
     std::ofstream f(out + "/bench_static.csv");
     if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
     f.close();
     if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
-    std::printf("wrote %s/bench_static.csv, accuracy_vs_bytes.png, accuracy_vs_time.png\n", out.c_str());
+    std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n",
+                out.c_str());
     return 0;
 }
 

@@ -20,7 +20,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --size WxH       image size (default 1280x720)
   --lights N       lights in the scene, 1..4096 (default 256)
   --seed S         scene seed (default 1)
-  --culling M      clustered (default), tiled or none
+  --culling M      clustered (default; footprint assignment), clustered-brute, tiled or none
   --out DIR        output folder (default out/demo)
   --window         also show the frames in a window (needs a display)
   --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
@@ -38,6 +38,9 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
                    mesh elsewhere), mesh (meshlets, task and mesh shaders) or vertex
   --timing T       fenced (default: each pass submitted and timed on its own, honest on lavapipe) or
                    timestamps (one command buffer, GPU timestamps)
+  --view V         shaded (default); lights: heat map of lights evaluated per pixel; lights-reaching:
+                   of lights whose cone and range hold the pixel's point. Colours: 0 black, 1 dark blue,
+                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between)
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
@@ -45,7 +48,7 @@ int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
                             "--static", "--static-res", "--pcf", "--camera", "--bake", "--path", "--dynamic",
-                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--vsm-raster"},
+                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--view", "--vsm-raster"},
                            {"--window", "--no-stats"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -73,6 +76,14 @@ int runDemo(int argc, char** argv) {
     auto vsmPool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
     for (const std::string* e : {&path.error(), &vsmRes.error(), &vsmPage.error(), &vsmPool.error()})
         if (!e->empty()) return usageError("demo", *e);
+    const std::string viewName = args->get("--view", "shaded");
+    DebugView view = DebugView::Shaded;
+    if (viewName == "lights")
+        view = DebugView::LightsEvaluated;
+    else if (viewName == "lights-reaching")
+        view = DebugView::LightsReaching;
+    else if (viewName != "shaded")
+        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights or lights-reaching)");
     const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
     if (dynamic != "vsm" && dynamic != "off") return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
     if (timing != "fenced" && timing != "timestamps")
@@ -97,6 +108,7 @@ int runDemo(int argc, char** argv) {
     auto module = Module::create(mo);
     if (!module) return runError("demo", module.error());
     Module& m = *module.value();
+    m.setView(view);
     auto [width, height] = size.value();
     auto binding = bindScene(m, scene.value());
     if (!binding) return runError("demo", binding.error());

@@ -4,13 +4,22 @@
 #include "shaders/shared/light_math.h"
 
 #include "cluster_bounds.comp.spv.h"
+#include "light_alloc.comp.spv.h"
 #include "light_assign.comp.spv.h"
+#include "light_fill.comp.spv.h"
+#include "light_footprint.comp.spv.h"
+#include "view_lights.comp.spv.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 namespace ml {
+
+static_assert(uint32_t(CullingMode::Clustered) == ML_CULL_CLUSTERED && uint32_t(CullingMode::Tiled) == ML_CULL_TILED &&
+              uint32_t(CullingMode::None) == ML_CULL_NONE &&
+              uint32_t(CullingMode::ClusteredBrute) == ML_CULL_CLUSTERED_BRUTE);
+static_assert(ML_CLUSTER_SLICES <= ML_MAX_SLICES && ML_MAX_SLICES <= 64, "tile masks hold 64 slices");
 
 std::vector<float> sliceBoundaries(float nearPlane, float farPlane, uint32_t slices) {
     std::vector<float> far(slices);
@@ -24,7 +33,7 @@ ClusterGrid clusterGrid(uint32_t width, uint32_t height, CullingMode mode) {
     ClusterGrid g;
     g.tilesX = (width + ML_TILE_SIZE - 1) / ML_TILE_SIZE;
     g.tilesY = (height + ML_TILE_SIZE - 1) / ML_TILE_SIZE;
-    g.slices = mode == CullingMode::Clustered ? ML_MAX_SLICES : 1;
+    g.slices = mode == CullingMode::Clustered || mode == CullingMode::ClusteredBrute ? ML_CLUSTER_SLICES : 1;
     return g;
 }
 
@@ -37,43 +46,111 @@ uint32_t sliceOf(float z, const std::vector<float>& sliceFar, uint32_t slices) {
 void LightCulling::create(const Device& device) {
     boundsShader_ = ML_SHADER(device, spv_cluster_bounds_comp);
     assignShader_ = ML_SHADER(device, spv_light_assign_comp);
+    footprintShader_ = ML_SHADER(device, spv_light_footprint_comp);
+    allocShader_ = ML_SHADER(device, spv_light_alloc_comp);
     boundsProgram_ = createComputeProgram(device, boundsShader_, 0);
     assignProgram_ = createComputeProgram(device, assignShader_, 0);
+    fillShader_ = ML_SHADER(device, spv_light_fill_comp);
+    countProgram_ = createComputeProgram(device, footprintShader_, 4);
+    allocProgram_ = createComputeProgram(device, allocShader_, 4);
+    fillProgram_ = createComputeProgram(device, fillShader_, 4);
+    viewShader_ = ML_SHADER(device, spv_view_lights_comp);
+    for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
+    work = createBuffer(device, 8, kStorageBufferUsage, "cull_work");
 }
 
 void LightCulling::destroy(const Device& device) {
     destroyProgram(device, boundsProgram_);
     destroyProgram(device, assignProgram_);
+    destroyProgram(device, countProgram_);
+    destroyProgram(device, fillProgram_);
+    destroyProgram(device, allocProgram_);
+    for (Program& p : viewPrograms_) destroyProgram(device, p);
+    destroyShader(device, viewShader_);
     destroyShader(device, boundsShader_);
     destroyShader(device, assignShader_);
-    destroyBuffer(device, bounds);
-    destroyBuffer(device, ranges);
-    destroyBuffer(device, pool);
+    destroyShader(device, footprintShader_);
+    destroyShader(device, allocShader_);
+    destroyShader(device, fillShader_);
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts}) destroyBuffer(device, *b);
 }
 
 void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
     grid = g;
-    poolCapacity = poolEntries ? poolEntries : g.count() * ML_POOL_PER_CLUSTER;
+    // Sized for the clustered grid in every mode: a tiled list holds what the tile's 64 clusters would
+    // (at 4096 lights on the default view a tile's list is ~100 lights, past 16 per grid cluster).
+    poolCapacity = poolEntries ? poolEntries : g.tilesX * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER;
     ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds), kStorageBufferUsage,
                  "cluster_bounds");
     ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges");
     ensureBuffer(device, pool, VkDeviceSize(poolCapacity) * 4, kStorageBufferUsage, "cluster_pool");
+    ensureBuffer(device, tileMasks, VkDeviceSize(g.tilesX) * g.tilesY * 8, kStorageBufferUsage, "tile_masks");
+    ensureBuffer(device, counts, VkDeviceSize(g.count()) * 4, kStorageBufferUsage, "cluster_counts");
+    hitCapacity = std::max(1u, poolCapacity / ML_HITS_PER_POOL_ENTRY_DIV);
+    ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits");
 }
 
 void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                           const Buffer& lights, VkImageView depth, const Buffer& counters, Profiler& profiler) {
+    const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
+    const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
+    const uint32_t tiles = grid.tilesX * grid.tilesY;
+    constexpr uint32_t kLightsPerGroup = ML_FOOTPRINT_GROUP / ML_FOOTPRINT_LANES;
+    const uint32_t lightGroups = (visible + kLightsPerGroup - 1) / kLightsPerGroup;
     profiler.run(cmd, Pass::ClusterBounds, [&](VkCommandBuffer c) {
         bindProgram(device, c, boundsProgram_,
                     {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), bounds,
-                     counters},
+                     counters, tileMasks},
                     nullptr, 0);
         vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1); // one group per tile by construction
         fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
     });
     profiler.run(cmd, Pass::LightAssign, [&](VkCommandBuffer c) {
-        bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters}, nullptr, 0);
-        vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1);
+        vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
+        if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
+        fullBarrier(c, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        if (mode == ML_CULL_CLUSTERED) {
+            // Count and record hits (8 threads per light), allocate (one thread per tile), scatter.
+            if (visible) {
+                bindProgram(device, c, countProgram_, {frame, slices, lights, bounds, tileMasks, counts, hits, work},
+                            &hitCapacity, 4);
+                vkCmdDispatch(c, lightGroups, 1, 1);
+                fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+            }
+            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work}, &hitCapacity, 4);
+            vkCmdDispatch(c, (tiles + ML_ALLOC_GROUP - 1) / ML_ALLOC_GROUP, 1, 1);
+            fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+            if (visible) {
+                bindProgram(device, c, fillProgram_, {hits, ranges, counts, pool, work}, &hitCapacity, 4);
+                vkCmdDispatch(c, ML_FILL_GROUPS, 1, 1);
+            }
+        } else {
+            bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work}, nullptr, 0);
+            vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1);
+        }
+        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT);
+    });
+}
+
+void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
+                              const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
+                              uint32_t width, uint32_t height, Profiler& profiler) {
+    VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
+    if (viewCounts.size < bytes) {
+        vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
+        ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts");
+    }
+    profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
         fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        bindProgram(device, c, viewPrograms_[reaching ? 1 : 0],
+                    {frame, slices, lights, ranges,
+                     Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+                     Descriptor(Image{.view = output}), viewCounts},
+                    nullptr, 0);
+        vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
+        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
     });
 }
 
@@ -127,8 +204,26 @@ ClusterReference cullReference(const std::vector<float>& depth, const gpu::Frame
         glm::vec3 h3(fromKey(hi[c].x), fromKey(hi[c].y), fromKey(hi[c].z));
         b.lo = glm::vec4(l3, 1.0f);
         b.hi = glm::vec4(h3, 0.0f);
+        if (frame.cluster.w == ML_CULL_CLUSTERED) continue; // lists below, per light
         for (uint32_t l = 0; l < frame.cluster.z; ++l)
             if (gpu::lightTouchesBox(lights[l], l3, h3)) ref.lists[c].push_back(l);
+    }
+    if (frame.cluster.w == ML_CULL_CLUSTERED) {
+        // Per light, in index order (so lists come out sorted): the occupied clusters of its footprint.
+        for (uint32_t l = 0; l < frame.cluster.z; ++l) {
+            gpu::LightFootprint f =
+                gpu::lightFootprint(lights[l], frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
+            if (f.tiles.x > f.tiles.z || f.tiles.y > f.tiles.w) continue;
+            uint32_t s0 = sliceOf(f.depth.x, sliceFar, slices), s1 = sliceOf(f.depth.y, sliceFar, slices);
+            for (uint32_t ty = f.tiles.y; ty <= f.tiles.w; ++ty)
+                for (uint32_t tx = f.tiles.x; tx <= f.tiles.z; ++tx)
+                    for (uint32_t s = s0; s <= s1; ++s) {
+                        size_t c = (size_t(ty) * tilesX + tx) * slices + s;
+                        const auto& b = ref.bounds[c];
+                        if (occupied[c] && gpu::lightTouchesBox(lights[l], glm::vec3(b.lo), glm::vec3(b.hi)))
+                            ref.lists[c].push_back(l);
+                    }
+        }
     }
     return ref;
 }

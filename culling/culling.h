@@ -1,12 +1,19 @@
-// Light culling: clustered (froxels) and tiled, in two compute passes, with a CPU reference.
+// Light culling: clustered (froxels) and tiled, with a CPU reference. Output in every mode: `ranges`
+// ((offset, count) per cluster, ML_CLUSTER_OVERFLOW for an overflowed one) and `pool` (light indices),
+// cluster c = (tile.y * tilesX + tile.x) * slices + slice.
 //
-//   cluster_bounds  one group per 16x16-pixel tile: each pixel with geometry goes to its depth slice
-//                   (exponential slices, sliceBoundaries); the world AABB of the pixels in each
-//                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked.
-//   light_assign    one group per tile: every visible light is tested against each occupied cluster
-//                   (exact range-sphere vs AABB, cone vs the AABB's bounding sphere), counted,
-//                   allocated from one pool, written. Overflowing clusters are flagged and counted.
-// Tiled mode is the same with one slice (the tile's AABB over all its pixels); "none" skips both.
+//   cluster_bounds  one group per ML_TILE_SIZE^2-pixel tile: each pixel with geometry goes to its depth
+//                   slice (exponential slices, sliceBoundaries); the world AABB of the pixels in each
+//                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
+//                   each tile's occupied slices also go into a 64-bit mask.
+//   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
+//                   light_fill. Each visible light (8 threads) tests only the occupied clusters inside
+//                   its footprint (lightFootprint: tile rectangle x depth-slice range), with the same
+//                   exact box test; cost follows the lights' footprints, not lights x clusters.
+//   clustered-brute light_assign, one group per tile: every visible light against each occupied
+//                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
+//   tiled           light_assign with one slice (the tile's AABB over all its pixels).
+// Overflowing clusters are flagged and counted in every mode; "none" skips culling.
 // Tight bounds from the actual pixels (rather than the froxel's frustum volume) is what keeps lights
 // evaluated per pixel close to lights that reach it (Olsson et al.'s clustered shading with
 // explicit bounds; the slice layout follows the exponential scheme of that paper).
@@ -36,21 +43,40 @@ class LightCulling {
     // Sizes the cluster buffers for a grid; the pool holds ML_POOL_PER_CLUSTER entries per cluster
     // unless poolEntries overrides it (tests force overflow with a tiny pool).
     void resize(const Device& device, const ClusterGrid& grid, uint32_t poolEntries = 0);
+    // The mode and the visible-light count are read from the frame constants `frame` holds (host
+    // memory, written by the module just before).
     void record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                 const Buffer& lights, VkImageView depth, const Buffer& counters, class Profiler& profiler);
+    // Light-complexity view (shaders/view_lights.comp), after the evaluation pass: overwrites the
+    // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
+    // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
+    void recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
+                    const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
+                    uint32_t width, uint32_t height, class Profiler& profiler);
+    // Box tests (light x cluster) the last recorded assignment ran; valid once its frame completed.
+    uint32_t lastBoxTests() const { return work.data ? *work.as<uint32_t>() : 0u; }
 
     ClusterGrid grid;
     uint32_t poolCapacity = 0;
-    Buffer bounds; // ClusterBounds per cluster
-    Buffer ranges; // uvec2 (offset, count) per cluster
-    Buffer pool;   // uint light indices
+    Buffer bounds;    // ClusterBounds per cluster
+    Buffer ranges;    // uvec2 (offset, count) per cluster
+    Buffer pool;      // uint light indices
+    Buffer tileMasks; // uvec2 per tile: bit s set when slice s holds a pixel
+    Buffer counts;    // uint per cluster (footprint mode: list lengths, then the fill cursor)
+    Buffer work;      // uint box tests run, uint hits recorded
+    Buffer hits;      // uvec2 (cluster, light) per recorded hit (footprint mode)
+    uint32_t hitCapacity = 0;
+    Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
-    ShaderModule boundsShader_, assignShader_;
-    Program boundsProgram_, assignProgram_;
+    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
+    Program boundsProgram_, assignProgram_, countProgram_, fillProgram_, allocProgram_;
+    Program viewPrograms_[2]; // evaluated, reaching
 };
 
-// CPU reference of both passes from the same inputs (the depth buffer as floats, row-major).
+// CPU reference of the passes from the same inputs (the depth buffer as floats, row-major). The mode
+// is frame.cluster.w: in clustered (footprint) mode a cluster's list holds the lights whose footprint
+// covers it and whose box test passes; in the brute-force modes every light whose box test passes.
 struct ClusterReference {
     std::vector<gpu::ClusterBounds> bounds;
     std::vector<std::vector<uint32_t>> lists; // sorted light indices per cluster

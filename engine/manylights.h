@@ -31,9 +31,15 @@
 
 namespace ml {
 
-enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2 };
+// Clustered: per-light footprint assignment; ClusteredBrute: the same lists from every light against
+// every occupied cluster (kept for comparison); Tiled: one depth slice (culling/culling.h).
+enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2, ClusteredBrute = 3 };
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
+
+// What record() leaves in the output: the shaded frame, or the light-complexity heat map of lights
+// evaluated / reaching per pixel (culling/culling.h, recordView; colours in shaders/shared/heat.h).
+enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching };
 
 // How per-pass GPU times are measured (engine/profiler.h).
 //   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own
@@ -180,6 +186,7 @@ class Module {
                                        const std::function<void(uint32_t, uint32_t)>& progress = {});
     void setCulling(CullingMode mode);
     void setStatistics(bool enabled);
+    void setView(DebugView view);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
 
     // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).

@@ -27,6 +27,8 @@ const char* cullingName(CullingMode mode) {
         return "tiled";
     case CullingMode::None:
         return "none";
+    case CullingMode::ClusteredBrute:
+        return "clustered-brute";
     }
     return "?";
 }
@@ -35,7 +37,8 @@ Result<CullingMode> parseCulling(const std::string& name) {
     if (name == "clustered") return CullingMode::Clustered;
     if (name == "tiled") return CullingMode::Tiled;
     if (name == "none") return CullingMode::None;
-    return fail("unknown culling mode '" + name + "' (clustered, tiled or none)");
+    if (name == "clustered-brute") return CullingMode::ClusteredBrute;
+    return fail("unknown culling mode '" + name + "' (clustered, clustered-brute, tiled or none)");
 }
 
 Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -61,6 +64,9 @@ void Module::setCulling(CullingMode mode) {
 }
 void Module::setStatistics(bool enabled) {
     impl_->statistics = enabled;
+}
+void Module::setView(DebugView view) {
+    impl_->view = view;
 }
 Result<void> Module::setExposure(float exposure) {
     if (!(exposure > 0.0f) || !std::isfinite(exposure))
@@ -347,9 +353,12 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (shadow.face >= faces)
         return fail("setStaticShadow: light " + std::to_string(id) + ": face " + std::to_string(shadow.face) +
                     (faces == 1 ? " (a spot light has face 0 only)" : " (a point light has faces 0..5)"));
-    if (m.lights[id].kind == LightKind::Directional)
+    // Directional lights take orthographic bakes (directionalLightFrustum), the others perspective ones.
+    if (shadow.method != StaticMethod::None &&
+        (m.lights[id].kind == LightKind::Directional) != shadow.frustum.orthographic())
         return fail("setStaticShadow: light " + std::to_string(id) +
-                    ": directional lights take no static bake");
+                    (shadow.frustum.orthographic() ? ": an orthographic bake needs a directional light"
+                                                   : ": a directional light needs an orthographic bake"));
     if (shadow.method == StaticMethod::None) {
         m.shadows[id][shadow.face] = {};
         m.shadowsDirty = true;
@@ -358,9 +367,10 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
         return fail("setStaticShadow: light " + std::to_string(id) + ": " + v.error());
     const LightFrustum& f = shadow.frustum;
-    if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) || !(f.fov > 0 && f.fov < 3.1f))
+    if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) ||
+        !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.1f))
         return fail("setStaticShadow: light " + std::to_string(id) +
-                    ": frustum needs 0 < near < far, 0 < fov < pi");
+                    ": frustum needs 0 < near < far, 0 < fov < pi (or a finite orthographic half side)");
     m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
     m.shadowsDirty = true;
     return {};
@@ -651,6 +661,10 @@ Result<void> Module::record(VkCommandBuffer cmd) {
             memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
         });
 
+    if (m.view != DebugView::Shaded)
+        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
+                          outputView, m.width, m.height, m.profiler);
+
     slot.pending = true;
     slot.statistics = m.statistics;
     m.lastSlot = slotIndex;
@@ -728,7 +742,7 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
             vl[i].moving = l.dynamic;
             vl[i].castsShadows = lightAlive[i] && l.castsShadows;
             const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
-            bool baked = l.kind != LightKind::Directional;
+            bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
             for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
             // A moving light's bake (if any) no longer matches it: its maps take every caster.
             vl[i].staticBake = baked && !l.dynamic;

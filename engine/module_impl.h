@@ -51,6 +51,7 @@ struct Module::Impl {
     CullingMode culling = CullingMode::Clustered;
     CullingMode cullingMode = CullingMode(~0u); // mode the cluster buffers are sized for
     bool statistics = false;
+    DebugView view = DebugView::Shaded;
     TimingMode timing = TimingMode::Timestamps;
     float exposure = 3.0f; // night scenes: lamps of ~40 cd at 6 m give ~0.1 before exposure
     uint32_t poolOverride = 0; // tests: force a small light-list pool

@@ -6,12 +6,22 @@
 // (a 1..3 x 1..3 grid of lots inside a 3 m sidewalk, one building per lot: a box, an L prism or a
 // stepped tower, 6-45 m high, taller towards the centre) or a park (grass slab, trees, fences).
 //
-// Lights (exactly options.lights of them): headlights first take 2 per car (cars are reduced when
-// there are fewer than 2 * cars lights), the rest is split lamps : floods : signs = 55 : 25 : 10.
-// The city does not grow with the light count: more lights fill the same streets and facades more
-// densely. Each light kind is spread round-robin over a seeded shuffle of its segments (block sides
-// for lamps, street-facing facades for floods and signs), so a few lights land all over the city
-// rather than in one corner.
+// Lights (exactly options.lights of them), per kind:
+//   headlights  2 per car (8 cars by default; fewer cars when there are fewer than 16 lights), dynamic
+//               spots attached to the moving cars;
+//   moonlight   1 dim, bluish directional light (when at least one light is left after the cars);
+//   the rest R: street lamps 45 % (spots down from 6 m poles at both curbs of every street), shop
+//               windows 20 % (wide warm spots over shop fronts onto the sidewalk), facade floods 20 %
+//               (spots from the sidewalk up onto walls), signs 15 % (narrow saturated spots by a board).
+// The high street in front of the default camera (the middle east-west street, its first kFocusBlocks
+// blocks: both curbs and the facades facing it) gets the first kFocusAll of the R lights and
+// kFocusShare of those beyond (R = 239 at 256 lights: all; 1007 at 1024: 62 %; 4079 at 4096: 53 %),
+// each kind in that proportion; the rest spread over the whole city. So the default view shows
+// overlapping pools at every light count while the city does not grow: more lights fill the same
+// streets and facades more densely. Within
+// a set of segments (block sides for lamps, street-facing facades for the others) lights go
+// round-robin over a seeded shuffle, evenly spaced along each segment. A lamp closer than 4 m to an
+// existing pole on its curb hangs from that pole's line (no new pole).
 //
 // Determinism: everything comes from Pcg32 streams derived from the seed, one stream per subsystem,
 // so the buildings of a seed are the same whatever the light count.
@@ -36,6 +46,9 @@ constexpr float kSidewalk = 3.0f; // lots start this far inside the block edge
 constexpr float kCurb = 0.15f;    // sidewalk slab height
 constexpr float kLane = 3.0f;     // car loop distance outside its block's edge
 constexpr uint32_t kMaxLights = 4096;
+constexpr uint32_t kFocusBlocks = 2;  // high-street blocks (from the west end) in the default view
+constexpr uint32_t kFocusAll = 240;    // up to this many lights (besides cars and moon) all on the high street
+constexpr float kFocusShare = 0.5f;   // and this share of the lights beyond
 const glm::vec3 kUp(0.0f, 1.0f, 0.0f);
 
 // Shared meshes (indices into scene.meshes).
@@ -98,6 +111,12 @@ template <class F> void spread(uint32_t count, uint32_t segments, Pcg32& rng, F&
     }
 }
 
+// spread() over a subset of segments (their indices in `ids`).
+template <class F>
+void spreadOver(uint32_t count, const std::vector<uint32_t>& ids, Pcg32& rng, F&& place) {
+    spread(count, uint32_t(ids.size()), rng, [&](uint32_t s, float t) { place(ids[s], t); });
+}
+
 class CityBuilder {
   public:
     explicit CityBuilder(const NightCityOptions& o) : opt_(o) {
@@ -120,18 +139,25 @@ class CityBuilder {
         // Light budget: see the overview.
         uint32_t cars = std::min(opt_.cars, opt_.lights / 2);
         uint32_t rest = opt_.lights - 2 * cars;
-        uint32_t lamps = (rest * 55 + 45) / 90;
-        uint32_t floods = std::min(rest - lamps, (rest * 25 + 45) / 90);
-        uint32_t signs = rest - lamps - floods;
+        uint32_t moon = rest > 0 ? 1u : 0u;
+        rest -= moon;
+        uint32_t lamps = (rest * 45 + 50) / 100;
+        uint32_t shops = std::min(rest - lamps, (rest * 20 + 50) / 100);
+        uint32_t floods = std::min(rest - lamps - shops, (rest * 20 + 50) / 100);
+        uint32_t signs = rest - lamps - shops - floods;
         if (facades_.empty()) {
             // Only when no wall faces a street (cannot happen with the current lot layout, but the light
             // count must be exact regardless): floods and signs then stand at the curbs, facing inwards.
             for (const Curb& c : curbs_)
                 facades_.push_back({c.start + c.along * (0.5f * c.length), -c.street, c.length, 10.0f});
         }
+        findFocus();
+        focusFraction_ = rest <= kFocusAll ? 1.0f : (float(kFocusAll) + kFocusShare * float(rest - kFocusAll)) / float(rest);
         addLamps(lamps);
         addFloods(floods);
         addSigns(signs);
+        addShops(shops);
+        if (moon) addMoon();
         addCars(cars);
 
         animateScene(scene_, 0.0); // places cars and headlights, computes bounds
@@ -324,6 +350,66 @@ class CityBuilder {
                     jitterColor(rng, canvas[rng.below(4)], 0.1f));
     }
 
+    // The high street: the middle east-west street (the default camera's), its first kFocusBlocks
+    // blocks from the west: the curbs of the blocks on both sides and the facades facing it.
+    float highStreetZ() const { return min_.z + float(opt_.blocksZ / 2) * kPitch + 0.5f * kStreet; }
+    void findFocus() {
+        const uint32_t row = opt_.blocksZ / 2, focusX = std::min(kFocusBlocks, opt_.blocksX);
+        for (uint32_t bx = 0; bx < focusX; ++bx) {
+            if (row > 0) focusCurbs_.push_back(((row - 1) * opt_.blocksX + bx) * 4 + 2); // south side of the street
+            if (row < opt_.blocksZ) focusCurbs_.push_back((row * opt_.blocksX + bx) * 4 + 0);
+        }
+        const float z = highStreetZ(), xEnd = min_.x + float(focusX) * kPitch + kStreet;
+        for (uint32_t i = 0; i < facades_.size(); ++i) {
+            const Facade& f = facades_[i];
+            bool faces = std::abs(f.normal.z) > 0.5f && (z - f.base.z) * f.normal.z > 0.0f;
+            if (faces && std::abs(f.base.z - z) < 0.5f * kStreet + 15.0f && f.base.x < xEnd) focusFacades_.push_back(i);
+        }
+        allCurbs_.resize(curbs_.size());
+        std::iota(allCurbs_.begin(), allCurbs_.end(), 0u);
+        allFacades_.resize(facades_.size());
+        std::iota(allFacades_.begin(), allFacades_.end(), 0u);
+        if (focusCurbs_.empty()) focusCurbs_ = allCurbs_;
+        if (focusFacades_.empty()) focusFacades_ = allFacades_;
+    }
+
+    // focusFraction_ of `count` over the high street's segments, the rest over all of them.
+    template <class F>
+    void spreadFocused(uint32_t count, const std::vector<uint32_t>& focus, const std::vector<uint32_t>& all,
+                       Pcg32& rng, F&& place) {
+        uint32_t focused = std::min(count, uint32_t(float(count) * focusFraction_ + 0.5f));
+        spreadOver(focused, focus, rng, place);
+        spreadOver(count - focused, all, rng, place);
+    }
+
+    // Shop windows: a lit pane on the ground floor and a wide warm spot above it, aimed out and down
+    // onto the sidewalk in front.
+    void addShops(uint32_t count) {
+        Pcg32 rng(opt_.seed, 6);
+        static const glm::vec3 warm[3] = {{1.0f, 0.85f, 0.65f}, {1.0f, 0.95f, 0.85f}, {1.0f, 0.75f, 0.5f}};
+        spreadFocused(count, focusFacades_, allFacades_, rng, [&](uint32_t s, float t) {
+            const Facade& f = facades_[s];
+            glm::vec3 along = glm::cross(kUp, f.normal);
+            glm::vec3 wall = f.base + along * ((t - 0.5f) * f.width);
+            glm::vec3 color = warm[rng.below(3)];
+            addInstance(kBoxMesh, upright(wall + f.normal * 0.03f + kUp * 0.4f, f.normal, 2.4f, 2.0f, 0.06f),
+                        color * 0.9f);
+            scene_.lights.push_back(spot(wall + f.normal * 0.5f + kUp * 3.0f, f.normal * 0.9f - kUp, color,
+                                         rng.uniform(14.0f, 22.0f), rng.uniform(9.0f, 11.0f),
+                                         rng.uniform(0.85f, 1.0f), 0.5f));
+        });
+    }
+
+    // One dim moonlight from high in the south-west.
+    void addMoon() {
+        Light l;
+        l.type = LightType::Directional;
+        l.direction = glm::normalize(glm::vec3(0.35f, -1.0f, 0.45f));
+        l.color = glm::vec3(0.55f, 0.65f, 1.0f);
+        l.intensity = 0.12f;
+        scene_.lights.push_back(l);
+    }
+
     Light spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float intensity, float range,
                float outer, float innerFraction) {
         Light l;
@@ -341,23 +427,30 @@ class CityBuilder {
     // Street lamps at the curb: a 6 m pole, an arm over the street and a spotlight under its end.
     void addLamps(uint32_t count) {
         Pcg32 rng(opt_.seed, 2);
-        spread(count, uint32_t(curbs_.size()), rng, [&](uint32_t s, float t) {
+        std::vector<std::vector<float>> poles(curbs_.size()); // pole positions along each curb
+        spreadFocused(count, focusCurbs_, allCurbs_, rng, [&](uint32_t s, float t) {
             const Curb& c = curbs_[s];
             glm::vec3 foot = c.start + c.along * (t * c.length);
-            addInstance(kBoxMesh, boxAt(foot, {0.16f, 6.0f, 0.16f}), glm::vec3(0.2f, 0.21f, 0.22f));
-            addInstance(kBoxMesh, upright(foot + c.street * 0.65f + kUp * 5.9f, c.street, 0.1f, 0.1f, 1.3f),
-                        glm::vec3(0.2f, 0.21f, 0.22f));
-            // Street furniture in the pool: a bench along the curb and a bollard towards the street, so
-            // each lamp's pool holds casters (closed boxes) whose shadows the static methods must keep.
-            addInstance(kBoxMesh, boxAt(foot + c.along * 1.6f - c.street * 0.6f, {1.8f, 0.5f, 0.5f}),
-                        glm::vec3(0.35f, 0.25f, 0.18f));
-            addInstance(kBoxMesh, boxAt(foot - c.along * 1.4f + c.street * 0.3f, {0.3f, 1.0f, 0.3f}),
-                        glm::vec3(0.3f, 0.3f, 0.32f));
+            bool near = std::any_of(poles[s].begin(), poles[s].end(),
+                                    [&](float p) { return std::abs(p - t * c.length) < 4.0f; });
+            if (!near) {
+                poles[s].push_back(t * c.length);
+                addInstance(kBoxMesh, boxAt(foot, {0.16f, 6.0f, 0.16f}), glm::vec3(0.2f, 0.21f, 0.22f));
+                addInstance(kBoxMesh, upright(foot + c.street * 0.65f + kUp * 5.9f, c.street, 0.1f, 0.1f, 1.3f),
+                            glm::vec3(0.2f, 0.21f, 0.22f));
+                // Street furniture in the pool: a bench along the curb and a bollard towards the street,
+                // so each lamp's pool holds casters (closed boxes) whose shadows the static methods keep.
+                addInstance(kBoxMesh, boxAt(foot + c.along * 1.6f - c.street * 0.6f, {1.8f, 0.5f, 0.5f}),
+                            glm::vec3(0.35f, 0.25f, 0.18f));
+                addInstance(kBoxMesh, boxAt(foot - c.along * 1.4f + c.street * 0.3f, {0.3f, 1.0f, 0.3f}),
+                            glm::vec3(0.3f, 0.3f, 0.32f));
+            }
             bool sodium = rng.chance(0.65f);
             glm::vec3 color = sodium ? glm::vec3(1.0f, 0.6f, 0.25f) : glm::vec3(1.0f, 0.92f, 0.8f);
-            scene_.lights.push_back(spot(foot + c.street * 1.2f + kUp * 5.85f, -kUp + c.street * 0.12f, color,
-                                         rng.uniform(35.0f, 45.0f), rng.uniform(12.5f, 15.5f),
-                                         rng.uniform(0.62f, 0.78f), 0.6f));
+            // Aimed a little into the street, so the pools of both curbs meet in the middle.
+            scene_.lights.push_back(spot(foot + c.street * 1.2f + kUp * 5.85f, -kUp + c.street * 0.3f, color,
+                                         rng.uniform(35.0f, 45.0f), rng.uniform(13.5f, 16.0f),
+                                         rng.uniform(0.66f, 0.8f), 0.6f));
         });
     }
 
@@ -366,13 +459,13 @@ class CityBuilder {
         Pcg32 rng(opt_.seed, 3);
         static const glm::vec3 tints[4] = {
             {1.0f, 0.85f, 0.6f}, {0.75f, 0.85f, 1.0f}, {1.0f, 0.7f, 0.35f}, {0.5f, 0.95f, 0.9f}};
-        spread(count, uint32_t(facades_.size()), rng, [&](uint32_t s, float t) {
+        spreadFocused(count, focusFacades_, allFacades_, rng, [&](uint32_t s, float t) {
             const Facade& f = facades_[s];
             glm::vec3 along = glm::cross(kUp, f.normal);
             glm::vec3 p = f.base + along * ((t - 0.5f) * f.width) + f.normal * 1.5f + kUp * 0.3f;
-            float range = std::clamp(f.height * 0.8f, 10.0f, 25.0f);
+            float range = std::clamp(f.height * 0.9f, 12.0f, 30.0f);
             scene_.lights.push_back(spot(p, kUp - f.normal * 0.4f, tints[rng.below(4)],
-                                         rng.uniform(50.0f, 70.0f), range, rng.uniform(0.4f, 0.55f), 0.65f));
+                                         rng.uniform(50.0f, 70.0f), range, rng.uniform(0.45f, 0.65f), 0.65f));
         });
     }
 
@@ -383,7 +476,7 @@ class CityBuilder {
         static const glm::vec3 colors[7] = {{1.0f, 0.05f, 0.1f}, {1.0f, 0.1f, 0.8f}, {0.1f, 0.9f, 1.0f},
                                             {0.2f, 1.0f, 0.2f},  {0.2f, 0.3f, 1.0f}, {1.0f, 0.9f, 0.1f},
                                             {1.0f, 0.45f, 0.05f}};
-        spread(count, uint32_t(facades_.size()), rng, [&](uint32_t s, float t) {
+        spreadFocused(count, focusFacades_, allFacades_, rng, [&](uint32_t s, float t) {
             const Facade& f = facades_[s];
             glm::vec3 along = glm::cross(kUp, f.normal);
             float y = std::min(rng.uniform(3.0f, 6.0f), std::max(f.height - 1.0f, 2.0f));
@@ -411,6 +504,11 @@ class CityBuilder {
         Pcg32 rng(opt_.seed, 5);
         uint32_t blocks = opt_.blocksX * opt_.blocksZ;
         auto order = shuffled(blocks, rng);
+        // Blocks along the high street first, so its traffic passes in front of the default camera.
+        std::stable_partition(order.begin(), order.end(), [&](uint32_t b) {
+            return std::find(focusCurbs_.begin(), focusCurbs_.end(), b * 4 + 0) != focusCurbs_.end() ||
+                   std::find(focusCurbs_.begin(), focusCurbs_.end(), b * 4 + 2) != focusCurbs_.end();
+        });
         std::vector<uint32_t> perBlock(blocks, 0);
         for (uint32_t i = 0; i < count; ++i) ++perBlock[order[i % blocks]];
         static const glm::vec3 paints[6] = {{0.6f, 0.05f, 0.05f},  {0.05f, 0.1f, 0.4f}, {0.8f, 0.8f, 0.8f},
@@ -452,14 +550,14 @@ class CityBuilder {
         }
     }
 
-    // Looking along the middle east-west street from its west end, 16 m up, pitched ~9 degrees down:
-    // the lamp pools on the street and the lit facades on both sides are in view.
+    // Looking down the high street (the middle east-west street) from its west end, 12 m up, pitched
+    // ~17 degrees down: the overlapping lamp and shop pools on the street and sidewalks, the flood-lit
+    // facades and signs on both sides fill the frame; the far end of the street and the sky the top.
     void setCamera() {
-        uint32_t row = opt_.blocksZ / 2;
-        float streetZ = min_.z + float(row) * kPitch + 0.5f * kStreet;
+        float streetZ = highStreetZ();
         Camera& cam = scene_.camera;
-        cam.position = glm::vec3(min_.x + 3.0f, 16.0f, streetZ);
-        cam.target = glm::vec3(min_.x + 103.0f, 0.0f, streetZ);
+        cam.position = glm::vec3(min_.x + 3.0f, 12.0f, streetZ);
+        cam.target = glm::vec3(min_.x + 43.0f, 0.0f, streetZ);
         cam.fovY = 1.0f;
         cam.nearPlane = 0.1f;
         cam.farPlane = std::max(100.0f, 1.05f * glm::length(scene_.boundsMax - scene_.boundsMin));
@@ -471,6 +569,8 @@ class CityBuilder {
     glm::vec3 min_{0.0f};
     std::vector<Facade> facades_;
     std::vector<Curb> curbs_;
+    std::vector<uint32_t> focusCurbs_, focusFacades_, allCurbs_, allFacades_;
+    float focusFraction_ = 1.0f;
 };
 
 } // namespace

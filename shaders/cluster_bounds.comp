@@ -3,7 +3,8 @@
 // Cluster bounds: one workgroup per screen tile (ML_TILE_SIZE^2 pixels). Each pixel with geometry is
 // put in its depth slice, and the world-space AABB of the pixels in each (tile, slice) is reduced
 // with shared-memory atomics on order-preserving integer encodings of the floats (min/max are exact
-// and order-independent, so the result equals the CPU reference bit for bit).
+// and order-independent, so the result equals the CPU reference bit for bit). Also writes the tile's
+// occupancy as a 64-bit mask (bit s: slice s holds a pixel), which the footprint assignment walks.
 #include "shaders/shared/glsl_common.h"
 #include "shaders/shared/light_math.h"
 
@@ -14,7 +15,9 @@ layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; }; // sli
 layout(binding = 2) uniform texture2D depthImage;
 layout(binding = 3, std430) writeonly buffer Bounds { ClusterBounds bounds[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
+layout(binding = 5, std430) writeonly buffer TileMasks { uvec2 tileMasks[]; }; // slices 0-31, 32-63
 
+shared uint sMask[2];
 shared uint sLo[3][ML_MAX_SLICES];
 shared uint sHi[3][ML_MAX_SLICES];
 
@@ -30,6 +33,7 @@ float fromKey(uint k) {
 void main() {
     uint slices = frame.cluster.x;
     uint li = gl_LocalInvocationIndex;
+    if (li < 2) sMask[li] = 0u;
     for (uint s = li; s < slices; s += ML_TILE_SIZE * ML_TILE_SIZE) {
         for (int c = 0; c < 3; ++c) { sLo[c][s] = 0xFFFFFFFFu; sHi[c][s] = 0u; }
     }
@@ -41,7 +45,12 @@ void main() {
         if (d < 1.0) {
             vec3 p = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
             float z = linearDepth(d, frame.depth);
-            uint s = 0;
+            // The slice is the number of boundaries sliceFar[0..slices-2] at or below z. Start from
+            // the exponential layout's estimate and step to the exact answer (a linear search from
+            // slice 0 cost up to 64 buffer reads per pixel).
+            float lg = log(max(z, frame.depth.x) / frame.depth.x) / log(frame.depth.y / frame.depth.x);
+            uint s = uint(clamp(lg * float(slices), 0.0, float(slices - 1)));
+            while (s > 0 && z < sliceFar[s - 1]) --s;
             while (s + 1 < slices && z >= sliceFar[s]) ++s;
             for (int c = 0; c < 3; ++c) {
                 atomicMin(sLo[c][s], toKey(p[c]));
@@ -59,6 +68,11 @@ void main() {
         b.hi = vec4(fromKey(sHi[0][s]), fromKey(sHi[1][s]), fromKey(sHi[2][s]), 0.0);
         if (!occupied) { b.lo.xyz = vec3(0.0); b.hi.xyz = vec3(0.0); }
         bounds[tile * slices + s] = b;
-        if (occupied) atomicAdd(counters.occupiedClusters, 1u);
+        if (occupied) {
+            atomicAdd(counters.occupiedClusters, 1u);
+            atomicOr(sMask[s >> 5], 1u << (s & 31u));
+        }
     }
+    barrier();
+    if (li == 0) tileMasks[tile] = uvec2(sMask[0], sMask[1]);
 }

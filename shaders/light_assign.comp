@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Light assignment: one workgroup per screen tile. The tile's occupied clusters (from cluster_bounds)
+// Brute-force light assignment (modes clustered-brute and tiled): one workgroup per screen tile. The tile's occupied clusters (from cluster_bounds)
 // are loaded into shared memory; each thread takes one visible light at a time and tests it against
 // every occupied cluster (range sphere exact, spot cone against the cluster's bounding sphere).
 // Pass A counts, the group allocates each cluster's list from the global pool with one atomic, and
@@ -17,6 +17,7 @@ layout(binding = 2, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
 layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; }; // (offset, count) per cluster
 layout(binding = 4, std430) writeonly buffer Pool { uint pool[]; };
 layout(binding = 5, std430) buffer Counters { FrameCounters counters; };
+layout(binding = 6, std430) buffer Work { uint workTests; }; // box tests run (bench's "clusters touched")
 
 shared vec3 sLo[ML_MAX_SLICES];
 shared vec3 sHi[ML_MAX_SLICES];
@@ -39,6 +40,7 @@ void main() {
             sCount[s] = 0;
         }
         sOccupiedCount = n;
+        if (n > 0) atomicAdd(workTests, n * lightCount);
     }
     barrier();
     uint occupied = sOccupiedCount;
@@ -46,9 +48,10 @@ void main() {
     // Pass A: count.
     for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
         GpuLight L = lights[l];
+        ConePlanes planes = conePlanes(L);
         for (uint i = 0; i < occupied; ++i) {
             uint s = sOccupied[i];
-            if (lightTouchesBox(L, sLo[s], sHi[s])) atomicAdd(sCount[s], 1u);
+            if (lightTouchesBoxWith(L, planes, sLo[s], sHi[s])) atomicAdd(sCount[s], 1u);
         }
     }
     barrier();
@@ -75,9 +78,10 @@ void main() {
     // Pass B: write (order within a list is unspecified; the reference compares sorted lists).
     for (uint l = li; l < lightCount; l += ML_ASSIGN_GROUP) {
         GpuLight L = lights[l];
+        ConePlanes planes = conePlanes(L);
         for (uint i = 0; i < occupied; ++i) {
             uint s = sOccupied[i];
-            if (sOffset[s] != ML_CLUSTER_OVERFLOW && lightTouchesBox(L, sLo[s], sHi[s]))
+            if (sOffset[s] != ML_CLUSTER_OVERFLOW && lightTouchesBoxWith(L, planes, sLo[s], sHi[s]))
                 pool[sOffset[s] + atomicAdd(sCount[s], 1u)] = l;
         }
     }

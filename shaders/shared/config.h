@@ -6,13 +6,29 @@
 // cluster lists are 32-bit, so the bound is about memory and time, not encoding.
 #define ML_MAX_LIGHTS 4096
 
-// Clustered mode: 8x8-pixel tiles, 64 exponential depth slices. Measured on the night city at 320x180
-// (manylights demo, culling_tightness = evaluated / reaching lights per pixel): 16 px / 32 slices
-// gave 4.4, 8 px / 32 slices 2.6 (with the cone's bounding-sphere test only), 8 px / 64 slices with
-// the pyramid test 1.75. 64 slices give a slice depth ratio (far/near)^(1/64) ~ 1.14 for 0.1..500 m;
-// 8x8 = 64 threads per bounds group. Bounds are then tightened to the pixels in each cluster.
+// Clustered modes: 8x8-pixel tiles, 64 exponential depth slices (ML_CLUSTER_SLICES; ML_MAX_SLICES is
+// the most the 64-bit tile masks and shared arrays hold). 64 slices give a slice depth ratio
+// (far/near)^(1/64) ~ 1.14 for 0.1..500 m; 8x8 = 64 threads per bounds group. Bounds are the pixels'
+// own AABB per cluster. Chosen by measurement for the footprint assignment on the night city's default
+// view at 640x360 (`manylights bench culling --size 640x360 --lights 1024,4096 --frames 3 --culling
+// clustered`, one build per grid; box tests, entries and lights per pixel are exact, times noisy):
+//   tile  slices  lights  box tests  list entries  evaluated/reaching px
+//     8     64     1024    352,716       80,922      16.55 / 13.62 = 1.22
+//     8     64     4096  1,236,009      270,647      55.34 / 45.01 = 1.23
+//     8     32     1024    328,803       72,483      17.24 / 13.62 = 1.27
+//     8     32     4096  1,154,975      242,506      57.68 / 45.01 = 1.28
+//    16     64     1024    121,837       30,599      18.95 / 13.62 = 1.39
+//    16     64     4096    428,516      103,128      63.67 / 45.01 = 1.41
+// The footprint assignment's work is the occupied clusters under each light, so coarser grids test
+// fewer boxes (16-px tiles: 1/3, and about half the assignment time in that run), but every pixel
+// then evaluates more lights: past the 1.3 evaluated/reaching target at 16 px, and 32 slices save only
+// 7 % of the tests for 1.28. On lavapipe the evaluation pass is 3-4x the culling at 4096 lights, so
+// 8 px x 64 slices, the tightest lists, is the better frame. (Earlier, with brute-force assignment
+// and the old view at 320x180: 16 px / 32 slices gave 4.4 evaluated per reaching, 8 px / 64 with the
+// pyramid test 1.75.)
 #define ML_TILE_SIZE 8
 #define ML_MAX_SLICES 64
+#define ML_CLUSTER_SLICES 64
 
 // Light-assignment workgroup: one thread per light in chunks of 64 (one subgroup or two on most
 // GPUs; lavapipe runs 8-wide SIMD, 64 keeps per-group overhead low for up to 4096 lights).
@@ -25,13 +41,38 @@
 // The light-index pool holds this many entries per cluster of the grid before clusters overflow; an
 // overflowing cluster is counted and its pixels fall back to testing every visible light, so no light is
 // lost. Most clusters are empty (no pixels: 2% occupied on the night city), so 16 per grid cluster is
-// ~700 per occupied one: 16 x 921,600 clusters (1280x720) x 4 B = 59 MiB at most.
+// ~700 per occupied one: 16 x 921,600 clusters (1280x720) x 4 B = 59 MiB at most, plus the footprint
+// mode's hit records (a quarter of that many, 8 B each: 29 MiB). The tiled grid gets the same pool as
+// the clustered one (its lists are the union of 64 slices'). The dense default view at 4096 lights and
+// 640x360 uses 271 K of the 3.7 M entries.
 #define ML_POOL_PER_CLUSTER 16
 
-// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w).
+// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w). CLUSTERED
+// assigns per light over its footprint (light_footprint.comp); CLUSTERED_BRUTE is the same grid and
+// lists from every light against every occupied cluster of each tile (light_assign.comp); TILED is
+// the brute force with one slice. All three write the same ranges + pool layout.
 #define ML_CULL_CLUSTERED 0
 #define ML_CULL_TILED 1
 #define ML_CULL_NONE 2
+#define ML_CULL_CLUSTERED_BRUTE 3
+
+// Footprint assignment: ML_FOOTPRINT_LANES threads per visible light stride over the tiles of the
+// light's screen rectangle and test the occupied slices (a 64-bit mask per tile) inside its depth
+// range; ML_FOOTPRINT_GROUP / LANES lights per workgroup. Most lights cover a few tiles, so a whole
+// 64-thread group per light left lavapipe (8-wide SIMD, a fixed cost per group) paying for idle
+// threads: at 4096 lights, 640x360 (the previous, sparser default view), one group per light took
+// 76 ms of assignment for 70k box tests; 8 lanes per light, 46 ms in the same conditions.
+#define ML_FOOTPRINT_GROUP 64
+#define ML_FOOTPRINT_LANES 8
+// Allocation pass of the footprint mode: one thread per tile, 64 tiles per group.
+#define ML_ALLOC_GROUP 64
+// Fill pass of the footprint mode: ML_FILL_GROUPS groups of 64 threads stride over the recorded hits.
+#define ML_FILL_GROUP 64
+#define ML_FILL_GROUPS 64
+// Hits the footprint count pass records, per pool entry: the pool holds 16 entries per grid cluster
+// and frames use far fewer (0.3 M of 3.7 M at 4096 lights, 640x360), so a quarter of the pool's
+// entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
+#define ML_HITS_PER_POOL_ENTRY_DIV 4
 
 // Light types (GpuLight.info.x); same values as ml::LightType.
 #define ML_LIGHT_SPOT 0

@@ -34,23 +34,27 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     uint method = rec.info.x, base = rec.info.y, res = rec.info.z;
     int radius = int(rec.info.w);
     float tanHalf = rec.frustum.x, far = rec.frustum.z;
+    // frustum.x < 0: an orthographic map (directional light) of half side -frustum.x.
+    bool ortho = tanHalf < 0.0;
+    float orthoHalf = -tanHalf;
     vec3 vp = (rec.view * vec4(P, 1.0)).xyz;
     vec3 vn = mat3(rec.view) * N;
     float z = -vp.z;
     if (z <= rec.frustum.y) return 1.0;
     if (method == ML_STATIC_CPVS) {
-        vec2 ndc = vp.xy / (z * tanHalf);
+        vec2 ndc = ortho ? vp.xy / orthoHalf : vp.xy / (z * tanHalf);
         ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
         uint s = cpvsSliceOfDepth(base, staticQuantize(z, far));
-        ivec3 nq = cpvsVoxelNormal(vn, ndc.x, ndc.y, tanHalf, rec.frustum.w);
+        ivec3 nq = ortho ? cpvsVoxelNormal(vn, 0.0, 0.0, orthoHalf / z, rec.frustum.w)
+                         : cpvsVoxelNormal(vn, ndc.x, ndc.y, tanHalf, rec.frustum.w);
         uint lit = cpvsPcfLitCount(base, t.x, t.y, int(s), nq, radius);
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
-    float texelWorld = 2.0 * z * tanHalf / float(res);
+    float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
     vec3 q = vp + vn * texelWorld;
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0;
-    vec2 ndc = q.xy / (zq * tanHalf);
+    vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
     uint depth = staticQuantize(max(zq - 0.5 * texelWorld, 0.0), far);
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.

@@ -199,6 +199,8 @@ Result<RayReference> RayReference::build(const Scene& scene, bool staticOnly,
         rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(ref.scene_, geom, unsigned(i));
+        if (ref.closed_.size() <= i) ref.closed_.resize(i + 1, 0);
+        ref.closed_[i] = mesh.closed ? 1 : 0;
         rtcReleaseGeometry(geom); // the scene holds its own reference
         if (sink.set) return embreeError(("adding instance " + std::to_string(i)).c_str());
         ref.triangles_ += triangles;
@@ -225,8 +227,9 @@ Result<RayReference> RayReference::build(const Scene& scene, bool staticOnly,
 }
 
 RayReference::RayReference(RayReference&& o) noexcept
-    : errors_(std::move(o.errors_)), device_(o.device_), scene_(o.scene_), triangles_(o.triangles_),
-      geometries_(o.geometries_), threads_(o.threads_), packetWidth_(o.packetWidth_) {
+    : errors_(std::move(o.errors_)), closed_(std::move(o.closed_)), device_(o.device_), scene_(o.scene_),
+      triangles_(o.triangles_), geometries_(o.geometries_), threads_(o.threads_),
+      packetWidth_(o.packetWidth_) {
     o.device_ = nullptr;
     o.scene_ = nullptr;
 }
@@ -235,6 +238,7 @@ RayReference& RayReference::operator=(RayReference&& o) noexcept {
     if (this != &o) {
         release();
         errors_ = std::move(o.errors_);
+        closed_ = std::move(o.closed_);
         device_ = o.device_;
         scene_ = o.scene_;
         triangles_ = o.triangles_;
@@ -249,6 +253,25 @@ RayReference& RayReference::operator=(RayReference&& o) noexcept {
 
 RayReference::~RayReference() {
     release();
+}
+
+RayHit RayReference::firstHit(glm::vec3 origin, glm::vec3 dir, float tnear, float tfar) const {
+    RayHit out;
+    if (!scene_ || !(tfar > tnear)) return out;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh{};
+    setRay(rh.ray, Segment{origin, dir, tnear, tfar, false});
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+    out.hit = true;
+    out.t = rh.ray.tfar;
+    out.instance = rh.hit.geomID;
+    out.ng = glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    out.closed = rh.hit.geomID < closed_.size() && closed_[rh.hit.geomID];
+    return out;
 }
 
 void RayReference::release() {

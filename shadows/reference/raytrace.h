@@ -40,6 +40,17 @@ typedef struct RTCSceneTy* RTCScene;
 
 namespace ml {
 
+// The nearest surface along a ray (firstHit): distance, the instance it belongs to (index into
+// Scene::instances), its geometric normal (world space, not normalised, facing per the CCW winding) and
+// whether its mesh is marked closed.
+struct RayHit {
+    bool hit = false;
+    float t = 0.0f;
+    uint32_t instance = 0;
+    glm::vec3 ng{0.0f};
+    bool closed = false;
+};
+
 class RayReference {
   public:
     // Builds the occlusion scene from the world-space triangles of the scene's instances. With staticOnly
@@ -88,6 +99,10 @@ class RayReference {
     void setThreads(unsigned threads) { threads_ = threads == 0 ? 1 : threads; }
     unsigned threads() const { return threads_; }
 
+    // Nearest hit on (origin + t * dir), t in (tnear, tfar); dir need not be unit length (t scales with
+    // it). Used to explain disagreements (shadows/reference/error_classes.h), not for visibility.
+    RayHit firstHit(glm::vec3 origin, glm::vec3 dir, float tnear, float tfar) const;
+
     uint64_t triangleCount() const { return triangles_; }
     uint32_t geometryCount() const { return geometries_; }
     // Packet width visibleBatch() traces with (16, 8, 4 or 1), picked from what the Embree build supports
@@ -106,6 +121,7 @@ class RayReference {
 
     // Declared first so that it outlives the device whose callback writes into it.
     std::unique_ptr<ErrorSink> errors_;
+    std::vector<uint8_t> closed_; // per instance index (= Embree geometry ID): its mesh is marked closed
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     uint64_t triangles_ = 0;

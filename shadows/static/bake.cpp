@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -34,14 +35,33 @@ DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& fru
     return map;
 }
 
-// Why a light cannot be baked, or "" when it can.
-std::string skipReason(const Light& l) {
-    if (l.dynamic) return "dynamic light (moves; its shadows come from virtual shadow maps)";
+} // namespace
+
+// The maps a light bakes: a spot one, a point light six cube faces, a directional light one
+// orthographic map over the scene's bounds.
+std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& l) {
     if (l.type == LightType::Directional)
-        return "directional light (static methods bake spot lights and point lights' cube faces)";
-    if (l.type != LightType::Spot && l.type != LightType::Point) return "unknown light type";
-    for (const LightFrustum& f : lightFrustums(l)) {
-        if (!(f.fov > 0.0f && f.fov < 3.14159f)) return "cone angle outside (0, 90) degrees";
+        return {directionalLightFrustum(l.direction, scene.boundsMin, scene.boundsMax)};
+    return lightFrustums(l);
+}
+
+namespace {
+
+// Why a light cannot be baked, or "" when it can.
+std::string skipReason(const Scene& scene, const Light& l) {
+    if (l.dynamic) return "dynamic light (moves; its shadows come from virtual shadow maps)";
+    if (l.type == LightType::Directional) {
+        const glm::vec3 d = l.direction, lo = scene.boundsMin, hi = scene.boundsMax;
+        if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && glm::length(d) > 1e-6f))
+            return "directional light with a zero or non-finite direction";
+        if (!(hi.x > lo.x || hi.y > lo.y || hi.z > lo.z) || !std::isfinite(glm::length(hi - lo)))
+            return "directional light over empty or non-finite scene bounds";
+    } else if (l.type != LightType::Spot && l.type != LightType::Point) {
+        return "unknown light type";
+    }
+    for (const LightFrustum& f : bakeFrustums(scene, l)) {
+        if (!f.orthographic() && !(f.fov > 0.0f && f.fov < 3.14159f))
+            return "cone angle outside (0, 90) degrees";
         if (!(std::isfinite(f.farPlane) && f.farPlane > f.nearPlane))
             return "range not beyond the near plane";
         const float* m = &f.view[0][0];
@@ -53,13 +73,13 @@ std::string skipReason(const Light& l) {
 
 bool sameFrustum(const LightFrustum& a, const LightFrustum& b) {
     return std::memcmp(&a.view[0][0], &b.view[0][0], sizeof(float) * 16) == 0 && a.fov == b.fov &&
-           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
+           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane && a.orthoHalf == b.orthoHalf;
 }
 
 } // namespace
 
-std::string bakeSkipReason(const Light& light) {
-    return skipReason(light);
+std::string bakeSkipReason(const Scene& scene, const Light& light) {
+    return skipReason(scene, light);
 }
 
 DualRenderFn cpuDualRenderer(uint64_t tileTexels) {
@@ -92,16 +112,16 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
     // (light, face): a spot bakes one map, a point light one per cube face.
     std::vector<std::pair<uint32_t, uint32_t>> work;
     for (uint32_t i : lights) {
-        std::string why = skipReason(scene.lights[i]);
+        std::string why = skipReason(scene, scene.lights[i]);
         if (why.empty())
-            for (uint32_t face = 0; face < lightFrustums(scene.lights[i]).size(); ++face)
+            for (uint32_t face = 0; face < bakeFrustums(scene, scene.lights[i]).size(); ++face)
                 work.push_back({i, face});
         else
             out.skipped.push_back({i, why});
     }
     if (work.empty())
         return fail("bake: none of the " + std::to_string(lights.size()) +
-                    " selected lights is a static spot or point light (first skipped: light " +
+                    " selected lights is a static spot, point or directional light (first skipped: light " +
                     std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
     if (method == StaticMethod::CPVS) {
         // Fail before rendering anything (CPVS needs a power of two in 64..16384).
@@ -118,7 +138,7 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
             if (progress)
                 progress({li, k, n, phase, (k + std::clamp(within, 0.0, 1.0)) / n, secondsSince(t0)});
         };
-        const LightFrustum frustum = lightFrustums(scene.lights[li])[face];
+        const LightFrustum frustum = bakeFrustums(scene, scene.lights[li])[face];
         LightBakeStats st;
         st.light = li;
 
@@ -213,10 +233,10 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
         if (rec.light >= scene.lights.size())
             return fail(where + ": the scene has only " + std::to_string(scene.lights.size()) + " lights");
         const Light& light = scene.lights[rec.light];
-        if (std::string why = skipReason(light); !why.empty())
+        if (std::string why = skipReason(scene, light); !why.empty())
             return fail(where + ": the scene's light is no longer bakeable: " + why);
-        if (rec.face >= lightFrustums(light).size() ||
-            !sameFrustum(lightFrustums(light)[rec.face], rec.frustum))
+        if (rec.face >= bakeFrustums(scene, light).size() ||
+            !sameFrustum(bakeFrustums(scene, light)[rec.face], rec.frustum))
             return fail(where +
                         ": the light's frustum differs from the baked one (scene changed since the bake?)");
 
@@ -267,6 +287,77 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
         report("done", 1.0);
     }
     return rep;
+}
+
+Result<SceneModifiers> parseSceneModifiers(const std::string& scene) {
+    SceneModifiers m;
+    size_t bar = scene.find('|');
+    m.base = scene.substr(0, bar);
+    while (bar != std::string::npos) {
+        size_t next = scene.find('|', bar + 1);
+        std::string item =
+            scene.substr(bar + 1, next == std::string::npos ? std::string::npos : next - bar - 1);
+        bar = next;
+        size_t eq = item.find('=');
+        std::string key = item.substr(0, eq);
+        std::vector<float> v;
+        if (eq != std::string::npos) {
+            std::string rest = item.substr(eq + 1);
+            size_t pos = 0;
+            while (pos <= rest.size()) {
+                size_t comma = rest.find(',', pos);
+                std::string num =
+                    rest.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+                char* end = nullptr;
+                float f = std::strtof(num.c_str(), &end);
+                if (num.empty() || *end != '\0' || !std::isfinite(f))
+                    return fail("scene modifier '" + item + "': '" + num + "' is not a finite number");
+                v.push_back(f);
+                if (comma == std::string::npos) break;
+                pos = comma + 1;
+            }
+        }
+        if (key == "bounds" && v.size() == 6) {
+            m.bounds = true;
+            m.boundsMin = {v[0], v[1], v[2]};
+            m.boundsMax = {v[3], v[4], v[5]};
+            if (!(m.boundsMax.x >= m.boundsMin.x && m.boundsMax.y >= m.boundsMin.y &&
+                  m.boundsMax.z >= m.boundsMin.z))
+                return fail("scene modifier '" + item + "': max below min");
+        } else if (key == "light-dir" && v.size() == 3) {
+            glm::vec3 d(v[0], v[1], v[2]);
+            if (!(glm::length(d) > 1e-6f)) return fail("scene modifier '" + item + "': zero direction");
+            m.lightDirs.push_back(d);
+        } else {
+            return fail("scene modifier '" + item + "': expected bounds=6 numbers or light-dir=3 numbers");
+        }
+    }
+    return m;
+}
+
+std::string sceneModifierString(const SceneModifiers& m) {
+    std::string s = m.base;
+    auto num = [](float f) {
+        char b[32];
+        std::snprintf(b, sizeof(b), "%.9g", double(f));
+        return std::string(b);
+    };
+    if (m.bounds)
+        s += "|bounds=" + num(m.boundsMin.x) + "," + num(m.boundsMin.y) + "," + num(m.boundsMin.z) + "," +
+             num(m.boundsMax.x) + "," + num(m.boundsMax.y) + "," + num(m.boundsMax.z);
+    for (glm::vec3 d : m.lightDirs) s += "|light-dir=" + num(d.x) + "," + num(d.y) + "," + num(d.z);
+    return s;
+}
+
+void applySceneModifiers(Scene& scene, const SceneModifiers& m) {
+    if (m.bounds) scene.boundsMin = m.boundsMin, scene.boundsMax = m.boundsMax;
+    for (glm::vec3 d : m.lightDirs) {
+        Light l;
+        l.type = LightType::Directional;
+        l.direction = glm::normalize(d);
+        l.position = (scene.boundsMin + scene.boundsMax) * 0.5f; // unused by directional lights
+        scene.lights.push_back(l);
+    }
 }
 
 } // namespace ml

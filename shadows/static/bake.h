@@ -66,7 +66,9 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
                              const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
 
 // Why bakeScene would skip this light ("" when it bakes it): the sharded bake's cost estimate needs it.
-std::string bakeSkipReason(const Light& light);
+std::string bakeSkipReason(const Scene& scene, const Light& light);
+// The frustums a light bakes in this scene (a directional light's covers the scene's bounds).
+std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& light);
 
 // "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
 // Errors are one line: malformed items and indices not below lightCount.
@@ -92,11 +94,41 @@ struct VerifyReport {
 Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene,
                                      const DualRenderFn& render = {}, const BakeProgressFn& progress = {});
 
+// Scene modifiers: SceneSpec::scene is a scene name or path, optionally followed by what `bake` changed
+// in it, so that verify re-creates the same scene:
+//   "|bounds=x0,y0,z0,x1,y1,z1"  the scene bounds directional lights are fitted to
+//   "|light-dir=x,y,z"           a static directional light appended after the scene's lights
+// (floats printed with 9 significant digits, so they read back exactly). SceneSpec::lights counts the
+// appended lights too. Without modifiers the string is the plain name.
+struct SceneModifiers {
+    std::string base; // the scene name or path
+    bool bounds = false;
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
+    std::vector<glm::vec3> lightDirs;
+};
+Result<SceneModifiers> parseSceneModifiers(const std::string& scene);
+std::string sceneModifierString(const SceneModifiers& m);
+// Applies bounds and appends the directional lights (static, white, intensity 1).
+void applySceneModifiers(Scene& scene, const SceneModifiers& m);
+
+// The scene a bake file was made from (modifiers applied). Inline: see verifyBake.
+inline Result<Scene> loadBakeScene(const SceneSpec& spec) {
+    auto m = parseSceneModifiers(spec.scene);
+    if (!m) return fail(m.error());
+    const uint32_t extra = uint32_t(m->lightDirs.size());
+    if (spec.lights <= extra)
+        return fail("scene '" + spec.scene + "': light count below its appended lights");
+    auto scene = loadScene(m->base, spec.lights - extra, spec.seed);
+    if (!scene) return scene;
+    applySceneModifiers(scene.value(), m.value());
+    return scene;
+}
+
 // Reloads the scene from the file's SceneSpec, then verifyBakeScene. Inline on purpose: the static
 // library does not link the scene loaders, its callers (the command line, the tests) do.
 inline Result<VerifyReport> verifyBake(const BakeFile& file, const DualRenderFn& render = {},
                                        const BakeProgressFn& progress = {}) {
-    auto scene = loadScene(file.scene.scene, file.scene.lights, file.scene.seed);
+    auto scene = loadBakeScene(file.scene);
     if (!scene) return fail("cannot re-create the baked scene: " + scene.error());
     return verifyBakeScene(file, scene.value(), render, progress);
 }

@@ -106,7 +106,7 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         if (rec[kRChecksum] != stat::checksumWords(rec, kRecordWords, kRChecksum))
             return badRec("record checksum mismatch");
         if (rec[kRFace] > 5) return badRec("cube face " + std::to_string(rec[kRFace]) + " is not 0..5");
-        for (uint32_t i = kRFace + 1; i < kRecordWords; ++i)
+        for (uint32_t i = kROrtho + 1; i < kRecordWords; ++i)
             if (rec[i] != 0) return badRec("reserved word " + std::to_string(i) + " is not 0");
         if (rec[kRLight] >= w[kHSceneLights])
             return badRec("light " + std::to_string(rec[kRLight]) + " is not below the scene's " +
@@ -121,9 +121,15 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         for (int i = 0; i < 16; ++i) m[i] = bitsFloat(rec[kRView + i]);
         f.fov = bitsFloat(rec[kRFov]), f.nearPlane = bitsFloat(rec[kRNear]),
         f.farPlane = bitsFloat(rec[kRFar]);
+        f.orthoHalf = bitsFloat(rec[kROrtho]);
         for (int i = 0; i < 16; ++i)
             if (!std::isfinite(m[i])) return badRec("view matrix is not finite");
-        if (!(f.fov > 0.0f && f.fov < 3.14159f)) return badRec("field of view out of range");
+        if (rec[kROrtho] != 0) {
+            if (!(f.orthoHalf > 0.0f && std::isfinite(f.orthoHalf) && f.fov == 0.0f && rec[kRFace] == 0))
+                return badRec("orthographic half side not finite and > 0, or fov/face not 0");
+        } else if (!(f.fov > 0.0f && f.fov < 3.14159f)) {
+            return badRec("field of view out of range");
+        }
         if (!(f.nearPlane > 0.0f && f.farPlane > f.nearPlane && std::isfinite(f.farPlane)))
             return badRec("near/far planes out of range");
         const uint64_t offset = join(rec[kROffsetLo], rec[kROffsetHi]);
@@ -187,6 +193,7 @@ Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
         const float* m = &br.frustum.view[0][0];
         for (int i = 0; i < 16; ++i) rec[kRView + i] = floatBits(m[i]);
         rec[kRFov] = floatBits(br.frustum.fov);
+        rec[kROrtho] = br.frustum.orthographic() ? floatBits(br.frustum.orthoHalf) : 0u;
         rec[kRNear] = floatBits(br.frustum.nearPlane), rec[kRFar] = floatBits(br.frustum.farPlane);
         rec[kROffsetLo] = uint32_t(offset), rec[kROffsetHi] = uint32_t(offset >> 32);
         rec[kRWordsLo] = uint32_t(br.data.size()), rec[kRWordsHi] = uint32_t(uint64_t(br.data.size()) >> 32);

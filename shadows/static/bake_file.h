@@ -12,7 +12,9 @@
 //   record table [H, H + count * 32), one record per baked light, in increasing data offset:
 //     0 scene light index   3..18 view matrix (16 floats, column-major)   22, 23 data offset (lo, hi)
 //     1 method              19 fov   20 near   21 far (floats)              24, 25 data words (lo, hi)
-//     2 resolution          26 data checksum   27 record checksum   28 cube face  29..31 reserved (0)
+//     2 resolution          26 data checksum   27 record checksum   28 cube face
+//     29 orthographic half side (float; 0 = perspective, > 0 = a directional light's map, fov 0)
+//     30..31 reserved (0)
 //   data        [H + count * 32, total): each record's words, back to back, no gaps
 //
 // Checksums are word-wise FNV-1a (format_common.h): the header's over words [0, H) and a record's over
@@ -77,7 +79,8 @@ enum : uint32_t {
     kRWordsHi = 25,
     kRDataChecksum = 26,
     kRChecksum = 27,
-    kRFace = 28, // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
+    kRFace = 28,  // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
+    kROrtho = 29, // LightFrustum::orthoHalf; 0 in files written before directional bakes
 };
 } // namespace bakefmt
 

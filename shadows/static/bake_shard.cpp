@@ -66,9 +66,9 @@ Result<ShardId> parseShard(const std::string& text) {
     return id;
 }
 
-uint64_t bakeCostEstimate(const Light& light, uint32_t resolution) {
-    if (!bakeSkipReason(light).empty()) return 0;
-    return uint64_t(lightFrustums(light).size()) * resolution * resolution;
+uint64_t bakeCostEstimate(const Scene& scene, const Light& light, uint32_t resolution) {
+    if (!bakeSkipReason(scene, light).empty()) return 0;
+    return uint64_t(bakeFrustums(scene, light).size()) * resolution * resolution;
 }
 
 std::vector<std::vector<uint32_t>> splitShards(const std::vector<std::pair<uint32_t, uint64_t>>& costs,
@@ -93,7 +93,7 @@ std::vector<uint32_t> shardLights(const Scene& scene, const std::vector<uint32_t
                                   ShardId id) {
     std::vector<std::pair<uint32_t, uint64_t>> costs;
     for (uint32_t l : selected)
-        costs.push_back({l, l < scene.lights.size() ? bakeCostEstimate(scene.lights[l], res) : 0});
+        costs.push_back({l, l < scene.lights.size() ? bakeCostEstimate(scene, scene.lights[l], res) : 0});
     return splitShards(costs, id.count)[id.index];
 }
 

@@ -79,7 +79,7 @@ Result<ShardId> parseShard(const std::string& text);
 
 // The cost estimate of baking one light: maps (1 spot, 6 point faces, 0 when bakeScene would skip it)
 // times resolution^2.
-uint64_t bakeCostEstimate(const Light& light, uint32_t resolution);
+uint64_t bakeCostEstimate(const Scene& scene, const Light& light, uint32_t resolution);
 // Splits (light, cost) pairs into `count` shards as described above; shard s's lights come back sorted.
 std::vector<std::vector<uint32_t>> splitShards(const std::vector<std::pair<uint32_t, uint64_t>>& costs,
                                                uint32_t count);

@@ -33,9 +33,14 @@ constexpr uint32_t kDepthEmpty = 0xFFFFFFFFu;
 // field of view, and the depth range [nearPlane, farPlane] (farPlane = the light's range).
 struct LightFrustum {
     glm::mat4 view{1.0f};
-    float fov = 1.0f; // full angle, radians, < pi
+    float fov = 1.0f; // full angle, radians, < pi (perspective)
     float nearPlane = 0.05f;
     float farPlane = 10.0f;
+    // > 0: orthographic (a directional light): the square view volume's half side in metres, fov
+    // unused. Texel (x, y) then covers view x in [x/res*2-1, ...] * orthoHalf, depth is view -z as for
+    // perspective maps.
+    float orthoHalf = 0.0f;
+    bool orthographic() const { return orthoHalf > 0.0f; }
 };
 
 // Linear distance z in [0, far] -> [0, 0xFFFFFFFE]; values past far clamp. kDepthEmpty stays free.

@@ -72,7 +72,7 @@ LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
     glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     f.view = glm::lookAt(light.position, light.position + dir, up);
     f.fov = 2.0f * light.outerAngle;
-    f.nearPlane = nearPlane;
+    f.nearPlane = std::min(nearPlane, light.range * 0.01f);
     f.farPlane = light.range;
     return f;
 }
@@ -84,8 +84,33 @@ LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float near
     LightFrustum f;
     f.view = glm::lookAt(light.position, light.position + axis, up);
     f.fov = 1.57079633f;
-    f.nearPlane = nearPlane;
+    f.nearPlane = std::min(nearPlane, light.range * 0.01f);
     f.farPlane = light.range;
+    return f;
+}
+
+LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 lo, glm::vec3 hi) {
+    const glm::vec3 dir = glm::normalize(direction);
+    const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    const glm::vec3 centre = (lo + hi) * 0.5f;
+    const float radius = glm::length(hi - lo) * 0.5f;
+    glm::vec3 eye = centre - dir * (radius + 1.0f);
+    glm::mat4 view = glm::lookAt(eye, eye + dir, up);
+    // Fit the square to the corners in light space, then move the eye sideways onto its centre.
+    glm::vec3 vmin(1e30f), vmax(-1e30f);
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+        glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.0f));
+        vmin = glm::min(vmin, v), vmax = glm::max(vmax, v);
+    }
+    const glm::vec3 right(view[0][0], view[1][0], view[2][0]), upAxis(view[0][1], view[1][1], view[2][1]);
+    eye += right * (vmin.x + vmax.x) * 0.5f + upAxis * (vmin.y + vmax.y) * 0.5f;
+    LightFrustum f;
+    f.view = glm::lookAt(eye, eye + dir, up);
+    f.orthoHalf = std::max(std::max(vmax.x - vmin.x, vmax.y - vmin.y) * 0.5f * 1.001f, 1e-3f);
+    f.fov = 0.0f;
+    f.nearPlane = 0.5f;
+    f.farPlane = std::max(-vmin.z + 0.5f, 1.0f);
     return f;
 }
 
@@ -99,8 +124,14 @@ std::vector<LightFrustum> lightFrustums(const Light& light) {
 
 DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum,
                                uint32_t resolution)
-    : res_(resolution), far_(frustum.farPlane) {
-    const double t = std::tan(double(frustum.fov) * 0.5);
+    : res_(resolution), far_(frustum.farPlane), ortho_(frustum.orthographic()) {
+    // Perspective: NDC = x / (d tan); orthographic: NDC = x / orthoHalf. The side clip planes are
+    // kGuard * g(d) -+ x with g(d) = tan * d or orthoHalf.
+    const double t = ortho_ ? 0.0 : std::tan(double(frustum.fov) * 0.5);
+    const double oh = frustum.orthoHalf;
+    auto side = [&](const V3& v) {
+        return ortho_ ? kGuard * oh : kGuard * t * v.z;
+    }; // perspective: as before
     const double n = frustum.nearPlane, fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
@@ -112,19 +143,20 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
         }
         clipPolygon(poly, tmp, [&](const V3& v) { return v.z - n; });
         if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return fa - v.z; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z - v.x; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z + v.x; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z - v.y; });
-        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return kGuard * t * v.z + v.y; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) - v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) + v.x; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) - v.y; });
+        if (poly.size() >= 3) clipPolygon(poly, tmp, [&](const V3& v) { return side(v) + v.y; });
         if (poly.size() < 3) continue;
         // Project: NDC = x / (d tan), pixel = (NDC + 1) / 2 * res, fixed = round(pixel * 256).
         std::vector<int64_t> fx(poly.size()), fy(poly.size());
         std::vector<double> inv(poly.size());
         for (size_t k = 0; k < poly.size(); ++k) {
             double d = std::max(poly[k].z, n);
-            fx[k] = std::llround((poly[k].x / (d * t) + 1.0) * 0.5 * double(res_) * double(kSub));
-            fy[k] = std::llround((poly[k].y / (d * t) + 1.0) * 0.5 * double(res_) * double(kSub));
-            inv[k] = 1.0 / d;
+            const double s = ortho_ ? oh : d * t;
+            fx[k] = std::llround((poly[k].x / s + 1.0) * 0.5 * double(res_) * double(kSub));
+            fy[k] = std::llround((poly[k].y / s + 1.0) * 0.5 * double(res_) * double(kSub));
+            inv[k] = ortho_ ? d : 1.0 / d; // orthographic depth is linear in screen space
         }
         for (size_t k = 1; k + 1 < poly.size(); ++k) {
             size_t id[3] = {0, k, k + 1};
@@ -188,7 +220,7 @@ void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint3
                     double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
                                    double(e[2]) * tr.invDepth[2]) *
                                   invArea;
-                    uint32_t depth = quantizeDepth(float(1.0 / invd), far_);
+                    uint32_t depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
                     uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x);
                     hits.push_back(local << 34 | uint64_t(depth) << 2 | tr.kind);
                 }

@@ -50,13 +50,21 @@ struct CasterTriangles {
 CasterTriangles castersFromScene(const Scene& scene);
 
 // A spotlight's frustum: looking along its direction, full angle 2 * outerAngle, far = range.
+// The near plane is min(nearPlane, range / 100): a light of 5 cm range would otherwise get near = far
+// and no bake (tests/failures Range5Centimetres). Depth is linear over [0, far], so a smaller near
+// costs no depth precision; it only keeps casters closer to the light in the map.
 LightFrustum spotLightFrustum(const Light& light, float nearPlane = 0.05f);
 
 // A point light's cube face (0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z): 90 degrees, far = range. The face a
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
-// ties to the earlier axis).
+// ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
 LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane = 0.05f);
-// The frustums a static light bakes: one for a spot, six for a point light, none otherwise.
+// A directional light's orthographic frustum over the box [boundsMin, boundsMax]: looking along
+// `direction` from 1 m outside the box's bounding sphere, square side and far plane fitted to the box's
+// corners in light space (near 0.5 m, far = deepest corner + 0.5 m).
+LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 boundsMin, glm::vec3 boundsMax);
+// The frustums a static light bakes: one for a spot, six for a point light, none otherwise (a
+// directional light needs bounds: directionalLightFrustum).
 std::vector<LightFrustum> lightFrustums(const Light& light);
 
 class DualRasterizer {
@@ -73,13 +81,14 @@ class DualRasterizer {
   private:
     struct Tri {
         int64_t x[3], y[3]; // fixed point, 1/256 texel, counter-clockwise
-        double invDepth[3];
+        double invDepth[3]; // 1 / depth (perspective) or depth (orthographic): linear in screen space
         int32_t yMin, yMax; // covered texel rows (inclusive), before tiling
         uint8_t kind;       // 0 closed front, 1 open, 2 closed back
     };
     std::vector<Tri> tris_; // sorted by yMin
     uint32_t res_;
     float far_;
+    bool ortho_ = false;
 };
 
 // Convenience: rasterise the whole map.

@@ -11,8 +11,9 @@ gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f
                                       uint32_t resolution, uint32_t pcfRadius) {
     gpu::GpuShadowRecord r{};
     r.view = f.view;
-    r.frustum =
-        glm::vec4(std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane, std::log(f.farPlane / f.nearPlane));
+    // x: tan(fov / 2) for perspective maps, -orthoHalf for orthographic ones (the sign tells them apart).
+    r.frustum = glm::vec4(f.orthographic() ? -f.orthoHalf : std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane,
+                          std::log(f.farPlane / f.nearPlane));
     r.info = glm::uvec4(uint32_t(method), base, resolution, std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS));
     return r;
 }
@@ -27,25 +28,32 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     const uint32_t base = rec.info.y, res = rec.info.z;
     const int radius = int(rec.info.w);
     const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
+    const bool ortho = tanHalf < 0.0f;
+    const float orthoHalf = -tanHalf;
     glm::vec3 vp = glm::vec3(rec.view * glm::vec4(P, 1.0f));
     glm::vec3 vn = glm::mat3(rec.view) * N;
     float z = -vp.z;
     if (z <= rec.frustum.y) return 1.0f;
     const float taps = float((2 * radius + 1) * (2 * radius + 1));
     if (method == StaticMethod::CPVS) {
-        glm::vec2 ndc = glm::vec2(vp) / (z * tanHalf);
+        glm::vec2 ndc = ortho ? glm::vec2(vp) / orthoHalf : glm::vec2(vp) / (z * tanHalf);
         glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
         uint32_t s = cpvsSliceOfDepth(data, base, staticQuantizeFloat(z, farPlane));
         float nView[3] = {vn.x, vn.y, vn.z};
         int32_t nq[3];
-        cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
+        // Orthographic: du = N dx / (2 h), dw = N dz / (z L); times z/N that is the perspective formula
+        // with ndc = 0 and tan = h / z.
+        if (ortho)
+            cpvsVoxelNormal(nView, 0.0f, 0.0f, orthoHalf / z, rec.frustum.w, nq);
+        else
+            cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
         return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
     }
-    float texelWorld = 2.0f * z * tanHalf / float(res);
+    float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
     glm::vec3 q = vp + vn * texelWorld;
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0f;
-    glm::vec2 ndc = glm::vec2(q) / (zq * tanHalf);
+    glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
     glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
     uint32_t depth = staticQuantizeFloat(std::max(zq - 0.5f * texelWorld, 0.0f), farPlane);
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.

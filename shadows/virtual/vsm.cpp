@@ -147,6 +147,9 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
         sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
         sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
         sl.active = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_active");
+        // At most one run per active map and level of detail.
+        sl.runs = createBuffer(d, size_t(s.maxMaps) * std::max(mips_, s.clipLevels) * sizeof(glm::uvec4),
+                               kStorageBufferUsage, "vsm_runs");
         sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
         sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe), kStorageBufferUsage,
                                  "vsm_probes");
@@ -203,7 +206,8 @@ void VirtualShadowMaps::destroy(const Device& d) {
                       &dirtyMips_, &hpb_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
         destroyBuffer(d, *b);
     for (Slot& s : slots_)
-        for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.casters, &s.counters, &s.probes})
+        for (Buffer* b :
+             {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters, &s.counters, &s.probes})
             destroyBuffer(d, *b);
     slots_.clear();
 }
@@ -290,10 +294,10 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
         const VsmLight& l = lights[id];
         if (!l.castsShadows || !(settings_.kinds & (1u << l.kind))) continue;
         if (l.moving ? !settings_.movingLights : !settings_.staticLights) continue;
-        bool need = !l.staticBake || l.kind == ML_LIGHT_DIRECTIONAL;
+        bool need = !l.staticBake;
         for (size_t i = 0; i < instances.size() && !need; ++i)
             need = instances[i].dynamic && instances[i].castsShadows &&
-                   boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range);
+                   (l.kind == ML_LIGHT_DIRECTIONAL || boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
         needs[id] = need ? 1 : 0;
     }
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
@@ -383,6 +387,25 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     }
     wasActive_ = active;
     slot.activeCount = uint32_t(slot.activeHost.size());
+    // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
+    // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
+    // within a level, active map order.
+    slot.runsHost.clear();
+    uint32_t rank = 0;
+    const uint32_t steps = std::max(mips_, settings_.clipLevels);
+    for (uint32_t r = 0; r < steps; ++r)
+        for (uint32_t m : slot.activeHost) {
+            const gpu::GpuVsmMap& g = slot.mapsHost[m];
+            const bool ortho = g.info.x == ML_VSM_ORTHOGRAPHIC;
+            const uint32_t count = ortho ? g.light.z : mips_; // clip levels, or mips
+            if (r >= count) continue;
+            const uint32_t level = count - 1 - r;
+            if (ortho && g.light.y != level) continue;
+            const uint32_t mip = ortho ? 0u : level;
+            const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
+            slot.runsHost.push_back(glm::uvec4(rank, m, mip, n));
+            rank += n;
+        }
 
     // Casters.
     std::vector<gpu::GpuCaster> casters(instances.size());
@@ -401,6 +424,8 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
     c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)), 0, 0, 0);
+    c.order = glm::uvec4(uint32_t(slot.runsHost.size()), rank, 0, 0);
+    slot.orderEntries = rank;
     lastConstants_ = c;
 
     // Upload (this slot's previous frame has completed: the module waited for its fence).
@@ -410,6 +435,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     upload(slot.coverage, slot.coverageHost.data(), usedWords * 4);
     upload(slot.stale, slot.staleHost.data(), usedWords * 4);
     if (!slot.activeHost.empty()) upload(slot.active, slot.activeHost.data(), slot.activeHost.size() * 4);
+    if (!slot.runsHost.empty()) upload(slot.runs, slot.runsHost.data(), slot.runsHost.size() * sizeof(glm::uvec4));
     ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage, "vsm_casters");
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
@@ -452,7 +478,7 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
                       R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
     if (slot.activeCount == 0) return;
-    const size_t activeEntries = size_t(slot.activeCount) * entriesPerMap_;
+    const size_t activeEntries = slot.orderEntries;
     profiler.run(cmd, Pass::VsmMark, [&](VkCommandBuffer c) {
         dispatch(d, c, markProgram_, width, height, NoPush{},
                  {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, depth, normal, slot.constants, slot.maps,
@@ -462,14 +488,14 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
     profiler.run(cmd, Pass::VsmAlloc, [&](VkCommandBuffer c) {
         const uint32_t blocks = uint32_t((activeEntries + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
         dispatch(d, c, scanProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.active, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
+                 {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
                   slot.counters});
         memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
         dispatch(d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.active, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
+                 {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
         memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
         dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.active, table_, marks_, owners_, lastUsed_, blockCounts_, avail_, rendered_,
+                 {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_, rendered_,
                   dirtyMips_, slot.counters});
         // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
         memoryBarrier(c, C, W, C | indirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);

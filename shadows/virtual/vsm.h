@@ -146,11 +146,14 @@ class VirtualShadowMaps {
     const std::vector<uint32_t>& staleBits(uint32_t slot) const { return slots_[slot].staleHost; }
     const std::vector<gpu::GpuVsmMap>& mapsHost(uint32_t slot) const { return slots_[slot].mapsHost; }
     const std::vector<uint32_t>& activeMaps(uint32_t slot) const { return slots_[slot].activeHost; }
+    const std::vector<glm::uvec4>& allocationOrder(uint32_t slot) const { return slots_[slot].runsHost; }
 
   private:
     struct Slot {
-        Buffer constants, maps, coverage, stale, active, casters, counters, probes;
+        Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
         std::vector<uint32_t> coverageHost, staleHost, activeHost;
+        std::vector<glm::uvec4> runsHost; // allocation order: (first rank, map, mip, entries)
+        uint32_t orderEntries = 0;
         std::vector<gpu::GpuVsmMap> mapsHost;
         uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
     };

@@ -12,7 +12,7 @@
 layout(local_size_x = ML_VSM_BLOCK) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Active { uint vsmActive[]; };
+layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = 2, std430) readonly buffer Marks { uint vsmMarks[]; };
 layout(binding = 3, std430) readonly buffer Owner { uint vsmOwner[]; };
 layout(binding = 4, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
@@ -35,8 +35,7 @@ uint pageClass(uint p) {
 void main() {
     uint i = gl_LocalInvocationIndex;
     // 1. Block ranks: each thread sums a contiguous run of blocks, then one scan over the runs.
-    uint entries = 0u;
-    for (uint m = 0u; m < vsm.page.w; ++m) entries += vsm.sizes.y * (vsm.page.z >> m) * (vsm.page.z >> m);
+    uint entries = vsm.order.y;
     uint blocks = (entries + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     uint run = (blocks + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     uint first = min(i * run, blocks), last = min(first + run, blocks);

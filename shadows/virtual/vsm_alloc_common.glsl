@@ -2,35 +2,35 @@
 // entries and the block prefix sum.
 //
 // Priority order over the active maps' entries (maps of visible lights; inactive maps get no marks, and
-// are invalidated whole when they become active again): coarsest mip first, then active map, then page
-// row-major. When the pool cannot hold every marked page, the ones left without a page are the finest
-// ones, and every lookup still finds a coarser page (each receiver also marks its fallback page).
-// The includer declares vsmActive[] (active map slots) and vsmMarks[].
+// are invalidated whole when they become active again): every light's coarsest level first (a
+// perspective map's last mip, a directional light's last clip level), then one level finer, and so on;
+// within a level the active maps in order, pages row-major. When the pool cannot hold every wanted page,
+// the ones left without a page are the finest, and every lookup still finds a coarser one (each receiver
+// reserves its fallback pages) as long as the pool holds one page per light's coarsest level.
+// The CPU lays the order out as runs (uvec4: first rank, map, mip, entries), sorted by first rank;
+// the includer declares vsmRuns[], vsmMarks[] and `vsm` (VsmConstants; order.x runs, order.y entries).
 #ifndef ML_VSM_ALLOC_COMMON_GLSL
 #define ML_VSM_ALLOC_COMMON_GLSL
 
 #include "shadows/virtual/vsm_math.h"
 
-// Entries of the active maps in priority order: k -> entry; false past the end.
+// Entries in priority order: rank k -> entry (binary search over the runs); false past the end.
 bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out uint mip) {
-    uint s0 = c.page.z, mips = c.page.w, maps = c.sizes.y;
-    for (int m = int(mips) - 1; m >= 0; --m) {
-        uint side = s0 >> uint(m);
-        uint n = maps * side * side;
-        if (k < n) {
-            uint a = k / (side * side);
-            map = vsmActive[a];
-            uint page = k - a * side * side;
-            mip = uint(m);
-            entry = map * c.sizes.x + vsmMipOffset(s0, uint(m)) + page;
-            return true;
-        }
-        k -= n;
-    }
     entry = 0u;
     map = 0u;
     mip = 0u;
-    return false;
+    if (k >= c.order.y) return false;
+    uint lo = 0u, hi = c.order.x; // the run holding k is the last with first rank <= k
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) / 2u;
+        if (vsmRuns[mid].x <= k) lo = mid;
+        else hi = mid;
+    }
+    uvec4 run = vsmRuns[lo];
+    map = run.y;
+    mip = run.z;
+    entry = map * c.sizes.x + vsmMipOffset(c.page.z, mip) + (k - run.x);
+    return true;
 }
 
 // Marked: a lookup reads the page. Wanted: marked, or reserved as a fallback page; wanted pages get memory

@@ -13,7 +13,7 @@
 layout(local_size_x = ML_VSM_BLOCK) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Active { uint vsmActive[]; };
+layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = 2, std430) buffer Table { uint vsmTable[]; };
 layout(binding = 3, std430) readonly buffer Marks { uint vsmMarks[]; };
 layout(binding = 4, std430) buffer Owner { uint vsmOwner[]; };

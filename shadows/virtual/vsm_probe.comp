@@ -50,5 +50,6 @@ void main() {
         if (slot >= probeCapacity) { atomicAdd(probeOverflow, 1u); continue; }
         probes[slot].texel = uvec4(c.map, c.mip, uint(c.tap.texel.x), uint(c.tap.texel.y));
         probes[slot].info = uvec4(px.y * frame.size.x + px.x, L.info.w, depth, status);
+        probes[slot].tap = uvec4(c.tap.depth, 0u, 0u, 0u);
     }
 }

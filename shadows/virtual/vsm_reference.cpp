@@ -98,13 +98,17 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                 Choice c = choose(in, L, L.info.y, P, N);
                 if (!c.tap.ok) continue;
                 markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
+                const size_t fw = in.markWords;
                 if (L.info.x == ML_LIGHT_DIRECTIONAL) {
                     uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, in.markWords);
+                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, fw);
+                    if (c.last != fb)
+                        markKernel(in, marks, c.last, 0, vsmLocate(in.maps[c.last], R, 0, P, N), radius, fw);
                 } else {
                     uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.mip)
-                        markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, in.markWords);
+                    if (fb != c.mip) markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, fw);
+                    if (c.last != fb)
+                        markKernel(in, marks, c.map, c.last, vsmLocate(in.maps[c.map], R, c.last, P, N), radius, fw);
                 }
             }
         }
@@ -113,7 +117,7 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
 
 gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint32_t>& marks,
                                       const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
-                                      const std::vector<uint32_t>& active, const gpu::VsmConstants& k) {
+                                      const std::vector<glm::uvec4>& runs, const gpu::VsmConstants& k) {
     VsmCounters c{};
     const uint32_t s0 = k.page.z, mips = k.page.w, frame = k.sizes.w, pool = k.sizes.z;
     auto marked = [&](uint32_t e) { return testBit(marks, e); };
@@ -123,12 +127,10 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         uint32_t entry, map, mip;
     };
     std::vector<Item> order;
-    for (int m = int(mips) - 1; m >= 0; --m) {
-        const uint32_t side = s0 >> m;
-        for (uint32_t map : active)
-            for (uint32_t p = 0; p < side * side; ++p)
-                order.push_back({map * k.sizes.x + vsmMipOffset(s0, uint32_t(m)) + p, map, uint32_t(m)});
-    }
+    for (const glm::uvec4& run : runs)
+        for (uint32_t p = 0; p < run.w; ++p)
+            order.push_back({run.y * k.sizes.x + vsmMipOffset(s0, run.z) + p, run.y, run.z});
+    (void)mips;
     // vsm_scan.
     std::vector<uint32_t> requests;
     for (const Item& it : order) {

@@ -38,11 +38,12 @@ struct VsmAllocState {
     std::vector<uint32_t> owners;   // per physical page
     std::vector<uint32_t> lastUsed; // per physical page
 };
-// One frame of allocation. `marks` and `stale` are bit arrays over entries; `active` the active map
-// slots in order; constants as uploaded (sizes.y = active count, sizes.w = frame).
+// One frame of allocation. `marks` (lookup marks, then fallback marks from word constants.options.w)
+// and `stale` are bit arrays over entries; `order` the allocation order's runs (first rank, map, mip,
+// entries: VirtualShadowMaps::allocationOrder); constants as uploaded (sizes.w = frame).
 gpu::VsmCounters vsmAllocateReference(VsmAllocState& state, const std::vector<uint32_t>& marks,
                                       const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
-                                      const std::vector<uint32_t>& active, const gpu::VsmConstants& constants);
+                                      const std::vector<glm::uvec4>& order, const gpu::VsmConstants& constants);
 
 // Empty string when the state is consistent, else the first violation.
 std::string vsmCheckInvariants(const VsmAllocState& state, const std::vector<uint32_t>& marks,

@@ -48,13 +48,14 @@ ML_STRUCT(GpuVsmMap) {
     uvec4 light;   // x module light id, y clip level (directional) or face, z mips, w unused
 };
 
-// Frame-wide constants of the VSM passes (uniform), 64 bytes.
+// Frame-wide constants of the VSM passes (uniform), 80 bytes.
 ML_STRUCT(VsmConstants) {
     uvec4 page;    // x page size, y log2(page size), z S_0 (pages per side at mip 0), w mips of a map
     uvec4 sizes;   // x entries per map, y maps in use (slots 0..y-1 are scanned), z pool pages, w frame
     uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution,
                    // w first word of the fallback marks (they follow the lookup marks in one buffer)
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), yzw unused
+    uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, zw unused
 };
 
 // Counters written by the VSM passes with atomics, read back when the frame's slot comes round.
@@ -114,20 +115,21 @@ ML_STRUCT(GpuMeshlet) {
 ML_STRUCT(GpuVsmProbe) {
     uvec4 texel; // x map, y mip used, z texel x, w texel y (at the mip used)
     uvec4 info;  // x pixel index, y light id, z depth read (kDepthEmpty: empty texel), w ML_VSM_PROBE_*
+    uvec4 tap;   // x the receiver's biased depth the texel is compared with, yzw unused
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
-static_assert(sizeof(VsmConstants) == 64);
+static_assert(sizeof(VsmConstants) == 80);
 static_assert(sizeof(VsmCounters) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
 static_assert(sizeof(GpuCaster) == 64);
 static_assert(offsetof(GpuCaster, meshlets) == 48);
 static_assert(sizeof(GpuMeshlet) == 64);
 static_assert(offsetof(GpuMeshlet, data) == 48);
-static_assert(sizeof(GpuVsmProbe) == 32);
+static_assert(sizeof(GpuVsmProbe) == 48);
 } // namespace ml::gpu
 #endif
 

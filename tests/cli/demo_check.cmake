@@ -1,6 +1,7 @@
 # Runs `manylights demo` on SCENE at 320x180 for 3 frames and checks what it writes:
 # 3 frames, a Chrome trace with at least 4 distinct passes, and stats.json with the required fields
-# and at least 256 lights.
+# and at least 256 lights. With TIGHTNESS_MAX: evaluated / reaching lights per pixel at most that; with
+# REACHING_MIN: lights reaching a surface pixel (mean) at least that.
 execute_process(COMMAND ${EXE} demo --scene ${SCENE} --frames 3 --size 320x180 --out ${OUT}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}${err}")
@@ -43,10 +44,29 @@ if(DEFINED TIGHTNESS_MAX)
   if(reaching LESS_EQUAL 0)
     message(FATAL_ERROR "no light reaches any pixel: nothing to measure")
   endif()
-  # CMake has no float compare: scale by 1000 via string math on the printed value.
-  math(EXPR limit "${TIGHTNESS_MAX}")
-  string(REGEX REPLACE "^([0-9]+)\\.?([0-9]*)$" "\\1" whole "${tight}")
-  if(whole GREATER_EQUAL limit)
-    message(FATAL_ERROR "culling tightness ${tight} >= ${TIGHTNESS_MAX}")
+  # CMake has no float compare: compare hundredths, from the printed decimal.
+  function(hundredths value out)
+    string(REGEX MATCH "^([0-9]+)\\.?([0-9]*)" m "${value}")
+    set(whole "${CMAKE_MATCH_1}")
+    set(frac "${CMAKE_MATCH_2}00")
+    string(SUBSTRING "${frac}" 0 2 frac)
+    string(REGEX REPLACE "^0" "" frac "${frac}")
+    if(frac STREQUAL "")
+      set(frac 0)
+    endif()
+    math(EXPR v "${whole} * 100 + ${frac}")
+    set(${out} ${v} PARENT_SCOPE)
+  endfunction()
+  hundredths(${tight} tight100)
+  hundredths(${TIGHTNESS_MAX} limit100)
+  if(tight100 GREATER limit100)
+    message(FATAL_ERROR "culling tightness ${tight} > ${TIGHTNESS_MAX}")
+  endif()
+  if(DEFINED REACHING_MIN)
+    hundredths(${reaching} reaching100)
+    hundredths(${REACHING_MIN} min100)
+    if(reaching100 LESS min100)
+      message(FATAL_ERROR "lights reaching a surface pixel ${reaching} < ${REACHING_MIN} on the default view")
+    endif()
   endif()
 endif()

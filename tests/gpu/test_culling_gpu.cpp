@@ -4,7 +4,12 @@
 
 #include "shaders/shared/light_math.h"
 
+#include "lights/lights.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
+#include <random>
 
 namespace ml::test {
 
@@ -34,7 +39,9 @@ void compareWithReference(Module& m, CullingMode mode) {
     ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
     const ClusterGrid& grid = impl.cull.grid;
     ASSERT_EQ(ref.bounds.size(), grid.count());
-    if (mode == CullingMode::Tiled) ASSERT_EQ(grid.slices, 1u);
+    if (mode == CullingMode::Tiled) {
+        ASSERT_EQ(grid.slices, 1u);
+    }
     auto* bounds = impl.cull.bounds.as<gpu::ClusterBounds>();
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
     auto* pool = impl.cull.pool.as<uint32_t>();
@@ -63,6 +70,33 @@ TEST(GpuCulling, ClusteredListsEqualCpuReference) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
+TEST(GpuCulling, ClusteredBruteListsEqualCpuReference) {
+    auto f = renderCity(CullingMode::ClusteredBrute, 256);
+    compareWithReference(*f.module, CullingMode::ClusteredBrute);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// The footprint lists are the brute-force lists restricted to each light's footprint: a subset of
+// them, cluster by cluster, and never missing a light that reaches a pixel (next test).
+TEST(GpuCulling, FootprintListsAreSubsetsOfBruteForce) {
+    auto f = renderCity(CullingMode::Clustered, 512);
+    auto& impl = f.module->internals();
+    auto depth = toFloats(readImage(*f.module, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    gpu::FrameConstants brute = impl.lastConstants;
+    brute.cluster.w = ML_CULL_CLUSTERED_BRUTE;
+    ClusterReference fp = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
+    ClusterReference bf = cullReference(depth, brute, impl.lastSliceFar, impl.lastLights);
+    size_t fpEntries = 0, bfEntries = 0;
+    for (size_t c = 0; c < fp.lists.size(); ++c) {
+        ASSERT_TRUE(std::includes(bf.lists[c].begin(), bf.lists[c].end(), fp.lists[c].begin(), fp.lists[c].end()))
+            << "cluster " << c;
+        fpEntries += fp.lists[c].size();
+        bfEntries += bf.lists[c].size();
+    }
+    std::printf("  entries: footprint %zu, brute force %zu\n", fpEntries, bfEntries);
+    EXPECT_GT(fpEntries, 100u);
+}
+
 TEST(GpuCulling, TiledListsEqualCpuReference) {
     auto f = renderCity(CullingMode::Tiled, 256);
     compareWithReference(*f.module, CullingMode::Tiled);
@@ -76,9 +110,12 @@ TEST(GpuCulling, ManyLightsListsEqualCpuReference) {
 }
 
 // Every light that reaches a pixel is in that pixel's list (the cluster test is conservative), and
-// the GPU's per-pixel counters equal the CPU's.
-TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
-    auto f = renderCity(CullingMode::Clustered, 256);
+// the GPU's per-pixel counters equal the CPU's, in every mode (none: every visible light).
+class NoLightMissing : public ::testing::TestWithParam<CullingMode> {};
+
+TEST_P(NoLightMissing, AndStatsMatch) {
+    const CullingMode mode = GetParam();
+    auto f = renderCity(mode, 256);
     Module& m = *f.module;
     auto& impl = m.internals();
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
@@ -92,9 +129,15 @@ TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
             if (!(d < 1.0f)) continue;
             ++surface;
             glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
-            uint32_t s = sliceOf(gpu::linearDepth(d, fc.depth), impl.lastSliceFar, fc.cluster.x);
-            uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
-            std::vector<uint32_t> list(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+            std::vector<uint32_t> list;
+            if (mode == CullingMode::None) {
+                for (uint32_t l = 0; l < impl.lastLights.size(); ++l) list.push_back(l);
+            } else {
+                uint32_t s = sliceOf(gpu::linearDepth(d, fc.depth), impl.lastSliceFar, fc.cluster.x);
+                uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
+                ASSERT_NE(ranges[c].x, ML_CLUSTER_OVERFLOW);
+                list.assign(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
+            }
             evaluated += list.size();
             for (uint32_t l = 0; l < impl.lastLights.size(); ++l)
                 if (gpu::lightReachesPoint(impl.lastLights[l], p)) {
@@ -114,12 +157,81 @@ TEST(GpuCulling, NoLightThatReachesAPixelIsMissingAndStatsMatch) {
     EXPECT_EQ(st.lightsTotal, 256u);
     EXPECT_EQ(st.clusterOverflowCount, 0u);
     EXPECT_EQ(validationErrors(), 0u);
+    std::printf("  %s: evaluated %.3f, reaching %.3f lights per pixel\n", cullingName(mode),
+                st.lightsPerPixelEvaluatedMean, st.lightsPerPixelReachingMean);
 }
+
+INSTANTIATE_TEST_SUITE_P(GpuCulling, NoLightMissing,
+                         ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute, CullingMode::Tiled,
+                                           CullingMode::None),
+                         [](const auto& info) {
+                             std::string n = cullingName(info.param);
+                             std::erase(n, '-');
+                             return n;
+                         });
 
 // A pool too small for the lists: overflowing clusters are counted, and their pixels test every
 // visible light, so the image equals the one rendered with room to spare.
-TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
-    auto f = renderCity(CullingMode::Clustered, 256);
+// lightFootprint (CPU side of the shared function): every point a light reaches projects into its
+// tile rectangle and depth range, for random spot and point lights around, in front of, behind and
+// straddling the camera; a light around the camera covers every tile from the near plane; one wholly
+// behind the camera covers nothing.
+TEST(LightFootprint, HoldsEveryReachedPoint) {
+    const uint32_t width = 320, height = 180;
+    glm::mat4 view = glm::lookAt(glm::vec3(0, 5, 0), glm::vec3(0, 4, -10), glm::vec3(0, 1, 0));
+    glm::mat4 proj = glm::perspectiveRH_ZO(1.0f, float(width) / height, 0.1f, 500.0f);
+    proj[1][1] *= -1.0f;
+    const glm::mat4 vp = proj * view;
+    const glm::uvec4 size(width, height, (width + ML_TILE_SIZE - 1) / ML_TILE_SIZE,
+                          (height + ML_TILE_SIZE - 1) / ML_TILE_SIZE);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int checked = 0;
+    for (int i = 0; i < 400; ++i) {
+        LightDesc d;
+        d.kind = i % 3 == 0 ? LightKind::Point : LightKind::Spot;
+        d.position = glm::vec3(u(rng) * 20.0f, 5.0f + u(rng) * 5.0f, -10.0f + u(rng) * 25.0f);
+        d.direction = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0, 0.01f));
+        d.range = 2.0f + (u(rng) + 1.0f) * 8.0f;
+        d.outerAngle = 0.2f + (u(rng) + 1.0f) * 0.6f;
+        d.innerAngle = 0.5f * d.outerAngle;
+        gpu::GpuLight L = toGpuLight(d, 0);
+        gpu::LightFootprint f = gpu::lightFootprint(L, vp, size, ML_TILE_SIZE, 0.1f);
+        for (int k = 0; k < 300; ++k) {
+            glm::vec3 x = d.position + glm::vec3(u(rng), u(rng), u(rng)) * d.range;
+            if (!gpu::lightReachesPoint(L, x)) continue;
+            glm::vec4 c = vp * glm::vec4(x, 1.0f);
+            if (c.w < 0.1f) continue; // behind the near plane: no pixel sees it
+            float px = (c.x / c.w + 1.0f) * 0.5f * width, py = (c.y / c.w + 1.0f) * 0.5f * height;
+            if (px < 0 || py < 0 || px >= width || py >= height || c.w > 500.0f) continue;
+            ++checked;
+            uint32_t tx = uint32_t(px) / ML_TILE_SIZE, ty = uint32_t(py) / ML_TILE_SIZE;
+            ASSERT_TRUE(tx >= f.tiles.x && tx <= f.tiles.z && ty >= f.tiles.y && ty <= f.tiles.w)
+                << "light " << i << " point at tile " << tx << "," << ty << " outside " << f.tiles.x << ","
+                << f.tiles.y << ".." << f.tiles.z << "," << f.tiles.w;
+            ASSERT_GE(c.w, f.depth.x) << "light " << i;
+            ASSERT_LE(c.w, f.depth.y) << "light " << i;
+        }
+    }
+    EXPECT_GT(checked, 10000);
+
+    LightDesc around;
+    around.kind = LightKind::Point;
+    around.position = glm::vec3(0.5f, 5.0f, 0.5f);
+    around.range = 4.0f;
+    gpu::LightFootprint all = gpu::lightFootprint(toGpuLight(around, 0), vp, size, ML_TILE_SIZE, 0.1f);
+    EXPECT_EQ(all.tiles, glm::uvec4(0, 0, size.z - 1, size.w - 1));
+    EXPECT_LE(all.depth.x, 0.1f);
+    LightDesc behind = around;
+    behind.position = glm::vec3(0.0f, 5.0f, 20.0f);
+    gpu::LightFootprint none = gpu::lightFootprint(toGpuLight(behind, 0), vp, size, ML_TILE_SIZE, 0.1f);
+    EXPECT_GT(none.tiles.x, none.tiles.z);
+}
+
+class Overflow : public ::testing::TestWithParam<CullingMode> {};
+
+TEST_P(Overflow, IsCountedAndDropsNoLight) {
+    auto f = renderCity(GetParam(), 256);
     Module& m = *f.module;
     std::vector<uint8_t> full, overflowed;
     ASSERT_TRUE(m.readOutput(full).ok());
@@ -139,5 +251,12 @@ TEST(GpuCulling, OverflowIsCountedAndDropsNoLight) {
     EXPECT_LE(maxDiff, 1) << "overflowed clusters changed the image";
     EXPECT_EQ(validationErrors(), 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(GpuCulling, Overflow, ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute),
+                         [](const auto& info) {
+                             std::string n = cullingName(info.param);
+                             std::erase(n, '-');
+                             return n;
+                         });
 
 } // namespace ml::test

@@ -73,7 +73,7 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
         }
         // Allocation from the previous frame's state, with this frame's marks.
         std::vector<uint32_t> stale = vsm.staleBits(slot);
-        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot), vsm.activeMaps(slot),
+        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot), vsm.allocationOrder(slot),
                                                   vsm.lastConstants());
         std::vector<uint32_t> table = vsm.readTable(m.device());
         ASSERT_LE(table.size(), cpu.table.size());
@@ -135,7 +135,10 @@ TEST(GpuVsm, QuarterPoolCountsFallbacksAndKeepsEveryShadow) {
                                                                            &overflow);
         ASSERT_EQ(overflow, 0u);
         for (const auto& p : probes) {
-            ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING) << "frame " << f << ": a lookup found no page at any mip";
+            ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING)
+                << "frame " << f << ": a lookup found no page at any mip (map " << p.texel.x << ", mip " << p.texel.y
+                << ", kind " << session.value()->module->internals().vsm.mapInfo()[p.texel.x].gpu.info.x << ", pool "
+                << o.module.vsm.poolPages << ", need " << need << ", fallbacks " << r->stats.vsm.fallbacks << ")";
             fallbackLookups += p.info.w == ML_VSM_PROBE_FALLBACK;
             ++lookups;
         }

@@ -127,7 +127,7 @@ TEST(ScenesNightCity, RejectsBadLightCounts) {
     EXPECT_FALSE(makeNightCity(o).ok());
 }
 
-// More lights fill the same city: same buildings, same size; mostly downward lamps.
+// More lights fill the same city: same buildings, same size; the per-kind mix of night_city.cpp.
 TEST(ScenesNightCity, MoreLightsSameCity) {
     Scene small = city(64), large = city(4096);
     EXPECT_EQ(small.boundsMin, large.boundsMin);
@@ -140,13 +140,34 @@ TEST(ScenesNightCity, MoreLightsSameCity) {
     };
     EXPECT_EQ(buildings(small), buildings(large));
     size_t down = std::count_if(large.lights.begin(), large.lights.end(), [](const Light& l) {
-        return l.direction.y < -0.9f && l.attachedInstance < 0;
+        return l.type == LightType::Spot && l.direction.y < -0.9f && l.attachedInstance < 0;
     });
     size_t up = std::count_if(large.lights.begin(), large.lights.end(),
-                              [](const Light& l) { return l.direction.y > 0.8f; });
-    // 4080 static lights: ~55/90 lamps (down), ~25/90 floods (up), the rest signs.
-    EXPECT_NEAR(double(down) / 4080.0, 55.0 / 90.0, 0.06);
-    EXPECT_NEAR(double(up) / 4080.0, 25.0 / 90.0, 0.06);
+                              [](const Light& l) { return l.type == LightType::Spot && l.direction.y > 0.8f; });
+    size_t moon = std::count_if(large.lights.begin(), large.lights.end(),
+                                [](const Light& l) { return l.type == LightType::Directional; });
+    // 4079 static spots: 45 % lamps (down), 20 % floods (up), shop windows and signs the rest; one moon.
+    EXPECT_NEAR(double(down) / 4079.0, 0.45, 0.02);
+    EXPECT_NEAR(double(up) / 4079.0, 0.20, 0.02);
+    EXPECT_EQ(moon, 1u);
+    const Light& m = *std::find_if(large.lights.begin(), large.lights.end(),
+                                   [](const Light& l) { return l.type == LightType::Directional; });
+    EXPECT_LT(m.direction.y, -0.5f) << "from above";
+    EXPECT_LT(m.intensity * std::max({m.color.x, m.color.y, m.color.z}), 0.5f) << "dim";
+}
+
+// Most of the lights at the default count stand on the high street in front of the default camera:
+// within 30 m of the camera's street line and 110 m of its west end.
+TEST(ScenesNightCity, DefaultViewHoldsMostLights) {
+    Scene s = city(256);
+    const Camera& c = s.camera;
+    size_t near = 0, spots = 0;
+    for (const Light& l : s.lights) {
+        if (l.type != LightType::Spot || l.dynamic) continue;
+        ++spots;
+        near += std::abs(l.position.z - c.position.z) < 30.0f && l.position.x - c.position.x < 110.0f;
+    }
+    EXPECT_GT(double(near) / double(spots), 0.9);
 }
 
 TEST(ScenesNightCity, SameSeedSameBytesOtherSeedDiffers) {
@@ -161,7 +182,7 @@ TEST(ScenesNightCity, LampsLightTheStreet) {
     Scene s = city(256);
     int lamps = 0;
     for (const Light& l : s.lights) {
-        if (l.attachedInstance >= 0 || l.direction.y > -0.9f) continue;
+        if (l.type != LightType::Spot || l.attachedInstance >= 0 || l.direction.y > -0.9f) continue;
         ++lamps;
         EXPECT_NEAR(l.position.y, 6.0f, 0.5f);
         EXPECT_GE(l.outerAngle, 0.6f);

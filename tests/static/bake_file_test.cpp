@@ -356,18 +356,18 @@ TEST_F(BakeScene, SkippedLightsAreReported) {
     std::vector<uint32_t> sel = {spots[0], spots[1], spots[2], dynamicLights[0]};
     auto baked = bakeScene(s, spec_, StaticMethod::MH, 64, sel);
     ASSERT_TRUE(baked.ok()) << baked.error();
-    // The spot bakes one map, the point light one per cube face; the others are skipped with reasons.
-    ASSERT_EQ(baked->file.records.size(), 7u);
+    // The spot bakes one map, the point light one per cube face, the directional light one
+    // orthographic map over the scene bounds; the dynamic light is skipped with its reason.
+    ASSERT_EQ(baked->file.records.size(), 8u);
     EXPECT_EQ(baked->file.records[0].light, spots[0]);
     for (uint32_t f = 0; f < 6; ++f) {
         EXPECT_EQ(baked->file.records[1 + f].light, spots[1]);
         EXPECT_EQ(baked->file.records[1 + f].face, f);
     }
-    ASSERT_EQ(baked->skipped.size(), 2u);
-    std::map<uint32_t, std::string> why;
-    for (const SkippedLight& k : baked->skipped) why[k.light] = k.reason;
-    EXPECT_NE(why[spots[2]].find("directional"), std::string::npos);
-    EXPECT_NE(why[dynamicLights[0]].find("dynamic"), std::string::npos);
+    EXPECT_EQ(baked->file.records[7].light, spots[2]);
+    EXPECT_TRUE(baked->file.records[7].frustum.orthographic());
+    ASSERT_EQ(baked->skipped.size(), 1u);
+    EXPECT_NE(baked->skipped[0].reason.find("dynamic"), std::string::npos);
     // Nothing bakeable: an error naming a skipped light, not an empty file.
     auto none = bakeScene(s, spec_, StaticMethod::MH, 64, {dynamicLights[0]});
     ASSERT_FALSE(none.ok());

@@ -101,7 +101,7 @@ class BakeShardScene : public testing::Test {
         p.file.scene = spec_, p.file.method = m, p.file.resolution = res;
         std::vector<uint32_t> bakeable;
         for (uint32_t l : p.own)
-            if (bakeSkipReason(scene.lights[l]).empty()) bakeable.push_back(l);
+            if (bakeSkipReason(scene, scene.lights[l]).empty()) bakeable.push_back(l);
         if (!bakeable.empty()) {
             auto b = bakeScene(scene, spec_, m, res, bakeable, {}, cpuDualRenderer());
             if (!b) return fail(b.error());

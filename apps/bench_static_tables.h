@@ -1,0 +1,40 @@
+// `bench static`'s per-configuration results and the tables printed from them beside the main one:
+// disagreements by cause with their convergence slopes (bench_classes.csv) and the isolated lookup
+// cost (bench_lookup.csv).
+#pragma once
+#include "apps/lookup_timer.h"
+#include "engine/result.h"
+#include "shadows/reference/error_classes.h"
+#include "shadows/static/static_method.h"
+
+#include <string>
+#include <vector>
+
+namespace ml {
+
+// One method at one resolution.
+struct BenchStaticRow {
+    std::string method;
+    uint32_t res = 0, lights = 0;
+    uint64_t bytes = 0, mapBytes = 0;
+    double renderS = 0, encodeS = 0, evalMs = 0;
+    double precomputeS = 0, insertS = 0, compressS = 0; // CPVS: the paper's Table 3 split of encodeS
+    std::string failed; // the encoder's error when it cannot encode a map (e.g. MH's 24-bit offsets)
+    uint64_t compared = 0, mismatches = 0;
+    double meanAbs = 0;
+    std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
+    std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
+    ErrorCounts classes{};            // disagreements by cause (shadows/reference/error_classes.h)
+};
+
+// Prints the cause breakdown (shares of compared receivers) and, per method, the least-squares slope
+// of log(rate) on log(res) for the resolution class, all disagreements and contact; writes
+// <dir>/bench_classes.csv (counts).
+Result<void> printClassTables(const std::string& dir, const std::vector<BenchStaticRow>& rows,
+                              const std::vector<StaticMethod>& methods);
+
+// Prints ns per lookup per PCF size; writes <dir>/bench_lookup.csv.
+Result<void> printLookupTable(const std::string& dir, const std::vector<BenchStaticRow>& rows,
+                              const std::vector<uint32_t>& lookupRadii, size_t pairs, uint32_t extraLookups);
+
+} // namespace ml

@@ -1,0 +1,32 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Lookup timing (bench static, apps/lookup_timer.cpp): each invocation takes one (receiver, light)
+// pair and calls the static lookup `lookups` times with the pass's PCF radius. Each call's receiver
+// depends on the previous result (offset by acc * 1e-30 m, which rounds to nothing but cannot be
+// folded), so the calls are neither merged nor hoisted. Timing the pass at 1 and at 1 + K lookups
+// and dividing the difference by K * pairs leaves the cost of one lookup, free of the pass's fixed
+// cost (launch, item loads, record fetch). The sum is written out so that nothing is dead code; the
+// host checks it against the CPU twin (static_visibility.cpp).
+#include "shaders/shared/glsl_common.h"
+
+layout(local_size_x = 64) in;
+layout(binding = 0, std430) readonly buffer Items { vec4 items[]; }; // per pair: P (w unused), N (w = record bits)
+layout(binding = 1, std430) readonly buffer Records { GpuShadowRecord records[]; };
+layout(binding = 2, std430) readonly buffer Words { uint words[]; };
+layout(binding = 3, std430) writeonly buffer Out { float sums[]; };
+layout(push_constant) uniform Push { uint count, lookups, radius, pad; };
+
+#define ML_STATIC_DATA words
+#define CPVS_DATA words
+#include "shaders/static/static_visibility.glsl"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= count) return;
+    vec4 p = items[2u * i], n = items[2u * i + 1u];
+    GpuShadowRecord rec = records[floatBitsToUint(n.w)];
+    rec.info.w = radius;
+    float acc = 0.0;
+    for (uint k = 0u; k < lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz);
+    sums[i] = acc;
+}

@@ -1,0 +1,52 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Footprint light assignment, pass B: one thread per tile. The tile's occupied clusters (mask from
+// cluster_bounds) take consecutive ranges of the pool, allocated with one atomic per tile; a cluster
+// whose range would pass the pool's capacity is marked ML_CLUSTER_OVERFLOW and counted (its pixels
+// then test every visible light). Every cluster of the tile gets its (offset, count), empty ones (0, 0),
+// so `ranges` is the same layout the brute-force pass writes. When pass A recorded more hits than
+// `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
+// with a pool far too small for the frame (the hit buffer is sized from the pool).
+#include "shaders/shared/glsl_common.h"
+
+layout(local_size_x = ML_ALLOC_GROUP) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
+layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
+layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
+layout(binding = 5, std430) readonly buffer Work { uint workTests; uint hitCount; };
+layout(push_constant) uniform Push { uint hitCapacity; };
+
+void main() {
+    uint tile = gl_GlobalInvocationID.x;
+    if (tile >= frame.size.z * frame.size.w) return;
+    uint slices = frame.cluster.x;
+    uvec2 mask = tileMasks[tile];
+    uint total = 0;
+    for (uint s = 0; s < slices; ++s)
+        if ((mask[s >> 5] & (1u << (s & 31u))) != 0u) total += counts[tile * slices + s];
+    uint offset = total > 0u ? atomicAdd(counters.poolCursor, total) : 0u;
+    uint longest = 0;
+    for (uint s = 0; s < slices; ++s) {
+        uint c = tile * slices + s;
+        uint count = (mask[s >> 5] & (1u << (s & 31u))) != 0u ? counts[c] : 0u;
+        uvec2 r = uvec2(0u, count);
+        if (count > 0u) {
+            if (offset + count > frame.limits.x || hitCount > hitCapacity) {
+                r.x = ML_CLUSTER_OVERFLOW;
+                atomicAdd(counters.overflowClusters, 1u);
+            } else {
+                r.x = offset;
+            }
+            offset += count;
+            longest = max(longest, count);
+        }
+        ranges[c] = r;
+    }
+    if (total > 0u) {
+        atomicAdd(counters.clusterLightsSum, uint64_t(total));
+        atomicMax(counters.maxClusterLights, longest);
+    }
+}
