@@ -6,6 +6,7 @@
 #include "apps/cli.h"
 #include "shadows/gpu/dual_depth_gpu.h"
 #include "apps/commands.h"
+#include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake.h"
 #include "shadows/static/bake_shard.h"
@@ -43,6 +44,7 @@ Bakes the static shadows of a scene's static spot lights into one bake file.
   --bounds X0,Y0,Z0,X1,Y1,Z1  the box directional lights' maps cover (default: the scene's bounds)
                      (directional maps are rendered by the CPU rasteriser with either --renderer;
                      the file's scene string records these, so verify re-creates the same scene)
+  --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --quiet            no progress lines on stderr
 Dynamic lights among the selection are skipped and listed, never silently. Directional lights (the
 glTF's, or --light-dir) bake one orthographic map each.
@@ -61,7 +63,9 @@ Re-creates the baked scene, re-renders every light's dual depth map and checks e
 (sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
 (cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
 The last line on stdout is {"checked": N, "mismatches": M}.
-Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed).
+Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed,
+no records: nothing checked is not a pass).
+  --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
   --quiet   no progress lines on stderr
 )";
 
@@ -198,7 +202,7 @@ int runBake(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
                             "--renderer", "--shard", "--light-dir", "--bounds"},
-                           {"--quiet"});
+                           {"--quiet", "--allow-outside-scene-dir"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
         std::fputs(kBakeHelp, stdout);
@@ -230,6 +234,7 @@ int runBake(int argc, char** argv) {
     const std::filesystem::path outDir = std::filesystem::absolute(out).parent_path();
     if (!std::filesystem::is_directory(outDir))
         return usageError("bake", "--out: " + outDir.string() + " is not a directory");
+    if (auto r = io::checkReplaceable(out); !r) return usageError("bake", "--out: " + r.error());
 
     const std::string rendererName = args->get("--renderer", "gpu");
     if (rendererName != "gpu" && rendererName != "cpu")
@@ -256,9 +261,10 @@ int runBake(int argc, char** argv) {
         spec.scene = sceneModifierString(mods);
         spec.lights += uint32_t(mods.lightDirs.size());
     }
-    auto scene = loadBakeScene(spec);
+    auto scene = loadBakeScene(spec, {args->has("--allow-outside-scene-dir")});
     if (!scene) return usageError("bake", scene.error());
-    for (const auto& w : scene->warnings) std::fprintf(stderr, "manylights bake: warning: %s\n", w.c_str());
+    for (const auto& w : scene->warnings)
+        std::fprintf(stderr, "manylights bake: warning: %s\n", io::escapeText(w).c_str());
     auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
     if (!lights) return usageError("bake", lights.error());
     for (size_t i = 0; i < mods.lightDirs.size(); ++i) // the --light-dir lights are always baked
@@ -266,8 +272,9 @@ int runBake(int argc, char** argv) {
             std::find(lights->begin(), lights->end(), li) == lights->end())
             lights->push_back(li);
 
-    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n", spec.scene.c_str(),
-                staticMethodName(method.value()), res.value(), lights->size(), scene->lights.size());
+    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n",
+                io::escapeText(spec.scene).c_str(), staticMethodName(method.value()), res.value(),
+                lights->size(), scene->lights.size());
     std::fflush(stdout);
     if (shard)
         return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
@@ -277,7 +284,7 @@ int runBake(int argc, char** argv) {
     if (!baked) return runError("bake", baked.error());
     baked->file.renderer = rendererKind;
     for (const SkippedLight& s : baked->skipped)
-        std::printf("skipped light %u: %s\n", s.light, s.reason.c_str());
+        std::printf("skipped light %u: %s\n", s.light, io::escapeText(s.reason).c_str());
     for (const LightBakeStats& l : baked->lights)
         std::printf("light %u: render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
                     l.renderSeconds, l.encodeSeconds,
@@ -286,8 +293,8 @@ int runBake(int argc, char** argv) {
     if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
     std::printf("wrote %s: %zu lights baked, %zu skipped, %llu bytes; render %.2f s, encode %.2f s\n",
-                out.c_str(), baked->file.records.size(), baked->skipped.size(), (unsigned long long)b.total(),
-                baked->renderSeconds, baked->encodeSeconds);
+                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(),
+                (unsigned long long)b.total(), baked->renderSeconds, baked->encodeSeconds);
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
     return 0;
@@ -304,7 +311,11 @@ int runInspect(int argc, char** argv) {
     // A part of a sharded bake is shown as its shard and the bake file it wraps.
     std::optional<BakePart> part;
     uint32_t magic = 0;
-    std::ifstream(path, std::ios::binary).read(reinterpret_cast<char*>(&magic), 4);
+    uint64_t fileSize = 0;
+    if (auto head = io::readRegularFileHead(path, 4, &fileSize); !head)
+        return usageError("inspect", head.error());
+    else if (head->size() == 4)
+        std::memcpy(&magic, head->data(), 4);
     Result<BakeFile> file = fail("");
     if (magic == partfmt::kMagic) {
         auto p = readBakePart(path);
@@ -356,8 +367,9 @@ int runInspect(int argc, char** argv) {
         std::printf("]}\n");
         return 0;
     }
-    std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", path.c_str(), bakefmt::kVersion,
-                f.scene.scene.c_str(), f.scene.lights, f.scene.seed);
+    // The scene string comes from the file: escaped, so it cannot add lines or terminal codes.
+    std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", io::escapeText(path).c_str(),
+                bakefmt::kVersion, io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     if (part)
         std::printf("part of a sharded bake: shard %u/%u, lights %s of %zu selected; device %s\n",
                     part->shard.index, part->shard.count, ownList.empty() ? "(none)" : ownList.c_str(),
@@ -377,7 +389,7 @@ int runInspect(int argc, char** argv) {
 }
 
 int runVerify(int argc, char** argv) {
-    auto fa = fileAndFlags(argc, argv, {"--quiet"});
+    auto fa = fileAndFlags(argc, argv, {"--quiet", "--allow-outside-scene-dir"});
     if (!fa) return usageError("verify", fa.error());
     auto& [path, args] = fa.value();
     if (args.help) {
@@ -388,9 +400,11 @@ int runVerify(int argc, char** argv) {
     auto file = readBakeFile(path);
     if (!file) return usageError("verify", file.error());
     const BakeFile& f = file.value();
-    std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n", path.c_str(),
-                staticMethodName(f.method), f.resolution, f.records.size(), f.scene.scene.c_str(),
-                f.scene.lights, f.scene.seed);
+    if (f.records.empty())
+        return usageError("verify", path + ": the file holds no records: nothing to verify");
+    std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n",
+                io::escapeText(path).c_str(), staticMethodName(f.method), f.resolution, f.records.size(),
+                io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     std::fflush(stdout);
     // Re-render with the renderer that made the bake (the file says which).
     GpuDualRenderer gpu;
@@ -400,7 +414,11 @@ int runVerify(int argc, char** argv) {
         if (!fn) return runError("verify", fn.error());
         render = fn.value();
     }
-    auto rep = verifyBake(f, render, progressPrinter("verify", args.has("--quiet")));
+    // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
+    auto scene =
+        loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
+    if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());
+    auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
     if (!rep) return usageError("verify", path + ": " + rep.error());
     const char* unit = f.method == StaticMethod::CPVS ? "voxels" : "texels";
     for (const VerifyLight& l : rep->lights) {
@@ -409,7 +427,7 @@ int runVerify(int argc, char** argv) {
         if (f.method == StaticMethod::CPVS) std::printf(", %llu undefined", (unsigned long long)l.undefined);
         std::printf(" (render %.2f s, check %.2f s)\n", l.renderSeconds, l.checkSeconds);
     }
-    for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", e.c_str());
+    for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", io::escapeText(e).c_str());
     std::printf("total %.2f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     std::printf("{\"checked\": %llu, \"mismatches\": %llu}\n", (unsigned long long)rep->checked,

@@ -6,12 +6,12 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "engine/module_impl.h"
+#include "io/safe_io.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 namespace ml {
@@ -174,8 +174,7 @@ int runBench(int argc, char** argv) {
     auto slash = csvPath.find_last_of('/');
     if (slash != std::string::npos)
         if (auto r = cli::makeDirectory(csvPath.substr(0, slash)); !r) return runError("bench", r.error());
-    std::ofstream f(csvPath);
-    if (!f || !(f << csv.str())) return runError("bench", csvPath + ": cannot write");
+    if (auto w = io::writeFileAtomically(csvPath, csv.str()); !w) return runError("bench", w.error());
     std::printf("wrote %s\n", csvPath.c_str());
     return 0;
 }

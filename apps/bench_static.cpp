@@ -11,6 +11,7 @@
 #include "apps/commands.h"
 #include "apps/bench_static_tables.h"
 #include "apps/lookup_timer.h"
+#include "io/safe_io.h"
 #include "engine/module_impl.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
@@ -26,7 +27,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 namespace ml {
@@ -56,6 +56,7 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --out DIR        bench_static.csv, bench_classes.csv (disagreements by cause), bench_lookup.csv
                    (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png,
                    accuracy_vs_lookup.png (default out/bench_static)
+  --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
 )";
 
 namespace {
@@ -104,11 +105,11 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
     for (const Row& r : rows)
         if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
     std::string script = dir + "/charts.gp";
-    std::ofstream gp(script);
+    std::ostringstream gp;
     gp << "set terminal pngcairo size 900,600\nset key outside right\nset grid\nset logscale x 2\n"
           "set ylabel 'disagreement with ray-traced visibility (%)'\n";
     for (const auto& m : methods) {
-        std::ofstream dat(dir + "/" + m + ".dat");
+        std::ostringstream dat;
         dat << "# bytes_per_light eval_ms disagreement_percent res one_tap_lookup_ns\n";
         for (const Row& r : rows)
             if (r.method == m && r.evalMs >= 0 && r.failed.empty()) {
@@ -120,6 +121,7 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
                     << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << " "
                     << ns << "\n";
             }
+        if (auto w = io::writeFileAtomically(dir + "/" + m + ".dat", dat.str()); !w) return w;
     }
     const bool anyLookup = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
         return std::any_of(r.lookup.begin(), r.lookup.end(),
@@ -139,7 +141,7 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
                << ":3 with linespoints title '" << methods[i] << "'";
         gp << "\n";
     }
-    gp.close();
+    if (auto w = io::writeFileAtomically(script, gp.str()); !w) return w;
     std::string cmd = "gnuplot '" + script + "' 2>&1";
     if (std::system(cmd.c_str()) != 0)
         return fail("gnuplot failed on " + script + " (is gnuplot-nox installed?)");
@@ -152,7 +154,7 @@ int runBenchStatic(int argc, char** argv) {
         cli::parse(argc, argv, 3,
                    {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",
                     "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers"},
-                   {});
+                   {"--allow-outside-scene-dir"});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -201,7 +203,8 @@ int runBenchStatic(int argc, char** argv) {
     if (auto r = cli::makeDirectory(out); !r) return runError("bench static", r.error());
     const std::string sceneName = args->get("--scene", "night-city");
 
-    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value());
+    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value(),
+                           {args->has("--allow-outside-scene-dir")});
     if (!scene) return runError("bench static", scene.error());
     auto module = Module::create({});
     if (!module) return runError("bench static", module.error());
@@ -536,9 +539,8 @@ int runBenchStatic(int argc, char** argv) {
     if (!lookupRadii.empty())
         if (auto r = printLookupTable(out, rows, lookupRadii, pairs.size(), extraLookups.value()); !r)
             return runError("bench static", r.error());
-    std::ofstream f(out + "/bench_static.csv");
-    if (!f || !(f << csv.str())) return runError("bench static", out + "/bench_static.csv: cannot write");
-    f.close();
+    if (auto w = io::writeFileAtomically(out + "/bench_static.csv", csv.str()); !w)
+        return runError("bench static", w.error());
     if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
     std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n",
                 out.c_str());

@@ -1,6 +1,8 @@
 #include "apps/cli.h"
+#include "lights/lights.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -49,11 +51,30 @@ Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const s
 }
 
 Result<std::array<float, 6>> parseCamera(const std::string& flag, const std::string& text) {
+    // strtod per field (not sscanf %f): the whole field must be a number, and "nan", "inf" or 1e39
+    // (inf as a float) are refused with the field named.
     std::array<float, 6> v{};
-    char tail = 0;
-    if (std::sscanf(text.c_str(), "%f,%f,%f,%f,%f,%f%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) !=
-        6)
-        return fail(flag + ": '" + text + "' is not X,Y,Z,TX,TY,TZ");
+    const char* names[6] = {"X", "Y", "Z", "TX", "TY", "TZ"};
+    const std::string form = flag + ": '" + text + "' is not X,Y,Z,TX,TY,TZ";
+    size_t at = 0;
+    for (int i = 0; i < 6; ++i) {
+        const size_t comma = i < 5 ? text.find(',', at) : text.size();
+        if (comma == std::string::npos) return fail(form);
+        const std::string field = text.substr(at, comma - at);
+        char* end = nullptr;
+        errno = 0;
+        const double d = std::strtod(field.c_str(), &end);
+        if (field.empty() || *end) return fail(form);
+        if (!std::isfinite(d) || std::abs(d) > kMaxCameraCoordinate)
+            return fail(flag + ": " + names[i] + " = '" + field + "' is not a finite number within +-" +
+                        std::to_string(int(kMaxCameraCoordinate)));
+        v[size_t(i)] = float(d);
+        at = comma + 1;
+    }
+    CameraDesc c;
+    c.position = {v[0], v[1], v[2]};
+    c.target = {v[3], v[4], v[5]};
+    if (auto r = validateCamera(c); !r) return fail(flag + ": " + r.error().substr(sizeof("camera: ") - 1));
     return v;
 }
 

@@ -6,6 +6,7 @@
 #include "apps/window.h"
 #include "host/scene_host.h"
 #include "scenes/camera_path.h"
+#include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
 
@@ -28,6 +29,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
+  --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --pcf R          shadow filter radius (static and dynamic): 0 one tap (default), 1 = 3x3 ... 4 = 9x9
   --path P         camera path: static (default: the scene's camera or --camera), drive, orbit
   --dynamic M      dynamic shadows: vsm (virtual shadow maps, default) or off
@@ -40,7 +42,10 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
                    timestamps (one command buffer, GPU timestamps)
   --view V         shaded (default); lights: heat map of lights evaluated per pixel; lights-reaching:
                    of lights whose cone and range hold the pixel's point. Colours: 0 black, 1 dark blue,
-                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between)
+                   4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128+ white (linear between);
+                   vsm: the virtual shadow map page each pixel's first shadowed light reads: hue =
+                   mip (0 red .. 6 magenta), bright = drawn this frame, dim = cached, grey = no
+                   dynamic caster there, white = fell back to a coarser page
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
@@ -49,7 +54,7 @@ int runDemo(int argc, char** argv) {
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
                             "--static", "--static-res", "--pcf", "--camera", "--bake", "--path", "--dynamic",
                             "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--view", "--vsm-raster"},
-                           {"--window", "--no-stats"});
+                           {"--window", "--no-stats", "--allow-outside-scene-dir"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
         std::fputs(kDemoHelp, stdout);
@@ -69,6 +74,13 @@ int runDemo(int argc, char** argv) {
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
     for (const std::string* e : {&staticMethod.error(), &staticRes.error(), &pcf.error()})
         if (!e->empty()) return usageError("demo", *e);
+    // Checked before any device work: a bad camera is a usage error, not a blank frame.
+    std::array<float, 6> camera{};
+    if (args->has("--camera")) {
+        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
+        if (!v) return usageError("demo", v.error());
+        camera = v.value();
+    }
     bool window = args->has("--window");
     auto path = parseCameraPath(args->get("--path", "static"));
     auto vsmRes = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
@@ -82,16 +94,20 @@ int runDemo(int argc, char** argv) {
         view = DebugView::LightsEvaluated;
     else if (viewName == "lights-reaching")
         view = DebugView::LightsReaching;
+    else if (viewName == "vsm")
+        view = DebugView::Vsm;
     else if (viewName != "shaded")
-        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights or lights-reaching)");
+        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights, lights-reaching or vsm)");
     const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
     if (dynamic != "vsm" && dynamic != "off") return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
     if (timing != "fenced" && timing != "timestamps")
         return usageError("demo", "--timing takes fenced or timestamps, not '" + timing + "'");
 
-    auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value());
+    auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value(),
+                           {args->has("--allow-outside-scene-dir")});
     if (!scene) return runError("demo", scene.error());
-    for (const auto& w : scene->warnings) std::fprintf(stderr, "manylights demo: warning: %s\n", w.c_str());
+    for (const auto& w : scene->warnings)
+        std::fprintf(stderr, "manylights demo: warning: %s\n", io::escapeText(w).c_str());
     if (auto r = cli::makeDirectory(out); !r) return runError("demo", r.error());
 
     ModuleOptions mo;
@@ -131,10 +147,8 @@ int runDemo(int argc, char** argv) {
         if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
     }
     if (args->has("--camera")) {
-        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
-        if (!v) return usageError("demo", v.error());
-        scene->camera.position = {v.value()[0], v.value()[1], v.value()[2]};
-        scene->camera.target = {v.value()[3], v.value()[4], v.value()[5]};
+        scene->camera.position = {camera[0], camera[1], camera[2]};
+        scene->camera.target = {camera[3], camera[4], camera[5]};
         if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r) return usageError("demo", r.error());
     }
     std::unique_ptr<Window> win;

@@ -1,16 +1,19 @@
 // manylights: the command line. `manylights help` lists the subcommands.
 #include "apps/commands.h"
+#include "io/safe_io.h"
 
 #include <cstdio>
 #include <cstring>
 
 namespace ml {
+// Messages can carry text from files (scene names, paths inside a bake file, parser messages):
+// escaped here, once for every command, so they stay one line without terminal codes.
 int usageError(const char* command, const std::string& message) {
-    std::fprintf(stderr, "manylights %s: %s\n", command, message.c_str());
+    std::fprintf(stderr, "manylights %s: %s\n", command, io::escapeText(message, 1000).c_str());
     return 2;
 }
 int runError(const char* command, const std::string& message) {
-    std::fprintf(stderr, "manylights %s: %s\n", command, message.c_str());
+    std::fprintf(stderr, "manylights %s: %s\n", command, io::escapeText(message, 1000).c_str());
     return 1;
 }
 } // namespace ml

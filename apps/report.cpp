@@ -1,19 +1,33 @@
 #include "apps/report.h"
+#include "io/safe_io.h"
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 namespace ml {
 
 namespace {
+// Every output file goes through the one safe writer (io/safe_io.h): a fresh temporary beside the
+// target, renamed over it; a symlink or device at the target is refused.
 Result<void> writeText(const std::string& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary);
-    if (!f) return fail(path + ": cannot open for writing");
-    f << text;
-    if (!f) return fail(path + ": write failed");
-    return {};
+    return io::writeFileAtomically(path, text);
+}
+// A JSON string literal: quotes, backslashes and control characters escaped.
+std::string jsonText(const std::string& s) {
+    std::string o;
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\', o += char(c);
+        } else if (c < 0x20 || c == 0x7F) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            o += buf;
+        } else {
+            o += char(c);
+        }
+    }
+    return o;
 }
 std::string num(double v) {
     char buf[64];
@@ -75,8 +89,8 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
                                              : 0.5 * (frameMs[frameMs.size() / 2 - 1] + frameMs[frameMs.size() / 2]);
     std::ostringstream o;
     o << "{\n";
-    o << "  \"scene\": \"" << info.scene << "\",\n  \"culling\": \"" << info.culling << "\",\n";
-    o << "  \"device\": \"" << info.device << "\",\n";
+    o << "  \"scene\": \"" << jsonText(info.scene) << "\",\n  \"culling\": \"" << info.culling << "\",\n";
+    o << "  \"device\": \"" << jsonText(info.device) << "\",\n";
     o << "  \"width\": " << info.width << ",\n  \"height\": " << info.height << ",\n";
     o << "  \"frames\": " << reports.size() << ",\n  \"seed\": " << info.seed << ",\n";
     o << "  \"lights_total\": " << s.lightsTotal << ",\n";

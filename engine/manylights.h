@@ -39,7 +39,9 @@ Result<CullingMode> parseCulling(const std::string& name);
 
 // What record() leaves in the output: the shaded frame, or the light-complexity heat map of lights
 // evaluated / reaching per pixel (culling/culling.h, recordView; colours in shaders/shared/heat.h).
-enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching };
+// Vsm: pixels coloured by the virtual shadow map page their first shadowed light reads (mip, drawn
+// this frame or cached, no caster, fallback; shadows/virtual/vsm_view.comp).
+enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching, Vsm };
 
 // How per-pass GPU times are measured (engine/profiler.h).
 //   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own

@@ -486,17 +486,9 @@ void Module::Impl::uploadShadows() {
 }
 
 Result<void> Module::setCamera(const CameraDesc& c) {
-    for (const glm::vec3* v : {&c.position, &c.target, &c.up})
-        if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || std::abs(v->x) > 1e6f ||
-            std::abs(v->y) > 1e6f || std::abs(v->z) > 1e6f)
-            return fail("camera: position, target and up must be finite and within 1e6 m");
-    if (!(c.nearPlane > 0) || !(c.farPlane > c.nearPlane) || !(c.fovY > 0 && c.fovY < 3.1f) ||
-        !std::isfinite(c.farPlane))
-        return fail("camera: need 0 < near < far (finite) and 0 < fovY < pi");
-    glm::vec3 view = c.target - c.position;
-    if (!(glm::length(view) > 1e-6f)) return fail("camera: target equals position");
-    if (!(glm::length(c.up) > 1e-6f) || glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up))) < 1e-4f)
-        return fail("camera: up is zero or parallel to the view direction");
+    // Finite and bounded position, target and up; target != position; up not parallel to the view;
+    // 0 < fovY < pi; 0 < near < far < infinity (lights/lights.h).
+    if (auto v = validateCamera(c); !v) return fail("camera: " + v.error());
     impl_->camera = c;
     return {};
 }
@@ -661,7 +653,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
             memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
         });
 
-    if (m.view != DebugView::Shaded)
+    if (m.view == DebugView::Vsm && m.vsm.enabled() && !m.hdrOutput)
+        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordView(d, c, slotIndex, vin, outputView); });
+    else if (m.view == DebugView::LightsEvaluated || m.view == DebugView::LightsReaching)
         m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
                           outputView, m.width, m.height, m.profiler);
 

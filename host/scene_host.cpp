@@ -2,6 +2,8 @@
 
 #include <stb/stb_image_write.h>
 
+#include "io/safe_io.h"
+
 #include "shadows/static/bake_file.h"
 
 #include <chrono>
@@ -111,9 +113,16 @@ Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, con
 Result<void> writePng(const std::string& path, uint32_t width, uint32_t height,
                       const std::vector<uint8_t>& rgba) {
     if (rgba.size() < size_t(width) * height * 4) return fail(path + ": image data is smaller than its size");
-    if (!stbi_write_png(path.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4)))
-        return fail(path + ": cannot write PNG (does the folder exist and is it writable?)");
-    return {};
+    // Encoded in memory, then written like every other output (io/safe_io.h: exclusive temporary beside
+    // the target, checked writes, no write through a symlink or over a non-regular file).
+    std::vector<unsigned char> png;
+    auto sink = [](void* context, void* data, int size) {
+        auto* out = static_cast<std::vector<unsigned char>*>(context);
+        out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+    };
+    if (!stbi_write_png_to_func(sink, &png, int(width), int(height), 4, rgba.data(), int(width * 4)))
+        return fail(path + ": cannot encode PNG");
+    return io::writeFileAtomically(path, png.data(), png.size());
 }
 
 } // namespace ml

@@ -7,6 +7,12 @@
 // checked here too before tinygltf sees them. Any problem is a one-line "<path>: <reason>" error; no
 // exception leaves loadGltf.
 //
+// Hostile files: the JSON's bracket nesting is bounded (kMaxJsonDepth) before tinygltf's recursive
+// parser sees it; buffer and image URIs resolve only to regular files inside the scene's folder (after
+// realpath, so neither "..", an absolute path nor a symlink leaves it) unless the caller allows more;
+// messages are escaped and cut (io::escapeText), with data URIs and the JSON parser's "last read" text
+// removed, so an error never echoes the file's bytes.
+//
 // Mapping: each (glTF mesh, TRIANGLES primitive) becomes one ml::Mesh (its material gives the albedo,
 // so primitives cannot share a mesh); each node that uses the mesh becomes one Instance per primitive.
 // Primitives of other modes are skipped and counted in scene.warnings. Missing normals become flat
@@ -20,6 +26,7 @@
 //
 // Lights: KHR_lights_punctual lights are used first (up to `lights`); the rest are spotlights placed
 // from the seed on the geometry (area-weighted), each above a surface point and aimed at it.
+#include "io/safe_io.h"
 #include "scenes/mesh_utils.h"
 #include "scenes/scenes.h"
 
@@ -29,6 +36,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -36,10 +44,15 @@
 #include <cstring>
 #include <tuple>
 
+#include <climits>
+#include <cstdlib>
+#include <sys/stat.h>
+
 namespace ml {
 namespace {
 
 constexpr uint32_t kMaxLights = 4096;
+constexpr uint32_t kMaxJsonDepth = 64; // glTF itself needs about 8; extras rarely more than a few
 constexpr uint64_t kMaxElements = uint64_t(1)
                                   << 28; // per accessor; far above real scenes, far below overflow
 
@@ -50,12 +63,101 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
     return true;
 }
 
-std::string oneLine(std::string s) {
+// A tinygltf or JSON message as one safe line: data URIs replaced by their length, the JSON parser's
+// "last read: '...'" quote of the file dropped, control characters escaped, long text cut.
+std::string cleanMessage(std::string s) {
+    for (size_t at = s.find("data:"); at != std::string::npos; at = s.find("data:", at + 1)) {
+        size_t end = at;
+        while (end < s.size() && !std::isspace(static_cast<unsigned char>(s[end])) && s[end] != '"' &&
+               s[end] != '\'')
+            ++end;
+        const std::string note = "data:<" + std::to_string(end - at) + "-byte data URI>";
+        s.replace(at, end - at, note);
+        at += note.size() - 1;
+    }
+    if (size_t q = s.find("; last read:"); q != std::string::npos) s.erase(q, s.find('\n', q) - q);
     for (char& c : s)
         if (c == '\n' || c == '\r' || c == '\t') c = ' ';
     while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
+    return io::escapeText(s, 240);
 }
+
+// JSON bracket depth, scanned before tinygltf's recursive parser runs (nlohmann::json recurses once
+// per level: ~30,000 nested arrays overflow the stack). Brackets inside strings do not count.
+std::string checkJsonDepth(const unsigned char* text, size_t size) {
+    uint32_t depth = 0;
+    bool inString = false, escaped = false;
+    for (size_t i = 0; i < size; ++i) {
+        const unsigned char c = text[i];
+        if (inString) {
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                return "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels at byte " +
+                       std::to_string(i);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return {};
+}
+
+// tinygltf file-system callbacks that keep buffer and image URIs inside the scene's folder.
+struct UriGuard {
+    std::string root;          // realpath of the scene's folder
+    bool allowOutside = false; // LoadOptions::allowOutsideSceneDir
+    std::string refused;       // the first refusal, reported instead of tinygltf's "File not found"
+
+    static std::string expand(const std::string& path, void*) { return path; } // no wordexp, no ~
+    // Resolves `path`; false (and `refused` set) when it leaves the folder or is not a regular file.
+    bool allowed(const std::string& path, std::string* resolved) {
+        char buf[PATH_MAX];
+        if (!::realpath(path.c_str(), buf)) return false;
+        const std::string real = buf;
+        const std::string uri = io::escapeText(path, 120);
+        const std::string prefix = root == "/" ? root : root + "/";
+        if (!allowOutside && real != root && real.compare(0, prefix.size(), prefix) != 0) {
+            if (refused.empty())
+                refused = "URI '" + uri + "' resolves outside the scene's folder (refused; a trusted " +
+                          "scene may allow it: --allow-outside-scene-dir)";
+            return false;
+        }
+        struct stat st {};
+        if (::stat(buf, &st) != 0 || !S_ISREG(st.st_mode)) {
+            if (refused.empty()) refused = "URI '" + uri + "' is not a regular file";
+            return false;
+        }
+        if (resolved) *resolved = real;
+        return true;
+    }
+    static bool exists(const std::string& path, void* self) {
+        return static_cast<UriGuard*>(self)->allowed(path, nullptr);
+    }
+    static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* self) {
+        std::string real;
+        if (!static_cast<UriGuard*>(self)->allowed(path, &real)) {
+            if (err) *err = "refused";
+            return false;
+        }
+        auto bytes = io::readRegularFile(real, 0xFFFFFFFFull);
+        if (!bytes) {
+            if (err) *err = "cannot read";
+            return false;
+        }
+        *out = std::move(bytes.value());
+        return true;
+    }
+    static bool write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
+        return false; // the loader never writes
+    }
+};
 
 uint32_t u32le(const unsigned char* p) {
     return uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16) | (uint32_t(p[3]) << 24);
@@ -119,8 +221,8 @@ struct Placement {
 
 class Loader {
   public:
-    Loader(const std::string& path, uint32_t lights, uint32_t seed)
-        : path_(path), lights_(lights), seed_(seed) {}
+    Loader(const std::string& path, uint32_t lights, uint32_t seed, const LoadOptions& options)
+        : path_(path), lights_(lights), seed_(seed), options_(options) {}
 
     Result<Scene> run() {
         if (lights_ == 0 || lights_ > kMaxLights)
@@ -146,31 +248,47 @@ class Loader {
     Result<void> error(const std::string& reason) const { return fail(path_ + ": " + reason); }
 
     Result<void> parse() {
-        std::ifstream in(path_, std::ios::binary);
-        if (!in) return error("cannot open file");
-        std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                         std::istreambuf_iterator<char>());
-        if (in.bad()) return error("read error");
+        // Regular files only, under 4 GiB (a .glb's length field is 32 bits).
+        auto read = io::readRegularFile(path_, 0xFFFFFFFEull);
+        if (!read) return fail(read.error());
+        const std::vector<unsigned char>& bytes = read.value();
         if (bytes.empty()) return error("empty file");
-        if (bytes.size() >= 0xFFFFFFFFull) return error("file larger than 4 GiB");
         std::string baseDir = std::filesystem::path(path_).parent_path().string();
+        UriGuard guard;
+        char root[PATH_MAX];
+        if (!::realpath(baseDir.empty() ? "." : baseDir.c_str(), root))
+            return error("cannot resolve its folder");
+        guard.root = root;
+        guard.allowOutside = options_.allowOutsideSceneDir;
         tinygltf::TinyGLTF gltf;
         gltf.SetImageLoader(&ignoreImage, nullptr);
+        tinygltf::FsCallbacks fs;
+        fs.FileExists = &UriGuard::exists;
+        fs.ExpandFilePath = &UriGuard::expand;
+        fs.ReadWholeFile = &UriGuard::read;
+        fs.WriteWholeFile = &UriGuard::write;
+        fs.user_data = &guard;
+        gltf.SetFsCallbacks(fs);
         std::string err, warn;
         bool ok;
         bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
         if (binary) {
             if (std::string why = checkGlb(bytes); !why.empty()) return error(why);
+            if (std::string why = checkJsonDepth(bytes.data() + 20, u32le(&bytes[12])); !why.empty())
+                return error(why);
             ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()),
                                            baseDir);
         } else {
             std::string ext = std::filesystem::path(path_).extension().string();
             if (ext == ".glb" || ext == ".GLB") return error("not a binary glTF (bad magic)");
+            if (std::string why = checkJsonDepth(bytes.data(), bytes.size()); !why.empty()) return error(why);
             ok = gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                           unsigned(bytes.size()), baseDir);
         }
-        if (!ok) return error(err.empty() ? "tinygltf could not parse the file" : oneLine(err));
-        if (!warn.empty()) scene_.warnings.push_back("tinygltf: " + oneLine(warn));
+        if (!ok && !guard.refused.empty()) return error(guard.refused);
+        if (!ok) return error(err.empty() ? "tinygltf could not parse the file" : cleanMessage(err));
+        if (!guard.refused.empty()) scene_.warnings.push_back(guard.refused); // an image: not needed here
+        if (!warn.empty()) scene_.warnings.push_back("tinygltf: " + cleanMessage(warn));
         return {};
     }
 
@@ -400,8 +518,8 @@ class Loader {
             for (uint64_t i = 0; i < iv.count; ++i) {
                 uint32_t x = readIndex(iv, i);
                 if (x >= pv.count)
-                    return error(where + ": index " + std::to_string(i) + " = " + std::to_string(x) +
-                                 " >= vertex count " + std::to_string(pv.count));
+                    return error(where + ": index " + std::to_string(i) + " is not below the vertex count " +
+                                 std::to_string(pv.count));
                 out.indices[size_t(i)] = x;
             }
         } else {
@@ -518,8 +636,8 @@ class Loader {
             else if (gl.type == "directional")
                 l.type = LightType::Directional;
             else
-                return error("light " + std::to_string(index) + ": unknown type \"" + oneLine(gl.type) +
-                             "\"");
+                return error("light " + std::to_string(index) + ": unknown type \"" +
+                             io::escapeText(gl.type, 40) + "\"");
             l.position = glm::vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
             glm::vec3 d = glm::vec3(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
             if (!(glm::length(d) > 0.0f))
@@ -528,9 +646,24 @@ class Loader {
             if (gl.color.size() == 3)
                 l.color = glm::vec3(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
             l.intensity = float(gl.intensity);
-            l.range = gl.range > 0.0 ? float(gl.range) : 0.5f * sceneSize(); // glTF: 0 = infinite
-            l.outerAngle = float(std::clamp(gl.spot.outerConeAngle, 0.01, 1.5));
-            l.innerAngle = float(std::clamp(gl.spot.innerConeAngle, 0.0, double(l.outerAngle)));
+            // glTF: no range (0 here) means infinite, which becomes half the scene; a negative or
+            // non-finite range, or cone angles outside (0, pi/2) and [0, outer], are refused, not clamped.
+            const std::string which = "light " + std::to_string(index) + ": ";
+            if (!std::isfinite(gl.range) || gl.range < 0.0)
+                return error(which + "range must be finite and > 0 (or absent)");
+            if (!(gl.intensity >= 0.0)) return error(which + "intensity is negative or not finite");
+            for (double c : gl.color)
+                if (!(c >= 0.0)) return error(which + "colour is negative or not finite");
+            l.range = gl.range > 0.0 ? float(gl.range) : 0.5f * sceneSize();
+            if (l.type == LightType::Spot) {
+                const double outer = gl.spot.outerConeAngle, inner = gl.spot.innerConeAngle;
+                if (!(outer > 0.0 && float(outer) < 1.5707963f))
+                    return error(which + "spot outerConeAngle must be in (0, pi/2)");
+                if (!(inner >= 0.0 && inner <= outer))
+                    return error(which + "spot innerConeAngle must be in [0, outerConeAngle]");
+                l.outerAngle = float(outer);
+                l.innerAngle = std::min(float(inner), l.outerAngle);
+            }
             if (!std::isfinite(l.intensity) || !std::isfinite(l.range) || !std::isfinite(l.color.x) ||
                 !std::isfinite(l.color.y) || !std::isfinite(l.color.z) || !std::isfinite(l.position.x) ||
                 !std::isfinite(l.position.y) || !std::isfinite(l.position.z))
@@ -623,6 +756,7 @@ class Loader {
 
     std::string path_;
     uint32_t lights_, seed_;
+    LoadOptions options_;
     tinygltf::Model model_;
     Scene scene_;
     std::vector<Placement> placements_;
@@ -632,11 +766,11 @@ class Loader {
 
 } // namespace
 
-Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed) {
+Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed, const LoadOptions& options) {
     try {
-        return Loader(path, lights, seed).run();
+        return Loader(path, lights, seed, options).run();
     } catch (const std::exception& e) {
-        return fail(path + ": " + oneLine(e.what()));
+        return fail(path + ": " + cleanMessage(e.what()));
     } catch (...) {
         return fail(path + ": unexpected error while loading");
     }

@@ -9,7 +9,8 @@
 
 namespace ml {
 
-Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed) {
+Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
+                        const LoadOptions& options) {
     if (nameOrPath == "night-city") {
         NightCityOptions options;
         options.seed = seed;
@@ -23,7 +24,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t
         size_t n = std::strlen(suffix);
         return lower.size() >= n && lower.compare(lower.size() - n, n, suffix) == 0;
     };
-    if (endsWith(".gltf") || endsWith(".glb")) return loadGltf(nameOrPath, lights, seed);
+    if (endsWith(".gltf") || endsWith(".glb")) return loadGltf(nameOrPath, lights, seed, options);
     return fail(nameOrPath + ": unknown scene (expected \"night-city\" or a path ending in .gltf or .glb)");
 }
 

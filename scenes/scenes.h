@@ -18,12 +18,21 @@ struct NightCityOptions {
 // signs, and cars driving along the streets (dynamic instances with headlights).
 Result<Scene> makeNightCity(const NightCityOptions& options);
 
+// How far a scene file is trusted (README, "Threat model").
+struct LoadOptions {
+    // false: buffer and image URIs must resolve (realpath) to regular files inside the scene file's
+    // folder. true: any readable file (a trusted scene that shares buffers with a sibling folder).
+    bool allowOutsideSceneDir = false;
+};
+
 // Loads a .gltf or .glb file (tinygltf). Places `lights` spotlights procedurally (deterministic from
 // `seed`) when the file has none. Marks each mesh closed or open.
-Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed);
+Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed,
+                       const LoadOptions& options = {});
 
 // "night-city" or a path ending in .gltf / .glb.
-Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed);
+Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
+                        const LoadOptions& options = {});
 
 // Every edge shared by exactly two triangles with opposite directions (after welding equal positions).
 bool isClosedMesh(const Mesh& mesh);

@@ -112,13 +112,13 @@ std::string sceneModifierString(const SceneModifiers& m);
 void applySceneModifiers(Scene& scene, const SceneModifiers& m);
 
 // The scene a bake file was made from (modifiers applied). Inline: see verifyBake.
-inline Result<Scene> loadBakeScene(const SceneSpec& spec) {
+inline Result<Scene> loadBakeScene(const SceneSpec& spec, const LoadOptions& options = {}) {
     auto m = parseSceneModifiers(spec.scene);
     if (!m) return fail(m.error());
     const uint32_t extra = uint32_t(m->lightDirs.size());
     if (spec.lights <= extra)
         return fail("scene '" + spec.scene + "': light count below its appended lights");
-    auto scene = loadScene(m->base, spec.lights - extra, spec.seed);
+    auto scene = loadScene(m->base, spec.lights - extra, spec.seed, options);
     if (!scene) return scene;
     applySceneModifiers(scene.value(), m.value());
     return scene;

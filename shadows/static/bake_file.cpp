@@ -1,12 +1,14 @@
 #include "shadows/static/bake_file.h"
 
+#include "io/safe_io.h"
+
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <set>
 
 namespace ml {
@@ -217,44 +219,55 @@ Result<void> writeBakeFile(const std::string& path, const BakeFile& file) {
     // Never write a file the reader would reject: the same checks, before anything touches the disk.
     if (auto v = parseWords(path, words->data(), words->size(), nullptr); !v)
         return fail("refusing to write an invalid bake file: " + v.error());
-    // Write beside the target and rename, so an interrupted write never leaves a half file under `path`.
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-        if (!os) return fail(tmp + ": cannot open for writing: " + std::strerror(errno));
-        os.write(reinterpret_cast<const char*>(words->data()), std::streamsize(words->size() * 4));
-        os.flush();
-        if (!os) {
-            std::string why = std::strerror(errno);
-            std::error_code ignored;
-            std::filesystem::remove(tmp, ignored);
-            return fail(tmp + ": write failed: " + why);
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        std::filesystem::remove(tmp, ignored);
-        return fail(path + ": cannot rename " + tmp + ": " + ec.message());
-    }
-    return {};
+    // A fresh temporary beside the target, renamed over it (io/safe_io.h): an interrupted write never
+    // leaves a half file under `path`, and a symlink or device at `path` is refused, not written through.
+    return io::writeFileAtomically(path, words->data(), words->size() * 4);
 }
 
 Result<BakeFile> readBakeFile(const std::string& path) {
-    std::ifstream is(path, std::ios::binary | std::ios::ate);
-    if (!is) return fail(path + ": cannot open: " + std::strerror(errno));
-    const std::streamoff size = is.tellg();
-    if (size < 0) return fail(path + ": cannot read its size");
-    std::vector<uint32_t> words(size_t(size) / 4);
-    is.seekg(0);
-    if (!is.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4)))
-        return fail(path + ": read failed");
-    // Name the more useful problem first: some other file, rather than a bake file cut mid-word.
-    if (!words.empty() && words[0] != kMagic && words[0] != kPartMagic)
+    // Regular files only (a directory or FIFO gets one line, not an allocation or a hang).
+    // The header first: a file that is not a bake file, or whose size differs from the one its header
+    // states (say a sparse file of terabytes), is refused before room for it is allocated.
+    uint64_t fileSize = 0;
+    auto head = io::readRegularFileHead(path, kFixedHeaderWords * 4, &fileSize);
+    if (!head) return fail(head.error());
+    uint32_t h[kFixedHeaderWords] = {};
+    if (!head->empty()) std::memcpy(h, head->data(), head->size());
+    if (head->size() >= 4 && h[kHMagic] == kPartMagic)
+        return fail(path + ": one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
+                    "with `manylights merge`");
+    if (head->size() >= 4 && h[kHMagic] != kMagic)
         return fail(path + ": not a manylights bake file (wrong magic)");
-    if (size % 4 != 0)
-        return fail(path + ": size " + std::to_string(size) +
+    if (fileSize % 4 != 0)
+        return fail(path + ": size " + std::to_string(fileSize) +
+                    " bytes is not a whole number of words (truncated?)");
+    const uint64_t stated = join(h[kHTotalLo], h[kHTotalHi]);
+    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion)
+        return fail(path + ": unsupported version " + std::to_string(h[kHVersion]) + " (this build reads " +
+                    std::to_string(kVersion) + ")");
+    if (head->size() == kFixedHeaderWords * 4 && stated != fileSize / 4)
+        return fail(path + ": header: file should be " + std::to_string(stated) + " words but is " +
+                    std::to_string(fileSize / 4) + " (truncated or extended)");
+    // Then the whole file (it is uploaded as is); a size the machine cannot hold is an error line, not
+    // an abort.
+    std::vector<uint32_t> words;
+    Result<uint64_t> size = fail("");
+    try {
+        size = io::readRegularFile(path, UINT64_MAX, [&](uint64_t bytes) {
+            words.assign(size_t((bytes + 3) / 4), 0u);
+            return reinterpret_cast<unsigned char*>(words.data());
+        });
+    } catch (const std::bad_alloc&) {
+        return fail(path + ": too large to read into memory");
+    } catch (const std::length_error&) {
+        return fail(path + ": too large to read into memory");
+    }
+    if (!size) return fail(size.error());
+    // Name the more useful problem first: some other file, rather than a bake file cut mid-word.
+    if (size.value() >= 4 && words[0] != kMagic)
+        return fail(path + ": not a manylights bake file (wrong magic)");
+    if (size.value() % 4 != 0)
+        return fail(path + ": size " + std::to_string(size.value()) +
                     " bytes is not a whole number of words (truncated?)");
     return parseBakeFile(path, words.data(), words.size());
 }

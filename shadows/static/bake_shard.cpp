@@ -1,5 +1,7 @@
 #include "shadows/static/bake_shard.h"
 
+#include "io/safe_io.h"
+
 #include "shadows/static/bake.h"
 
 #include <algorithm>
@@ -214,54 +216,26 @@ Result<BakePart> parseBakePart(const std::string& name, const uint32_t* w, size_
     return p;
 }
 
-// The file I/O mirrors writeBakeFile / readBakeFile (write beside the target, then rename).
+// The file I/O goes through io/safe_io.h like the bake file's: regular files only, an exclusive
+// temporary beside the target, checked writes, no write through a symlink or over a non-regular file.
 Result<void> writeBakePart(const std::string& path, const BakePart& part) {
     auto words = serializeBakePart(part);
     if (!words) return fail(path + ": " + words.error());
     if (auto v = parseBakePart(path, words->data(), words->size()); !v)
         return fail("refusing to write an invalid bake part: " + v.error());
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-        if (!os) return fail(tmp + ": cannot open for writing: " + std::strerror(errno));
-        os.write(reinterpret_cast<const char*>(words->data()), std::streamsize(words->size() * 4));
-        os.flush();
-        if (!os) {
-            std::string why = std::strerror(errno);
-            std::error_code ignored;
-            std::filesystem::remove(tmp, ignored);
-            return fail(tmp + ": write failed: " + why);
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        std::filesystem::remove(tmp, ignored);
-        return fail(path + ": cannot rename " + tmp + ": " + ec.message());
-    }
-    return {};
+    return io::writeFileAtomically(path, words->data(), words->size() * 4);
 }
 
 Result<BakePart> readBakePart(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) {
-        if (!std::filesystem::exists(path, ec)) return fail(path + ": no such file");
-        return fail(path + ": not a regular file");
-    }
-    std::ifstream is(path, std::ios::binary | std::ios::ate);
-    if (!is) return fail(path + ": cannot open: " + std::strerror(errno));
-    const std::streamoff size = is.tellg();
-    if (size < 0) return fail(path + ": cannot read its size");
-    std::vector<uint32_t> words(size_t(size) / 4);
-    is.seekg(0);
-    if (!is.read(reinterpret_cast<char*>(words.data()), std::streamsize(words.size() * 4)))
-        return fail(path + ": read failed");
+    auto bytes = io::readRegularFile(path);
+    if (!bytes) return fail(bytes.error());
+    const size_t size = bytes->size();
+    std::vector<uint32_t> words(size / 4);
+    if (!words.empty()) std::memcpy(words.data(), bytes->data(), words.size() * 4);
     if (!words.empty() && words[0] != kMagic && words[0] != bakefmt::kMagic)
         return fail(path + ": not a manylights bake part (wrong magic)");
     if (size % 4 != 0)
-        return fail(path + ": size " + std::to_string(size) +
-                    " bytes is not a whole number of words (truncated?)");
+        return fail(path + ": size " + std::to_string(size) + " bytes is not a whole number of words (truncated?)");
     return parseBakePart(path, words.data(), words.size());
 }
 

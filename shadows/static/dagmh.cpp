@@ -401,6 +401,7 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
         return bad("total words " + std::to_string(data[kTotalWords]) + " != buffer size " +
                    std::to_string(size));
     if (data[kChecksum] != stat::checksumWords(data, size, kChecksum)) return bad("checksum mismatch");
+    if (data[kReserved] != 0) return bad("reserved header word is not 0");
     const uint32_t L = data[kLevels], res = data[kResolution], S = data[kSkipLevel];
     if (L > 16 || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
         return bad("resolution does not match levels");

@@ -214,11 +214,21 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
                     " levels");
     if (data[kNodeOffset] != kHeaderWords || uint64_t(kHeaderWords) + data[kNodeWords] != size)
         return fail("MH: node array does not fill the buffer");
+    if (data[kReserved] != 0) return fail("MH: reserved header word is not 0");
+    // Every node word is a value or a child header: the two counts must add up to the node array (the
+    // byte breakdown subtracts one from the other; a forged count must not wrap it).
+    if (data[kValued] == 0 || uint64_t(data[kValued]) + data[kInnerRecords] != data[kNodeWords])
+        return fail("MH: " + std::to_string(data[kValued]) + " values and " +
+                    std::to_string(data[kInnerRecords]) + " child headers do not make the " +
+                    std::to_string(data[kNodeWords]) + " node words");
     const uint32_t begin = kHeaderWords, end = uint32_t(size);
     uint32_t rootType = data[kRootType];
     if (rootType != 1 && rootType != 2) return fail("MH: bad root type " + std::to_string(rootType));
     if (begin + rootType > end) return fail("MH: root record past the end");
-    if (rootType == 1) return {};
+    if (rootType == 1) {
+        if (data[kNodeWords] != 1) return fail("MH: a leaf root must be the only node word");
+        return {};
+    }
     // Walk every reachable header once (MMH groups are shared: visited marks keep this linear).
     std::vector<uint8_t> seen(size, 0);
     std::vector<uint32_t> stack{begin + 1};

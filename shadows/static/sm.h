@@ -41,6 +41,7 @@ inline Result<void> validateSM(const uint32_t* data, size_t size) {
         return fail("SM: size " + std::to_string(size) + " does not match resolution " + std::to_string(res));
     if (data[smfmt::kChecksum] != stat::checksumWords(data, size, smfmt::kChecksum))
         return fail("SM: checksum mismatch");
+    if (data[smfmt::kReserved] != 0) return fail("SM: reserved header word is not 0");
     return {};
 }
 

@@ -20,6 +20,7 @@
 #include "vsm_mark.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
 #include "vsm_scan.comp.spv.h"
+#include "vsm_view.comp.spv.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -169,6 +170,7 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     cullShader_ = ML_SHADER(d, spv_vsm_cull_comp);
     clearShader_ = ML_SHADER(d, spv_vsm_clear_comp);
     probeShader_ = ML_SHADER(d, spv_vsm_probe_comp);
+    viewShader_ = ML_SHADER(d, spv_vsm_view_comp);
     drawVert_ = ML_SHADER(d, spv_vsm_draw_vert);
     drawFrag_ = ML_SHADER(d, spv_vsm_draw_frag);
     markProgram_ = createComputeProgram(d, markShader_, 0);
@@ -179,6 +181,7 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     cullProgram_ = createComputeProgram(d, cullShader_, 16);
     clearProgram_ = createComputeProgram(d, clearShader_, 0);
     probeProgram_ = createComputeProgram(d, probeShader_, 0);
+    viewProgram_ = createComputeProgram(d, viewShader_, 0);
     GraphicsState gs; // attachment-less: depth goes to the pool with atomics
     gs.cull = VK_CULL_MODE_NONE;
     gs.depthTest = false;
@@ -196,11 +199,11 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
     for (Program* p : {&markProgram_, &scanProgram_, &allocProgram_, &assignProgram_, &hpbProgram_, &cullProgram_,
-                       &clearProgram_, &probeProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
+                       &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
         destroyProgram(d, *p);
     for (ShaderModule* s : {&markShader_, &scanShader_, &allocShader_, &assignShader_, &hpbShader_, &cullShader_,
-                            &clearShader_, &probeShader_, &drawVert_, &drawFrag_, &expandShader_, &drawTask_,
-                            &drawMesh_})
+                            &clearShader_, &probeShader_, &viewShader_, &drawVert_, &drawFrag_, &expandShader_,
+                            &drawTask_, &drawMesh_})
         destroyShader(d, *s);
     for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
                       &dirtyMips_, &hpb_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
@@ -594,6 +597,23 @@ void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32
               slot.coverage, table_, pagePool_, slot.probes});
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
+}
+
+void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex, const VsmFrameInputs& in,
+                                   VkImageView output) {
+    if (!settings_.enabled) return;
+    Slot& slot = slots_[slotIndex];
+    const auto* fc = in.frame->as<gpu::FrameConstants>();
+    // The evaluation pass's output -> read and overwritten here.
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
+              Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants, slot.maps,
+              slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
 }
 
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {

@@ -112,6 +112,10 @@ class VirtualShadowMaps {
     // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
     void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
                 const VsmFrameInputs& in);
+    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
+    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
+    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
+                    VkImageView output);
     // The probe pass (settings.probeCapacity > 0): records the lookups into the probe buffer.
     void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
 
@@ -181,9 +185,9 @@ class VirtualShadowMaps {
     Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, hpb_,
         draws_, drawInfo_, drawCounts_, meshletList_, meshTasks_;
     ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
-        probeShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
+        probeShader_, viewShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
     Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,
-        probeProgram_, drawProgram_, expandProgram_, meshProgram_;
+        probeProgram_, viewProgram_, drawProgram_, expandProgram_, meshProgram_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside

@@ -14,12 +14,15 @@
 
 namespace ml::test {
 
-inline std::unique_ptr<Module> makeModule(CullingMode mode = CullingMode::Clustered) {
+// Virtual shadow maps are off unless asked for: the shading references here model static shadows only
+// (the VSM tests compare with their own references).
+inline std::unique_ptr<Module> makeModule(CullingMode mode = CullingMode::Clustered, bool vsm = false) {
     resetValidationCounters(); // process-wide; ctest runs each test in its own process anyway
     ModuleOptions o;
     o.device.validation = true;
     o.culling = mode;
     o.statistics = true; // the tests compare the per-pixel counts
+    o.vsm.enabled = vsm;
     auto m = Module::create(o);
     EXPECT_TRUE(m.ok()) << m.error();
     return m ? std::move(m.value()) : nullptr;

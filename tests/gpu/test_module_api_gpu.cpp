@@ -105,7 +105,7 @@ TEST(ModuleApi, RefusesBadCamerasTransformsAndMovingStaticInstances) {
 TEST(ModuleApi, NonCastingLightsAndInstancesGetNoShadowMaps) {
     auto scene = loadScene("night-city", 64, 1);
     ASSERT_TRUE(scene.ok());
-    auto m = makeModule();
+    auto m = makeModule(CullingMode::Clustered, /*vsm*/ true);
     auto binding = bindScene(*m, scene.value());
     ASSERT_TRUE(binding.ok());
     ASSERT_TRUE(m->createTargets(160, 90).ok());
