@@ -35,6 +35,7 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --vsm-page N   page size (default 64)
   --vsm-pool N   physical pages (default 4096)
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
+  --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex
 Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
 Directional lights' clip levels (orthographic) have no CPU reference rasteriser yet: counted, not checked.
 )";
@@ -66,7 +67,7 @@ int runCheck(int argc, char** argv) {
     if (std::string(argv[2]) != "vsm") return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
     auto args = cli::parse(argc, argv, 3,
                            {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake", "--vsm-res",
-                            "--vsm-page", "--vsm-pool", "--pcf"},
+                            "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster"},
                            {});
     if (!args) return usageError("check vsm", args.error());
     if (args->help) {
@@ -85,6 +86,9 @@ int runCheck(int argc, char** argv) {
     for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(),
                                  &res.error(), &page.error(), &pool.error(), &pcf.error()})
         if (!e->empty()) return usageError("check vsm", *e);
+    VsmRaster raster = VsmRaster::Auto;
+    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
+        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") + "' is not auto, mesh or vertex");
 
     VsmSessionOptions o;
     o.scene = args->get("--scene", "night-city");
@@ -97,6 +101,7 @@ int runCheck(int argc, char** argv) {
     o.module.vsm.pageSize = page.value();
     o.module.vsm.poolPages = pool.value();
     o.module.vsm.probeCapacity = o.width * o.height * 8;
+    o.module.vsm.raster = raster;
     auto session = VsmSession::create(o);
     if (!session) return runError("check vsm", session.error());
     VsmSession& s = *session.value();
@@ -177,11 +182,11 @@ int runCheck(int argc, char** argv) {
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
     std::printf("{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
                 "\"no_caster\": %llu, \"missing\": %llu, \"skipped_directional\": %llu, \"probe_overflow\": %u, "
-                "\"frames\": %u}\n",
+                "\"frames\": %u, \"raster\": \"%s\"}\n",
                 (unsigned long long)checked, (unsigned long long)mismatches,
                 (unsigned long long)depthBeyondTolerance, (unsigned long long)fallbacks,
                 (unsigned long long)noCaster, (unsigned long long)missing, (unsigned long long)skippedDirectional,
-                probeOverflow, frames.value());
+                probeOverflow, frames.value(), vsm.meshPath() ? "mesh" : "vertex");
     return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
 }
 

@@ -78,6 +78,8 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --vsm-res N      virtual resolution of each shadow map (power of two, 256..16384; default 4096)
   --vsm-page N     page size in texels: 32, 64 (default) or 128
   --vsm-pool N     physical pages in the shared pool (default 4096)
+  --vsm-raster R   how shadow pages are drawn: auto (default: vertex on CPU devices such as lavapipe,
+                   mesh elsewhere), mesh (meshlets, task and mesh shaders) or vertex
   --timing T       fenced (default: each pass submitted and timed on its own, honest on lavapipe) or
                    timestamps (one command buffer, GPU timestamps)
   --view V         shaded (default); lights: heat map of lights evaluated per pixel; lights-reaching:
@@ -93,7 +95,7 @@ int runDemo(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
                             "--static", "--static-res", "--pcf", "--camera", "--bake", "--path", "--dynamic",
-                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--view"},
+                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--view", "--vsm-raster"},
                            {"--window", "--no-stats", "--allow-outside-scene-dir"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
@@ -159,6 +161,8 @@ int runDemo(int argc, char** argv) {
     mo.vsm.resolution = vsmRes.value();
     mo.vsm.pageSize = vsmPage.value();
     mo.vsm.poolPages = vsmPool.value();
+    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), mo.vsm.raster))
+        return usageError("demo", "--vsm-raster takes auto, mesh or vertex, not '" + args->get("--vsm-raster", "") + "'");
     auto module = Module::create(mo);
     if (!module) return runError("demo", module.error());
     Module& m = *module.value();

@@ -120,6 +120,10 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
       << ", \"lights_with_pages\": " << v.lightsWithPages << ", \"lights_without_slot\": " << v.lightsWithoutSlot
       << ", \"maps_active\": " << v.mapsActive << ", \"instances_drawn\": " << v.instancesDrawn
       << ", \"instances_culled_hpb\": " << v.instancesCulledHpb << ", \"draw_overflow\": " << v.drawOverflow
+      << ", \"raster\": \"" << (v.meshPath ? "mesh" : "vertex") << "\", \"meshlets_total\": " << v.meshletsTotal
+      << ", \"meshlets_after_expansion\": " << v.meshletsAfterExpansion
+      << ", \"meshlets_after_task\": " << v.meshletsAfterTask << ", \"triangles_after_task\": " << v.trianglesAfterTask
+      << ", \"triangles_rasterized\": " << v.trianglesRasterized << ", \"meshlet_overflow\": " << v.meshletOverflow
       << "},\n";
     o << "  \"pass_gpu_ms_mean\": {";
     bool first = true;

@@ -367,6 +367,8 @@ Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
 Result<void> Device::loadFunctions() {
     cmdPushDescriptorSet = (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR");
     cmdDrawMeshTasks = (PFN_vkCmdDrawMeshTasksEXT)vkGetDeviceProcAddr(device, "vkCmdDrawMeshTasksEXT");
+    cmdDrawMeshTasksIndirect =
+        (PFN_vkCmdDrawMeshTasksIndirectEXT)vkGetDeviceProcAddr(device, "vkCmdDrawMeshTasksIndirectEXT");
     if (!cmdPushDescriptorSet) return fail(name + ": vkCmdPushDescriptorSetKHR not available (extension not enabled?)");
     beginLabel_ = (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance, "vkCmdBeginDebugUtilsLabelEXT");
     endLabel_ = (PFN_vkCmdEndDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance, "vkCmdEndDebugUtilsLabelEXT");

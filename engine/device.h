@@ -89,6 +89,7 @@ class Device {
 
     PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
     PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks = nullptr;
+    PFN_vkCmdDrawMeshTasksIndirectEXT cmdDrawMeshTasksIndirect = nullptr; // VSM mesh path (null: vertex path)
 
   private:
     Device() = default;

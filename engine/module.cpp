@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <tuple>
 
 namespace ml {
 
@@ -110,6 +111,12 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
             !std::isfinite(v.clipDepth))
             return fail("vsm: clip extent and depth must be finite and > 0");
         if (v.maxDrawsPerMip < 1) return fail("vsm: max draws per mip must be >= 1");
+        if (v.meshletVertices < 3 || v.meshletVertices > ML_MESHLET_VERTICES || v.meshletTriangles < 4 ||
+            v.meshletTriangles > ML_MESHLET_TRIANGLES || v.meshletTriangles % 4)
+            return fail("vsm: meshlets of " + std::to_string(v.meshletVertices) + " vertices / " +
+                        std::to_string(v.meshletTriangles) + " triangles: want 3.." +
+                        std::to_string(ML_MESHLET_VERTICES) + " / 4.." + std::to_string(ML_MESHLET_TRIANGLES) +
+                        " (a multiple of 4)");
     }
     impl->vsmSettings = v;
     impl->hdrOutput = options.hdrOutput;
@@ -153,7 +160,8 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.slices);
         destroyBuffer(d, s.instances);
     }
-    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords})
+    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords,
+                      &meshletBuffer, &meshletVertexBuffer, &meshletTriangleBuffer})
         destroyBuffer(d, *b);
     destroyTargets();
 }
@@ -183,6 +191,12 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     }
     Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
                       hi, true, mesh.closed};
+    r.firstMeshlet = uint32_t(m.meshlets.meshlets.size());
+    r.meshletCount = appendMeshlets(m.meshlets, mesh.vertices.empty() ? nullptr : mesh.vertices[0].position,
+                                    sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex,
+                                    m.vsmSettings.meshletVertices, m.vsmSettings.meshletTriangles);
+    r.coneCull = meshIsClosed(mesh.vertices.empty() ? nullptr : mesh.vertices[0].position, sizeof(MeshVertex),
+                              mesh.vertices.size(), mesh.indices);
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
@@ -528,6 +542,16 @@ void Module::Impl::uploadGeometry() {
     ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
     if (!vertices.empty()) upload(vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex));
     if (!indices.empty()) upload(indexBuffer, indices.data(), indices.size() * 4);
+    for (auto [b, data, bytes, name] :
+         {std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
+                     meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), "meshlets"},
+          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(), meshlets.vertices.size() * 4,
+                     "meshlet_vertices"},
+          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(), meshlets.triangles.size() * 4,
+                     "meshlet_triangles"}}) {
+        ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name);
+        if (bytes) upload(*b, data, bytes);
+    }
     ensureBuffer(d, drawBuffer, instances.size() * sizeof(VkDrawIndexedIndirectCommand),
                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
     auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
@@ -591,6 +615,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
 
     VsmFrameInputs vin{&slot.frame,  &slot.slices,    &slot.lights,   &m.cull.ranges,   &m.cull.pool, depthView,
                        normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
+    vin.meshlets = &m.meshletBuffer;
+    vin.meshletVertices = &m.meshletVertexBuffer;
+    vin.meshletTriangles = &m.meshletTriangleBuffer;
     m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
 
     // The HDR and output images are rewritten whole: their old contents are discarded.
@@ -691,6 +718,9 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
         v.indexCount = r.indexCount;
         v.firstIndex = r.firstIndex;
         v.vertexOffset = r.firstVertex;
+        v.firstMeshlet = r.firstMeshlet;
+        v.meshletCount = r.meshletCount;
+        v.closed = r.coneCull;
         v.dynamic = id.dynamic;
         v.castsShadows = id.alive && id.castsShadows;
     }

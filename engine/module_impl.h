@@ -6,6 +6,7 @@
 #include "engine/manylights.h"
 #include "engine/profiler.h"
 #include "shadows/virtual/vsm.h"
+#include "shadows/virtual/vsm_meshlets.h"
 
 #include "lights/evaluate_pass.h"
 
@@ -22,6 +23,10 @@ struct Module::Impl {
         glm::vec3 lo, hi; // object-space bounds
         bool alive = true;
         bool closed = false;
+        // VSM mesh path (shadows/virtual/vsm_meshlets.h): the mesh's meshlets, and whether meshIsClosed
+        // verified it closed with outward faces (the task shader's back-facing cone test).
+        uint32_t firstMeshlet = 0, meshletCount = 0;
+        bool coneCull = false;
     };
     struct InstanceData {
         MeshId mesh;
@@ -75,6 +80,8 @@ struct Module::Impl {
     CameraDesc camera;
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
+    MeshletSet meshlets;
+    Buffer meshletBuffer, meshletVertexBuffer, meshletTriangleBuffer;
 
     uint32_t width = 0, height = 0;
     bool ownTargets = false;

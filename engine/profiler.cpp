@@ -14,6 +14,7 @@ const char* passName(Pass pass) {
     case Pass::VsmAlloc: return "vsm_alloc";
     case Pass::VsmHpb: return "vsm_hpb";
     case Pass::VsmCull: return "vsm_cull";
+    case Pass::VsmExpand: return "vsm_expand";
     case Pass::VsmDraw: return "vsm_draw";
     case Pass::Evaluate: return "evaluate";
     case Pass::Statistics: return "statistics";

@@ -18,6 +18,7 @@ enum class Pass : uint32_t {
     VsmAlloc,  // scan, allocate, assign (caching, invalidation, LRU)
     VsmHpb,    // hierarchical page buffer
     VsmCull,   // instance culling into per-mip draw lists
+    VsmExpand, // mesh path: instance culling and expansion into per-mip meshlet lists
     VsmDraw,   // clear and draw the dirty pages
     Evaluate,
     Statistics, // per-pixel light counts (optional)

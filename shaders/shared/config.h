@@ -109,6 +109,23 @@
 #define ML_VSM_CLEAR_GROUP 256
 // Instance culling: one thread per (active map, caster).
 #define ML_VSM_CULL_GROUP 64
+// Meshlets of the VSM mesh path (meshoptimizer, engine/module.cpp addMesh): at most this many vertices
+// and triangles each (meshoptimizer wants triangles a multiple of 4); the mesh shader's output capacity
+// (VsmSettings::meshletVertices/Triangles may ask for smaller ones). Measured on lavapipe, FZK-Haus
+// (32,588 triangles, 200 meshes), orbit, 320x180, 245 static spots, mesh path, page-draw ms per frame
+// uncached / cached (`manylights bench vsm --scene ../shared/scenes/fzk-haus.glb --path orbit --frames 5
+// --size 320x180 --kinds static-spot --vsm-raster mesh --meshlet VxT`, best of the runs, the machine shared):
+//   16x32: 6607 meshlets, 6362 / 58.4 ms;  32x64: 3356 meshlets, 3588 / 28.3 ms;
+//   64x124: 1637 meshlets, 2266 / 34.2 ms (triangles rasterized 0.96M vs 1.05M per frame at 32x64 vs 64x124).
+// Smaller meshlets cull a few more triangles in the task shader but cost more task and mesh workgroups:
+// 64/124 is fastest where drawing costs most (every page redrawn) and within noise when cached. The night
+// city's meshes are small (16 meshlets for 11 meshes at 64/124), so the size hardly matters there.
+#define ML_MESHLET_VERTICES 64
+#define ML_MESHLET_TRIANGLES 124
+// Task shader: one meshlet per invocation, 32 per workgroup (lavapipe prefers <= 64 task invocations).
+#define ML_VSM_TASK_GROUP 32
+// Mesh shader workgroup: one thread per output vertex (and two triangles per thread).
+#define ML_VSM_MESH_GROUP 64
 // Each receiver also marks the page ML_VSM_FALLBACK_MIPS mips (or clip levels) coarser than the one it
 // wants: allocation serves coarse mips first, so when the pool runs out the lookup still finds that
 // page. 3 mips up, a fallback page covers 8x8 wanted pages, so it costs 1/64 of the marked pages (and

@@ -12,7 +12,10 @@
 #include "vsm_clear.comp.spv.h"
 #include "vsm_cull.comp.spv.h"
 #include "vsm_draw.frag.spv.h"
+#include "vsm_draw.mesh.spv.h"
+#include "vsm_draw.task.spv.h"
 #include "vsm_draw.vert.spv.h"
+#include "vsm_expand.comp.spv.h"
 #include "vsm_hpb.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
@@ -24,6 +27,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace ml {
@@ -118,6 +122,24 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
     drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
     drawCounts_ = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
+        std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
+                     d.name.c_str());
+        settings_.raster = VsmRaster::Vertex;
+    } else if (settings_.raster == VsmRaster::Auto) {
+        const bool cpu = d.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        settings_.raster = cpu ? VsmRaster::Vertex : VsmRaster::Mesh;
+        std::fprintf(stderr, "vsm: %s: shadow pages drawn with the %s\n", d.name.c_str(),
+                     cpu ? "vertex path (CPU device: faster there than task/mesh shaders, README)"
+                         : "mesh path (meshlets, task and mesh shaders)");
+    }
+    if (settings_.raster == VsmRaster::Mesh) {
+        // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
+        settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
+        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12, kStorageBufferUsage,
+                                          "vsm_meshlet_list");
+        meshTasks_ = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+    }
 
     slots_.resize(framesInFlight);
     for (Slot& sl : slots_) {
@@ -165,18 +187,26 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     gs.depthTest = false;
     gs.depthWrite = false;
     drawProgram_ = createGraphicsProgram(d, {&drawVert_, &drawFrag_}, 4, gs);
+    if (settings_.raster == VsmRaster::Mesh) {
+        expandShader_ = ML_SHADER(d, spv_vsm_expand_comp);
+        drawTask_ = ML_SHADER(d, spv_vsm_draw_task);
+        drawMesh_ = ML_SHADER(d, spv_vsm_draw_mesh);
+        expandProgram_ = createComputeProgram(d, expandShader_, 16);
+        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, 12, gs);
+    }
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
     for (Program* p : {&markProgram_, &scanProgram_, &allocProgram_, &assignProgram_, &hpbProgram_, &cullProgram_,
-                       &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_})
+                       &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
         destroyProgram(d, *p);
     for (ShaderModule* s : {&markShader_, &scanShader_, &allocShader_, &assignShader_, &hpbShader_, &cullShader_,
-                            &clearShader_, &probeShader_, &viewShader_, &drawVert_, &drawFrag_})
+                            &clearShader_, &probeShader_, &viewShader_, &drawVert_, &drawFrag_, &expandShader_,
+                            &drawTask_, &drawMesh_})
         destroyShader(d, *s);
     for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
-                      &dirtyMips_, &hpb_, &draws_, &drawInfo_, &drawCounts_})
+                      &dirtyMips_, &hpb_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
         destroyBuffer(d, *b);
     for (Slot& s : slots_)
         for (Buffer* b :
@@ -388,6 +418,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
         casters[i].hi = glm::vec4(in.hi, 0.0f);
         casters[i].draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
                                      in.dynamic ? 1u : 0u);
+        casters[i].meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
     }
     slot.casterCount = uint32_t(casters.size());
 
@@ -445,6 +476,7 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
         vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
         vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
         vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
+        if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
         memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
                       R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
@@ -482,17 +514,21 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
             memoryBarrier(c, C, W, C, R); // level l -> level l + 1 and the culling
         }
     });
-    profiler.run(cmd, Pass::VsmCull, [&](VkCommandBuffer c) {
-        struct {
-            uint32_t casterCount, activeMaps, hpbPerMap, maxDraws;
-        } push{slot.casterCount, slot.activeCount, hpbPerMap_, settings_.maxDrawsPerMip};
-        dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
-                 {slot.constants, slot.maps, slot.active, table_, hpb_, slot.casters, dirtyMips_, draws_, drawInfo_,
-                  drawCounts_, slot.counters});
-        // Draw lists and counts -> indirect draws; draw info -> vertex shader.
-        memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
-    });
+    if (meshPath()) {
+        recordExpand(d, cmd, profiler, slot);
+    } else {
+        profiler.run(cmd, Pass::VsmCull, [&](VkCommandBuffer c) {
+            struct {
+                uint32_t casterCount, activeMaps, hpbPerMap, maxDraws;
+            } push{slot.casterCount, slot.activeCount, hpbPerMap_, settings_.maxDrawsPerMip};
+            dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
+                     {slot.constants, slot.maps, slot.active, table_, hpb_, slot.casters, dirtyMips_, draws_, drawInfo_,
+                      drawCounts_, slot.counters});
+            // Draw lists and counts -> indirect draws; draw info -> vertex shader.
+            memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                          VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
+        });
+    }
     profiler.run(cmd, Pass::VsmDraw, [&](VkCommandBuffer c) {
         bindProgram(d, c, clearProgram_, {slot.constants, rendered_, pagePool_}, nullptr, 0);
         vkCmdDispatchIndirect(c, slot.counters.buffer, offsetof(gpu::VsmCounters, dispatchX));
@@ -507,17 +543,46 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
             VkRect2D sc{{0, 0}, {res, res}};
             vkCmdSetViewport(c, 0, 1, &vp);
             vkCmdSetScissor(c, 0, 1, &sc);
-            bindProgram(d, c, drawProgram_,
-                        {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_}, &m, 4);
-            vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-            vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
-                                          VkDeviceSize(m) * settings_.maxDrawsPerMip * sizeof(VkDrawIndexedIndirectCommand),
-                                          drawCounts_.buffer, VkDeviceSize(m) * 4, settings_.maxDrawsPerMip,
-                                          sizeof(VkDrawIndexedIndirectCommand));
+            if (meshPath()) {
+                // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
+                const uint32_t push[3] = {m, hpbPerMap_, settings_.maxMeshletsPerMip};
+                bindProgram(d, c, meshProgram_,
+                            {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_, pagePool_,
+                             *in.meshlets, *in.meshletVertices, *in.meshletTriangles, hpb_, meshTasks_,
+                             slot.counters},
+                            push, sizeof(push));
+                d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
+            } else {
+                bindProgram(d, c, drawProgram_,
+                            {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_},
+                            &m, 4);
+                vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
+                vkCmdDrawIndexedIndirectCount(
+                    c, draws_.buffer, VkDeviceSize(m) * settings_.maxDrawsPerMip * sizeof(VkDrawIndexedIndirectCommand),
+                    drawCounts_.buffer, VkDeviceSize(m) * 4, settings_.maxDrawsPerMip,
+                    sizeof(VkDrawIndexedIndirectCommand));
+            }
             vkCmdEndRendering(c);
         }
         // Physical pages -> the evaluation pass's lookups.
         memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
+    });
+}
+
+void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profiler& profiler, Slot& slot) {
+    profiler.run(cmd, Pass::VsmExpand, [&](VkCommandBuffer c) {
+        struct {
+            uint32_t casterCount, activeMaps, hpbPerMap, maxMeshlets;
+        } push{slot.casterCount, slot.activeCount, hpbPerMap_, settings_.maxMeshletsPerMip};
+        dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
+                 {slot.constants, slot.maps, slot.active, table_, hpb_, slot.casters, dirtyMips_, meshletList_,
+                  meshTasks_, slot.counters});
+        // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
+        // passes) -> task and mesh shaders.
+        memoryBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
+                          VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
+                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     });
 }
 
@@ -567,6 +632,18 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.instancesDrawn = c.instancesDrawn;
     s.instancesCulledHpb = c.instancesCulledHpb;
     s.drawOverflow = c.drawOverflow;
+    s.meshPath = meshPath();
+    s.meshletsTotal = c.meshletsTotal;
+    s.meshletsCulledFrustum = c.meshletsCulledFrustum;
+    s.meshletsCulledHpb = c.meshletsCulledHpb;
+    s.meshletsAfterExpansion = c.meshletsAfterExpansion;
+    s.meshletOverflow = c.meshletOverflow;
+    s.taskCulledFrustum = c.taskCulledFrustum;
+    s.taskCulledCone = c.taskCulledCone;
+    s.taskCulledHpb = c.taskCulledHpb;
+    s.meshletsAfterTask = c.meshletsAfterTask;
+    s.trianglesAfterTask = c.trianglesAfterTask;
+    s.trianglesRasterized = c.trianglesRasterized;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;

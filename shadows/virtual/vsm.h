@@ -14,6 +14,10 @@
 //                 recently used unmarked ones; marked pages that are not valid are rendered (DIRTY);
 //     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
 //     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
+//                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and appends the
+//                 caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls meshlets
+//                 (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles covering
+//                 no sample; vsm_draw.frag is shared, so both paths write the same depths;
 //     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page);
 //     vsm_draw    per mip one indirect-count draw at the mip's virtual resolution; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
@@ -50,6 +54,8 @@ struct VsmLight {
 struct VsmInstance {
     glm::vec3 lo{0.0f}, hi{0.0f}; // world bounds this frame
     uint32_t indexCount = 0, firstIndex = 0, vertexOffset = 0;
+    uint32_t firstMeshlet = 0, meshletCount = 0; // mesh path
+    bool closed = false;                         // the mesh is closed (meshIsClosed): cone culling allowed
     bool dynamic = false;
     bool castsShadows = true;
 };
@@ -70,6 +76,10 @@ struct VsmFrameInputs {
     const Buffer* vertices;
     const Buffer* indices;
     const Buffer* instances; // GpuInstance per module instance
+    // Mesh path (shadows/virtual/vsm_meshlets.h): GpuMeshlet, vertex lists, packed triangles.
+    const Buffer* meshlets = nullptr;
+    const Buffer* meshletVertices = nullptr;
+    const Buffer* meshletTriangles = nullptr;
 };
 
 // Per map slot, what the CPU set up this frame (tests and `check vsm` read it).
@@ -88,6 +98,9 @@ class VirtualShadowMaps {
     void destroy(const Device& device);
     const VsmSettings& settings() const { return settings_; }
     bool enabled() const { return settings_.enabled; }
+    // Pages drawn as meshlets (task and mesh shaders) rather than indexed draws (settings().raster after
+    // the device check in create()).
+    bool meshPath() const { return settings_.enabled && settings_.raster == VsmRaster::Mesh; }
     void setPcfRadius(uint32_t r) { pcf_ = r; }
 
     // CPU part of a frame: map slots, matrices, coverage and stale bits, casters. `lights` holds every
@@ -154,6 +167,7 @@ class VirtualShadowMaps {
         bool seen = false;
     };
     uint32_t allocateSlots(uint32_t count);
+    void recordExpand(const Device& device, VkCommandBuffer cmd, Profiler& profiler, Slot& slot);
     void buildMap(uint32_t map, const VsmLight& light, uint32_t face, const VsmCamera& camera, bool& moved);
 
     VsmSettings settings_;
@@ -169,11 +183,11 @@ class VirtualShadowMaps {
     gpu::VsmConstants lastConstants_{};
 
     Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, hpb_,
-        draws_, drawInfo_, drawCounts_;
+        draws_, drawInfo_, drawCounts_, meshletList_, meshTasks_;
     ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
-        probeShader_, viewShader_, drawVert_, drawFrag_;
+        probeShader_, viewShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
     Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,
-        probeProgram_, viewProgram_, drawProgram_;
+        probeProgram_, viewProgram_, drawProgram_, expandProgram_, meshProgram_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside

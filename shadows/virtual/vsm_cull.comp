@@ -28,12 +28,7 @@ layout(push_constant) uniform Push {
     uint maxDraws; // per mip
 };
 
-bool dirtyCell(uint map, uint mip, uint level, uint x, uint y) {
-    uint s0 = vsm.page.z;
-    if (level == 0u) return (vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, x, y)] & ML_VSM_DIRTY) != 0u;
-    uint side = (s0 >> mip) >> level;
-    return vsmHpb[map * hpbPerMap + vsmHpbOffset(s0, vsm.page.w, mip, level) + y * side + x] != 0u;
-}
+#include "shadows/virtual/vsm_cull_common.glsl"
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
@@ -46,41 +41,16 @@ void main() {
     if ((m.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0u && c.draw.w == 0u) return;
     if (c.draw.x == 0u) return;
 
-    // Frustum (the far plane is the light's range): outside when the box is behind one of the six planes
-    // of viewProj (Vulkan depth 0..1).
-    mat4 M = transpose(m.viewProj); // rows of viewProj as columns
-    vec4 planes[6] = vec4[6](M[3] + M[0], M[3] - M[0], M[3] + M[1], M[3] - M[1], M[2], M[3] - M[2]);
-    for (uint k = 0u; k < 6u; ++k) {
-        vec3 n = planes[k].xyz;
-        vec3 far = vec3(n.x >= 0.0 ? c.hi.x : c.lo.x, n.y >= 0.0 ? c.hi.y : c.lo.y, n.z >= 0.0 ? c.hi.z : c.lo.z);
-        if (dot(n, far) + planes[k].w < 0.0) return;
-    }
-    // Projected bounds: NDC rectangle of the 8 corners; a corner behind the light covers the whole map.
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    bool behind = false;
-    for (uint k = 0u; k < 8u; ++k) {
-        vec3 p = vec3((k & 1u) != 0u ? c.hi.x : c.lo.x, (k & 2u) != 0u ? c.hi.y : c.lo.y, (k & 4u) != 0u ? c.hi.z : c.lo.z);
-        vec4 clip = m.viewProj * vec4(p, 1.0);
-        if (clip.w <= 1e-6) { behind = true; break; }
-        lo = min(lo, clip.xy / clip.w);
-        hi = max(hi, clip.xy / clip.w);
-    }
-    if (behind) { lo = vec2(-1.0); hi = vec2(1.0); }
-    // One texel of slack at the finest page size: a triangle on the box's edge covers texel centres there.
-    lo -= vec2(2.0 / float(vsm.options.z));
-    hi += vec2(2.0 / float(vsm.options.z));
+    // Frustum (the far plane is the light's range), then the projected bounds for the HPB test.
+    vec4 planes[6];
+    vsmFrustumPlanes(m.viewProj, planes);
+    if (!vsmBoxInFrustum(planes, c.lo.xyz, c.hi.xyz)) return;
+    vec2 lo, hi;
+    vsmProjectedBounds(m.viewProj, c.lo.xyz, c.hi.xyz, lo, hi);
 
     for (uint mip = 0u; mip < vsm.page.w; ++mip) {
         if ((mipsDirty & (1u << mip)) == 0u) continue;
-        int side = int(vsm.page.z >> mip);
-        ivec2 p0 = clamp(ivec2(floor((lo * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
-        ivec2 p1 = clamp(ivec2(floor((hi * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
-        uint level = 0u;
-        while ((p1.x >> level) - (p0.x >> level) > 1 || (p1.y >> level) - (p0.y >> level) > 1) ++level;
-        bool any = false;
-        for (int y = p0.y >> level; y <= (p1.y >> level) && !any; ++y)
-            for (int x = p0.x >> level; x <= (p1.x >> level) && !any; ++x)
-                any = dirtyCell(map, mip, level, uint(x), uint(y));
+        bool any = vsmHpbAny(map, mip, lo, hi);
         if (!any) {
             atomicAdd(vsmCounters.instancesCulledHpb, 1u);
             continue;
@@ -98,5 +68,6 @@ void main() {
         draws[d * 5u + 4u] = d;        // first instance: this draw's drawInfo
         drawInfo[d] = uvec2(instance, map);
         atomicAdd(vsmCounters.instancesDrawn, 1u);
+        atomicAdd(vsmCounters.trianglesRasterized, c.draw.x / 3u); // submitted: the vertex path culls none
     }
 }

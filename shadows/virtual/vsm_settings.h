@@ -2,8 +2,23 @@
 // included by the public header engine/manylights.h.
 #pragma once
 #include <cstdint>
+#include <string_view>
 
 namespace ml {
+
+// How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
+// indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
+// Auto: the vertex path on CPU devices (lavapipe: measured faster there, README "VSM meshlets") and on
+// devices without mesh shaders, the mesh path otherwise. The choice is logged once at creation.
+enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
+// `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
+inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
+    if (word == "auto") out = VsmRaster::Auto;
+    else if (word == "mesh") out = VsmRaster::Mesh;
+    else if (word == "vertex") out = VsmRaster::Vertex;
+    else return false;
+    return true;
+}
 
 struct VsmSettings {
     bool enabled = true;
@@ -25,6 +40,12 @@ struct VsmSettings {
     bool staticLights = true; // lights that do not move get maps
     bool movingLights = true; // moving lights (headlights) get maps
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
+    VsmRaster raster = VsmRaster::Auto;
+    uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
+    // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity
+    // ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES (shaders/shared/config.h, which has the measurement);
+    // triangles a multiple of 4. Smaller values are for `bench vsm --meshlet`.
+    uint32_t meshletVertices = 64, meshletTriangles = 124;
 };
 
 // What the VSM passes did in one frame (FrameReport::stats.vsm; stats.json's "vsm" object).
@@ -33,6 +54,12 @@ struct VsmStats {
              pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0, mapsActive = 0,
              instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0, lightsWithoutSlot = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
+    // Mesh path only (zero on the vertex path, except trianglesRasterized: the indexed draws' triangles):
+    // meshlets of (instance, map, mip) at each culling stage.
+    bool meshPath = false;
+    uint32_t meshletsTotal = 0, meshletsCulledFrustum = 0, meshletsCulledHpb = 0, meshletsAfterExpansion = 0,
+             meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0, meshletsAfterTask = 0,
+             trianglesAfterTask = 0, trianglesRasterized = 0;
 };
 
 } // namespace ml

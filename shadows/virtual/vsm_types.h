@@ -74,13 +74,41 @@ ML_STRUCT(VsmCounters) {
     uint drawOverflow;      // draws that did not fit the draw buffer (counted, never silent)
     uint dispatchX, dispatchY, dispatchZ; // clear pass: one workgroup per rendered page (indirect)
     uint pressure; // 1 when requests exceed the available pages: fallback pages are rendered this frame
+    // Mesh path (vsm_expand.comp, vsm_draw.task, vsm_draw.mesh), in meshlets of (instance, map, mip):
+    uint meshletsTotal;          // of every (caster, active map, dirty mip) the map takes (before culling)
+    uint meshletsCulledFrustum;  // expansion: the instance's box outside the map's frustum
+    uint meshletsCulledHpb;      // expansion: the instance's box over no dirty page (HPB)
+    uint meshletsAfterExpansion; // appended to the meshlet-instance lists
+    uint meshletOverflow;        // did not fit a list (counted, never silent)
+    uint taskCulledFrustum;      // task: the meshlet's sphere outside the frustum
+    uint taskCulledCone;         // task: every triangle faces away from the light (closed casters only)
+    uint taskCulledHpb;          // task: the meshlet's bounds over no dirty page (HPB)
+    uint meshletsAfterTask;      // mesh workgroups launched
+    uint trianglesAfterTask;     // triangles of those meshlets
+    uint trianglesRasterized;    // triangles the mesh shader emitted (not culled as zero-area or sample-free);
+                                 // vertex path: triangles of the indexed draws
+    uint pad2, pad3, pad4, pad5, pad6;
 };
 
-// A caster for the draw passes: world bounds and the indexed draw of its mesh. 48 bytes.
+// A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.
 ML_STRUCT(GpuCaster) {
-    vec4 lo;    // world AABB min, w unused
-    vec4 hi;    // world AABB max, w unused
-    uvec4 draw; // x index count, y first index, z vertex offset, w 1 when dynamic
+    vec4 lo;        // world AABB min, w unused
+    vec4 hi;        // world AABB max, w unused
+    uvec4 draw;     // x index count, y first index, z vertex offset, w 1 when dynamic
+    uvec4 meshlets; // x first meshlet, y meshlet count, z 1 when the mesh is closed (cone culling), w unused
+};
+
+// One meshlet (meshoptimizer, built at Module::addMesh; sizes in shaders/shared/config.h), 64 bytes.
+// Bounds are in the mesh's object space; the task shader takes them to world space with the instance's
+// model matrix (sphere) or takes the light to object space (cone).
+ML_STRUCT(GpuMeshlet) {
+    vec4 sphere; // xyz centre, w radius
+    vec4 cone;   // xyz axis (unit), w cutoff: every triangle faces away from viewers v with
+                 // dot(normalize(apex - v), axis) >= cutoff
+    vec4 apex;   // xyz cone apex, w unused
+    uvec4 data;  // x first vertex (into the meshlet vertex list: global vertex indices), y first
+                 // triangle (into the packed list: one word a | b << 8 | c << 16 of local indices),
+                 // z vertex count, w triangle count
 };
 
 // One shaded pixel's lookup for one light, written by the probe pass (check vsm, tests).
@@ -95,8 +123,12 @@ static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 64);
-static_assert(sizeof(GpuCaster) == 48);
+static_assert(sizeof(VsmCounters) == 128);
+static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
+static_assert(sizeof(GpuCaster) == 64);
+static_assert(offsetof(GpuCaster, meshlets) == 48);
+static_assert(sizeof(GpuMeshlet) == 64);
+static_assert(offsetof(GpuMeshlet, data) == 48);
 static_assert(sizeof(GpuVsmProbe) == 48);
 } // namespace ml::gpu
 #endif

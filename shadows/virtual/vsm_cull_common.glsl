@@ -1,0 +1,70 @@
+// Culling against a map shared by vsm_cull.comp (instances, vertex path), vsm_expand.comp (instances,
+// mesh path) and vsm_draw.task (meshlets): frustum, projected bounds, and the hierarchical page buffer
+// test (RMVSM section 4.3). The including shader declares `vsm` (VsmConstants), `vsmTable[]`, `vsmHpb[]`
+// and a push constant `hpbPerMap` (HPB words per map).
+#ifndef ML_VSM_CULL_COMMON_GLSL
+#define ML_VSM_CULL_COMMON_GLSL
+
+// The six planes of viewProj (Vulkan depth 0..1), unnormalised: inside when dot(n, p) + w >= 0.
+void vsmFrustumPlanes(mat4 viewProj, out vec4 planes[6]) {
+    mat4 M = transpose(viewProj); // rows of viewProj as columns
+    planes = vec4[6](M[3] + M[0], M[3] - M[0], M[3] + M[1], M[3] - M[1], M[2], M[3] - M[2]);
+}
+
+// A world box against the frustum (the far plane is the light's range): false when it is behind one plane.
+bool vsmBoxInFrustum(vec4 planes[6], vec3 lo, vec3 hi) {
+    for (uint k = 0u; k < 6u; ++k) {
+        vec3 n = planes[k].xyz;
+        vec3 far = vec3(n.x >= 0.0 ? hi.x : lo.x, n.y >= 0.0 ? hi.y : lo.y, n.z >= 0.0 ? hi.z : lo.z);
+        if (dot(n, far) + planes[k].w < 0.0) return false;
+    }
+    return true;
+}
+
+// A world sphere against the frustum.
+bool vsmSphereInFrustum(vec4 planes[6], vec3 c, float r) {
+    for (uint k = 0u; k < 6u; ++k)
+        if (dot(planes[k].xyz, c) + planes[k].w < -r * length(planes[k].xyz)) return false;
+    return true;
+}
+
+// NDC rectangle of a world box's 8 corners, with one finest texel of slack (a triangle on the box's edge
+// covers texel centres there); a corner behind the light covers the whole map.
+void vsmProjectedBounds(mat4 viewProj, vec3 blo, vec3 bhi, out vec2 lo, out vec2 hi) {
+    lo = vec2(1e30);
+    hi = vec2(-1e30);
+    bool behind = false;
+    for (uint k = 0u; k < 8u; ++k) {
+        vec3 p = vec3((k & 1u) != 0u ? bhi.x : blo.x, (k & 2u) != 0u ? bhi.y : blo.y, (k & 4u) != 0u ? bhi.z : blo.z);
+        vec4 clip = viewProj * vec4(p, 1.0);
+        if (clip.w <= 1e-6) { behind = true; break; }
+        lo = min(lo, clip.xy / clip.w);
+        hi = max(hi, clip.xy / clip.w);
+    }
+    if (behind) { lo = vec2(-1.0); hi = vec2(1.0); }
+    lo -= vec2(2.0 / float(vsm.options.z));
+    hi += vec2(2.0 / float(vsm.options.z));
+}
+
+bool vsmDirtyCell(uint map, uint mip, uint level, uint x, uint y) {
+    uint s0 = vsm.page.z;
+    if (level == 0u) return (vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, x, y)] & ML_VSM_DIRTY) != 0u;
+    uint side = (s0 >> mip) >> level;
+    return vsmHpb[map * hpbPerMap + vsmHpbOffset(s0, vsm.page.w, mip, level) + y * side + x] != 0u;
+}
+
+// HPB test: any dirty page of `mip` under the NDC rectangle, read at the level where the rectangle spans
+// at most 2x2 cells (so at most four reads).
+bool vsmHpbAny(uint map, uint mip, vec2 lo, vec2 hi) {
+    int side = int(vsm.page.z >> mip);
+    ivec2 p0 = clamp(ivec2(floor((lo * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+    ivec2 p1 = clamp(ivec2(floor((hi * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+    uint level = 0u;
+    while ((p1.x >> level) - (p0.x >> level) > 1 || (p1.y >> level) - (p0.y >> level) > 1) ++level;
+    for (int y = p0.y >> level; y <= (p1.y >> level); ++y)
+        for (int x = p0.x >> level; x <= (p1.x >> level); ++x)
+            if (vsmDirtyCell(map, mip, level, uint(x), uint(y))) return true;
+    return false;
+}
+
+#endif

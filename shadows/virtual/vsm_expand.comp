@@ -1,0 +1,92 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_expand (work expansion of the mesh path, RMVSM section 4 and Fig. 8): one thread per (caster,
+// active map) (x, y). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
+// (frustum, HPB at the level where its projected box spans at most 2x2 cells); a surviving caster's
+// meshlets are appended to the mip's meshlet-instance list (instance, map, meshlet | cone bit << 31),
+// and the mip's task-workgroup count (one VkDrawMeshTasksIndirectCommandEXT per mip, 32 meshlets per
+// workgroup) is raised to cover them. Directional clip levels use mip 0, so they share the mip-0 list.
+// The cone bit allows the task shader's back-facing test: the mesh is closed and the box lies wholly in
+// front of the map's near plane (the light outside it, and no front face clipped where a back face is not).
+#include "shaders/shared/glsl_common.h"
+#include "shadows/virtual/vsm_math.h"
+
+layout(local_size_x = ML_VSM_CULL_GROUP) in;
+
+layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 2, std430) readonly buffer Active { uint vsmActive[]; };
+layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; };
+layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
+layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
+layout(binding = 8, std430) buffer Tasks { uint meshTasks[]; };            // per mip: x, y, z groups, count
+layout(binding = 9, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(push_constant) uniform Push {
+    uint casterCount;
+    uint activeMaps;
+    uint hpbPerMap;
+    uint maxMeshlets; // list entries per mip
+};
+
+#include "shadows/virtual/vsm_cull_common.glsl"
+
+void main() {
+    uint instance = gl_GlobalInvocationID.x;
+    if (instance >= casterCount || gl_GlobalInvocationID.y >= activeMaps) return;
+    uint map = vsmActive[gl_GlobalInvocationID.y];
+    uint mipsDirty = vsmDirtyMips[map];
+    if (mipsDirty == 0u) return;
+    GpuVsmMap m = vsmMaps[map];
+    GpuCaster c = casters[instance];
+    if ((m.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0u && c.draw.w == 0u) return;
+    uint n = c.meshlets.y;
+    if (c.draw.x == 0u || n == 0u) return;
+    uint dirtyCount = bitCount(mipsDirty);
+    atomicAdd(vsmCounters.meshletsTotal, n * dirtyCount);
+
+    vec4 planes[6];
+    vsmFrustumPlanes(m.viewProj, planes);
+    if (!vsmBoxInFrustum(planes, c.lo.xyz, c.hi.xyz)) {
+        atomicAdd(vsmCounters.meshletsCulledFrustum, n * dirtyCount);
+        return;
+    }
+    vec2 lo, hi;
+    vsmProjectedBounds(m.viewProj, c.lo.xyz, c.hi.xyz, lo, hi);
+
+    uint cone = 0u;
+    if (c.meshlets.z != 0u) {
+        float zmin = 1e30;
+        for (uint k = 0u; k < 8u; ++k) {
+            vec3 p = vec3((k & 1u) != 0u ? c.hi.x : c.lo.x, (k & 2u) != 0u ? c.hi.y : c.lo.y,
+                          (k & 4u) != 0u ? c.hi.z : c.lo.z);
+            zmin = min(zmin, -vsmPoint(m.view, p).z);
+        }
+        if (zmin > m.params.y * 1.001 + 1e-4) cone = 1u << 31;
+    }
+
+    for (uint mip = 0u; mip < vsm.page.w; ++mip) {
+        if ((mipsDirty & (1u << mip)) == 0u) continue;
+        if (!vsmHpbAny(map, mip, lo, hi)) {
+            atomicAdd(vsmCounters.instancesCulledHpb, 1u);
+            atomicAdd(vsmCounters.meshletsCulledHpb, n);
+            continue;
+        }
+        atomicAdd(vsmCounters.instancesDrawn, 1u);
+        uint base = atomicAdd(meshTasks[mip * 4u + 3u], n);
+        uint end = min(base + n, maxMeshlets);
+        if (base + n > end) atomicAdd(vsmCounters.meshletOverflow, base + n - max(end, base));
+        if (end <= base) continue;
+        atomicAdd(vsmCounters.meshletsAfterExpansion, end - base);
+        atomicMax(meshTasks[mip * 4u], (end + ML_VSM_TASK_GROUP - 1u) / ML_VSM_TASK_GROUP);
+        meshTasks[mip * 4u + 1u] = 1u; // y, z: one row of workgroups (zero when nothing was appended)
+        meshTasks[mip * 4u + 2u] = 1u;
+        for (uint i = base; i < end; ++i) {
+            uint e = (mip * maxMeshlets + i) * 3u;
+            meshletList[e + 0u] = instance;
+            meshletList[e + 1u] = map;
+            meshletList[e + 2u] = (c.meshlets.x + i - base) | cone;
+        }
+    }
+}
