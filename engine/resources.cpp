@@ -4,28 +4,46 @@
 
 namespace ml {
 
-Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
+namespace {
+// Memory for `req`: of a type with all `flags`; with `fallback`, any type the resource allows when none
+// has them (device-local is a preference: lavapipe's one memory type is host memory).
+VkDeviceMemory allocate(const Device& device, const VkMemoryRequirements& req, VkMemoryPropertyFlags flags,
+                        bool fallback, const char* name) {
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, flags);
+    if (ai.memoryTypeIndex == ~0u && fallback) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
+    if (ai.memoryTypeIndex == ~0u) {
+        std::fprintf(stderr, "%s:%d: no memory type 0x%x for %s\n", __FILE__, __LINE__, flags, name);
+        std::abort();
+    }
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &memory));
+    return memory;
+}
+
+Buffer makeBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags flags,
+                  bool fallback, const char* name) {
     Buffer b;
-    b.size = std::max<VkDeviceSize>(size, 16);
+    b.size = std::max<VkDeviceSize>((size + 3) / 4 * 4, 16);
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = b.size;
     ci.usage = usage;
     ML_VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex =
-        device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    if (ai.memoryTypeIndex == ~0u) {
-        std::fprintf(stderr, "%s:%d: no host-visible coherent memory for buffer %s\n", __FILE__, __LINE__, name);
-        std::abort();
-    }
-    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
+    b.memory = allocate(device, req, flags, fallback, name);
     ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
+    device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
+    return b;
+}
+} // namespace
+
+Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
+    Buffer b = makeBuffer(device, size, usage, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                          false, name);
     ML_VK_CHECK(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
     std::memset(b.data, 0, b.size);
-    device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
     return b;
 }
 
@@ -38,21 +56,8 @@ void destroyBuffer(const Device& device, Buffer& b) {
 
 Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
                           uint32_t fill) {
-    Buffer b;
-    b.size = std::max<VkDeviceSize>((size + 3) / 4 * 4, 16);
-    VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    ci.size = b.size;
-    ci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    ML_VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (ai.memoryTypeIndex == ~0u) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
-    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &b.memory));
-    ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
-    device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
+    Buffer b = makeBuffer(device, size, usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
     VkCommandBuffer cmd = device.beginOneTime();
     vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -108,11 +113,7 @@ Image createImage(const Device& device, uint32_t width, uint32_t height, VkForma
     ML_VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device.device, img.image, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (ai.memoryTypeIndex == ~0u) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
-    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &img.memory));
+    img.memory = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
     ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.image;
