@@ -66,9 +66,10 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
                    look, W/A/S/D move, Q/E down/up, shift faster, 1/2/3 clustered/tiled/no culling,
                    Esc closes; per-pass GPU ms in the title. With --frames 0 it runs until closed
                    (no PNGs then)
-  --no-stats       skip the per-pixel light counts (a brute-force loop in the evaluation pass)
+  --no-stats       skip the per-pixel light counts (a brute-force loop in a statistics pass of its own)
   --bake FILE      static shadows from a bake file (manylights bake) of this scene, lights and seed
-  --static M       bake static shadows in-process for every static spot light: sm, mh, mmh, dagmh, cpvs
+  --static M       bake static shadows in-process (Module::bakeStaticShadows) for every static spot and
+                   point light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)

@@ -408,13 +408,13 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
     }
     auto renderer = DualDepthRenderer::create(*m.device);
     if (!renderer) return fail(renderer.error());
-    std::vector<uint32_t> todo;
+    std::vector<uint32_t> bakeable;
     for (uint32_t i = 0; i < m.lights.size(); ++i) {
         const LightDesc& l = m.lights[i];
-        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional) todo.push_back(i);
+        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional) bakeable.push_back(i);
     }
     uint32_t done = 0;
-    for (uint32_t i : todo) {
+    for (uint32_t i : bakeable) {
         const LightDesc& l = m.lights[i];
         Light sl;
         sl.type = l.kind == LightKind::Point ? LightType::Point : LightType::Spot;
@@ -433,7 +433,7 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
             if (auto r = setStaticShadow(id, {method, f, words.value(), face}); !r) return fail(r.error());
         }
         ++done;
-        if (progress) progress(done, uint32_t(todo.size()));
+        if (progress) progress(done, uint32_t(bakeable.size()));
     }
     return done;
 }
