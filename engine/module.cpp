@@ -1,6 +1,8 @@
 // The frame driver behind the public API (engine/manylights.h): owns the scene buffers, per-slot
-// frame data, the passes and the profiler, and records a frame:
-//   [gbuffer] -> cluster_bounds -> light_assign -> evaluate     (culling skipped in mode None)
+// frame data, the passes and the profiler, and records a frame as a list of pass objects:
+//   [gbuffer] -> culling (cluster bounds, light assignment; skipped in mode None)
+//   -> virtual shadow maps (mark, alloc, hpb, cull/expand, draw; only with active maps)
+//   -> evaluate -> [statistics] -> [debug view]
 #include "engine/manylights.h"
 
 #include "culling/culling.h"

@@ -7,11 +7,13 @@
 //     pages (pageSize^2 uint depths).
 //   each frame, on the GPU, after light culling:
 //     vsm_mark    per pixel, for each light of its cluster list with maps, the pages its lookup reads
-//                 (resolution-matched mip, PCF kernel, bias) and the coarsest page of its fallback chain;
+//                 (resolution-matched mip, PCF kernel, bias) and reserves two fallback pages (3 mips
+//                 coarser, and the coarsest), drawn only in frames under pool pressure;
 //     vsm_scan    over the active maps' entries: invalidation (light moved, moved casters' old and new
 //     vsm_alloc   projected bounds: "stale" bits prepared by the CPU), LRU refresh, requests; then pages
-//     vsm_assign  for the requests in priority order (coarse mips first) from free pages, then least
-//                 recently used unmarked ones; marked pages that are not valid are rendered (DIRTY);
+//     vsm_assign  for the requests in priority order (each light's coarsest level first) from free
+//                 pages, then least recently used unwanted ones; marked pages that are not valid are
+//                 rendered (DIRTY);
 //     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
 //     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
 //                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and appends the
@@ -27,7 +29,8 @@
 // "No more than the scene needs": a light with a static bake (shadows/static/) keeps only pages under
 // some dynamic caster's projected bounds ("coverage" bits, CPU, per frame) and draws dynamic casters
 // only; other lights (moving ones, or without a bake) draw every caster. Lights out of view get no
-// marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them.
+// marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them, and are
+// invalidated whole when they become active again (their maps missed the invalidations meanwhile).
 #pragma once
 #include "engine/profiler.h"
 #include "engine/program.h"
