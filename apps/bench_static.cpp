@@ -265,7 +265,7 @@ int runBenchStatic(int argc, char** argv) {
         for (uint32_t y = 0; y < height; ++y)
             for (uint32_t x = 0; x < width; ++x) {
                 size_t i = size_t(y) * width + x;
-                if (!(depth[i] < 1.0f)) continue;
+                if (!gpu::hasSurface(depth[i])) continue;
                 glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
                 glm::vec3 n(glm::unpackHalf2x16(uint32_t(normal[i])),
                             glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);

@@ -180,7 +180,7 @@ ClusterReference cullReference(const std::vector<float>& depth, const gpu::Frame
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             float d = depth[size_t(y) * width + x];
-            if (!(d < 1.0f)) continue;
+            if (!gpu::hasSurface(d)) continue;
             glm::vec3 p = gpu::worldFromPixel(x, y, d, frame.invViewProj, frame.size);
             float z = gpu::linearDepth(d, frame.depth);
             uint32_t s = sliceOf(z, sliceFar, slices);

@@ -60,7 +60,7 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
     depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    depth.clearValue.depthStencil = {1.0f, 0};
+    depth.clearValue.depthStencil = {0.0f, 0}; // reversed Z: 0 is the far plane (the sky)
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
     ri.renderArea = {{0, 0}, {t.depth.width, t.depth.height}};
     ri.layerCount = 1;

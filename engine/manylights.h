@@ -113,9 +113,14 @@ struct CameraDesc {
     float fovY = 1.0f;
     float nearPlane = 0.1f;
     float farPlane = 500.0f;
+    // Sub-pixel offset (pixels, x right, y down, |x|, |y| <= 1) of every projected point: temporal
+    // anti-aliasing's per-frame jitter. The module's own G-buffer pass and its reconstruction of world
+    // positions both apply it; a host G-buffer must be rendered with viewProjection().
+    glm::vec2 jitter{0.0f};
 };
 
-// G-buffer images the host renders itself. Formats: depth D32_SFLOAT (Vulkan zero-to-one, LESS),
+// G-buffer images the host renders itself, with Module::viewProjection(). Formats: depth D32_SFLOAT,
+// reversed Z (cleared to 0, compare GREATER: 1 at the near plane, 0 at the far plane and the sky),
 // normal RGBA16F (world-space unit normal in xyz), albedo RGBA8 (linear). All three in
 // SHADER_READ_ONLY_OPTIMAL when record() runs; output is RGBA8 storage in GENERAL layout.
 struct HostTargets {
@@ -175,6 +180,15 @@ class Module {
     // Refuses non-finite values, near/far/fov out of range, target == position and `up` parallel to the
     // view direction.
     Result<void> setCamera(const CameraDesc& camera);
+    // The host's own camera matrices instead: `view` rigid (world to view, right-handed, looking down -Z);
+    // `projection` a reversed-Z perspective into Vulkan clip space: depth 1 at the near plane and 0 at a
+    // finite far plane, y down, off-centre allowed, e.g. glm::perspectiveRH_ZO(fovY, aspect, far, near)
+    // with [1][1] negated. Standard Z, infinite far planes, shear and non-finite values are refused with
+    // one line. `jitter` as in CameraDesc, applied by the module on top of `projection`.
+    Result<void> setCameraMatrices(const glm::mat4& view, const glm::mat4& projection, glm::vec2 jitter = {});
+    // The jittered view-projection of the camera last set, for the targets' current size (a host that
+    // renders its own G-buffer draws with it). Identity before the camera and targets are set.
+    glm::mat4 viewProjection() const;
     // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
     // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9).
     Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);

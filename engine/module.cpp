@@ -491,8 +491,33 @@ Result<void> Module::setCamera(const CameraDesc& c) {
     // Finite and bounded position, target and up; target != position; up not parallel to the view;
     // 0 < fovY < pi; 0 < near < far < infinity (lights/lights.h).
     if (auto v = validateCamera(c); !v) return fail("camera: " + v.error());
+    if (auto v = validateJitter(c.jitter); !v) return v;
     impl_->camera = c;
+    impl_->hostCamera.reset();
     return {};
+}
+
+Result<void> Module::setCameraMatrices(const glm::mat4& view, const glm::mat4& projection, glm::vec2 jitter) {
+    auto c = cameraFromMatrices(view, projection);
+    if (!c) return fail(c.error());
+    if (auto v = validateJitter(jitter); !v) return v;
+    impl_->camera = c.value();
+    impl_->camera.jitter = jitter;
+    impl_->hostCamera = CameraMatrices{view, projection};
+    return {};
+}
+
+CameraMatrices Module::Impl::frameCamera() const {
+    const uint32_t w = std::max(width, 1u), h = std::max(height, 1u);
+    CameraMatrices m = hostCamera ? *hostCamera : cameraMatrices(camera, float(w) / float(h));
+    m.projection = jittered(m.projection, camera.jitter, w, h);
+    return m;
+}
+
+glm::mat4 Module::viewProjection() const {
+    if (!impl_->width) return glm::mat4(1.0f);
+    const CameraMatrices m = impl_->frameCamera();
+    return m.projection * m.view;
 }
 
 Result<void> Module::createTargets(uint32_t width, uint32_t height) {
@@ -672,11 +697,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
 // the host side writes into the slot's buffers for one frame.
 void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode) {
     const CameraDesc& c = camera;
-    glm::mat4 view = glm::lookAt(c.position, c.target, c.up);
-    glm::mat4 proj = glm::perspectiveRH_ZO(c.fovY, float(width) / float(height), c.nearPlane, c.farPlane);
-    proj[1][1] *= -1.0f; // Vulkan clip space has +y down
+    const CameraMatrices cm = frameCamera(); // reversed Z (engine/camera.h)
     gpu::FrameConstants fc{};
-    fc.viewProj = proj * view;
+    fc.viewProj = cm.projection * cm.view;
     fc.invViewProj = glm::inverse(fc.viewProj);
     fc.cameraPosition = glm::vec4(c.position, 1.0f);
     fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);

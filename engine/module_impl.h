@@ -2,6 +2,7 @@
 // read back intermediate buffers and compare them with the CPU references.
 #pragma once
 #include "culling/culling.h"
+#include "engine/camera.h"
 #include "engine/gbuffer.h"
 #include "engine/manylights.h"
 #include "engine/profiler.h"
@@ -77,7 +78,9 @@ struct Module::Impl {
     Buffer staticWords, shadowRecords;
     std::vector<uint32_t> recordOfLight; // light -> record index or ML_NO_SHADOW
     std::vector<gpu::GpuShadowRecord> records;
-    CameraDesc camera;
+    CameraDesc camera;             // setCamera's, or the one setCameraMatrices' matrices describe
+    std::optional<CameraMatrices> hostCamera; // setCameraMatrices: used as given (plus jitter)
+    CameraMatrices frameCamera() const; // view and jittered projection for the current target size
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
     MeshletSet meshlets;

@@ -251,7 +251,7 @@ Program createGraphicsProgram(const Device& device, std::initializer_list<const 
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = state.depthTest;
     ds.depthWriteEnable = state.depthWrite;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    ds.depthCompareOp = state.depthCompare;
     std::vector<VkPipelineColorBlendAttachmentState> blends(state.colorFormats.size());
     for (auto& b : blends) b.colorWriteMask = 0xF;
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};

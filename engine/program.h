@@ -58,6 +58,8 @@ struct GraphicsState {
     VkFrontFace frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     bool depthTest = true;
     bool depthWrite = true;
+    // The camera's G-buffer uses reversed Z (near = 1, cleared to 0): GREATER keeps the nearest surface.
+    VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;
     bool depthClamp = false;
 };
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,

@@ -42,7 +42,7 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     if (px.x < frame.size.x && px.y < frame.size.y) {
         float d = texelFetch(depthImage, ivec2(px), 0).r;
-        if (d < 1.0) {
+        if (hasSurface(d)) {
             vec3 p = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
             float z = linearDepth(d, frame.depth);
             // The slice is the number of boundaries sliceFar[0..slices-2] at or below z. Start from

@@ -63,7 +63,7 @@ void main() {
     if (px.x >= frame.size.x || px.y >= frame.size.y) return;
     float d = texelFetch(depthImage, ivec2(px), 0).r;
     vec3 hdr = frame.sky.rgb;
-    if (d < 1.0) {
+    if (hasSurface(d)) {
         vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
         vec3 Nraw = texelFetch(normalImage, ivec2(px), 0).xyz;
         vec3 N = normalize(Nraw);

@@ -26,7 +26,7 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     if (px.x < frame.size.x && px.y < frame.size.y) {
         float d = texelFetch(depthImage, ivec2(px), 0).r;
-        if (d < 1.0) {
+        if (hasSurface(d)) {
             vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
             uint reaching = 0;
             for (uint l = 0; l < frame.cluster.z; ++l) reaching += lightReachesPoint(lights[l], P) ? 1u : 0u;

@@ -25,7 +25,7 @@ void main() {
     if (px.x >= frame.size.x || px.y >= frame.size.y) return;
     float d = texelFetch(depthImage, ivec2(px), 0).r;
     uint evaluated = 0, reaching = 0;
-    if (d < 1.0) {
+    if (hasSurface(d)) {
         vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
         evaluated = frame.cluster.z;
         if (frame.cluster.w != ML_CULL_NONE) {

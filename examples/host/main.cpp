@@ -142,7 +142,7 @@ VkPipeline makePipeline(VkDevice dev, VkShaderModule vs, VkShaderModule fs, VkPi
                                             .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
     VkPipelineDepthStencilStateCreateInfo ds{.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
                                              .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE,
-                                             .depthCompareOp = VK_COMPARE_OP_LESS};
+                                             .depthCompareOp = VK_COMPARE_OP_GREATER};
     VkPipelineColorBlendAttachmentState blend[2]{{.colorWriteMask = 0xF}, {.colorWriteMask = 0xF}};
     VkPipelineColorBlendStateCreateInfo cb{.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
                                            .attachmentCount = 2, .pAttachments = blend};
@@ -192,12 +192,15 @@ int main() {
     spot.range = 12;
     spot.intensity = 30;
     if (auto id = module.addLight(spot); !id) return std::fprintf(stderr, "host_example: %s\n", id.error().c_str()), 1;
-    ml::CameraDesc camera{{0, 8, 12}, {0, 0, 0}, {0, 1, 0}, 1.0f, 0.1f, 100.0f};
-    if (auto r = module.setCamera(camera); !r) return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
-    // The host's view-projection follows the module's convention: glm::lookAt, perspectiveRH_ZO, y flipped.
-    glm::mat4 proj = glm::perspectiveRH_ZO(camera.fovY, float(kWidth) / kHeight, camera.nearPlane, camera.farPlane);
+    // The host's own camera matrices: a right-handed view and a reversed-Z projection into Vulkan clip
+    // space (near -> 1, far -> 0: near and far swapped in perspectiveRH_ZO; y flipped). Its G-buffer is
+    // drawn with the same matrices, cleared to depth 0 and tested with GREATER.
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 8, 12), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+    glm::mat4 proj = glm::perspectiveRH_ZO(1.0f, float(kWidth) / kHeight, 100.0f, 0.1f);
     proj[1][1] *= -1.0f;
-    glm::mat4 viewProj = proj * glm::lookAt(camera.position, camera.target, camera.up);
+    if (auto r = module.setCameraMatrices(view, proj); !r)
+        return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
+    glm::mat4 viewProj = proj * view;
 
     // Host-owned targets.
     HostImage depth = makeImage(dev, pd, VK_FORMAT_D32_SFLOAT,
@@ -300,7 +303,7 @@ int main() {
         depthAttachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
         depthAttachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         depthAttachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        depthAttachment.clearValue.depthStencil = {1.0f, 0};
+        depthAttachment.clearValue.depthStencil = {0.0f, 0}; // reversed Z: 0 = far
         VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
         ri.renderArea = {{0, 0}, {kWidth, kHeight}};
         ri.layerCount = 1;

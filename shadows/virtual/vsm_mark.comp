@@ -33,7 +33,7 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     if (px.x >= frame.size.x || px.y >= frame.size.y) return;
     float d = texelFetch(depthImage, ivec2(px), 0).r;
-    if (!(d < 1.0)) return;
+    if (!hasSurface(d)) return;
     vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
     vec3 N = vsmNormalize(texelFetch(normalImage, ivec2(px), 0).xyz);
     uvec2 range = clusterLights(px, d);

@@ -78,7 +78,7 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             const float d = in.depth[size_t(y) * width + x];
-            if (!(d < 1.0f)) continue;
+            if (!gpu::hasSurface(d)) continue;
             glm::vec3 P = worldFromPixel(x, y, d, f.invViewProj, f.size);
             glm::vec3 N = vsmNormalize(in.normal[size_t(y) * width + x]);
             // clusterLights (shaders/shared/cluster_list.glsl).

@@ -188,7 +188,7 @@ inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& c
             else
                 out.maxHdr = std::max(out.maxHdr, c[k]);
         }
-        if (!(depth[i] < 1.0f)) continue;
+        if (!gpu::hasSurface(depth[i])) continue;
         ++out.surfacePixels;
         uint32_t x = uint32_t(i % o.width), y = uint32_t(i / o.width);
         glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);

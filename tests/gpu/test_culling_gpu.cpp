@@ -126,7 +126,7 @@ TEST_P(NoLightMissing, AndStatsMatch) {
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {
             float d = depth[size_t(y) * fc.size.x + x];
-            if (!(d < 1.0f)) continue;
+            if (!gpu::hasSurface(d)) continue;
             ++surface;
             glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
             std::vector<uint32_t> list;

@@ -138,7 +138,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {
             size_t i = size_t(y) * fc.size.x + x;
-            if (!(depth[i] < 1.0f)) continue;
+            if (!gpu::hasSurface(depth[i])) continue;
             glm::vec3 P = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
             glm::vec3 N = glm::normalize(glm::vec3(half4(normal, i)));
             glm::vec3 a = glm::vec3(albedo[i * 4], albedo[i * 4 + 1], albedo[i * 4 + 2]) / 255.0f;

@@ -29,7 +29,7 @@ Counts cpuCounts(Module& m, CullingMode mode) {
         for (uint32_t x = 0; x < fc.size.x; ++x) {
             size_t i = size_t(y) * fc.size.x + x;
             float d = depth[i];
-            if (!(d < 1.0f)) continue;
+            if (!gpu::hasSurface(d)) continue;
             out.surface[i] = 1;
             glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
             uint32_t evaluated = uint32_t(impl.lastLights.size());

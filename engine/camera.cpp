@@ -1,0 +1,86 @@
+#include "engine/camera.h"
+
+#include "lights/lights.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace ml {
+
+namespace {
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+} // namespace
+
+CameraMatrices cameraMatrices(const CameraDesc& c, float aspect) {
+    CameraMatrices m;
+    m.view = glm::lookAt(c.position, c.target, c.up);
+    // Near and far swapped: depth 1 at the near plane, 0 at the far plane (reversed Z).
+    m.projection = glm::perspectiveRH_ZO(c.fovY, aspect, c.farPlane, c.nearPlane);
+    m.projection[1][1] *= -1.0f; // Vulkan clip space has +y down
+    return m;
+}
+
+Result<CameraDesc> cameraFromMatrices(const glm::mat4& view, const glm::mat4& p) {
+    if (!finite(view)) return fail("camera: view matrix is not finite");
+    if (!finite(p)) return fail("camera: projection matrix is not finite");
+    // Rigid: orthonormal rotation with determinant +1, last row (0, 0, 0, 1).
+    const glm::mat3 r(view);
+    const glm::mat3 e = glm::transpose(r) * r - glm::mat3(1.0f);
+    float err = 0.0f;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) err = std::max(err, std::abs(e[c][k]));
+    if (err > 1e-3f || glm::determinant(r) < 0.0f || view[0][3] != 0.0f || view[1][3] != 0.0f ||
+        view[2][3] != 0.0f || view[3][3] != 1.0f)
+        return fail("camera: view matrix is not a rigid transform (rotation and translation only)");
+    // A perspective into Vulkan clip space: w = -z_view (right-handed), x and y scaled (off-centre terms
+    // [2][0], [2][1] allowed), depth = (A z + B) / -z.
+    if (p[2][3] != -1.0f || p[3][3] != 0.0f || p[0][3] != 0.0f || p[1][3] != 0.0f)
+        return fail("camera: projection is not a right-handed perspective (w must equal -z_view)");
+    if (p[0][1] != 0.0f || p[0][2] != 0.0f || p[1][0] != 0.0f || p[1][2] != 0.0f || p[3][0] != 0.0f ||
+        p[3][1] != 0.0f)
+        return fail("camera: projection has rotation or shear terms");
+    if (!(p[0][0] > 0.0f)) return fail("camera: projection x scale must be > 0");
+    if (!(p[1][1] < 0.0f))
+        return fail("camera: projection y must point down (Vulkan clip space): negate glm's [1][1]");
+    const float a = p[2][2], b = p[3][2];
+    if (a < 0.0f || b < 0.0f)
+        return fail("camera: projection is standard Z (near -> 0); the module needs reversed Z (near -> 1, "
+                    "far -> 0), e.g. glm::perspectiveRH_ZO(fovY, aspect, far, near)");
+    if (a == 0.0f)
+        return fail("camera: projection has an infinite far plane; the cluster grid needs a finite one");
+    // Reversed Z: A = n / (f - n), B = n f / (f - n), so f = B / A and n = B / (1 + A).
+    CameraDesc c;
+    c.farPlane = b / a;
+    c.nearPlane = b / (1.0f + a);
+    c.fovY = 2.0f * std::atan(1.0f / -p[1][1]);
+    const glm::mat4 inv = glm::inverse(view);
+    c.position = glm::vec3(inv[3]);
+    c.target = c.position - glm::vec3(inv[2]); // the camera looks down view-space -Z
+    c.up = glm::vec3(inv[1]);
+    if (auto v = validateCamera(c); !v) return fail("camera (from matrices): " + v.error().substr(8));
+    return c;
+}
+
+Result<void> validateJitter(glm::vec2 j) {
+    if (!std::isfinite(j.x) || !std::isfinite(j.y)) return fail("camera: jitter is not finite");
+    if (std::abs(j.x) > 1.0f || std::abs(j.y) > 1.0f) return fail("camera: jitter beyond one pixel");
+    return {};
+}
+
+glm::mat4 jittered(const glm::mat4& projection, glm::vec2 j, uint32_t width, uint32_t height) {
+    // ndc.x = ... - P[2][0] for a perspective with w = -z: lowering P[2][0] by 2 j / W moves every point
+    // right by j pixels (and y, which points down in Vulkan clip space, down by j pixels).
+    glm::mat4 p = projection;
+    p[2][0] -= 2.0f * j.x / float(width);
+    p[2][1] -= 2.0f * j.y / float(height);
+    return p;
+}
+
+} // namespace ml
