@@ -6,7 +6,7 @@
 // against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
 // resolution and PCF size (apps/lookup_timer.h). Receivers are moved onto the traced surface by
-// default (--receivers), since the G-buffer's float reconstruction puts them centimetres off it.
+// default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/bench_static_tables.h"
@@ -45,14 +45,16 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
   --receivers R    exact (default): each G-buffer pixel's receiver is moved onto the surface the
                    camera ray through the pixel centre hits (Embree), when that hit lies within
                    max(5 cm, 0.2 %) of the G-buffer depth; gbuffer: the G-buffer's reconstruction
-                   (forward-Z D32 through invViewProj in float: centimetres off at 100 m, which
-                   puts receivers inside walls; error class "inside")
+                   (reversed-Z D32 through invViewProj in float: within millimetres; the
+                   standard Z used before put them centimetres off at 100 m, inside walls)
   --lookup-pcf LIST  PCF radii of the isolated lookup timing (0 = one tap .. 4 = 9x9), default
                    0,1,2,3,4; 'none' skips it
   --lookups K      extra lookups per pair in the timing pass (timed at 1 and 1 + K), default 8;
                    K grows x4 until the extra lookups take >= 40 ms
   --lookup-pairs N (receiver, light) pairs timed, evenly sampled from the compared ones, default 16384
   --seed S         scene seed, default 1
+  --print-class C  print every disagreement of class C (inside, contact, resolution, thin-open,
+                   other) to stderr: method, res, light, receiver, normal, distance, both answers
   --out DIR        bench_static.csv, bench_classes.csv (disagreements by cause), bench_lookup.csv
                    (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png,
                    accuracy_vs_lookup.png (default out/bench_static)
@@ -153,7 +155,7 @@ int runBenchStatic(int argc, char** argv) {
     auto args =
         cli::parse(argc, argv, 3,
                    {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",
-                    "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers"},
+                    "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers", "--print-class"},
                    {"--allow-outside-scene-dir"});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
@@ -174,6 +176,15 @@ int runBenchStatic(int argc, char** argv) {
           &pcf.error(), &seed.error(), &extraLookups.error(), &lookupPairs.error()})
         if (!e->empty()) return usageError("bench static", *e);
     const std::string receiverMode = args->get("--receivers", "exact");
+    uint32_t printClass = kErrorClassCount; // none
+    if (args->has("--print-class")) {
+        const std::string name = args->get("--print-class", "");
+        for (uint32_t c = 0; c < kErrorClassCount; ++c)
+            if (name == errorClassName(ErrorClass(c))) printClass = c;
+        if (printClass == kErrorClassCount)
+            return usageError("bench static", "--print-class: '" + name +
+                                                  "' is not inside, contact, resolution, thin-open or other");
+    }
     if (receiverMode != "exact" && receiverMode != "gbuffer")
         return usageError("bench static", "--receivers: '" + receiverMode + "' is not exact or gbuffer");
     std::vector<uint32_t> lookupRadii;
@@ -271,7 +282,8 @@ int runBenchStatic(int argc, char** argv) {
                             glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);
                 if (receiverMode == "exact") {
                     double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
-                    glm::dvec4 a = inv * glm::dvec4(nx, ny, 0.0, 1.0), b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
+                    // Reversed Z: depth 1 is the near plane, 0 the far plane.
+                    glm::dvec4 a = inv * glm::dvec4(nx, ny, 1.0, 1.0), b = inv * glm::dvec4(nx, ny, 0.0, 1.0);
                     glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
                     double t0 = glm::length(glm::dvec3(p) - eye);
                     RayHit h = rays->firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, float(t0 * 1.5 + 1.0));
@@ -466,6 +478,15 @@ int runBenchStatic(int argc, char** argv) {
                         const Receiver& rc = receivers[sets[k].receivers[j]];
                         ErrorClass ec = classifyDisagreement(ctx, rc.p, rc.n);
                         ++row.classes[uint32_t(ec)];
+                        if (uint32_t(ec) == printClass) {
+                            const glm::vec3 lp = scene->lights[sets[k].light].position;
+                            std::fprintf(stderr,
+                                         "  %s %s %u light %u receiver %.2f,%.2f,%.2f normal %.2f,%.2f,%.2f "
+                                         "%.2f m from the light: map %.2f, rays %s\n",
+                                         errorClassName(ec), row.method.c_str(), res, sets[k].light, rc.p.x, rc.p.y,
+                                         rc.p.z, rc.n.x, rc.n.y, rc.n.z, glm::length(lp - rc.p), vis[j],
+                                         sets[k].truth[j] ? "lit" : "shadowed");
+                        }
                     }
             }
             encoded[mi] = {};
