@@ -226,7 +226,6 @@ int runBenchStatic(int argc, char** argv) {
     // Receivers: the G-buffer of one frame.
     evaluateMs(m, 1);
     const diag::LastFrame fc = diag::lastFrame(m);
-    const glm::uvec4 fcSize(fc.width, fc.height, 0, 0);
     std::vector<Receiver> receivers;
     {
         std::vector<float> depth;
@@ -241,7 +240,7 @@ int runBenchStatic(int argc, char** argv) {
             for (uint32_t x = 0; x < width; ++x) {
                 size_t i = size_t(y) * width + x;
                 if (!(depth[i] < 1.0f)) continue;
-                glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fcSize);
+                glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
                 glm::vec3 n = normal[i];
                 if (receiverMode == "exact") {
                     double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;

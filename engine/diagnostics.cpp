@@ -40,8 +40,7 @@ LastFrame lastFrame(const Module& module) {
     f.viewProj = fc.viewProj;
     f.invViewProj = fc.invViewProj;
     f.cameraPosition = glm::vec3(fc.cameraPosition);
-    f.width = fc.size.x;
-    f.height = fc.size.y;
+    f.size = glm::uvec4(fc.size.x, fc.size.y, 0, 0);
     f.nearPlane = fc.depth.x;
     f.farPlane = fc.depth.y;
     return f;

@@ -27,7 +27,7 @@ struct LastFrame {
     glm::mat4 viewProj{0.0f};    // world -> clip (Vulkan zero-to-one depth)
     glm::mat4 invViewProj{0.0f}; // clip -> world
     glm::vec3 cameraPosition{0.0f};
-    uint32_t width = 0, height = 0;
+    glm::uvec4 size{0}; // x width, y height, zw 0 (the layout gpu::worldFromPixel takes)
     float nearPlane = 0, farPlane = 0;
 };
 LastFrame lastFrame(const Module& module);
