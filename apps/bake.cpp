@@ -5,16 +5,18 @@
 //   verify   re-creates the scene, re-renders every light and checks every texel (or voxel).
 // Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
 #include "apps/cli.h"
-#include "shadows/gpu/dual_depth_gpu.h"
 #include "apps/commands.h"
+#include "engine/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake.h"
 #include "shadows/static/bake_shard.h"
+#include "shadows/tools/gpu_dual_renderer.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -120,26 +122,19 @@ Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
     return std::make_pair(file, args.value());
 }
 
-// The Vulkan dual depth renderer (shadows/gpu/dual_depth_gpu.h) as a DualRenderFn; owns its device.
-struct GpuDualRenderer {
-    std::unique_ptr<Device> device;
-    std::unique_ptr<DualDepthRenderer> renderer;
+// The Vulkan dual depth renderer (shadows/tools/gpu_dual_renderer.h, its own device) as a DualRenderFn.
+struct GpuRendererFn {
+    std::unique_ptr<GpuDualRenderer> renderer;
     Result<DualRenderFn> make() {
-        auto d = Device::create({});
-        if (!d) return fail(d.error());
-        device = std::move(d.value());
-        auto r = DualDepthRenderer::create(*device);
+        auto r = GpuDualRenderer::create();
         if (!r) return fail(r.error());
         renderer = std::move(r.value());
-        DualDepthRenderer* p = renderer.get();
+        GpuDualRenderer* p = renderer.get();
         // The Vulkan renderer is perspective only: orthographic (directional) maps use the CPU rasteriser.
-        return DualRenderFn([p, cpu = cpuDualRenderer()](const CasterTriangles& c, const LightFrustum& f,
-                                                         uint32_t res) {
-            return f.orthographic() ? cpu(c, f, res) : p->render(c, f, res);
-        });
-    }
-    ~GpuDualRenderer() {
-        renderer.reset(); // before the device it was created on
+        return DualRenderFn(
+            [p, cpu = cpuDualRenderer()](const CasterTriangles& c, const LightFrustum& f, uint32_t res) {
+                return f.orthographic() ? cpu(c, f, res) : p->render(c, f, res);
+            });
     }
 };
 
@@ -157,7 +152,7 @@ Result<uint64_t> executableHash() {
 // bake --shard I/N: bakes the shard's lights (maybe none) into a part file for `manylights merge`.
 int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
               const std::vector<uint32_t>& selected, ShardId id, const std::string& out,
-              BakeRenderer rendererKind, const DualRenderFn& render, const Device* device, bool quiet) {
+              BakeRenderer rendererKind, const DualRenderFn& render, const GpuDualRenderer* gpu, bool quiet) {
     BakePart part;
     part.shard = id;
     part.selected = selected;
@@ -167,11 +162,7 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
     if (!build) return runError("bake", build.error());
     part.build = build.value();
     part.device = "cpu";
-    if (device)
-        part.device = "gpu: " + device->name + ", driver " +
-                      std::to_string(device->properties.driverVersion) + ", vendor " +
-                      std::to_string(device->properties.vendorID) + ", device " +
-                      std::to_string(device->properties.deviceID);
+    if (gpu) part.device = gpu->deviceDescription();
     part.file.scene = spec, part.file.method = method, part.file.resolution = res;
     std::vector<uint32_t> bakeable;
     for (uint32_t l : part.own)
@@ -241,7 +232,7 @@ int runBake(int argc, char** argv) {
     if (rendererName != "gpu" && rendererName != "cpu")
         return usageError("bake", "--renderer: '" + rendererName + "' is not gpu or cpu");
     const BakeRenderer rendererKind = rendererName == "gpu" ? BakeRenderer::Gpu : BakeRenderer::Cpu;
-    GpuDualRenderer gpu;
+    GpuRendererFn gpu;
     DualRenderFn render = cpuDualRenderer();
     if (rendererKind == BakeRenderer::Gpu) {
         auto fn = gpu.make();
@@ -279,7 +270,7 @@ int runBake(int argc, char** argv) {
     std::fflush(stdout);
     if (shard)
         return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
-                         rendererKind, render, gpu.device.get(), args->has("--quiet"));
+                         rendererKind, render, gpu.renderer.get(), args->has("--quiet"));
     auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
                            progressPrinter("bake", args->has("--quiet")), render);
     if (!baked) return runError("bake", baked.error());
@@ -408,7 +399,7 @@ int runVerify(int argc, char** argv) {
                 io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     std::fflush(stdout);
     // Re-render with the renderer that made the bake (the file says which).
-    GpuDualRenderer gpu;
+    GpuRendererFn gpu;
     DualRenderFn render = cpuDualRenderer();
     if (f.renderer == BakeRenderer::Gpu) {
         auto fn = gpu.make();
@@ -416,8 +407,7 @@ int runVerify(int argc, char** argv) {
         render = fn.value();
     }
     // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
-    auto scene =
-        loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
+    auto scene = loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
     if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());
     auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
     if (!rep) return usageError("verify", path + ": " + rep.error());

@@ -5,7 +5,7 @@
 // statistics on, so the counting loop never inflates the timed frames.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "engine/module_impl.h"
+#include "engine/manylights_diagnostics.h"
 #include "io/safe_io.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
@@ -52,12 +52,9 @@ Result<std::vector<uint32_t>> parseList(const std::string& text) {
 }
 
 Result<std::vector<FrameReport>> runFrames(Module& m, uint32_t count) {
-    Device& d = m.device();
     std::vector<FrameReport> reports;
     for (uint32_t i = 0; i < count; ++i) {
-        VkCommandBuffer cmd = d.beginOneTime();
-        if (auto r = m.record(cmd); !r) return fail(r.error());
-        d.endOneTime(cmd);
+        if (auto r = m.submitFrame(); !r) return fail(r.error());
         m.collect();
         for (auto& r : m.takeReports()) reports.push_back(r);
     }
@@ -74,8 +71,10 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
     if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] + "' (culling, static, vsm or flicker)");
-    auto args = cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
+        return usageError("bench", std::string("unknown benchmark '") + argv[2] +
+                                       "' (culling, static, vsm or flicker)");
+    auto args =
+        cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
     if (!args) return usageError("bench", args.error());
     if (args->help) {
         std::fputs(kBenchHelp, stdout);
@@ -109,7 +108,7 @@ int runBench(int argc, char** argv) {
         auto module = Module::create({});
         if (!module) return runError("bench", module.error());
         Module& m = *module.value();
-        deviceName = m.device().name;
+        deviceName = m.deviceInfo().name;
         auto binding = bindScene(m, scene.value());
         if (!binding) return runError("bench", binding.error());
         if (auto r = m.createTargets(width, height); !r) return runError("bench", r.error());
@@ -121,9 +120,9 @@ int runBench(int argc, char** argv) {
             auto warm = runFrames(m, 1);
             auto timed = runFrames(m, frames.value());
             if (!counted) return runError("bench", counted.error());
-            uint32_t boxTests = m.internals().cull.lastBoxTests(); // the counted frame has completed
+            uint32_t boxTests = diag::cullingBoxTests(m); // the counted frame has completed
             if (!warm || !timed) return runError("bench", "frame failed");
-            vkDeviceWaitIdle(m.device().device);
+            vkDeviceWaitIdle(m.deviceInfo().device);
             m.collect();
             for (auto& r : m.takeReports()) timed->push_back(r);
             Row row{lights, mode, 0, 0, 0, 0, 0, 0, mode == CullingMode::None ? 0u : boxTests, 0, 0};
@@ -153,23 +152,30 @@ int runBench(int argc, char** argv) {
 
     std::printf("bench culling: night-city, %ux%u, %u timed frames each, %s\n", width, height, frames.value(),
                 deviceName.c_str());
-    std::printf("| lights | culling         | bounds ms | assign ms | cull ms | evaluate ms | cull+eval ms | vs none | box tests | list entries | evaluated/px | reaching/px | eval/reach | overflow |\n");
-    std::printf("|-------:|-----------------|----------:|----------:|--------:|------------:|-------------:|--------:|----------:|-------------:|-------------:|------------:|-----------:|---------:|\n");
+    std::printf(
+        "| lights | culling         | bounds ms | assign ms | cull ms | evaluate ms | cull+eval ms | vs none "
+        "| box tests | list entries | evaluated/px | reaching/px | eval/reach | overflow |\n");
+    std::printf(
+        "|-------:|-----------------|----------:|----------:|--------:|------------:|-------------:|--------:"
+        "|----------:|-------------:|-------------:|------------:|-----------:|---------:|\n");
     std::ostringstream csv;
-    csv << "lights,culling,bounds_ms,assign_ms,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_none,"
+    csv << "lights,culling,bounds_ms,assign_ms,cull_ms,evaluate_ms,gbuffer_ms,cull_plus_eval_ms,speedup_vs_"
+           "none,"
            "box_tests,list_entries,evaluated_per_pixel,reaching_per_pixel,overflow_clusters\n";
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
         double cull = r.boundsMs + r.assignMs, total = cull + r.evalMs, speedup = 0;
         for (const Row& none : rows) // the none row of the same light count, when it ran
-            if (none.lights == r.lights && none.mode == CullingMode::None && total > 0) speedup = none.evalMs / total;
+            if (none.lights == r.lights && none.mode == CullingMode::None && total > 0)
+                speedup = none.evalMs / total;
         double ratio = r.reaching > 0 ? r.evaluated / r.reaching : 0;
-        std::printf("| %6u | %-15s | %9.2f | %9.2f | %7.2f | %11.2f | %12.2f | %6.2fx | %9u | %12u | %12.2f | %11.2f | %10.2f | %8u |\n",
+        std::printf("| %6u | %-15s | %9.2f | %9.2f | %7.2f | %11.2f | %12.2f | %6.2fx | %9u | %12u | %12.2f "
+                    "| %11.2f | %10.2f | %8u |\n",
                     r.lights, cullingName(r.mode), r.boundsMs, r.assignMs, cull, r.evalMs, total, speedup,
                     r.boxTests, r.entries, r.evaluated, r.reaching, ratio, r.overflow);
-        csv << r.lights << "," << cullingName(r.mode) << "," << r.boundsMs << "," << r.assignMs << "," << cull << ","
-            << r.evalMs << "," << r.gbufferMs << "," << total << "," << speedup << "," << r.boxTests << ","
-            << r.entries << "," << r.evaluated << "," << r.reaching << "," << r.overflow << "\n";
+        csv << r.lights << "," << cullingName(r.mode) << "," << r.boundsMs << "," << r.assignMs << "," << cull
+            << "," << r.evalMs << "," << r.gbufferMs << "," << total << "," << speedup << "," << r.boxTests
+            << "," << r.entries << "," << r.evaluated << "," << r.reaching << "," << r.overflow << "\n";
     }
     auto slash = csvPath.find_last_of('/');
     if (slash != std::string::npos)

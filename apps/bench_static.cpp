@@ -5,21 +5,21 @@
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
 // against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
-// resolution and PCF size (apps/lookup_timer.h). Receivers are moved onto the traced surface by
-// default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
+// resolution and PCF size (shadows/tools/lookup_timer.h). Receivers are moved onto the traced surface
+// by default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/bench_static_tables.h"
-#include "apps/lookup_timer.h"
 #include "io/safe_io.h"
-#include "engine/module_impl.h"
+#include "engine/manylights_diagnostics.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/light_math.h"
-#include "shadows/gpu/dual_depth_gpu.h"
 #include "shadows/reference/error_classes.h"
 #include "shadows/reference/raytrace.h"
 #include "shadows/static/static_visibility.h"
+#include "shadows/tools/gpu_dual_renderer.h"
+#include "shadows/tools/lookup_timer.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -85,14 +85,10 @@ struct Receiver {
 using Row = BenchStaticRow;
 
 double evaluateMs(Module& m, uint32_t frames) {
-    Device& d = m.device();
     m.takeReports();
-    for (uint32_t i = 0; i < frames + 1; ++i) { // one warm-up frame
-        VkCommandBuffer cmd = d.beginOneTime();
-        (void)m.record(cmd);
-        d.endOneTime(cmd);
-    }
-    vkDeviceWaitIdle(d.device);
+    for (uint32_t i = 0; i < frames + 1; ++i) // one warm-up frame
+        (void)m.submitFrame();
+    vkDeviceWaitIdle(m.deviceInfo().device);
     m.collect();
     auto reports = m.takeReports();
     double sum = 0;
@@ -240,34 +236,12 @@ int runBenchStatic(int argc, char** argv) {
 
     // Receivers: the G-buffer of one frame.
     evaluateMs(m, 1);
-    auto& impl = m.internals();
-    const auto& fc = impl.lastConstants;
+    const diag::LastFrame fc = diag::lastFrame(m);
     std::vector<Receiver> receivers;
     {
-        Device& d = m.device();
-        Buffer rb =
-            createBuffer(d, size_t(width) * height * 12, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "bench_readback");
-        VkCommandBuffer cmd = d.beginOneTime();
-        for (const Image* img : {&impl.targets.depth, &impl.targets.normal}) {
-            imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                         VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                         VK_ACCESS_2_TRANSFER_READ_BIT);
-            VkBufferImageCopy region{};
-            region.bufferOffset = img == &impl.targets.depth ? 0 : size_t(width) * height * 4;
-            region.imageSubresource = {img->aspect, 0, 0, 1};
-            region.imageExtent = {width, height, 1};
-            vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rb.buffer, 1,
-                                   &region);
-            imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
-                         VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                         VK_ACCESS_2_MEMORY_READ_BIT);
-        }
-        d.endOneTime(cmd);
-        const float* depth = rb.as<float>();
-        const uint64_t* normal =
-            reinterpret_cast<const uint64_t*>(rb.as<char>() + size_t(width) * height * 4);
+        std::vector<float> depth;
+        std::vector<glm::vec3> normal;
+        if (auto r = diag::readGBuffer(m, depth, normal); !r) return runError("bench static", r.error());
         // Exact receivers: the pixel centre's camera ray in double, traced against the static scene.
         const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
         const glm::dvec3 eye(fc.cameraPosition);
@@ -278,8 +252,7 @@ int runBenchStatic(int argc, char** argv) {
                 size_t i = size_t(y) * width + x;
                 if (!gpu::hasSurface(depth[i])) continue;
                 glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
-                glm::vec3 n(glm::unpackHalf2x16(uint32_t(normal[i])),
-                            glm::unpackHalf2x16(uint32_t(normal[i] >> 32)).x);
+                glm::vec3 n = normal[i];
                 if (receiverMode == "exact") {
                     double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
                     // Reversed Z: depth 1 is the near plane, 0 the far plane.
@@ -302,7 +275,6 @@ int runBenchStatic(int argc, char** argv) {
             std::fprintf(stderr,
                          "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
                          (unsigned long long)moved, maxMove, (unsigned long long)kept);
-        destroyBuffer(d, rb);
     }
 
     // Lights: static spots reaching the most receivers.
@@ -374,12 +346,12 @@ int runBenchStatic(int argc, char** argv) {
     }
     std::unique_ptr<LookupTimer> timer;
     if (!lookupRadii.empty()) {
-        auto t = LookupTimer::create(m.device());
+        auto t = LookupTimer::create();
         if (!t) return runError("bench static", t.error());
         timer = std::move(t.value());
     }
 
-    auto renderer = DualDepthRenderer::create(m.device());
+    auto renderer = GpuDualRenderer::create();
     if (!renderer) return runError("bench static", renderer.error());
     CasterTriangles casters = castersFromScene(scene.value());
     std::vector<Row> rows;
@@ -450,7 +422,7 @@ int runBenchStatic(int argc, char** argv) {
                         makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
                     all.insert(all.end(), encoded[mi][k].begin(), encoded[mi][k].end());
                 }
-                const uint64_t range = m.device().properties.limits.maxStorageBufferRange;
+                const uint64_t range = timer->maxStorageBufferRange();
                 if (all.size() * 4 > range) {
                     row.lookupSkipped = std::to_string(all.size() * 4 >> 20) +
                                         " MiB of words > the device's " + std::to_string(range >> 20) +
@@ -505,7 +477,7 @@ int runBenchStatic(int argc, char** argv) {
     double noneMs = evaluateMs(m, frames.value());
 
     std::printf("bench static: %s, %zu lights, view %ux%u, pcf %u, %s\n", scene->name.c_str(), sets.size(),
-                width, height, pcf.value(), m.device().name.c_str());
+                width, height, pcf.value(), m.deviceInfo().name.c_str());
     std::printf("| method | res | bytes/light | vs 32-bit map | render s | encode s | eval ms | eval vs sm | "
                 "wrong %% |\n");
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -2,7 +2,7 @@
 // disagreements by cause with their convergence slopes (bench_classes.csv) and the isolated lookup
 // cost (bench_lookup.csv).
 #pragma once
-#include "apps/lookup_timer.h"
+#include "shadows/tools/lookup_timer.h"
 #include "engine/result.h"
 #include "shadows/reference/error_classes.h"
 #include "shadows/static/static_method.h"

@@ -9,7 +9,7 @@
 // of the meshlets of (caster, map, dirty mip) each stage removed, summed over the frames after the first.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "engine/module_impl.h"
+#include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/config.h"
 
@@ -57,8 +57,8 @@ struct Row {
 
 int runBenchVsm(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--path", "--frames", "--size", "--lights", "--bake", "--vsm-res", "--vsm-page",
-                            "--vsm-pool", "--kinds", "--out", "--vsm-raster", "--meshlet"},
+                           {"--scene", "--path", "--frames", "--size", "--lights", "--bake", "--vsm-res",
+                            "--vsm-page", "--vsm-pool", "--kinds", "--out", "--vsm-raster", "--meshlet"},
                            {});
     if (!args) return usageError("bench vsm", args.error());
     if (args->help) {
@@ -80,7 +80,8 @@ int runBenchVsm(int argc, char** argv) {
         std::stringstream ss(args->get("--kinds", "static-spot,moving-spot,point,directional"));
         for (std::string k; std::getline(ss, k, ',');) {
             if (k != "static-spot" && k != "moving-spot" && k != "point" && k != "directional")
-                return usageError("bench vsm", "--kinds: unknown kind '" + k + "' (static-spot, moving-spot, point, directional)");
+                return usageError("bench vsm", "--kinds: unknown kind '" + k +
+                                                   "' (static-spot, moving-spot, point, directional)");
             kinds.push_back(k);
         }
     }
@@ -88,9 +89,12 @@ int runBenchVsm(int argc, char** argv) {
     {
         const std::string r = args->get("--vsm-raster", "both");
         VsmRaster one;
-        if (r == "both") rasters = {VsmRaster::Mesh, VsmRaster::Vertex};
-        else if (parseVsmRaster(r, one)) rasters = {one};
-        else return usageError("bench vsm", "--vsm-raster takes mesh, vertex, auto or both, not '" + r + "'");
+        if (r == "both")
+            rasters = {VsmRaster::Mesh, VsmRaster::Vertex};
+        else if (parseVsmRaster(r, one))
+            rasters = {one};
+        else
+            return usageError("bench vsm", "--vsm-raster takes mesh, vertex, auto or both, not '" + r + "'");
     }
     auto rasterName = [](VsmRaster r) { return r == VsmRaster::Mesh ? "mesh" : "vertex"; };
     auto meshlet = cli::parseSize("--meshlet", args->get("--meshlet", "64x124"));
@@ -101,108 +105,116 @@ int runBenchVsm(int argc, char** argv) {
     std::ostringstream csv;
     csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
            "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
-           "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_rasterized\n";
+           "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
+           "rasterized\n";
     std::vector<Row> rows;
     for (const std::string& kind : kinds)
         for (bool cached : {false, true})
             for (VsmRaster raster : rasters) {
-            VsmSessionOptions o;
-            o.scene = args->get("--scene", "night-city");
-            o.lights = lights.value();
-            std::tie(o.width, o.height) = size.value();
-            o.path = path.value();
-            o.bake = args->get("--bake", "");
-            o.module.timing = TimingChoice::Fenced;
-            o.module.vsm.resolution = res.value();
-            o.module.vsm.pageSize = page.value();
-            o.module.vsm.poolPages = pool.value();
-            o.module.vsm.caching = cached;
-            o.module.vsm.raster = raster;
-            std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = meshlet.value();
-            o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
-            o.module.vsm.movingLights = kind != "static-spot";
-            o.module.vsm.staticLights = kind != "moving-spot";
-            auto session = VsmSession::create(o);
-            if (!session) return runError("bench vsm", session.error());
-            if (rows.empty()) {
-                const auto& impl = session.value()->module->internals();
-                std::fprintf(stderr, "  %zu meshes, %zu instances, %zu meshlets of at most %u vertices / %u triangles\n",
-                             impl.meshes.size(), impl.instances.size(), impl.meshlets.meshlets.size(),
-                             meshlet.value().first, meshlet.value().second);
+                VsmSessionOptions o;
+                o.scene = args->get("--scene", "night-city");
+                o.lights = lights.value();
+                std::tie(o.width, o.height) = size.value();
+                o.path = path.value();
+                o.bake = args->get("--bake", "");
+                o.module.timing = TimingChoice::Fenced;
+                o.module.vsm.resolution = res.value();
+                o.module.vsm.pageSize = page.value();
+                o.module.vsm.poolPages = pool.value();
+                o.module.vsm.caching = cached;
+                o.module.vsm.raster = raster;
+                std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = meshlet.value();
+                o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
+                o.module.vsm.movingLights = kind != "static-spot";
+                o.module.vsm.staticLights = kind != "moving-spot";
+                auto session = VsmSession::create(o);
+                if (!session) return runError("bench vsm", session.error());
+                if (rows.empty()) {
+                    const diag::SceneCounts counts = diag::sceneCounts(*session.value()->module);
+                    std::fprintf(
+                        stderr,
+                        "  %u meshes, %u instances, %u meshlets of at most %u vertices / %u triangles\n",
+                        counts.meshes, counts.instances, counts.meshlets, meshlet.value().first,
+                        meshlet.value().second);
+                }
+                Row row;
+                row.kind = kind;
+                row.cached = cached;
+                // Auto resolves at creation (vertex on CPU devices): report the path that ran.
+                const VsmRaster used =
+                    diag::vsmMeshPath(*session.value()->module) ? VsmRaster::Mesh : VsmRaster::Vertex;
+                row.raster = used;
+                for (uint32_t f = 0; f < frames.value(); ++f) {
+                    auto r = session.value()->frame(f);
+                    if (!r) return runError("bench vsm", r.error());
+                    const PassTimes& t = r->times;
+                    const VsmStats& v = r->stats.vsm;
+                    auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
+                    // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
+                    const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
+                    csv << kind << "," << (cached ? "cached" : "uncached") << "," << rasterName(used) << ","
+                        << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << ","
+                        << ms(Pass::VsmHpb) << "," << cullMs << "," << ms(Pass::VsmDraw) << ","
+                        << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered << ","
+                        << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
+                        << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
+                        << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << ","
+                        << v.trianglesAfterTask << "," << v.trianglesRasterized << "\n";
+                    row.fallbacks += v.fallbacks;
+                    if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
+                    row.markMs += ms(Pass::VsmMark);
+                    row.allocMs += ms(Pass::VsmAlloc);
+                    row.hpbMs += ms(Pass::VsmHpb);
+                    row.cullMs += cullMs;
+                    row.triangles += v.trianglesRasterized;
+                    row.total += v.meshletsTotal;
+                    row.expFrustum += v.meshletsCulledFrustum;
+                    row.expHpb += v.meshletsCulledHpb;
+                    row.afterExp += v.meshletsAfterExpansion;
+                    row.taskFrustum += v.taskCulledFrustum;
+                    row.taskCone += v.taskCulledCone;
+                    row.taskHpb += v.taskCulledHpb;
+                    row.afterTask += v.meshletsAfterTask;
+                    row.trisAfterTask += v.trianglesAfterTask;
+                    row.trisRaster += v.trianglesRasterized;
+                    row.overflow += v.meshletOverflow + v.drawOverflow;
+                    row.drawMs += ms(Pass::VsmDraw);
+                    row.marked += v.pagesMarked;
+                    row.allocated += v.pagesAllocated;
+                    row.rendered += v.pagesRendered;
+                    row.draws += v.instancesDrawn;
+                    row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
+                    row.frames += 1;
+                }
+                for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs,
+                                  &row.marked, &row.allocated, &row.rendered, &row.draws, &row.triangles})
+                    *x /= std::max(row.frames, 1.0);
+                rows.push_back(row);
+                std::fprintf(
+                    stderr,
+                    "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
+                    kind.c_str(), cached ? "cached" : "uncached", rasterName(used), row.drawMs, row.rendered,
+                    row.triangles);
             }
-            Row row;
-            row.kind = kind;
-            row.cached = cached;
-            // Auto resolves at creation (vertex on CPU devices): report the path that ran.
-            const VsmRaster used =
-                session.value()->module->internals().vsm.meshPath() ? VsmRaster::Mesh : VsmRaster::Vertex;
-            row.raster = used;
-            for (uint32_t f = 0; f < frames.value(); ++f) {
-                auto r = session.value()->frame(f);
-                if (!r) return runError("bench vsm", r.error());
-                const PassTimes& t = r->times;
-                const VsmStats& v = r->stats.vsm;
-                auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
-                // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
-                const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
-                csv << kind << "," << (cached ? "cached" : "uncached") << "," << rasterName(used) << "," << f << ","
-                    << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << "," << ms(Pass::VsmHpb) << "," << cullMs << ","
-                    << ms(Pass::VsmDraw) << "," << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered
-                    << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
-                    << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
-                    << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << "," << v.trianglesAfterTask << ","
-                    << v.trianglesRasterized << "\n";
-                row.fallbacks += v.fallbacks;
-                if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
-                row.markMs += ms(Pass::VsmMark);
-                row.allocMs += ms(Pass::VsmAlloc);
-                row.hpbMs += ms(Pass::VsmHpb);
-                row.cullMs += cullMs;
-                row.triangles += v.trianglesRasterized;
-                row.total += v.meshletsTotal;
-                row.expFrustum += v.meshletsCulledFrustum;
-                row.expHpb += v.meshletsCulledHpb;
-                row.afterExp += v.meshletsAfterExpansion;
-                row.taskFrustum += v.taskCulledFrustum;
-                row.taskCone += v.taskCulledCone;
-                row.taskHpb += v.taskCulledHpb;
-                row.afterTask += v.meshletsAfterTask;
-                row.trisAfterTask += v.trianglesAfterTask;
-                row.trisRaster += v.trianglesRasterized;
-                row.overflow += v.meshletOverflow + v.drawOverflow;
-                row.drawMs += ms(Pass::VsmDraw);
-                row.marked += v.pagesMarked;
-                row.allocated += v.pagesAllocated;
-                row.rendered += v.pagesRendered;
-                row.draws += v.instancesDrawn;
-                row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
-                row.frames += 1;
-            }
-            for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked, &row.allocated,
-                              &row.rendered, &row.draws, &row.triangles})
-                *x /= std::max(row.frames, 1.0);
-            rows.push_back(row);
-            std::fprintf(stderr, "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
-                         kind.c_str(), cached ? "cached" : "uncached", rasterName(used), row.drawMs, row.rendered,
-                         row.triangles);
-        }
 
     std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
-                cameraPathName(path.value()), size.value().first, size.value().second, res.value(), page.value(),
-                pool.value(), frames.value());
-    std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
+                cameraPathName(path.value()), size.value().first, size.value().second, res.value(),
+                page.value(), pool.value(), frames.value());
+    std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
+                "triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
     std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     double cachedDraw = 0, uncachedDraw = 0, allocated = 0;
     uint64_t fallbacks = 0, overflow = 0;
     std::ostringstream json;
     for (const Row& r : rows) {
-        std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | %.1f | %.1f | %llu |\n",
-                    r.kind.c_str(), r.cached ? "cached" : "uncached", rasterName(r.raster), r.lightsWithPages, r.markMs,
-                    r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.triangles, r.marked, r.allocated, r.rendered, r.draws,
-                    (unsigned long long)r.fallbacks);
+        std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | %.1f | "
+                    "%.1f | %llu |\n",
+                    r.kind.c_str(), r.cached ? "cached" : "uncached", rasterName(r.raster), r.lightsWithPages,
+                    r.markMs, r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.triangles, r.marked, r.allocated,
+                    r.rendered, r.draws, (unsigned long long)r.fallbacks);
         overflow += r.overflow;
-        json << (json.tellp() > 0 ? ", " : "") << "\"" << r.kind << "_" << (r.cached ? "cached" : "uncached") << "_"
-             << rasterName(r.raster) << "_draw_ms\": " << r.drawMs << ", \"" << r.kind << "_"
+        json << (json.tellp() > 0 ? ", " : "") << "\"" << r.kind << "_" << (r.cached ? "cached" : "uncached")
+             << "_" << rasterName(r.raster) << "_draw_ms\": " << r.drawMs << ", \"" << r.kind << "_"
              << (r.cached ? "cached" : "uncached") << "_" << rasterName(r.raster)
              << "_triangles\": " << r.triangles;
         if (r.raster != rows.front().raster) continue;
@@ -213,40 +225,47 @@ int runBenchVsm(int argc, char** argv) {
     for (const Row& c : rows)
         for (const Row& u : rows)
             if (c.cached && !u.cached && c.kind == u.kind && c.raster == u.raster && u.drawMs > 0)
-                std::printf("%s %s: cached draw = %.1f %% of uncached\n", c.kind.c_str(), rasterName(c.raster),
-                            100.0 * c.drawMs / u.drawMs);
+                std::printf("%s %s: cached draw = %.1f %% of uncached\n", c.kind.c_str(),
+                            rasterName(c.raster), 100.0 * c.drawMs / u.drawMs);
     // Mesh path: the share of meshlets each stage removed (of every stage's input: meshlets_total).
     bool header = false;
     for (const Row& r : rows) {
         if (r.raster != VsmRaster::Mesh) continue;
         if (!header) {
-            std::printf("\nmesh path, meshlets of (caster, map, dirty mip), %% of the total culled by each stage:\n");
-            std::printf("| kind | caching | meshlets | expansion frustum | expansion HPB | task frustum | task cone | task HPB | drawn | HPB of frustum survivors | triangles after task | rasterized |\n");
+            std::printf(
+                "\nmesh path, meshlets of (caster, map, dirty mip), %% of the total culled by each stage:\n");
+            std::printf(
+                "| kind | caching | meshlets | expansion frustum | expansion HPB | task frustum | task cone "
+                "| task HPB | drawn | HPB of frustum survivors | triangles after task | rasterized |\n");
             std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
             header = true;
         }
         const double t = double(std::max<uint64_t>(r.total, 1));
         const uint64_t inFrustum = r.total - r.expFrustum - r.taskFrustum;
         const double hpbShare = inFrustum ? 100.0 * double(r.expHpb + r.taskHpb) / double(inFrustum) : 0.0;
-        std::printf("| %s | %s | %llu | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %llu | %llu |\n",
+        std::printf("| %s | %s | %llu | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% "
+                    "| %llu | %llu |\n",
                     r.kind.c_str(), r.cached ? "cached" : "uncached", (unsigned long long)r.total,
-                    100.0 * r.expFrustum / t, 100.0 * r.expHpb / t, 100.0 * r.taskFrustum / t, 100.0 * r.taskCone / t,
-                    100.0 * r.taskHpb / t, 100.0 * r.afterTask / t, hpbShare, (unsigned long long)r.trisAfterTask,
-                    (unsigned long long)r.trisRaster);
-        json << ", \"" << r.kind << "_" << (r.cached ? "cached" : "uncached") << "_hpb_cull_share\": "
-             << (r.total ? double(r.expHpb + r.taskHpb) / t : 0.0) << ", \"" << r.kind << "_"
-             << (r.cached ? "cached" : "uncached") << "_hpb_cull_share_in_frustum\": " << hpbShare / 100.0;
+                    100.0 * r.expFrustum / t, 100.0 * r.expHpb / t, 100.0 * r.taskFrustum / t,
+                    100.0 * r.taskCone / t, 100.0 * r.taskHpb / t, 100.0 * r.afterTask / t, hpbShare,
+                    (unsigned long long)r.trisAfterTask, (unsigned long long)r.trisRaster);
+        json << ", \"" << r.kind << "_" << (r.cached ? "cached" : "uncached")
+             << "_hpb_cull_share\": " << (r.total ? double(r.expHpb + r.taskHpb) / t : 0.0) << ", \""
+             << r.kind << "_" << (r.cached ? "cached" : "uncached")
+             << "_hpb_cull_share_in_frustum\": " << hpbShare / 100.0;
     }
-    if (overflow) std::fprintf(stderr, "manylights bench vsm: warning: %llu draws or meshlets over their lists\n",
-                               (unsigned long long)overflow);
+    if (overflow)
+        std::fprintf(stderr, "manylights bench vsm: warning: %llu draws or meshlets over their lists\n",
+                     (unsigned long long)overflow);
     std::ofstream(out + "/bench_vsm.csv") << csv.str();
     char line[512];
-    std::snprintf(line, sizeof(line),
-                  "{\"cached_draw_ms_mean\": %.4f, \"uncached_draw_ms_mean\": %.4f, \"pages_allocated_mean\": %.2f, "
-                  "\"fallbacks_total\": %llu, \"raster\": \"%s\", ",
-                  cachedDraw / std::max<size_t>(kinds.size(), 1), uncachedDraw / std::max<size_t>(kinds.size(), 1),
-                  allocated / std::max<size_t>(kinds.size(), 1), (unsigned long long)fallbacks,
-                  rasters.size() > 1 ? "both" : rasterName(rows.empty() ? VsmRaster::Vertex : rows.front().raster));
+    std::snprintf(
+        line, sizeof(line),
+        "{\"cached_draw_ms_mean\": %.4f, \"uncached_draw_ms_mean\": %.4f, \"pages_allocated_mean\": %.2f, "
+        "\"fallbacks_total\": %llu, \"raster\": \"%s\", ",
+        cachedDraw / std::max<size_t>(kinds.size(), 1), uncachedDraw / std::max<size_t>(kinds.size(), 1),
+        allocated / std::max<size_t>(kinds.size(), 1), (unsigned long long)fallbacks,
+        rasters.size() > 1 ? "both" : rasterName(rows.empty() ? VsmRaster::Vertex : rows.front().raster));
     const std::string last = std::string(line) + json.str() + "}";
     std::ofstream(out + "/bench_vsm.json") << last << "\n";
     std::printf("wrote %s/bench_vsm.csv and bench_vsm.json\n%s\n", out.c_str(), last.c_str());

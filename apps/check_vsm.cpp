@@ -12,10 +12,10 @@
 // nothing disagreed.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "engine/module_impl.h"
+#include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
+#include "shaders/shared/config.h"
 #include "shadows/static/raster_dual.h"
-#include "shadows/virtual/vsm_math.h"
 
 #include <cstdio>
 #include <map>
@@ -50,7 +50,8 @@ CasterTriangles mapCasters(const Scene& scene, bool dynamicOnly) {
         const Mesh& mesh = scene.meshes[inst.mesh];
         for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
             glm::vec3 p[3];
-            for (int k = 0; k < 3; ++k) p[k] = gpu::vsmPoint(inst.transform, mesh.vertices[mesh.indices[i + k]].position);
+            for (int k = 0; k < 3; ++k)
+                p[k] = diag::vsmCasterPoint(inst.transform, mesh.vertices[mesh.indices[i + k]].position);
             t.add(p[0], p[1], p[2], false); // open: only the enter depth is compared
         }
     }
@@ -64,10 +65,11 @@ int runCheck(int argc, char** argv) {
         std::fputs(kCheckHelp, argc < 3 ? stderr : stdout);
         return argc < 3 ? 2 : 0;
     }
-    if (std::string(argv[2]) != "vsm") return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
+    if (std::string(argv[2]) != "vsm")
+        return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
     auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake", "--vsm-res",
-                            "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster"},
+                           {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake",
+                            "--vsm-res", "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster"},
                            {});
     if (!args) return usageError("check vsm", args.error());
     if (args->help) {
@@ -83,12 +85,13 @@ int runCheck(int argc, char** argv) {
     auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
     auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
-    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(),
-                                 &res.error(), &page.error(), &pool.error(), &pcf.error()})
+    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(),
+                                 &seed.error(), &res.error(), &page.error(), &pool.error(), &pcf.error()})
         if (!e->empty()) return usageError("check vsm", *e);
     VsmRaster raster = VsmRaster::Auto;
     if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
-        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") + "' is not auto, mesh or vertex");
+        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") +
+                                           "' is not auto, mesh or vertex");
 
     VsmSessionOptions o;
     o.scene = args->get("--scene", "night-city");
@@ -106,52 +109,54 @@ int runCheck(int argc, char** argv) {
     if (!session) return runError("check vsm", session.error());
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
-    const VirtualShadowMaps& vsm = s.module->internals().vsm;
 
-    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, skippedDirectional = 0, fallbacks = 0, noCaster = 0, missing = 0;
+    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, skippedDirectional = 0, fallbacks = 0,
+             noCaster = 0, missing = 0;
     uint32_t probeOverflow = 0;
     for (uint32_t f = 0; f < frames.value(); ++f) {
         auto report = s.frame(f);
         if (!report) return runError("check vsm", report.error());
         uint32_t overflow = 0;
-        auto probes = vsm.readProbes(s.module->internals().lastSlot, &overflow);
+        auto probes = diag::readVsmProbes(*s.module, &overflow);
+        const std::vector<diag::VsmMap> maps = diag::vsmMaps(*s.module);
         probeOverflow += overflow;
         std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
         uint64_t frameMismatches = 0;
-        for (const gpu::GpuVsmProbe& p : probes) {
-            const uint32_t map = p.texel.x, mip = p.texel.y, status = p.info.w;
-            const VsmMapInfo& info = vsm.mapInfo()[map];
-            if (status == ML_VSM_PROBE_MISSING) {
+        for (const diag::VsmProbe& p : probes) {
+            const uint32_t map = p.map, mip = p.mip;
+            const diag::VsmProbeStatus status = p.status;
+            const diag::VsmMap& info = maps[map];
+            if (status == diag::VsmProbeStatus::Missing) {
                 ++missing;
                 ++mismatches;
                 ++frameMismatches;
                 continue;
             }
-            if (info.gpu.info.x == ML_VSM_ORTHOGRAPHIC) {
+            if (info.orthographic) {
                 ++skippedDirectional;
                 continue;
             }
             auto key = std::make_pair(map, mip);
             auto it = references.find(key);
             if (it == references.end()) {
-                const bool dynamicOnly = info.gpu.info.y & ML_VSM_MAP_DYNAMIC_ONLY;
-                DualRasterizer raster(mapCasters(s.scene, dynamicOnly), info.frustum, res.value() >> mip);
+                DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum,
+                                      res.value() >> mip);
                 it = references.emplace(key, raster.render()).first;
             }
             const DualDepthMap& ref = it->second;
-            const uint32_t x = p.texel.z, y = p.texel.w, n = ref.resolution;
-            const uint32_t want = ref.enter[size_t(y) * n + x], got = p.info.z;
+            const uint32_t x = p.x, y = p.y, n = ref.resolution;
+            const uint32_t want = ref.enter[size_t(y) * n + x], got = p.depth;
             // The lookup is right when it gives the answer the full map gives: the same coverage and the
             // same shadow test of the receiver's biased depth. Depths further apart than the float-vs-double
             // interpolation tolerance of tests/gpu/test_dual_depth_gpu.cpp are counted apart (they decide
             // nothing unless the receiver lies between them).
             bool ok;
-            if (status == ML_VSM_PROBE_NO_CASTER) {
+            if (status == diag::VsmProbeStatus::NoCaster) {
                 ++noCaster;
                 ok = want == kDepthEmpty;
             } else {
-                fallbacks += status == ML_VSM_PROBE_FALLBACK;
-                const uint32_t tap = p.tap.x;
+                fallbacks += status == diag::VsmProbeStatus::Fallback;
+                const uint32_t tap = p.receiverDepth;
                 if (want == kDepthEmpty || got == kDepthEmpty) {
                     ok = want == got;
                 } else {
@@ -161,7 +166,8 @@ int runCheck(int argc, char** argv) {
                         int nx = int(x) + dx, ny = int(y) + dy;
                         if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
                         uint32_t v = ref.enter[size_t(ny) * n + nx];
-                        if (v != kDepthEmpty) step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
+                        if (v != kDepthEmpty)
+                            step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
                     }
                     const uint64_t tol = uint64_t(4294967294.0 * 2e-5) + step / 64;
                     depthBeyondTolerance += uint64_t(std::llabs(int64_t(got) - int64_t(want))) > tol;
@@ -171,22 +177,25 @@ int runCheck(int argc, char** argv) {
             if (!ok) {
                 ++mismatches;
                 if (++frameMismatches <= 3)
-                    std::fprintf(stderr, "  frame %u: map %u mip %u texel (%u, %u): vsm %u, reference %u (status %u)\n", f,
-                                 map, mip, x, y, got, want, status);
+                    std::fprintf(
+                        stderr,
+                        "  frame %u: map %u mip %u texel (%u, %u): vsm %u, reference %u (status %u)\n", f,
+                        map, mip, x, y, got, want, uint32_t(status));
             }
         }
         std::fprintf(stderr, "frame %u: %zu lookups, %zu reference maps, %llu mismatches\n", f, probes.size(),
                      references.size(), (unsigned long long)frameMismatches);
     }
-    if (s.module->device().validationEnabled() && validationErrors())
+    if (s.module->deviceInfo().validation && validationErrors())
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
-    std::printf("{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
-                "\"no_caster\": %llu, \"missing\": %llu, \"skipped_directional\": %llu, \"probe_overflow\": %u, "
-                "\"frames\": %u, \"raster\": \"%s\"}\n",
-                (unsigned long long)checked, (unsigned long long)mismatches,
-                (unsigned long long)depthBeyondTolerance, (unsigned long long)fallbacks,
-                (unsigned long long)noCaster, (unsigned long long)missing, (unsigned long long)skippedDirectional,
-                probeOverflow, frames.value(), vsm.meshPath() ? "mesh" : "vertex");
+    std::printf(
+        "{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
+        "\"no_caster\": %llu, \"missing\": %llu, \"skipped_directional\": %llu, \"probe_overflow\": %u, "
+        "\"frames\": %u, \"raster\": \"%s\"}\n",
+        (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)depthBeyondTolerance,
+        (unsigned long long)fallbacks, (unsigned long long)noCaster, (unsigned long long)missing,
+        (unsigned long long)skippedDirectional, probeOverflow, frames.value(),
+        diag::vsmMeshPath(*s.module) ? "mesh" : "vertex");
     return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
 }
 

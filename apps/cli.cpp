@@ -1,5 +1,5 @@
 #include "apps/cli.h"
-#include "lights/lights.h"
+#include "engine/manylights.h"
 
 #include <cerrno>
 #include <cmath>

@@ -44,7 +44,8 @@ void steer(Window& win, Module& m, CullingMode& mode, FlyCamera& fly, const Came
         if (key == GLFW_KEY_ESCAPE) win.close();
     }
     fly.update(in.fly, seconds);
-    if (auto r = m.setCamera(fly.desc(base)); !r) std::fprintf(stderr, "manylights demo: %s\n", r.error().c_str());
+    if (auto r = m.setCamera(fly.desc(base)); !r)
+        std::fprintf(stderr, "manylights demo: %s\n", r.error().c_str());
 }
 
 void printCamera(const char* when, const CameraDesc& c) {
@@ -93,11 +94,12 @@ Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/
 )";
 
 int runDemo(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 2,
-                           {"--scene", "--frames", "--size", "--lights", "--seed", "--culling", "--out",
-                            "--static", "--static-res", "--pcf", "--camera", "--bake", "--path", "--dynamic",
-                            "--vsm-res", "--vsm-page", "--vsm-pool", "--timing", "--view", "--vsm-raster"},
-                           {"--window", "--no-stats", "--allow-outside-scene-dir"});
+    auto args =
+        cli::parse(argc, argv, 2, {"--scene",    "--frames",   "--size",   "--lights",     "--seed",
+                                   "--culling",  "--out",      "--static", "--static-res", "--pcf",
+                                   "--camera",   "--bake",     "--path",   "--dynamic",    "--vsm-res",
+                                   "--vsm-page", "--vsm-pool", "--timing", "--view",       "--vsm-raster"},
+                   {"--window", "--no-stats", "--allow-outside-scene-dir"});
     if (!args) return usageError("demo", args.error());
     if (args->help) {
         std::fputs(kDemoHelp, stdout);
@@ -140,9 +142,11 @@ int runDemo(int argc, char** argv) {
     else if (viewName == "vsm")
         view = DebugView::Vsm;
     else if (viewName != "shaded")
-        return usageError("demo", "--view: unknown view '" + viewName + "' (shaded, lights, lights-reaching or vsm)");
+        return usageError("demo",
+                          "--view: unknown view '" + viewName + "' (shaded, lights, lights-reaching or vsm)");
     const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
-    if (dynamic != "vsm" && dynamic != "off") return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
+    if (dynamic != "vsm" && dynamic != "off")
+        return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
     if (timing != "fenced" && timing != "timestamps")
         return usageError("demo", "--timing takes fenced or timestamps, not '" + timing + "'");
 
@@ -163,7 +167,8 @@ int runDemo(int argc, char** argv) {
     mo.vsm.pageSize = vsmPage.value();
     mo.vsm.poolPages = vsmPool.value();
     if (!parseVsmRaster(args->get("--vsm-raster", "auto"), mo.vsm.raster))
-        return usageError("demo", "--vsm-raster takes auto, mesh or vertex, not '" + args->get("--vsm-raster", "") + "'");
+        return usageError("demo", "--vsm-raster takes auto, mesh or vertex, not '" +
+                                      args->get("--vsm-raster", "") + "'");
     auto module = Module::create(mo);
     if (!module) return runError("demo", module.error());
     Module& m = *module.value();
@@ -202,9 +207,9 @@ int runDemo(int argc, char** argv) {
     }
     std::printf("manylights demo: %s, %u lights, %ux%u, %s culling, %u frames on %s\n", scene->name.c_str(),
                 uint32_t(scene->lights.size()), width, height, cullingName(mo.culling), frames.value(),
-                m.device().name.c_str());
+                m.deviceInfo().name.c_str());
 
-    Device& d = m.device();
+    const DeviceInfo d = m.deviceInfo();
     std::vector<FrameReport> reports;
     std::vector<uint8_t> rgba;
     const CameraDesc baseCamera = toCameraDesc(scene->camera);
@@ -228,9 +233,7 @@ int runDemo(int argc, char** argv) {
             if (win->shouldClose()) break;
             if (auto r = win->frame(m); !r) return runError("demo", r.error());
         } else {
-            VkCommandBuffer cmd = d.beginOneTime();
-            if (auto r = m.record(cmd); !r) return runError("demo", r.error());
-            d.endOneTime(cmd);
+            if (auto r = m.submitFrame(); !r) return runError("demo", r.error());
         }
         if (frames.value() != 0) {
             if (auto r = m.readOutput(rgba); !r) return runError("demo", r.error());
@@ -269,15 +272,16 @@ int runDemo(int argc, char** argv) {
         std::printf("vsm: %u lights with pages, pages marked %u, allocated %u (%.1f MiB of a %.1f MiB pool), "
                     "rendered %u, cached %u, fallbacks %u, draws %u (HPB culled %u)\n",
                     v.lightsWithPages, v.pagesMarked, v.pagesAllocated, double(v.usedBytes) / 1048576.0,
-                    double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks, v.instancesDrawn,
-                    v.instancesCulledHpb);
+                    double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks,
+                    v.instancesDrawn, v.instancesCulledHpb);
         if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot)
-            std::fprintf(stderr, "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
+            std::fprintf(stderr,
+                         "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
                          "over the draw buffer, %u lights without a map slot\n",
                          v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
     }
     std::printf("wrote %s/frame_*.png, profile.json, frames.csv, stats.json\n", out.c_str());
-    if (d.validationEnabled() && validationErrors()) {
+    if (d.validation && validationErrors()) {
         std::fprintf(stderr, "manylights demo: %u validation errors\n", validationErrors());
         return 1;
     }

@@ -1,18 +1,41 @@
 #include "apps/window.h"
 
-#include "engine/resources.h"
+#include "engine/vk_check.h"
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
 namespace ml {
 
+namespace {
+// One image layout transition (synchronization2), the window's own: it works on the module's device
+// through the public handles only.
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                  VkAccessFlags2 dstAccess) {
+    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    b.srcStageMask = src;
+    b.srcAccessMask = srcAccess;
+    b.dstStageMask = dst;
+    b.dstAccessMask = dstAccess;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = 1;
+    dep.pImageMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+} // namespace
+
 Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uint32_t height) {
     std::unique_ptr<Window> w(new Window());
     w->module_ = &module;
     w->width_ = width;
     w->height_ = height;
-    Device& d = module.device();
+    const DeviceInfo d = module.deviceInfo();
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
     w->window_ = glfwCreateWindow(int(width), int(height), "manylights", nullptr, nullptr);
@@ -74,7 +97,7 @@ Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uin
 
 Window::~Window() {
     if (!module_) return;
-    Device& d = module_->device();
+    const DeviceInfo d = module_->deviceInfo();
     vkDeviceWaitIdle(d.device);
     if (fence_) vkDestroyFence(d.device, fence_, nullptr);
     if (acquired_) vkDestroySemaphore(d.device, acquired_, nullptr);
@@ -85,9 +108,15 @@ Window::~Window() {
     if (window_) glfwDestroyWindow(window_);
 }
 
-bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
-void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
-void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+bool Window::shouldClose() const {
+    return glfwWindowShouldClose(window_);
+}
+void Window::close() {
+    glfwSetWindowShouldClose(window_, GLFW_TRUE);
+}
+void Window::setTitle(const std::string& title) {
+    glfwSetWindowTitle(window_, title.c_str());
+}
 
 void Window::onKey(GLFWwindow* window, int key, int, int action, int) {
     if (action == GLFW_PRESS) static_cast<Window*>(glfwGetWindowUserPointer(window))->pressed_.push_back(key);
@@ -128,7 +157,7 @@ Window::Input Window::poll() {
 }
 
 Result<void> Window::frame(Module& module) {
-    Device& d = module.device();
+    const DeviceInfo d = module.deviceInfo();
     ML_VK_CHECK(vkWaitForFences(d.device, 1, &fence_, VK_TRUE, UINT64_MAX));
     ML_VK_CHECK(vkResetFences(d.device, 1, &fence_));
     uint32_t index = 0;
@@ -138,11 +167,12 @@ Result<void> Window::frame(Module& module) {
     ML_VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
     if (auto r = module.record(cmd_); !r) return r;
     VkImage target = images_[index];
-    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_BLIT_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(cmd_, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_BLIT_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkImageBlit blit{};
     blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     blit.srcOffsets[1] = {int32_t(width_), int32_t(height_), 1};
@@ -150,11 +180,11 @@ Result<void> Window::frame(Module& module) {
     blit.dstOffsets[1] = {int32_t(extent_.width), int32_t(extent_.height), 1};
     vkCmdBlitImage(cmd_, module.outputImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+    imageBarrier(cmd_, module.outputImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
-    imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+    imageBarrier(cmd_, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                 VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
     ML_VK_CHECK(vkEndCommandBuffer(cmd_));
     VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -174,7 +204,8 @@ Result<void> Window::frame(Module& module) {
     pi.pSwapchains = &swapchain_;
     pi.pImageIndices = &index;
     VkResult r = vkQueuePresentKHR(d.queue, &pi);
-    if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR) return fail(std::string("present failed: ") + vkResultName(r));
+    if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR)
+        return fail(std::string("present failed: ") + vkResultName(r));
     return {};
 }
 

@@ -1,26 +1,33 @@
 # Install rules for a host engine: included by the top-level CMakeLists.txt when ML_INSTALL is on.
 #
-#   include/manylights/engine/manylights.h     the public header, and every header it includes
-#   include/manylights/shadows/static/*.h      (the public header includes static_method.h today)
-#   include/manylights/shaders/shared/*.h      GPU structs and light math shared with the shaders
-#   include/manylights/shadows/virtual/*.h    (virtual shadow map settings and stats, vsm_settings.h)
+#   include/manylights/engine/manylights.h      the public header: API types only, and the headers it
+#   include/manylights/engine/{result,device_types,pass_times}.h   includes
+#   include/manylights/shadows/static/static_types.h, shadows/virtual/vsm_settings.h
+#   include/manylights/engine/manylights_diagnostics.h   read-backs for tools and checks
+#   include/manylights/engine/vk_check.h        ML_VK_CHECK
+#   include/manylights/shadows/static/*.h       the static shadow library (encoders, bake files), for hosts
+#   include/manylights/shaders/shared/*.h       that make or read bakes, and what it includes
+#   include/manylights/io/*.h
 #   lib/libmanylights_module.a, libmanylights_static.a, libmanylights_io.a
 #   lib/cmake/manylights/manylights-config.cmake (+ version, targets): imported target manylights::module
 #   lib/pkgconfig/manylights.pc
 #
-# Whole folders are installed rather than a hand-kept list, so a header the public header starts to
-# include is not forgotten; the ExampleHostInstalled test compiles a host against the installed tree.
+# The engine's internals (device.h, program.h, resources.h, profiler.h, gbuffer.h, module_impl.h, lights/,
+# culling/, shadows/gpu/, shadows/virtual/ but its settings) are not installed: the ExampleHost_install test
+# checks that they are absent and that every installed engine/ header compiles on its own.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(ML_INSTALL_INCLUDE ${CMAKE_INSTALL_INCLUDEDIR}/manylights)
 set(ML_INSTALL_CMAKE ${CMAKE_INSTALL_LIBDIR}/cmake/manylights)
 
-# module_impl.h is the tests' view of the internals (it includes build-generated SPIR-V): not installed.
-file(GLOB ML_PUBLIC_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/engine/*.h ${PROJECT_SOURCE_DIR}/shadows/static/*.h ${PROJECT_SOURCE_DIR}/shaders/shared/*.h
-  ${PROJECT_SOURCE_DIR}/shadows/virtual/*.h ${PROJECT_SOURCE_DIR}/io/*.h)
-list(REMOVE_ITEM ML_PUBLIC_HEADERS engine/module_impl.h)
+set(ML_PUBLIC_HEADERS engine/manylights.h engine/manylights_diagnostics.h engine/result.h engine/device_types.h
+    engine/pass_times.h engine/vk_check.h shadows/virtual/vsm_settings.h)
+# The libraries of their own that are installed beside the module: whole folders, so a header they start
+# to include is not forgotten.
+file(GLOB ML_LIBRARY_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
+  ${PROJECT_SOURCE_DIR}/shadows/static/*.h ${PROJECT_SOURCE_DIR}/shaders/shared/*.h ${PROJECT_SOURCE_DIR}/io/*.h)
+list(APPEND ML_PUBLIC_HEADERS ${ML_LIBRARY_HEADERS})
 foreach(header ${ML_PUBLIC_HEADERS})
   get_filename_component(dir ${header} DIRECTORY)
   install(FILES ${PROJECT_SOURCE_DIR}/${header} DESTINATION ${ML_INSTALL_INCLUDE}/${dir} COMPONENT manylights)

@@ -13,12 +13,19 @@
 // queries. The host must have waited for the frame that last used a slot before recording into it
 // again (the usual fence per frame in flight); record() then reads that frame's results without
 // stalling.
+//
+// This header and the ones it includes hold API types only (no Vulkan wrapper classes, no internal
+// state): device_types.h, pass_times.h, result.h, shadows/static/static_types.h,
+// shadows/virtual/vsm_settings.h. Read-backs for tools and checks (G-buffer, last frame's constants, VSM
+// probes, counters) are engine/manylights_diagnostics.h.
 #pragma once
-#include "engine/device.h"
-#include "engine/profiler.h"
+#include "engine/device_types.h"
+#include "engine/pass_times.h"
 #include "engine/result.h"
-#include "shadows/static/static_method.h"
+#include "shadows/static/static_types.h"
 #include "shadows/virtual/vsm_settings.h"
+
+#include <vulkan/vulkan.h>
 
 #include <glm/glm.hpp>
 
@@ -43,7 +50,7 @@ Result<CullingMode> parseCulling(const std::string& name);
 // this frame or cached, no caster, fallback; shadows/virtual/vsm_view.comp).
 enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching, Vsm };
 
-// How per-pass GPU times are measured (engine/profiler.h).
+// How per-pass GPU times are measured (engine/pass_times.h).
 //   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own
 //     commands, with a timestamp pair around each. On lavapipe the timestamps do not bracket compute work
 //     (llvmpipe writes them from its rasteriser bins), so compute passes read near zero there.
@@ -151,6 +158,15 @@ struct FrameReport {
     FrameStats stats;
 };
 
+// Validation a host (or a command line) can run before handing values over; addLight, setLight and
+// setCamera call them. validateLight: a one-line reason when a parameter is NaN, infinite, negative or out
+// of its range. validateCamera: a one-line reason ("camera: ...") when a camera cannot give a picture: a
+// non-finite or huge (|x| > kMaxCameraCoordinate) position, target or up; target at the position; view
+// direction parallel to up (the view matrix would be NaN); fovY outside (0, pi); not 0 < near < far.
+constexpr float kMaxCameraCoordinate = 1.0e6f; // metres; float spacing there is 0.06 m
+Result<void> validateLight(const LightDesc& light);
+Result<void> validateCamera(const CameraDesc& camera);
+
 using MeshId = uint32_t;
 using InstanceId = uint32_t;
 using LightId = uint32_t;
@@ -224,14 +240,20 @@ class Module {
 
     // The module-owned output (RGBA8, GENERAL layout after record()); for hosts that present or copy it.
     VkImage outputImage() const;
-    Device& device();
+    // The device the module runs on (its own or the borrowed one), as plain handles.
+    DeviceInfo deviceInfo() const;
+    // Convenience for headless hosts on the module's own device: records the frame into a one-off command
+    // buffer, submits it to the module's queue and waits for it.
+    Result<void> submitFrame();
     TimingMode timingMode() const;
     uint32_t lightCount() const; // lights not removed
 
+    // Internal state (engine/module_impl.h, not installed): tests reach it through internals(Module&) to
+    // compare intermediate buffers with the CPU references; engine/diagnostics.cpp implements the
+    // diagnostics read-backs with it.
     struct Impl;
-    // Internal state, for tests that compare intermediate buffers with the CPU references
-    // (engine/module_impl.h). Hosts have no use for it.
-    Impl& internals() { return *impl_; }
+    friend Impl& internals(Module& module);
+    friend const Impl& internals(const Module& module);
 
   private:
     explicit Module(std::unique_ptr<Impl> impl);

@@ -47,9 +47,6 @@ Module::Module(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Module::~Module() {
     if (impl_) impl_->destroy();
 }
-Device& Module::device() {
-    return *impl_->device;
-}
 TimingMode Module::timingMode() const {
     return impl_->timing;
 }

@@ -1,5 +1,6 @@
-// Internal state of ml::Module. Not part of the public API: the demo never includes it; tests do, to
-// read back intermediate buffers and compare them with the CPU references.
+// Internal state of ml::Module. Not part of the public API and not installed: tests include it to read
+// back intermediate buffers and compare them with the CPU references; engine/diagnostics.cpp to implement
+// the public read-backs (engine/manylights_diagnostics.h). apps/ and host/ never include it.
 #pragma once
 #include "culling/culling.h"
 #include "engine/camera.h"
@@ -122,5 +123,17 @@ struct Module::Impl {
     Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
     void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
+
+// The module's internal state and device, for tests and engine/diagnostics.cpp (not for apps/ or host/:
+// the test PublicApiIncludes checks that they include only public headers).
+inline Module::Impl& internals(Module& module) {
+    return *module.impl_;
+}
+inline const Module::Impl& internals(const Module& module) {
+    return *module.impl_;
+}
+inline Device& deviceOf(Module& module) {
+    return *internals(module).device;
+}
 
 } // namespace ml

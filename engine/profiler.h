@@ -1,44 +1,15 @@
-// GPU profiler: a timestamp pair around every pass, indexed by the Pass enum (no magic slot numbers),
-// with a debug label per pass. Each frame-in-flight slot has its own query range; results are read
-// without waiting, when the host reuses the slot (its previous frame is then known to be complete).
+// GPU profiler (internal; the API types Pass, PassTimes and TimingMode are engine/pass_times.h): a timestamp
+// pair around every pass, indexed by the Pass enum (no magic slot numbers), with a debug label per pass. Each
+// frame-in-flight slot has its own query range; results are read without waiting, when the host reuses the
+// slot (its previous frame is then known to be complete).
 #pragma once
 #include "engine/device.h"
+#include "engine/pass_times.h"
 
 #include <array>
 #include <functional>
 
 namespace ml {
-
-// Every pass the module records. Later passes (shadows) add entries here and a name in passName().
-enum class Pass : uint32_t {
-    GBuffer,
-    ClusterBounds,
-    LightAssign,
-    VsmMark,   // virtual shadow maps: pages from the depth buffer
-    VsmAlloc,  // scan, allocate, assign (caching, invalidation, LRU)
-    VsmHpb,    // hierarchical page buffer
-    VsmCull,   // instance culling into per-mip draw lists
-    VsmExpand, // mesh path: instance culling and expansion into per-mip meshlet lists
-    VsmDraw,   // clear and draw the dirty pages
-    Evaluate,
-    Statistics, // per-pixel light counts (optional)
-    Count
-};
-constexpr uint32_t kPassCount = uint32_t(Pass::Count);
-const char* passName(Pass pass);
-
-struct PassTimes {
-    std::array<double, kPassCount> ms{};    // GPU milliseconds per pass
-    std::array<double, kPassCount> startMs{}; // pass start on the GPU clock (ms; only differences mean anything)
-    std::array<bool, kPassCount> ran{};     // the pass was recorded this frame
-    double totalMs() const;
-};
-
-// Timestamps: vkCmdWriteTimestamp2 pairs (GPUs). Fenced: each pass is submitted on its own and timed
-// with the host clock from submit to completion. lavapipe needs Fenced: llvmpipe writes timestamps from
-// its rasteriser bins, so they do not bracket compute dispatches (measured: a 700 ms evaluation pass
-// read as 0.03 ms), while on a CPU device a pass's wall time is its device time.
-enum class TimingMode : uint32_t { Timestamps, Fenced };
 
 class Profiler {
   public:

@@ -31,11 +31,8 @@ Result<FrameReport> VsmSession::frame(uint32_t f) {
     auto cam = cameraOnPath(scene, options.path, t);
     if (!cam) return fail(cam.error());
     if (auto r = module->setCamera(toCameraDesc(cam.value())); !r) return fail(r.error());
-    Device& d = module->device();
-    VkCommandBuffer cmd = d.beginOneTime();
-    if (auto r = module->record(cmd); !r) return fail(r.error());
-    d.endOneTime(cmd);
-    vkQueueWaitIdle(d.queue);
+    if (auto r = module->submitFrame(); !r) return fail(r.error());
+    vkQueueWaitIdle(module->deviceInfo().queue);
     module->collect();
     auto reports = module->takeReports();
     if (reports.empty()) return fail("frame " + std::to_string(f) + ": no report arrived");

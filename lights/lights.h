@@ -9,15 +9,7 @@
 
 namespace ml {
 
-// A one-line reason when a parameter is NaN, infinite, negative or out of its range.
-Result<void> validateLight(const LightDesc& light);
-
-// A one-line reason ("camera: ...") when a camera cannot give a picture: a non-finite or huge
-// (|x| > kMaxCameraCoordinate) position, target or up; target at the position; view direction parallel
-// to up (the view matrix would be NaN); fovY outside (0, pi); not 0 < near < far < infinity.
-// Module::setCamera calls it; the CLI's --camera parser too.
-constexpr float kMaxCameraCoordinate = 1.0e6f; // metres; float spacing there is 0.06 m
-Result<void> validateCamera(const CameraDesc& camera);
+// validateLight, validateCamera and kMaxCameraCoordinate are public: engine/manylights.h.
 
 gpu::GpuLight toGpuLight(const LightDesc& light, uint32_t id);
 

@@ -172,9 +172,10 @@ int main() {
         return 1;
     }
     ml::Module& module = *created.value();
-    VkDevice dev = module.device().device;
-    VkPhysicalDevice pd = module.device().physicalDevice;
-    VkQueue queue = module.device().queue;
+    const ml::DeviceInfo device = module.deviceInfo();
+    VkDevice dev = device.device;
+    VkPhysicalDevice pd = device.physicalDevice;
+    VkQueue queue = device.queue;
 
     // Scene: a 20 m ground quad, a 1 m box, one spot light 5 m above the ground pointing down.
     std::vector<ml::MeshVertex> verts;
@@ -255,7 +256,7 @@ int main() {
     VkPipeline pipeline = makePipeline(dev, vs, fs, layout);
 
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr,
-                                VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, module.device().queueFamily};
+                                VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, device.queueFamily};
     VkCommandPool pool;
     VK_CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
     VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool,

@@ -19,6 +19,7 @@
 // entered twice and left once, and its exit would run to far (StaticRaster.SharedEdgesCountedOnce).
 #pragma once
 #include "engine/result.h"
+#include "shadows/static/static_types.h"
 
 #include <glm/glm.hpp>
 
@@ -28,20 +29,6 @@
 namespace ml {
 
 constexpr uint32_t kDepthEmpty = 0xFFFFFFFFu;
-
-// A light's square perspective view: world -> light view (looking down -Z), full vertical = horizontal
-// field of view, and the depth range [nearPlane, farPlane] (farPlane = the light's range).
-struct LightFrustum {
-    glm::mat4 view{1.0f};
-    float fov = 1.0f; // full angle, radians, < pi (perspective)
-    float nearPlane = 0.05f;
-    float farPlane = 10.0f;
-    // > 0: orthographic (a directional light): the square view volume's half side in metres, fov
-    // unused. Texel (x, y) then covers view x in [x/res*2-1, ...] * orthoHalf, depth is view -z as for
-    // perspective maps.
-    float orthoHalf = 0.0f;
-    bool orthographic() const { return orthoHalf > 0.0f; }
-};
 
 // Linear distance z in [0, far] -> [0, 0xFFFFFFFE]; values past far clamp. kDepthEmpty stays free.
 inline uint32_t quantizeDepth(float z, float farPlane) {
@@ -53,7 +40,7 @@ inline uint32_t quantizeDepth(float z, float farPlane) {
 inline float dequantizeDepth(uint32_t d, float farPlane) { return float(double(d) / 4294967294.0 * farPlane); }
 
 struct DualDepthMap {
-    uint32_t resolution = 0; // width = height
+    uint32_t resolution = 0;     // width = height
     std::vector<uint32_t> enter; // resolution * resolution, row-major, row 0 at NDC y = -1
     std::vector<uint32_t> exit;
     uint32_t at(uint32_t x, uint32_t y) const { return enter[size_t(y) * resolution + x]; }

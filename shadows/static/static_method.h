@@ -6,6 +6,7 @@
 // shadow). CPVS returns binary visibility per voxel (shadows/static/cpvs.h).
 #pragma once
 #include "engine/result.h"
+#include "shadows/static/static_types.h"
 #include "shadows/static/cpvs.h"
 #include "shadows/static/dagmh.h"
 #include "shadows/static/dual_depth.h"
@@ -17,15 +18,6 @@
 #include <vector>
 
 namespace ml {
-
-// Values are stored in bake files and in GpuShadowRecord.method: never renumber.
-enum class StaticMethod : uint32_t { None = 0, SM = 1, MH = 2, MMH = 3, DAGMH = 4, CPVS = 5 };
-
-const char* staticMethodName(StaticMethod method); // "sm", "mh", "mmh", "dagmh", "cpvs", "none"
-Result<StaticMethod> parseStaticMethod(const std::string& name);
-inline bool isDepthMethod(StaticMethod m) {
-    return m >= StaticMethod::SM && m <= StaticMethod::DAGMH;
-}
 
 struct StaticEncodeOptions {
     float nearPlane = 0.05f, farPlane = 10.0f; // the light frustum's (CPVS voxel space needs them)

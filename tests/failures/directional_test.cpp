@@ -50,7 +50,7 @@ TEST_P(DirectionalBake, ModuleMatchesCpuAndRays) {
     ASSERT_TRUE(m->setStaticShadow(binding->lights[0], {method, f, words.value()}).ok());
     renderFrame(*m);
 
-    auto& impl = m->internals();
+    auto& impl = internals(*m);
     const auto& fc = impl.lastConstants;
     auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

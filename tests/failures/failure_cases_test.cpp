@@ -169,7 +169,7 @@ TEST(Failures, Lights4096OverlappingOneSpot) {
     // No light dropped: sampled pixels against the CPU sum over every light.
     ASSERT_TRUE(o.module);
     Module& m = *o.module;
-    auto& impl = m.internals();
+    auto& impl = internals(m);
     const auto& fc = impl.lastConstants;
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

@@ -170,12 +170,12 @@ inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& c
         ++out.baked;
     }
     renderFrame(*m);
-    vkQueueWaitIdle(m->device().queue);
+    vkQueueWaitIdle(deviceOf(*m).queue);
     m->collect();
     auto reports = m->takeReports();
     if (!reports.empty()) out.stats = reports.back().stats;
 
-    auto& impl = m->internals();
+    auto& impl = internals(*m);
     const auto& fc = impl.lastConstants;
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
     auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));

@@ -3,6 +3,7 @@
 #pragma once
 #include "engine/manylights.h"
 #include "engine/module_impl.h"
+#include "shadows/static/static_method.h"
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 
@@ -31,7 +32,7 @@ inline std::unique_ptr<Module> makeModule(CullingMode mode = CullingMode::Cluste
 // Copies an image that is in `layout` into host memory (tightly packed) and returns it to `layout`.
 inline std::vector<uint8_t> readImage(Module& module, const Image& image, uint32_t texelBytes,
                                       VkImageLayout layout) {
-    Device& d = module.device();
+    Device& d = deviceOf(module);
     vkQueueWaitIdle(d.queue);
     Buffer b = createBuffer(d, VkDeviceSize(image.width) * image.height * texelBytes,
                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, "test_readback");
@@ -51,7 +52,7 @@ inline std::vector<uint8_t> readImage(Module& module, const Image& image, uint32
 }
 
 inline void renderFrame(Module& m) {
-    Device& d = m.device();
+    Device& d = deviceOf(m);
     VkCommandBuffer cmd = d.beginOneTime();
     auto r = m.record(cmd);
     ASSERT_TRUE(r.ok()) << r.error();

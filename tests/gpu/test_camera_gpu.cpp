@@ -27,7 +27,7 @@ void addGround(Module& m) {
 }
 
 std::vector<float> depthImage(Module& m) {
-    return toFloats(readImage(m, m.internals().targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    return toFloats(readImage(m, internals(m).targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
 }
 
 } // namespace
@@ -45,7 +45,7 @@ TEST(GpuCamera, ReversedZReceiversStayOnTheSurface) {
     CameraDesc cam{{0, 1.8f, 0}, {0, 1.4f, -100}, {0, 1, 0}, 1.0f, 0.1f, 1000.0f};
     ASSERT_TRUE(m->setCamera(cam).ok());
     renderFrame(*m);
-    const auto& fc = m->internals().lastConstants;
+    const auto& fc = internals(*m).lastConstants;
     const auto depth = depthImage(*m);
 
     const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
@@ -112,7 +112,7 @@ TEST(GpuCamera, HostMatricesEqualTheDescribedCamera) {
             auto r = m->setCameraMatrices(cm.view, cm.projection);
             ASSERT_TRUE(r.ok()) << r.error();
             // What the module read back out of the matrices.
-            const CameraDesc& got = m->internals().camera;
+            const CameraDesc& got = internals(*m).camera;
             EXPECT_NEAR(got.nearPlane, cam.nearPlane, 1e-4f * cam.nearPlane);
             EXPECT_NEAR(got.farPlane, cam.farPlane, 1e-3f * cam.farPlane);
             EXPECT_NEAR(got.fovY, cam.fovY, 1e-5f);
@@ -120,7 +120,7 @@ TEST(GpuCamera, HostMatricesEqualTheDescribedCamera) {
         }
         renderFrame(*m);
         const glm::mat4 vp = m->viewProjection();
-        EXPECT_EQ(std::memcmp(&vp, &m->internals().lastConstants.viewProj, sizeof(vp)), 0);
+        EXPECT_EQ(std::memcmp(&vp, &internals(*m).lastConstants.viewProj, sizeof(vp)), 0);
         ASSERT_TRUE(m->readOutput(images[run]).ok());
         EXPECT_EQ(validationErrors(), 0u);
     }

@@ -34,7 +34,7 @@ Fixture renderCity(CullingMode mode, uint32_t lights, uint32_t width = 320, uint
 }
 
 void compareWithReference(Module& m, CullingMode mode) {
-    auto& impl = m.internals();
+    auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
     const ClusterGrid& grid = impl.cull.grid;
@@ -80,7 +80,7 @@ TEST(GpuCulling, ClusteredBruteListsEqualCpuReference) {
 // them, cluster by cluster, and never missing a light that reaches a pixel (next test).
 TEST(GpuCulling, FootprintListsAreSubsetsOfBruteForce) {
     auto f = renderCity(CullingMode::Clustered, 512);
-    auto& impl = f.module->internals();
+    auto& impl = internals(*f.module);
     auto depth = toFloats(readImage(*f.module, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     gpu::FrameConstants brute = impl.lastConstants;
     brute.cluster.w = ML_CULL_CLUSTERED_BRUTE;
@@ -117,7 +117,7 @@ TEST_P(NoLightMissing, AndStatsMatch) {
     const CullingMode mode = GetParam();
     auto f = renderCity(mode, 256);
     Module& m = *f.module;
-    auto& impl = m.internals();
+    auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const auto& fc = impl.lastConstants;
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
@@ -236,8 +236,8 @@ TEST_P(Overflow, IsCountedAndDropsNoLight) {
     std::vector<uint8_t> full, overflowed;
     ASSERT_TRUE(m.readOutput(full).ok());
     m.takeReports();
-    m.internals().poolOverride = 16;
-    m.internals().cullingMode = CullingMode(~0u); // resize with the small pool
+    internals(m).poolOverride = 16;
+    internals(m).cullingMode = CullingMode(~0u); // resize with the small pool
     renderFrame(m);
     ASSERT_TRUE(m.readOutput(overflowed).ok());
     auto reports = m.takeReports();

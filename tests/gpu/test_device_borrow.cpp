@@ -10,9 +10,9 @@
 namespace ml {
 namespace {
 
-// The names after "//   features:" / "//   extensions:" in engine/device.h's header comment.
+// The names after "//   features:" / "//   extensions:" in engine/device_types.h's header comment.
 std::vector<std::string> documented(const std::string& key) {
-    std::ifstream in(std::string(ML_SOURCE_DIR) + "/engine/device.h");
+    std::ifstream in(std::string(ML_SOURCE_DIR) + "/engine/device_types.h");
     EXPECT_TRUE(in.good());
     std::vector<std::string> names;
     std::string line;
@@ -148,7 +148,7 @@ TEST(DeviceBorrow, CorrectBorrowRendersWithoutValidationMessages) {
         auto created = Module::create(o);
         ASSERT_TRUE(created.ok()) << created.error();
         Module& m = *created.value();
-        EXPECT_EQ(m.device().device, host.device);
+        EXPECT_EQ(deviceOf(m).device, host.device);
         std::vector<MeshVertex> v = {{{-5, 0, -5}, {0, 1, 0}}, {{5, 0, -5}, {0, 1, 0}}, {{0, 0, 5}, {0, 1, 0}}};
         std::vector<uint32_t> idx = {0, 2, 1};
         auto mesh = m.addMesh({v, idx});

@@ -81,7 +81,7 @@ CasterTriangles boxAndQuad() {
 
 TEST(GpuDualDepth, BoxAndQuadMatchCpuReference) {
     auto m = makeModule();
-    auto r = DualDepthRenderer::create(m->device());
+    auto r = DualDepthRenderer::create(deviceOf(*m));
     ASSERT_TRUE(r.ok()) << r.error();
     CasterTriangles c = boxAndQuad();
     auto gpuMap = r.value()->render(c, boxFrustum(), 256);
@@ -104,7 +104,7 @@ TEST(GpuDualDepth, BoxAndQuadMatchCpuReference) {
 
 TEST(GpuDualDepth, NightCityLightMatchesCpuAndTilesAgree) {
     auto m = makeModule();
-    auto r = DualDepthRenderer::create(m->device());
+    auto r = DualDepthRenderer::create(deviceOf(*m));
     ASSERT_TRUE(r.ok()) << r.error();
     auto scene = loadScene("night-city", 256, 4);
     ASSERT_TRUE(scene.ok());

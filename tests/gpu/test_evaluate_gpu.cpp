@@ -17,7 +17,7 @@ TEST(GpuEvaluate, SampledPixelsMatchCpuShading) {
     ASSERT_TRUE(bindScene(*m, scene.value()).ok());
     ASSERT_TRUE(m->createTargets(320, 180).ok());
     renderFrame(*m);
-    auto& impl = m->internals();
+    auto& impl = internals(*m);
     const auto& fc = impl.lastConstants;
     auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

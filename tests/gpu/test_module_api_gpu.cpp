@@ -136,7 +136,7 @@ TEST(ModuleApi, HdrOutputWritesTheHdrImageOnly) {
     renderFrame(*m.value());
     std::vector<uint8_t> rgba;
     EXPECT_FALSE(m.value()->readOutput(rgba).ok());
-    EXPECT_EQ(m.value()->outputImage(), m.value()->internals().hdr.image);
+    EXPECT_EQ(m.value()->outputImage(), internals(*m.value()).hdr.image);
     EXPECT_EQ(validationErrors(), 0u);
 }
 

@@ -65,7 +65,7 @@ TEST(GpuPointShadow, CubeFacesShadowTheGroundLikeRays) {
     auto binding = bindScene(*m, scene);
     ASSERT_TRUE(binding.ok()) << binding.error();
     ASSERT_TRUE(m->createTargets(256, 192).ok());
-    auto renderer = DualDepthRenderer::create(m->device());
+    auto renderer = DualDepthRenderer::create(deviceOf(*m));
     ASSERT_TRUE(renderer.ok());
     CasterTriangles casters = castersFromScene(scene);
     auto frustums = lightFrustums(scene.lights[0]);
@@ -81,7 +81,7 @@ TEST(GpuPointShadow, CubeFacesShadowTheGroundLikeRays) {
     }
     EXPECT_FALSE(m->setStaticShadow(binding->lights[0], {StaticMethod::DAGMH, frustums[0], {}, 6}).ok());
     renderFrame(*m);
-    auto& impl = m->internals();
+    auto& impl = internals(*m);
     const auto& fc = impl.lastConstants;
     auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);

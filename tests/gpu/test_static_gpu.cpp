@@ -35,7 +35,7 @@ DualDepthMap cityLightMap(const Scene& scene, uint32_t res, LightFrustum* frustu
 
 TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
     auto m = makeModule();
-    Device& d = m->device();
+    Device& d = deviceOf(*m);
     auto scene = loadScene("night-city", 256, 5);
     ASSERT_TRUE(scene.ok()) << scene.error();
     const uint32_t res = 128;
@@ -125,7 +125,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
         ++baked;
     }
     renderFrame(*m);
-    auto& impl = m->internals();
+    auto& impl = internals(*m);
     const auto& fc = impl.lastConstants;
     auto depth = toFloats(readImage(*m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

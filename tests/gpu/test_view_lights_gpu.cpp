@@ -16,7 +16,7 @@ struct Counts {
 };
 
 Counts cpuCounts(Module& m, CullingMode mode) {
-    auto& impl = m.internals();
+    auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const auto& fc = impl.lastConstants;
     auto* ranges = impl.cull.ranges.as<glm::uvec2>();
@@ -56,7 +56,7 @@ void check(CullingMode mode) {
         std::vector<uint8_t> rgba;
         ASSERT_TRUE(m->readOutput(rgba).ok());
         Counts cpu = cpuCounts(*m, mode);
-        auto* gpuCounts = m->internals().cull.viewCounts.as<uint32_t>();
+        auto* gpuCounts = internals(*m).cull.viewCounts.as<uint32_t>();
         size_t surface = 0, maxReaching = 0, maxColourDiff = 0;
         for (size_t i = 0; i < cpu.surface.size(); ++i) {
             uint32_t e = gpuCounts[i] & 0xFFFFu, r = gpuCounts[i] >> 16;

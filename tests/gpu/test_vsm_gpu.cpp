@@ -22,7 +22,7 @@ VsmSessionOptions smallPath(uint32_t width, uint32_t height) {
 }
 
 VsmMarkInputs markInputs(Module& m) {
-    auto& impl = m.internals();
+    auto& impl = internals(m);
     const VirtualShadowMaps& vsm = impl.vsm;
     const uint32_t slot = impl.lastSlot;
     VsmMarkInputs in;
@@ -51,7 +51,7 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     ASSERT_TRUE(session.ok()) << session.error();
     VsmSession& s = *session.value();
     Module& m = *s.module;
-    const VirtualShadowMaps& vsm = m.internals().vsm;
+    const VirtualShadowMaps& vsm = internals(m).vsm;
     VsmAllocState cpu;
     const size_t entries = size_t(vsm.settings().maxMaps) * vsm.entriesPerMap();
     cpu.table.assign(entries, 0);
@@ -62,9 +62,9 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     for (uint32_t f = 0; f < frames; ++f) {
         auto report = s.frame(f);
         ASSERT_TRUE(report.ok()) << report.error();
-        const uint32_t slot = m.internals().lastSlot;
+        const uint32_t slot = internals(m).lastSlot;
         // Marking.
-        std::vector<uint32_t> gpuMarks = vsm.readMarks(m.device());
+        std::vector<uint32_t> gpuMarks = vsm.readMarks(deviceOf(m));
         if (f % 10 == 0 || f < 3) { // the mark reference walks every pixel: every 10th frame keeps it short
             std::vector<uint32_t> cpuMarks = vsmMarkReference(markInputs(m));
             size_t differ = 0;
@@ -75,13 +75,13 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
         std::vector<uint32_t> stale = vsm.staleBits(slot);
         gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot), vsm.allocationOrder(slot),
                                                   vsm.lastConstants());
-        std::vector<uint32_t> table = vsm.readTable(m.device());
+        std::vector<uint32_t> table = vsm.readTable(deviceOf(m));
         ASSERT_LE(table.size(), cpu.table.size());
         size_t differ = 0;
         for (size_t e = 0; e < table.size(); ++e) differ += table[e] != cpu.table[e];
         ASSERT_EQ(differ, 0u) << "frame " << f << ": page-table entries differ";
-        ASSERT_EQ(vsm.readOwners(m.device()), cpu.owners) << "frame " << f;
-        ASSERT_EQ(vsm.readLastUsed(m.device()), cpu.lastUsed) << "frame " << f;
+        ASSERT_EQ(vsm.readOwners(deviceOf(m)), cpu.owners) << "frame " << f;
+        ASSERT_EQ(vsm.readLastUsed(deviceOf(m)), cpu.lastUsed) << "frame " << f;
         const VsmStats& g = report->stats.vsm;
         EXPECT_EQ(g.pagesMarked, c.pagesMarked) << "frame " << f;
         EXPECT_EQ(g.pagesCached, c.pagesCached) << "frame " << f;
@@ -137,13 +137,13 @@ TEST(GpuVsm, QuarterPoolCountsFallbacksAndKeepsEveryShadow) {
         ASSERT_TRUE(r.ok()) << r.error();
         fallbacks += r->stats.vsm.fallbacks;
         uint32_t overflow = 0;
-        auto probes = session.value()->module->internals().vsm.readProbes(session.value()->module->internals().lastSlot,
+        auto probes = internals(*session.value()->module).vsm.readProbes(internals(*session.value()->module).lastSlot,
                                                                            &overflow);
         ASSERT_EQ(overflow, 0u);
         for (const auto& p : probes) {
             ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING)
                 << "frame " << f << ": a lookup found no page at any mip (map " << p.texel.x << ", mip " << p.texel.y
-                << ", kind " << session.value()->module->internals().vsm.mapInfo()[p.texel.x].gpu.info.x << ", pool "
+                << ", kind " << internals(*session.value()->module).vsm.mapInfo()[p.texel.x].gpu.info.x << ", pool "
                 << o.module.vsm.poolPages << ", need " << need << ", fallbacks " << r->stats.vsm.fallbacks << ")";
             fallbackLookups += p.info.w == ML_VSM_PROBE_FALLBACK;
             ++lookups;
@@ -187,13 +187,13 @@ TEST(GpuVsm, DirectionalClipLevelsShadowAndResolve) {
             if (on) {
                 EXPECT_EQ(r->stats.vsm.lightsWithPages, 1u);
                 EXPECT_GT(r->stats.vsm.pagesMarked, 0u);
-                auto probes = m.internals().vsm.readProbes(m.internals().lastSlot);
+                auto probes = internals(m).vsm.readProbes(internals(m).lastSlot);
                 ASSERT_FALSE(probes.empty());
                 for (const auto& p : probes) ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING);
             }
         }
         ASSERT_TRUE(m.readOutput(images[on]).ok());
-        auto hdr = readImage(m, m.internals().hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
+        auto hdr = readImage(m, internals(m).hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
         for (size_t i = 0; i < size_t(160) * 90; ++i) {
             glm::vec4 c = half4(hdr, i);
             ASSERT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) << "pixel " << i;

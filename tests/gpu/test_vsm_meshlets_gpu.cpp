@@ -43,8 +43,8 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
     ASSERT_TRUE(vertS.ok()) << vertS.error();
     Module& mm = *meshS.value()->module;
     Module& vm = *vertS.value()->module;
-    const VirtualShadowMaps& mv = mm.internals().vsm;
-    const VirtualShadowMaps& vv = vm.internals().vsm;
+    const VirtualShadowMaps& mv = internals(mm).vsm;
+    const VirtualShadowMaps& vv = internals(vm).vsm;
     ASSERT_TRUE(mv.meshPath());
     ASSERT_FALSE(vv.meshPath());
     const uint32_t page = mv.settings().pageSize * mv.settings().pageSize;
@@ -55,9 +55,9 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
         ASSERT_TRUE(rm.ok()) << rm.error();
         auto rv = vertS.value()->frame(f);
         ASSERT_TRUE(rv.ok()) << rv.error();
-        std::vector<uint32_t> tm = mv.readTable(mm.device()), tv = vv.readTable(vm.device());
+        std::vector<uint32_t> tm = mv.readTable(deviceOf(mm)), tv = vv.readTable(deviceOf(vm));
         ASSERT_EQ(tm, tv) << "frame " << f << ": page tables differ";
-        std::vector<uint32_t> pm = mv.readPagePool(mm.device()), pv = vv.readPagePool(vm.device());
+        std::vector<uint32_t> pm = mv.readPagePool(deviceOf(mm)), pv = vv.readPagePool(deviceOf(vm));
         for (size_t e = 0; e < tm.size(); ++e) {
             const uint32_t w = tm[e];
             if (!(w & ML_VSM_ALLOCATED) || !(w & ML_VSM_VALID)) continue;

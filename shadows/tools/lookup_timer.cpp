@@ -1,4 +1,4 @@
-#include "apps/lookup_timer.h"
+#include "shadows/tools/lookup_timer.h"
 
 #include "engine/program.h"
 #include "engine/resources.h"
@@ -14,6 +14,7 @@
 namespace ml {
 
 struct LookupTimer::State {
+    std::unique_ptr<Device> owned;
     Device* device = nullptr;
     ShaderModule shader;
     Program program;
@@ -27,12 +28,20 @@ LookupTimer::~LookupTimer() {
     destroyShader(*s_->device, s_->shader);
 }
 
-Result<std::unique_ptr<LookupTimer>> LookupTimer::create(Device& device) {
+Result<std::unique_ptr<LookupTimer>> LookupTimer::create() {
+    auto created = Device::create({});
+    if (!created) return fail("lookup timer: " + created.error());
     auto s = std::make_unique<State>();
-    s->device = &device;
+    s->owned = std::move(created.value());
+    s->device = s->owned.get();
+    Device& device = *s->device;
     s->shader = ML_SHADER(device, spv_bench_lookup_comp);
     s->program = createComputeProgram(device, s->shader, 16);
     return std::unique_ptr<LookupTimer>(new LookupTimer(std::move(s)));
+}
+
+uint64_t LookupTimer::maxStorageBufferRange() const {
+    return s_->device->properties.limits.maxStorageBufferRange;
 }
 
 Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::GpuShadowRecord>& records,

@@ -1,9 +1,10 @@
 // Time per static shadow lookup, isolated from the frame (shaders/bench_lookup.comp): the same
 // (receiver, light) pairs, N lookups each, timed at 1 and 1 + K lookups per pair; the difference over
 // K * pairs is the cost of one lookup. K grows (x4) until the difference is >= 40 ms. Used by `bench static`
-// for every method, resolution and PCF size in one run.
+// for every method, resolution and PCF size in one run. Owns its Vulkan device (the lookups need no scene
+// and no module). Part of shadows/tools/ (see gpu_dual_renderer.h): GPU tools of the static shadow
+// commands, below apps/, which include only their headers.
 #pragma once
-#include "engine/device.h"
 #include "engine/result.h"
 #include "shaders/shared/gpu_types.h"
 
@@ -29,8 +30,11 @@ struct LookupTiming {
 
 class LookupTimer {
   public:
-    static Result<std::unique_ptr<LookupTimer>> create(Device& device);
+    // Makes its own device (DeviceOptions: validation when ML_VALIDATION=1).
+    static Result<std::unique_ptr<LookupTimer>> create();
     ~LookupTimer();
+    // The device's maxStorageBufferRange: `words` larger than this cannot be bound.
+    uint64_t maxStorageBufferRange() const;
     // records' base words index into `words`. Pairs are uploaded once per call.
     Result<std::vector<LookupTiming>> measure(const std::vector<gpu::GpuShadowRecord>& records,
                                               const std::vector<uint32_t>& words,

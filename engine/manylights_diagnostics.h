@@ -1,0 +1,89 @@
+// manylights diagnostics: read-backs for tools, benchmarks and checks (`manylights bench`, `check vsm`),
+// through the public API. A host engine renders with engine/manylights.h alone and has no need of these.
+// Installed beside the public header; API types only, like it.
+//
+//   G-buffer      readGBuffer: the module-owned depth and normals of the last frame (receivers for
+//                 ray-traced references).
+//   last frame    lastFrame: the constants the passes used (view-projection, its inverse, eye, size).
+//   counters      cullingBoxTests, sceneCounts.
+//   VSM           vsmMeshPath, vsmMaps, readVsmProbes (the probe pass: VsmSettings::probeCapacity > 0),
+//                 vsmCasterPoint (the page draws' transform, for CPU reference maps).
+//
+// Every function reads the results of frames the host has already waited for (e.g. submitFrame() or
+// vkQueueWaitIdle); the read-backs that copy from the GPU wait for the queue themselves: not for a frame
+// loop.
+#pragma once
+#include "engine/manylights.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace ml::diag {
+
+// The constants of the last recorded frame (all zero before the first record()).
+struct LastFrame {
+    glm::mat4 viewProj{0.0f};    // world -> clip (Vulkan zero-to-one depth)
+    glm::mat4 invViewProj{0.0f}; // clip -> world
+    glm::vec3 cameraPosition{0.0f};
+    glm::uvec4 size{0}; // x width, y height, zw 0 (the layout gpu::worldFromPixel takes)
+    float nearPlane = 0, farPlane = 0;
+};
+LastFrame lastFrame(const Module& module);
+
+// Module-owned targets (createTargets) only: the G-buffer depth (the D32 values as stored, in the depth
+// convention HostTargets documents) and world normals (half floats as stored, unit length up to
+// rounding) of the last frame, width * height each, row-major in image rows. Waits for the queue.
+// Refused with host targets (setTargets) or before the first frame.
+Result<void> readGBuffer(Module& module, std::vector<float>& depth, std::vector<glm::vec3>& normal);
+
+// Light-versus-cluster box tests of the light assignment in the last completed frame (culling
+// statistics; 0 in mode None).
+uint32_t cullingBoxTests(const Module& module);
+
+// Slots in the module's scene tables (removed objects included) and the meshlets built for the VSM mesh
+// path (meshoptimizer, VsmSettings::meshletVertices / meshletTriangles).
+struct SceneCounts {
+    uint32_t meshes = 0, instances = 0, meshlets = 0;
+};
+SceneCounts sceneCounts(const Module& module);
+
+// Whether the virtual shadow maps draw pages with task and mesh shaders (VsmRaster::Auto resolved at
+// create()); false when the maps are off or on the vertex path.
+bool vsmMeshPath(const Module& module);
+
+// One virtual shadow map slot (a spot light, a point light's cube face, a directional clip level).
+struct VsmMap {
+    bool inUse = false;
+    uint32_t light = 0;        // module light slot (LightId without its generation)
+    uint32_t face = 0;         // cube face or clip level
+    bool orthographic = false; // a directional light's clip level
+    bool dynamicOnly = false;  // the light has a static bake: its pages hold dynamic casters only
+    LightFrustum frustum;      // perspective maps: the frustum a reference rasteriser uses
+};
+std::vector<VsmMap> vsmMaps(const Module& module);
+
+// What one shaded pixel's lookup of one light found (the probe pass, shadows/virtual/vsm_probe.comp).
+enum class VsmProbeStatus : uint32_t {
+    Page = 0,     // read from a page at the wanted mip
+    Fallback = 1, // read from a coarser allocated page (pool full)
+    NoCaster = 2, // no dynamic caster's bounds cover the texel: visibility 1
+    Missing = 3,  // no valid page at any mip (must stay 0)
+};
+struct VsmProbe {
+    uint32_t map = 0, mip = 0, x = 0, y = 0; // the texel read, at the mip used
+    uint32_t pixel = 0, light = 0;
+    uint32_t depth = 0;         // quantised depth read (0xFFFFFFFF: empty texel)
+    uint32_t receiverDepth = 0; // the receiver's biased depth it was compared with
+    VsmProbeStatus status = VsmProbeStatus::Page;
+};
+// The probe records of the last recorded frame (at most VsmSettings::probeCapacity; `overflow` receives
+// the records that did not fit). Empty when the probe pass is off. The host must have waited for the frame.
+std::vector<VsmProbe> readVsmProbes(const Module& module, uint32_t* overflow = nullptr);
+
+// An instance vertex transformed exactly as the page draws transform it (bit for bit with the shaders),
+// so a CPU reference rasteriser sees the same triangles.
+glm::vec3 vsmCasterPoint(const glm::mat4& transform, glm::vec3 position);
+
+} // namespace ml::diag
