@@ -60,8 +60,8 @@ Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsage
                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
     VkCommandBuffer cmd = device.beginOneTime();
     vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    // The fill -> the buffer's first use, whatever it is (read or write in any stage the module uses).
+    memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages, kBufferReads | kBufferWrites);
     device.endOneTime(cmd);
     return b;
 }
@@ -71,9 +71,8 @@ std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDe
     if (!bytes) return out;
     Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
     VkCommandBuffer cmd = device.beginOneTime();
-    // Every earlier write to the buffer -> the copy.
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_TRANSFER_READ_BIT);
+    // The last writes to the buffer (any shader stage, fill or copy, earlier submissions) -> the copy.
+    memoryBarrier(cmd, kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer.buffer, staging.buffer, 1, &region);
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,

@@ -55,6 +55,29 @@ Image createImage(const Device& device, uint32_t width, uint32_t height, VkForma
                   const char* name);
 void destroyImage(const Device& device, Image& image);
 
+// Stage of vkCmdFillBuffer. The specification lists it among the clear commands (CLEAR); validation
+// layers before 1.3.279 (bookworm has 1.3.239) track it at COPY (KhronosGroup/Vulkan-ValidationLayers
+// issue 7406), so a barrier after a fill names both.
+constexpr VkPipelineStageFlags2 kFillStages = VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+// Every use the module makes of a buffer: shader storage/uniform access in each stage it dispatches or
+// draws with, indirect arguments, index fetch, fills and copies. For hand-offs whose other side is not
+// known at the call (a new buffer's first use, a readback of whatever wrote last), not inside a frame.
+constexpr VkPipelineStageFlags2 kBufferUseStages =
+    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+    VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT |
+    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
+    VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+constexpr VkAccessFlags2 kBufferWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags2 kBufferReads = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+                                        VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT |
+                                        VK_ACCESS_2_TRANSFER_READ_BIT;
+// The frame's output images (tone-mapped, HDR) -> the host's next use after record(): copies and blits,
+// sampled or storage reads in a fragment or compute shader. Images are never host-mapped.
+constexpr VkPipelineStageFlags2 kOutputReaderStages =
+    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkAccessFlags2 kOutputReads =
+    VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+
 // Synchronisation2 helpers. memoryBarrier orders one hazard: writes `srcAccess` of stages `src` before
 // accesses `dstAccess` of stages `dst` (say which resource at the call). fullBarrier covers all prior and
 // later memory work of the given stages.

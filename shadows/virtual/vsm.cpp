@@ -477,7 +477,7 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
         vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
         vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
         if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
+        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
                       R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
     if (slot.activeCount == 0) return;
@@ -612,8 +612,9 @@ void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_
               Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
               Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants, slot.maps,
               slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+    // The view's output -> the host's reads after record().
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kOutputReaderStages,
+                  kOutputReads);
 }
 
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
