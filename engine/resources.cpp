@@ -172,7 +172,8 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     vkGetImageMemoryRequirements(device.device, img.image, &req);
     img.memory = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, desc.name);
     ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
-    const VkImageViewType type = desc.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    const VkImageViewType type =
+        desc.layers > 1 || desc.arrayViews ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     img.view = makeView(device, img, type, 0, img.mips, 0, desc.layers);
     if (img.mips > 1)
         for (uint32_t m = 0; m < img.mips; ++m) img.mipViews.push_back(makeView(device, img, type, m, 1, 0, desc.layers));

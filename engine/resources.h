@@ -42,7 +42,7 @@ enum class Lifetime : uint8_t { Persistent, PerFrame };
 
 struct Image {
     VkImage image = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE; // every mip and layer (2D, or 2D_ARRAY when layers > 1)
+    VkImageView view = VK_NULL_HANDLE; // every mip and layer (2D, or 2D_ARRAY: layers > 1 or arrayViews)
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;
@@ -65,6 +65,7 @@ struct ImageDesc {
     uint32_t layers = 1;
     Lifetime lifetime = Lifetime::PerFrame;
     bool layerViews = false; // also create a 2D view per (mip, layer)
+    bool arrayViews = false; // `view` and mipViews are 2D_ARRAY even with one layer (shaders indexing layers)
     const char* name = "image";
 };
 
