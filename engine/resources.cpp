@@ -206,6 +206,25 @@ void destroyImage(const Device& device, Image& img) {
 }
 
 namespace {
+void rangeBarrier(VkCommandBuffer cmd, VkImage image, VkImageSubresourceRange range, VkImageLayout from,
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                  VkAccessFlags2 dstAccess) {
+    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    ib.srcStageMask = src;
+    ib.srcAccessMask = srcAccess;
+    ib.dstStageMask = dst;
+    ib.dstAccessMask = dstAccess;
+    ib.oldLayout = from;
+    ib.newLayout = to;
+    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    ib.image = image;
+    ib.subresourceRange = range;
+    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    di.imageMemoryBarrierCount = 1;
+    di.pImageMemoryBarriers = &ib;
+    vkCmdPipelineBarrier2(cmd, &di);
+}
+
 // Any earlier use of an image (shaders, attachments, copies) -> the staging copy, and back.
 constexpr VkPipelineStageFlags2 kImageUseStages =
     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
@@ -221,20 +240,7 @@ constexpr VkAccessFlags2 kImageReads =
 void subresourceBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t layer, VkImageLayout from,
                         VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
                         VkAccessFlags2 dstAccess) {
-    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    ib.srcStageMask = src;
-    ib.srcAccessMask = srcAccess;
-    ib.dstStageMask = dst;
-    ib.dstAccessMask = dstAccess;
-    ib.oldLayout = from;
-    ib.newLayout = to;
-    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    ib.image = image.image;
-    ib.subresourceRange = {image.aspect, mip, 1, layer, 1};
-    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    di.imageMemoryBarrierCount = 1;
-    di.pImageMemoryBarriers = &ib;
-    vkCmdPipelineBarrier2(cmd, &di);
+    rangeBarrier(cmd, image.image, {image.aspect, mip, 1, layer, 1}, from, to, src, srcAccess, dst, dstAccess);
 }
 
 VkBufferImageCopy subresourceCopy(const Image& image, uint32_t mip, uint32_t layer) {
@@ -330,20 +336,7 @@ void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStage
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
                   VkAccessFlags2 dstAccess) {
-    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    ib.srcStageMask = src;
-    ib.srcAccessMask = srcAccess;
-    ib.dstStageMask = dst;
-    ib.dstAccessMask = dstAccess;
-    ib.oldLayout = from;
-    ib.newLayout = to;
-    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    ib.image = image;
-    ib.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    di.imageMemoryBarrierCount = 1;
-    di.pImageMemoryBarriers = &ib;
-    vkCmdPipelineBarrier2(cmd, &di);
+    rangeBarrier(cmd, image, {aspect, 0, 1, 0, 1}, from, to, src, srcAccess, dst, dstAccess);
 }
 
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer) {
@@ -353,27 +346,12 @@ void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& bu
     vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
 }
 
-} // namespace ml
-
-namespace ml {
 
 void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount, VkImageLayout from,
                   VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
                   VkAccessFlags2 dstAccess) {
-    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    ib.srcStageMask = src;
-    ib.srcAccessMask = srcAccess;
-    ib.dstStageMask = dst;
-    ib.dstAccessMask = dstAccess;
-    ib.oldLayout = from;
-    ib.newLayout = to;
-    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    ib.image = image.image;
-    ib.subresourceRange = {image.aspect, mip, mipCount, 0, image.layers};
-    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    di.imageMemoryBarrierCount = 1;
-    di.pImageMemoryBarriers = &ib;
-    vkCmdPipelineBarrier2(cmd, &di);
+    rangeBarrier(cmd, image.image, {image.aspect, mip, mipCount, 0, image.layers}, from, to, src, srcAccess, dst,
+                 dstAccess);
 }
 
 void firstUseBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout layout, VkPipelineStageFlags2 src,
