@@ -16,6 +16,12 @@
 
 namespace ml {
 
+namespace {
+constexpr auto kC = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr auto kR = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+constexpr auto kW = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+} // namespace
+
 static_assert(uint32_t(CullingMode::Clustered) == ML_CULL_CLUSTERED && uint32_t(CullingMode::Tiled) == ML_CULL_TILED &&
               uint32_t(CullingMode::None) == ML_CULL_NONE &&
               uint32_t(CullingMode::ClusteredBrute) == ML_CULL_CLUSTERED_BRUTE);
@@ -103,23 +109,25 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
                      counters, tileMasks},
                     nullptr, 0);
         vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1); // one group per tile by construction
-        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's atomics.
+        memoryBarrier(c, kC, kW, kC, kR | kW);
     });
     profiler.run(cmd, Pass::LightAssign, [&](VkCommandBuffer c) {
         vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
         if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
-        fullBarrier(c, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        // Cleared work counters and per-cluster counts -> the atomics of count, alloc, fill and assign.
+        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
         if (mode == ML_CULL_CLUSTERED) {
             // Count and record hits (8 threads per light), allocate (one thread per tile), scatter.
             if (visible) {
                 bindProgram(device, c, countProgram_, {frame, slices, lights, bounds, tileMasks, counts, hits, work},
                             &hitCapacity, 4);
                 vkCmdDispatch(c, lightGroups, 1, 1);
-                fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+                memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
             }
             bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work}, &hitCapacity, 4);
             vkCmdDispatch(c, (tiles + ML_ALLOC_GROUP - 1) / ML_ALLOC_GROUP, 1, 1);
-            fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+            memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
             if (visible) {
                 bindProgram(device, c, fillProgram_, {hits, ranges, counts, pool, work}, &hitCapacity, 4);
                 vkCmdDispatch(c, ML_FILL_GROUPS, 1, 1);
@@ -128,8 +136,9 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
             bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work}, nullptr, 0);
             vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1);
         }
-        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT);
+        // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
+        // counters reach the host through the frame's last barrier (module.cpp).
+        memoryBarrier(c, kC, kW, kC, kR);
     });
 }
 
@@ -142,15 +151,17 @@ void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool re
         ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts");
     }
     profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+        // The evaluation's output -> overwritten here (write-after-write).
+        memoryBarrier(c, kC, kW, kC, kW);
         bindProgram(device, c, viewPrograms_[reaching ? 1 : 0],
                     {frame, slices, lights, ranges,
                      Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
                      Descriptor(Image{.view = output}), viewCounts},
                     nullptr, 0);
         vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
-        fullBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_PIPELINE_STAGE_2_HOST_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        // Output -> the host's reads after record(); per-pixel counts -> host (tests read them mapped).
+        memoryBarrier(c, kC, kW, kOutputReaderStages | VK_PIPELINE_STAGE_2_HOST_BIT,
+                      kOutputReads | VK_ACCESS_2_HOST_READ_BIT);
     });
 }
 

@@ -31,13 +31,26 @@ bool envFlag(const char* name) {
     return v && *v && std::strcmp(v, "0") != 0;
 }
 
-bool hasLayer(const char* name) {
+// The layer's spec version, or 0 when it is not installed.
+uint32_t layerVersion(const char* name) {
     uint32_t count = 0;
     vkEnumerateInstanceLayerProperties(&count, nullptr);
     std::vector<VkLayerProperties> layers(count);
     vkEnumerateInstanceLayerProperties(&count, layers.data());
     for (auto& l : layers)
-        if (std::strcmp(l.layerName, name) == 0) return true;
+        if (std::strcmp(l.layerName, name) == 0) return l.specVersion;
+    return 0;
+}
+bool hasLayer(const char* name) { return layerVersion(name) != 0; }
+
+// An instance extension a layer provides (VK_EXT_validation_features comes with the validation layer).
+bool hasLayerExtension(const char* layer, const char* name) {
+    uint32_t count = 0;
+    vkEnumerateInstanceExtensionProperties(layer, &count, nullptr);
+    std::vector<VkExtensionProperties> exts(count);
+    vkEnumerateInstanceExtensionProperties(layer, &count, exts.data());
+    for (auto& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
     return false;
 }
 
@@ -194,15 +207,33 @@ const char* vkResultName(VkResult r) {
 Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     std::unique_ptr<Device> d(new Device());
     d->owned_ = true;
-    d->validation_ = options.validation || envFlag("ML_VALIDATION");
+    const bool sync = options.validationSync || envFlag("ML_VALIDATION_SYNC");
+    d->validation_ = options.validation || sync || envFlag("ML_VALIDATION");
 
     std::vector<const char*> layers;
     std::vector<const char*> extensions = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    // Synchronization validation: the layer tracks every access of every command and reports hazards
+    // (read-after-write, write-after-read, write-after-write) no barrier orders. Layer 1.3.239 (bookworm)
+    // has no VK_EXT_layer_settings; VkValidationFeaturesEXT turns it on.
+    const VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT validationFeatures{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    validationFeatures.enabledValidationFeatureCount = 1;
+    validationFeatures.pEnabledValidationFeatures = &syncFeature;
     if (d->validation_) {
         if (!hasLayer("VK_LAYER_KHRONOS_validation"))
             return fail("validation requested but VK_LAYER_KHRONOS_validation is not installed "
                         "(Debian package vulkan-validationlayers)");
         layers.push_back("VK_LAYER_KHRONOS_validation");
+        if (sync) {
+            if (!hasLayerExtension("VK_LAYER_KHRONOS_validation", VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME))
+                return fail("synchronization validation requested (ML_VALIDATION_SYNC) but the validation layer "
+                            "lacks VK_EXT_validation_features");
+            extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+            d->validationSync_ = true;
+            const uint32_t v = layerVersion("VK_LAYER_KHRONOS_validation");
+            std::fprintf(stderr, "manylights: synchronization validation on (VK_LAYER_KHRONOS_validation %u.%u.%u)\n",
+                         VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v));
+        }
     }
     if (options.window) {
         if (!glfwInit()) return fail("--window: GLFW could not initialise (no display? DISPLAY is unset or unreachable)");
@@ -221,6 +252,7 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     ici.ppEnabledLayerNames = layers.data();
     ici.enabledExtensionCount = uint32_t(extensions.size());
     ici.ppEnabledExtensionNames = extensions.data();
+    if (d->validationSync_) ici.pNext = &validationFeatures;
     VkResult r = vkCreateInstance(&ici, nullptr, &d->instance);
     if (r != VK_SUCCESS)
         return fail(std::string("vkCreateInstance failed: ") + vkResultName(r) +

@@ -4,6 +4,13 @@
 //
 // Headless by default (lavapipe on machines without a GPU). The module either creates these itself or
 // borrows a host engine's handles (DeviceBorrow).
+//
+// Validation: on when DeviceOptions::validation is set or the environment has ML_VALIDATION=1. Every
+// validation error or warning is printed and counted (validationErrors()); tests fail on a non-zero
+// count. Performance warnings are printed and counted apart (validationPerfWarnings()), not failed.
+// Synchronization validation (hazards between commands that no barrier orders, SYNC-HAZARD-* messages,
+// counted as errors) is on with DeviceOptions::validationSync or ML_VALIDATION_SYNC=1; either also
+// turns validation on. It is off by default because it slows every command down.
 #pragma once
 #include "engine/device_types.h"
 #include "engine/result.h"
@@ -47,6 +54,7 @@ class Device {
 
     uint32_t memoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const;
     bool validationEnabled() const { return validation_; }
+    bool synchronizationValidationEnabled() const { return validationSync_; }
 
     PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
     PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks = nullptr;
@@ -57,6 +65,7 @@ class Device {
     Result<void> loadFunctions();
     bool owned_ = false;
     bool validation_ = false;
+    bool validationSync_ = false;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
     VkCommandPool setupPool_ = VK_NULL_HANDLE;
     PFN_vkCmdBeginDebugUtilsLabelEXT beginLabel_ = nullptr;

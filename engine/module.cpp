@@ -623,11 +623,13 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     // The frame as a list of passes (each a profiler entry with a debug label).
     m.profiler.beginFrame(cmd, slotIndex);
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // The previous frame's passes may still read the cluster buffers, the shared VSM state and the
-        // targets this frame rewrites (write-after-read on one queue): order this frame after them.
+        // The frame boundary, the one ALL-to-ALL barrier of the frame: the previous frame (and the host's
+        // commands before record()) read and write the cluster buffers, the persistent VSM state (page
+        // table, pool, owners: read-after-write across frames) and the targets this frame rewrites
+        // (write-after-read), in nearly every stage; later barriers of the frame chain from this one.
         fullBarrier(c, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
         vkCmdFillBuffer(c, slot.counters.buffer, 0, VK_WHOLE_SIZE, 0);
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters
+        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
     });
     if (m.ownTargets)
         m.profiler.run(cmd, Pass::GBuffer, [&](VkCommandBuffer c) {
@@ -644,13 +646,14 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     vin.meshletTriangles = &m.meshletTriangleBuffer;
     m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
 
-    // The HDR and output images are rewritten whole: their old contents are discarded.
+    // The HDR and output images are rewritten whole: their old contents are discarded. Write-after-read
+    // and write-after-write against the previous frame's evaluation and debug views (compute); the
+    // host's reads of them (copies, blits) reach the compute stage through the frame-start barrier.
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, C, W);
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C, W);
         if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, C, W);
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0,
+                         C, W);
     });
     const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool, depthView,
                                 normalView,  albedoView,   m.width,      m.height};

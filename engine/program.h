@@ -75,6 +75,8 @@ struct Descriptor {
     VkSampler sampler = VK_NULL_HANDLE;
     Descriptor(const Buffer& b) : buffer(b.buffer) {}
     Descriptor(const Image& i, VkImageLayout l = VK_IMAGE_LAYOUT_GENERAL) : view(i.view), layout(l) {}
+    // One view of an image (Image::mipView, layerViews).
+    Descriptor(VkImageView v, VkImageLayout l = VK_IMAGE_LAYOUT_GENERAL) : view(v), layout(l) {}
 };
 
 // Binds the program and pushes descriptors (in binding order) and the push constants.

@@ -1,6 +1,9 @@
 #include "engine/resources.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdio>
+#include <string>
 
 namespace ml {
 
@@ -60,8 +63,8 @@ Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsage
                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
     VkCommandBuffer cmd = device.beginOneTime();
     vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    // The fill -> the buffer's first use, whatever it is (read or write in any stage the module uses).
+    memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages, kBufferReads | kBufferWrites);
     device.endOneTime(cmd);
     return b;
 }
@@ -71,9 +74,8 @@ std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDe
     if (!bytes) return out;
     Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
     VkCommandBuffer cmd = device.beginOneTime();
-    // Every earlier write to the buffer -> the copy.
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_TRANSFER_READ_BIT);
+    // The last writes to the buffer (any shader stage, fill or copy, earlier submissions) -> the copy.
+    memoryBarrier(cmd, kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer.buffer, staging.buffer, 1, &region);
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
@@ -92,44 +94,218 @@ bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUs
     return true;
 }
 
-Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-                  const char* name) {
+namespace {
+VkImageView makeView(const Device& device, const Image& img, VkImageViewType type, uint32_t mip, uint32_t mipCount,
+                     uint32_t layer, uint32_t layerCount) {
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = img.image;
+    vi.viewType = type;
+    vi.format = img.format;
+    vi.subresourceRange = {img.aspect, mip, mipCount, layer, layerCount};
+    VkImageView view = VK_NULL_HANDLE;
+    ML_VK_CHECK(vkCreateImageView(device.device, &vi, nullptr, &view));
+    return view;
+}
+
+[[noreturn]] void imageError(const char* name, const std::string& why) {
+    std::fprintf(stderr, "createImage %s: %s\n", name, why.c_str());
+    std::abort();
+}
+} // namespace
+
+uint32_t formatBytes(VkFormat format) {
+    switch (format) {
+    case VK_FORMAT_R8_UINT:
+    case VK_FORMAT_R8_UNORM: return 1;
+    case VK_FORMAT_R16_UINT:
+    case VK_FORMAT_R16_SFLOAT: return 2;
+    case VK_FORMAT_R32_UINT:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_UINT: return 4;
+    case VK_FORMAT_R32G32_UINT:
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT: return 16;
+    default: return 0;
+    }
+}
+
+Image createImage(const Device& device, const ImageDesc& desc) {
     Image img;
-    img.format = format;
-    img.width = width;
-    img.height = height;
-    bool depth = format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D16_UNORM;
+    img.format = desc.format;
+    img.width = desc.width;
+    img.height = desc.height;
+    img.layers = desc.layers;
+    img.lifetime = desc.lifetime;
+    const uint32_t fullChain = uint32_t(std::bit_width(std::max(desc.width, desc.height)));
+    img.mips = desc.mips ? desc.mips : fullChain;
+    const bool depth = desc.format == VK_FORMAT_D32_SFLOAT || desc.format == VK_FORMAT_D16_UNORM;
     img.aspect = depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+    const VkPhysicalDeviceLimits& lim = device.properties.limits;
+    if (!desc.width || !desc.height || desc.width > lim.maxImageDimension2D || desc.height > lim.maxImageDimension2D)
+        imageError(desc.name, std::to_string(desc.width) + "x" + std::to_string(desc.height) + " outside 1.." +
+                                  std::to_string(lim.maxImageDimension2D));
+    if (!desc.layers || desc.layers > lim.maxImageArrayLayers)
+        imageError(desc.name, std::to_string(desc.layers) + " layers outside 1.." +
+                                  std::to_string(lim.maxImageArrayLayers));
+    if (img.mips > fullChain)
+        imageError(desc.name, std::to_string(img.mips) + " mips, the chain of " + std::to_string(desc.width) + "x" +
+                                  std::to_string(desc.height) + " has " + std::to_string(fullChain));
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = format;
-    ci.extent = {width, height, 1};
-    ci.mipLevels = 1;
-    ci.arrayLayers = 1;
+    ci.format = desc.format;
+    ci.extent = {desc.width, desc.height, 1};
+    ci.mipLevels = img.mips;
+    ci.arrayLayers = desc.layers;
     ci.samples = VK_SAMPLE_COUNT_1_BIT;
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ci.usage = usage;
+    ci.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VkImageFormatProperties fp{};
+    if (vkGetPhysicalDeviceImageFormatProperties(device.physicalDevice, ci.format, ci.imageType, ci.tiling, ci.usage, 0,
+                                                 &fp) != VK_SUCCESS)
+        imageError(desc.name, "format " + std::to_string(int(desc.format)) + " does not support the usage");
     ML_VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device.device, img.image, &req);
-    img.memory = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
+    img.memory = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, desc.name);
     ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = img.image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = format;
-    vi.subresourceRange = {img.aspect, 0, 1, 0, 1};
-    ML_VK_CHECK(vkCreateImageView(device.device, &vi, nullptr, &img.view));
-    device.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(img.image), name);
+    const VkImageViewType type =
+        desc.layers > 1 || desc.arrayViews ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    img.view = makeView(device, img, type, 0, img.mips, 0, desc.layers);
+    if (img.mips > 1)
+        for (uint32_t m = 0; m < img.mips; ++m) img.mipViews.push_back(makeView(device, img, type, m, 1, 0, desc.layers));
+    if (desc.layerViews)
+        for (uint32_t m = 0; m < img.mips; ++m)
+            for (uint32_t l = 0; l < desc.layers; ++l)
+                img.layerViews.push_back(makeView(device, img, VK_IMAGE_VIEW_TYPE_2D, m, 1, l, 1));
+    device.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(img.image), desc.name);
     return img;
 }
 
+Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
+                  const char* name) {
+    ImageDesc desc;
+    desc.width = width;
+    desc.height = height;
+    desc.format = format;
+    desc.usage = usage;
+    desc.name = name;
+    return createImage(device, desc);
+}
+
 void destroyImage(const Device& device, Image& img) {
+    for (VkImageView v : img.mipViews) vkDestroyImageView(device.device, v, nullptr);
+    for (VkImageView v : img.layerViews) vkDestroyImageView(device.device, v, nullptr);
     if (img.view) vkDestroyImageView(device.device, img.view, nullptr);
     if (img.image) vkDestroyImage(device.device, img.image, nullptr);
     if (img.memory) vkFreeMemory(device.device, img.memory, nullptr);
     img = Image{};
+}
+
+namespace {
+void rangeBarrier(VkCommandBuffer cmd, VkImage image, VkImageSubresourceRange range, VkImageLayout from,
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                  VkAccessFlags2 dstAccess) {
+    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    ib.srcStageMask = src;
+    ib.srcAccessMask = srcAccess;
+    ib.dstStageMask = dst;
+    ib.dstAccessMask = dstAccess;
+    ib.oldLayout = from;
+    ib.newLayout = to;
+    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    ib.image = image;
+    ib.subresourceRange = range;
+    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    di.imageMemoryBarrierCount = 1;
+    di.pImageMemoryBarriers = &ib;
+    vkCmdPipelineBarrier2(cmd, &di);
+}
+
+// Any earlier use of an image (shaders, attachments, copies) -> the staging copy, and back.
+constexpr VkPipelineStageFlags2 kImageUseStages =
+    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
+    VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT |
+    VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+constexpr VkAccessFlags2 kImageWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags2 kImageReads =
+    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT;
+
+void subresourceBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t layer, VkImageLayout from,
+                        VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                        VkAccessFlags2 dstAccess) {
+    rangeBarrier(cmd, image.image, {image.aspect, mip, 1, layer, 1}, from, to, src, srcAccess, dst, dstAccess);
+}
+
+VkBufferImageCopy subresourceCopy(const Image& image, uint32_t mip, uint32_t layer) {
+    VkBufferImageCopy region{};
+    region.imageSubresource = {image.aspect, mip, layer, 1};
+    region.imageExtent = {image.mipWidth(mip), image.mipHeight(mip), 1};
+    return region;
+}
+
+size_t subresourceBytes(const Image& image, uint32_t mip) {
+    return size_t(image.mipWidth(mip)) * image.mipHeight(mip) * formatBytes(image.format);
+}
+
+void checkSubresource(const Image& image, uint32_t mip, uint32_t layer, const char* what) {
+    if (mip >= image.mips || layer >= image.layers || !formatBytes(image.format)) {
+        std::fprintf(stderr, "%s: mip %u layer %u of an image of %u mips, %u layers (format %d)\n", what, mip, layer,
+                     image.mips, image.layers, int(image.format));
+        std::abort();
+    }
+}
+} // namespace
+
+void uploadImage(const Device& device, const Image& image, uint32_t mip, uint32_t layer, const void* data,
+                 size_t bytes, VkImageLayout from, VkImageLayout to) {
+    checkSubresource(image, mip, layer, "uploadImage");
+    if (bytes != subresourceBytes(image, mip)) {
+        std::fprintf(stderr, "uploadImage: %zu bytes for mip %u (%ux%u texels of %u bytes)\n", bytes, mip,
+                     image.mipWidth(mip), image.mipHeight(mip), formatBytes(image.format));
+        std::abort();
+    }
+    Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "upload_staging");
+    std::memcpy(staging.data, data, bytes);
+    VkCommandBuffer cmd = device.beginOneTime();
+    // Earlier uses of the subresource (write-after-read/write; none when discarded) -> the copy's writes.
+    subresourceBarrier(cmd, image, mip, layer, from, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, kImageUseStages,
+                       kImageWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy region = subresourceCopy(image, mip, layer);
+    vkCmdCopyBufferToImage(cmd, staging.buffer, image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    // The copy's writes -> every later use.
+    subresourceBarrier(cmd, image, mip, layer, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, to, VK_PIPELINE_STAGE_2_COPY_BIT,
+                       VK_ACCESS_2_TRANSFER_WRITE_BIT, kImageUseStages, kImageReads | kImageWrites);
+    device.endOneTime(cmd);
+    destroyBuffer(device, staging);
+}
+
+std::vector<uint8_t> readImage(const Device& device, const Image& image, uint32_t mip, uint32_t layer,
+                               VkImageLayout layout) {
+    checkSubresource(image, mip, layer, "readImage");
+    std::vector<uint8_t> out(subresourceBytes(image, mip));
+    Buffer staging = createBuffer(device, out.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
+    VkCommandBuffer cmd = device.beginOneTime();
+    // The last writes of the subresource -> the copy's reads.
+    subresourceBarrier(cmd, image, mip, layer, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kImageUseStages,
+                       kImageWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy region = subresourceCopy(image, mip, layer);
+    vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1, &region);
+    // The copy's reads -> later writes (write-after-read); the staging writes -> the host.
+    subresourceBarrier(cmd, image, mip, layer, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout,
+                       VK_PIPELINE_STAGE_2_COPY_BIT, 0, kImageUseStages, 0);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                  VK_ACCESS_2_HOST_READ_BIT);
+    device.endOneTime(cmd);
+    std::memcpy(out.data(), staging.data, out.size());
+    destroyBuffer(device, staging);
+    return out;
 }
 
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
@@ -160,20 +336,7 @@ void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStage
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
                   VkAccessFlags2 dstAccess) {
-    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    ib.srcStageMask = src;
-    ib.srcAccessMask = srcAccess;
-    ib.dstStageMask = dst;
-    ib.dstAccessMask = dstAccess;
-    ib.oldLayout = from;
-    ib.newLayout = to;
-    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    ib.image = image;
-    ib.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    di.imageMemoryBarrierCount = 1;
-    di.pImageMemoryBarriers = &ib;
-    vkCmdPipelineBarrier2(cmd, &di);
+    rangeBarrier(cmd, image, {aspect, 0, 1, 0, 1}, from, to, src, srcAccess, dst, dstAccess);
 }
 
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer) {
@@ -181,6 +344,22 @@ void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& bu
     region.imageSubresource = {image.aspect, 0, 0, 1};
     region.imageExtent = {image.width, image.height, 1};
     vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
+}
+
+
+void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount, VkImageLayout from,
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                  VkAccessFlags2 dstAccess) {
+    rangeBarrier(cmd, image.image, {image.aspect, mip, mipCount, 0, image.layers}, from, to, src, srcAccess, dst,
+                 dstAccess);
+}
+
+void firstUseBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout layout, VkPipelineStageFlags2 src,
+                     VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
+    if (image.lifetime == Lifetime::PerFrame) // discarded: only the execution order against earlier accesses
+        imageBarrier(cmd, image, 0, image.mips, VK_IMAGE_LAYOUT_UNDEFINED, layout, src, 0, dst, dstAccess);
+    else
+        imageBarrier(cmd, image, 0, image.mips, layout, layout, src, srcAccess, dst, dstAccess);
 }
 
 } // namespace ml

@@ -3,11 +3,25 @@
 //                       lights, instances) and small readbacks (counters). On lavapipe all memory is host
 //                       memory; on a discrete GPU this is host-visible device memory or system memory.
 //   createDeviceBuffer  device-local, not mapped: persistent GPU state (shadow page tables and pools,
-//                       cluster lists). The host reaches it only through fillDeviceBuffer / readBuffer,
-//                       which record a copy through a staging buffer and wait (setup and tests only).
+//                       cluster lists). The host reaches it only through readBuffer, which records a copy
+//                       through a staging buffer and waits (setup and tests only).
+//   createImage         device-local 2D image with mips and layers (ImageDesc), a view of the whole image,
+//                       a view per mip and optionally per (mip, layer); uploadImage / readImage move one
+//                       mip of one layer through a staging buffer (setup and tests only).
+//
+// Lifetimes. Every GPU-only resource is one copy shared by the frames in flight: frames on one queue are
+// ordered by the frame-start barrier (module.cpp), so a frame never overlaps the previous one's work on
+// it. What differs is whether its contents outlive the frame:
+//   Lifetime::Persistent  contents carry from frame to frame (a frame reads what earlier frames wrote:
+//                         page table, physical pages, owners); never discarded.
+//   Lifetime::PerFrame    each frame writes it before reading it (cluster lists, HPB, output images);
+//                         its first barrier in a frame discards the old contents (firstUseBarrier).
+// Data the host writes or reads every frame instead lives in per-slot host-visible buffers (one per
+// frame in flight: Module::Impl::Slot, VirtualShadowMaps::Slot), since the CPU cannot wait for the GPU.
 #pragma once
 #include "engine/device.h"
 
+#include <algorithm>
 #include <cstring>
 #include <span>
 #include <vector>
@@ -24,13 +38,35 @@ struct Buffer {
     template <class T> const T* as() const { return static_cast<const T*>(data); }
 };
 
+enum class Lifetime : uint8_t { Persistent, PerFrame };
+
 struct Image {
     VkImage image = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE; // every mip and layer (2D, or 2D_ARRAY: layers > 1 or arrayViews)
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;
     VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+    uint32_t mips = 1, layers = 1;
+    Lifetime lifetime = Lifetime::PerFrame;
+    std::vector<VkImageView> mipViews;   // mipViews[m]: mip m, every layer (type as `view`); empty when mips == 1
+    std::vector<VkImageView> layerViews; // layerViews[m * layers + l]: mip m of layer l (2D); on request
+
+    uint32_t mipWidth(uint32_t mip) const { return std::max(1u, width >> mip); }
+    uint32_t mipHeight(uint32_t mip) const { return std::max(1u, height >> mip); }
+    VkImageView mipView(uint32_t mip) const { return mips == 1 ? view : mipViews[mip]; }
+};
+
+struct ImageDesc {
+    uint32_t width = 1, height = 1;
+    VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
+    uint32_t mips = 1;   // 0: the full chain down to 1x1
+    uint32_t layers = 1;
+    Lifetime lifetime = Lifetime::PerFrame;
+    bool layerViews = false; // also create a 2D view per (mip, layer)
+    bool arrayViews = false; // `view` and mipViews are 2D_ARRAY even with one layer (shaders indexing layers)
+    const char* name = "image";
 };
 
 constexpr VkBufferUsageFlags kStorageBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -51,9 +87,46 @@ inline void upload(Buffer& buffer, const void* src, size_t bytes, size_t offset 
     std::memcpy(static_cast<char*>(buffer.data) + offset, src, bytes);
 }
 
+// One mip, one layer (the simple images: G-buffer, outputs), a PerFrame image.
 Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
                   const char* name);
+// Mips and layers. Aborts naming the image when the device cannot hold it (dimension, layer limits).
+// Transfer usage is added (uploadImage / readImage). The image starts in UNDEFINED layout.
+Image createImage(const Device& device, const ImageDesc& desc);
 void destroyImage(const Device& device, Image& image);
+// Bytes per texel of the formats the module uses (0 for others).
+uint32_t formatBytes(VkFormat format);
+// Copies `data` (mipWidth x mipHeight texels, tightly packed) into one mip of one layer through a staging
+// buffer, and waits. That subresource goes from `from` (UNDEFINED: its contents are discarded) to `to`.
+void uploadImage(const Device& device, const Image& image, uint32_t mip, uint32_t layer, const void* data,
+                 size_t bytes, VkImageLayout from, VkImageLayout to);
+// One mip of one layer, tightly packed, copied to the host through a staging buffer (waits); the
+// subresource is in `layout` before and after.
+std::vector<uint8_t> readImage(const Device& device, const Image& image, uint32_t mip, uint32_t layer,
+                               VkImageLayout layout);
+
+// Stage of vkCmdFillBuffer. The specification lists it among the clear commands (CLEAR); validation
+// layers before 1.3.279 (bookworm has 1.3.239) track it at COPY (KhronosGroup/Vulkan-ValidationLayers
+// issue 7406), so a barrier after a fill names both.
+constexpr VkPipelineStageFlags2 kFillStages = VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+// Every use the module makes of a buffer: shader storage/uniform access in each stage it dispatches or
+// draws with, indirect arguments, index fetch, fills and copies. For hand-offs whose other side is not
+// known at the call (a new buffer's first use, a readback of whatever wrote last), not inside a frame.
+constexpr VkPipelineStageFlags2 kBufferUseStages =
+    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+    VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT |
+    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
+    VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+constexpr VkAccessFlags2 kBufferWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags2 kBufferReads = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+                                        VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT |
+                                        VK_ACCESS_2_TRANSFER_READ_BIT;
+// The frame's output images (tone-mapped, HDR) -> the host's next use after record(): copies and blits,
+// sampled or storage reads in a fragment or compute shader. Images are never host-mapped.
+constexpr VkPipelineStageFlags2 kOutputReaderStages =
+    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkAccessFlags2 kOutputReads =
+    VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
 
 // Synchronisation2 helpers. memoryBarrier orders one hazard: writes `srcAccess` of stages `src` before
 // accesses `dstAccess` of stages `dst` (say which resource at the call). fullBarrier covers all prior and
@@ -64,6 +137,15 @@ void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStage
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
                   VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
                   VkAccessFlags2 dstAccess);
+// Mips [mip, mip + mipCount) of every layer.
+void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount, VkImageLayout from,
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
+                  VkAccessFlags2 dstAccess);
+// An image's first barrier in a frame, by lifetime: a PerFrame image is discarded (UNDEFINED -> layout,
+// the previous frame's accesses in `src` ordered before the transition); a Persistent image keeps its
+// contents (layout -> layout: the previous frame's writes `srcAccess` made visible to `dstAccess`).
+void firstUseBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout layout, VkPipelineStageFlags2 src,
+                     VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);
 
 // Copies an image (in TRANSFER_SRC layout) into a host buffer, tightly packed.
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer);

@@ -29,9 +29,9 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer cmd, Profiler& profil
                   sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
                   *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
                   *s.vsmPool});
-        // HDR and output -> whatever the host does next (reads, copies, presents).
-        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
-                      VK_ACCESS_2_MEMORY_READ_BIT);
+        // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
+        // overwrite the output order their writes themselves.
+        memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
     });
 }
 

@@ -101,7 +101,6 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     s0_ = s.resolution / s.pageSize;
     mips_ = uint32_t(std::countr_zero(s0_)) + 1;
     entriesPerMap_ = gpu::vsmMipOffset(s0_, mips_);
-    hpbPerMap_ = gpu::vsmHpbOffset(s0_, mips_, mips_, 0);
     const size_t entries = size_t(s.maxMaps) * entriesPerMap_;
     const size_t bitWords = (entries + 31) / 32;
 
@@ -117,7 +116,20 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
     rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
     dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
-    hpb_ = createDeviceBuffer(d, size_t(s.maxMaps) * hpbPerMap_ * 4, kStorageBufferUsage, "vsm_hpb");
+    // HPB levels 1..log2(S_0) as image mips 0.. (none when a map is one page). Rebuilt every frame for the
+    // active maps before it is read: PerFrame. One layer per map slot: maxMaps <= maxImageArrayLayers.
+    hpbLevels_ = mips_ - 1;
+    ImageDesc hpb;
+    hpb.width = s0_;
+    hpb.height = std::max(1u, s0_ / 2);
+    hpb.format = VK_FORMAT_R32_UINT;
+    hpb.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    hpb.mips = std::max(1u, hpbLevels_);
+    hpb.layers = s.maxMaps;
+    hpb.lifetime = Lifetime::PerFrame;
+    hpb.arrayViews = true; // one map slot is still an array of one
+    hpb.name = "vsm_hpb";
+    hpb_ = createImage(d, hpb);
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
     draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
     drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
@@ -177,8 +189,8 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     scanProgram_ = createComputeProgram(d, scanShader_, 0);
     allocProgram_ = createComputeProgram(d, allocShader_, 0);
     assignProgram_ = createComputeProgram(d, assignShader_, 0);
-    hpbProgram_ = createComputeProgram(d, hpbShader_, 16);
-    cullProgram_ = createComputeProgram(d, cullShader_, 16);
+    hpbProgram_ = createComputeProgram(d, hpbShader_, 8);
+    cullProgram_ = createComputeProgram(d, cullShader_, 12);
     clearProgram_ = createComputeProgram(d, clearShader_, 0);
     probeProgram_ = createComputeProgram(d, probeShader_, 0);
     viewProgram_ = createComputeProgram(d, viewShader_, 0);
@@ -191,8 +203,8 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
         expandShader_ = ML_SHADER(d, spv_vsm_expand_comp);
         drawTask_ = ML_SHADER(d, spv_vsm_draw_task);
         drawMesh_ = ML_SHADER(d, spv_vsm_draw_mesh);
-        expandProgram_ = createComputeProgram(d, expandShader_, 16);
-        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, 12, gs);
+        expandProgram_ = createComputeProgram(d, expandShader_, 12);
+        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, 8, gs);
     }
 }
 
@@ -206,8 +218,9 @@ void VirtualShadowMaps::destroy(const Device& d) {
                             &drawTask_, &drawMesh_})
         destroyShader(d, *s);
     for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
-                      &dirtyMips_, &hpb_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
+                      &dirtyMips_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
         destroyBuffer(d, *b);
+    destroyImage(d, hpb_);
     for (Slot& s : slots_)
         for (Buffer* b :
              {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters, &s.counters, &s.probes})
@@ -477,7 +490,7 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
         vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
         vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
         if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
+        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
                       R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
     if (slot.activeCount == 0) return;
@@ -504,14 +517,21 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
         memoryBarrier(c, C, W, C | indirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
     profiler.run(cmd, Pass::VsmHpb, [&](VkCommandBuffer c) {
-        for (uint32_t level = 1; (s0_ >> level) != 0; ++level) {
-            uint32_t cells = 0;
-            for (uint32_t m = 0; m < mips_; ++m) cells += ((s0_ >> m) >> level) * ((s0_ >> m) >> level);
-            struct {
-                uint32_t level, cellsPerMap, activeMaps, hpbPerMap;
-            } push{level, cells, slot.activeCount, hpbPerMap_};
-            dispatch(d, c, hpbProgram_, cells, slot.activeCount, push, {slot.constants, slot.active, table_, hpb_});
-            memoryBarrier(c, C, W, C, R); // level l -> level l + 1 and the culling
+        // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
+        // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
+        // (never read there, but a storage read for the validation layer): reads and writes follow.
+        firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, 0, C, R | W);
+        for (uint32_t level = 1; level <= hpbLevels_; ++level) {
+            const uint32_t mip = level - 1;
+            const uint32_t push[2] = {level, slot.activeCount};
+            bindProgram(d, c, hpbProgram_,
+                        {slot.constants, slot.active, table_, Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)),
+                         Descriptor(hpb_.mipView(mip))},
+                        push, sizeof(push));
+            vkCmdDispatch(c, (hpb_.mipWidth(mip) + 7) / 8, (hpb_.mipHeight(mip) + 7) / 8, slot.activeCount);
+            // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
+            imageBarrier(c, hpb_, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W,
+                         C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
         }
     });
     if (meshPath()) {
@@ -519,11 +539,11 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
     } else {
         profiler.run(cmd, Pass::VsmCull, [&](VkCommandBuffer c) {
             struct {
-                uint32_t casterCount, activeMaps, hpbPerMap, maxDraws;
-            } push{slot.casterCount, slot.activeCount, hpbPerMap_, settings_.maxDrawsPerMip};
+                uint32_t casterCount, activeMaps, maxDraws;
+            } push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
             dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
-                     {slot.constants, slot.maps, slot.active, table_, hpb_, slot.casters, dirtyMips_, draws_, drawInfo_,
-                      drawCounts_, slot.counters});
+                     {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
+                      draws_, drawInfo_, drawCounts_, slot.counters});
             // Draw lists and counts -> indirect draws; draw info -> vertex shader.
             memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                           VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -545,11 +565,11 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
             vkCmdSetScissor(c, 0, 1, &sc);
             if (meshPath()) {
                 // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
-                const uint32_t push[3] = {m, hpbPerMap_, settings_.maxMeshletsPerMip};
+                const uint32_t push[2] = {m, settings_.maxMeshletsPerMip};
                 bindProgram(d, c, meshProgram_,
                             {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_, pagePool_,
-                             *in.meshlets, *in.meshletVertices, *in.meshletTriangles, hpb_, meshTasks_,
-                             slot.counters},
+                             *in.meshlets, *in.meshletVertices, *in.meshletTriangles, Descriptor(hpb_.view),
+                             meshTasks_, slot.counters},
                             push, sizeof(push));
                 d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
             } else {
@@ -572,11 +592,11 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
 void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profiler& profiler, Slot& slot) {
     profiler.run(cmd, Pass::VsmExpand, [&](VkCommandBuffer c) {
         struct {
-            uint32_t casterCount, activeMaps, hpbPerMap, maxMeshlets;
-        } push{slot.casterCount, slot.activeCount, hpbPerMap_, settings_.maxMeshletsPerMip};
+            uint32_t casterCount, activeMaps, maxMeshlets;
+        } push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
         dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
-                 {slot.constants, slot.maps, slot.active, table_, hpb_, slot.casters, dirtyMips_, meshletList_,
-                  meshTasks_, slot.counters});
+                 {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
+                  meshletList_, meshTasks_, slot.counters});
         // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
         // passes) -> task and mesh shaders.
         memoryBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -612,8 +632,9 @@ void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_
               Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
               Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants, slot.maps,
               slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+    // The view's output -> the host's reads after record().
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kOutputReaderStages,
+                  kOutputReads);
 }
 
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
@@ -685,6 +706,12 @@ std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device& d) const {
 }
 std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device& d) const {
     return readWords(d, pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
+}
+std::vector<uint32_t> VirtualShadowMaps::readHpb(const Device& d, uint32_t map, uint32_t level) const {
+    std::vector<uint8_t> bytes = readImage(d, hpb_, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
+    std::vector<uint32_t> out(bytes.size() / 4);
+    std::memcpy(out.data(), bytes.data(), out.size() * 4);
+    return out;
 }
 std::vector<gpu::GpuVsmProbe> VirtualShadowMaps::readProbes(uint32_t slotIndex, uint32_t* overflow) const {
     const Slot& slot = slots_[slotIndex];

@@ -148,6 +148,10 @@ class VirtualShadowMaps {
     std::vector<uint32_t> readMarks(const Device& device) const;
     std::vector<uint32_t> readPagePool(const Device& device) const;
     std::vector<gpu::GpuVsmProbe> readProbes(uint32_t slot, uint32_t* overflow = nullptr) const;
+    // HPB level 1..hpbLevels() of one map slot (the whole image mip, layout in vsm_math.h), valid for the
+    // maps active in the frame last recorded.
+    uint32_t hpbLevels() const { return hpbLevels_; }
+    std::vector<uint32_t> readHpb(const Device& device, uint32_t map, uint32_t level) const;
     // The per-slot CPU inputs of the last prepare() of that slot.
     const std::vector<uint32_t>& coverageBits(uint32_t slot) const { return slots_[slot].coverageHost; }
     const std::vector<uint32_t>& staleBits(uint32_t slot) const { return slots_[slot].staleHost; }
@@ -175,7 +179,7 @@ class VirtualShadowMaps {
 
     VsmSettings settings_;
     uint32_t pcf_ = 0;
-    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, hpbPerMap_ = 0, mapsInUse_ = 0;
+    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, mapsInUse_ = 0;
     size_t markWords_ = 0; // words of one mark region (lookup marks; fallback marks follow)
     std::vector<Slot> slots_;
     std::vector<LightState> lightState_;
@@ -185,8 +189,10 @@ class VirtualShadowMaps {
     std::vector<VsmInstance> lastInstances_;
     gpu::VsmConstants lastConstants_{};
 
-    Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, hpb_,
-        draws_, drawInfo_, drawCounts_, meshletList_, meshTasks_;
+    Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, draws_,
+        drawInfo_, drawCounts_, meshletList_, meshTasks_;
+    Image hpb_; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+    uint32_t hpbLevels_ = 0;
     ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
         probeShader_, viewShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
     Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,

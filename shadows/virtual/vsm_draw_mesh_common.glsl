@@ -11,7 +11,6 @@ layout(binding = 7, std430) readonly buffer Meshlets { GpuMeshlet meshlets[]; };
 layout(binding = 12, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(push_constant) uniform Push {
     uint mip;
-    uint hpbPerMap;
     uint maxMeshlets; // list entries per mip
 };
 

@@ -1,46 +1,48 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_hpb: one level of the hierarchical page buffer for every active map and mip (one dispatch per
-// level, finest first). Cell (x, y) of level l is the OR of cells (2x..2x+1, 2y..2y+1) of level l - 1;
-// level 1 reads the page table's DIRTY bits. vsm_cull then tests at most 2x2 cells per caster.
+// vsm_hpb: one level of the hierarchical page buffer, the image mip `level - 1` of every active map's
+// layer (one dispatch per level, finest first; layout in vsm_math.h). A texel of level 1 is the OR of
+// the DIRTY bits of its 2x2 pages in the page table; a texel of level l > 1 is the OR of its 2x2 texels
+// of level l - 1 (`src`). Texels outside every mip's cells are written 0, so the levels above OR zeros
+// there. vsm_cull, vsm_expand and the task shader then test at most 2x2 cells per caster or meshlet.
 #include "shaders/shared/glsl_common.h"
 #include "shadows/virtual/vsm_math.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Active { uint vsmActive[]; };
 layout(binding = 2, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 3, std430) buffer Hpb { uint vsmHpb[]; };
+layout(binding = 3, r32ui) uniform readonly uimage2DArray src;  // level - 1 (level 1: not read)
+layout(binding = 4, r32ui) uniform writeonly uimage2DArray dst; // this level
 layout(push_constant) uniform Push {
-    uint level;       // 1..log2(S_0)
-    uint cellsPerMap; // sum over mips of (S_m >> level)^2
+    uint level; // 1..log2(S_0)
     uint activeMaps;
-    uint hpbPerMap;
 };
 
 void main() {
-    uint cell = gl_GlobalInvocationID.x;
-    if (cell >= cellsPerMap || gl_GlobalInvocationID.y >= activeMaps) return;
-    uint map = vsmActive[gl_GlobalInvocationID.y];
-    uint s0 = vsm.page.z, mips = vsm.page.w;
-    uint mip = 0u;
-    for (; mip < mips; ++mip) {
-        uint side = (s0 >> mip) >> level;
-        if (cell < side * side) break;
-        cell -= side * side;
-    }
-    if (mip >= mips) return;
-    uint side = (s0 >> mip) >> level;
-    uint x = cell % side, y = cell / side;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    uvec2 size = uvec2(imageSize(dst).xy);
+    if (p.x >= size.x || p.y >= size.y || gl_WorkGroupID.z >= activeMaps) return;
+    uint map = vsmActive[gl_WorkGroupID.z];
     uint any = 0u;
-    for (uint dy = 0u; dy < 2u; ++dy)
-        for (uint dx = 0u; dx < 2u; ++dx) {
-            uint cx = 2u * x + dx, cy = 2u * y + dy;
-            if (level == 1u)
-                any |= vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, cx, cy)] & ML_VSM_DIRTY;
-            else
-                any |= vsmHpb[map * hpbPerMap + vsmHpbOffset(s0, mips, mip, level - 1u) + cy * (side * 2u) + cx];
+    if (level == 1u) {
+        uint s0 = vsm.page.z, mips = vsm.page.w;
+        for (uint mip = 0u; mip < mips; ++mip) { // the mip whose level-1 cells hold column p.x
+            uint side = (s0 >> mip) >> 1u, first = vsmHpbColumn(s0, mip) >> 1u;
+            if (side == 0u || p.x < first) break;
+            if (p.x >= first + side) continue;
+            if (p.y < side)
+                for (uint dy = 0u; dy < 2u; ++dy)
+                    for (uint dx = 0u; dx < 2u; ++dx) {
+                        uint px = 2u * (p.x - first) + dx, py = 2u * p.y + dy;
+                        any |= vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, px, py)] & ML_VSM_DIRTY;
+                    }
+            break;
         }
-    vsmHpb[map * hpbPerMap + vsmHpbOffset(s0, mips, mip, level) + y * side + x] = any != 0u ? 1u : 0u;
+    } else {
+        for (uint dy = 0u; dy < 2u; ++dy)
+            for (uint dx = 0u; dx < 2u; ++dx) any |= imageLoad(src, ivec3(2u * p.x + dx, 2u * p.y + dy, map)).x;
+    }
+    imageStore(dst, ivec3(p, map), uvec4(any != 0u ? 1u : 0u));
 }

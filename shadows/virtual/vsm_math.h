@@ -39,14 +39,14 @@ ML_FN uint vsmEntry(uint entriesPerMap, uint s0, uint map, uint mip, uint px, ui
 
 // Hierarchical page buffer (RMVSM section 4.3, Fig. 9): for each mip m of a map, levels l = 1..log2(S_m)
 // of (S_m >> l)^2 cells, each the OR of 2x2 cells of level l - 1; level 0 is the page table's DIRTY bit.
-ML_FN uint vsmHpbOffset(uint s0, uint mips, uint mip, uint level) {
-    uint offset = 0u;
-    for (uint m = 0u; m < mips; ++m)
-        for (uint l = 1u; (s0 >> m) >> l != 0u; ++l) {
-            if (m == mip && l == level) return offset;
-            offset += ((s0 >> m) >> l) * ((s0 >> m) >> l);
-        }
-    return offset; // one past the end: the cells per map
+// Stored in one R32_UINT array image (vsm_hpb.comp): layer = map slot, image mip l - 1 = level l, width
+// S_0 >> (l - 1), height S_0 >> l. The mips of a map lie side by side: mip m's cells of level l start at
+// column vsmHpbColumn(S_0, m) >> l, row 0. That column is a multiple of 2^l wherever mip m has level l,
+// so a cell's 2x2 children never straddle two mips; texels outside every mip's cells hold 0.
+ML_FN uint vsmHpbColumn(uint s0, uint mip) {
+    uint column = 0u;
+    for (uint m = 0u; m < mip; ++m) column += s0 >> m;
+    return column;
 }
 
 // Written out so both languages sum in the same order.
