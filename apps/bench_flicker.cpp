@@ -95,6 +95,7 @@ Light posed(const Light& base, uint32_t f, float move, float turnDeg) {
     glm::vec3 side = glm::cross(l.direction, glm::vec3(0, 1, 0));
     side = glm::length(side) > 1e-4f ? glm::normalize(side) : glm::vec3(1, 0, 0);
     l.position += side * (move * float(f));
+    if (turnDeg == 0.0f || f == 0) return l; // static lights stay bit-identical to the scene's
     float a = glm::radians(turnDeg * float(f)), c = std::cos(a), s = std::sin(a);
     l.direction = glm::normalize(glm::vec3(c * l.direction.x + s * l.direction.z, l.direction.y,
                                            -s * l.direction.x + c * l.direction.z));

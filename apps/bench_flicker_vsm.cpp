@@ -83,7 +83,8 @@ std::vector<uint8_t> readImage(Device& d, const Image& image, uint32_t texelByte
 }
 
 struct Sample {
-    uint32_t kind = 0; // 0 moving light, 1 static light
+    uint32_t kind = 0;         // 0 moving light, 1 static light
+    uint32_t map = 0, mip = 0; // where the lookup ended (after any fallback)
     bool truth = false;
     std::vector<float> vis; // per PCF radius of the list
 };
@@ -209,9 +210,13 @@ int runBenchFlickerVsm(int argc, char** argv) {
     // Per kind (moving, static) and radius.
     std::vector<uint64_t> pairs(2 * K, 0), truthFlips(2 * K, 0), flips(2 * K, 0);
     std::vector<double> graded(2 * K, 0.0);
+    // Pairs (rays stable) whose lookup changed map or mip between the frames, and the flips among them:
+    // the VSM picks the mip from the camera's footprint, so a moving camera moves receivers across mips.
+    std::vector<uint64_t> mipChanged(2 * K, 0), mipChangedFlips(2 * K, 0);
     uint64_t lookups = 0, mismatches = 0, notResident = 0, missing = 0, directional = 0, backFacing = 0,
              fallbacks = 0, unknownLight = 0;
     uint32_t probeOverflow = 0;
+    std::vector<uint64_t> perMip(16, 0); // lookups (spot and point maps) per mip they ended at
     std::unordered_map<uint64_t, Sample> prev, cur;
     for (uint32_t f = 0; f < frames.value(); ++f) {
         auto report = s.frame(f);
@@ -257,6 +262,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
                 continue;
             }
             ++lookups;
+            ++perMip[std::min<uint32_t>(mip, 15)];
             fallbacks += status == ML_VSM_PROBE_FALLBACK;
             const Light& L = s.scene.lights[sl->second];
             const uint32_t px = pixel % o.width, py = pixel / o.width;
@@ -271,6 +277,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
             // The CPU kernel at the probe's place, checked against what the probe read.
             Sample smp;
             smp.kind = L.dynamic ? 0 : 1;
+            smp.map = map, smp.mip = mip;
             const int tx = int(p.texel.z), ty = int(p.texel.w);
             const uint32_t receiver = p.tap.x;
             uint32_t centre = 0;
@@ -319,7 +326,11 @@ int runBenchFlickerVsm(int argc, char** argv) {
                         ++truthFlips[c];
                         continue;
                     }
-                    flips[c] += (a.vis[r] >= 0.5f) != (b.vis[r] >= 0.5f);
+                    const bool flip = (a.vis[r] >= 0.5f) != (b.vis[r] >= 0.5f);
+                    const bool moved = a.map != b.map || a.mip != b.mip;
+                    flips[c] += flip;
+                    mipChanged[c] += moved;
+                    mipChangedFlips[c] += flip && moved;
                     graded[c] += std::abs(double(a.vis[r]) - double(b.vis[r]));
                 }
             }
@@ -334,22 +345,30 @@ int runBenchFlickerVsm(int argc, char** argv) {
                 moduleRadius);
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
-                "| mean abs delta visibility where rays do not flip %% |\n|---|---|---:|---:|---:|---:|\n");
+                "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
+                "another mip %% "
+                "|\n|---|---|---:|---:|---:|---:|---:|---:|\n");
+    std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", res.value(), res.value());
+    for (uint32_t m = 0; m < 16; ++m)
+        if (perMip[m]) std::printf(" %u: %llu", m, (unsigned long long)perMip[m]);
+    std::printf("\n");
     std::ostringstream csv;
-    csv << "lights,pcf_radius,pairs,truth_flips,flicker,graded_sum\n";
+    csv << "lights,pcf_radius,pairs,truth_flips,flicker,graded_sum,mip_changed,mip_changed_flips\n";
     uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
     for (uint32_t kind = 0; kind < 2; ++kind)
         for (size_t r = 0; r < K; ++r) {
             const size_t c = kind * K + r;
             const uint64_t stable = pairs[c] - truthFlips[c];
             const char* name = kind == 0 ? "moving" : "static";
-            std::printf("| %s | %ux%u | %llu | %.3f | %.4f | %.4f |\n", name, 2 * R[r] + 1, 2 * R[r] + 1,
-                        (unsigned long long)pairs[c],
+            std::printf("| %s | %ux%u | %llu | %.3f | %.4f | %.4f | %.2f | %.1f |\n", name, 2 * R[r] + 1,
+                        2 * R[r] + 1, (unsigned long long)pairs[c],
                         pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0,
                         pairs[c] ? 100.0 * double(flips[c]) / double(pairs[c]) : 0.0,
-                        stable ? 100.0 * graded[c] / double(stable) : 0.0);
+                        stable ? 100.0 * graded[c] / double(stable) : 0.0,
+                        stable ? 100.0 * double(mipChanged[c]) / double(stable) : 0.0,
+                        flips[c] ? 100.0 * double(mipChangedFlips[c]) / double(flips[c]) : 0.0);
             csv << name << "," << R[r] << "," << pairs[c] << "," << truthFlips[c] << "," << flips[c] << ","
-                << graded[c] << "\n";
+                << graded[c] << "," << mipChanged[c] << "," << mipChangedFlips[c] << "\n";
             allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
         }
     std::ofstream file(out + "/bench_flicker_vsm.csv");
