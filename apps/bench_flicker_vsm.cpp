@@ -41,8 +41,9 @@ namespace ml {
 static const char* kFlickerVsmHelp = R"(usage: manylights bench flicker --vsm [options]
 Share of (pixel, light) pairs whose virtual-shadow-map answer flips between consecutive frames of a
 camera path while the ray-traced visibility does not, per light kind (moving: headlights; static:
-lamps) and PCF size, with the mean |delta visibility| where the rays do not flip. GPU module (VSM on,
-no bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --out.
+lamps) and PCF size, with the mean |delta visibility| where the rays do not flip, the share of pairs
+whose lookup changed mip and of the flips among them, and the lookups per mip. GPU module (VSM on, no
+bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --out.
   --scene S      night-city (default) or a .gltf / .glb file
   --path P       drive (default), orbit or static
   --frames N     frames of the path (>= 2, default 16)
