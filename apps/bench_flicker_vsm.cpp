@@ -25,6 +25,8 @@
 #include "host/vsm_session.h"
 #include "shaders/shared/light_math.h"
 #include "shadows/reference/raytrace.h"
+#include "shadows/static/raster_dual.h"
+#include "shadows/static/static_visibility.h"
 #include "shadows/virtual/vsm_math.h"
 
 #include <glm/gtc/packing.hpp>
@@ -55,6 +57,9 @@ bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --o
   --vsm-pool N   physical pages (default 4096)
   --pcf LIST     PCF radii evaluated (0 = one tap .. 4 = 9x9), default 0,2; the module runs with the largest
   --vsm-raster R auto (default), mesh or vertex
+  --compare-res N  also a plain shadow map (sm) of N^2 per static spot light, re-rendered every frame
+                 with that frame's casters (cars included, as the VSM draws them), looked up at the same
+                 receivers and radii: extra rows "static, sm N^2" over the same pairs (default 0: off)
   --out DIR      bench_flicker_vsm.csv (default out/bench_flicker_vsm)
 Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ...}; exit 0 only when pairs
 were compared and the CPU kernel agreed with every probe (M == 0, no non-resident tap, no probe overflow).
@@ -87,7 +92,8 @@ struct Sample {
     uint32_t kind = 0;         // 0 moving light, 1 static light
     uint32_t map = 0, mip = 0; // where the lookup ended (after any fallback)
     bool truth = false;
-    std::vector<float> vis; // per PCF radius of the list
+    std::vector<float> vis;    // per PCF radius of the list
+    std::vector<float> cmpVis; // --compare-res: the per-frame sm map's, per radius (static spots only)
 };
 
 // What the evaluation pass's kernel reads: the page table, the pool and which pages need casters.
@@ -155,7 +161,7 @@ Result<std::vector<uint32_t>> radiusList(const std::string& text) {
 int runBenchFlickerVsm(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 4,
                            {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--vsm-res",
-                            "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster", "--out"},
+                            "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster", "--out", "--compare-res"},
                            {});
     if (!args) return usageError("bench flicker --vsm", args.error());
     if (args->help) {
@@ -171,8 +177,10 @@ int runBenchFlickerVsm(int argc, char** argv) {
     auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
     auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
     auto radii = radiusList(args->get("--pcf", "0,2"));
-    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(),
-                                 &seed.error(), &res.error(), &page.error(), &pool.error(), &radii.error()})
+    auto compareRes = cli::parseUint("--compare-res", args->get("--compare-res", "0"), 0, 8192);
+    for (const std::string* e :
+         {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(), &res.error(),
+          &page.error(), &pool.error(), &radii.error(), &compareRes.error()})
         if (!e->empty()) return usageError("bench flicker --vsm", *e);
     VsmRaster raster = VsmRaster::Auto;
     if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
@@ -208,12 +216,13 @@ int runBenchFlickerVsm(int argc, char** argv) {
     for (uint32_t k = 0; k < s.binding.lights.size(); ++k) sceneLight[s.binding.lights[k]] = k;
 
     const size_t K = R.size();
-    // Per kind (moving, static) and radius.
-    std::vector<uint64_t> pairs(2 * K, 0), truthFlips(2 * K, 0), flips(2 * K, 0);
-    std::vector<double> graded(2 * K, 0.0);
+    // Per kind (moving, static, static with the per-frame sm map of --compare-res) and radius.
+    constexpr uint32_t kKinds = 3;
+    std::vector<uint64_t> pairs(kKinds * K, 0), truthFlips(kKinds * K, 0), flips(kKinds * K, 0);
+    std::vector<double> graded(kKinds * K, 0.0);
     // Pairs (rays stable) whose lookup changed map or mip between the frames, and the flips among them:
     // the VSM picks the mip from the camera's footprint, so a moving camera moves receivers across mips.
-    std::vector<uint64_t> mipChanged(2 * K, 0), mipChangedFlips(2 * K, 0);
+    std::vector<uint64_t> mipChanged(kKinds * K, 0), mipChangedFlips(kKinds * K, 0);
     uint64_t lookups = 0, mismatches = 0, notResident = 0, missing = 0, directional = 0, backFacing = 0,
              fallbacks = 0, unknownLight = 0;
     uint32_t probeOverflow = 0;
@@ -309,30 +318,53 @@ int runBenchFlickerVsm(int argc, char** argv) {
             b.p.push_back(P), b.n.push_back(N), b.keys.push_back(key);
             cur.emplace(key, std::move(smp));
         }
+        // --compare-res: every instance of this frame is a caster (castersFromScene takes the static
+        // ones: the dynamic flags are lifted for the call).
+        CasterTriangles frameCasters;
+        if (compareRes.value()) {
+            std::vector<uint8_t> wasDynamic;
+            for (Instance& inst : s.scene.instances) wasDynamic.push_back(inst.dynamic), inst.dynamic = false;
+            frameCasters = castersFromScene(s.scene);
+            for (size_t i = 0; i < wasDynamic.size(); ++i) s.scene.instances[i].dynamic = wasDynamic[i] != 0;
+        }
         for (auto& [k, b] : batches) {
+            const Light& L = s.scene.lights[k];
             std::vector<uint8_t> truth(b.p.size());
-            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), s.scene.lights[k].position, 0.02f,
-                               truth.data());
+            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.02f, truth.data());
             for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
+            if (!compareRes.value() || L.dynamic || L.type != LightType::Spot) continue;
+            const LightFrustum fr = spotLightFrustum(L);
+            const DualDepthMap map = rasterizeDual(frameCasters, fr, compareRes.value());
+            auto words = encodeStatic(StaticMethod::SM, map, {fr.nearPlane, fr.farPlane, {}});
+            if (!words) return runError("bench flicker --vsm", "sm: " + words.error());
+            for (size_t i = 0; i < b.keys.size(); ++i)
+                for (uint32_t r : R) {
+                    auto rec = makeShadowRecord(StaticMethod::SM, fr, 0, compareRes.value(), r);
+                    cur[b.keys[i]].cmpVis.push_back(staticVisibility(rec, words->data(), b.p[i], b.n[i]));
+                }
         }
         if (f)
             for (const auto& [key, b] : cur) {
                 auto it = prev.find(key);
                 if (it == prev.end()) continue;
                 const Sample& a = it->second;
-                for (size_t r = 0; r < K; ++r) {
-                    const size_t c = b.kind * K + r;
+                const bool compared = !a.cmpVis.empty() && !b.cmpVis.empty();
+                for (size_t r = 0; r < K * (compared ? 2 : 1); ++r) {
+                    // r < K: the VSM's answer; r >= K: the per-frame sm map's, as kind 2
+                    const size_t c = r < K ? b.kind * K + r : 2 * K + (r - K);
+                    const float va = r < K ? a.vis[r] : a.cmpVis[r - K],
+                                vb = r < K ? b.vis[r] : b.cmpVis[r - K];
                     ++pairs[c];
                     if (a.truth != b.truth) {
                         ++truthFlips[c];
                         continue;
                     }
-                    const bool flip = (a.vis[r] >= 0.5f) != (b.vis[r] >= 0.5f);
-                    const bool moved = a.map != b.map || a.mip != b.mip;
+                    const bool flip = (va >= 0.5f) != (vb >= 0.5f);
+                    const bool moved = r < K && (a.map != b.map || a.mip != b.mip); // the VSM rows only
                     flips[c] += flip;
                     mipChanged[c] += moved;
                     mipChangedFlips[c] += flip && moved;
-                    graded[c] += std::abs(double(a.vis[r]) - double(b.vis[r]));
+                    graded[c] += std::abs(double(va) - double(vb));
                 }
             }
         std::fprintf(stderr, "frame %u: %zu probes, %zu pairs with rays\n", f, probes.size(), cur.size());
@@ -356,11 +388,12 @@ int runBenchFlickerVsm(int argc, char** argv) {
     std::ostringstream csv;
     csv << "lights,pcf_radius,pairs,truth_flips,flicker,graded_sum,mip_changed,mip_changed_flips\n";
     uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
-    for (uint32_t kind = 0; kind < 2; ++kind)
+    const std::string smName = "static, sm " + std::to_string(compareRes.value()) + "^2";
+    for (uint32_t kind = 0; kind < (compareRes.value() ? kKinds : 2); ++kind)
         for (size_t r = 0; r < K; ++r) {
             const size_t c = kind * K + r;
             const uint64_t stable = pairs[c] - truthFlips[c];
-            const char* name = kind == 0 ? "moving" : "static";
+            const char* name = kind == 0 ? "moving" : kind == 1 ? "static" : smName.c_str();
             std::printf("| %s | %ux%u | %llu | %.3f | %.4f | %.4f | %.2f | %.1f |\n", name, 2 * R[r] + 1,
                         2 * R[r] + 1, (unsigned long long)pairs[c],
                         pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0,
@@ -370,7 +403,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
                         flips[c] ? 100.0 * double(mipChangedFlips[c]) / double(flips[c]) : 0.0);
             csv << name << "," << R[r] << "," << pairs[c] << "," << truthFlips[c] << "," << flips[c] << ","
                 << graded[c] << "," << mipChanged[c] << "," << mipChangedFlips[c] << "\n";
-            allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
+            if (kind < 2) allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
         }
     std::ofstream file(out + "/bench_flicker_vsm.csv");
     if (!file || !(file << csv.str()))
