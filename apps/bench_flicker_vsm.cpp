@@ -18,6 +18,9 @@
 // both, and the VSM's binary answer (visibility >= 0.5) changes while the rays' does not; the graded
 // measure is the mean |change of visibility| over the pairs whose rays do not flip. Directional maps
 // (the moon's clip levels) are counted and left out: the rays here aim at a light position.
+// --compare-res N puts a plain shadow map beside it at the same pairs: per static spot light and frame,
+// an N^2 map of that frame's casters (CPU rasteriser, cars included), looked up by the CPU twin of the
+// shader (static_visibility.h) at the same receivers and radii.
 // Reads module internals (G-buffer, frame constants, VSM state) like `check vsm`.
 #include "apps/cli.h"
 #include "apps/commands.h"
