@@ -1,12 +1,19 @@
-// `manylights bench flicker`: temporal stability of the static shadow methods along a camera path
-// (issue 11, item 6). For each frame of a straight camera path, every pixel's receiver is the surface
-// its camera ray hits (Embree, double-precision pixel rays: the same exact receivers as bench static);
-// for each measured static spot light, the method's visibility (the CPU twin of the shader's lookup,
-// one tap or PCF) and the rays' visibility are computed per pixel. A pixel "flickers" between two
+// `manylights bench flicker`: temporal stability of the static shadow methods along a camera path and
+// with moving lights (issue 11, item 6). For each frame of a straight camera path, every pixel's receiver
+// is the surface its camera ray hits (Embree, double-precision pixel rays: the same exact receivers as
+// bench static); for each measured spot light, the method's visibility (the CPU twin of the shader's
+// lookup, one tap or PCF) and the rays' visibility are computed per pixel. A pixel "flickers" between two
 // consecutive frames when the method's binary answer (visibility >= 0.5) changes while the rays' does
 // not. The share is over (pixel, light) pairs that count (in the cone, facing the light) in both frames.
-// Static lights only: the bakes do not move; moving lights and virtual shadow maps are not covered.
-// CPU only (the maps come from the CPU rasteriser, identical to what the bake renders).
+// The graded measure is the mean |change of visibility| over the pairs whose rays do not flip: PCF
+// changes below the 0.5 threshold show there.
+// Moving lights (--light-move, --light-turn): each measured light is translated sideways and/or turned
+// a little every frame, and every method's map is re-rendered and re-encoded for the light's pose of
+// that frame (what a user baking per frame would get). --map-jitter renders the maps from a light
+// position jittered every frame while the rays use the true one: a deliberately unstable map, for the
+// test that the measure sees instability. --vsm hands over to bench_flicker_vsm.cpp (the module's
+// virtual shadow maps on a GPU path). CPU only here (the maps come from the CPU rasteriser, identical
+// to what the bake renders).
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "scenes/scenes.h"
@@ -17,11 +24,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 namespace ml {
+
+int runBenchFlickerVsm(int argc, char** argv); // apps/bench_flicker_vsm.cpp
 
 static const char* kFlickerHelp = R"(usage: manylights bench flicker [options]
 Share of pixels whose static shadow flips between consecutive frames of a camera path while the
@@ -35,11 +46,28 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --frames N       frames along the path (>= 2), default 16
   --camera X,Y,Z,TX,TY,TZ      path start (default: the scene's camera)
   --camera-end X,Y,Z,TX,TY,TZ  path end (default: the start moved 2 m sideways)
+  --light-move M   metres each measured light moves sideways per frame (default 0: static lights)
+  --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
+  --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
+                   (the rays keep the true light): a deliberately unstable map (default 0)
   --seed S         scene seed, default 1
   --out DIR        bench_flicker.csv (default out/bench_flicker)
+Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "graded": G} summed over configurations
+(G: the largest mean |delta visibility| of a configuration where the rays do not flip).
+With --vsm (first option): the module's virtual shadow maps on a GPU path; `bench flicker --vsm --help`.
 )";
 
 namespace {
+// A number in [lo, hi]: the whole text must parse (strtod), nan and inf are refused.
+Result<float> floatArg(const std::string& flag, const std::string& text, float lo, float hi) {
+    char* end = nullptr;
+    const double d = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end || !std::isfinite(d) || d < lo || d > hi)
+        return fail(flag + ": '" + text + "' is not a number in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]");
+    return float(d);
+}
+
 Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,
                                        uint32_t hi) {
     std::vector<uint32_t> out;
@@ -59,13 +87,40 @@ struct Sample {
     bool truth = false;
     std::vector<float> vis; // per (method, res, pcf) configuration
 };
+
+// The light's pose in frame f: moved `move` metres per frame along its horizontal side axis and turned
+// `turnDeg` degrees per frame about the vertical.
+Light posed(const Light& base, uint32_t f, float move, float turnDeg) {
+    Light l = base;
+    glm::vec3 side = glm::cross(l.direction, glm::vec3(0, 1, 0));
+    side = glm::length(side) > 1e-4f ? glm::normalize(side) : glm::vec3(1, 0, 0);
+    l.position += side * (move * float(f));
+    if (turnDeg == 0.0f || f == 0) return l; // static lights stay bit-identical to the scene's
+    float a = glm::radians(turnDeg * float(f)), c = std::cos(a), s = std::sin(a);
+    l.direction = glm::normalize(glm::vec3(c * l.direction.x + s * l.direction.z, l.direction.y,
+                                           -s * l.direction.x + c * l.direction.z));
+    return l;
+}
+
+// A unit vector that changes every frame and light (deterministic): the map jitter's direction.
+glm::vec3 jitterDirection(uint32_t f, uint32_t light) {
+    uint32_t h = f * 0x9E3779B9u ^ (light + 1) * 0x85EBCA6Bu;
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        h ^= h >> 16, h *= 0x7FEB352Du, h ^= h >> 15, h *= 0x846CA68Bu, h ^= h >> 16;
+        v[i] = float(h & 0xFFFF) / 32767.5f - 1.0f;
+    }
+    return glm::length(v) > 1e-3f ? glm::normalize(v) : glm::vec3(1, 0, 0);
+}
 } // namespace
 
 int runBenchFlicker(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--methods", "--res", "--pcf", "--lights", "--size", "--frames",
-                            "--camera", "--camera-end", "--seed", "--out"},
-                           {});
+    if (argc > 3 && std::string(argv[3]) == "--vsm") return runBenchFlickerVsm(argc, argv);
+    auto args =
+        cli::parse(argc, argv, 3,
+                   {"--scene", "--methods", "--res", "--pcf", "--lights", "--size", "--frames", "--camera",
+                    "--camera-end", "--seed", "--out", "--light-move", "--light-turn", "--map-jitter"},
+                   {});
     if (!args) return usageError("bench flicker", args.error());
     if (args->help) {
         std::fputs(kFlickerHelp, stdout);
@@ -77,9 +132,14 @@ int runBenchFlicker(int argc, char** argv) {
     auto size = cli::parseSize("--size", args->get("--size", "320x180"));
     auto frames = cli::parseUint("--frames", args->get("--frames", "16"), 2, 1000);
     auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
+    auto move = floatArg("--light-move", args->get("--light-move", "0"), 0.0f, 10.0f);
+    auto turn = floatArg("--light-turn", args->get("--light-turn", "0"), 0.0f, 45.0f);
+    auto jitter = floatArg("--map-jitter", args->get("--map-jitter", "0"), 0.0f, 10.0f);
     for (const std::string* e :
-         {&resList.error(), &pcfList.error(), &count.error(), &size.error(), &frames.error(), &seed.error()})
+         {&resList.error(), &pcfList.error(), &count.error(), &size.error(), &frames.error(), &seed.error(),
+          &move.error(), &turn.error(), &jitter.error()})
         if (!e->empty()) return usageError("bench flicker", *e);
+    const bool mapsMove = move.value() > 0.0f || turn.value() > 0.0f || jitter.value() > 0.0f;
     std::vector<StaticMethod> methods;
     {
         std::stringstream ss(args->get("--methods", "sm,mh,mmh,dagmh,cpvs"));
@@ -167,32 +227,50 @@ int runBenchFlicker(int argc, char** argv) {
         for (StaticMethod m : methods)
             for (uint32_t r : pcfList.value()) configs.push_back({m, res, r});
     const CasterTriangles casters = castersFromScene(scene.value());
-    // words[light][res index][method index]
-    std::vector<std::vector<std::vector<std::vector<uint32_t>>>> words(ranked.size());
-    for (size_t k = 0; k < ranked.size(); ++k) {
-        LightFrustum fr = spotLightFrustum(scene->lights[ranked[k].second]);
+    // Per measured light: its pose this frame (the rays' light), the frustum its maps were rendered
+    // with, and words[res index][method index]. Static lights bake once; moving or jittered ones every frame.
+    struct LightMaps {
+        Light light;
+        LightFrustum frustum;
+        std::vector<std::vector<std::vector<uint32_t>>> words;
+    };
+    std::vector<LightMaps> maps(ranked.size());
+    auto bake = [&](size_t k, uint32_t f) -> Result<void> {
+        const Light base = scene->lights[ranked[k].second];
+        LightMaps& lm = maps[k];
+        lm.light = posed(base, f, move.value(), turn.value());
+        Light mapLight = lm.light;
+        mapLight.position += jitterDirection(f, uint32_t(k)) * jitter.value();
+        lm.frustum = spotLightFrustum(mapLight);
+        lm.words.clear();
         for (uint32_t res : resList.value()) {
-            DualDepthMap map = rasterizeDual(casters, fr, res);
+            DualDepthMap map = rasterizeDual(casters, lm.frustum, res);
             std::vector<std::vector<uint32_t>> perMethod;
             for (StaticMethod m : methods) {
-                auto w = encodeStatic(m, map, {fr.nearPlane, fr.farPlane, {}});
-                if (!w) return runError("bench flicker", std::string(staticMethodName(m)) + ": " + w.error());
+                auto w = encodeStatic(m, map, {lm.frustum.nearPlane, lm.frustum.farPlane, {}});
+                if (!w) return fail(std::string(staticMethodName(m)) + ": " + w.error());
                 perMethod.push_back(std::move(w.value()));
             }
-            words[k].push_back(std::move(perMethod));
+            lm.words.push_back(std::move(perMethod));
         }
-    }
-    std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations\n",
-                 scene->name.c_str(), ranked.size(), F, width, height, configs.size());
+        return {};
+    };
+    std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations%s\n",
+                 scene->name.c_str(), ranked.size(), F, width, height, configs.size(),
+                 mapsMove ? ", maps re-rendered every frame" : "");
 
     std::vector<uint64_t> pairs(configs.size(), 0), flips(configs.size(), 0), truthFlips(configs.size(), 0);
+    std::vector<double> graded(configs.size(), 0.0); // sum of |delta visibility| where the rays do not flip
     std::vector<Sample> prev, cur;
     for (uint32_t f = 0; f < F; ++f) {
         if (f) receiversOf(f, ps, ns);
+        for (size_t k = 0; k < ranked.size(); ++k)
+            if (f == 0 || mapsMove)
+                if (auto r = bake(k, f); !r) return runError("bench flicker", r.error());
         cur.assign(ps.size() * ranked.size(), {});
         for (size_t k = 0; k < ranked.size(); ++k) {
-            const Light& l = scene->lights[ranked[k].second];
-            LightFrustum fr = spotLightFrustum(l);
+            const Light& l = maps[k].light;
+            const LightFrustum& fr = maps[k].frustum;
             std::vector<glm::vec3> qp, qn;
             std::vector<size_t> idx;
             for (size_t i = 0; i < ps.size(); ++i)
@@ -209,7 +287,7 @@ int runBenchFlicker(int argc, char** argv) {
                     size_t ri = size_t(std::find(resList->begin(), resList->end(), c.res) - resList->begin());
                     size_t mi = size_t(std::find(methods.begin(), methods.end(), c.method) - methods.begin());
                     auto rec = makeShadowRecord(c.method, fr, 0, c.res, c.pcf);
-                    s.vis.push_back(staticVisibility(rec, words[k][ri][mi].data(), qp[j], qn[j]));
+                    s.vis.push_back(staticVisibility(rec, maps[k].words[ri][mi].data(), qp[j], qn[j]));
                 }
             }
         }
@@ -224,6 +302,7 @@ int runBenchFlicker(int argc, char** argv) {
                         continue;
                     }
                     flips[c] += (a.vis[c] >= 0.5f) != (b.vis[c] >= 0.5f);
+                    graded[c] += std::abs(double(a.vis[c]) - double(b.vis[c]));
                 }
             }
         std::swap(prev, cur);
@@ -232,24 +311,40 @@ int runBenchFlicker(int argc, char** argv) {
     std::printf("bench flicker: %s, %zu lights, %u frames %ux%u from %.1f,%.1f,%.1f to %.1f,%.1f,%.1f\n",
                 scene->name.c_str(), ranked.size(), F, width, height, eye0.x, eye0.y, eye0.z, eye1.x, eye1.y,
                 eye1.z);
+    if (mapsMove)
+        std::printf(
+            "lights move %.3f m and turn %.3f deg per frame, maps jittered by %.3f m; maps re-rendered "
+            "every frame\n",
+            move.value(), turn.value(), jitter.value());
     std::printf(
         "| method | res | pcf | pixel-light pairs in consecutive frames | rays flip %% | method flips "
-        "where rays do not %% |\n|---|---:|---|---:|---:|---:|\n");
+        "where rays do not %% | mean abs delta visibility where rays do not flip %% |\n"
+        "|---|---:|---|---:|---:|---:|---:|\n");
     std::ostringstream csv;
-    csv << "method,res,pcf_radius,pairs,truth_flips,flicker\n";
+    csv << "method,res,pcf_radius,pairs,truth_flips,flicker,graded_sum\n";
+    uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
+    double worstGraded = 0.0;
     for (size_t c = 0; c < configs.size(); ++c) {
         const Config& g = configs[c];
         double rate = pairs[c] ? double(flips[c]) / double(pairs[c]) : 0.0;
-        std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f |\n", staticMethodName(g.method), g.res,
+        const uint64_t stable = pairs[c] - truthFlips[c];
+        const double meanDelta = stable ? graded[c] / double(stable) : 0.0;
+        worstGraded = std::max(worstGraded, meanDelta);
+        allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
+        std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f | %.4f |\n", staticMethodName(g.method), g.res,
                     2 * g.pcf + 1, 2 * g.pcf + 1, (unsigned long long)pairs[c],
-                    pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0, 100.0 * rate);
+                    pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0, 100.0 * rate,
+                    100.0 * meanDelta);
         csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << pairs[c] << ","
-            << truthFlips[c] << "," << flips[c] << "\n";
+            << truthFlips[c] << "," << flips[c] << "," << graded[c] << "\n";
     }
     std::ofstream file(out + "/bench_flicker.csv");
     if (!file || !(file << csv.str()))
         return runError("bench flicker", out + "/bench_flicker.csv: cannot write");
     std::printf("wrote %s/bench_flicker.csv\n", out.c_str());
+    std::printf("{\"pairs\": %llu, \"truth_flips\": %llu, \"flips\": %llu, \"graded\": %.6f}\n",
+                (unsigned long long)allPairs, (unsigned long long)allTruth, (unsigned long long)allFlips,
+                worstGraded);
     return 0;
 }
 
