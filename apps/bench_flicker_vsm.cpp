@@ -21,16 +21,15 @@
 // --compare-res N puts a plain shadow map beside it at the same pairs: per static spot light and frame,
 // an N^2 map of that frame's casters (CPU rasteriser, cars included), looked up by the CPU twin of the
 // shader (static_visibility.h) at the same receivers and radii.
-// Reads module internals (G-buffer, frame constants, VSM state) like `check vsm`.
+// Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "engine/module_impl.h"
+#include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/light_math.h"
 #include "shadows/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
-#include "shadows/virtual/vsm_math.h"
 
 #include <glm/gtc/packing.hpp>
 
@@ -70,80 +69,12 @@ were compared and the CPU kernel agreed with every probe (M == 0, no non-residen
 
 namespace {
 
-// Copies an image in `layout` to host memory (tightly packed) and returns it to `layout`.
-std::vector<uint8_t> readImage(Device& d, const Image& image, uint32_t texelBytes, VkImageLayout layout) {
-    vkQueueWaitIdle(d.queue);
-    Buffer b = createBuffer(d, VkDeviceSize(image.width) * image.height * texelBytes,
-                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, "flicker_readback");
-    VkCommandBuffer cmd = d.beginOneTime();
-    imageBarrier(cmd, image.image, image.aspect, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    copyImageToBuffer(cmd, image, b);
-    imageBarrier(cmd, image.image, image.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout,
-                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
-    d.endOneTime(cmd);
-    vkQueueWaitIdle(d.queue);
-    std::vector<uint8_t> out(size_t(image.width) * image.height * texelBytes);
-    std::memcpy(out.data(), b.data, out.size());
-    destroyBuffer(d, b);
-    return out;
-}
-
 struct Sample {
     uint32_t kind = 0;         // 0 moving light, 1 static light
     uint32_t map = 0, mip = 0; // where the lookup ended (after any fallback)
     bool truth = false;
     std::vector<float> vis;    // per PCF radius of the list
     std::vector<float> cmpVis; // --compare-res: the per-frame sm map's, per radius (static spots only)
-};
-
-// What the evaluation pass's kernel reads: the page table, the pool and which pages need casters.
-struct VsmState {
-    const gpu::VsmConstants* c;
-    const std::vector<gpu::GpuVsmMap>* maps;
-    const std::vector<uint32_t>* coverage;
-    std::vector<uint32_t> table, pool;
-
-    bool needsPage(uint32_t map, uint32_t entry) const {
-        return ((*maps)[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0u ||
-               (((*coverage)[entry >> 5] >> (entry & 31u)) & 1u) != 0u;
-    }
-    uint32_t entryOf(uint32_t map, uint32_t mip, int x, int y) const {
-        const uint32_t shift = c->page.y;
-        return gpu::vsmEntry(c->sizes.x, c->page.z, map, mip, uint32_t(x) >> shift, uint32_t(y) >> shift);
-    }
-    // vsmKernelLit at the probe's place: lit taps of the (2r+1)^2 kernel, -1 when a tap's page is not
-    // resident; centre receives the centre texel's depth (kDepthEmpty when no page is read there).
-    int kernelLit(uint32_t map, uint32_t mip, int tx, int ty, uint32_t receiver, int r,
-                  uint32_t& centre) const {
-        centre = 0xFFFFFFFFu;
-        const int res = int(c->options.z >> mip);
-        const uint32_t size = c->page.x;
-        int lit = 0;
-        for (int dy = -r; dy <= r; ++dy)
-            for (int dx = -r; dx <= r; ++dx) {
-                const int x = tx + dx, y = ty + dy;
-                if (x < 0 || y < 0 || x >= res || y >= res) {
-                    ++lit;
-                    continue;
-                }
-                const uint32_t entry = entryOf(map, mip, x, y);
-                if (!needsPage(map, entry)) {
-                    ++lit;
-                    continue;
-                }
-                const uint32_t pt = table[entry];
-                if ((pt & (ML_VSM_ALLOCATED | ML_VSM_VALID)) != (ML_VSM_ALLOCATED | ML_VSM_VALID)) return -1;
-                const size_t texel = size_t(pt & ML_VSM_PHYS_MASK) * size * size +
-                                     (uint32_t(y) & (size - 1u)) * size + (uint32_t(x) & (size - 1u));
-                const uint32_t d = pool[texel];
-                if (dx == 0 && dy == 0) centre = d;
-                lit += receiver <= d;
-            }
-        return lit;
-    }
 };
 
 Result<std::vector<uint32_t>> radiusList(const std::string& text) {
@@ -211,9 +142,6 @@ int runBenchFlickerVsm(int argc, char** argv) {
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(moduleRadius); !r)
         return usageError("bench flicker --vsm", r.error());
-    auto& impl = s.module->internals();
-    const VirtualShadowMaps& vsm = impl.vsm;
-    Device& device = s.module->device();
     // Module light index -> scene light (bindScene adds them in order to a fresh module).
     std::unordered_map<uint32_t, uint32_t> sceneLight;
     for (uint32_t k = 0; k < s.binding.lights.size(); ++k) sceneLight[s.binding.lights[k]] = k;
@@ -234,20 +162,15 @@ int runBenchFlickerVsm(int argc, char** argv) {
     for (uint32_t f = 0; f < frames.value(); ++f) {
         auto report = s.frame(f);
         if (!report) return runError("bench flicker --vsm", report.error());
-        const uint32_t slot = impl.lastSlot;
         uint32_t overflow = 0;
-        const auto probes = vsm.readProbes(slot, &overflow);
+        const auto probes = diag::readVsmProbes(*s.module, &overflow);
         probeOverflow += overflow;
-        VsmState st{&vsm.lastConstants(), &vsm.mapsHost(slot), &vsm.coverageBits(slot), vsm.readTable(device),
-                    vsm.readPagePool(device)};
-        const gpu::FrameConstants fc = impl.lastConstants;
-        std::vector<float> depth(size_t(o.width) * o.height);
-        {
-            auto bytes = readImage(device, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-            std::memcpy(depth.data(), bytes.data(), depth.size() * 4);
-        }
-        const auto normal =
-            readImage(device, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        const auto st = diag::readVsmPageState(*s.module);
+        const auto vsmMaps = diag::vsmMaps(*s.module);
+        const diag::LastFrame fc = diag::lastFrame(*s.module);
+        std::vector<float> depth;
+        std::vector<glm::vec3> normal;
+        if (auto r = diag::readGBuffer(*s.module, depth, normal); !r) return runError("bench flicker --vsm", r.error());
         auto rays = RayReference::build(s.scene, false); // this frame's cars too: the VSM draws them
         if (!rays) return runError("bench flicker --vsm", rays.error());
 
@@ -258,14 +181,13 @@ int runBenchFlickerVsm(int argc, char** argv) {
         };
         std::unordered_map<uint32_t, Batch> batches;
         cur.clear();
-        for (const gpu::GpuVsmProbe& p : probes) {
-            const uint32_t map = p.texel.x, mip = p.texel.y, pixel = p.info.x, light = p.info.y,
-                           status = p.info.w;
-            if (status == ML_VSM_PROBE_MISSING) {
+        for (const diag::VsmProbe& p : probes) {
+            const uint32_t map = p.map, mip = p.mip, pixel = p.pixel, light = p.light;
+            if (p.status == diag::VsmProbeStatus::Missing) {
                 ++missing;
                 continue;
             }
-            if ((*st.maps)[map].info.x == ML_VSM_ORTHOGRAPHIC) {
+            if (vsmMaps[map].orthographic) {
                 ++directional;
                 continue;
             }
@@ -276,14 +198,11 @@ int runBenchFlickerVsm(int argc, char** argv) {
             }
             ++lookups;
             ++perMip[std::min<uint32_t>(mip, 15)];
-            fallbacks += status == ML_VSM_PROBE_FALLBACK;
+            fallbacks += p.status == diag::VsmProbeStatus::Fallback;
             const Light& L = s.scene.lights[sl->second];
             const uint32_t px = pixel % o.width, py = pixel / o.width;
             const glm::vec3 P = gpu::worldFromPixel(px, py, depth[pixel], fc.invViewProj, fc.size);
-            uint64_t bits;
-            std::memcpy(&bits, normal.data() + size_t(pixel) * 8, 8);
-            glm::vec3 N =
-                glm::vec3(glm::unpackHalf2x16(uint32_t(bits)), glm::unpackHalf2x16(uint32_t(bits >> 32)).x);
+            glm::vec3 N = normal[pixel];
             const float len = glm::length(N);
             N = len > 0.0f ? N / len : glm::vec3(0, 1, 0);
 
@@ -291,16 +210,16 @@ int runBenchFlickerVsm(int argc, char** argv) {
             Sample smp;
             smp.kind = L.dynamic ? 0 : 1;
             smp.map = map, smp.mip = mip;
-            const int tx = int(p.texel.z), ty = int(p.texel.w);
-            const uint32_t receiver = p.tap.x;
+            const int tx = int(p.x), ty = int(p.y);
+            const uint32_t receiver = p.receiverDepth;
             uint32_t centre = 0;
-            const int full = st.kernelLit(map, mip, tx, ty, receiver, int(moduleRadius), centre);
-            const bool centreNeedsPage = st.needsPage(map, st.entryOf(map, mip, tx, ty));
-            bool ok = full >= 0 && (status == ML_VSM_PROBE_NO_CASTER ? !centreNeedsPage
-                                                                     : centreNeedsPage && centre == p.info.z);
+            const int full = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(moduleRadius), centre);
+            const bool centreNeedsPage = diag::vsmTexelNeedsPage(*st, map, mip, tx, ty);
+            bool ok = full >= 0 && (p.status == diag::VsmProbeStatus::NoCaster ? !centreNeedsPage
+                                                                               : centreNeedsPage && centre == p.depth);
             notResident += full < 0;
             for (uint32_t r : R) {
-                const int lit = st.kernelLit(map, mip, tx, ty, receiver, int(r), centre);
+                const int lit = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(r), centre);
                 ok = ok && lit >= 0;
                 smp.vis.push_back(lit < 0 ? 1.0f : float(lit) / float((2 * r + 1) * (2 * r + 1)));
             }
@@ -309,7 +228,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
                     std::fprintf(stderr,
                                  "  frame %u: map %u mip %u texel (%d, %d): probe depth %u status %u, cpu "
                                  "kernel %d centre %u\n",
-                                 f, map, mip, tx, ty, p.info.z, status, full, centre);
+                                 f, map, mip, tx, ty, p.depth, uint32_t(p.status), full, centre);
                 continue;
             }
             if (!(glm::dot(N, L.position - P) > 0.0f)) {
@@ -373,7 +292,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
         std::fprintf(stderr, "frame %u: %zu probes, %zu pairs with rays\n", f, probes.size(), cur.size());
         std::swap(prev, cur);
     }
-    if (device.validationEnabled() && validationErrors())
+    if (s.module->deviceInfo().validation && validationErrors())
         std::fprintf(stderr, "manylights bench flicker --vsm: %u validation messages\n", validationErrors());
 
     std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",

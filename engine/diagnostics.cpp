@@ -114,6 +114,64 @@ std::vector<VsmProbe> readVsmProbes(const Module& module, uint32_t* overflow) {
     return out;
 }
 
+struct VsmPageState {
+    gpu::VsmConstants c{};
+    std::vector<gpu::GpuVsmMap> maps;
+    std::vector<uint32_t> coverage, table, pool;
+
+    uint32_t entryOf(uint32_t map, uint32_t mip, int x, int y) const {
+        const uint32_t shift = c.page.y;
+        return gpu::vsmEntry(c.sizes.x, c.page.z, map, mip, uint32_t(x) >> shift, uint32_t(y) >> shift);
+    }
+    bool needsPage(uint32_t map, uint32_t entry) const {
+        return (maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0u || ((coverage[entry >> 5] >> (entry & 31u)) & 1u);
+    }
+};
+
+std::shared_ptr<const VsmPageState> readVsmPageState(Module& module) {
+    Module::Impl& m = internals(module);
+    auto s = std::make_shared<VsmPageState>();
+    s->c = m.vsm.lastConstants();
+    s->maps = m.vsm.mapsHost(m.lastSlot);
+    s->coverage = m.vsm.coverageBits(m.lastSlot);
+    s->table = m.vsm.readTable(*m.device);
+    s->pool = m.vsm.readPagePool(*m.device);
+    return s;
+}
+
+bool vsmTexelNeedsPage(const VsmPageState& s, uint32_t map, uint32_t mip, int x, int y) {
+    return s.needsPage(map, s.entryOf(map, mip, x, y));
+}
+
+int vsmKernelLit(const VsmPageState& s, uint32_t map, uint32_t mip, int tx, int ty, uint32_t receiver, int r,
+                 uint32_t& centre) {
+    centre = 0xFFFFFFFFu;
+    const int res = int(s.c.options.z >> mip);
+    const uint32_t size = s.c.page.x;
+    int lit = 0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const int x = tx + dx, y = ty + dy;
+            if (x < 0 || y < 0 || x >= res || y >= res) { // outside the map: the light does not reach
+                ++lit;
+                continue;
+            }
+            const uint32_t entry = s.entryOf(map, mip, x, y);
+            if (!s.needsPage(map, entry)) { // no dynamic caster over it: lit
+                ++lit;
+                continue;
+            }
+            const uint32_t pt = s.table[entry];
+            if ((pt & (ML_VSM_ALLOCATED | ML_VSM_VALID)) != (ML_VSM_ALLOCATED | ML_VSM_VALID)) return -1;
+            const size_t texel = size_t(pt & ML_VSM_PHYS_MASK) * size * size + (uint32_t(y) & (size - 1u)) * size +
+                                 (uint32_t(x) & (size - 1u));
+            const uint32_t d = s.pool[texel];
+            if (dx == 0 && dy == 0) centre = d;
+            lit += receiver <= d;
+        }
+    return lit;
+}
+
 glm::vec3 vsmCasterPoint(const glm::mat4& transform, glm::vec3 position) {
     return gpu::vsmPoint(transform, position);
 }

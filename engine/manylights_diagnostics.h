@@ -7,7 +7,8 @@
 //   last frame    lastFrame: the constants the passes used (view-projection, its inverse, eye, size).
 //   counters      cullingBoxTests, sceneCounts.
 //   VSM           vsmMeshPath, vsmMaps, readVsmProbes (the probe pass: VsmSettings::probeCapacity > 0),
-//                 vsmCasterPoint (the page draws' transform, for CPU reference maps).
+//                 vsmCasterPoint (the page draws' transform, for CPU reference maps), readVsmPageState
+//                 with vsmKernelLit (the lookup's kernel redone on the CPU).
 //
 // Every function reads the results of frames the host has already waited for (e.g. submitFrame() or
 // vkQueueWaitIdle); the read-backs that copy from the GPU wait for the queue themselves: not for a frame
@@ -18,6 +19,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace ml::diag {
@@ -81,6 +83,20 @@ struct VsmProbe {
 // The probe records of the last recorded frame (at most VsmSettings::probeCapacity; `overflow` receives
 // the records that did not fit). Empty when the probe pass is off. The host must have waited for the frame.
 std::vector<VsmProbe> readVsmProbes(const Module& module, uint32_t* overflow = nullptr);
+
+// The virtual shadow maps' page state after the last frame (page table, physical pool, the maps'
+// coverage bits; read back, waits for the queue), and the evaluation pass's PCF kernel evaluated on it
+// on the CPU (the shader's vsmKernelLit): for checks that redo a lookup at a probe's place.
+struct VsmPageState;
+std::shared_ptr<const VsmPageState> readVsmPageState(Module& module);
+// Whether the texel (map, mip, x, y) reads a page (a map with a static bake needs pages only under
+// dynamic casters' bounds; the others everywhere).
+bool vsmTexelNeedsPage(const VsmPageState& state, uint32_t map, uint32_t mip, int x, int y);
+// Lit taps of the (2 radius + 1)^2 kernel around texel (x, y) of (map, mip) for a receiver's quantised
+// depth; -1 when a tap's page is not resident. `centre` receives the centre texel's depth (0xFFFFFFFF
+// when no page is read there).
+int vsmKernelLit(const VsmPageState& state, uint32_t map, uint32_t mip, int x, int y, uint32_t receiverDepth,
+                 int radius, uint32_t& centre);
 
 // An instance vertex transformed exactly as the page draws transform it (bit for bit with the shaders),
 // so a CPU reference rasteriser sees the same triangles.
