@@ -230,7 +230,11 @@ int runBenchStatic(int argc, char** argv) {
     auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value(),
                            {args->has("--allow-outside-scene-dir")});
     if (!scene) return runError("bench static", scene.error());
-    auto module = Module::create({});
+    // Fenced: each pass in its own submission, timed with the host clock. GPU timestamps do not bracket
+    // compute work on lavapipe (engine/manylights.h, TimingChoice), so the eval column would be noise.
+    ModuleOptions moduleOptions;
+    moduleOptions.timing = TimingChoice::Fenced;
+    auto module = Module::create(moduleOptions);
     if (!module) return runError("bench static", module.error());
     Module& m = *module.value();
     auto binding = bindScene(m, scene.value());
