@@ -37,7 +37,10 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
   --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex
 Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
-Directional lights' clip levels (orthographic) have no CPU reference rasteriser yet: counted, not checked.
+Directional lights' clip levels are checked against the orthographic reference rasteriser
+(directional_checked counts their lookups). A differing shadow decision is not a mismatch when the
+depths agree within the float-vs-double tolerance (the receiver sits on the caster) or the VSM's depth
+is a neighbouring reference texel's (a triangle edge through the texel centre): ties_or_edges, printed.
 )";
 
 namespace {
@@ -110,7 +113,7 @@ int runCheck(int argc, char** argv) {
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
 
-    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, skippedDirectional = 0, fallbacks = 0,
+    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0, fallbacks = 0,
              noCaster = 0, missing = 0;
     uint32_t probeOverflow = 0;
     for (uint32_t f = 0; f < frames.value(); ++f) {
@@ -121,7 +124,7 @@ int runCheck(int argc, char** argv) {
         const std::vector<diag::VsmMap> maps = diag::vsmMaps(*s.module);
         probeOverflow += overflow;
         std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
-        uint64_t frameMismatches = 0;
+        uint64_t frameMismatches = 0, frameTies = 0;
         for (const diag::VsmProbe& p : probes) {
             const uint32_t map = p.map, mip = p.mip;
             const diag::VsmProbeStatus status = p.status;
@@ -132,10 +135,7 @@ int runCheck(int argc, char** argv) {
                 ++frameMismatches;
                 continue;
             }
-            if (info.orthographic) {
-                ++skippedDirectional;
-                continue;
-            }
+            directionalChecked += info.orthographic;
             auto key = std::make_pair(map, mip);
             auto it = references.find(key);
             if (it == references.end()) {
@@ -170,7 +170,34 @@ int runCheck(int argc, char** argv) {
                             step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
                     }
                     const uint64_t tol = uint64_t(4294967294.0 * 2e-5) + step / 64;
-                    depthBeyondTolerance += uint64_t(std::llabs(int64_t(got) - int64_t(want))) > tol;
+                    const uint64_t diff = uint64_t(std::llabs(int64_t(got) - int64_t(want)));
+                    depthBeyondTolerance += diff > tol;
+                    if (!ok) {
+                        // Not an error of the page machinery when the two rasterisers may both be right:
+                        // a tie (the receiver's biased depth lies between two depths within the
+                        // float-vs-double tolerance: it sits on the caster) or an edge (the GPU's texel
+                        // centre took a neighbouring texel's surface, within tolerance, the fixed-point
+                        // reference the other side of a triangle edge). Counted apart, printed.
+                        bool edge = false;
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                int nx = int(x) + dx, ny = int(y) + dy;
+                                if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
+                                uint32_t v = ref.enter[size_t(ny) * n + nx];
+                                edge = edge || (v != kDepthEmpty &&
+                                                uint64_t(std::llabs(int64_t(v) - int64_t(got))) <= tol);
+                            }
+                        const bool tie = diff <= tol;
+                        if (tie || edge) {
+                            ok = true;
+                            ++ties;
+                            if (++frameTies <= 3)
+                                std::fprintf(stderr,
+                                             "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, "
+                                             "receiver %u\n",
+                                             f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
+                        }
+                    }
                 }
             }
             ++checked;
@@ -190,11 +217,11 @@ int runCheck(int argc, char** argv) {
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
     std::printf(
         "{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
-        "\"no_caster\": %llu, \"missing\": %llu, \"skipped_directional\": %llu, \"probe_overflow\": %u, "
+        "\"no_caster\": %llu, \"missing\": %llu, \"directional_checked\": %llu, \"ties_or_edges\": %llu, \"probe_overflow\": %u, "
         "\"frames\": %u, \"raster\": \"%s\"}\n",
         (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)depthBeyondTolerance,
         (unsigned long long)fallbacks, (unsigned long long)noCaster, (unsigned long long)missing,
-        (unsigned long long)skippedDirectional, probeOverflow, frames.value(),
+        (unsigned long long)directionalChecked, (unsigned long long)ties, probeOverflow, frames.value(),
         diag::vsmMeshPath(*s.module) ? "mesh" : "vertex");
     return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
 }

@@ -62,7 +62,7 @@ struct VsmMap {
     uint32_t face = 0;         // cube face or clip level
     bool orthographic = false; // a directional light's clip level
     bool dynamicOnly = false;  // the light has a static bake: its pages hold dynamic casters only
-    LightFrustum frustum;      // perspective maps: the frustum a reference rasteriser uses
+    LightFrustum frustum;      // the volume a reference rasteriser uses (orthoHalf > 0 for clip levels)
 };
 std::vector<VsmMap> vsmMaps(const Module& module);
 

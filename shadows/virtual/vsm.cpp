@@ -270,7 +270,12 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
         g.viewProj = proj * g.view;
         g.params = glm::vec4(h, 0.0f, settings_.clipDepth, 0.0f);
         g.info.x = ML_VSM_ORTHOGRAPHIC;
+        // The same volume for a reference rasteriser (check vsm): depth is view -z over [0, clipDepth].
         info.frustum = LightFrustum{};
+        info.frustum.view = g.view;
+        info.frustum.nearPlane = 0.0f;
+        info.frustum.farPlane = settings_.clipDepth;
+        info.frustum.orthoHalf = h;
     } else {
         Light sl;
         sl.type = l.kind == ML_LIGHT_POINT ? LightType::Point : LightType::Spot;

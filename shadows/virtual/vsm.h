@@ -91,7 +91,7 @@ struct VsmMapInfo {
     uint32_t light = 0; // module light id
     uint32_t face = 0;  // cube face or clip level
     gpu::GpuVsmMap gpu{};
-    LightFrustum frustum; // perspective maps: the frustum a reference rasteriser uses
+    LightFrustum frustum; // the volume a reference rasteriser uses (clip levels: orthographic)
 };
 
 
