@@ -129,7 +129,10 @@ struct CameraDesc {
 // G-buffer images the host renders itself, with Module::viewProjection(). Formats: depth D32_SFLOAT,
 // reversed Z (cleared to 0, compare GREATER: 1 at the near plane, 0 at the far plane and the sky),
 // normal RGBA16F (world-space unit normal in xyz), albedo RGBA8 (linear). All three in
-// SHADER_READ_ONLY_OPTIMAL when record() runs; output is RGBA8 storage in GENERAL layout.
+// SHADER_READ_ONLY_OPTIMAL when record() runs; output is RGBA8 storage in GENERAL layout. record()
+// leaves the output written by a compute shader and made visible to copy, fragment and compute reads
+// only: a host that reads it otherwise (e.g. presents it) adds its own barrier from
+// COMPUTE_SHADER / SHADER_STORAGE_WRITE.
 struct HostTargets {
     uint32_t width = 0, height = 0;
     VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;

@@ -117,6 +117,11 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         std::to_string(ML_MESHLET_VERTICES) + " / 4.." + std::to_string(ML_MESHLET_TRIANGLES) +
                         " (a multiple of 4)");
     }
+    // The hierarchical page buffer is an image array with one layer per map slot.
+    if (v.enabled && v.maxMaps > impl->device->properties.limits.maxImageArrayLayers)
+        return fail("vsm: max maps " + std::to_string(v.maxMaps) + " exceeds the device's " +
+                    std::to_string(impl->device->properties.limits.maxImageArrayLayers) +
+                    " image array layers (the page buffer has a layer per map)");
     impl->vsmSettings = v;
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(std::max(1u, options.framesInFlight));

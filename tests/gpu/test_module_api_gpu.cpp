@@ -142,3 +142,21 @@ TEST(ModuleApi, HdrOutputWritesTheHdrImageOnly) {
 
 } // namespace
 } // namespace ml::test
+
+namespace ml::test {
+// Virtual shadow map settings the device cannot hold are refused at create(), with the reason.
+TEST(ModuleApi, RefusesVsmSettingsTheDeviceCannotHold) {
+    ModuleOptions o;
+    o.device.validation = true;
+    o.vsm.enabled = true;
+    o.vsm.maxMaps = 65536; // within the settings' range, beyond any device's image array layers
+    auto m = Module::create(o);
+    ASSERT_FALSE(m.ok());
+    EXPECT_NE(m.error().find("image array layers"), std::string::npos) << m.error();
+    o.vsm.maxMaps = 512;
+    o.vsm.pageSize = 48;
+    m = Module::create(o);
+    ASSERT_FALSE(m.ok());
+    EXPECT_NE(m.error().find("page size"), std::string::npos) << m.error();
+}
+} // namespace ml::test
