@@ -24,6 +24,7 @@
 // Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/light_math.h"
@@ -93,28 +94,21 @@ Result<std::vector<uint32_t>> radiusList(const std::string& text) {
 } // namespace
 
 int runBenchFlickerVsm(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 4,
-                           {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--vsm-res",
-                            "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster", "--out", "--compare-res"},
-                           {});
+    auto args =
+        cli::parse(argc, argv, 4, vsmSessionFlags({"--pcf", "--vsm-raster", "--out", "--compare-res"}), {});
     if (!args) return usageError("bench flicker --vsm", args.error());
     if (args->help) {
         std::fputs(kFlickerVsmHelp, stdout);
         return 0;
     }
-    auto path = parseCameraPath(args->get("--path", "drive"));
-    auto frames = cli::parseUint("--frames", args->get("--frames", "16"), 2, 100000);
-    auto size = cli::parseSize("--size", args->get("--size", "320x180"));
-    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto res = cli::parseUint("--vsm-res", args->get("--vsm-res", "1024"), 256, 16384);
-    auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
-    auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
+    uint32_t frameCount = 0;
+    auto options = vsmSessionOptions(*args, {16, 2, "320x180", 1024}, frameCount);
+    if (!options) return usageError("bench flicker --vsm", options.error());
+    if (args->has("--bake"))
+        return usageError("bench flicker --vsm", "--bake is not taken: every light's maps must hold every caster");
     auto radii = radiusList(args->get("--pcf", "0,2"));
     auto compareRes = cli::parseUint("--compare-res", args->get("--compare-res", "0"), 0, 8192);
-    for (const std::string* e :
-         {&path.error(), &frames.error(), &size.error(), &lights.error(), &seed.error(), &res.error(),
-          &page.error(), &pool.error(), &radii.error(), &compareRes.error()})
+    for (const std::string* e : {&radii.error(), &compareRes.error()})
         if (!e->empty()) return usageError("bench flicker --vsm", *e);
     VsmRaster raster = VsmRaster::Auto;
     if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
@@ -125,16 +119,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
     const std::vector<uint32_t>& R = radii.value();
     const uint32_t moduleRadius = *std::max_element(R.begin(), R.end());
 
-    VsmSessionOptions o;
-    o.scene = args->get("--scene", "night-city");
-    o.lights = lights.value();
-    o.seed = seed.value();
-    std::tie(o.width, o.height) = size.value();
-    o.path = path.value();
-    o.module.vsm.enabled = true;
-    o.module.vsm.resolution = res.value();
-    o.module.vsm.pageSize = page.value();
-    o.module.vsm.poolPages = pool.value();
+    VsmSessionOptions o = options.value();
     o.module.vsm.probeCapacity = o.width * o.height * 8;
     o.module.vsm.raster = raster;
     auto session = VsmSession::create(o);
@@ -159,7 +144,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
     uint32_t probeOverflow = 0;
     std::vector<uint64_t> perMip(16, 0); // lookups (spot and point maps) per mip they ended at
     std::unordered_map<uint64_t, Sample> prev, cur;
-    for (uint32_t f = 0; f < frames.value(); ++f) {
+    for (uint32_t f = 0; f < frameCount; ++f) {
         auto report = s.frame(f);
         if (!report) return runError("bench flicker --vsm", report.error());
         uint32_t overflow = 0;
@@ -296,14 +281,14 @@ int runBenchFlickerVsm(int argc, char** argv) {
         std::fprintf(stderr, "manylights bench flicker --vsm: %u validation messages\n", validationErrors());
 
     std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",
-                s.scene.name.c_str(), cameraPathName(o.path), frames.value(), o.width, o.height, res.value(),
+                s.scene.name.c_str(), cameraPathName(o.path), frameCount, o.width, o.height, o.module.vsm.resolution,
                 moduleRadius);
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
                 "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
                 "another mip %% "
                 "|\n|---|---|---:|---:|---:|---:|---:|---:|\n");
-    std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", res.value(), res.value());
+    std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", o.module.vsm.resolution, o.module.vsm.resolution);
     for (uint32_t m = 0; m < 16; ++m)
         if (perMip[m]) std::printf(" %u: %llu", m, (unsigned long long)perMip[m]);
     std::printf("\n");

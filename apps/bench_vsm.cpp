@@ -9,6 +9,7 @@
 // of the meshlets of (caster, map, dirty mip) each stage removed, summed over the frames after the first.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/config.h"
@@ -26,6 +27,7 @@ Virtual shadow maps on a camera path: pass times and page counts, cached against
   --frames N      frames per run (default 20; the first is reported apart)
   --size WxH      frame size (default 640x360)
   --lights N      lights in the scene (default 256)
+  --seed S        scene seed (default 1)
   --bake FILE     static bake of this scene (then static lights' maps hold dynamic casters only)
   --vsm-res N     virtual resolution (default 4096)
   --vsm-page N    page size: 32, 64 (default), 128
@@ -56,25 +58,15 @@ struct Row {
 } // namespace
 
 int runBenchVsm(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--path", "--frames", "--size", "--lights", "--bake", "--vsm-res",
-                            "--vsm-page", "--vsm-pool", "--kinds", "--out", "--vsm-raster", "--meshlet"},
-                           {});
+    auto args = cli::parse(argc, argv, 3, vsmSessionFlags({"--kinds", "--out", "--vsm-raster", "--meshlet"}), {});
     if (!args) return usageError("bench vsm", args.error());
     if (args->help) {
         std::fputs(kBenchVsmHelp, stdout);
         return 0;
     }
-    auto path = parseCameraPath(args->get("--path", "drive"));
-    auto frames = cli::parseUint("--frames", args->get("--frames", "20"), 2, 100000);
-    auto size = cli::parseSize("--size", args->get("--size", "640x360"));
-    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
-    auto res = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
-    auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
-    auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
-    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(), &res.error(),
-                                 &page.error(), &pool.error()})
-        if (!e->empty()) return usageError("bench vsm", *e);
+    uint32_t frameCount = 0;
+    auto options = vsmSessionOptions(*args, {20, 2, "640x360", 4096}, frameCount);
+    if (!options) return usageError("bench vsm", options.error());
     std::vector<std::string> kinds;
     {
         std::stringstream ss(args->get("--kinds", "static-spot,moving-spot,point,directional"));
@@ -111,16 +103,8 @@ int runBenchVsm(int argc, char** argv) {
     for (const std::string& kind : kinds)
         for (bool cached : {false, true})
             for (VsmRaster raster : rasters) {
-                VsmSessionOptions o;
-                o.scene = args->get("--scene", "night-city");
-                o.lights = lights.value();
-                std::tie(o.width, o.height) = size.value();
-                o.path = path.value();
-                o.bake = args->get("--bake", "");
+                VsmSessionOptions o = options.value();
                 o.module.timing = TimingChoice::Fenced;
-                o.module.vsm.resolution = res.value();
-                o.module.vsm.pageSize = page.value();
-                o.module.vsm.poolPages = pool.value();
                 o.module.vsm.caching = cached;
                 o.module.vsm.raster = raster;
                 std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = meshlet.value();
@@ -144,7 +128,7 @@ int runBenchVsm(int argc, char** argv) {
                 const VsmRaster used =
                     diag::vsmMeshPath(*session.value()->module) ? VsmRaster::Mesh : VsmRaster::Vertex;
                 row.raster = used;
-                for (uint32_t f = 0; f < frames.value(); ++f) {
+                for (uint32_t f = 0; f < frameCount; ++f) {
                     auto r = session.value()->frame(f);
                     if (!r) return runError("bench vsm", r.error());
                     const PassTimes& t = r->times;
@@ -198,8 +182,8 @@ int runBenchVsm(int argc, char** argv) {
             }
 
     std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
-                cameraPathName(path.value()), size.value().first, size.value().second, res.value(),
-                page.value(), pool.value(), frames.value());
+                cameraPathName(options->path), options->width, options->height, options->module.vsm.resolution,
+                options->module.vsm.pageSize, options->module.vsm.poolPages, frameCount);
     std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
                 "triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
     std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");

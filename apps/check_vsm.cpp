@@ -12,6 +12,7 @@
 // nothing disagreed.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/config.h"
@@ -70,44 +71,25 @@ int runCheck(int argc, char** argv) {
     }
     if (std::string(argv[2]) != "vsm")
         return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake",
-                            "--vsm-res", "--vsm-page", "--vsm-pool", "--pcf", "--vsm-raster"},
-                           {});
+    auto args = cli::parse(argc, argv, 3, vsmSessionFlags({"--pcf", "--vsm-raster"}), {});
     if (!args) return usageError("check vsm", args.error());
     if (args->help) {
         std::fputs(kCheckHelp, stdout);
         return 0;
     }
-    auto path = parseCameraPath(args->get("--path", "drive"));
-    auto frames = cli::parseUint("--frames", args->get("--frames", "10"), 1, 100000);
-    auto size = cli::parseSize("--size", args->get("--size", "320x180"));
-    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto res = cli::parseUint("--vsm-res", args->get("--vsm-res", "1024"), 256, 16384);
-    auto page = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
-    auto pool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
+    uint32_t frameCount = 0;
+    auto options = vsmSessionOptions(*args, {10, 1, "320x180", 1024}, frameCount);
+    if (!options) return usageError("check vsm", options.error());
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
-    for (const std::string* e : {&path.error(), &frames.error(), &size.error(), &lights.error(),
-                                 &seed.error(), &res.error(), &page.error(), &pool.error(), &pcf.error()})
-        if (!e->empty()) return usageError("check vsm", *e);
+    if (!pcf) return usageError("check vsm", pcf.error());
     VsmRaster raster = VsmRaster::Auto;
     if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
         return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") +
                                            "' is not auto, mesh or vertex");
-
-    VsmSessionOptions o;
-    o.scene = args->get("--scene", "night-city");
-    o.lights = lights.value();
-    o.seed = seed.value();
-    std::tie(o.width, o.height) = size.value();
-    o.path = path.value();
-    o.bake = args->get("--bake", "");
-    o.module.vsm.resolution = res.value();
-    o.module.vsm.pageSize = page.value();
-    o.module.vsm.poolPages = pool.value();
+    VsmSessionOptions o = options.value();
     o.module.vsm.probeCapacity = o.width * o.height * 8;
     o.module.vsm.raster = raster;
+    const uint32_t resolution = o.module.vsm.resolution;
     auto session = VsmSession::create(o);
     if (!session) return runError("check vsm", session.error());
     VsmSession& s = *session.value();
@@ -116,7 +98,7 @@ int runCheck(int argc, char** argv) {
     uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0, fallbacks = 0,
              noCaster = 0, missing = 0;
     uint32_t probeOverflow = 0;
-    for (uint32_t f = 0; f < frames.value(); ++f) {
+    for (uint32_t f = 0; f < frameCount; ++f) {
         auto report = s.frame(f);
         if (!report) return runError("check vsm", report.error());
         uint32_t overflow = 0;
@@ -140,7 +122,7 @@ int runCheck(int argc, char** argv) {
             auto it = references.find(key);
             if (it == references.end()) {
                 DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum,
-                                      res.value() >> mip);
+                                      resolution >> mip);
                 it = references.emplace(key, raster.render()).first;
             }
             const DualDepthMap& ref = it->second;
@@ -221,7 +203,7 @@ int runCheck(int argc, char** argv) {
         "\"frames\": %u, \"raster\": \"%s\"}\n",
         (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)depthBeyondTolerance,
         (unsigned long long)fallbacks, (unsigned long long)noCaster, (unsigned long long)missing,
-        (unsigned long long)directionalChecked, (unsigned long long)ties, probeOverflow, frames.value(),
+        (unsigned long long)directionalChecked, (unsigned long long)ties, probeOverflow, frameCount,
         diag::vsmMeshPath(*s.module) ? "mesh" : "vertex");
     return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
 }
