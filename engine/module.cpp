@@ -628,11 +628,30 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     // The frame as a list of passes (each a profiler entry with a debug label).
     m.profiler.beginFrame(cmd, slotIndex);
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // The frame boundary, the one ALL-to-ALL barrier of the frame: the previous frame (and the host's
-        // commands before record()) read and write the cluster buffers, the persistent VSM state (page
-        // table, pool, owners: read-after-write across frames) and the targets this frame rewrites
-        // (write-after-read), in nearly every stage; later barriers of the frame chain from this one.
-        fullBarrier(c, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT);
+        // The frame boundary: the previous frame read and wrote the cluster buffers, the persistent VSM
+        // state (page table, pool, owners, HPB: read-after-write across frames) and the targets this frame
+        // rewrites (write-after-read), in every stage the module uses; later barriers of the frame chain
+        // from this one. Only the module's stages and accesses: a host's other work (host reads, ray
+        // tracing, video...) on a borrowed queue is not waited for. Host targets arrive already
+        // transitioned by the host (HostTargets). Two frames recorded back to back show no hazard under
+        // synchronization validation even without this barrier (the passes' own barriers chain across
+        // the boundary; SyncValidation.TwoFramesInOneCommandBuffer); it stays for the host's commands
+        // before record() that touch module-visible memory in these stages.
+        const VkPipelineStageFlags2 frameStages =
+            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | kFillStages | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
+            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
+            VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+            VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
+            VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+        const VkAccessFlags2 frameWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
+                                           VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                           VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+        const VkAccessFlags2 frameAccesses =
+            frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT |
+            VK_ACCESS_2_INDEX_READ_BIT |
+            VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
+            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+        memoryBarrier(c, frameStages, frameWrites, frameStages, frameAccesses);
         vkCmdFillBuffer(c, slot.counters.buffer, 0, VK_WHOLE_SIZE, 0);
         memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
     });
@@ -652,12 +671,14 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
 
     // The HDR and output images are rewritten whole: their old contents are discarded. Write-after-read
-    // and write-after-write against the previous frame's evaluation and debug views (compute); the
-    // host's reads of them (copies, blits) reach the compute stage through the frame-start barrier.
+    // and write-after-write against the previous frame's evaluation and debug views (compute): its
+    // storage writes are in the source scope, so the layout transition is ordered after them (two frames
+    // in one command buffer: SyncValidation.TwoFramesInOneCommandBuffer). The host's reads of them
+    // (copies, blits) reach the compute stage through the frame-start barrier.
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C, W);
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
         if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0,
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W,
                          C, W);
     });
     const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool, depthView,

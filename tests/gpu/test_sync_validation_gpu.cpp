@@ -45,3 +45,38 @@ TEST(SyncValidation, BarrierSilencesIt) {
 
 } // namespace
 } // namespace ml
+
+#include "gpu_test_util.h"
+
+namespace ml::test {
+
+// Two frames recorded back to back into one command buffer (two frames in flight, as a host that
+// submits without waiting in between would): the second frame reads and rewrites what the first wrote
+// (cluster lists, the persistent virtual shadow map state, the targets). The frame-boundary barrier at
+// the start of record() must order them: synchronization validation reports nothing.
+TEST(SyncValidation, TwoFramesInOneCommandBuffer) {
+    resetValidationCounters();
+    ModuleOptions o;
+    o.device.validationSync = true;
+    o.statistics = true;
+    o.vsm.enabled = true;
+    o.framesInFlight = 2;
+    auto created = Module::create(o);
+    ASSERT_TRUE(created.ok()) << created.error();
+    Module& m = *created.value();
+    auto scene = loadScene("night-city", 32, 2);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    ASSERT_TRUE(bindScene(m, scene.value()).ok());
+    ASSERT_TRUE(m.createTargets(160, 90).ok());
+    ASSERT_TRUE(m.submitFrame().ok()); // first use (uploads, layouts) in its own submission
+    vkQueueWaitIdle(m.deviceInfo().queue);
+    Device& d = deviceOf(m);
+    VkCommandBuffer cmd = d.beginOneTime();
+    ASSERT_TRUE(m.record(cmd).ok());
+    ASSERT_TRUE(m.record(cmd).ok());
+    d.endOneTime(cmd);
+    vkQueueWaitIdle(m.deviceInfo().queue);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace ml::test
