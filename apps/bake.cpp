@@ -7,6 +7,7 @@
 #include "apps/cli.h"
 #include "shadows/gpu/dual_depth_gpu.h"
 #include "apps/commands.h"
+#include "apps/gpu_dual_renderer.h"
 #include "apps/need_region.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
@@ -132,29 +133,6 @@ Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
     if (file.empty() && !args->help) return fail("missing FILE (see --help)");
     return std::make_pair(file, args.value());
 }
-
-// The Vulkan dual depth renderer (shadows/gpu/dual_depth_gpu.h) as a DualRenderFn; owns its device.
-struct GpuDualRenderer {
-    std::unique_ptr<Device> device;
-    std::unique_ptr<DualDepthRenderer> renderer;
-    Result<DualRenderFn> make() {
-        auto d = Device::create({});
-        if (!d) return fail(d.error());
-        device = std::move(d.value());
-        auto r = DualDepthRenderer::create(*device);
-        if (!r) return fail(r.error());
-        renderer = std::move(r.value());
-        DualDepthRenderer* p = renderer.get();
-        // The Vulkan renderer is perspective only: orthographic (directional) maps use the CPU rasteriser.
-        return DualRenderFn(
-            [p, cpu = cpuDualRenderer()](const CasterTriangles& c, const LightFrustum& f, uint32_t res) {
-                return f.orthographic() ? cpu(c, f, res) : p->render(c, f, res);
-            });
-    }
-    ~GpuDualRenderer() {
-        renderer.reset(); // before the device it was created on
-    }
-};
 
 // The build id of a part: a hash of this executable's bytes (another build's encoders may differ).
 Result<uint64_t> executableHash() {

@@ -71,6 +71,28 @@ float mapWidthAt(const LightFrustum& f, const glm::vec3& p) {
     return std::abs(v.x) <= t && std::abs(v.y) <= t ? 2.0f * t : 0.0f;
 }
 
+// Conservative: false only when the triangle lies wholly outside one plane of the frustum (then it
+// cannot cover a texel of the map); a triangle that passes may still miss it.
+bool triangleTouchesFrustum(const LightFrustum& f, const glm::vec3& a, const glm::vec3& b,
+                            const glm::vec3& c) {
+    glm::vec3 v[3] = {glm::vec3(f.view * glm::vec4(a, 1.0f)), glm::vec3(f.view * glm::vec4(b, 1.0f)),
+                      glm::vec3(f.view * glm::vec4(c, 1.0f))};
+    const float t = f.orthographic() ? 0.0f : std::tan(0.5f * f.fov);
+    auto allOutside = [&](auto outside) { return outside(v[0]) && outside(v[1]) && outside(v[2]); };
+    if (allOutside([&](glm::vec3 p) { return -p.z < f.nearPlane; }) ||
+        allOutside([&](glm::vec3 p) { return -p.z > f.farPlane; }))
+        return false;
+    for (int axis = 0; axis < 2; ++axis)
+        for (float sign : {-1.0f, 1.0f}) {
+            auto outside = [&](glm::vec3 p) {
+                const float e = f.orthographic() ? f.orthoHalf : t * -p.z;
+                return sign * p[axis] > e;
+            };
+            if (allOutside(outside)) return false;
+        }
+    return true;
+}
+
 uint32_t nextPow2(double v) {
     uint32_t r = 1;
     while (r < v && r < (1u << 30)) r <<= 1;
@@ -136,6 +158,10 @@ Result<std::vector<LightNeed>> estimateNeed(const Scene& scene, const std::vecto
             const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
             const glm::vec3 d = glm::max(glm::max(lo - centre, centre - hi), glm::vec3(0.0f));
             if (glm::dot(d, d) > radius * radius) continue;
+            bool touches = false;
+            for (const LightFrustum& f : frustums) touches = touches || triangleTouchesFrustum(f, a, b, c);
+            if (!touches) continue;
+            anyCaster = true; // may still have no receiver point: then it is 'not seen', never 'no caster'
             tri.clear();
             sampleTriangle(a, b, c, centre, radius, spacing, tri);
             for (const Point& p : tri) {
@@ -143,7 +169,6 @@ Result<std::vector<LightNeed>> estimateNeed(const Scene& scene, const std::vecto
                 for (const LightFrustum& f : frustums) w = std::max(w, mapWidthAt(f, p.p));
                 if (!(w > 0.0f)) continue;
                 if (!directional && glm::length(p.p - l.position) > l.range) continue;
-                anyCaster = true;
                 receivers.push_back({p, w});
             }
         }

@@ -18,7 +18,9 @@
 // the light needs more, one seen at a grazing angle by the camera less); PCF is not taken into account.
 //
 // A light whose volume holds no triangle at all would bake an empty map (every lookup lit, the same as
-// no record): it gets no structure (reason NoCaster). CPU only, deterministic (no threads, no clock).
+// no record): it gets no structure (reason NoCaster). The test is conservative: a triangle counts unless
+// it lies wholly outside one plane of one of the light's bake frustums, so a light that could cast any
+// shadow is never dropped. CPU only, deterministic (no threads, no clock).
 #pragma once
 #include "scenes/scene.h"
 #include "shadows/static/bake_file.h"

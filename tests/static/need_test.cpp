@@ -116,6 +116,19 @@ TEST(Need, NoCasterInVolumeGetsNone) {
     EXPECT_NE(needOf(*n, 1).reason, NeedReason::NoCaster);
     EXPECT_GT(needOf(*n, 1).resolution, 0u);
     EXPECT_EQ(needReasonText(needOf(*n, 0), 1), "no caster in its volume: not baked");
+    // The same lamp shining up at a box 3 m above it (the box's underside faces the lamp) has a caster.
+    Scene t = groundScene({});
+    Instance box;
+    box.mesh = 1;
+    box.transform = glm::translate(glm::mat4(1.0f), glm::vec3(0, 6, 0));
+    t.instances.push_back(box);
+    updateBounds(t);
+    t.lights.push_back(spotAt({0, 3, 0}, {0, 1, 0}));
+    n = estimateNeed(t, {0}, {cameraAt({0, 1.7f, 3})}, {});
+    ASSERT_TRUE(n.ok()) << n.error();
+    EXPECT_NE(n->front().reason, NeedReason::NoCaster);
+    EXPECT_GT(n->front().resolution, 0u);
+    EXPECT_GT(n->front().receivers, 0u);
 }
 
 TEST(Need, CapAndMinimumRespected) {
