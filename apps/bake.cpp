@@ -332,7 +332,7 @@ int runBake(int argc, char** argv) {
         auto need = bakeNeed(scene.value(), lights.value(), args->get("--need", ""), needSamples.value(),
                              needSeconds.value(), needSize.value(), needMin.value(), res.value());
         if (!need) return usageError("bake", need.error());
-        baked = bakeSceneNeed(scene.value(), spec, method.value(), need.value(),
+        baked = bakeSceneNeed(scene.value(), spec, method.value(), need.value(), lights.value(),
                               progressPrinter("bake", args->has("--quiet")), render);
     } else {
         baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),

@@ -281,7 +281,7 @@ int runBenchStaticNeed(int argc, char** argv) {
             auto t0 = std::chrono::steady_clock::now();
             auto fixed = bakeScene(scene.value(), spec, method, cap, lights, {}, render);
             if (!fixed) return runError("bench static", fixed.error());
-            auto byNeed = bakeSceneNeed(scene.value(), spec, method, bn, {}, render);
+            auto byNeed = bakeSceneNeed(scene.value(), spec, method, bn, lights, {}, render);
             if (!byNeed) return runError("bench static", byNeed.error());
             const Measure a = measure(fixed->file, sets, rays.value(), scene.value());
             const Measure b = measure(byNeed->file, sets, rays.value(), scene.value());

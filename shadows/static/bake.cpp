@@ -195,10 +195,9 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
 }
 
 Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
-                                 const BakeNeed& need, const BakeProgressFn& progress,
-                                 const DualRenderFn& render) {
-    if (need.lights.empty()) return fail("bake: the need lists no light");
-    std::vector<uint32_t> lights;
+                                 const BakeNeed& need, const std::vector<uint32_t>& selected,
+                                 const BakeProgressFn& progress, const DualRenderFn& render) {
+    std::vector<uint32_t> lights = selected;
     for (const LightNeed& n : need.lights) {
         if (n.resolution > need.maxRes || (n.resolution != 0 && n.resolution < need.minRes))
             return fail("bake: light " + std::to_string(n.light) + ": resolution " +
@@ -206,6 +205,12 @@ Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, Stat
                         std::to_string(need.maxRes));
         lights.push_back(n.light);
     }
+    // Every selected light that can be baked needs an entry (none is left out silently).
+    for (uint32_t l : selected)
+        if (l < scene.lights.size() && skipReason(scene, scene.lights[l]).empty() &&
+            std::none_of(need.lights.begin(), need.lights.end(),
+                         [l](const LightNeed& n) { return n.light == l; }))
+            return fail("bake: light " + std::to_string(l) + " is selected but has no need entry");
     auto resOf = [&need](uint32_t light) {
         for (const LightNeed& n : need.lights)
             if (n.light == light) return n.resolution;

@@ -71,12 +71,14 @@ std::string bakeSkipReason(const Scene& scene, const Light& light);
 // The frustums a light bakes in this scene (a directional light's covers the scene's bounds).
 std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& light);
 
-// bakeScene with each light's resolution from `need` (need.h: estimateNeed): lights of resolution 0 (no
-// caster in their volume) get no record; the file carries the need block (version 2) with every
-// light's resolution and reason, and its resolution is need.maxRes.
+// bakeScene of the `selected` lights (and those `need` lists) with each light's resolution from `need`
+// (need.h: estimateNeed): lights of resolution 0 (no caster in their volume) get no record; lights that
+// cannot be baked are skipped and listed as by bakeScene; a bakeable selected light without an entry is
+// an error. The file carries the need block (version 2) with every baked or unbaked light's resolution
+// and reason, and its resolution is need.maxRes.
 Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
-                                 const BakeNeed& need, const BakeProgressFn& progress = {},
-                                 const DualRenderFn& render = {});
+                                 const BakeNeed& need, const std::vector<uint32_t>& selected,
+                                 const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
 
 // "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
 // Errors are one line: malformed items and indices not below lightCount.

@@ -335,8 +335,13 @@ TEST(Need, BakeAndVerifyLossless) {
     EXPECT_TRUE(differ) << "every light got the same resolution: the test would not see per-light sizes";
     for (StaticMethod m : {StaticMethod::DAGMH, StaticMethod::CPVS}) {
         SCOPED_TRACE(staticMethodName(m));
-        auto baked = bakeSceneNeed(scene.value(), {"night-city", 256, 1}, m, bn);
+        auto baked = bakeSceneNeed(scene.value(), {"night-city", 256, 1}, m, bn, {0, 1, 2, 100, 200, 255});
         ASSERT_TRUE(baked.ok()) << baked.error();
+        // Light 255 is a car's headlight (dynamic): listed as skipped, not dropped.
+        ASSERT_EQ(baked->skipped.size(), 1u);
+        EXPECT_EQ(baked->skipped[0].light, 255u);
+        // A selected bakeable light without a need entry is an error, not a silent omission.
+        EXPECT_FALSE(bakeSceneNeed(scene.value(), {"night-city", 256, 1}, m, bn, {0, 3}).ok());
         auto w = serializeBakeFile(baked->file);
         ASSERT_TRUE(w.ok()) << w.error();
         auto back = parseBakeFile("need", w->data(), w->size());
