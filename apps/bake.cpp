@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -471,9 +472,15 @@ int runInspect(int argc, char** argv) {
     if (f.hasNeed) {
         const BakeNeed& n = f.need;
         uint32_t byReason[6] = {};
-        for (const LightNeed& l : n.lights) ++byReason[uint32_t(l.reason)];
+        std::map<uint32_t, uint32_t> byRes; // lights per resolution, highest first below
+        for (const LightNeed& l : n.lights) ++byReason[uint32_t(l.reason)], ++byRes[l.resolution];
         std::printf("resolution from need: %s, image %ux%u, resolutions %u..%u\n",
                     io::escapeText(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes);
+        std::string hist;
+        for (auto it = byRes.rbegin(); it != byRes.rend(); ++it)
+            hist += (hist.empty() ? "" : ", ") + std::to_string(it->second) + " at " +
+                    (it->first ? std::to_string(it->first) : std::string("none"));
+        std::printf("lights per resolution: %s\n", hist.c_str());
         std::printf(
             "%zu lights: %u by footprint, %u capped, %u raised to the minimum, %u not seen, %u with no "
             "caster (not baked)\n",
