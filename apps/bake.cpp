@@ -69,13 +69,17 @@ glTF's, or --light-dir) bake one orthographic map each.
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
 Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
 bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+A need-based bake (bake --need, version 2) also shows each light's resolution and why (the receiver and
+camera sample that decided, the cap or the minimum, no caster: not baked), and lights per resolution.
 A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.
   --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
-           (and part{shard, shards, selected, own[...], device} for a part)
+           (and part{shard, shards, selected, own[...], device} for a part; need{region, width,
+           height, min, max, samples, lights[{light, resolution, reason, why, ...}]} when need-based)
 )";
 
 const char* kVerifyHelp = R"(usage: manylights verify FILE [--quiet]
-Re-creates the baked scene, re-renders every light's dual depth map and checks every texel
+Re-creates the baked scene, re-renders every light's dual depth map (at its record's resolution:
+need-based bakes differ per light) and checks every texel
 (sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
 (cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
 The last line on stdout is {"checked": N, "mismatches": M}.
