@@ -6,6 +6,8 @@
 // Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/gpu_dual_renderer.h"
+#include "apps/need_region.h"
 #include "engine/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
@@ -19,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -47,6 +50,18 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --bounds X0,Y0,Z0,X1,Y1,Z1  the box directional lights' maps cover (default: the scene's bounds)
                      (directional maps are rendered by the CPU rasteriser with either --renderer;
                      the file's scene string records these, so verify re-creates the same scene)
+  --need REGION      resolution from need: each light's resolution is the one its receivers need
+                     from where the camera can be (one texel per pixel at the receiver seen largest,
+                     occlusion by Embree rays), a power of two in --need-min..--res (--res is then
+                     the cap). REGION: path:static|drive|orbit (the camera path sampled over
+                     --need-seconds) or box:X0,Y0,Z0,X1,Y1,Z1 (a grid of positions looking anywhere).
+                     Lights whose volume holds no triangle get no record (an empty map: lit
+                     everywhere), counted and listed. The file (version 2) keeps each light's
+                     resolution and reason; `inspect` shows them. Not with --shard.
+  --need-size WxH    the image the need is computed for (default 1280x720)
+  --need-min N       smallest resolution (default 64, a power of two)
+  --need-samples N   camera samples (default 120; box: a grid of cbrt(N)^3)
+  --need-seconds S   duration of the path sampled (default 60)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --quiet            no progress lines on stderr
 Dynamic lights among the selection are skipped and listed, never silently. Directional lights (the
@@ -56,13 +71,17 @@ glTF's, or --light-dir) bake one orthographic map each.
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
 Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
 bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+A need-based bake (bake --need, version 2) also shows each light's resolution and why (the receiver and
+camera sample that decided, the cap or the minimum, no caster: not baked), and lights per resolution.
 A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.
   --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
-           (and part{shard, shards, selected, own[...], device} for a part)
+           (and part{shard, shards, selected, own[...], device} for a part; need{region, width,
+           height, min, max, samples, lights[{light, resolution, reason, why, ...}]} when need-based)
 )";
 
 const char* kVerifyHelp = R"(usage: manylights verify FILE [--quiet]
-Re-creates the baked scene, re-renders every light's dual depth map and checks every texel
+Re-creates the baked scene, re-renders every light's dual depth map (at its record's resolution:
+need-based bakes differ per light) and checks every texel
 (sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
 (cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
 The last line on stdout is {"checked": N, "mismatches": M}.
@@ -122,22 +141,6 @@ Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
     return std::make_pair(file, args.value());
 }
 
-// The Vulkan dual depth renderer (shadows/tools/gpu_dual_renderer.h, its own device) as a DualRenderFn.
-struct GpuRendererFn {
-    std::unique_ptr<GpuDualRenderer> renderer;
-    Result<DualRenderFn> make() {
-        auto r = GpuDualRenderer::create();
-        if (!r) return fail(r.error());
-        renderer = std::move(r.value());
-        GpuDualRenderer* p = renderer.get();
-        // The Vulkan renderer is perspective only: orthographic (directional) maps use the CPU rasteriser.
-        return DualRenderFn(
-            [p, cpu = cpuDualRenderer()](const CasterTriangles& c, const LightFrustum& f, uint32_t res) {
-                return f.orthographic() ? cpu(c, f, res) : p->render(c, f, res);
-            });
-    }
-};
-
 // The build id of a part: a hash of this executable's bytes (another build's encoders may differ).
 Result<uint64_t> executableHash() {
     std::ifstream is("/proc/self/exe", std::ios::binary);
@@ -188,12 +191,46 @@ int bakeShard(const Scene& scene, const SceneSpec& spec, StaticMethod method, ui
     return 0;
 }
 
+// bake --need: the camera region's samples, each bakeable selected light's need (printed, one line
+// each, and counted by reason).
+Result<BakeNeed> bakeNeed(const Scene& scene, const std::vector<uint32_t>& lights, const std::string& spec,
+                          uint32_t samples, uint32_t seconds, std::pair<uint32_t, uint32_t> size,
+                          uint32_t minRes, uint32_t maxRes) {
+    auto region = makeNeedRegion(scene, spec, samples, double(seconds), size.first, size.second);
+    if (!region) return fail(region.error());
+    NeedOptions o;
+    o.width = size.first, o.height = size.second, o.minRes = minRes, o.maxRes = maxRes;
+    auto needs = estimateNeedWithRays(scene, lights, region.value(), o);
+    if (!needs) return fail(needs.error());
+    BakeNeed n;
+    n.region = region->text, n.width = o.width, n.height = o.height, n.minRes = minRes, n.maxRes = maxRes;
+    n.samples = uint32_t(region->cameras.size());
+    n.lights = needs.value();
+    uint32_t byReason[6] = {};
+    uint64_t rays = 0;
+    for (const LightNeed& l : n.lights) {
+        ++byReason[uint32_t(l.reason)];
+        rays += l.rays;
+        std::printf("need light %u: %s\n", l.light, needReasonText(l, n.samples).c_str());
+    }
+    std::printf(
+        "need (%s, %ux%u): %zu lights: %u by footprint, %u capped at %u, %u raised to the minimum %u, "
+        "%u not seen (minimum), %u with no caster (not baked); %llu occlusion rays\n",
+        io::escapeText(n.region).c_str(), n.width, n.height, n.lights.size(),
+        byReason[uint32_t(NeedReason::Footprint)], byReason[uint32_t(NeedReason::Capped)], maxRes,
+        byReason[uint32_t(NeedReason::Floor)], minRes, byReason[uint32_t(NeedReason::NotSeen)],
+        byReason[uint32_t(NeedReason::NoCaster)], (unsigned long long)rays);
+    std::fflush(stdout);
+    return n;
+}
+
 } // namespace
 
 int runBake(int argc, char** argv) {
     auto args = cli::parse(argc, argv, 2,
                            {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
-                            "--renderer", "--shard", "--light-dir", "--bounds"},
+                            "--renderer", "--shard", "--light-dir", "--bounds", "--need", "--need-size",
+                            "--need-min", "--need-samples", "--need-seconds"},
                            {"--quiet", "--allow-outside-scene-dir"});
     if (!args) return usageError("bake", args.error());
     if (args->help) {
@@ -220,6 +257,27 @@ int runBake(int argc, char** argv) {
         if (!s) return usageError("bake", s.error());
         shard = s.value();
     }
+    const bool byNeed = args->has("--need");
+    if (!byNeed)
+        for (const char* f : {"--need-size", "--need-min", "--need-samples", "--need-seconds"})
+            if (args->has(f)) return usageError("bake", std::string(f) + ": only with --need");
+    if (byNeed && shard) return usageError("bake", "--need: not with --shard (parts hold one resolution)");
+    auto needSize = cli::parseSize("--need-size", args->get("--need-size", "1280x720"));
+    auto needMin = cli::parseUint("--need-min", args->get("--need-min", "64"), 1, kBakeMaxResolution);
+    auto needSamples = cli::parseUint("--need-samples", args->get("--need-samples", "120"), 1, 100000);
+    auto needSeconds = cli::parseUint("--need-seconds", args->get("--need-seconds", "60"), 1, 86400);
+    for (const std::string* e :
+         {&needSize.error(), &needMin.error(), &needSamples.error(), &needSeconds.error()})
+        if (!e->empty()) return usageError("bake", *e);
+    if (byNeed && (needMin.value() & (needMin.value() - 1)) != 0)
+        return usageError("bake",
+                          "--need-min: " + std::to_string(needMin.value()) + " is not a power of two");
+    if (byNeed && needMin.value() > res.value())
+        return usageError("bake", "--need-min: " + std::to_string(needMin.value()) +
+                                      " is above the cap --res " + std::to_string(res.value()));
+    if (byNeed && method.value() == StaticMethod::CPVS)
+        if (auto s = makeCpvsSpace(needMin.value(), 1.0f, 2.0f); !s)
+            return usageError("bake", "--need-min: " + s.error());
     const std::string out = args->get("--out", "");
     if (out.empty()) return usageError("bake", "--out: empty path");
     // Fail before a long bake, not after it.
@@ -264,28 +322,41 @@ int runBake(int argc, char** argv) {
             std::find(lights->begin(), lights->end(), li) == lights->end())
             lights->push_back(li);
 
-    std::printf("manylights bake: %s, %s at %u^2, %zu of %zu lights selected\n",
-                io::escapeText(spec.scene).c_str(), staticMethodName(method.value()), res.value(),
-                lights->size(), scene->lights.size());
+    std::printf("manylights bake: %s, %s at %s%u^2, %zu of %zu lights selected\n",
+                io::escapeText(spec.scene).c_str(), staticMethodName(method.value()),
+                byNeed ? "need-based resolutions up to " : "", res.value(), lights->size(),
+                scene->lights.size());
     std::fflush(stdout);
     if (shard)
         return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
                          rendererKind, render, gpu.renderer.get(), args->has("--quiet"));
-    auto baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
-                           progressPrinter("bake", args->has("--quiet")), render);
+    Result<BakeResult> baked = fail("");
+    if (byNeed) {
+        auto need = bakeNeed(scene.value(), lights.value(), args->get("--need", ""), needSamples.value(),
+                             needSeconds.value(), needSize.value(), needMin.value(), res.value());
+        if (!need) return usageError("bake", need.error());
+        baked = bakeSceneNeed(scene.value(), spec, method.value(), need.value(), lights.value(),
+                              progressPrinter("bake", args->has("--quiet")), render);
+    } else {
+        baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
+                          progressPrinter("bake", args->has("--quiet")), render);
+    }
     if (!baked) return runError("bake", baked.error());
     baked->file.renderer = rendererKind;
     for (const SkippedLight& s : baked->skipped)
         std::printf("skipped light %u: %s\n", s.light, io::escapeText(s.reason).c_str());
     for (const LightBakeStats& l : baked->lights)
-        std::printf("light %u: render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
-                    l.renderSeconds, l.encodeSeconds,
-                    100.0 * double(l.coveredTexels) / (double(res.value()) * res.value()),
+        std::printf("light %u: %u^2, render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
+                    l.resolution, l.renderSeconds, l.encodeSeconds,
+                    100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
     if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
-    std::printf("wrote %s: %zu lights baked, %zu skipped, %llu bytes; render %.2f s, encode %.2f s\n",
-                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(),
+    size_t noCaster = 0;
+    for (const LightNeed& n : baked->file.need.lights) noCaster += n.reason == NeedReason::NoCaster;
+    std::printf("wrote %s: %zu lights baked, %zu skipped, %zu not baked (no caster), %llu bytes; render "
+                "%.2f s, encode %.2f s\n",
+                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(), noCaster,
                 (unsigned long long)b.total(), baked->renderSeconds, baked->encodeSeconds);
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
@@ -324,11 +395,14 @@ int runInspect(int argc, char** argv) {
         for (uint32_t l : part->own) ownList += (ownList.empty() ? "" : ", ") + std::to_string(l);
     std::vector<BakeRecordBytes> per;
     BakeBytes b = bakeFileBytes(f, &per);
-    const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4;
+    const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4; // at the file's resolution
+    uint64_t allMapBytes = 0; // the 32-bit maps of every record at its own resolution
+    for (const BakeRecord& r : f.records) allMapBytes += uint64_t(r.resolution) * r.resolution * 4;
+    const uint32_t version = bakeFileVersion(f);
     if (args.has("--json")) {
         std::printf(
             "{\"file\": %s, \"version\": %u, \"scene\": {\"name\": %s, \"lights\": %u, \"seed\": %u},\n",
-            jsonString(path).c_str(), bakefmt::kVersion, jsonString(f.scene.scene).c_str(), f.scene.lights,
+            jsonString(path).c_str(), version, jsonString(f.scene.scene).c_str(), f.scene.lights,
             f.scene.seed);
         if (part)
             std::printf(" \"part\": {\"shard\": %u, \"shards\": %u, \"selected\": %zu, \"own\": [%s], "
@@ -348,35 +422,76 @@ int runInspect(int argc, char** argv) {
             const BakeRecord& r = f.records[i];
             const stat::ByteBreakdown& p = per[i].parts;
             std::printf(
-                "%s\n  {\"light\": %u, \"bytes\": %llu, \"fov\": %.9g, \"near\": %.9g, \"far\": %.9g, "
+                "%s\n  {\"light\": %u, \"resolution\": %u, \"bytes\": %llu, \"fov\": %.9g, \"near\": %.9g, "
+                "\"far\": %.9g, "
                 "\"parts\": {\"headers\": %llu, \"skip_list\": %llu, \"nodes\": %llu, \"treelets\": %llu, "
                 "\"values\": %llu, \"factors\": %llu}}",
-                i ? "," : "", r.light, (unsigned long long)(r.data.size() * 4), r.frustum.fov,
+                i ? "," : "", r.light, r.resolution, (unsigned long long)(r.data.size() * 4), r.frustum.fov,
                 r.frustum.nearPlane, r.frustum.farPlane, (unsigned long long)p.header,
                 (unsigned long long)p.skipList, (unsigned long long)p.nodes, (unsigned long long)p.treelets,
                 (unsigned long long)p.values, (unsigned long long)p.factors);
         }
-        std::printf("]}\n");
+        std::printf("]");
+        if (f.hasNeed) {
+            const BakeNeed& n = f.need;
+            std::printf(",\n \"need\": {\"region\": %s, \"width\": %u, \"height\": %u, \"min\": %u, "
+                        "\"max\": %u, \"samples\": %u, \"lights\": [",
+                        jsonString(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes, n.samples);
+            for (size_t i = 0; i < n.lights.size(); ++i) {
+                const LightNeed& l = n.lights[i];
+                std::printf(
+                    "%s\n  {\"light\": %u, \"resolution\": %u, \"reason\": \"%s\", \"why\": %s, "
+                    "\"depth\": %.9g, \"sample\": %u, \"needed\": %.9g, \"receivers\": %u, \"seen\": %u}",
+                    i ? "," : "", l.light, l.resolution, needReasonName(l.reason),
+                    jsonString(needReasonText(l, n.samples)).c_str(), l.distance, l.sample, l.needed,
+                    l.receivers, l.seen);
+            }
+            std::printf("]}");
+        }
+        std::printf("}\n");
         return 0;
     }
     // The scene string comes from the file: escaped, so it cannot add lines or terminal codes.
     std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", io::escapeText(path).c_str(),
-                bakefmt::kVersion, io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
+                version, io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     if (part)
         std::printf("part of a sharded bake: shard %u/%u, lights %s of %zu selected; device %s\n",
                     part->shard.index, part->shard.count, ownList.empty() ? "(none)" : ownList.c_str(),
                     part->selected.size(), part->device.c_str());
-    std::printf("method %s, resolution %u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
-                staticMethodName(f.method), f.resolution, f.records.size(), (unsigned long long)b.total(),
-                f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(mapBytes * f.records.size()),
-                f.records.size());
+    std::printf("method %s, resolution %s%u^2, %zu lights, %llu bytes (%.2f%% of %zu 32-bit maps)\n",
+                staticMethodName(f.method), f.hasNeed ? "from need, at most " : "", f.resolution,
+                f.records.size(), (unsigned long long)b.total(),
+                f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(allMapBytes), f.records.size());
     std::printf("bytes: headers %llu, skip list %llu, nodes %llu, treelets %llu, values %llu, factors %llu\n",
                 (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.nodes,
                 (unsigned long long)b.treelets, (unsigned long long)b.values, (unsigned long long)b.factors);
-    std::printf("%8s %12s %8s %8s %8s\n", "light", "bytes", "of map", "fov", "far");
+    std::printf("%8s %6s %12s %8s %8s %8s\n", "light", "res", "bytes", "of map", "fov", "far");
     for (const BakeRecord& r : f.records)
-        std::printf("%8u %12llu %7.2f%% %8.3f %8.2f\n", r.light, (unsigned long long)(r.data.size() * 4),
-                    100.0 * double(r.data.size() * 4) / double(mapBytes), r.frustum.fov, r.frustum.farPlane);
+        std::printf("%8u %6u %12llu %7.2f%% %8.3f %8.2f\n", r.light, r.resolution,
+                    (unsigned long long)(r.data.size() * 4),
+                    100.0 * double(r.data.size() * 4) / (double(r.resolution) * r.resolution * 4),
+                    r.frustum.fov, r.frustum.farPlane);
+    if (f.hasNeed) {
+        const BakeNeed& n = f.need;
+        uint32_t byReason[6] = {};
+        std::map<uint32_t, uint32_t> byRes; // lights per resolution, highest first below
+        for (const LightNeed& l : n.lights) ++byReason[uint32_t(l.reason)], ++byRes[l.resolution];
+        std::printf("resolution from need: %s, image %ux%u, resolutions %u..%u\n",
+                    io::escapeText(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes);
+        std::string hist;
+        for (auto it = byRes.rbegin(); it != byRes.rend(); ++it)
+            hist += (hist.empty() ? "" : ", ") + std::to_string(it->second) + " at " +
+                    (it->first ? std::to_string(it->first) : std::string("none"));
+        std::printf("lights per resolution: %s\n", hist.c_str());
+        std::printf(
+            "%zu lights: %u by footprint, %u capped, %u raised to the minimum, %u not seen, %u with no "
+            "caster (not baked)\n",
+            n.lights.size(), byReason[uint32_t(NeedReason::Footprint)],
+            byReason[uint32_t(NeedReason::Capped)], byReason[uint32_t(NeedReason::Floor)],
+            byReason[uint32_t(NeedReason::NotSeen)], byReason[uint32_t(NeedReason::NoCaster)]);
+        for (const LightNeed& l : n.lights)
+            std::printf("light %u: %s\n", l.light, needReasonText(l, n.samples).c_str());
+    }
     return 0;
 }
 

@@ -63,6 +63,8 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
                    (isolated lookup cost), accuracy_vs_bytes.png, accuracy_vs_time.png,
                    accuracy_vs_lookup.png (default out/bench_static)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
+  --need REGION    instead: fixed against need-based resolution along a camera path (its own options:
+                   bench static --need path:drive --help)
 )";
 
 namespace {
@@ -156,6 +158,9 @@ Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
 } // namespace
 
 int runBenchStatic(int argc, char** argv) {
+    // --- bench static --need: fixed against need-based resolution, its own options (bench_static_need.cpp).
+    for (int i = 3; i < argc; ++i)
+        if (std::string(argv[i]) == "--need") return runBenchStaticNeed(argc, argv);
     auto args =
         cli::parse(argc, argv, 3,
                    {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",

@@ -7,6 +7,7 @@ namespace ml {
 int runDemo(int argc, char** argv);
 int runBench(int argc, char** argv);
 int runBenchStatic(int argc, char** argv);
+int runBenchStaticNeed(int argc, char** argv); // bench static --need (apps/bench_static_need.cpp)
 int runBenchFlicker(int argc, char** argv);
 int runBake(int argc, char** argv);
 int runInspect(int argc, char** argv);

@@ -89,9 +89,13 @@ DualRenderFn cpuDualRenderer(uint64_t tileTexels) {
     };
 }
 
-Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
-                             const std::vector<uint32_t>& lightsIn, const BakeProgressFn& progress,
-                             const DualRenderFn& render) {
+namespace {
+
+// bakeScene with a resolution per light (resOf; 0: not baked) and `res` as the file's resolution.
+Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
+                            const std::vector<uint32_t>& lightsIn,
+                            const std::function<uint32_t(uint32_t)>& resOf, const BakeProgressFn& progress,
+                            const DualRenderFn& render) {
     if (!isDepthMethod(method) && method != StaticMethod::CPVS)
         return fail("bake: method '" + std::string(staticMethodName(method)) + "' cannot be baked");
     if (res == 0 || res > kBakeMaxResolution)
@@ -113,20 +117,25 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
     std::vector<std::pair<uint32_t, uint32_t>> work;
     for (uint32_t i : lights) {
         std::string why = skipReason(scene, scene.lights[i]);
+        if (why.empty() && resOf(i) == 0) continue; // resolution from need: nothing to cast, not baked
         if (why.empty())
             for (uint32_t face = 0; face < bakeFrustums(scene, scene.lights[i]).size(); ++face)
                 work.push_back({i, face});
         else
             out.skipped.push_back({i, why});
     }
+    if (work.empty() && out.skipped.empty())
+        return fail("bake: none of the " + std::to_string(lights.size()) +
+                    " selected lights has a caster in its volume: nothing to bake");
     if (work.empty())
         return fail("bake: none of the " + std::to_string(lights.size()) +
                     " selected lights is a static spot, point or directional light (first skipped: light " +
                     std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
     if (method == StaticMethod::CPVS) {
         // Fail before rendering anything (CPVS needs a power of two in 64..16384).
-        auto space = makeCpvsSpace(res, 1.0f, 2.0f);
-        if (!space) return fail("bake: " + space.error());
+        for (const auto& [li, face] : work)
+            if (auto space = makeCpvsSpace(resOf(li), 1.0f, 2.0f); !space)
+                return fail("bake: " + space.error());
     }
 
     const CasterTriangles casters = castersFromScene(scene);
@@ -139,8 +148,9 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
                 progress({li, k, n, phase, (k + std::clamp(within, 0.0, 1.0)) / n, secondsSince(t0)});
         };
         const LightFrustum frustum = bakeFrustums(scene, scene.lights[li])[face];
+        const uint32_t res = resOf(li);
         LightBakeStats st;
-        st.light = li;
+        st.light = li, st.resolution = res;
 
         // Render: half of a light's share of the progress; encode: the other half.
         report("render", 0.0);
@@ -172,6 +182,54 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
         out.lights.push_back(st);
         report("done", 1.0);
     }
+    return out;
+}
+
+} // namespace
+
+Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
+                             const std::vector<uint32_t>& lights, const BakeProgressFn& progress,
+                             const DualRenderFn& render) {
+    return bakeImpl(
+        scene, spec, method, res, lights, [res](uint32_t) { return res; }, progress, render);
+}
+
+Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
+                                 const BakeNeed& need, const std::vector<uint32_t>& selected,
+                                 const BakeProgressFn& progress, const DualRenderFn& render) {
+    std::vector<uint32_t> lights = selected;
+    for (const LightNeed& n : need.lights) {
+        if (n.resolution > need.maxRes || (n.resolution != 0 && n.resolution < need.minRes))
+            return fail("bake: light " + std::to_string(n.light) + ": resolution " +
+                        std::to_string(n.resolution) + " outside " + std::to_string(need.minRes) + ".." +
+                        std::to_string(need.maxRes));
+        lights.push_back(n.light);
+    }
+    // Every selected light that can be baked needs an entry (none is left out silently).
+    for (uint32_t l : selected)
+        if (l < scene.lights.size() && skipReason(scene, scene.lights[l]).empty() &&
+            std::none_of(need.lights.begin(), need.lights.end(),
+                         [l](const LightNeed& n) { return n.light == l; }))
+            return fail("bake: light " + std::to_string(l) + " is selected but has no need entry");
+    auto resOf = [&need](uint32_t light) {
+        for (const LightNeed& n : need.lights)
+            if (n.light == light) return n.resolution;
+        return 0u;
+    };
+    auto out = bakeImpl(scene, spec, method, need.maxRes, lights, resOf, progress, render);
+    if (!out) return out;
+    out->file.hasNeed = true;
+    out->file.need = need;
+    // A light the need gave a resolution but that bakeScene skipped (a dynamic light) keeps no entry
+    // claiming a resolution: the file would be refused ("has a resolution but no record").
+    auto& ls = out->file.need.lights;
+    ls.erase(std::remove_if(ls.begin(), ls.end(),
+                            [&](const LightNeed& n) {
+                                return std::any_of(out->skipped.begin(), out->skipped.end(),
+                                                   [&](const SkippedLight& s) { return s.light == n.light; });
+                            }),
+             ls.end());
+    std::sort(ls.begin(), ls.end(), [](const LightNeed& a, const LightNeed& b) { return a.light < b.light; });
     return out;
 }
 

@@ -45,6 +45,7 @@ struct SkippedLight {
 
 struct LightBakeStats {
     uint32_t light = 0;
+    uint32_t resolution = 0; // of this light's map(s)
     double renderSeconds = 0, encodeSeconds = 0;
     uint64_t coveredTexels = 0, closedTexels = 0; // texels with a hit, and with exit > enter
     uint64_t bytes = 0;                           // the record's data
@@ -69,6 +70,15 @@ Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMe
 std::string bakeSkipReason(const Scene& scene, const Light& light);
 // The frustums a light bakes in this scene (a directional light's covers the scene's bounds).
 std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& light);
+
+// bakeScene of the `selected` lights (and those `need` lists) with each light's resolution from `need`
+// (need.h: estimateNeed): lights of resolution 0 (no caster in their volume) get no record; lights that
+// cannot be baked are skipped and listed as by bakeScene; a bakeable selected light without an entry is
+// an error. The file carries the need block (version 2) with every baked or unbaked light's resolution
+// and reason, and its resolution is need.maxRes.
+Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
+                                 const BakeNeed& need, const std::vector<uint32_t>& selected,
+                                 const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
 
 // "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
 // Errors are one line: malformed items and indices not below lightCount.

@@ -2,6 +2,7 @@
 
 #include "io/safe_io.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -49,24 +50,32 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         return bad("one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
                    "with `manylights merge`");
     if (w[kHMagic] != kMagic) return bad("not a manylights bake file (wrong magic)");
-    if (w[kHVersion] != kVersion)
+    if (w[kHVersion] != kVersion && w[kHVersion] != kVersionFixed)
         return bad("unsupported version " + std::to_string(w[kHVersion]) + " (this build reads " +
-                   std::to_string(kVersion) + ")");
+                   std::to_string(kVersionFixed) + " and " + std::to_string(kVersion) + ")");
+    const uint32_t version = w[kHVersion];
     // The header's length must be known (and inside the file) before its checksum can be computed.
     const uint32_t sceneBytes = w[kHSceneBytes];
     if (sceneBytes == 0 || sceneBytes > kMaxSceneBytes)
         return bad("header: scene string length " + std::to_string(sceneBytes) + " outside 1.." +
                    std::to_string(kMaxSceneBytes));
-    const uint32_t headerWords = kFixedHeaderWords + sceneWords(sceneBytes);
+    // Version 1 has no need block (the word was reserved, 0); version 2 always has one.
+    const uint32_t needWords = w[kHNeedWords];
+    if (version == kVersionFixed && needWords != 0) return bad("header: reserved word is not 0");
+    if (version == kVersion &&
+        (needWords < kNeedFixedWords ||
+         needWords > kNeedFixedWords + kMaxRegionBytes / 4 + kMaxRecords * kNeedEntryWords))
+        return bad("header: need block of " + std::to_string(needWords) + " words out of range");
+    const uint32_t headerWords = kFixedHeaderWords + sceneWords(sceneBytes) + needWords;
     if (w[kHHeaderWords] != headerWords)
         return bad("header: header size " + std::to_string(w[kHHeaderWords]) + " words does not match its " +
-                   std::to_string(sceneBytes) + "-byte scene string");
+                   std::to_string(sceneBytes) + "-byte scene string and " + std::to_string(needWords) +
+                   "-word need block");
     if (headerWords > count) return bad("header: truncated (file ends inside the header)");
     if (w[kHChecksum] != stat::checksumWords(w, headerWords, kHChecksum))
         return bad("header: checksum mismatch");
     if ((w[kHFlags] & ~kFlagGpuRenderer) != 0)
         return bad("header: unknown flags " + std::to_string(w[kHFlags]));
-    if (w[kHReserved] != 0) return bad("header: reserved word is not 0");
     if (!validMethod(w[kHMethod])) return bad("header: unknown method " + std::to_string(w[kHMethod]));
     const StaticMethod method = StaticMethod(w[kHMethod]);
     const uint32_t res = w[kHResolution];
@@ -89,6 +98,56 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
     for (uint32_t b = sceneBytes; b < sceneWords(sceneBytes) * 4; ++b)
         if (reinterpret_cast<const char*>(w + kFixedHeaderWords)[b] != 0)
             return bad("header: scene string padding is not zero");
+    // The need block (version 2): per selected light, its resolution and why.
+    BakeNeed need;
+    if (needWords) {
+        const uint32_t* nb = w + kFixedHeaderWords + sceneWords(sceneBytes);
+        auto badNeed = [&](const std::string& why) { return bad("need block: " + why); };
+        const uint32_t entries = nb[0], regionBytes = nb[5];
+        need.width = nb[1], need.height = nb[2], need.minRes = nb[3], need.maxRes = nb[4],
+        need.samples = nb[6];
+        if (nb[7] != 0) return badNeed("reserved word is not 0");
+        if (regionBytes == 0 || regionBytes > kMaxRegionBytes)
+            return badNeed("region string length " + std::to_string(regionBytes) + " outside 1.." +
+                           std::to_string(kMaxRegionBytes));
+        if (uint64_t(needWords) !=
+            kNeedFixedWords + sceneWords(regionBytes) + uint64_t(entries) * kNeedEntryWords)
+            return badNeed("size does not match its " + std::to_string(entries) + " entries");
+        if (need.width == 0 || need.height == 0 || need.samples == 0 || need.minRes == 0 ||
+            need.minRes > need.maxRes || need.maxRes != res)
+            return badNeed("image size, camera samples or resolution range invalid (the maximum must be "
+                           "the header's resolution)");
+        const char* region = reinterpret_cast<const char*>(nb + kNeedFixedWords);
+        need.region.assign(region, regionBytes);
+        if (need.region.find('\0') != std::string::npos) return badNeed("region string contains a NUL byte");
+        for (uint32_t b = regionBytes; b < sceneWords(regionBytes) * 4; ++b)
+            if (region[b] != 0) return badNeed("region string padding is not zero");
+        const uint32_t* e = nb + kNeedFixedWords + sceneWords(regionBytes);
+        for (uint32_t i = 0; i < entries; ++i, e += kNeedEntryWords) {
+            LightNeed n;
+            n.light = e[0], n.resolution = e[1], n.reason = NeedReason(e[2] & 0xFFu);
+            n.raysCapped = (e[2] >> 8) != 0;
+            n.distance = bitsFloat(e[3]), n.sample = e[4], n.needed = bitsFloat(e[5]);
+            n.receivers = e[6], n.seen = e[7];
+            const std::string at = "entry " + std::to_string(i) + ": ";
+            if (n.light >= w[kHSceneLights] || (i > 0 && n.light <= need.lights.back().light))
+                return badNeed(at + "light " + std::to_string(n.light) +
+                               " out of range or not in increasing order");
+            if ((e[2] & 0xFFu) < uint32_t(NeedReason::Footprint) ||
+                (e[2] & 0xFFu) > uint32_t(NeedReason::NoCaster) || (e[2] >> 9) != 0)
+                return badNeed(at + "unknown reason " + std::to_string(e[2]));
+            if ((n.reason == NeedReason::NoCaster) != (n.resolution == 0))
+                return badNeed(at + "resolution 0 is for 'no caster' only, and only it");
+            if (n.resolution != 0 && (n.resolution < need.minRes || n.resolution > need.maxRes))
+                return badNeed(at + "resolution " + std::to_string(n.resolution) + " outside the range");
+            if (!std::isfinite(n.distance) || !std::isfinite(n.needed) || n.distance < 0.0f ||
+                n.needed < 0.0f || n.seen > n.receivers ||
+                (n.reason != NeedReason::NoCaster && n.reason != NeedReason::NotSeen &&
+                 n.sample >= need.samples))
+                return badNeed(at + "depth, need, sample or counts out of range");
+            need.lights.push_back(n);
+        }
+    }
     const uint64_t dataBegin = uint64_t(headerWords) + uint64_t(records) * kRecordWords;
     if (dataBegin > count) return bad("record table: truncated (file ends inside the record table)");
 
@@ -117,7 +176,20 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
             return badRec("light " + std::to_string(rec[kRLight]) + " face " + std::to_string(rec[kRFace]) +
                           " appears twice");
         if (rec[kRMethod] != uint32_t(method)) return badRec("method differs from the file's");
-        if (rec[kRResolution] != res) return badRec("resolution differs from the file's");
+        uint32_t recRes = res;
+        if (needWords) {
+            // Entries are in increasing light order: a binary search.
+            auto it = std::lower_bound(need.lights.begin(), need.lights.end(), rec[kRLight],
+                                       [](const LightNeed& a, uint32_t l) { return a.light < l; });
+            const LightNeed* n = it != need.lights.end() && it->light == rec[kRLight] ? &*it : nullptr;
+            if (!n || n->resolution == 0)
+                return badRec("light " + std::to_string(rec[kRLight]) +
+                              " has no need entry with a resolution");
+            recRes = n->resolution;
+        }
+        if (rec[kRResolution] != recRes)
+            return badRec(needWords ? "resolution differs from its need entry's"
+                                    : "resolution differs from the file's");
         LightFrustum f;
         float* m = &f.view[0][0];
         for (int i = 0; i < 16; ++i) m[i] = bitsFloat(rec[kRView + i]);
@@ -148,17 +220,23 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         if (rec[kRDataChecksum] != stat::checksumWords(data, size_t(words), kNoSkip))
             return badRec("data checksum mismatch");
         if (auto v = validateStatic(method, data, size_t(words)); !v) return badRec(v.error());
-        if (staticResolution(method, data) != res) return badRec("data resolution differs from the record's");
+        if (staticResolution(method, data) != recRes)
+            return badRec("data resolution differs from the record's");
         if (method == StaticMethod::CPVS &&
             (data[kCpvsHNearBits] != rec[kRNear] || data[kCpvsHFarBits] != rec[kRFar]))
             return badRec("CPVS depth range differs from the record's frustum");
         expectedOffset = offset + words;
         if (out)
             out->records.push_back(
-                {rec[kRLight], rec[kRFace], method, res, f, std::vector<uint32_t>(data, data + words)});
+                {rec[kRLight], rec[kRFace], method, recRes, f, std::vector<uint32_t>(data, data + words)});
     }
     if (expectedOffset != count)
         return bad(std::to_string(count - expectedOffset) + " words after the last record's data");
+    // Every light the need block gives a resolution has its records (none dropped).
+    for (const LightNeed& n : need.lights)
+        if (n.resolution != 0 && !lightsSeen.count(uint64_t(n.light) * 8u))
+            return bad("need block: light " + std::to_string(n.light) + " has a resolution but no record");
+    if (out && needWords) out->hasNeed = true, out->need = std::move(need);
     return {};
 }
 
@@ -171,12 +249,19 @@ Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
                     " bytes without NUL");
     if (!validMethod(uint32_t(file.method))) return fail("bake file: no method");
     if (file.records.size() > kMaxRecords) return fail("bake file: too many records");
-    const uint32_t headerWords = kFixedHeaderWords + sceneWords(s.scene.size());
+    if (file.hasNeed && (file.need.region.empty() || file.need.region.size() > kMaxRegionBytes ||
+                         file.need.region.find('\0') != std::string::npos))
+        return fail("bake file: need region string must be 1.." + std::to_string(kMaxRegionBytes) +
+                    " bytes without NUL");
+    const uint32_t needWords = file.hasNeed ? uint32_t(kNeedFixedWords + sceneWords(file.need.region.size()) +
+                                                       file.need.lights.size() * kNeedEntryWords)
+                                            : 0u;
+    const uint32_t headerWords = kFixedHeaderWords + sceneWords(s.scene.size()) + needWords;
     uint64_t total = headerWords + uint64_t(file.records.size()) * kRecordWords;
     for (const BakeRecord& r : file.records) total += r.data.size();
     std::vector<uint32_t> w(size_t(total), 0u); // zero-filled: padding and reserved words are defined
 
-    w[kHMagic] = kMagic, w[kHVersion] = kVersion,
+    w[kHMagic] = kMagic, w[kHVersion] = bakeFileVersion(file), w[kHNeedWords] = needWords,
     w[kHFlags] = file.renderer == BakeRenderer::Gpu ? kFlagGpuRenderer : 0u, w[kHHeaderWords] = headerWords;
     w[kHMethod] = uint32_t(file.method), w[kHResolution] = file.resolution;
     w[kHRecordCount] = uint32_t(file.records.size());
@@ -184,6 +269,20 @@ Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
     w[kHRecordOffset] = headerWords, w[kHRecordWords] = kRecordWords;
     w[kHTotalLo] = uint32_t(total), w[kHTotalHi] = uint32_t(total >> 32);
     std::memcpy(w.data() + kFixedHeaderWords, s.scene.data(), s.scene.size());
+    if (file.hasNeed) {
+        const BakeNeed& n = file.need;
+        uint32_t* nb = w.data() + kFixedHeaderWords + sceneWords(s.scene.size());
+        nb[0] = uint32_t(n.lights.size()), nb[1] = n.width, nb[2] = n.height, nb[3] = n.minRes;
+        nb[4] = n.maxRes, nb[5] = uint32_t(n.region.size()), nb[6] = n.samples;
+        std::memcpy(nb + kNeedFixedWords, n.region.data(), n.region.size());
+        uint32_t* e = nb + kNeedFixedWords + sceneWords(n.region.size());
+        for (const LightNeed& l : n.lights) {
+            e[0] = l.light, e[1] = l.resolution, e[2] = uint32_t(l.reason) | (l.raysCapped ? 1u << 8 : 0u);
+            e[3] = floatBits(l.distance), e[4] = l.sample, e[5] = floatBits(l.needed);
+            e[6] = l.receivers, e[7] = l.seen;
+            e += kNeedEntryWords;
+        }
+    }
     w[kHChecksum] = stat::checksumWords(w.data(), headerWords, kHChecksum);
 
     uint64_t offset = headerWords + uint64_t(file.records.size()) * kRecordWords;
@@ -234,7 +333,8 @@ Result<BakeFile> readBakeFile(const std::string& path) {
     uint32_t h[kFixedHeaderWords] = {};
     if (!head->empty()) std::memcpy(h, head->data(), head->size());
     if (head->size() >= 4 && h[kHMagic] == kPartMagic)
-        return fail(path + ": one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
+        return fail(path +
+                    ": one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
                     "with `manylights merge`");
     if (head->size() >= 4 && h[kHMagic] != kMagic)
         return fail(path + ": not a manylights bake file (wrong magic)");
@@ -242,9 +342,9 @@ Result<BakeFile> readBakeFile(const std::string& path) {
         return fail(path + ": size " + std::to_string(fileSize) +
                     " bytes is not a whole number of words (truncated?)");
     const uint64_t stated = join(h[kHTotalLo], h[kHTotalHi]);
-    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion)
+    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion && h[kHVersion] != kVersionFixed)
         return fail(path + ": unsupported version " + std::to_string(h[kHVersion]) + " (this build reads " +
-                    std::to_string(kVersion) + ")");
+                    std::to_string(kVersionFixed) + " and " + std::to_string(kVersion) + ")");
     if (head->size() == kFixedHeaderWords * 4 && stated != fileSize / 4)
         return fail(path + ": header: file should be " + std::to_string(stated) + " words but is " +
                     std::to_string(fileSize / 4) + " (truncated or extended)");
@@ -275,6 +375,10 @@ Result<BakeFile> readBakeFile(const std::string& path) {
 BakeBytes bakeFileBytes(const BakeFile& file, std::vector<BakeRecordBytes>* perRecord) {
     BakeBytes b;
     b.headers = uint64_t(kFixedHeaderWords + sceneWords(file.scene.scene.size())) * 4;
+    if (file.hasNeed) // the need block
+        b.headers += (uint64_t(kNeedFixedWords) + sceneWords(file.need.region.size()) +
+                      uint64_t(file.need.lights.size()) * kNeedEntryWords) *
+                     4;
     if (perRecord) perRecord->clear();
     for (const BakeRecord& r : file.records) {
         stat::ByteBreakdown p = breakdownStatic(r.method, r.data.data(), r.data.size());

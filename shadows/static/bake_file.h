@@ -5,10 +5,19 @@
 //
 //   header      [0, H)   H = 16 + ceil(sceneBytes / 4)
 //     0 magic 'MLBK'       4 method (StaticMethod)   8 seed                   12 total words, low
-//     1 version (1)        5 resolution              9 scene string bytes     13 total words, high
+//     1 version (1 or 2)   5 resolution              9 scene string bytes     13 total words, high
 //     2 flags (bit 0: GPU-rendered maps)          6 record count           10 record table offset=H  14
-//     reserved (0) 3 header words H     7 scene lights           11 record words (32)      15 header checksum
+//     need block words N (version 2; 0 in version 1)  3 header words H  7 scene lights  11 record words (32)
+//     15 header checksum
 //     16.. scene name or path (UTF-8, no NUL), zero-padded to a whole word
+//     then (version 2) the need block, N words (bake --need: resolution from need, need.h):
+//       0 entry count E   1 image width   2 image height   3 minimum resolution   4 maximum resolution
+//       5 region string bytes   6 camera samples   7 reserved (0)
+//       8.. region string (UTF-8, no NUL), zero-padded to a whole word
+//       then E entries of 8 words, one per selected light, in increasing light index:
+//         0 light   1 resolution (0: not baked)   2 reason (NeedReason) | bit 8: ray budget spent
+//         3 camera depth of the deciding receiver (float)   4 camera sample   5 needed resolution (float)
+//         6 receiver points in the light's volume   7 of them seen from some camera sample
 //   record table [H, H + count * 32), one record per baked light, in increasing data offset:
 //     0 scene light index   3..18 view matrix (16 floats, column-major)   22, 23 data offset (lo, hi)
 //     1 method              19 fov   20 near   21 far (floats)              24, 25 data words (lo, hi)
@@ -16,6 +25,11 @@
 //     29 orthographic half side (float; 0 = perspective, > 0 = a directional light's map, fov 0)
 //     30..31 reserved (0)
 //   data        [H + count * 32, total): each record's words, back to back, no gaps
+//
+// Version 2 files hold a need block; then the header's resolution is the cap and each record's
+// resolution is its light's entry's (at most the cap), every record's light has an entry and every
+// entry with a resolution has records. Files without a need block are written as version 1, so that
+// builds from before version 2 still read them; this build reads both.
 //
 // Checksums are word-wise FNV-1a (format_common.h): the header's over words [0, H) and a record's over
 // its 32 words, each with its own slot counted as 0; a record's data checksum over its data words.
@@ -38,7 +52,8 @@ namespace ml {
 
 namespace bakefmt {
 constexpr uint32_t kMagic = stat::fourcc('M', 'L', 'B', 'K');
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;      // the newest this build reads and writes (with a need block)
+constexpr uint32_t kVersionFixed = 1; // written when there is no need block (one resolution for all)
 // A part of a sharded bake (bake_shard.h) wraps a bake file; the reader names it instead of failing
 // with "wrong magic".
 constexpr uint32_t kPartMagic = stat::fourcc('M', 'L', 'B', 'P');
@@ -62,7 +77,7 @@ enum : uint32_t {
     kHRecordWords,
     kHTotalLo,
     kHTotalHi,
-    kHReserved,
+    kHNeedWords, // version 2; reserved (0) in version 1
     kHChecksum,
 };
 enum : uint32_t {
@@ -82,6 +97,9 @@ enum : uint32_t {
     kRFace = 28,  // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
     kROrtho = 29, // LightFrustum::orthoHalf; 0 in files written before directional bakes
 };
+constexpr uint32_t kNeedFixedWords = 8;
+constexpr uint32_t kNeedEntryWords = 8;
+constexpr uint32_t kMaxRegionBytes = 1024;
 } // namespace bakefmt
 
 // How to re-create the baked scene: loadScene(scene, lights, seed).
@@ -100,6 +118,34 @@ struct BakeRecord {
     std::vector<uint32_t> data; // encodeStatic's words
 };
 
+// Why a light got its resolution (resolution from need, need.h).
+enum class NeedReason : uint32_t {
+    Footprint = 1, // one texel per pixel at the receiver seen largest: that, rounded up to a power of two
+    Capped = 2,    // needed more than the maximum
+    Floor = 3,     // needed less than the minimum
+    NotSeen = 4,   // no receiver in view of any camera sample: the minimum
+    NoCaster = 5,  // no triangle in the light's volume: an empty map, not baked (no record)
+};
+struct LightNeed {
+    uint32_t light = 0;
+    uint32_t resolution = 0; // 0: not baked
+    NeedReason reason = NeedReason::NoCaster;
+    float distance = 0.0f;   // camera depth of the receiver that decided
+    uint32_t sample = 0;     // the camera sample it was seen from
+    float needed = 0.0f;     // resolution for one texel per pixel there, before rounding and clamping
+    uint32_t receivers = 0;  // receiver points in the light's volume
+    uint32_t seen = 0;       // of them in view of some camera sample
+    uint32_t rays = 0;       // occlusion rays cast (not stored in the file)
+    bool raysCapped = false; // ray budget spent: the decision was taken without an occlusion test
+};
+struct BakeNeed {
+    std::string region;              // what the camera region was ("path:drive, 120 samples over 60 s")
+    uint32_t width = 0, height = 0;  // the image the need was computed for
+    uint32_t minRes = 0, maxRes = 0; // the clamp
+    uint32_t samples = 0;            // camera samples
+    std::vector<LightNeed> lights;   // every selected light, increasing index
+};
+
 // Which renderer made the dual depth maps: verify must re-render with the same one (the Vulkan and CPU
 // renderers agree on coverage but round depth differently).
 enum class BakeRenderer : uint32_t { Cpu = 0, Gpu = 1 };
@@ -109,9 +155,14 @@ struct BakeFile {
     SceneSpec scene;
     BakeRenderer renderer = BakeRenderer::Cpu;
     StaticMethod method = StaticMethod::None;
-    uint32_t resolution = 0;
+    uint32_t resolution = 0; // with a need block: the largest a record may have (the cap)
     std::vector<BakeRecord> records;
+    bool hasNeed = false; // version 2: resolution from need
+    BakeNeed need;
 };
+inline uint32_t bakeFileVersion(const BakeFile& f) {
+    return f.hasNeed ? bakefmt::kVersion : bakefmt::kVersionFixed;
+}
 
 // The exact file contents (checks the same invariants the reader does, except validateStatic).
 Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file);

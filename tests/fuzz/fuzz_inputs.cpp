@@ -226,6 +226,22 @@ std::vector<Bytes> bakeSeeds() {
             }
             seeds.emplace_back(reinterpret_cast<const char*>(words->data()), words->size() * 4);
         }
+    // Version 2 (resolution from need): a need block with an entry per record and one unbaked light.
+    for (StaticMethod m : {StaticMethod::DAGMH, StaticMethod::CPVS}) {
+        BakeFile f = hostile::syntheticBake(m, 2, 3);
+        f.hasNeed = true;
+        f.need.region = "path:drive, 8 samples over 4 s";
+        f.need.width = 320, f.need.height = 180, f.need.minRes = 64, f.need.maxRes = 64, f.need.samples = 8;
+        f.need.lights.push_back({0, 0, NeedReason::NoCaster});
+        for (const BakeRecord& r : f.records)
+            f.need.lights.push_back({r.light, 64, NeedReason::Capped, 5.0f, 3, 200.0f, 40, 30});
+        auto words = serializeBakeFile(f);
+        if (!words) {
+            std::cerr << "fuzz: cannot build a need seed: " << words.error() << "\n";
+            std::exit(2);
+        }
+        seeds.emplace_back(reinterpret_cast<const char*>(words->data()), words->size() * 4);
+    }
     return seeds;
 }
 
