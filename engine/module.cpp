@@ -375,6 +375,17 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
         !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.1f))
         return fail("setStaticShadow: light " + std::to_string(id) +
                     ": frustum needs 0 < near < far, 0 < fov < pi (or a finite orthographic half side)");
+    // Every light's words live in one storage buffer: refuse a bake that would take it past the device's
+    // storage buffer range (lavapipe: 128 MiB) instead of binding a range the shaders cannot address.
+    uint64_t bytes = uint64_t(shadow.words.size()) * 4;
+    for (size_t i = 0; i < m.shadows.size(); ++i)
+        for (size_t f = 0; f < m.shadows[i].size(); ++f)
+            if (!(i == id && f == shadow.face)) bytes += uint64_t(m.shadows[i][f].words.size()) * 4;
+    const uint64_t range = m.device->properties.limits.maxStorageBufferRange;
+    if (bytes > range)
+        return fail("setStaticShadow: light " + std::to_string(id) + ": the static shadows would take " +
+                    std::to_string(bytes >> 20) + " MiB, beyond the device's storage buffer range of " +
+                    std::to_string(range >> 20) + " MiB");
     m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
     m.shadowsDirty = true;
     return {};

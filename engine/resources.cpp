@@ -89,8 +89,12 @@ std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDe
 bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
     if (b.buffer && b.size >= size) return false;
     destroyBuffer(device, b);
-    // Grow by 1.5x so per-frame growth (more lights, more clusters) settles quickly.
-    b = createBuffer(device, size + size / 2, usage, name);
+    // Grow by 1.5x so per-frame growth (more lights, more clusters) settles quickly, but a storage buffer
+    // that fits the device's storage buffer range stays within it: shaders bind it whole (VK_WHOLE_SIZE).
+    VkDeviceSize grown = size + size / 2;
+    const VkDeviceSize range = device.properties.limits.maxStorageBufferRange;
+    if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && size <= range) grown = std::min(grown, range);
+    b = createBuffer(device, grown, usage, name);
     return true;
 }
 

@@ -93,7 +93,7 @@ struct RunOptions {
     float lightNear = 0.05f;    // bake frustum near plane
     float nearOverRange = 0.0f; // > 0: bake near = range * this instead (near/far ratio cases)
     uint32_t measureLights = 8; // baked lights compared with the rays (the first ones)
-    float rayBias = 0.02f;      // the rays' normal offset (a centimetre-scale scene needs less)
+    float rayBias = 0.001f;     // the rays' normal offset: 1 mm, as bench static (docs/accuracy.md section 1)
 };
 
 struct Receiver {

@@ -160,3 +160,49 @@ TEST(ModuleApi, RefusesVsmSettingsTheDeviceCannotHold) {
     EXPECT_NE(m.error().find("page size"), std::string::npos) << m.error();
 }
 } // namespace ml::test
+
+#include "shadows/static/static_method.h"
+
+namespace ml::test {
+// Every light's static words share one storage buffer: a bake that would take it past the device's
+// storage buffer range is refused by setStaticShadow with the sizes, not bound and left to fail.
+TEST(ModuleApi, RefusesStaticShadowsBeyondTheStorageBufferRange) {
+    auto m = makeModule();
+    const uint64_t range = deviceOf(*m).properties.limits.maxStorageBufferRange;
+    DualDepthMap map;
+    map.resolution = 2048; // a plain map: 16 MiB of words
+    map.enter.assign(size_t(map.resolution) * map.resolution, kDepthEmpty);
+    map.exit = map.enter;
+    LightFrustum f;
+    f.fov = 1.2f;
+    f.nearPlane = 0.05f;
+    f.farPlane = 10.0f;
+    auto words = encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
+    ASSERT_TRUE(words.ok()) << words.error();
+    const uint64_t perBake = words->size() * 4;
+    const uint32_t fit = uint32_t(range / perBake); // bakes that fit; one more must be refused
+    ASSERT_LE(fit, 64u) << "storage buffer range too large for this test's sizes";
+    std::vector<LightId> ids;
+    for (uint32_t i = 0; i <= fit; ++i) {
+        LightDesc l;
+        l.position = {float(i), 3, 0};
+        auto id = m->addLight(l);
+        ASSERT_TRUE(id.ok()) << id.error();
+        ids.push_back(id.value());
+    }
+    for (uint32_t i = 0; i < fit; ++i) {
+        auto r = m->setStaticShadow(ids[i], {StaticMethod::SM, f, words.value(), 0});
+        ASSERT_TRUE(r.ok()) << "bake " << i << ": " << r.error();
+    }
+    auto refused = m->setStaticShadow(ids[fit], {StaticMethod::SM, f, words.value(), 0});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().find("storage buffer range"), std::string::npos) << refused.error();
+    // Replacing a bake counts its old words out; removing one makes room.
+    EXPECT_TRUE(m->setStaticShadow(ids[0], {StaticMethod::SM, f, words.value(), 0}).ok());
+    m->clearStaticShadow(ids[0]);
+    EXPECT_TRUE(m->setStaticShadow(ids[fit], {StaticMethod::SM, f, words.value(), 0}).ok());
+    ASSERT_TRUE(m->createTargets(64, 36).ok());
+    renderFrame(*m);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+} // namespace ml::test
