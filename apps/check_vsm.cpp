@@ -35,6 +35,7 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --vsm-res N    virtual resolution (default 1024)
   --vsm-page N   page size (default 64)
   --vsm-pool N   physical pages (default 4096)
+  --vsm-texels T shadow texels per pixel footprint: 0.25, 0.5, 1 (default), 2, 4 or 8
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
   --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex
 Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
@@ -132,15 +133,35 @@ int runCheck(int argc, char** argv) {
             // same shadow test of the receiver's biased depth. Depths further apart than the float-vs-double
             // interpolation tolerance of tests/gpu/test_dual_depth_gpu.cpp are counted apart (they decide
             // nothing unless the receiver lies between them).
-            bool ok;
+            // Not an error of the page machinery when the two rasterisers may both be right: a tie (the
+            // receiver's biased depth lies between two depths within the float-vs-double tolerance: it
+            // sits on the caster) or an edge (the GPU's texel centre took a neighbouring reference
+            // texel's surface, or its emptiness, within tolerance: a triangle edge through the texel
+            // centre that the fixed-point reference puts on the other side). Counted apart, printed.
+            const uint64_t baseTol = uint64_t(4294967294.0 * 2e-5);
+            auto neighbourHas = [&](uint32_t value, uint64_t tol) {
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        int nx = int(x) + dx, ny = int(y) + dy;
+                        if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
+                        const uint32_t v = ref.enter[size_t(ny) * n + nx];
+                        if (value == kDepthEmpty ? v == kDepthEmpty
+                                                 : v != kDepthEmpty &&
+                                                       uint64_t(std::llabs(int64_t(v) - int64_t(value))) <= tol)
+                            return true;
+                    }
+                return false;
+            };
+            bool ok, tie = false, edge = false;
+            const uint32_t tap = p.receiverDepth;
             if (status == diag::VsmProbeStatus::NoCaster) {
                 ++noCaster;
                 ok = want == kDepthEmpty;
             } else {
                 fallbacks += status == diag::VsmProbeStatus::Fallback;
-                const uint32_t tap = p.receiverDepth;
                 if (want == kDepthEmpty || got == kDepthEmpty) {
                     ok = want == got;
+                    edge = !ok && neighbourHas(got, baseTol);
                 } else {
                     ok = (tap <= got) == (tap <= want);
                     uint64_t step = 0;
@@ -151,36 +172,19 @@ int runCheck(int argc, char** argv) {
                         if (v != kDepthEmpty)
                             step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
                     }
-                    const uint64_t tol = uint64_t(4294967294.0 * 2e-5) + step / 64;
+                    const uint64_t tol = baseTol + step / 64;
                     const uint64_t diff = uint64_t(std::llabs(int64_t(got) - int64_t(want)));
                     depthBeyondTolerance += diff > tol;
-                    if (!ok) {
-                        // Not an error of the page machinery when the two rasterisers may both be right:
-                        // a tie (the receiver's biased depth lies between two depths within the
-                        // float-vs-double tolerance: it sits on the caster) or an edge (the GPU's texel
-                        // centre took a neighbouring texel's surface, within tolerance, the fixed-point
-                        // reference the other side of a triangle edge). Counted apart, printed.
-                        bool edge = false;
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dx = -1; dx <= 1; ++dx) {
-                                int nx = int(x) + dx, ny = int(y) + dy;
-                                if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
-                                uint32_t v = ref.enter[size_t(ny) * n + nx];
-                                edge = edge || (v != kDepthEmpty &&
-                                                uint64_t(std::llabs(int64_t(v) - int64_t(got))) <= tol);
-                            }
-                        const bool tie = diff <= tol;
-                        if (tie || edge) {
-                            ok = true;
-                            ++ties;
-                            if (++frameTies <= 3)
-                                std::fprintf(stderr,
-                                             "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, "
-                                             "receiver %u\n",
-                                             f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
-                        }
-                    }
+                    tie = !ok && diff <= tol;
+                    edge = !ok && !tie && neighbourHas(got, tol);
                 }
+            }
+            if (tie || edge) {
+                ok = true;
+                ++ties;
+                if (++frameTies <= 3)
+                    std::fprintf(stderr, "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, receiver %u\n",
+                                 f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
             }
             ++checked;
             if (!ok) {

@@ -8,7 +8,7 @@ namespace ml {
 
 std::set<std::string> vsmSessionFlags(std::set<std::string> own) {
     for (const char* f : {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake",
-                          "--vsm-res", "--vsm-page", "--vsm-pool"})
+                          "--vsm-res", "--vsm-page", "--vsm-pool", "--vsm-texels"})
         own.insert(f);
     return own;
 }
@@ -27,6 +27,14 @@ Result<VsmSessionOptions> vsmSessionOptions(const cli::Args& args, const VsmArgD
     for (const std::string* e : {&path.error(), &count.error(), &size.error(), &lights.error(), &seed.error(),
                                  &res.error(), &page.error(), &pool.error()})
         if (!e->empty()) return fail(*e);
+    // Texels per pixel footprint: a power of two from 1/4 to 8 (VsmSettings::texelsPerPixel).
+    const std::string texels = args.get("--vsm-texels", "1");
+    float texelsPerPixel = 0.0f;
+    static const std::pair<const char*, float> kTexels[] = {{"0.25", 0.25f}, {"0.5", 0.5f}, {"1", 1.0f},
+                                                            {"2", 2.0f},     {"4", 4.0f},   {"8", 8.0f}};
+    for (const auto& [name, value] : kTexels)
+        if (texels == name) texelsPerPixel = value;
+    if (texelsPerPixel == 0.0f) return fail("--vsm-texels: '" + texels + "' is not 0.25, 0.5, 1, 2, 4 or 8");
     VsmSessionOptions o;
     o.scene = args.get("--scene", "night-city");
     o.lights = lights.value();
@@ -38,6 +46,7 @@ Result<VsmSessionOptions> vsmSessionOptions(const cli::Args& args, const VsmArgD
     o.module.vsm.resolution = res.value();
     o.module.vsm.pageSize = page.value();
     o.module.vsm.poolPages = pool.value();
+    o.module.vsm.texelsPerPixel = texelsPerPixel;
     frames = count.value();
     return o;
 }

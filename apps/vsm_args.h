@@ -1,5 +1,6 @@
 // The options the virtual-shadow-map commands share (`check vsm`, `bench vsm`, `bench flicker --vsm`):
-// scene, camera path, frames, size, lights, seed, bake and the maps' resolution, page size and pool.
+// scene, camera path, frames, size, lights, seed, bake and the maps' resolution, page size, pool and
+// texels per pixel (--vsm-texels).
 // One parser, so the commands agree on names, ranges and messages; each adds its own flags.
 #pragma once
 #include "apps/cli.h"

@@ -444,7 +444,11 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
     c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
     c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
-    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)), 0, 0, 0);
+    // The pixel footprint per metre, divided by the texels wanted per pixel: the mip (or clip level) a
+    // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
+    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
+                             settings_.texelsPerPixel,
+                         0, 0, 0);
     c.order = glm::uvec4(uint32_t(slot.runsHost.size()), rank, 0, 0);
     slot.orderEntries = rank;
     lastConstants_ = c;

@@ -34,6 +34,11 @@ struct VsmSettings {
     uint32_t clipLevels = 10;
     float clipHalfExtent = 8.0f;
     float clipDepth = 600.0f; // metres of depth each clip level's box spans along the light
+    // Shadow texels per pixel footprint, per axis, in the mip (and clip level) a lookup picks: 1 matches a
+    // texel to the pixel (the seed's resolution matching); 2 picks one mip finer (4x the pages where it
+    // applies), 0.5 one coarser. Finer texels flicker less under a moving camera (docs/accuracy.md
+    // section 7). A power of two in 1/4..8.
+    float texelsPerPixel = 1.0f;
     bool caching = true;      // false: every marked page is redrawn every frame (the bench baseline)
     uint32_t maxDrawsPerMip = 16384;
     uint32_t kinds = 7;       // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
