@@ -158,6 +158,13 @@ TEST(ModuleApi, RefusesVsmSettingsTheDeviceCannotHold) {
     m = Module::create(o);
     ASSERT_FALSE(m.ok());
     EXPECT_NE(m.error().find("page size"), std::string::npos) << m.error();
+    o.vsm.pageSize = 64;
+    for (float t : {3.0f, 16.0f, 0.125f, std::nanf("")}) {
+        o.vsm.texelsPerPixel = t;
+        m = Module::create(o);
+        ASSERT_FALSE(m.ok()) << t;
+        EXPECT_NE(m.error().find("texels per pixel"), std::string::npos) << m.error();
+    }
 }
 } // namespace ml::test
 
