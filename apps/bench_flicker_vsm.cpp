@@ -238,7 +238,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
         for (auto& [k, b] : batches) {
             const Light& L = s.scene.lights[k];
             std::vector<uint8_t> truth(b.p.size());
-            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.02f, truth.data());
+            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f, truth.data()); // 1 mm, as bench static
             for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
             if (!compareRes.value() || L.dynamic || L.type != LightType::Spot) continue;
             const LightFrustum fr = spotLightFrustum(L);
