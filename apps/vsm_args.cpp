@@ -2,6 +2,7 @@
 
 #include "shaders/shared/config.h"
 
+#include <cstdlib>
 #include <tuple>
 
 namespace ml {
@@ -29,12 +30,10 @@ Result<VsmSessionOptions> vsmSessionOptions(const cli::Args& args, const VsmArgD
         if (!e->empty()) return fail(*e);
     // Texels per pixel footprint: a power of two from 1/4 to 8 (VsmSettings::texelsPerPixel).
     const std::string texels = args.get("--vsm-texels", "1");
-    float texelsPerPixel = 0.0f;
-    static const std::pair<const char*, float> kTexels[] = {{"0.25", 0.25f}, {"0.5", 0.5f}, {"1", 1.0f},
-                                                            {"2", 2.0f},     {"4", 4.0f},   {"8", 8.0f}};
-    for (const auto& [name, value] : kTexels)
-        if (texels == name) texelsPerPixel = value;
-    if (texelsPerPixel == 0.0f) return fail("--vsm-texels: '" + texels + "' is not 0.25, 0.5, 1, 2, 4 or 8");
+    char* end = nullptr;
+    const float texelsPerPixel = std::strtof(texels.c_str(), &end);
+    if (texels.empty() || *end || !validTexelsPerPixel(texelsPerPixel))
+        return fail("--vsm-texels: '" + texels + "' is not 0.25, 0.5, 1, 2, 4 or 8");
     VsmSessionOptions o;
     o.scene = args.get("--scene", "night-city");
     o.lights = lights.value();

@@ -26,7 +26,7 @@ namespace ml::diag {
 
 // The constants of the last recorded frame (all zero before the first record()).
 struct LastFrame {
-    glm::mat4 viewProj{0.0f};    // world -> clip (Vulkan zero-to-one depth)
+    glm::mat4 viewProj{0.0f};    // world -> clip (Vulkan, reversed Z: near 1, far 0)
     glm::mat4 invViewProj{0.0f}; // clip -> world
     glm::vec3 cameraPosition{0.0f};
     glm::uvec4 size{0}; // x width, y height, zw 0 (the layout gpu::worldFromPixel takes)

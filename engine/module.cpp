@@ -110,12 +110,8 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
             !std::isfinite(v.clipDepth))
             return fail("vsm: clip extent and depth must be finite and > 0");
         if (v.maxDrawsPerMip < 1) return fail("vsm: max draws per mip must be >= 1");
-        {
-            const float t = v.texelsPerPixel;
-            bool pow2 = false;
-            for (float p = 0.25f; p <= 8.0f; p *= 2.0f) pow2 = pow2 || t == p;
-            if (!pow2) return fail("vsm: texels per pixel must be a power of two in 1/4..8");
-        }
+        if (!validTexelsPerPixel(v.texelsPerPixel))
+            return fail("vsm: texels per pixel must be a power of two in 1/4..8");
         if (v.meshletVertices < 3 || v.meshletVertices > ML_MESHLET_VERTICES || v.meshletTriangles < 4 ||
             v.meshletTriangles > ML_MESHLET_TRIANGLES || v.meshletTriangles % 4)
             return fail("vsm: meshlets of " + std::to_string(v.meshletVertices) + " vertices / " +
@@ -509,7 +505,7 @@ void Module::Impl::uploadShadows() {
 Result<void> Module::setCamera(const CameraDesc& c) {
     // Finite and bounded position, target and up; target != position; up not parallel to the view;
     // 0 < fovY < pi; 0 < near < far < infinity (lights/lights.h).
-    if (auto v = validateCamera(c); !v) return fail("camera: " + v.error());
+    if (auto v = validateCamera(c); !v) return v; // its reasons start with "camera: "
     if (auto v = validateJitter(c.jitter); !v) return v;
     impl_->camera = c;
     impl_->hostCamera.reset();

@@ -115,7 +115,7 @@ void addBox(std::vector<ml::MeshVertex>& v, std::vector<uint32_t>& idx, glm::vec
 }
 
 // The G-buffer pipeline: dynamic rendering into normal + albedo colour attachments and D32 depth
-// (LESS, cleared to 1), vertices as ml::MeshVertex, back faces culled (CCW front faces).
+// (reversed Z: GREATER, cleared to 0), vertices as ml::MeshVertex, back faces culled (CCW front faces).
 VkPipeline makePipeline(VkDevice dev, VkShaderModule vs, VkShaderModule fs, VkPipelineLayout layout) {
     using S = VkPipelineShaderStageCreateInfo;
     S stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,

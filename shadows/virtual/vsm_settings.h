@@ -20,6 +20,13 @@ inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
     return true;
 }
 
+// VsmSettings::texelsPerPixel's accepted values: 1/4, 1/2, 1, 2, 4, 8 (exact powers of two; NaN fails).
+inline bool validTexelsPerPixel(float t) {
+    for (float p = 0.25f; p <= 8.0f; p *= 2.0f)
+        if (t == p) return true;
+    return false;
+}
+
 struct VsmSettings {
     bool enabled = true;
     // Virtual resolution of every map (spot, cube face, clip level): a power of two, 256..16384.
