@@ -278,7 +278,8 @@ int runBenchFlicker(int argc, char** argv) {
                     glm::dot(ns[i], l.position - ps[i]) > 0.0f)
                     qp.push_back(ps[i]), qn.push_back(ns[i]), idx.push_back(i);
             std::vector<uint8_t> truth(qp.size());
-            rays->visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.001f, truth.data()); // 1 mm, as bench static (docs/accuracy.md section 1)
+            rays->visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.001f,
+                               truth.data()); // 1 mm, as bench static (docs/accuracy.md section 1)
             for (size_t j = 0; j < idx.size(); ++j) {
                 Sample& s = cur[idx[j] * ranked.size() + k];
                 s.counts = true;

@@ -106,7 +106,8 @@ int runBenchFlickerVsm(int argc, char** argv) {
     auto options = vsmSessionOptions(*args, {16, 2, "320x180", 1024}, frameCount);
     if (!options) return usageError("bench flicker --vsm", options.error());
     if (args->has("--bake"))
-        return usageError("bench flicker --vsm", "--bake is not taken: every light's maps must hold every caster");
+        return usageError("bench flicker --vsm",
+                          "--bake is not taken: every light's maps must hold every caster");
     auto radii = radiusList(args->get("--pcf", "0,2"));
     auto compareRes = cli::parseUint("--compare-res", args->get("--compare-res", "0"), 0, 8192);
     for (const std::string* e : {&radii.error(), &compareRes.error()})
@@ -156,7 +157,8 @@ int runBenchFlickerVsm(int argc, char** argv) {
         const diag::LastFrame fc = diag::lastFrame(*s.module);
         std::vector<float> depth;
         std::vector<glm::vec3> normal;
-        if (auto r = diag::readGBuffer(*s.module, depth, normal); !r) return runError("bench flicker --vsm", r.error());
+        if (auto r = diag::readGBuffer(*s.module, depth, normal); !r)
+            return runError("bench flicker --vsm", r.error());
         auto rays = RayReference::build(s.scene, false); // this frame's cars too: the VSM draws them
         if (!rays) return runError("bench flicker --vsm", rays.error());
 
@@ -201,8 +203,9 @@ int runBenchFlickerVsm(int argc, char** argv) {
             uint32_t centre = 0;
             const int full = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(moduleRadius), centre);
             const bool centreNeedsPage = diag::vsmTexelNeedsPage(*st, map, mip, tx, ty);
-            bool ok = full >= 0 && (p.status == diag::VsmProbeStatus::NoCaster ? !centreNeedsPage
-                                                                               : centreNeedsPage && centre == p.depth);
+            bool ok = full >= 0 &&
+                      (p.status == diag::VsmProbeStatus::NoCaster ? !centreNeedsPage
+                                                                  : centreNeedsPage && centre == p.depth);
             notResident += full < 0;
             for (uint32_t r : R) {
                 const int lit = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(r), centre);
@@ -238,7 +241,8 @@ int runBenchFlickerVsm(int argc, char** argv) {
         for (auto& [k, b] : batches) {
             const Light& L = s.scene.lights[k];
             std::vector<uint8_t> truth(b.p.size());
-            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f, truth.data()); // 1 mm, as bench static
+            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f,
+                               truth.data()); // 1 mm, as bench static
             for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
             if (!compareRes.value() || L.dynamic || L.type != LightType::Spot) continue;
             const LightFrustum fr = spotLightFrustum(L);
@@ -282,14 +286,15 @@ int runBenchFlickerVsm(int argc, char** argv) {
         std::fprintf(stderr, "manylights bench flicker --vsm: %u validation messages\n", validationErrors());
 
     std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",
-                s.scene.name.c_str(), cameraPathName(o.path), frameCount, o.width, o.height, o.module.vsm.resolution,
-                moduleRadius);
+                s.scene.name.c_str(), cameraPathName(o.path), frameCount, o.width, o.height,
+                o.module.vsm.resolution, moduleRadius);
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
                 "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
                 "another mip %% "
                 "|\n|---|---|---:|---:|---:|---:|---:|---:|\n");
-    std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", o.module.vsm.resolution, o.module.vsm.resolution);
+    std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", o.module.vsm.resolution,
+                o.module.vsm.resolution);
     for (uint32_t m = 0; m < 16; ++m)
         if (perMip[m]) std::printf(" %u: %llu", m, (unsigned long long)perMip[m]);
     std::printf("\n");

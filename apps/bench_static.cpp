@@ -161,12 +161,11 @@ int runBenchStatic(int argc, char** argv) {
     // --- bench static --need: fixed against need-based resolution, its own options (bench_static_need.cpp).
     for (int i = 3; i < argc; ++i)
         if (std::string(argv[i]) == "--need") return runBenchStaticNeed(argc, argv);
-    auto args =
-        cli::parse(argc, argv, 3,
-                   {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf", "--seed",
-                    "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs", "--receivers", "--print-class",
-                    "--ray-bias"},
-                   {"--allow-outside-scene-dir"});
+    auto args = cli::parse(argc, argv, 3,
+                           {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
+                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs",
+                            "--receivers", "--print-class", "--ray-bias"},
+                           {"--allow-outside-scene-dir"});
     if (!args) return usageError("bench static", args.error());
     if (args->help) {
         std::fputs(kHelp, stdout);
@@ -481,9 +480,9 @@ int runBenchStatic(int argc, char** argv) {
                             std::fprintf(stderr,
                                          "  %s %s %u light %u receiver %.2f,%.2f,%.2f normal %.2f,%.2f,%.2f "
                                          "%.2f m from the light: map %.2f, rays %s\n",
-                                         errorClassName(ec), row.method.c_str(), res, sets[k].light, rc.p.x, rc.p.y,
-                                         rc.p.z, rc.n.x, rc.n.y, rc.n.z, glm::length(lp - rc.p), vis[j],
-                                         sets[k].truth[j] ? "lit" : "shadowed");
+                                         errorClassName(ec), row.method.c_str(), res, sets[k].light, rc.p.x,
+                                         rc.p.y, rc.p.z, rc.n.x, rc.n.y, rc.n.z, glm::length(lp - rc.p),
+                                         vis[j], sets[k].truth[j] ? "lit" : "shadowed");
                         }
                     }
             }

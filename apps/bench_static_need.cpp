@@ -85,7 +85,8 @@ Measure measure(const BakeFile& f, const std::vector<PairSet>& sets, const RayRe
         auto it = byLight.find(s.light);
         const BakeRecord* r = it == byLight.end() ? nullptr : it->second;
         auto rec = r ? makeShadowRecord(r->method, r->frustum, 0, r->resolution, 0) : gpu::GpuShadowRecord{};
-        ErrorContext ctx{&rays, rec, r ? r->data.data() : nullptr, scene.lights[s.light].position, kNeedRayBias};
+        ErrorContext ctx{&rays, rec, r ? r->data.data() : nullptr, scene.lights[s.light].position,
+                         kNeedRayBias};
         for (size_t i = 0; i < s.receivers.size(); ++i) {
             // No record (no caster in the volume): lit, as the module treats a light without one.
             const float v =

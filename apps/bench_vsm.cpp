@@ -59,7 +59,8 @@ struct Row {
 } // namespace
 
 int runBenchVsm(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3, vsmSessionFlags({"--kinds", "--out", "--vsm-raster", "--meshlet"}), {});
+    auto args =
+        cli::parse(argc, argv, 3, vsmSessionFlags({"--kinds", "--out", "--vsm-raster", "--meshlet"}), {});
     if (!args) return usageError("bench vsm", args.error());
     if (args->help) {
         std::fputs(kBenchVsmHelp, stdout);
@@ -183,8 +184,9 @@ int runBenchVsm(int argc, char** argv) {
             }
 
     std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
-                cameraPathName(options->path), options->width, options->height, options->module.vsm.resolution,
-                options->module.vsm.pageSize, options->module.vsm.poolPages, frameCount);
+                cameraPathName(options->path), options->width, options->height,
+                options->module.vsm.resolution, options->module.vsm.pageSize, options->module.vsm.poolPages,
+                frameCount);
     std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
                 "triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
     std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -96,8 +96,8 @@ int runCheck(int argc, char** argv) {
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
 
-    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0, fallbacks = 0,
-             noCaster = 0, missing = 0;
+    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0,
+             fallbacks = 0, noCaster = 0, missing = 0;
     uint32_t probeOverflow = 0;
     for (uint32_t f = 0; f < frameCount; ++f) {
         auto report = s.frame(f);
@@ -122,8 +122,7 @@ int runCheck(int argc, char** argv) {
             auto key = std::make_pair(map, mip);
             auto it = references.find(key);
             if (it == references.end()) {
-                DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum,
-                                      resolution >> mip);
+                DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum, resolution >> mip);
                 it = references.emplace(key, raster.render()).first;
             }
             const DualDepthMap& ref = it->second;
@@ -145,9 +144,10 @@ int runCheck(int argc, char** argv) {
                         int nx = int(x) + dx, ny = int(y) + dy;
                         if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
                         const uint32_t v = ref.enter[size_t(ny) * n + nx];
-                        if (value == kDepthEmpty ? v == kDepthEmpty
-                                                 : v != kDepthEmpty &&
-                                                       uint64_t(std::llabs(int64_t(v) - int64_t(value))) <= tol)
+                        if (value == kDepthEmpty
+                                ? v == kDepthEmpty
+                                : v != kDepthEmpty &&
+                                      uint64_t(std::llabs(int64_t(v) - int64_t(value))) <= tol)
                             return true;
                     }
                 return false;
@@ -183,8 +183,10 @@ int runCheck(int argc, char** argv) {
                 ok = true;
                 ++ties;
                 if (++frameTies <= 3)
-                    std::fprintf(stderr, "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, receiver %u\n",
-                                 f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
+                    std::fprintf(
+                        stderr,
+                        "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, receiver %u\n",
+                        f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
             }
             ++checked;
             if (!ok) {
@@ -203,7 +205,8 @@ int runCheck(int argc, char** argv) {
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
     std::printf(
         "{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
-        "\"no_caster\": %llu, \"missing\": %llu, \"directional_checked\": %llu, \"ties_or_edges\": %llu, \"probe_overflow\": %u, "
+        "\"no_caster\": %llu, \"missing\": %llu, \"directional_checked\": %llu, \"ties_or_edges\": %llu, "
+        "\"probe_overflow\": %u, "
         "\"frames\": %u, \"raster\": \"%s\"}\n",
         (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)depthBeyondTolerance,
         (unsigned long long)fallbacks, (unsigned long long)noCaster, (unsigned long long)missing,

@@ -49,7 +49,8 @@ Result<void> writeProfile(const std::string& path, const std::vector<FrameReport
     for (const auto& r : reports)
         for (uint32_t p = 0; p < kPassCount; ++p) {
             if (!r.times.ran[p]) continue;
-            o << (first ? "" : ",\n") << "{\"name\":\"" << passName(Pass(p)) << "\",\"cat\":\"gpu\",\"ph\":\"X\",\"pid\":1,"
+            o << (first ? "" : ",\n") << "{\"name\":\"" << passName(Pass(p))
+              << "\",\"cat\":\"gpu\",\"ph\":\"X\",\"pid\":1,"
               << "\"tid\":1,\"ts\":" << num((r.times.startMs[p] - origin) * 1000.0)
               << ",\"dur\":" << num(r.times.ms[p] * 1000.0) << ",\"args\":{\"frame\":" << r.frame << "}}";
             first = false;
@@ -67,7 +68,8 @@ Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameRepo
     return writeText(path, o.str());
 }
 
-Result<void> writeStats(const std::string& path, const RunInfo& info, const std::vector<FrameReport>& reports) {
+Result<void> writeStats(const std::string& path, const RunInfo& info,
+                        const std::vector<FrameReport>& reports) {
     if (reports.empty()) return fail(path + ": no frame results arrived (nothing to report)");
     // Per-frame counts come from the last frame. Times: the first frame apart (first use of pipelines and
     // memory: 10x a later frame on lavapipe), means and the median over the frames after it.
@@ -85,8 +87,9 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
             if (r.times.ran[p]) passMean[p] += r.times.ms[p], passCount[p]++;
     }
     std::sort(frameMs.begin(), frameMs.end());
-    const double median = frameMs.size() % 2 ? frameMs[frameMs.size() / 2]
-                                             : 0.5 * (frameMs[frameMs.size() / 2 - 1] + frameMs[frameMs.size() / 2]);
+    const double median = frameMs.size() % 2
+                              ? frameMs[frameMs.size() / 2]
+                              : 0.5 * (frameMs[frameMs.size() / 2 - 1] + frameMs[frameMs.size() / 2]);
     std::ostringstream o;
     o << "{\n";
     o << "  \"scene\": \"" << jsonText(info.scene) << "\",\n  \"culling\": \"" << info.culling << "\",\n";
@@ -105,7 +108,8 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
     o << "  \"surface_pixels\": " << s.surfacePixels << ",\n";
     o << "  \"lights_per_pixel_evaluated_mean\": " << num(s.lightsPerPixelEvaluatedMean) << ",\n";
     o << "  \"lights_per_pixel_reaching_mean\": " << num(s.lightsPerPixelReachingMean) << ",\n";
-    double tight = s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
+    double tight =
+        s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
     o << "  \"culling_tightness\": " << num(tight) << ",\n";
     o << "  \"frame_gpu_ms_first\": " << num(reports.front().times.totalMs()) << ",\n";
     o << "  \"frame_gpu_ms_mean\": " << num(total / double(frameMs.size())) << ",\n";
@@ -117,14 +121,17 @@ Result<void> writeStats(const std::string& path, const RunInfo& info, const std:
       << ", \"fallbacks\": " << v.fallbacks << ", \"pool_pages\": " << v.poolPages
       << ", \"pool_bytes\": " << v.poolBytes << ", \"used_bytes\": " << v.usedBytes
       << ", \"virtual_bytes\": " << v.virtualBytes << ", \"atlas_bytes\": " << v.atlasBytes
-      << ", \"lights_with_pages\": " << v.lightsWithPages << ", \"lights_without_slot\": " << v.lightsWithoutSlot
-      << ", \"maps_active\": " << v.mapsActive << ", \"instances_drawn\": " << v.instancesDrawn
+      << ", \"lights_with_pages\": " << v.lightsWithPages
+      << ", \"lights_without_slot\": " << v.lightsWithoutSlot << ", \"maps_active\": " << v.mapsActive
+      << ", \"instances_drawn\": " << v.instancesDrawn
       << ", \"instances_culled_hpb\": " << v.instancesCulledHpb << ", \"draw_overflow\": " << v.drawOverflow
-      << ", \"raster\": \"" << (v.meshPath ? "mesh" : "vertex") << "\", \"meshlets_total\": " << v.meshletsTotal
+      << ", \"raster\": \"" << (v.meshPath ? "mesh" : "vertex")
+      << "\", \"meshlets_total\": " << v.meshletsTotal
       << ", \"meshlets_after_expansion\": " << v.meshletsAfterExpansion
-      << ", \"meshlets_after_task\": " << v.meshletsAfterTask << ", \"triangles_after_task\": " << v.trianglesAfterTask
-      << ", \"triangles_rasterized\": " << v.trianglesRasterized << ", \"meshlet_overflow\": " << v.meshletOverflow
-      << "},\n";
+      << ", \"meshlets_after_task\": " << v.meshletsAfterTask
+      << ", \"triangles_after_task\": " << v.trianglesAfterTask
+      << ", \"triangles_rasterized\": " << v.trianglesRasterized
+      << ", \"meshlet_overflow\": " << v.meshletOverflow << "},\n";
     o << "  \"pass_gpu_ms_mean\": {";
     bool first = true;
     for (uint32_t p = 0; p < kPassCount; ++p) {

@@ -14,6 +14,7 @@ struct RunInfo {
 
 Result<void> writeProfile(const std::string& path, const std::vector<FrameReport>& reports);
 Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameReport>& reports);
-Result<void> writeStats(const std::string& path, const RunInfo& info, const std::vector<FrameReport>& reports);
+Result<void> writeStats(const std::string& path, const RunInfo& info,
+                        const std::vector<FrameReport>& reports);
 
 } // namespace ml

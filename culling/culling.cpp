@@ -22,8 +22,8 @@ constexpr auto kR = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
 constexpr auto kW = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 } // namespace
 
-static_assert(uint32_t(CullingMode::Clustered) == ML_CULL_CLUSTERED && uint32_t(CullingMode::Tiled) == ML_CULL_TILED &&
-              uint32_t(CullingMode::None) == ML_CULL_NONE &&
+static_assert(uint32_t(CullingMode::Clustered) == ML_CULL_CLUSTERED &&
+              uint32_t(CullingMode::Tiled) == ML_CULL_TILED && uint32_t(CullingMode::None) == ML_CULL_NONE &&
               uint32_t(CullingMode::ClusteredBrute) == ML_CULL_CLUSTERED_BRUTE);
 static_assert(ML_CLUSTER_SLICES <= ML_MAX_SLICES && ML_MAX_SLICES <= 64, "tile masks hold 64 slices");
 
@@ -61,7 +61,8 @@ void LightCulling::create(const Device& device) {
     allocProgram_ = createComputeProgram(device, allocShader_, 4);
     fillProgram_ = createComputeProgram(device, fillShader_, 4);
     viewShader_ = ML_SHADER(device, spv_view_lights_comp);
-    for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
+    for (uint32_t r = 0; r < 2; ++r)
+        viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
     work = createBuffer(device, 8, kStorageBufferUsage, "cull_work");
 }
 
@@ -78,7 +79,8 @@ void LightCulling::destroy(const Device& device) {
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
     destroyShader(device, fillShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts}) destroyBuffer(device, *b);
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts})
+        destroyBuffer(device, *b);
 }
 
 void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
@@ -96,8 +98,9 @@ void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t p
     ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits");
 }
 
-void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                          const Buffer& lights, VkImageView depth, const Buffer& counters, Profiler& profiler) {
+void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffer& frame,
+                          const Buffer& slices, const Buffer& lights, VkImageView depth,
+                          const Buffer& counters, Profiler& profiler) {
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
@@ -105,11 +108,13 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
     const uint32_t lightGroups = (visible + kLightsPerGroup - 1) / kLightsPerGroup;
     profiler.run(cmd, Pass::ClusterBounds, [&](VkCommandBuffer c) {
         bindProgram(device, c, boundsProgram_,
-                    {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), bounds,
+                    {frame, slices,
+                     Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), bounds,
                      counters, tileMasks},
                     nullptr, 0);
         vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1); // one group per tile by construction
-        // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's atomics.
+        // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's
+        // atomics.
         memoryBarrier(c, kC, kW, kC, kR | kW);
     });
     profiler.run(cmd, Pass::LightAssign, [&](VkCommandBuffer c) {
@@ -120,20 +125,24 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
         if (mode == ML_CULL_CLUSTERED) {
             // Count and record hits (8 threads per light), allocate (one thread per tile), scatter.
             if (visible) {
-                bindProgram(device, c, countProgram_, {frame, slices, lights, bounds, tileMasks, counts, hits, work},
-                            &hitCapacity, 4);
+                bindProgram(device, c, countProgram_,
+                            {frame, slices, lights, bounds, tileMasks, counts, hits, work}, &hitCapacity, 4);
                 vkCmdDispatch(c, lightGroups, 1, 1);
-                memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
+                memoryBarrier(c, kC, kW, kC,
+                              kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
             }
-            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work}, &hitCapacity, 4);
+            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work},
+                        &hitCapacity, 4);
             vkCmdDispatch(c, (tiles + ML_ALLOC_GROUP - 1) / ML_ALLOC_GROUP, 1, 1);
-            memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
+            memoryBarrier(c, kC, kW, kC,
+                          kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
             if (visible) {
                 bindProgram(device, c, fillProgram_, {hits, ranges, counts, pool, work}, &hitCapacity, 4);
                 vkCmdDispatch(c, ML_FILL_GROUPS, 1, 1);
             }
         } else {
-            bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work}, nullptr, 0);
+            bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work},
+                        nullptr, 0);
             vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1);
         }
         // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
@@ -143,8 +152,8 @@ void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffe
 }
 
 void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
-                              const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
-                              uint32_t width, uint32_t height, Profiler& profiler) {
+                              const Buffer& slices, const Buffer& lights, VkImageView depth,
+                              VkImageView output, uint32_t width, uint32_t height, Profiler& profiler) {
     VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
     if (viewCounts.size < bytes) {
         vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
@@ -158,7 +167,8 @@ void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool re
                      Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
                      Descriptor(Image{.view = output}), viewCounts},
                     nullptr, 0);
-        vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
+        vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
+                      (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
         // Output -> the host's reads after record(); per-pixel counts -> host (tests read them mapped).
         memoryBarrier(c, kC, kW, kOutputReaderStages | VK_PIPELINE_STAGE_2_HOST_BIT,
                       kOutputReads | VK_ACCESS_2_HOST_READ_BIT);

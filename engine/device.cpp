@@ -18,11 +18,14 @@ VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBits
     if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
     bool perf = (type & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) &&
                 !(type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT);
-    const char* kind = perf ? "performance" : (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "error"
-                                                                                                      : "warning";
+    const char* kind = perf                                                         ? "performance"
+                       : (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "error"
+                                                                                    : "warning";
     std::fprintf(stderr, "validation %s: %s\n", kind, data->pMessage);
-    if (perf) gValidationPerf++;
-    else gValidationErrors++;
+    if (perf)
+        gValidationPerf++;
+    else
+        gValidationErrors++;
     return VK_FALSE;
 }
 
@@ -41,7 +44,9 @@ uint32_t layerVersion(const char* name) {
         if (std::strcmp(l.layerName, name) == 0) return l.specVersion;
     return 0;
 }
-bool hasLayer(const char* name) { return layerVersion(name) != 0; }
+bool hasLayer(const char* name) {
+    return layerVersion(name) != 0;
+}
 
 // An instance extension a layer provides (VK_EXT_validation_features comes with the validation layer).
 bool hasLayerExtension(const char* layer, const char* name) {
@@ -80,26 +85,31 @@ struct FeatureRow {
     const char* name;
     VkBool32* (*field)(FeatureChain&);
 };
-#define ML_FEATURE(part, member) {#member, [](FeatureChain& c) { return &c.part.member; }}
+#define ML_FEATURE(part, member)                                                                             \
+    {                                                                                                        \
+#member, [](FeatureChain & c) { return &c.part.member; }                                             \
+    }
 const FeatureRow kRequiredFeatures[] = {
     ML_FEATURE(f13, dynamicRendering),         // G-buffer and dual-depth passes without render passes
     ML_FEATURE(f13, synchronization2),         // every barrier and timestamp
     ML_FEATURE(f13, maintenance4),             // LocalSizeId: workgroup sizes from config.h constants
     ML_FEATURE(f12, shaderBufferInt64Atomics), // 64-bit atomicAdd on the frame counters
-    ML_FEATURE(f12, shaderSharedInt64Atomics), // no shader uses it today (kept: the module always required it)
-    ML_FEATURE(f12, hostQueryReset),           // the profiler resets its queries from the host
-    ML_FEATURE(f12, scalarBlockLayout),        // shaders/shared structs are laid out as in C++
-    ML_FEATURE(f12, storageBuffer8BitAccess),  // no shader uses it today (kept: the module always required it)
-    ML_FEATURE(f2.features, shaderInt64),              // 64-bit counters
-    ML_FEATURE(f2.features, multiDrawIndirect),        // one indirect multi-draw per G-buffer
-    ML_FEATURE(f2.features, fragmentStoresAndAtomics), // dual depth bake, shadow pages: atomics in fragments
+    ML_FEATURE(f12,
+               shaderSharedInt64Atomics),     // no shader uses it today (kept: the module always required it)
+    ML_FEATURE(f12, hostQueryReset),          // the profiler resets its queries from the host
+    ML_FEATURE(f12, scalarBlockLayout),       // shaders/shared structs are laid out as in C++
+    ML_FEATURE(f12, storageBuffer8BitAccess), // no shader uses it today (kept: the module always required it)
+    ML_FEATURE(f2.features, shaderInt64),     // 64-bit counters
+    ML_FEATURE(f2.features, multiDrawIndirect),         // one indirect multi-draw per G-buffer
+    ML_FEATURE(f2.features, fragmentStoresAndAtomics),  // dual depth bake, shadow pages: atomics in fragments
     ML_FEATURE(f2.features, drawIndirectFirstInstance), // shadow-page draws: firstInstance indexes drawInfo
     ML_FEATURE(f12, drawIndirectCount),                 // one indirect-count draw per shadow-page mip
-    ML_FEATURE(mesh, meshShader),                      // no mesh/task shader yet: the virtual shadow maps'
-    ML_FEATURE(mesh, taskShader),                      // culling is planned on them (Device::cmdDrawMeshTasks)
+    ML_FEATURE(mesh, meshShader),                       // no mesh/task shader yet: the virtual shadow maps'
+    ML_FEATURE(mesh, taskShader), // culling is planned on them (Device::cmdDrawMeshTasks)
 };
 #undef ML_FEATURE
-const char* const kRequiredExtensions[] = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+const char* const kRequiredExtensions[] = {VK_EXT_MESH_SHADER_EXTENSION_NAME,
+                                           VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
 
 // Names of the rows not set in `chain`, comma-separated (empty when all are).
 std::string missingFeatures(FeatureChain& chain) {
@@ -136,13 +146,16 @@ void readEnabledChain(const VkPhysicalDeviceFeatures2* host, FeatureChain& out) 
             break;
         }
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES:
-            out.f13.dynamicRendering = reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
+            out.f13.dynamicRendering =
+                reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
             break;
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES:
-            out.f13.synchronization2 = reinterpret_cast<const VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2;
+            out.f13.synchronization2 =
+                reinterpret_cast<const VkPhysicalDeviceSynchronization2Features*>(s)->synchronization2;
             break;
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES:
-            out.f13.maintenance4 = reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
+            out.f13.maintenance4 =
+                reinterpret_cast<const VkPhysicalDeviceMaintenance4Features*>(s)->maintenance4;
             break;
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES: {
             auto* a = reinterpret_cast<const VkPhysicalDeviceShaderAtomicInt64Features*>(s);
@@ -151,15 +164,19 @@ void readEnabledChain(const VkPhysicalDeviceFeatures2* host, FeatureChain& out) 
             break;
         }
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_HOST_QUERY_RESET_FEATURES:
-            out.f12.hostQueryReset = reinterpret_cast<const VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset;
+            out.f12.hostQueryReset =
+                reinterpret_cast<const VkPhysicalDeviceHostQueryResetFeatures*>(s)->hostQueryReset;
             break;
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SCALAR_BLOCK_LAYOUT_FEATURES:
-            out.f12.scalarBlockLayout = reinterpret_cast<const VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout;
+            out.f12.scalarBlockLayout =
+                reinterpret_cast<const VkPhysicalDeviceScalarBlockLayoutFeatures*>(s)->scalarBlockLayout;
             break;
         case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_8BIT_STORAGE_FEATURES:
-            out.f12.storageBuffer8BitAccess = reinterpret_cast<const VkPhysicalDevice8BitStorageFeatures*>(s)->storageBuffer8BitAccess;
+            out.f12.storageBuffer8BitAccess =
+                reinterpret_cast<const VkPhysicalDevice8BitStorageFeatures*>(s)->storageBuffer8BitAccess;
             break;
-        default: break;
+        default:
+            break;
         }
     }
 }
@@ -180,8 +197,12 @@ std::vector<std::string> requiredDeviceExtensions() {
     return {std::begin(kRequiredExtensions), std::end(kRequiredExtensions)};
 }
 
-uint32_t validationErrors() { return gValidationErrors.load(); }
-uint32_t validationPerfWarnings() { return gValidationPerf.load(); }
+uint32_t validationErrors() {
+    return gValidationErrors.load();
+}
+uint32_t validationPerfWarnings() {
+    return gValidationPerf.load();
+}
 void resetValidationCounters() {
     gValidationErrors = 0;
     gValidationPerf = 0;
@@ -189,18 +210,30 @@ void resetValidationCounters() {
 
 const char* vkResultName(VkResult r) {
     switch (r) {
-    case VK_SUCCESS: return "VK_SUCCESS";
-    case VK_NOT_READY: return "VK_NOT_READY";
-    case VK_TIMEOUT: return "VK_TIMEOUT";
-    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
-    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
-    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
-    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
-    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
-    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
-    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
-    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
-    default: return "VkResult(other)";
+    case VK_SUCCESS:
+        return "VK_SUCCESS";
+    case VK_NOT_READY:
+        return "VK_NOT_READY";
+    case VK_TIMEOUT:
+        return "VK_TIMEOUT";
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+        return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+        return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED:
+        return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST:
+        return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_LAYER_NOT_PRESENT:
+        return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT:
+        return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT:
+        return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER:
+        return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    default:
+        return "VkResult(other)";
     }
 }
 
@@ -215,7 +248,8 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     // Synchronization validation: the layer tracks every access of every command and reports hazards
     // (read-after-write, write-after-read, write-after-write) no barrier orders. Layer 1.3.239 (bookworm)
     // has no VK_EXT_layer_settings; VkValidationFeaturesEXT turns it on.
-    const VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    const VkValidationFeatureEnableEXT syncFeature =
+        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
     VkValidationFeaturesEXT validationFeatures{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
     validationFeatures.enabledValidationFeatureCount = 1;
     validationFeatures.pEnabledValidationFeatures = &syncFeature;
@@ -226,17 +260,20 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
         layers.push_back("VK_LAYER_KHRONOS_validation");
         if (sync) {
             if (!hasLayerExtension("VK_LAYER_KHRONOS_validation", VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME))
-                return fail("synchronization validation requested (ML_VALIDATION_SYNC) but the validation layer "
-                            "lacks VK_EXT_validation_features");
+                return fail(
+                    "synchronization validation requested (ML_VALIDATION_SYNC) but the validation layer "
+                    "lacks VK_EXT_validation_features");
             extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
             d->validationSync_ = true;
             const uint32_t v = layerVersion("VK_LAYER_KHRONOS_validation");
-            std::fprintf(stderr, "manylights: synchronization validation on (VK_LAYER_KHRONOS_validation %u.%u.%u)\n",
+            std::fprintf(stderr,
+                         "manylights: synchronization validation on (VK_LAYER_KHRONOS_validation %u.%u.%u)\n",
                          VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v));
         }
     }
     if (options.window) {
-        if (!glfwInit()) return fail("--window: GLFW could not initialise (no display? DISPLAY is unset or unreachable)");
+        if (!glfwInit())
+            return fail("--window: GLFW could not initialise (no display? DISPLAY is unset or unreachable)");
         uint32_t n = 0;
         const char** glfwExt = glfwGetRequiredInstanceExtensions(&n);
         if (!glfwExt) return fail("--window: GLFW found no Vulkan surface support on this display");
@@ -262,8 +299,8 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
         d->instance, "vkCreateDebugUtilsMessengerEXT");
     if (d->validation_ && createMessenger) {
         VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-        mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+        mci.messageSeverity =
+            VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
         mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT |
                           VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
@@ -273,7 +310,8 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
 
     uint32_t count = 0;
     vkEnumeratePhysicalDevices(d->instance, &count, nullptr);
-    if (count == 0) return fail("no Vulkan device found (setup installs Mesa lavapipe from bookworm-backports)");
+    if (count == 0)
+        return fail("no Vulkan device found (setup installs Mesa lavapipe from bookworm-backports)");
     std::vector<VkPhysicalDevice> devices(count);
     vkEnumeratePhysicalDevices(d->instance, &count, devices.data());
 
@@ -281,10 +319,13 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
     for (VkPhysicalDevice pd : devices) {
         VkPhysicalDeviceProperties props;
         vkGetPhysicalDeviceProperties(pd, &props);
-        if (!options.preferDevice.empty() && !std::strstr(props.deviceName, options.preferDevice.c_str())) continue;
+        if (!options.preferDevice.empty() && !std::strstr(props.deviceName, options.preferDevice.c_str()))
+            continue;
         std::string why;
-        if (props.apiVersion < VK_API_VERSION_1_3) why = "Vulkan 1.3 not supported";
-        else if (!props.limits.timestampComputeAndGraphics) why = "no timestamps on graphics/compute queues";
+        if (props.apiVersion < VK_API_VERSION_1_3)
+            why = "Vulkan 1.3 not supported";
+        else if (!props.limits.timestampComputeAndGraphics)
+            why = "no timestamps on graphics/compute queues";
         for (const char* ext : kRequiredExtensions)
             if (why.empty() && !hasDeviceExtension(pd, ext))
                 why = std::string("no ") + ext +
@@ -346,8 +387,9 @@ Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
     if (!h.instance || !h.physicalDevice || !h.device || !h.queue)
         return fail("DeviceBorrow: instance, physicalDevice, device and queue must all be set");
     if (!h.enabledFeatures || h.enabledFeatures->sType != VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2)
-        return fail("DeviceBorrow: enabledFeatures must point to the VkPhysicalDeviceFeatures2 chain the device "
-                    "was created with (Vulkan cannot report a device's enabled features)");
+        return fail(
+            "DeviceBorrow: enabledFeatures must point to the VkPhysicalDeviceFeatures2 chain the device "
+            "was created with (Vulkan cannot report a device's enabled features)");
     std::unique_ptr<Device> d(new Device());
     d->owned_ = false;
     d->instance = h.instance;
@@ -382,8 +424,9 @@ Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
         return fail(who + ": queue family " + std::to_string(h.queueFamily) + " does not exist (" +
                     std::to_string(qcount) + " families)");
     if (!usableQueueFamily(qprops[h.queueFamily]))
-        return fail(who + ": queue family " + std::to_string(h.queueFamily) +
-                    " lacks graphics, compute or timestamps (the module records both kinds of pass on one queue)");
+        return fail(
+            who + ": queue family " + std::to_string(h.queueFamily) +
+            " lacks graphics, compute or timestamps (the module records both kinds of pass on one queue)");
     if (h.queueIndex >= qprops[h.queueFamily].queueCount)
         return fail(who + ": queue index " + std::to_string(h.queueIndex) + " out of range for family " +
                     std::to_string(h.queueFamily));
@@ -397,14 +440,18 @@ Result<std::unique_ptr<Device>> Device::borrow(const DeviceBorrow& h) {
 }
 
 Result<void> Device::loadFunctions() {
-    cmdPushDescriptorSet = (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR");
+    cmdPushDescriptorSet =
+        (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR");
     cmdDrawMeshTasks = (PFN_vkCmdDrawMeshTasksEXT)vkGetDeviceProcAddr(device, "vkCmdDrawMeshTasksEXT");
     cmdDrawMeshTasksIndirect =
         (PFN_vkCmdDrawMeshTasksIndirectEXT)vkGetDeviceProcAddr(device, "vkCmdDrawMeshTasksIndirectEXT");
-    if (!cmdPushDescriptorSet) return fail(name + ": vkCmdPushDescriptorSetKHR not available (extension not enabled?)");
-    beginLabel_ = (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance, "vkCmdBeginDebugUtilsLabelEXT");
+    if (!cmdPushDescriptorSet)
+        return fail(name + ": vkCmdPushDescriptorSetKHR not available (extension not enabled?)");
+    beginLabel_ =
+        (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance, "vkCmdBeginDebugUtilsLabelEXT");
     endLabel_ = (PFN_vkCmdEndDebugUtilsLabelEXT)vkGetInstanceProcAddr(instance, "vkCmdEndDebugUtilsLabelEXT");
-    setName_ = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(instance, "vkSetDebugUtilsObjectNameEXT");
+    setName_ =
+        (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(instance, "vkSetDebugUtilsObjectNameEXT");
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = queueFamily;
@@ -418,8 +465,8 @@ Device::~Device() {
     if (!owned_) return;
     if (device) vkDestroyDevice(device, nullptr);
     if (messenger_) {
-        auto destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(instance,
-                                                                                 "vkDestroyDebugUtilsMessengerEXT");
+        auto destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+            instance, "vkDestroyDebugUtilsMessengerEXT");
         destroy(instance, messenger_, nullptr);
     }
     if (instance) vkDestroyInstance(instance, nullptr);
@@ -468,7 +515,8 @@ void Device::setName(VkObjectType type, uint64_t handle, const char* objName) co
 
 uint32_t Device::memoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const {
     for (uint32_t i = 0; i < memoryProperties.memoryTypeCount; ++i)
-        if ((typeBits & (1u << i)) && (memoryProperties.memoryTypes[i].propertyFlags & flags) == flags) return i;
+        if ((typeBits & (1u << i)) && (memoryProperties.memoryTypes[i].propertyFlags & flags) == flags)
+            return i;
     return ~0u;
 }
 

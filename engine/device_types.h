@@ -27,10 +27,10 @@
 namespace ml {
 
 struct DeviceOptions {
-    bool validation = false;  // also on when ML_VALIDATION=1
+    bool validation = false;     // also on when ML_VALIDATION=1
     bool validationSync = false; // synchronization validation (implies validation); also ML_VALIDATION_SYNC=1
-    bool window = false;      // create surface-capable instance (GLFW); needs a display
-    std::string preferDevice; // substring of the device name; empty = first suitable
+    bool window = false;         // create surface-capable instance (GLFW); needs a display
+    std::string preferDevice;    // substring of the device name; empty = first suitable
 };
 
 // Handles a host engine already owns. The host keeps ownership; the module never destroys them, and

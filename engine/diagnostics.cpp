@@ -124,7 +124,8 @@ struct VsmPageState {
         return gpu::vsmEntry(c.sizes.x, c.page.z, map, mip, uint32_t(x) >> shift, uint32_t(y) >> shift);
     }
     bool needsPage(uint32_t map, uint32_t entry) const {
-        return (maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0u || ((coverage[entry >> 5] >> (entry & 31u)) & 1u);
+        return (maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0u ||
+               ((coverage[entry >> 5] >> (entry & 31u)) & 1u);
     }
 };
 
@@ -163,8 +164,8 @@ int vsmKernelLit(const VsmPageState& s, uint32_t map, uint32_t mip, int tx, int 
             }
             const uint32_t pt = s.table[entry];
             if ((pt & (ML_VSM_ALLOCATED | ML_VSM_VALID)) != (ML_VSM_ALLOCATED | ML_VSM_VALID)) return -1;
-            const size_t texel = size_t(pt & ML_VSM_PHYS_MASK) * size * size + (uint32_t(y) & (size - 1u)) * size +
-                                 (uint32_t(x) & (size - 1u));
+            const size_t texel = size_t(pt & ML_VSM_PHYS_MASK) * size * size +
+                                 (uint32_t(y) & (size - 1u)) * size + (uint32_t(x) & (size - 1u));
             const uint32_t d = s.pool[texel];
             if (dx == 0 && dy == 0) centre = d;
             lit += receiver <= d;

@@ -24,27 +24,30 @@ void GBufferPass::destroy(const Device& device) {
 GBufferTargets GBufferPass::createTargets(const Device& device, uint32_t w, uint32_t h) const {
     GBufferTargets t;
     VkImageUsageFlags common = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    t.depth = createImage(device, w, h, VK_FORMAT_D32_SFLOAT, common | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                          "gbuffer_depth");
-    t.normal = createImage(device, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
-                           "gbuffer_normal");
-    t.albedo = createImage(device, w, h, VK_FORMAT_R8G8B8A8_UNORM, common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
-                           "gbuffer_albedo");
+    t.depth = createImage(device, w, h, VK_FORMAT_D32_SFLOAT,
+                          common | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "gbuffer_depth");
+    t.normal = createImage(device, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
+                           common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_normal");
+    t.albedo = createImage(device, w, h, VK_FORMAT_R8G8B8A8_UNORM,
+                           common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_albedo");
     return t;
 }
 
-void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& t, const Buffer& frame,
-                         const Buffer& vertices, const Buffer& indices, const Buffer& instances, const Buffer& draws,
-                         uint32_t drawCount) const {
+void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& t,
+                         const Buffer& frame, const Buffer& vertices, const Buffer& indices,
+                         const Buffer& instances, const Buffer& draws, uint32_t drawCount) const {
     const auto color = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const auto depthStages = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    const auto depthStages =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     for (const Image* img : {&t.normal, &t.albedo})
-        imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                     compute, 0, color, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    imageBarrier(cmd, t.depth.image, t.depth.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 compute, 0, depthStages,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+        imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, compute, 0, color,
+                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    imageBarrier(cmd, t.depth.image, t.depth.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, compute, 0, depthStages,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
 
     VkRenderingAttachmentInfo colors[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                            {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
@@ -81,11 +84,12 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
 
     for (const Image* img : {&t.normal, &t.albedo})
         imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, color, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, compute,
-                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, color, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                     compute, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     imageBarrier(cmd, t.depth.image, t.depth.aspect, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, depthStages, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                 compute, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, depthStages,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, compute,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 }
 
 } // namespace ml

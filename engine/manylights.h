@@ -6,8 +6,9 @@
 //   module->addLight(spot);                               // validated: a bad value returns an error
 //   module->createTargets(1280, 720);                     // or setTargets(host G-buffer views)
 //   each frame: module->setCamera(cam); module->setInstanceTransform(...);
-//               module->record(cmd);                      // G-buffer (own targets), culling, shadows, evaluation
-//               submit cmd; later module->collect(); module->takeReports() give per-pass GPU ms and stats.
+//               module->record(cmd);                      // G-buffer (own targets), culling, shadows,
+//               evaluation submit cmd; later module->collect(); module->takeReports() give per-pass GPU ms
+//               and stats.
 //
 // Frames in flight: record() uses slot (frame % framesInFlight) for its per-frame buffers and
 // queries. The host must have waited for the frame that last used a slot before recording into it
@@ -64,13 +65,13 @@ struct ModuleOptions {
     DeviceOptions device;               // when the module makes its own device
     std::optional<DeviceBorrow> borrow; // when the host hands over its device
     CullingMode culling = CullingMode::Clustered;
-    bool statistics = false;            // per-pixel light counts: a pass of its own (a brute-force loop)
+    bool statistics = false; // per-pixel light counts: a pass of its own (a brute-force loop)
     // false: the output is tone-mapped sRGB values in an RGBA8 UNORM image (an sRGB swapchain would apply
     // gamma twice: copy into a UNORM image, or use hdrOutput). true: HostTargets::output must be an
     // RGBA16F storage view and receives linear HDR radiance (times exposure not applied); with
     // module-owned targets, the HDR image is outputImage() and readOutput refuses.
     bool hdrOutput = false;
-    VsmSettings vsm;                    // virtual shadow maps for dynamic casters (vsm.enabled)
+    VsmSettings vsm; // virtual shadow maps for dynamic casters (vsm.enabled)
     uint32_t framesInFlight = 2;
     TimingChoice timing = TimingChoice::Auto;
 };
@@ -97,10 +98,10 @@ struct LightDesc {
     glm::vec3 color{1.0f};
     float intensity = 1.0f;
     float range = 10.0f;
-    float outerAngle = 0.6f; // half angle, radians, (0, pi/2) for spots
-    float innerAngle = 0.4f; // [0, outer]
-    bool dynamic = false;      // moves: its shadows are never baked (virtual shadow maps draw every caster)
-    bool castsShadows = true;  // false: no static bake is used and no virtual shadow map is made
+    float outerAngle = 0.6f;  // half angle, radians, (0, pi/2) for spots
+    float innerAngle = 0.4f;  // [0, outer]
+    bool dynamic = false;     // moves: its shadows are never baked (virtual shadow maps draw every caster)
+    bool castsShadows = true; // false: no static bake is used and no virtual shadow map is made
 };
 
 // A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
@@ -142,12 +143,12 @@ struct HostTargets {
 struct FrameStats {
     uint32_t lightsTotal = 0;
     uint32_t lightsVisible = 0;
-    uint32_t clusters = 0;          // clusters in the grid (tiles x slices)
-    uint32_t clustersOccupied = 0;  // clusters holding at least one pixel
-    double clusterLightsMean = 0;   // over occupied clusters
+    uint32_t clusters = 0;         // clusters in the grid (tiles x slices)
+    uint32_t clustersOccupied = 0; // clusters holding at least one pixel
+    double clusterLightsMean = 0;  // over occupied clusters
     uint32_t clusterLightsMax = 0;
     uint32_t clusterOverflowCount = 0;
-    uint32_t poolEntries = 0;       // light-list entries used (capacity in poolCapacity)
+    uint32_t poolEntries = 0; // light-list entries used (capacity in poolCapacity)
     uint32_t poolCapacity = 0;
     uint64_t surfacePixels = 0;
     double lightsPerPixelEvaluatedMean = 0; // over pixels with geometry

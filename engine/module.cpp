@@ -95,7 +95,8 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     if (v.enabled) {
         auto pow2 = [](uint32_t x) { return x && !(x & (x - 1)); };
         if (!pow2(v.resolution) || v.resolution < 256 || v.resolution > 16384)
-            return fail("vsm: resolution " + std::to_string(v.resolution) + " is not a power of two in 256..16384");
+            return fail("vsm: resolution " + std::to_string(v.resolution) +
+                        " is not a power of two in 256..16384");
         if (v.pageSize != 32 && v.pageSize != 64 && v.pageSize != 128)
             return fail("vsm: page size " + std::to_string(v.pageSize) + " is not 32, 64 or 128");
         if (v.pageSize > v.resolution) return fail("vsm: page size is larger than the resolution");
@@ -116,8 +117,8 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
             v.meshletTriangles > ML_MESHLET_TRIANGLES || v.meshletTriangles % 4)
             return fail("vsm: meshlets of " + std::to_string(v.meshletVertices) + " vertices / " +
                         std::to_string(v.meshletTriangles) + " triangles: want 3.." +
-                        std::to_string(ML_MESHLET_VERTICES) + " / 4.." + std::to_string(ML_MESHLET_TRIANGLES) +
-                        " (a multiple of 4)");
+                        std::to_string(ML_MESHLET_VERTICES) + " / 4.." +
+                        std::to_string(ML_MESHLET_TRIANGLES) + " (a multiple of 4)");
     }
     // The hierarchical page buffer is an image array with one layer per map slot.
     if (v.enabled && v.maxMaps > impl->device->properties.limits.maxImageArrayLayers)
@@ -195,8 +196,13 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    Impl::MeshRange r{uint32_t(m.vertices.size()), uint32_t(m.indices.size()), uint32_t(mesh.indices.size()), lo,
-                      hi, true, mesh.closed};
+    Impl::MeshRange r{uint32_t(m.vertices.size()),
+                      uint32_t(m.indices.size()),
+                      uint32_t(mesh.indices.size()),
+                      lo,
+                      hi,
+                      true,
+                      mesh.closed};
     r.firstMeshlet = uint32_t(m.meshlets.meshlets.size());
     r.meshletCount = appendMeshlets(m.meshlets, mesh.vertices.empty() ? nullptr : mesh.vertices[0].position,
                                     sizeof(MeshVertex), mesh.vertices.size(), mesh.indices, r.firstVertex,
@@ -215,7 +221,9 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
 namespace {
 constexpr uint32_t kLightIndexBits = 12;    // ML_MAX_LIGHTS = 4096 slots
 constexpr uint32_t kInstanceIndexBits = 20; // 1M instance slots
-uint32_t makeId(uint32_t index, uint32_t generation, uint32_t bits) { return index | (generation << bits); }
+uint32_t makeId(uint32_t index, uint32_t generation, uint32_t bits) {
+    return index | (generation << bits);
+}
 } // namespace
 
 Result<uint32_t> Module::Impl::lightIndex(LightId id, const char* what) const {
@@ -228,7 +236,8 @@ Result<uint32_t> Module::Impl::lightIndex(LightId id, const char* what) const {
 Result<uint32_t> Module::Impl::instanceIndex(InstanceId id, const char* what) const {
     const uint32_t index = id & ((1u << kInstanceIndexBits) - 1), gen = id >> kInstanceIndexBits;
     if (index >= instances.size() || !instances[index].alive || instances[index].generation != gen)
-        return fail(std::string(what) + ": instance " + std::to_string(id) + " does not exist (or was removed)");
+        return fail(std::string(what) + ": instance " + std::to_string(id) +
+                    " does not exist (or was removed)");
     return index;
 }
 
@@ -251,7 +260,8 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
         return InstanceId(makeId(index, data.generation, kInstanceIndexBits));
     }
     if (m.instances.size() >= (1u << kInstanceIndexBits))
-        return fail("addInstance: the module holds at most " + std::to_string(1u << kInstanceIndexBits) + " instances");
+        return fail("addInstance: the module holds at most " + std::to_string(1u << kInstanceIndexBits) +
+                    " instances");
     m.instances.push_back(data);
     return InstanceId(m.instances.size() - 1);
 }
@@ -278,7 +288,8 @@ Result<void> Module::removeMesh(MeshId mesh) {
         return fail("removeMesh: mesh id " + std::to_string(mesh) + " does not exist (or was removed)");
     for (size_t i = 0; i < m.instances.size(); ++i)
         if (m.instances[i].alive && m.instances[i].mesh == mesh)
-            return fail("removeMesh: mesh " + std::to_string(mesh) + " is used by instance " + std::to_string(i));
+            return fail("removeMesh: mesh " + std::to_string(mesh) + " is used by instance " +
+                        std::to_string(i));
     m.meshes[mesh].alive = false; // its id is never reused; its vertices stay until the module is destroyed
     return {};
 }
@@ -343,7 +354,8 @@ Result<void> Module::setLight(LightId id, const LightDesc& light) {
 
 Result<void> Module::setEnvironment(glm::vec3 ambient, glm::vec3 sky) {
     for (const glm::vec3* v : {&ambient, &sky})
-        if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || v->x < 0 || v->y < 0 || v->z < 0)
+        if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || v->x < 0 || v->y < 0 ||
+            v->z < 0)
             return fail("setEnvironment: ambient and sky must be finite and >= 0");
     impl_->ambient = ambient;
     impl_->sky = sky;
@@ -417,7 +429,8 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
             glm::vec3 p[3];
             for (int k = 0; k < 3; ++k) {
                 const MeshVertex& v = m.vertices[r.firstVertex + m.indices[r.firstIndex + i + k]];
-                p[k] = glm::vec3(inst.transform * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f));
+                p[k] =
+                    glm::vec3(inst.transform * glm::vec4(v.position[0], v.position[1], v.position[2], 1.0f));
             }
             if (mirror) std::swap(p[1], p[2]);
             casters.add(p[0], p[1], p[2], r.closed);
@@ -428,7 +441,8 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
     std::vector<uint32_t> bakeable;
     for (uint32_t i = 0; i < m.lights.size(); ++i) {
         const LightDesc& l = m.lights[i];
-        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional) bakeable.push_back(i);
+        if (m.lightAlive[i] && !l.dynamic && l.castsShadows && l.kind != LightKind::Directional)
+            bakeable.push_back(i);
     }
     uint32_t done = 0;
     for (uint32_t i : bakeable) {
@@ -570,7 +584,8 @@ void Module::Impl::createOutput(bool withOutput) {
                       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr");
     // HDR-only output keeps a small RGBA8 image for the tone-mapped binding, which is then never written.
     if (hdrOutput && !withOutput)
-        output = createImage(*device, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, "unused_output");
+        output =
+            createImage(*device, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, "unused_output");
     if (withOutput)
         output = createImage(*device, width, height, VK_FORMAT_R8G8B8A8_UNORM,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output");
@@ -587,10 +602,10 @@ void Module::Impl::uploadGeometry() {
     for (auto [b, data, bytes, name] :
          {std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
                      meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), "meshlets"},
-          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(), meshlets.vertices.size() * 4,
-                     "meshlet_vertices"},
-          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(), meshlets.triangles.size() * 4,
-                     "meshlet_triangles"}}) {
+          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(),
+                     meshlets.vertices.size() * 4, "meshlet_vertices"},
+          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(),
+                     meshlets.triangles.size() * 4, "meshlet_triangles"}}) {
         ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name);
         if (bytes) upload(*b, data, bytes);
     }
@@ -599,7 +614,8 @@ void Module::Impl::uploadGeometry() {
     auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
     for (size_t i = 0; i < instances.size(); ++i) {
         const MeshRange& r = meshes[instances[i].mesh];
-        draws[i] = {instances[i].alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex), uint32_t(i)};
+        draws[i] = {instances[i].alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex),
+                    uint32_t(i)};
     }
     for (auto& s : slots)
         ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage,
@@ -652,16 +668,16 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         // before record() that touch module-visible memory in these stages.
         const VkPipelineStageFlags2 frameStages =
             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | kFillStages | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
-            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
-            VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-            VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
-            VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-        const VkAccessFlags2 frameWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
-                                           VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
-                                           VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+            VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT |
+            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT |
+            VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+        const VkAccessFlags2 frameWrites =
+            VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
+            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
         const VkAccessFlags2 frameAccesses =
-            frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT |
-            VK_ACCESS_2_INDEX_READ_BIT |
+            frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+            VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT |
             VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
             VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
         memoryBarrier(c, frameStages, frameWrites, frameStages, frameAccesses);
@@ -676,8 +692,8 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (mode != CullingMode::None)
         m.cull.record(d, cmd, slot.frame, slot.slices, slot.lights, depthView, slot.counters, m.profiler);
 
-    VsmFrameInputs vin{&slot.frame,  &slot.slices,    &slot.lights,   &m.cull.ranges,   &m.cull.pool, depthView,
-                       normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
+    VsmFrameInputs vin{&slot.frame, &slot.slices, &slot.lights,    &m.cull.ranges, &m.cull.pool,
+                       depthView,   normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
     vin.meshlets = &m.meshletBuffer;
     vin.meshletVertices = &m.meshletVertexBuffer;
     vin.meshletTriangles = &m.meshletTriangleBuffer;
@@ -689,13 +705,14 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     // in one command buffer: SyncValidation.TwoFramesInOneCommandBuffer). The host's reads of them
     // (copies, blits) reach the compute stage through the frame-start barrier.
     m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
+        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W,
+                     C, W);
         if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W,
-                         C, W);
+            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                         VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
     });
-    const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool, depthView,
-                                normalView,  albedoView,   m.width,      m.height};
+    const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool,
+                                depthView,   normalView,   albedoView,   m.width,        m.height};
     const VirtualShadowMaps& v = m.vsm;
     const bool vsmOn = v.enabled(); // without VSM any valid buffers fill its bindings (never read)
     const ShadowInputs shadows{&m.staticWords,
@@ -716,14 +733,16 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         m.statisticsPass.record(d, cmd, m.profiler, shading, slot.counters);
     else
         m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
+            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT,
+                          VK_ACCESS_2_HOST_READ_BIT); // counters -> host
         });
 
     if (m.view == DebugView::Vsm && m.vsm.enabled() && !m.hdrOutput)
-        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordView(d, c, slotIndex, vin, outputView); });
+        m.profiler.runUntimed(cmd,
+                              [&](VkCommandBuffer c) { m.vsm.recordView(d, c, slotIndex, vin, outputView); });
     else if (m.view == DebugView::LightsEvaluated || m.view == DebugView::LightsReaching)
-        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights, depthView,
-                          outputView, m.width, m.height, m.profiler);
+        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights,
+                          depthView, outputView, m.width, m.height, m.profiler);
 
     slot.pending = true;
     slot.statistics = m.statistics;
@@ -805,8 +824,8 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
             // A moving light's bake (if any) no longer matches it: its maps take every caster.
             vl[i].staticBake = baked && !l.dynamic;
         }
-        std::vector<uint32_t> firstMap =
-            vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters, {c.position, c.fovY, height});
+        std::vector<uint32_t> firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
+                                                     {c.position, c.fovY, height});
         for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap[v];
     }
 

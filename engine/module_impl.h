@@ -55,7 +55,7 @@ struct Module::Impl {
     bool statistics = false;
     DebugView view = DebugView::Shaded;
     TimingMode timing = TimingMode::Timestamps;
-    float exposure = 3.0f; // night scenes: lamps of ~40 cd at 6 m give ~0.1 before exposure
+    float exposure = 3.0f;     // night scenes: lamps of ~40 cd at 6 m give ~0.1 before exposure
     uint32_t poolOverride = 0; // tests: force a small light-list pool
 
     std::vector<MeshVertex> vertices;
@@ -79,9 +79,9 @@ struct Module::Impl {
     Buffer staticWords, shadowRecords;
     std::vector<uint32_t> recordOfLight; // light -> record index or ML_NO_SHADOW
     std::vector<gpu::GpuShadowRecord> records;
-    CameraDesc camera;             // setCamera's, or the one setCameraMatrices' matrices describe
+    CameraDesc camera;                        // setCamera's, or the one setCameraMatrices' matrices describe
     std::optional<CameraMatrices> hostCamera; // setCameraMatrices: used as given (plus jitter)
-    CameraMatrices frameCamera() const; // view and jittered projection for the current target size
+    CameraMatrices frameCamera() const;       // view and jittered projection for the current target size
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
     MeshletSet meshlets;

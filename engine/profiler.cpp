@@ -7,18 +7,30 @@ namespace ml {
 
 const char* passName(Pass pass) {
     switch (pass) {
-    case Pass::GBuffer: return "gbuffer";
-    case Pass::ClusterBounds: return "cluster_bounds";
-    case Pass::LightAssign: return "light_assign";
-    case Pass::VsmMark: return "vsm_mark";
-    case Pass::VsmAlloc: return "vsm_alloc";
-    case Pass::VsmHpb: return "vsm_hpb";
-    case Pass::VsmCull: return "vsm_cull";
-    case Pass::VsmExpand: return "vsm_expand";
-    case Pass::VsmDraw: return "vsm_draw";
-    case Pass::Evaluate: return "evaluate";
-    case Pass::Statistics: return "statistics";
-    case Pass::Count: break;
+    case Pass::GBuffer:
+        return "gbuffer";
+    case Pass::ClusterBounds:
+        return "cluster_bounds";
+    case Pass::LightAssign:
+        return "light_assign";
+    case Pass::VsmMark:
+        return "vsm_mark";
+    case Pass::VsmAlloc:
+        return "vsm_alloc";
+    case Pass::VsmHpb:
+        return "vsm_hpb";
+    case Pass::VsmCull:
+        return "vsm_cull";
+    case Pass::VsmExpand:
+        return "vsm_expand";
+    case Pass::VsmDraw:
+        return "vsm_draw";
+    case Pass::Evaluate:
+        return "evaluate";
+    case Pass::Statistics:
+        return "statistics";
+    case Pass::Count:
+        break;
     }
     return "?";
 }
@@ -111,8 +123,8 @@ bool Profiler::read(uint32_t slot, PassTimes& out) const {
     for (uint32_t p = 0; p < kPassCount; ++p) {
         if (!recorded_[slot][p]) continue;
         uint64_t data[4]; // begin, availability, end, availability
-        VkResult r = vkGetQueryPoolResults(device_->device, pool_, (slot * kPassCount + p) * 2, 2, sizeof(data), data,
-                                           2 * sizeof(uint64_t),
+        VkResult r = vkGetQueryPoolResults(device_->device, pool_, (slot * kPassCount + p) * 2, 2,
+                                           sizeof(data), data, 2 * sizeof(uint64_t),
                                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
         if (r != VK_SUCCESS && r != VK_NOT_READY) return false;
         if (!data[1] || !data[3]) return false;

@@ -11,9 +11,18 @@ namespace {
 // Minimal SPIR-V reflection: entry stage, LocalSize, and the descriptor type of every set-0 binding.
 // Opcodes and enums from the SPIR-V specification, section 3.
 enum : uint32_t {
-    OpEntryPoint = 15, OpExecutionMode = 16, OpTypeImage = 25, OpTypeSampler = 26, OpTypeSampledImage = 27,
-    OpTypeArray = 28, OpTypeRuntimeArray = 29, OpTypeStruct = 30, OpTypePointer = 32, OpVariable = 59,
-    OpDecorate = 71, OpTypeAccelerationStructureKHR = 5341
+    OpEntryPoint = 15,
+    OpExecutionMode = 16,
+    OpTypeImage = 25,
+    OpTypeSampler = 26,
+    OpTypeSampledImage = 27,
+    OpTypeArray = 28,
+    OpTypeRuntimeArray = 29,
+    OpTypeStruct = 30,
+    OpTypePointer = 32,
+    OpVariable = 59,
+    OpDecorate = 71,
+    OpTypeAccelerationStructureKHR = 5341
 };
 enum : uint32_t { DecBlock = 2, DecBufferBlock = 3, DecBinding = 33, DecDescriptorSet = 34 };
 enum : uint32_t { ScUniformConstant = 0, ScUniform = 2, ScPushConstant = 9, ScStorageBuffer = 12 };
@@ -39,12 +48,23 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
         switch (op) {
         case OpEntryPoint:
             switch (ins[1]) {
-            case 0: sm.stage = VK_SHADER_STAGE_VERTEX_BIT; break;
-            case 4: sm.stage = VK_SHADER_STAGE_FRAGMENT_BIT; break;
-            case 5: sm.stage = VK_SHADER_STAGE_COMPUTE_BIT; break;
-            case 5364: sm.stage = VK_SHADER_STAGE_TASK_BIT_EXT; break;
-            case 5365: sm.stage = VK_SHADER_STAGE_MESH_BIT_EXT; break;
-            default: break;
+            case 0:
+                sm.stage = VK_SHADER_STAGE_VERTEX_BIT;
+                break;
+            case 4:
+                sm.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+                break;
+            case 5:
+                sm.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+                break;
+            case 5364:
+                sm.stage = VK_SHADER_STAGE_TASK_BIT_EXT;
+                break;
+            case 5365:
+                sm.stage = VK_SHADER_STAGE_MESH_BIT_EXT;
+                break;
+            default:
+                break;
             }
             break;
         case OpExecutionMode:
@@ -74,7 +94,9 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
         case OpTypeSampler:
         case OpTypeSampledImage:
         case OpTypeStruct:
-        case OpTypeAccelerationStructureKHR: ids[ins[1]].opcode = op; break;
+        case OpTypeAccelerationStructureKHR:
+            ids[ins[1]].opcode = op;
+            break;
         case OpTypeArray:
         case OpTypeRuntimeArray:
             ids[ins[1]].opcode = op;
@@ -90,7 +112,8 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
             ids[ins[2]].typeId = ins[1];
             ids[ins[2]].storageClass = ins[3];
             break;
-        default: break;
+        default:
+            break;
         }
         i += n ? n : 1;
     }
@@ -112,10 +135,13 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
                                                                          : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         else if (t->opcode == OpTypeImage)
             type = t->sampled == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
-        else if (t->opcode == OpTypeSampledImage) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        else if (t->opcode == OpTypeSampler) type = VK_DESCRIPTOR_TYPE_SAMPLER;
+        else if (t->opcode == OpTypeSampledImage)
+            type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        else if (t->opcode == OpTypeSampler)
+            type = VK_DESCRIPTOR_TYPE_SAMPLER;
         else {
-            std::fprintf(stderr, "%s: binding %u has an unsupported descriptor type\n", sm.name.c_str(), v.binding);
+            std::fprintf(stderr, "%s: binding %u has an unsupported descriptor type\n", sm.name.c_str(),
+                         v.binding);
             std::abort();
         }
         if (v.binding >= 32) {
@@ -151,7 +177,8 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
         for (uint32_t b = 0; b < 32; ++b) {
             if (!(s->bindingMask & (1u << b))) continue;
             if ((mask & (1u << b)) && p.bindingTypes[b] != s->bindingTypes[b]) {
-                std::fprintf(stderr, "%s: binding %u has different types across stages\n", s->name.c_str(), b);
+                std::fprintf(stderr, "%s: binding %u has different types across stages\n", s->name.c_str(),
+                             b);
                 std::abort();
             }
             mask |= 1u << b;
@@ -161,11 +188,13 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
     // Bindings must be dense (0..n-1) so descriptors are given in binding order without gaps.
     while (mask & (1u << p.bindingCount)) p.bindingCount++;
     if (mask != (p.bindingCount == 32 ? ~0u : (1u << p.bindingCount) - 1)) {
-        std::fprintf(stderr, "%s: descriptor bindings must be dense from 0 (mask %x)\n", p.name.c_str(), mask);
+        std::fprintf(stderr, "%s: descriptor bindings must be dense from 0 (mask %x)\n", p.name.c_str(),
+                     mask);
         std::abort();
     }
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b < p.bindingCount; ++b) bindings.push_back({b, p.bindingTypes[b], 1, p.stages, nullptr});
+    for (uint32_t b = 0; b < p.bindingCount; ++b)
+        bindings.push_back({b, p.bindingTypes[b], 1, p.stages, nullptr});
     VkDescriptorSetLayoutCreateInfo sci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     sci.bindingCount = uint32_t(bindings.size());
@@ -220,7 +249,8 @@ Program createComputeProgram(const Device& device, const ShaderModule& shader, u
 }
 
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
-                              uint32_t pushSize, const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
+                              uint32_t pushSize, const GraphicsState& state,
+                              std::initializer_list<SpecConstant> spec) {
     Program p;
     p.name = (*shaders.begin())->name;
     p.bindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -292,8 +322,8 @@ void destroyProgram(const Device& device, Program& p) {
 void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
                  std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize) {
     if (descriptors.size() != p.bindingCount || pushSize != p.pushSize) {
-        std::fprintf(stderr, "%s: %zu descriptors / %u push bytes given, shader wants %u / %u\n", p.name.c_str(),
-                     descriptors.size(), pushSize, p.bindingCount, p.pushSize);
+        std::fprintf(stderr, "%s: %zu descriptors / %u push bytes given, shader wants %u / %u\n",
+                     p.name.c_str(), descriptors.size(), pushSize, p.bindingCount, p.pushSize);
         std::abort();
     }
     vkCmdBindPipeline(cmd, p.bindPoint, p.pipeline);
@@ -310,7 +340,8 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
         bool isBuffer = w.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
                         w.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (isBuffer != (d.buffer != VK_NULL_HANDLE)) {
-            std::fprintf(stderr, "%s: binding %u expects a%s\n", p.name.c_str(), b, isBuffer ? " buffer" : "n image");
+            std::fprintf(stderr, "%s: binding %u expects a%s\n", p.name.c_str(), b,
+                         isBuffer ? " buffer" : "n image");
             std::abort();
         }
         if (isBuffer) {
@@ -328,7 +359,8 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
 
 void checkGroupCount(const Program& p, uint32_t gx, uint32_t gy) {
     if (gx <= 65535 && gy <= 65535) return;
-    std::fprintf(stderr, "%s: dispatch of %u x %u groups exceeds 65535 per dimension\n", p.name.c_str(), gx, gy);
+    std::fprintf(stderr, "%s: dispatch of %u x %u groups exceeds 65535 per dimension\n", p.name.c_str(), gx,
+                 gy);
     std::abort();
 }
 

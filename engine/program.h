@@ -19,7 +19,7 @@ struct ShaderModule {
     VkShaderModule module = VK_NULL_HANDLE;
     VkShaderStageFlagBits stage = VK_SHADER_STAGE_COMPUTE_BIT;
     uint32_t localSize[3] = {1, 1, 1};
-    uint32_t bindingMask = 0;                // bit b: set 0 binding b is used
+    uint32_t bindingMask = 0;               // bit b: set 0 binding b is used
     VkDescriptorType bindingTypes[32] = {}; // valid where bindingMask has the bit
     bool usesPushConstants = false;
     std::string name;
@@ -63,7 +63,8 @@ struct GraphicsState {
     bool depthClamp = false;
 };
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
-                              uint32_t pushSize, const GraphicsState& state, std::initializer_list<SpecConstant> spec = {});
+                              uint32_t pushSize, const GraphicsState& state,
+                              std::initializer_list<SpecConstant> spec = {});
 void destroyProgram(const Device& device, Program& program);
 
 // One descriptor: a buffer (whole range) or an image view in a layout.
@@ -92,8 +93,8 @@ struct NoPush {};
 // Binds, checks the push size and descriptors against the shader's reflection (bindProgram aborts with
 // the program's name on a mismatch) and dispatches ceil(threads / local size) groups.
 template <class Push>
-void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX, uint32_t threadsY,
-              const Push& push, std::initializer_list<Descriptor> descriptors) {
+void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX,
+              uint32_t threadsY, const Push& push, std::initializer_list<Descriptor> descriptors) {
     static_assert(sizeof(Push) <= 128, "push constants are limited to 128 bytes");
     constexpr uint32_t pushSize = std::is_empty_v<Push> ? 0u : uint32_t(sizeof(Push));
     bindProgram(device, cmd, program, descriptors, &push, pushSize);

@@ -25,8 +25,8 @@ VkDeviceMemory allocate(const Device& device, const VkMemoryRequirements& req, V
     return memory;
 }
 
-Buffer makeBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags flags,
-                  bool fallback, const char* name) {
+Buffer makeBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage,
+                  VkMemoryPropertyFlags flags, bool fallback, const char* name) {
     Buffer b;
     b.size = std::max<VkDeviceSize>((size + 3) / 4 * 4, 16);
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -43,8 +43,9 @@ Buffer makeBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags us
 } // namespace
 
 Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
-    Buffer b = makeBuffer(device, size, usage, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                          false, name);
+    Buffer b =
+        makeBuffer(device, size, usage,
+                   VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, false, name);
     ML_VK_CHECK(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
     std::memset(b.data, 0, b.size);
     return b;
@@ -59,34 +60,39 @@ void destroyBuffer(const Device& device, Buffer& b) {
 
 Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
                           uint32_t fill) {
-    Buffer b = makeBuffer(device, size, usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                          VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
+    Buffer b =
+        makeBuffer(device, size, usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                   VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
     VkCommandBuffer cmd = device.beginOneTime();
     vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
     // The fill -> the buffer's first use, whatever it is (read or write in any stage the module uses).
-    memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages, kBufferReads | kBufferWrites);
+    memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages,
+                  kBufferReads | kBufferWrites);
     device.endOneTime(cmd);
     return b;
 }
 
-std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes) {
+std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset,
+                                VkDeviceSize bytes) {
     std::vector<uint8_t> out(bytes);
     if (!bytes) return out;
     Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
     VkCommandBuffer cmd = device.beginOneTime();
     // The last writes to the buffer (any shader stage, fill or copy, earlier submissions) -> the copy.
-    memoryBarrier(cmd, kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    memoryBarrier(cmd, kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(cmd, buffer.buffer, staging.buffer, 1, &region);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                  VK_ACCESS_2_HOST_READ_BIT);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     device.endOneTime(cmd);
     std::memcpy(out.data(), staging.data, bytes);
     destroyBuffer(device, staging);
     return out;
 }
 
-bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
+bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage,
+                  const char* name) {
     if (b.buffer && b.size >= size) return false;
     destroyBuffer(device, b);
     // Grow by 1.5x so per-frame growth (more lights, more clusters) settles quickly, but a storage buffer
@@ -99,8 +105,8 @@ bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUs
 }
 
 namespace {
-VkImageView makeView(const Device& device, const Image& img, VkImageViewType type, uint32_t mip, uint32_t mipCount,
-                     uint32_t layer, uint32_t layerCount) {
+VkImageView makeView(const Device& device, const Image& img, VkImageViewType type, uint32_t mip,
+                     uint32_t mipCount, uint32_t layer, uint32_t layerCount) {
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.image;
     vi.viewType = type;
@@ -120,19 +126,25 @@ VkImageView makeView(const Device& device, const Image& img, VkImageViewType typ
 uint32_t formatBytes(VkFormat format) {
     switch (format) {
     case VK_FORMAT_R8_UINT:
-    case VK_FORMAT_R8_UNORM: return 1;
+    case VK_FORMAT_R8_UNORM:
+        return 1;
     case VK_FORMAT_R16_UINT:
-    case VK_FORMAT_R16_SFLOAT: return 2;
+    case VK_FORMAT_R16_SFLOAT:
+        return 2;
     case VK_FORMAT_R32_UINT:
     case VK_FORMAT_R32_SFLOAT:
     case VK_FORMAT_D32_SFLOAT:
     case VK_FORMAT_R8G8B8A8_UNORM:
-    case VK_FORMAT_R8G8B8A8_UINT: return 4;
+    case VK_FORMAT_R8G8B8A8_UINT:
+        return 4;
     case VK_FORMAT_R32G32_UINT:
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+        return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT:
-    case VK_FORMAT_R32G32B32A32_UINT: return 16;
-    default: return 0;
+    case VK_FORMAT_R32G32B32A32_UINT:
+        return 16;
+    default:
+        return 0;
     }
 }
 
@@ -148,15 +160,16 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     const bool depth = desc.format == VK_FORMAT_D32_SFLOAT || desc.format == VK_FORMAT_D16_UNORM;
     img.aspect = depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
     const VkPhysicalDeviceLimits& lim = device.properties.limits;
-    if (!desc.width || !desc.height || desc.width > lim.maxImageDimension2D || desc.height > lim.maxImageDimension2D)
-        imageError(desc.name, std::to_string(desc.width) + "x" + std::to_string(desc.height) + " outside 1.." +
-                                  std::to_string(lim.maxImageDimension2D));
+    if (!desc.width || !desc.height || desc.width > lim.maxImageDimension2D ||
+        desc.height > lim.maxImageDimension2D)
+        imageError(desc.name, std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+                                  " outside 1.." + std::to_string(lim.maxImageDimension2D));
     if (!desc.layers || desc.layers > lim.maxImageArrayLayers)
         imageError(desc.name, std::to_string(desc.layers) + " layers outside 1.." +
                                   std::to_string(lim.maxImageArrayLayers));
     if (img.mips > fullChain)
-        imageError(desc.name, std::to_string(img.mips) + " mips, the chain of " + std::to_string(desc.width) + "x" +
-                                  std::to_string(desc.height) + " has " + std::to_string(fullChain));
+        imageError(desc.name, std::to_string(img.mips) + " mips, the chain of " + std::to_string(desc.width) +
+                                  "x" + std::to_string(desc.height) + " has " + std::to_string(fullChain));
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = desc.format;
@@ -168,8 +181,8 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     ci.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     VkImageFormatProperties fp{};
-    if (vkGetPhysicalDeviceImageFormatProperties(device.physicalDevice, ci.format, ci.imageType, ci.tiling, ci.usage, 0,
-                                                 &fp) != VK_SUCCESS)
+    if (vkGetPhysicalDeviceImageFormatProperties(device.physicalDevice, ci.format, ci.imageType, ci.tiling,
+                                                 ci.usage, 0, &fp) != VK_SUCCESS)
         imageError(desc.name, "format " + std::to_string(int(desc.format)) + " does not support the usage");
     ML_VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
     VkMemoryRequirements req;
@@ -180,7 +193,8 @@ Image createImage(const Device& device, const ImageDesc& desc) {
         desc.layers > 1 || desc.arrayViews ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     img.view = makeView(device, img, type, 0, img.mips, 0, desc.layers);
     if (img.mips > 1)
-        for (uint32_t m = 0; m < img.mips; ++m) img.mipViews.push_back(makeView(device, img, type, m, 1, 0, desc.layers));
+        for (uint32_t m = 0; m < img.mips; ++m)
+            img.mipViews.push_back(makeView(device, img, type, m, 1, 0, desc.layers));
     if (desc.layerViews)
         for (uint32_t m = 0; m < img.mips; ++m)
             for (uint32_t l = 0; l < desc.layers; ++l)
@@ -189,8 +203,8 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     return img;
 }
 
-Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-                  const char* name) {
+Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format,
+                  VkImageUsageFlags usage, const char* name) {
     ImageDesc desc;
     desc.width = width;
     desc.height = height;
@@ -211,8 +225,8 @@ void destroyImage(const Device& device, Image& img) {
 
 namespace {
 void rangeBarrier(VkCommandBuffer cmd, VkImage image, VkImageSubresourceRange range, VkImageLayout from,
-                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                  VkAccessFlags2 dstAccess) {
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
     VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
     ib.srcStageMask = src;
     ib.srcAccessMask = srcAccess;
@@ -235,16 +249,19 @@ constexpr VkPipelineStageFlags2 kImageUseStages =
     VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
     VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT |
     VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-constexpr VkAccessFlags2 kImageWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
-                                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags2 kImageWrites =
+    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
 constexpr VkAccessFlags2 kImageReads =
-    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
-    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT;
+    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT |
+    VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+    VK_ACCESS_2_TRANSFER_READ_BIT;
 
-void subresourceBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t layer, VkImageLayout from,
-                        VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                        VkAccessFlags2 dstAccess) {
-    rangeBarrier(cmd, image.image, {image.aspect, mip, 1, layer, 1}, from, to, src, srcAccess, dst, dstAccess);
+void subresourceBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t layer,
+                        VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src,
+                        VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
+    rangeBarrier(cmd, image.image, {image.aspect, mip, 1, layer, 1}, from, to, src, srcAccess, dst,
+                 dstAccess);
 }
 
 VkBufferImageCopy subresourceCopy(const Image& image, uint32_t mip, uint32_t layer) {
@@ -260,8 +277,8 @@ size_t subresourceBytes(const Image& image, uint32_t mip) {
 
 void checkSubresource(const Image& image, uint32_t mip, uint32_t layer, const char* what) {
     if (mip >= image.mips || layer >= image.layers || !formatBytes(image.format)) {
-        std::fprintf(stderr, "%s: mip %u layer %u of an image of %u mips, %u layers (format %d)\n", what, mip, layer,
-                     image.mips, image.layers, int(image.format));
+        std::fprintf(stderr, "%s: mip %u layer %u of an image of %u mips, %u layers (format %d)\n", what, mip,
+                     layer, image.mips, image.layers, int(image.format));
         std::abort();
     }
 }
@@ -282,10 +299,12 @@ void uploadImage(const Device& device, const Image& image, uint32_t mip, uint32_
     subresourceBarrier(cmd, image, mip, layer, from, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, kImageUseStages,
                        kImageWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     VkBufferImageCopy region = subresourceCopy(image, mip, layer);
-    vkCmdCopyBufferToImage(cmd, staging.buffer, image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    vkCmdCopyBufferToImage(cmd, staging.buffer, image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &region);
     // The copy's writes -> every later use.
-    subresourceBarrier(cmd, image, mip, layer, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, to, VK_PIPELINE_STAGE_2_COPY_BIT,
-                       VK_ACCESS_2_TRANSFER_WRITE_BIT, kImageUseStages, kImageReads | kImageWrites);
+    subresourceBarrier(cmd, image, mip, layer, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, to,
+                       VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kImageUseStages,
+                       kImageReads | kImageWrites);
     device.endOneTime(cmd);
     destroyBuffer(device, staging);
 }
@@ -300,20 +319,21 @@ std::vector<uint8_t> readImage(const Device& device, const Image& image, uint32_
     subresourceBarrier(cmd, image, mip, layer, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kImageUseStages,
                        kImageWrites, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy region = subresourceCopy(image, mip, layer);
-    vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1, &region);
+    vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1,
+                           &region);
     // The copy's reads -> later writes (write-after-read); the staging writes -> the host.
     subresourceBarrier(cmd, image, mip, layer, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout,
                        VK_PIPELINE_STAGE_2_COPY_BIT, 0, kImageUseStages, 0);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                  VK_ACCESS_2_HOST_READ_BIT);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     device.endOneTime(cmd);
     std::memcpy(out.data(), staging.data, out.size());
     destroyBuffer(device, staging);
     return out;
 }
 
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                   VkAccessFlags2 dstAccess) {
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
     VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
     mb.srcStageMask = src;
     mb.srcAccessMask = srcAccess;
@@ -337,9 +357,9 @@ void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStage
     vkCmdPipelineBarrier2(cmd, &di);
 }
 
-void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                  VkAccessFlags2 dstAccess) {
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
     rangeBarrier(cmd, image, {aspect, 0, 1, 0, 1}, from, to, src, srcAccess, dst, dstAccess);
 }
 
@@ -350,12 +370,11 @@ void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& bu
     vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
 }
 
-
-void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount, VkImageLayout from,
-                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                  VkAccessFlags2 dstAccess) {
-    rangeBarrier(cmd, image.image, {image.aspect, mip, mipCount, 0, image.layers}, from, to, src, srcAccess, dst,
-                 dstAccess);
+void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount,
+                  VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess) {
+    rangeBarrier(cmd, image.image, {image.aspect, mip, mipCount, 0, image.layers}, from, to, src, srcAccess,
+                 dst, dstAccess);
 }
 
 void firstUseBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout layout, VkPipelineStageFlags2 src,

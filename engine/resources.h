@@ -49,7 +49,8 @@ struct Image {
     VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
     uint32_t mips = 1, layers = 1;
     Lifetime lifetime = Lifetime::PerFrame;
-    std::vector<VkImageView> mipViews;   // mipViews[m]: mip m, every layer (type as `view`); empty when mips == 1
+    std::vector<VkImageView>
+        mipViews; // mipViews[m]: mip m, every layer (type as `view`); empty when mips == 1
     std::vector<VkImageView> layerViews; // layerViews[m * layers + l]: mip m of layer l (2D); on request
 
     uint32_t mipWidth(uint32_t mip) const { return std::max(1u, width >> mip); }
@@ -61,7 +62,7 @@ struct ImageDesc {
     uint32_t width = 1, height = 1;
     VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
-    uint32_t mips = 1;   // 0: the full chain down to 1x1
+    uint32_t mips = 1; // 0: the full chain down to 1x1
     uint32_t layers = 1;
     Lifetime lifetime = Lifetime::PerFrame;
     bool layerViews = false; // also create a 2D view per (mip, layer)
@@ -69,9 +70,8 @@ struct ImageDesc {
     const char* name = "image";
 };
 
-constexpr VkBufferUsageFlags kStorageBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkBufferUsageFlags kStorageBufferUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
 // size 0 is allowed and becomes a 16-byte buffer, so empty scenes still bind valid descriptors.
 Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name);
@@ -79,17 +79,19 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
 Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
                           uint32_t fill = 0);
 // Copies `bytes` from `offset` of any buffer to the host through a staging buffer (waits for the queue).
-std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes);
+std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset,
+                                VkDeviceSize bytes);
 void destroyBuffer(const Device& device, Buffer& buffer);
 // Grows (recreates) when smaller than `size`; contents are not kept. Returns true when recreated.
-bool ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage, const char* name);
+bool ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage,
+                  const char* name);
 inline void upload(Buffer& buffer, const void* src, size_t bytes, size_t offset = 0) {
     std::memcpy(static_cast<char*>(buffer.data) + offset, src, bytes);
 }
 
 // One mip, one layer (the simple images: G-buffer, outputs), a PerFrame image.
-Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-                  const char* name);
+Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format,
+                  VkImageUsageFlags usage, const char* name);
 // Mips and layers. Aborts naming the image when the device cannot hold it (dimension, layer limits).
 // Transfer usage is added (uploadImage / readImage). The image starts in UNDEFINED layout.
 Image createImage(const Device& device, const ImageDesc& desc);
@@ -117,30 +119,32 @@ constexpr VkPipelineStageFlags2 kBufferUseStages =
     VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT |
     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
     VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-constexpr VkAccessFlags2 kBufferWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
+constexpr VkAccessFlags2 kBufferWrites =
+    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT;
 constexpr VkAccessFlags2 kBufferReads = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
                                         VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT |
                                         VK_ACCESS_2_TRANSFER_READ_BIT;
 // The frame's output images (tone-mapped, HDR) -> the host's next use after record(): copies and blits,
 // sampled or storage reads in a fragment or compute shader. Images are never host-mapped.
-constexpr VkPipelineStageFlags2 kOutputReaderStages =
-    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags2 kOutputReaderStages = VK_PIPELINE_STAGE_2_TRANSFER_BIT |
+                                                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                                                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 constexpr VkAccessFlags2 kOutputReads =
     VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
 
 // Synchronisation2 helpers. memoryBarrier orders one hazard: writes `srcAccess` of stages `src` before
 // accesses `dstAccess` of stages `dst` (say which resource at the call). fullBarrier covers all prior and
 // later memory work of the given stages.
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                   VkAccessFlags2 dstAccess);
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);
 void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStageFlags2 dst);
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
-                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                  VkAccessFlags2 dstAccess);
+                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);
 // Mips [mip, mip + mipCount) of every layer.
-void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount, VkImageLayout from,
-                  VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dst,
-                  VkAccessFlags2 dstAccess);
+void imageBarrier(VkCommandBuffer cmd, const Image& image, uint32_t mip, uint32_t mipCount,
+                  VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
+                  VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);
 // An image's first barrier in a frame, by lifetime: a PerFrame image is discarded (UNDEFINED -> layout,
 // the previous frame's accesses in `src` ordered before the transition); a Persistent image keeps its
 // contents (layout -> layout: the previous frame's writes `srcAccess` made visible to `dstAccess`).

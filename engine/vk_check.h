@@ -10,12 +10,12 @@ namespace ml {
 const char* vkResultName(VkResult result);
 }
 
-#define ML_VK_CHECK(call)                                                                                   \
-    do {                                                                                                    \
-        VkResult vk_check_result_ = (call);                                                                 \
-        if (vk_check_result_ != VK_SUCCESS) {                                                               \
-            std::fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #call,                       \
-                         ::ml::vkResultName(vk_check_result_));                                             \
-            std::abort();                                                                                   \
-        }                                                                                                   \
+#define ML_VK_CHECK(call)                                                                                    \
+    do {                                                                                                     \
+        VkResult vk_check_result_ = (call);                                                                  \
+        if (vk_check_result_ != VK_SUCCESS) {                                                                \
+            std::fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #call,                        \
+                         ::ml::vkResultName(vk_check_result_));                                              \
+            std::abort();                                                                                    \
+        }                                                                                                    \
     } while (0)

@@ -15,10 +15,10 @@ struct FlyInput {
 
 class FlyCamera {
   public:
-    static constexpr float kSpeed = 8.0f;            // metres per second (a street crossing in ~2 s)
+    static constexpr float kSpeed = 8.0f; // metres per second (a street crossing in ~2 s)
     static constexpr float kFastFactor = 5.0f;
     static constexpr float kRadiansPerPixel = 0.004f;
-    static constexpr float kMaxPitch = 1.4835f;      // 85 degrees
+    static constexpr float kMaxPitch = 1.4835f; // 85 degrees
 
     static FlyCamera lookingAt(glm::vec3 position, glm::vec3 target);
     void update(const FlyInput& input, float seconds);

@@ -78,8 +78,8 @@ Result<void> updateScene(Module& module, const Scene& scene, const SceneBinding&
     return {};
 }
 
-Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding&, StaticMethod method,
-                                   uint32_t resolution) {
+Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const SceneBinding&,
+                                   StaticMethod method, uint32_t resolution) {
     auto t0 = std::chrono::steady_clock::now();
     auto baked = module.bakeStaticShadows(method, resolution, [&](uint32_t done, uint32_t total) {
         if (done % 16 == 0 || done == total)

@@ -30,6 +30,7 @@ Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, con
                                 const std::string& sceneName, uint32_t sceneLights, uint32_t seed);
 
 // PNG writing for RGBA8 rows (top row first). One-line error naming the path.
-Result<void> writePng(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgba);
+Result<void> writePng(const std::string& path, uint32_t width, uint32_t height,
+                      const std::vector<uint8_t>& rgba);
 
 } // namespace ml

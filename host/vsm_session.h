@@ -13,8 +13,8 @@ struct VsmSessionOptions {
     std::string scene = "night-city";
     uint32_t lights = 256, seed = 1, width = 320, height = 180;
     CameraPath path = CameraPath::Drive;
-    std::string bake;        // optional bake file: its lights' maps hold dynamic casters only
-    ModuleOptions module;    // vsm settings, timing, culling
+    std::string bake;     // optional bake file: its lights' maps hold dynamic casters only
+    ModuleOptions module; // vsm settings, timing, culling
     double secondsPerFrame = 1.0 / 30.0;
 };
 

@@ -8,7 +8,9 @@ namespace ml {
 namespace {
 constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 constexpr auto kWrite = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-Descriptor sampled(VkImageView view) { return Descriptor(Image{.view = view}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL); }
+Descriptor sampled(VkImageView view) {
+    return Descriptor(Image{.view = view}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+}
 } // namespace
 
 void EvaluatePass::create(const Device& device, bool hdrOnly) {
@@ -25,10 +27,10 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer cmd, Profiler& profil
                           const ShadowInputs& s, VkImageView hdr, VkImageView output) const {
     profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
         dispatch(d, c, program_, in.width, in.height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
-                  sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
-                  *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
-                  *s.vsmPool});
+                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
+                  sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),
+                  Descriptor(Image{.view = output}), *s.staticWords, *s.shadowRecords, *s.vsmConstants,
+                  *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool});
         // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
         // overwrite the output order their writes themselves.
         memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
@@ -50,7 +52,8 @@ void StatisticsPass::record(const Device& d, VkCommandBuffer cmd, Profiler& prof
     profiler.run(cmd, Pass::Statistics, [&](VkCommandBuffer c) {
         dispatch(d, c, program_, in.width, in.height, NoPush{},
                  {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
-        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters
+        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT,
+                      VK_ACCESS_2_HOST_READ_BIT); // counters
     });
 }
 

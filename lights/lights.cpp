@@ -6,16 +6,20 @@
 namespace ml {
 
 namespace {
-bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 } // namespace
 
 Result<void> validateLight(const LightDesc& l) {
-    if (uint32_t(l.kind) > uint32_t(LightKind::Directional)) return fail("light kind is not spot, point or directional");
+    if (uint32_t(l.kind) > uint32_t(LightKind::Directional))
+        return fail("light kind is not spot, point or directional");
     if (!finite3(l.position)) return fail("light position is not finite");
     if (!finite3(l.direction)) return fail("light direction is not finite");
     if (!finite3(l.color)) return fail("light colour is not finite");
     if (l.color.x < 0 || l.color.y < 0 || l.color.z < 0) return fail("light colour is negative");
-    if (!std::isfinite(l.intensity) || l.intensity < 0) return fail("light intensity is negative or not finite");
+    if (!std::isfinite(l.intensity) || l.intensity < 0)
+        return fail("light intensity is negative or not finite");
     if (l.kind != LightKind::Directional) {
         if (!std::isfinite(l.range) || l.range <= 0) return fail("light range must be finite and > 0");
     }

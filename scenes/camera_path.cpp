@@ -13,9 +13,12 @@ Result<CameraPath> parseCameraPath(const std::string& name) {
 
 const char* cameraPathName(CameraPath path) {
     switch (path) {
-    case CameraPath::Static: return "static";
-    case CameraPath::Drive: return "drive";
-    case CameraPath::Orbit: return "orbit";
+    case CameraPath::Static:
+        return "static";
+    case CameraPath::Drive:
+        return "drive";
+    case CameraPath::Orbit:
+        return "orbit";
     }
     return "?";
 }

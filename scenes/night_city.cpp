@@ -46,9 +46,9 @@ constexpr float kSidewalk = 3.0f; // lots start this far inside the block edge
 constexpr float kCurb = 0.15f;    // sidewalk slab height
 constexpr float kLane = 3.0f;     // car loop distance outside its block's edge
 constexpr uint32_t kMaxLights = 4096;
-constexpr uint32_t kFocusBlocks = 2;  // high-street blocks (from the west end) in the default view
-constexpr uint32_t kFocusAll = 240;    // up to this many lights (besides cars and moon) all on the high street
-constexpr float kFocusShare = 0.5f;   // and this share of the lights beyond
+constexpr uint32_t kFocusBlocks = 2; // high-street blocks (from the west end) in the default view
+constexpr uint32_t kFocusAll = 240;  // up to this many lights (besides cars and moon) all on the high street
+constexpr float kFocusShare = 0.5f;  // and this share of the lights beyond
 const glm::vec3 kUp(0.0f, 1.0f, 0.0f);
 
 // Shared meshes (indices into scene.meshes).
@@ -112,8 +112,7 @@ template <class F> void spread(uint32_t count, uint32_t segments, Pcg32& rng, F&
 }
 
 // spread() over a subset of segments (their indices in `ids`).
-template <class F>
-void spreadOver(uint32_t count, const std::vector<uint32_t>& ids, Pcg32& rng, F&& place) {
+template <class F> void spreadOver(uint32_t count, const std::vector<uint32_t>& ids, Pcg32& rng, F&& place) {
     spread(count, uint32_t(ids.size()), rng, [&](uint32_t s, float t) { place(ids[s], t); });
 }
 
@@ -152,7 +151,9 @@ class CityBuilder {
                 facades_.push_back({c.start + c.along * (0.5f * c.length), -c.street, c.length, 10.0f});
         }
         findFocus();
-        focusFraction_ = rest <= kFocusAll ? 1.0f : (float(kFocusAll) + kFocusShare * float(rest - kFocusAll)) / float(rest);
+        focusFraction_ = rest <= kFocusAll
+                             ? 1.0f
+                             : (float(kFocusAll) + kFocusShare * float(rest - kFocusAll)) / float(rest);
         addLamps(lamps);
         addFloods(floods);
         addSigns(signs);
@@ -356,14 +357,16 @@ class CityBuilder {
     void findFocus() {
         const uint32_t row = opt_.blocksZ / 2, focusX = std::min(kFocusBlocks, opt_.blocksX);
         for (uint32_t bx = 0; bx < focusX; ++bx) {
-            if (row > 0) focusCurbs_.push_back(((row - 1) * opt_.blocksX + bx) * 4 + 2); // south side of the street
+            if (row > 0)
+                focusCurbs_.push_back(((row - 1) * opt_.blocksX + bx) * 4 + 2); // south side of the street
             if (row < opt_.blocksZ) focusCurbs_.push_back((row * opt_.blocksX + bx) * 4 + 0);
         }
         const float z = highStreetZ(), xEnd = min_.x + float(focusX) * kPitch + kStreet;
         for (uint32_t i = 0; i < facades_.size(); ++i) {
             const Facade& f = facades_[i];
             bool faces = std::abs(f.normal.z) > 0.5f && (z - f.base.z) * f.normal.z > 0.0f;
-            if (faces && std::abs(f.base.z - z) < 0.5f * kStreet + 15.0f && f.base.x < xEnd) focusFacades_.push_back(i);
+            if (faces && std::abs(f.base.z - z) < 0.5f * kStreet + 15.0f && f.base.x < xEnd)
+                focusFacades_.push_back(i);
         }
         allCurbs_.resize(curbs_.size());
         std::iota(allCurbs_.begin(), allCurbs_.end(), 0u);
@@ -436,7 +439,8 @@ class CityBuilder {
             if (!near) {
                 poles[s].push_back(t * c.length);
                 addInstance(kBoxMesh, boxAt(foot, {0.16f, 6.0f, 0.16f}), glm::vec3(0.2f, 0.21f, 0.22f));
-                addInstance(kBoxMesh, upright(foot + c.street * 0.65f + kUp * 5.9f, c.street, 0.1f, 0.1f, 1.3f),
+                addInstance(kBoxMesh,
+                            upright(foot + c.street * 0.65f + kUp * 5.9f, c.street, 0.1f, 0.1f, 1.3f),
                             glm::vec3(0.2f, 0.21f, 0.22f));
                 // Street furniture in the pool: a bench along the curb and a bollard towards the street,
                 // so each lamp's pool holds casters (closed boxes) whose shadows the static methods keep.

@@ -22,7 +22,7 @@ PKGS=(build-essential cmake pkg-config git
       glslang-tools spirv-tools
       libglfw3-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libmeshoptimizer-dev
       libgtest-dev libgmock-dev libbenchmark-dev libembree-dev
-      xvfb xauth xdotool gnuplot-nox)
+      xvfb xauth xdotool gnuplot-nox clang-format python3)
 
 BACKPORTS=/etc/apt/sources.list.d/manylights-bookworm-backports.list
 stamp=/var/lib/manylights-setup.ok

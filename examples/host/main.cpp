@@ -21,12 +21,12 @@
 #ifdef VK_CHECK
 #error "engine/manylights.h defines VK_CHECK, which clashes with host engines' own"
 #endif
-#define VK_CHECK(call)                                                                                    \
-    do {                                                                                                    \
-        if (VkResult r_ = (call); r_ != VK_SUCCESS) {                                                       \
-            std::fprintf(stderr, "host_example: %s failed (%d)\n", #call, int(r_));                         \
-            std::exit(1);                                                                                   \
-        }                                                                                                   \
+#define VK_CHECK(call)                                                                                       \
+    do {                                                                                                     \
+        if (VkResult r_ = (call); r_ != VK_SUCCESS) {                                                        \
+            std::fprintf(stderr, "host_example: %s failed (%d)\n", #call, int(r_));                          \
+            std::exit(1);                                                                                    \
+        }                                                                                                    \
     } while (0)
 
 namespace {
@@ -74,9 +74,9 @@ HostImage makeImage(VkDevice dev, VkPhysicalDevice pd, VkFormat format, VkImageU
     return h;
 }
 
-void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
-             VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-             VkAccessFlags2 dstAccess) {
+void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+             VkImageLayout to, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+             VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
     VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
     b.srcStageMask = srcStage;
     b.srcAccessMask = srcAccess;
@@ -94,7 +94,8 @@ void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkIm
 }
 
 // An axis-aligned box as 6 quads (CCW from outside), or just its top face for the ground.
-void addBox(std::vector<ml::MeshVertex>& v, std::vector<uint32_t>& idx, glm::vec3 lo, glm::vec3 hi, bool topOnly) {
+void addBox(std::vector<ml::MeshVertex>& v, std::vector<uint32_t>& idx, glm::vec3 lo, glm::vec3 hi,
+            bool topOnly) {
     for (int axis = 0; axis < 3; ++axis)
         for (int side = 0; side < 2; ++side) {
             if (topOnly && !(axis == 1 && side == 1)) continue;
@@ -118,42 +119,65 @@ void addBox(std::vector<ml::MeshVertex>& v, std::vector<uint32_t>& idx, glm::vec
 // (reversed Z: GREATER, cleared to 0), vertices as ml::MeshVertex, back faces culled (CCW front faces).
 VkPipeline makePipeline(VkDevice dev, VkShaderModule vs, VkShaderModule fs, VkPipelineLayout layout) {
     using S = VkPipelineShaderStageCreateInfo;
-    S stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
-                    .module = vs, .pName = "main"},
-                   {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-                    .module = fs, .pName = "main"}};
+    S stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                    .stage = VK_SHADER_STAGE_VERTEX_BIT,
+                    .module = vs,
+                    .pName = "main"},
+                   {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                    .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+                    .module = fs,
+                    .pName = "main"}};
     VkVertexInputBindingDescription binding{0, sizeof(ml::MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
     VkVertexInputAttributeDescription attrs[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
                                                   {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
-    VkPipelineVertexInputStateCreateInfo vi{.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-                                            .vertexBindingDescriptionCount = 1, .pVertexBindingDescriptions = &binding,
-                                            .vertexAttributeDescriptionCount = 2, .pVertexAttributeDescriptions = attrs};
-    VkPipelineInputAssemblyStateCreateInfo ia{.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+    VkPipelineVertexInputStateCreateInfo vi{.sType =
+                                                VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+                                            .vertexBindingDescriptionCount = 1,
+                                            .pVertexBindingDescriptions = &binding,
+                                            .vertexAttributeDescriptionCount = 2,
+                                            .pVertexAttributeDescriptions = attrs};
+    VkPipelineInputAssemblyStateCreateInfo ia{.sType =
+                                                  VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
                                               .topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST};
     VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
     VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
     VkPipelineViewportStateCreateInfo vp{.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
-                                         .viewportCount = 1, .pViewports = &viewport, .scissorCount = 1,
+                                         .viewportCount = 1,
+                                         .pViewports = &viewport,
+                                         .scissorCount = 1,
                                          .pScissors = &scissor};
-    VkPipelineRasterizationStateCreateInfo rs{.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+    VkPipelineRasterizationStateCreateInfo rs{.sType =
+                                                  VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
                                               .cullMode = VK_CULL_MODE_BACK_BIT,
-                                              .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE, .lineWidth = 1.0f};
+                                              .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
+                                              .lineWidth = 1.0f};
     VkPipelineMultisampleStateCreateInfo ms{.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
                                             .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT};
-    VkPipelineDepthStencilStateCreateInfo ds{.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
-                                             .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE,
+    VkPipelineDepthStencilStateCreateInfo ds{.sType =
+                                                 VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+                                             .depthTestEnable = VK_TRUE,
+                                             .depthWriteEnable = VK_TRUE,
                                              .depthCompareOp = VK_COMPARE_OP_GREATER};
     VkPipelineColorBlendAttachmentState blend[2]{{.colorWriteMask = 0xF}, {.colorWriteMask = 0xF}};
     VkPipelineColorBlendStateCreateInfo cb{.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
-                                           .attachmentCount = 2, .pAttachments = blend};
+                                           .attachmentCount = 2,
+                                           .pAttachments = blend};
     VkFormat colorFormats[2] = {kNormalFormat, kAlbedoFormat};
     VkPipelineRenderingCreateInfo rci{.sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
-                                      .colorAttachmentCount = 2, .pColorAttachmentFormats = colorFormats,
+                                      .colorAttachmentCount = 2,
+                                      .pColorAttachmentFormats = colorFormats,
                                       .depthAttachmentFormat = VK_FORMAT_D32_SFLOAT};
-    VkGraphicsPipelineCreateInfo gci{.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, .pNext = &rci,
-                                     .stageCount = 2, .pStages = stages, .pVertexInputState = &vi,
-                                     .pInputAssemblyState = &ia, .pViewportState = &vp, .pRasterizationState = &rs,
-                                     .pMultisampleState = &ms, .pDepthStencilState = &ds, .pColorBlendState = &cb,
+    VkGraphicsPipelineCreateInfo gci{.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+                                     .pNext = &rci,
+                                     .stageCount = 2,
+                                     .pStages = stages,
+                                     .pVertexInputState = &vi,
+                                     .pInputAssemblyState = &ia,
+                                     .pViewportState = &vp,
+                                     .pRasterizationState = &rs,
+                                     .pMultisampleState = &ms,
+                                     .pDepthStencilState = &ds,
+                                     .pColorBlendState = &cb,
                                      .layout = layout};
     VkPipeline pipeline;
     VK_CHECK(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline));
@@ -184,7 +208,8 @@ int main() {
     uint32_t groundIndices = uint32_t(indices.size());
     addBox(verts, indices, {-0.5f, 0, -0.5f}, {0.5f, 1, 0.5f}, false);
     ml::MeshDesc mesh{verts, indices, false, "ground+box"};
-    if (auto m = module.addMesh(mesh); !m || !module.addInstance(m.value(), glm::mat4(1.0f), glm::vec3(0.5f), false)) {
+    if (auto m = module.addMesh(mesh);
+        !m || !module.addInstance(m.value(), glm::mat4(1.0f), glm::vec3(0.5f), false)) {
         std::fprintf(stderr, "host_example: addMesh/addInstance failed\n");
         return 1;
     }
@@ -192,7 +217,8 @@ int main() {
     spot.position = {0, 5, 0};
     spot.range = 12;
     spot.intensity = 30;
-    if (auto id = module.addLight(spot); !id) return std::fprintf(stderr, "host_example: %s\n", id.error().c_str()), 1;
+    if (auto id = module.addLight(spot); !id)
+        return std::fprintf(stderr, "host_example: %s\n", id.error().c_str()), 1;
     // The host's own camera matrices: a right-handed view and a reversed-Z projection into Vulkan clip
     // space (near -> 1, far -> 0: near and far swapped in perspectiveRH_ZO; y flipped). Its G-buffer is
     // drawn with the same matrices, cleared to depth 0 and tested with GREATER.
@@ -210,8 +236,9 @@ int main() {
     const VkImageUsageFlags colorUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     HostImage normal = makeImage(dev, pd, kNormalFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
     HostImage albedo = makeImage(dev, pd, kAlbedoFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
-    HostImage output = makeImage(dev, pd, VK_FORMAT_R8G8B8A8_UNORM,
-                                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    HostImage output =
+        makeImage(dev, pd, VK_FORMAT_R8G8B8A8_UNORM,
+                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
     if (auto r = module.setTargets({kWidth, kHeight, depth.view, normal.view, albedo.view, output.view}); !r)
         return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
 
@@ -221,9 +248,10 @@ int main() {
         VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
         VkMemoryRequirements req;
         vkGetBufferMemoryRequirements(dev, buf, &req);
-        VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, req.size,
-                                memoryType(pd, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)};
+        VkMemoryAllocateInfo ai{
+            VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, req.size,
+            memoryType(pd, req.memoryTypeBits,
+                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)};
         VK_CHECK(vkAllocateMemory(dev, &ai, nullptr, &mem));
         VK_CHECK(vkBindBufferMemory(dev, buf, mem, 0));
         void* p = nullptr;
@@ -233,10 +261,12 @@ int main() {
     const size_t vbytes = verts.size() * sizeof(ml::MeshVertex), ibytes = indices.size() * 4;
     VkBuffer geo, readback;
     VkDeviceMemory geoMem, readbackMem;
-    uint8_t* g = makeBuffer(vbytes + ibytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, geo, geoMem);
+    uint8_t* g = makeBuffer(
+        vbytes + ibytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, geo, geoMem);
     std::memcpy(g, verts.data(), vbytes);
     std::memcpy(g + vbytes, indices.data(), ibytes);
-    const uint8_t* pixels = makeBuffer(kWidth * kHeight * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, readback, readbackMem);
+    const uint8_t* pixels =
+        makeBuffer(kWidth * kHeight * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, readback, readbackMem);
 
     // The host's G-buffer pipeline: dynamic rendering, two colour attachments and depth (LESS).
     auto shader = [&](const uint32_t* code, size_t bytes) {
@@ -271,14 +301,16 @@ int main() {
     // point's pixel through the host's own view-projection. The worst frame counts.
     auto luminance = [&](glm::vec3 world) {
         glm::vec4 clip = viewProj * glm::vec4(world, 1.0f);
-        int x = int((clip.x / clip.w * 0.5f + 0.5f) * kWidth), y = int((clip.y / clip.w * 0.5f + 0.5f) * kHeight);
+        int x = int((clip.x / clip.w * 0.5f + 0.5f) * kWidth),
+            y = int((clip.y / clip.w * 0.5f + 0.5f) * kHeight);
         const uint8_t* p = pixels + (size_t(y) * kWidth + size_t(x)) * 4;
         return (p[0] + p[1] + p[2]) / 3.0f;
     };
     float lit = 255.0f, boxTop = 255.0f, dark = 0.0f;
     const auto kColor = VK_IMAGE_ASPECT_COLOR_BIT;
     const auto kAttach = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const auto kDepthStages = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    const auto kDepthStages =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
     for (int frame = 0; frame < 3; ++frame) {
         VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
         bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -287,10 +319,11 @@ int main() {
         const auto kRead = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
         barrier(cmd, depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, kRead, 0, kDepthStages,
-                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
         for (VkImage img : {normal.image, albedo.image})
-            barrier(cmd, img, kColor, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kRead, 0,
-                    kAttach, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+            barrier(cmd, img, kColor, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                    kRead, 0, kAttach, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
         VkRenderingAttachmentInfo colors[2];
         for (int i = 0; i < 2; ++i) {
             colors[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
@@ -316,7 +349,10 @@ int main() {
         VkDeviceSize zero = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &geo, &zero);
         vkCmdBindIndexBuffer(cmd, geo, vbytes, VK_INDEX_TYPE_UINT32);
-        struct { glm::mat4 viewProj; glm::vec4 albedo; } draw{viewProj, {0.5f, 0.5f, 0.5f, 1}};
+        struct {
+            glm::mat4 viewProj;
+            glm::vec4 albedo;
+        } draw{viewProj, {0.5f, 0.5f, 0.5f, 1}};
         vkCmdPushConstants(cmd, layout, push.stageFlags, 0, sizeof(draw), &draw);
         vkCmdDrawIndexed(cmd, groundIndices, 1, 0, 0, 0);
         draw.albedo = {0.8f, 0.2f, 0.1f, 1};
@@ -328,14 +364,17 @@ int main() {
                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kDepthStages,
                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, kRead, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
         for (VkImage img : {normal.image, albedo.image})
-            barrier(cmd, img, kColor, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                    kAttach, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, kRead, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+            barrier(cmd, img, kColor, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kAttach, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                    kRead, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
         barrier(cmd, output.image, kColor, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                 VK_PIPELINE_STAGE_2_COPY_BIT, 0, kRead, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-        if (auto r = module.record(cmd); !r) return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
+        if (auto r = module.record(cmd); !r)
+            return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
         // The host reads the output back (a real engine would blit or sample it).
-        barrier(cmd, output.image, kColor, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kRead,
-                VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        barrier(cmd, output.image, kColor, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                kRead, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferImageCopy copy{};
         copy.imageSubresource = {kColor, 0, 0, 1};
         copy.imageExtent = {kWidth, kHeight, 1};
@@ -354,7 +393,8 @@ int main() {
     module.collect();
     size_t reports = module.takeReports().size();
 
-    std::printf("host_example: worst of 3 frames: lit %.1f, box top %.1f, dark %.1f (of 255), %zu reports, %u validation messages\n",
+    std::printf("host_example: worst of 3 frames: lit %.1f, box top %.1f, dark %.1f (of 255), %zu reports, "
+                "%u validation messages\n",
                 lit, boxTop, dark, reports, ml::validationErrors());
 
     vkDestroyFence(dev, fence, nullptr);
@@ -374,7 +414,7 @@ int main() {
 
     const char* why = lit < 60.0f              ? "the ground under the spot light is not lit"
                       : boxTop < 60.0f         ? "the box top under the spot light is not lit"
-                      : dark * 2.5f > lit     ? "the ground outside the cone is not dark"
+                      : dark * 2.5f > lit      ? "the ground outside the cone is not dark"
                       : reports == 0           ? "no frame report arrived"
                       : ml::validationErrors() ? "validation messages"
                                                : nullptr;

@@ -51,9 +51,9 @@ ML_STRUCT(GpuInstance) {
 // A light's baked static shadow (shadows/static/static_method.h): where its words start in the one
 // static-shadow buffer, and the light frustum they were rendered with. 96 bytes.
 ML_STRUCT(GpuShadowRecord) {
-    mat4 view;     // world -> light view (the light looks down -Z)
-    vec4 frustum;  // x tan(fov / 2), y near, z far, w log(far / near)
-    uvec4 info;    // x method (StaticMethod), y base word, z resolution, w PCF radius (0 = one tap)
+    mat4 view;    // world -> light view (the light looks down -Z)
+    vec4 frustum; // x tan(fov / 2), y near, z far, w log(far / near)
+    uvec4 info;   // x method (StaticMethod), y base word, z resolution, w PCF radius (0 = one tap)
 };
 
 // Per-frame constants (uniform buffer), 240 bytes.
@@ -78,10 +78,10 @@ ML_STRUCT(ClusterBounds) {
 
 // Frame statistics written by the passes with atomics, read back one frame later.
 ML_STRUCT(FrameCounters) {
-    uint poolCursor;        // light-list entries allocated
-    uint overflowClusters;  // clusters whose list did not fit in the pool
-    uint occupiedClusters;  // clusters holding at least one pixel
-    uint maxClusterLights;  // longest list (including overflowed ones' true length)
+    uint poolCursor;           // light-list entries allocated
+    uint overflowClusters;     // clusters whose list did not fit in the pool
+    uint occupiedClusters;     // clusters holding at least one pixel
+    uint maxClusterLights;     // longest list (including overflowed ones' true length)
     uint64_t clusterLightsSum; // sum of list lengths over occupied clusters
     uint64_t surfacePixels;    // pixels with geometry
     uint64_t evaluatedSum;     // sum over surface pixels of lights evaluated

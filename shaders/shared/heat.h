@@ -17,11 +17,32 @@ ML_FN vec3 heatColor(uint count) {
     if (c >= 128.0f) return vec3(1.0f, 1.0f, 1.0f);
     float lo = 1.0f, hi = 4.0f;
     vec3 a = vec3(0.0f, 0.0f, 0.35f), b = vec3(0.0f, 0.25f, 1.0f);
-    if (c >= 64.0f) { lo = 64.0f; hi = 128.0f; a = vec3(1.0f, 0.05f, 0.0f); b = vec3(1.0f, 1.0f, 1.0f); }
-    else if (c >= 32.0f) { lo = 32.0f; hi = 64.0f; a = vec3(1.0f, 0.9f, 0.0f); b = vec3(1.0f, 0.05f, 0.0f); }
-    else if (c >= 16.0f) { lo = 16.0f; hi = 32.0f; a = vec3(0.1f, 0.85f, 0.1f); b = vec3(1.0f, 0.9f, 0.0f); }
-    else if (c >= 8.0f) { lo = 8.0f; hi = 16.0f; a = vec3(0.0f, 0.85f, 0.9f); b = vec3(0.1f, 0.85f, 0.1f); }
-    else if (c >= 4.0f) { lo = 4.0f; hi = 8.0f; a = vec3(0.0f, 0.25f, 1.0f); b = vec3(0.0f, 0.85f, 0.9f); }
+    if (c >= 64.0f) {
+        lo = 64.0f;
+        hi = 128.0f;
+        a = vec3(1.0f, 0.05f, 0.0f);
+        b = vec3(1.0f, 1.0f, 1.0f);
+    } else if (c >= 32.0f) {
+        lo = 32.0f;
+        hi = 64.0f;
+        a = vec3(1.0f, 0.9f, 0.0f);
+        b = vec3(1.0f, 0.05f, 0.0f);
+    } else if (c >= 16.0f) {
+        lo = 16.0f;
+        hi = 32.0f;
+        a = vec3(0.1f, 0.85f, 0.1f);
+        b = vec3(1.0f, 0.9f, 0.0f);
+    } else if (c >= 8.0f) {
+        lo = 8.0f;
+        hi = 16.0f;
+        a = vec3(0.0f, 0.85f, 0.9f);
+        b = vec3(0.1f, 0.85f, 0.1f);
+    } else if (c >= 4.0f) {
+        lo = 4.0f;
+        hi = 8.0f;
+        a = vec3(0.0f, 0.25f, 1.0f);
+        b = vec3(0.0f, 0.85f, 0.9f);
+    }
     float t = (c - lo) / (hi - lo);
     return a + (b - a) * t;
 }

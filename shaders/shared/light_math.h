@@ -19,8 +19,12 @@ using vec3 = glm::vec3;
 using std::abs;
 using std::floor;
 using std::sqrt;
-inline float max(float a, float b) { return a > b ? a : b; }
-inline float min(float a, float b) { return a < b ? a : b; }
+inline float max(float a, float b) {
+    return a > b ? a : b;
+}
+inline float min(float a, float b) {
+    return a < b ? a : b;
+}
 #else
 #define ML_FN
 #define ML_PRECISE precise
@@ -55,8 +59,16 @@ ML_FN ConePlanes conePlanes(GpuLight L) {
     ML_PRECISE float e2x = dy * e1z - dz * e1y, e2y = dz * e1x - dx * e1z, e2z = dx * e1y - dy * e1x;
     for (int k = 0; k < 8; ++k) {
         // cos and sin of k * 45 degrees, as literals so both languages use the same values.
-        float ck = (k == 0) ? 1.0f : (k == 4) ? -1.0f : (k == 2 || k == 6) ? 0.0f : (k == 1 || k == 7) ? 0.70710678f : -0.70710678f;
-        float sk = (k == 2) ? 1.0f : (k == 6) ? -1.0f : (k == 0 || k == 4) ? 0.0f : (k == 1 || k == 3) ? 0.70710678f : -0.70710678f;
+        float ck = (k == 0)             ? 1.0f
+                   : (k == 4)           ? -1.0f
+                   : (k == 2 || k == 6) ? 0.0f
+                   : (k == 1 || k == 7) ? 0.70710678f
+                                        : -0.70710678f;
+        float sk = (k == 2)             ? 1.0f
+                   : (k == 6)           ? -1.0f
+                   : (k == 0 || k == 4) ? 0.0f
+                   : (k == 1 || k == 3) ? 0.70710678f
+                                        : -0.70710678f;
         ML_PRECISE float nx = sinA * dx - cosA * (ck * e1x + sk * e2x);
         ML_PRECISE float ny = sinA * dy - cosA * (ck * e1y + sk * e2y);
         ML_PRECISE float nz = sinA * dz - cosA * (ck * e1z + sk * e2z);
@@ -82,14 +94,16 @@ ML_FN bool lightTouchesBoxWith(GpuLight L, ConePlanes planes, vec3 lo, vec3 hi) 
     ML_PRECISE float radius = sqrt(ex * ex + ey * ey + ez * ez) * 1.0001f + 1e-4f;
     ML_PRECISE float vx = lo.x + ex - p.x, vy = lo.y + ey - p.y, vz = lo.z + ez - p.z;
     ML_PRECISE float vlen2 = vx * vx + vy * vy + vz * vz;
-    ML_PRECISE float v1 = vx * L.directionCosOuter.x + vy * L.directionCosOuter.y + vz * L.directionCosOuter.z;
+    ML_PRECISE float v1 =
+        vx * L.directionCosOuter.x + vy * L.directionCosOuter.y + vz * L.directionCosOuter.z;
     ML_PRECISE float cosA = L.directionCosOuter.w, sinA = L.colorSinOuter.w;
     ML_PRECISE float distToCone = cosA * sqrt(max(vlen2 - v1 * v1, 0.0f)) - v1 * sinA;
     if (distToCone > radius) return false;
     if (cosA >= 0.0f && v1 < -radius) return false;
     for (int k = 0; k < 8; ++k) {
         ML_PRECISE float nx = planes.n[k].x, ny = planes.n[k].y, nz = planes.n[k].z;
-        ML_PRECISE float far = nx * ((nx > 0.0f ? hi.x : lo.x) - p.x) + ny * ((ny > 0.0f ? hi.y : lo.y) - p.y) +
+        ML_PRECISE float far = nx * ((nx > 0.0f ? hi.x : lo.x) - p.x) +
+                               ny * ((ny > 0.0f ? hi.y : lo.y) - p.y) +
                                nz * ((nz > 0.0f ? hi.z : lo.z) - p.z);
         if (far < -1e-3f) return false; // 1 mm of slack against rounding
     }
@@ -210,17 +224,23 @@ ML_FN float linearDepth(float d, vec4 depthParams) {
 
 // A depth-buffer value that holds geometry: the reversed-Z buffer is cleared to 0 (the far plane and
 // beyond, i.e. the sky).
-ML_FN bool hasSurface(float d) { return d > 0.0f; }
+ML_FN bool hasSurface(float d) {
+    return d > 0.0f;
+}
 
-// World position of pixel (px, py) at depth-buffer value d (reversed Z: no cancellation near d = 1). The matrix product is written out so both
-// languages sum the terms in the same order.
+// World position of pixel (px, py) at depth-buffer value d (reversed Z: no cancellation near d = 1). The
+// matrix product is written out so both languages sum the terms in the same order.
 ML_FN vec3 worldFromPixel(uint px, uint py, float d, mat4 invViewProj, uvec4 size) {
     ML_PRECISE float nx = (float(px) + 0.5f) / float(size.x) * 2.0f - 1.0f;
     ML_PRECISE float ny = (float(py) + 0.5f) / float(size.y) * 2.0f - 1.0f;
-    ML_PRECISE float X = invViewProj[0][0] * nx + invViewProj[1][0] * ny + invViewProj[2][0] * d + invViewProj[3][0];
-    ML_PRECISE float Y = invViewProj[0][1] * nx + invViewProj[1][1] * ny + invViewProj[2][1] * d + invViewProj[3][1];
-    ML_PRECISE float Z = invViewProj[0][2] * nx + invViewProj[1][2] * ny + invViewProj[2][2] * d + invViewProj[3][2];
-    ML_PRECISE float W = invViewProj[0][3] * nx + invViewProj[1][3] * ny + invViewProj[2][3] * d + invViewProj[3][3];
+    ML_PRECISE float X =
+        invViewProj[0][0] * nx + invViewProj[1][0] * ny + invViewProj[2][0] * d + invViewProj[3][0];
+    ML_PRECISE float Y =
+        invViewProj[0][1] * nx + invViewProj[1][1] * ny + invViewProj[2][1] * d + invViewProj[3][1];
+    ML_PRECISE float Z =
+        invViewProj[0][2] * nx + invViewProj[1][2] * ny + invViewProj[2][2] * d + invViewProj[3][2];
+    ML_PRECISE float W =
+        invViewProj[0][3] * nx + invViewProj[1][3] * ny + invViewProj[2][3] * d + invViewProj[3][3];
     return vec3(X / W, Y / W, Z / W);
 }
 

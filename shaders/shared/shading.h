@@ -31,7 +31,8 @@ ML_FN vec3 shadeLight(GpuLight L, vec3 P, vec3 N, vec3 V, vec3 albedo) {
         float window = clamp(1.0f - ratio2 * ratio2, 0.0f, 1.0f);
         falloff = window * window / dist2;
         if (L.info.x == ML_LIGHT_SPOT) {
-            float cosAngle = -dot(toLight, vec3(L.directionCosOuter.x, L.directionCosOuter.y, L.directionCosOuter.z));
+            float cosAngle =
+                -dot(toLight, vec3(L.directionCosOuter.x, L.directionCosOuter.y, L.directionCosOuter.z));
             falloff *= smoothstep(L.directionCosOuter.w, L.params.x, cosAngle);
         }
     }

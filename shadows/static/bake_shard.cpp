@@ -235,7 +235,8 @@ Result<BakePart> readBakePart(const std::string& path) {
     if (!words.empty() && words[0] != kMagic && words[0] != bakefmt::kMagic)
         return fail(path + ": not a manylights bake part (wrong magic)");
     if (size % 4 != 0)
-        return fail(path + ": size " + std::to_string(size) + " bytes is not a whole number of words (truncated?)");
+        return fail(path + ": size " + std::to_string(size) +
+                    " bytes is not a whole number of words (truncated?)");
     return parseBakePart(path, words.data(), words.size());
 }
 

@@ -37,7 +37,9 @@ inline uint32_t quantizeDepth(float z, float farPlane) {
     if (t >= 1.0) return 0xFFFFFFFEu;
     return uint32_t(t * 4294967294.0);
 }
-inline float dequantizeDepth(uint32_t d, float farPlane) { return float(double(d) / 4294967294.0 * farPlane); }
+inline float dequantizeDepth(uint32_t d, float farPlane) {
+    return float(double(d) / 4294967294.0 * farPlane);
+}
 
 struct DualDepthMap {
     uint32_t resolution = 0;     // width = height

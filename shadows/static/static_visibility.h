@@ -18,7 +18,7 @@ uint32_t staticQuantizeFloat(float z, float farPlane);
 float staticVisibility(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P, glm::vec3 N);
 
 // The evaluation pass's static term for a light: its record (a point light's by cube face), or 1.
-float lightStaticVisibility(const gpu::GpuLight& light, const gpu::GpuShadowRecord* records, const uint32_t* data,
-                            glm::vec3 P, glm::vec3 N);
+float lightStaticVisibility(const gpu::GpuLight& light, const gpu::GpuShadowRecord* records,
+                            const uint32_t* data, glm::vec3 P, glm::vec3 N);
 
 } // namespace ml

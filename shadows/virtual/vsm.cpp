@@ -36,7 +36,9 @@ namespace {
 
 constexpr VkBufferUsageFlags kIndirectUsage = kStorageBufferUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
 
-void setBit(std::vector<uint32_t>& bits, uint32_t i) { bits[i >> 5] |= 1u << (i & 31u); }
+void setBit(std::vector<uint32_t>& bits, uint32_t i) {
+    bits[i >> 5] |= 1u << (i & 31u);
+}
 
 // Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive).
 void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
@@ -106,13 +108,16 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
     table_ = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    owners_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
+    owners_ =
+        createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
     lastUsed_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
     markWords_ = bitWords;
-    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage, "vsm_marks"); // lookup, then fallback marks
+    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
+                                "vsm_marks"); // lookup, then fallback marks
     pagePool_ = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage,
                                    "vsm_pool", 0xFFFFFFFFu);
-    blockCounts_ = createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+    blockCounts_ =
+        createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
     avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
     rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
     dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
@@ -148,15 +153,17 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12, kStorageBufferUsage,
-                                          "vsm_meshlet_list");
+        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
+                                          kStorageBufferUsage, "vsm_meshlet_list");
         meshTasks_ = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
     }
 
     slots_.resize(framesInFlight);
     for (Slot& sl : slots_) {
-        sl.constants = createBuffer(d, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "vsm_constants");
-        sl.maps = createBuffer(d, size_t(s.maxMaps) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
+        sl.constants =
+            createBuffer(d, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "vsm_constants");
+        sl.maps =
+            createBuffer(d, size_t(s.maxMaps) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
         sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
         sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
         sl.active = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_active");
@@ -164,8 +171,8 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
         sl.runs = createBuffer(d, size_t(s.maxMaps) * std::max(mips_, s.clipLevels) * sizeof(glm::uvec4),
                                kStorageBufferUsage, "vsm_runs");
         sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
-        sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe), kStorageBufferUsage,
-                                 "vsm_probes");
+        sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
+                                 kStorageBufferUsage, "vsm_probes");
         sl.coverageHost.assign(bitWords, 0);
         sl.staleHost.assign(bitWords, 0);
         sl.mapsHost.assign(s.maxMaps, gpu::GpuVsmMap{});
@@ -210,20 +217,21 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
-    for (Program* p : {&markProgram_, &scanProgram_, &allocProgram_, &assignProgram_, &hpbProgram_, &cullProgram_,
-                       &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
+    for (Program* p :
+         {&markProgram_, &scanProgram_, &allocProgram_, &assignProgram_, &hpbProgram_, &cullProgram_,
+          &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
         destroyProgram(d, *p);
-    for (ShaderModule* s : {&markShader_, &scanShader_, &allocShader_, &assignShader_, &hpbShader_, &cullShader_,
-                            &clearShader_, &probeShader_, &viewShader_, &drawVert_, &drawFrag_, &expandShader_,
-                            &drawTask_, &drawMesh_})
+    for (ShaderModule* s :
+         {&markShader_, &scanShader_, &allocShader_, &assignShader_, &hpbShader_, &cullShader_, &clearShader_,
+          &probeShader_, &viewShader_, &drawVert_, &drawFrag_, &expandShader_, &drawTask_, &drawMesh_})
         destroyShader(d, *s);
     for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
                       &dirtyMips_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
         destroyBuffer(d, *b);
     destroyImage(d, hpb_);
     for (Slot& s : slots_)
-        for (Buffer* b :
-             {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters, &s.counters, &s.probes})
+        for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters,
+                          &s.counters, &s.probes})
             destroyBuffer(d, *b);
     slots_.clear();
 }
@@ -299,9 +307,11 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
     info.gpu = g;
 }
 
-std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex, uint64_t frame, std::span<const VsmLight> lights,
+std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex, uint64_t frame,
+                                                 std::span<const VsmLight> lights,
                                                  std::span<const uint32_t> visible,
-                                                 std::span<const VsmInstance> instances, const VsmCamera& camera) {
+                                                 std::span<const VsmInstance> instances,
+                                                 const VsmCamera& camera) {
     std::vector<uint32_t> firstMap(visible.size(), ML_VSM_NO_MAP);
     if (!settings_.enabled) return firstMap;
     Slot& slot = slots_[slotIndex];
@@ -318,7 +328,8 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
         bool need = !l.staticBake;
         for (size_t i = 0; i < instances.size() && !need; ++i)
             need = instances[i].dynamic && instances[i].castsShadows &&
-                   (l.kind == ML_LIGHT_DIRECTIONAL || boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
+                   (l.kind == ML_LIGHT_DIRECTIONAL ||
+                    boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
         needs[id] = need ? 1 : 0;
     }
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
@@ -460,8 +471,10 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     upload(slot.coverage, slot.coverageHost.data(), usedWords * 4);
     upload(slot.stale, slot.staleHost.data(), usedWords * 4);
     if (!slot.activeHost.empty()) upload(slot.active, slot.activeHost.data(), slot.activeHost.size() * 4);
-    if (!slot.runsHost.empty()) upload(slot.runs, slot.runsHost.data(), slot.runsHost.size() * sizeof(glm::uvec4));
-    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage, "vsm_casters");
+    if (!slot.runsHost.empty())
+        upload(slot.runs, slot.runsHost.data(), slot.runsHost.size() * sizeof(glm::uvec4));
+    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
+                 "vsm_casters");
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
@@ -506,8 +519,8 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
     const size_t activeEntries = slot.orderEntries;
     profiler.run(cmd, Pass::VsmMark, [&](VkCommandBuffer c) {
         dispatch(d, c, markProgram_, width, height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, depth, normal, slot.constants, slot.maps,
-                  slot.coverage, marks_});
+                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, depth, normal, slot.constants,
+                  slot.maps, slot.coverage, marks_});
         memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
     });
     profiler.run(cmd, Pass::VsmAlloc, [&](VkCommandBuffer c) {
@@ -516,12 +529,13 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
                  {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
                   slot.counters});
         memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
-        dispatch(d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
+        dispatch(
+            d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
+            {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
         memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
         dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_, rendered_,
-                  dirtyMips_, slot.counters});
+                 {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_,
+                  rendered_, dirtyMips_, slot.counters});
         // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
         memoryBarrier(c, C, W, C | indirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     });
@@ -529,18 +543,20 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
         // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
         // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
         // (never read there, but a storage read for the validation layer): reads and writes follow.
-        firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, 0, C, R | W);
+        firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, 0, C,
+                        R | W);
         for (uint32_t level = 1; level <= hpbLevels_; ++level) {
             const uint32_t mip = level - 1;
             const uint32_t push[2] = {level, slot.activeCount};
             bindProgram(d, c, hpbProgram_,
-                        {slot.constants, slot.active, table_, Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)),
-                         Descriptor(hpb_.mipView(mip))},
+                        {slot.constants, slot.active, table_,
+                         Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)), Descriptor(hpb_.mipView(mip))},
                         push, sizeof(push));
             vkCmdDispatch(c, (hpb_.mipWidth(mip) + 7) / 8, (hpb_.mipHeight(mip) + 7) / 8, slot.activeCount);
             // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
             imageBarrier(c, hpb_, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W,
-                         C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                         C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT,
+                         R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
         }
     });
     if (meshPath()) {
@@ -551,8 +567,8 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
                 uint32_t casterCount, activeMaps, maxDraws;
             } push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
             dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
-                     {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
-                      draws_, drawInfo_, drawCounts_, slot.counters});
+                     {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
+                      dirtyMips_, draws_, drawInfo_, drawCounts_, slot.counters});
             // Draw lists and counts -> indirect draws; draw info -> vertex shader.
             memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                           VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -576,20 +592,22 @@ void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& p
                 // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
                 const uint32_t push[2] = {m, settings_.maxMeshletsPerMip};
                 bindProgram(d, c, meshProgram_,
-                            {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_, pagePool_,
-                             *in.meshlets, *in.meshletVertices, *in.meshletTriangles, Descriptor(hpb_.view),
-                             meshTasks_, slot.counters},
+                            {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_,
+                             pagePool_, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
+                             Descriptor(hpb_.view), meshTasks_, slot.counters},
                             push, sizeof(push));
                 d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
             } else {
-                bindProgram(d, c, drawProgram_,
-                            {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_},
-                            &m, 4);
+                bindProgram(
+                    d, c, drawProgram_,
+                    {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_},
+                    &m, 4);
                 vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-                vkCmdDrawIndexedIndirectCount(
-                    c, draws_.buffer, VkDeviceSize(m) * settings_.maxDrawsPerMip * sizeof(VkDrawIndexedIndirectCommand),
-                    drawCounts_.buffer, VkDeviceSize(m) * 4, settings_.maxDrawsPerMip,
-                    sizeof(VkDrawIndexedIndirectCommand));
+                vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
+                                              VkDeviceSize(m) * settings_.maxDrawsPerMip *
+                                                  sizeof(VkDrawIndexedIndirectCommand),
+                                              drawCounts_.buffer, VkDeviceSize(m) * 4,
+                                              settings_.maxDrawsPerMip, sizeof(VkDrawIndexedIndirectCommand));
             }
             vkCmdEndRendering(c);
         }
@@ -604,8 +622,8 @@ void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profi
             uint32_t casterCount, activeMaps, maxMeshlets;
         } push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
         dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
-                 {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
-                  meshletList_, meshTasks_, slot.counters});
+                 {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
+                  dirtyMips_, meshletList_, meshTasks_, slot.counters});
         // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
         // passes) -> task and mesh shaders.
         memoryBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -615,35 +633,37 @@ void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profi
     });
 }
 
-void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex, const VsmFrameInputs& in) {
+void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
+                                    const VsmFrameInputs& in) {
     if (!settings_.enabled || !settings_.probeCapacity || mapsInUse_ == 0) return;
     Slot& slot = slots_[slotIndex];
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     dispatch(d, cmd, probeProgram_, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
               Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants, slot.maps,
-              slot.coverage, table_, pagePool_, slot.probes});
+              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
+              slot.maps, slot.coverage, table_, pagePool_, slot.probes});
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
 }
 
-void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex, const VsmFrameInputs& in,
-                                   VkImageView output) {
+void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
+                                   const VsmFrameInputs& in, VkImageView output) {
     if (!settings_.enabled) return;
     Slot& slot = slots_[slotIndex];
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     // The evaluation pass's output -> read and overwritten here.
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
               Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants, slot.maps,
-              slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
+              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
+              slot.maps, slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
     // The view's output -> the host's reads after record().
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kOutputReaderStages,
-                  kOutputReads);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  kOutputReaderStages, kOutputReads);
 }
 
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {

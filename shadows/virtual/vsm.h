@@ -16,10 +16,10 @@
 //                 rendered (DIRTY);
 //     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
 //     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
-//                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and appends the
-//                 caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls meshlets
-//                 (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles covering
-//                 no sample; vsm_draw.frag is shared, so both paths write the same depths;
+//                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and
+//                 appends the caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls
+//                 meshlets (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles
+//                 covering no sample; vsm_draw.frag is shared, so both paths write the same depths;
 //     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page);
 //     vsm_draw    per mip one indirect-count draw at the mip's virtual resolution; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
@@ -70,10 +70,10 @@ struct VsmCamera {
 
 // Buffers of the frame that the VSM passes read.
 struct VsmFrameInputs {
-    const Buffer* frame;    // FrameConstants (uniform)
-    const Buffer* slices;   // slice boundaries
-    const Buffer* lights;   // visible GpuLights (info.y = first map, from prepare())
-    const Buffer* ranges;   // cluster lists (culling/culling.h)
+    const Buffer* frame;  // FrameConstants (uniform)
+    const Buffer* slices; // slice boundaries
+    const Buffer* lights; // visible GpuLights (info.y = first map, from prepare())
+    const Buffer* ranges; // cluster lists (culling/culling.h)
     const Buffer* pool;
     VkImageView depth, normal; // G-buffer, SHADER_READ_ONLY_OPTIMAL
     const Buffer* vertices;
@@ -94,7 +94,6 @@ struct VsmMapInfo {
     LightFrustum frustum; // the volume a reference rasteriser uses (clip levels: orthographic)
 };
 
-
 class VirtualShadowMaps {
   public:
     void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
@@ -109,9 +108,9 @@ class VirtualShadowMaps {
     // CPU part of a frame: map slots, matrices, coverage and stale bits, casters. `lights` holds every
     // module light (by id); `visible` the ids in the visible-light buffer's order. Returns the first map
     // slot per visible light (ML_VSM_NO_MAP: none), to go into GpuLight.info.y.
-    std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame, std::span<const VsmLight> lights,
-                                  std::span<const uint32_t> visible, std::span<const VsmInstance> instances,
-                                  const VsmCamera& camera);
+    std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame,
+                                  std::span<const VsmLight> lights, std::span<const uint32_t> visible,
+                                  std::span<const VsmInstance> instances, const VsmCamera& camera);
     // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
     void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
                 const VsmFrameInputs& in);
@@ -195,13 +194,14 @@ class VirtualShadowMaps {
     uint32_t hpbLevels_ = 0;
     ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
         probeShader_, viewShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
-    Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_, clearProgram_,
-        probeProgram_, viewProgram_, drawProgram_, expandProgram_, meshProgram_;
+    Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_,
+        clearProgram_, probeProgram_, viewProgram_, drawProgram_, expandProgram_, meshProgram_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside
 // the map's frustum. A box reaching behind the light covers the whole map. Used for coverage and stale
 // bits on the CPU (the GPU culling pass does the same test in vsm_cull.comp).
-bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32_t pagesPerSide, glm::uvec4& rect);
+bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32_t pagesPerSide,
+                   glm::uvec4& rect);
 
 } // namespace ml

@@ -27,7 +27,9 @@ using std::floor;
 #endif
 
 // Pages per side of mip m, and the first entry of mip m inside a map (mips stacked finest first).
-ML_FN uint vsmPagesPerSide(uint s0, uint mip) { return s0 >> mip; }
+ML_FN uint vsmPagesPerSide(uint s0, uint mip) {
+    return s0 >> mip;
+}
 ML_FN uint vsmMipOffset(uint s0, uint mip) {
     uint offset = 0u;
     for (uint m = 0u; m < mip; ++m) offset += (s0 >> m) * (s0 >> m);
@@ -120,7 +122,8 @@ ML_FN VsmTap vsmLocate(GpuVsmMap map, uint resolution, uint mip, vec3 P, vec3 N)
     if (!ortho && !(z > map.params.y)) return tap;
     ML_PRECISE float extent = ortho ? map.params.x : z * map.params.x;
     ML_PRECISE float texelWorld = 2.0f * extent / float(res);
-    ML_PRECISE float qx = vp.x + vn.x * texelWorld, qy = vp.y + vn.y * texelWorld, qz = vp.z + vn.z * texelWorld;
+    ML_PRECISE float qx = vp.x + vn.x * texelWorld, qy = vp.y + vn.y * texelWorld,
+                     qz = vp.z + vn.z * texelWorld;
     ML_PRECISE float zq = -qz;
     if (!ortho && !(zq > map.params.y)) return tap;
     ML_PRECISE float scale = ortho ? map.params.x : zq * map.params.x;

@@ -20,8 +20,9 @@ uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, 
     std::vector<uint32_t> verts(ms.size() * maxV);
     std::vector<unsigned char> tris(ms.size() * maxT * 3);
     // cone_weight 0: meshlets by locality only (the cone test applies to few casters: closed meshes).
-    const size_t count = meshopt_buildMeshlets(ms.data(), verts.data(), tris.data(), indices.data(), indices.size(),
-                                               positions, vertexCount, stride, maxV, maxT, 0.0f);
+    const size_t count =
+        meshopt_buildMeshlets(ms.data(), verts.data(), tris.data(), indices.data(), indices.size(), positions,
+                              vertexCount, stride, maxV, maxT, 0.0f);
     for (size_t i = 0; i < count; ++i) {
         const meshopt_Meshlet& m = ms[i];
         meshopt_Bounds b = meshopt_computeMeshletBounds(&verts[m.vertex_offset], &tris[m.triangle_offset],
@@ -32,7 +33,8 @@ uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, 
         g.apex = glm::vec4(b.cone_apex[0], b.cone_apex[1], b.cone_apex[2], 0.0f);
         g.data = glm::uvec4(uint32_t(out.vertices.size()), uint32_t(out.triangles.size()), m.vertex_count,
                             m.triangle_count);
-        for (uint32_t v = 0; v < m.vertex_count; ++v) out.vertices.push_back(firstVertex + verts[m.vertex_offset + v]);
+        for (uint32_t v = 0; v < m.vertex_count; ++v)
+            out.vertices.push_back(firstVertex + verts[m.vertex_offset + v]);
         for (uint32_t t = 0; t < m.triangle_count; ++t) {
             const unsigned char* c = &tris[m.triangle_offset + 3 * t];
             out.triangles.push_back(uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16);
@@ -42,10 +44,12 @@ uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, 
     return uint32_t(count);
 }
 
-bool meshIsClosed(const float* positions, size_t stride, size_t vertexCount, std::span<const uint32_t> indices) {
+bool meshIsClosed(const float* positions, size_t stride, size_t vertexCount,
+                  std::span<const uint32_t> indices) {
     if (indices.empty()) return false;
     auto pos = [&](uint32_t i) {
-        const float* p = reinterpret_cast<const float*>(reinterpret_cast<const char*>(positions) + i * stride);
+        const float* p =
+            reinterpret_cast<const float*>(reinterpret_cast<const char*>(positions) + i * stride);
         return glm::vec3(p[0], p[1], p[2]);
     };
     // Weld by exact position bits (the rasteriser then sees the same transformed vertex on both sides).

@@ -23,12 +23,14 @@ struct MeshletSet {
 // Returns the number of meshlets appended.
 uint32_t appendMeshlets(MeshletSet& out, const float* positions, size_t stride, size_t vertexCount,
                         std::span<const uint32_t> indices, uint32_t firstVertex,
-                        uint32_t maxVertices = ML_MESHLET_VERTICES, uint32_t maxTriangles = ML_MESHLET_TRIANGLES);
+                        uint32_t maxVertices = ML_MESHLET_VERTICES,
+                        uint32_t maxTriangles = ML_MESHLET_TRIANGLES);
 
 // True when the mesh is a closed, consistently wound surface with outward (counter-clockwise) faces:
 // after welding vertices with bit-equal positions, every non-degenerate triangle edge a->b meets exactly
 // one b->a, and the signed volume is positive. Only then may a meshlet whose triangles all face away
 // from a light outside the mesh be skipped (a front face nearer on the same ray covers the same samples).
-bool meshIsClosed(const float* positions, size_t stride, size_t vertexCount, std::span<const uint32_t> indices);
+bool meshIsClosed(const float* positions, size_t stride, size_t vertexCount,
+                  std::span<const uint32_t> indices);
 
 } // namespace ml

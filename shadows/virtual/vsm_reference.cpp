@@ -13,8 +13,12 @@ namespace {
 
 using namespace gpu;
 
-bool testBit(const std::vector<uint32_t>& bits, uint32_t i) { return (bits[i >> 5] >> (i & 31u)) & 1u; }
-void setBit(std::vector<uint32_t>& bits, uint32_t i) { bits[i >> 5] |= 1u << (i & 31u); }
+bool testBit(const std::vector<uint32_t>& bits, uint32_t i) {
+    return (bits[i >> 5] >> (i & 31u)) & 1u;
+}
+void setBit(std::vector<uint32_t>& bits, uint32_t i) {
+    bits[i >> 5] |= 1u << (i & 31u);
+}
 
 struct Choice {
     uint32_t map = 0, mip = 0, last = 0;
@@ -101,14 +105,17 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                 const size_t fw = in.markWords;
                 if (L.info.x == ML_LIGHT_DIRECTIONAL) {
                     uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, fw);
+                    if (fb != c.map)
+                        markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, fw);
                     if (c.last != fb)
                         markKernel(in, marks, c.last, 0, vsmLocate(in.maps[c.last], R, 0, P, N), radius, fw);
                 } else {
                     uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.mip) markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, fw);
+                    if (fb != c.mip)
+                        markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, fw);
                     if (c.last != fb)
-                        markKernel(in, marks, c.map, c.last, vsmLocate(in.maps[c.map], R, c.last, P, N), radius, fw);
+                        markKernel(in, marks, c.map, c.last, vsmLocate(in.maps[c.map], R, c.last, P, N),
+                                   radius, fw);
                 }
             }
         }
@@ -116,12 +123,15 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
 }
 
 gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint32_t>& marks,
-                                      const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
+                                      const std::vector<uint32_t>& stale,
+                                      const std::vector<gpu::GpuVsmMap>& maps,
                                       const std::vector<glm::uvec4>& runs, const gpu::VsmConstants& k) {
     VsmCounters c{};
     const uint32_t s0 = k.page.z, mips = k.page.w, frame = k.sizes.w, pool = k.sizes.z;
     auto marked = [&](uint32_t e) { return testBit(marks, e); };
-    auto wanted = [&](uint32_t e) { return marked(e) || ((marks[k.options.w + (e >> 5)] >> (e & 31u)) & 1u); };
+    auto wanted = [&](uint32_t e) {
+        return marked(e) || ((marks[k.options.w + (e >> 5)] >> (e & 31u)) & 1u);
+    };
     // Entries of the active maps in priority order (vsm_alloc_common.glsl).
     struct Item {
         uint32_t entry, map, mip;
@@ -136,7 +146,8 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     for (const Item& it : order) {
         uint32_t pt = st.table[it.entry] & ~ML_VSM_DIRTY;
         if (pt & ML_VSM_VALID) {
-            bool isStale = k.options.y == 0 || (maps[it.map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, it.entry);
+            bool isStale =
+                k.options.y == 0 || (maps[it.map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, it.entry);
             if (isStale) {
                 pt &= ~ML_VSM_VALID;
                 ++c.pagesInvalidated;
@@ -219,8 +230,8 @@ std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32
         const uint32_t p = pt & ML_VSM_PHYS_MASK;
         if (p >= pool) return "entry " + std::to_string(e) + " points past the pool";
         if (seen[p] != ML_VSM_NO_OWNER)
-            return "physical page " + std::to_string(p) + " backs entries " + std::to_string(seen[p]) + " and " +
-                   std::to_string(e);
+            return "physical page " + std::to_string(p) + " backs entries " + std::to_string(seen[p]) +
+                   " and " + std::to_string(e);
         seen[p] = e;
         if (st.owners[p] != e)
             return "physical page " + std::to_string(p) + " is owned by " + std::to_string(st.owners[p]) +
@@ -239,8 +250,8 @@ std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32
             if (wanted && !(st.table[e] & ML_VSM_ALLOCATED)) ++unbacked;
         }
     if (unbacked != counters.fallbacks)
-        return std::to_string(unbacked) + " marked entries without a page, " + std::to_string(counters.fallbacks) +
-               " fallbacks counted";
+        return std::to_string(unbacked) + " marked entries without a page, " +
+               std::to_string(counters.fallbacks) + " fallbacks counted";
     return {};
 }
 

@@ -24,12 +24,12 @@ struct VsmMarkInputs {
     std::vector<gpu::GpuLight> lights; // visible lights, info.y = first map
     std::vector<glm::uvec2> ranges;    // cluster lists (culling/culling.h)
     std::vector<uint32_t> pool;
-    std::vector<float> depth;          // width * height, row-major
-    std::vector<glm::vec3> normal;     // G-buffer normals as stored (RGBA16F -> float)
+    std::vector<float> depth;      // width * height, row-major
+    std::vector<glm::vec3> normal; // G-buffer normals as stored (RGBA16F -> float)
     gpu::VsmConstants constants{};
-    std::vector<gpu::GpuVsmMap> maps;  // indexed by map slot
-    std::vector<uint32_t> coverage;    // one bit per entry
-    size_t markWords = 0;              // size of the mark bit array
+    std::vector<gpu::GpuVsmMap> maps; // indexed by map slot
+    std::vector<uint32_t> coverage;   // one bit per entry
+    size_t markWords = 0;             // size of the mark bit array
 };
 std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in);
 
@@ -42,8 +42,10 @@ struct VsmAllocState {
 // and `stale` are bit arrays over entries; `order` the allocation order's runs (first rank, map, mip,
 // entries: VirtualShadowMaps::allocationOrder); constants as uploaded (sizes.w = frame).
 gpu::VsmCounters vsmAllocateReference(VsmAllocState& state, const std::vector<uint32_t>& marks,
-                                      const std::vector<uint32_t>& stale, const std::vector<gpu::GpuVsmMap>& maps,
-                                      const std::vector<glm::uvec4>& order, const gpu::VsmConstants& constants);
+                                      const std::vector<uint32_t>& stale,
+                                      const std::vector<gpu::GpuVsmMap>& maps,
+                                      const std::vector<glm::uvec4>& order,
+                                      const gpu::VsmConstants& constants);
 
 // Empty string when the state is consistent, else the first violation.
 std::string vsmCheckInvariants(const VsmAllocState& state, const std::vector<uint32_t>& marks,

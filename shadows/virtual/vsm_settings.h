@@ -13,10 +13,14 @@ namespace ml {
 enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
 // `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
 inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
-    if (word == "auto") out = VsmRaster::Auto;
-    else if (word == "mesh") out = VsmRaster::Mesh;
-    else if (word == "vertex") out = VsmRaster::Vertex;
-    else return false;
+    if (word == "auto")
+        out = VsmRaster::Auto;
+    else if (word == "mesh")
+        out = VsmRaster::Mesh;
+    else if (word == "vertex")
+        out = VsmRaster::Vertex;
+    else
+        return false;
     return true;
 }
 
@@ -46,11 +50,11 @@ struct VsmSettings {
     // applies), 0.5 one coarser. Finer texels flicker less under a moving camera (docs/accuracy.md
     // section 7). A power of two in 1/4..8.
     float texelsPerPixel = 1.0f;
-    bool caching = true;      // false: every marked page is redrawn every frame (the bench baseline)
+    bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     uint32_t maxDrawsPerMip = 16384;
-    uint32_t kinds = 7;       // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
-    bool staticLights = true; // lights that do not move get maps
-    bool movingLights = true; // moving lights (headlights) get maps
+    uint32_t kinds = 7;         // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
+    bool staticLights = true;   // lights that do not move get maps
+    bool movingLights = true;   // moving lights (headlights) get maps
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
     VsmRaster raster = VsmRaster::Auto;
     uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
@@ -63,15 +67,16 @@ struct VsmSettings {
 // What the VSM passes did in one frame (FrameReport::stats.vsm; stats.json's "vsm" object).
 struct VsmStats {
     uint32_t pagesMarked = 0, pagesAllocated = 0, pagesCached = 0, pagesRendered = 0, pagesInvalidated = 0,
-             pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0, mapsActive = 0,
-             instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0, lightsWithoutSlot = 0;
+             pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0,
+             mapsActive = 0, instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0,
+             lightsWithoutSlot = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
     // Mesh path only (zero on the vertex path, except trianglesRasterized: the indexed draws' triangles):
     // meshlets of (instance, map, mip) at each culling stage.
     bool meshPath = false;
     uint32_t meshletsTotal = 0, meshletsCulledFrustum = 0, meshletsCulledHpb = 0, meshletsAfterExpansion = 0,
-             meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0, meshletsAfterTask = 0,
-             trianglesAfterTask = 0, trianglesRasterized = 0;
+             meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0,
+             meshletsAfterTask = 0, trianglesAfterTask = 0, trianglesRasterized = 0;
 };
 
 } // namespace ml

@@ -60,18 +60,18 @@ ML_STRUCT(VsmConstants) {
 
 // Counters written by the VSM passes with atomics, read back when the frame's slot comes round.
 ML_STRUCT(VsmCounters) {
-    uint pagesMarked;       // entries marked this frame
-    uint pagesCached;       // marked entries whose page was allocated and valid (not redrawn)
-    uint pagesRendered;     // marked entries cleared and drawn this frame
-    uint pagesInvalidated;  // entries that lost VALID this frame (moved caster or light)
-    uint pagesEvicted;      // cached pages given to another entry (least recently used first)
-    uint fallbacks;         // marked entries left without a page (pool full): lookups use a coarser mip
-    uint requests;          // marked entries without a page at the start of allocation
-    uint available;         // physical pages free or evictable this frame
-    uint pagesAllocated;    // entries with a physical page after allocation
-    uint instancesDrawn;    // (instance, map, mip) draws emitted
+    uint pagesMarked;        // entries marked this frame
+    uint pagesCached;        // marked entries whose page was allocated and valid (not redrawn)
+    uint pagesRendered;      // marked entries cleared and drawn this frame
+    uint pagesInvalidated;   // entries that lost VALID this frame (moved caster or light)
+    uint pagesEvicted;       // cached pages given to another entry (least recently used first)
+    uint fallbacks;          // marked entries left without a page (pool full): lookups use a coarser mip
+    uint requests;           // marked entries without a page at the start of allocation
+    uint available;          // physical pages free or evictable this frame
+    uint pagesAllocated;     // entries with a physical page after allocation
+    uint instancesDrawn;     // (instance, map, mip) draws emitted
     uint instancesCulledHpb; // (instance, map, mip) pairs inside range and frustum but over no dirty page
-    uint drawOverflow;      // draws that did not fit the draw buffer (counted, never silent)
+    uint drawOverflow;       // draws that did not fit the draw buffer (counted, never silent)
     uint dispatchX, dispatchY, dispatchZ; // clear pass: one workgroup per rendered page (indirect)
     uint pressure; // 1 when requests exceed the available pages: fallback pages are rendered this frame
     // Mesh path (vsm_expand.comp, vsm_draw.task, vsm_draw.mesh), in meshlets of (instance, map, mip):
@@ -85,8 +85,8 @@ ML_STRUCT(VsmCounters) {
     uint taskCulledHpb;          // task: the meshlet's bounds over no dirty page (HPB)
     uint meshletsAfterTask;      // mesh workgroups launched
     uint trianglesAfterTask;     // triangles of those meshlets
-    uint trianglesRasterized;    // triangles the mesh shader emitted (not culled as zero-area or sample-free);
-                                 // vertex path: triangles of the indexed draws
+    uint trianglesRasterized; // triangles the mesh shader emitted (not culled as zero-area or sample-free);
+                              // vertex path: triangles of the indexed draws
     uint pad2, pad3, pad4, pad5, pad6;
 };
 

@@ -232,8 +232,10 @@ TEST(Failures, NearFarRatio1e6) {
     float lo = 1e9f, hi = -1e9f; // heights of receivers whose normal says "ground"
     uint32_t ground = 0;
     for (const Receiver& r : cam.receivers)
-        if (r.n.y > 0.99f && std::abs(r.p.x) > 5.0f) lo = std::min(lo, r.p.y), hi = std::max(hi, r.p.y), ++ground;
-    std::printf("  camera 1e6: %u ground receivers from y = %.6f to %.6f m (the ground is at 0)\n", ground, lo, hi);
+        if (r.n.y > 0.99f && std::abs(r.p.x) > 5.0f)
+            lo = std::min(lo, r.p.y), hi = std::max(hi, r.p.y), ++ground;
+    std::printf("  camera 1e6: %u ground receivers from y = %.6f to %.6f m (the ground is at 0)\n", ground,
+                lo, hi);
     EXPECT_GT(ground, 100u);
     EXPECT_GT(cam.vsRays.compared, 2000u);
     EXPECT_LT(hi - lo, 0.001f);

@@ -81,14 +81,16 @@ TEST(GpuCulling, ClusteredBruteListsEqualCpuReference) {
 TEST(GpuCulling, FootprintListsAreSubsetsOfBruteForce) {
     auto f = renderCity(CullingMode::Clustered, 512);
     auto& impl = internals(*f.module);
-    auto depth = toFloats(readImage(*f.module, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    auto depth =
+        toFloats(readImage(*f.module, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     gpu::FrameConstants brute = impl.lastConstants;
     brute.cluster.w = ML_CULL_CLUSTERED_BRUTE;
     ClusterReference fp = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
     ClusterReference bf = cullReference(depth, brute, impl.lastSliceFar, impl.lastLights);
     size_t fpEntries = 0, bfEntries = 0;
     for (size_t c = 0; c < fp.lists.size(); ++c) {
-        ASSERT_TRUE(std::includes(bf.lists[c].begin(), bf.lists[c].end(), fp.lists[c].begin(), fp.lists[c].end()))
+        ASSERT_TRUE(
+            std::includes(bf.lists[c].begin(), bf.lists[c].end(), fp.lists[c].begin(), fp.lists[c].end()))
             << "cluster " << c;
         fpEntries += fp.lists[c].size();
         bfEntries += bf.lists[c].size();
@@ -162,8 +164,8 @@ TEST_P(NoLightMissing, AndStatsMatch) {
 }
 
 INSTANTIATE_TEST_SUITE_P(GpuCulling, NoLightMissing,
-                         ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute, CullingMode::Tiled,
-                                           CullingMode::None),
+                         ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute,
+                                           CullingMode::Tiled, CullingMode::None),
                          [](const auto& info) {
                              std::string n = cullingName(info.param);
                              std::erase(n, '-');
@@ -252,7 +254,8 @@ TEST_P(Overflow, IsCountedAndDropsNoLight) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(GpuCulling, Overflow, ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute),
+INSTANTIATE_TEST_SUITE_P(GpuCulling, Overflow,
+                         ::testing::Values(CullingMode::Clustered, CullingMode::ClusteredBrute),
                          [](const auto& info) {
                              std::string n = cullingName(info.param);
                              std::erase(n, '-');

@@ -38,7 +38,8 @@ struct HostDevice {
     VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES, &mesh};
     VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &f13};
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
-    std::vector<std::string> extensions = {VK_EXT_MESH_SHADER_EXTENSION_NAME, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<std::string> extensions = {VK_EXT_MESH_SHADER_EXTENSION_NAME,
+                                           VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
 
@@ -47,14 +48,24 @@ struct HostDevice {
         f13.dynamicRendering = f13.synchronization2 = f13.maintenance4 = VK_TRUE;
         f12.shaderBufferInt64Atomics = f12.shaderSharedInt64Atomics = f12.hostQueryReset = VK_TRUE;
         f12.scalarBlockLayout = f12.storageBuffer8BitAccess = VK_TRUE;
-        f2.features.shaderInt64 = f2.features.multiDrawIndirect = f2.features.fragmentStoresAndAtomics = VK_TRUE;
+        f2.features.shaderInt64 = f2.features.multiDrawIndirect = f2.features.fragmentStoresAndAtomics =
+            VK_TRUE;
         f2.features.drawIndirectFirstInstance = f12.drawIndirectCount = VK_TRUE;
-        VkBool32* named[] = {&f13.dynamicRendering, &f13.synchronization2, &f13.maintenance4,
-                             &f12.shaderBufferInt64Atomics, &f12.shaderSharedInt64Atomics, &f12.hostQueryReset,
-                             &f12.scalarBlockLayout, &f12.storageBuffer8BitAccess, &f2.features.shaderInt64,
-                             &f2.features.multiDrawIndirect, &f2.features.fragmentStoresAndAtomics,
-                             &f2.features.drawIndirectFirstInstance, &f12.drawIndirectCount,
-                             &mesh.meshShader, &mesh.taskShader};
+        VkBool32* named[] = {&f13.dynamicRendering,
+                             &f13.synchronization2,
+                             &f13.maintenance4,
+                             &f12.shaderBufferInt64Atomics,
+                             &f12.shaderSharedInt64Atomics,
+                             &f12.hostQueryReset,
+                             &f12.scalarBlockLayout,
+                             &f12.storageBuffer8BitAccess,
+                             &f2.features.shaderInt64,
+                             &f2.features.multiDrawIndirect,
+                             &f2.features.fragmentStoresAndAtomics,
+                             &f2.features.drawIndirectFirstInstance,
+                             &f12.drawIndirectCount,
+                             &mesh.meshShader,
+                             &mesh.taskShader};
         auto names = requiredDeviceFeatures(); // same order as `named` (checked by the test above)
         for (size_t i = 0; i < names.size() && i < std::size(named); ++i)
             if (names[i] == without) *named[i] = VK_FALSE;
@@ -111,7 +122,8 @@ TEST(DeviceBorrow, MissingExtensionOrChainIsRefused) {
     b.enabledExtensions = {VK_EXT_MESH_SHADER_EXTENSION_NAME};
     auto r = Device::borrow(b);
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().find("extensions not enabled: " VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME), std::string::npos)
+    EXPECT_NE(r.error().find("extensions not enabled: " VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME),
+              std::string::npos)
         << r.error();
     b = host.borrow(*own);
     b.enabledFeatures = nullptr;
@@ -149,7 +161,8 @@ TEST(DeviceBorrow, CorrectBorrowRendersWithoutValidationMessages) {
         ASSERT_TRUE(created.ok()) << created.error();
         Module& m = *created.value();
         EXPECT_EQ(deviceOf(m).device, host.device);
-        std::vector<MeshVertex> v = {{{-5, 0, -5}, {0, 1, 0}}, {{5, 0, -5}, {0, 1, 0}}, {{0, 0, 5}, {0, 1, 0}}};
+        std::vector<MeshVertex> v = {
+            {{-5, 0, -5}, {0, 1, 0}}, {{5, 0, -5}, {0, 1, 0}}, {{0, 0, 5}, {0, 1, 0}}};
         std::vector<uint32_t> idx = {0, 2, 1};
         auto mesh = m.addMesh({v, idx});
         ASSERT_TRUE(mesh.ok()) << mesh.error();
@@ -164,9 +177,10 @@ TEST(DeviceBorrow, CorrectBorrowRendersWithoutValidationMessages) {
         std::vector<uint8_t> rgba;
         ASSERT_TRUE(m.readOutput(rgba).ok());
         uint32_t lit = 0, maxRed = 0;
-        for (size_t i = 0; i < rgba.size(); i += 4) lit += rgba[i] > 100, maxRed = std::max<uint32_t>(maxRed, rgba[i]);
+        for (size_t i = 0; i < rgba.size(); i += 4)
+            lit += rgba[i] > 100, maxRed = std::max<uint32_t>(maxRed, rgba[i]);
         EXPECT_GT(lit, 20u) << "brightest red " << maxRed; // the spot's pool on the triangle
-    } // the module goes before the host's device
+    }                                                      // the module goes before the host's device
     EXPECT_EQ(validationErrors(), 0u);
 }
 

@@ -28,7 +28,8 @@ TEST(FlyCamera, KeysMoveAlongItsAxesAndShiftIsFaster) {
     c.update({.right = 1}, 1.0f);
     expectNear(c.position(), {FlyCamera::kSpeed, 0, 0});
     c.update({.right = -1, .up = 1, .fast = true}, 1.0f);
-    expectNear(c.position(), {FlyCamera::kSpeed * (1 - FlyCamera::kFastFactor), FlyCamera::kSpeed * FlyCamera::kFastFactor, 0});
+    expectNear(c.position(), {FlyCamera::kSpeed * (1 - FlyCamera::kFastFactor),
+                              FlyCamera::kSpeed * FlyCamera::kFastFactor, 0});
 }
 
 TEST(FlyCamera, MouseTurnsAndPitchStopsShortOfVertical) {

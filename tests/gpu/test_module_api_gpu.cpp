@@ -8,8 +8,8 @@ namespace ml::test {
 namespace {
 
 MeshId addBox(Module& m) {
-    static const std::vector<MeshVertex> v = {{{-1, 0, -1}, {0, 1, 0}}, {{1, 0, -1}, {0, 1, 0}},
-                                              {{1, 0, 1}, {0, 1, 0}},   {{-1, 0, 1}, {0, 1, 0}}};
+    static const std::vector<MeshVertex> v = {
+        {{-1, 0, -1}, {0, 1, 0}}, {{1, 0, -1}, {0, 1, 0}}, {{1, 0, 1}, {0, 1, 0}}, {{-1, 0, 1}, {0, 1, 0}}};
     static const std::vector<uint32_t> i = {0, 2, 1, 0, 3, 2};
     auto id = m.addMesh({v, i, false, "quad"});
     EXPECT_TRUE(id.ok());

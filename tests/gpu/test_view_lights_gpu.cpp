@@ -68,7 +68,8 @@ void check(CullingMode mode) {
             glm::vec3 want = gpu::heatColor(view == DebugView::LightsReaching ? r : e);
             for (int k = 0; k < 3; ++k) {
                 int expect = int(want[k] * 255.0f + 0.5f);
-                maxColourDiff = std::max<size_t>(maxColourDiff, size_t(std::abs(int(rgba[i * 4 + k]) - expect)));
+                maxColourDiff =
+                    std::max<size_t>(maxColourDiff, size_t(std::abs(int(rgba[i * 4 + k]) - expect)));
             }
         }
         EXPECT_GT(surface, 1000u);
@@ -80,7 +81,11 @@ void check(CullingMode mode) {
 
 } // namespace
 
-TEST(GpuViewLights, CountsAndColoursEqualCpuClustered) { check(CullingMode::Clustered); }
-TEST(GpuViewLights, CountsAndColoursEqualCpuNone) { check(CullingMode::None); }
+TEST(GpuViewLights, CountsAndColoursEqualCpuClustered) {
+    check(CullingMode::Clustered);
+}
+TEST(GpuViewLights, CountsAndColoursEqualCpuNone) {
+    check(CullingMode::None);
+}
 
 } // namespace ml::test

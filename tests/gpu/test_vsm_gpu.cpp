@@ -73,8 +73,8 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
         }
         // Allocation from the previous frame's state, with this frame's marks.
         std::vector<uint32_t> stale = vsm.staleBits(slot);
-        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot), vsm.allocationOrder(slot),
-                                                  vsm.lastConstants());
+        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot),
+                                                  vsm.allocationOrder(slot), vsm.lastConstants());
         std::vector<uint32_t> table = vsm.readTable(deviceOf(m));
         ASSERT_LE(table.size(), cpu.table.size());
         size_t differ = 0;
@@ -137,14 +137,16 @@ TEST(GpuVsm, QuarterPoolCountsFallbacksAndKeepsEveryShadow) {
         ASSERT_TRUE(r.ok()) << r.error();
         fallbacks += r->stats.vsm.fallbacks;
         uint32_t overflow = 0;
-        auto probes = internals(*session.value()->module).vsm.readProbes(internals(*session.value()->module).lastSlot,
-                                                                           &overflow);
+        auto probes = internals(*session.value()->module)
+                          .vsm.readProbes(internals(*session.value()->module).lastSlot, &overflow);
         ASSERT_EQ(overflow, 0u);
         for (const auto& p : probes) {
             ASSERT_NE(p.info.w, ML_VSM_PROBE_MISSING)
-                << "frame " << f << ": a lookup found no page at any mip (map " << p.texel.x << ", mip " << p.texel.y
-                << ", kind " << internals(*session.value()->module).vsm.mapInfo()[p.texel.x].gpu.info.x << ", pool "
-                << o.module.vsm.poolPages << ", need " << need << ", fallbacks " << r->stats.vsm.fallbacks << ")";
+                << "frame " << f << ": a lookup found no page at any mip (map " << p.texel.x << ", mip "
+                << p.texel.y << ", kind "
+                << internals(*session.value()->module).vsm.mapInfo()[p.texel.x].gpu.info.x << ", pool "
+                << o.module.vsm.poolPages << ", need " << need << ", fallbacks " << r->stats.vsm.fallbacks
+                << ")";
             fallbackLookups += p.info.w == ML_VSM_PROBE_FALLBACK;
             ++lookups;
         }

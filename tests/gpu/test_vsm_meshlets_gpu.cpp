@@ -21,7 +21,8 @@ VsmSessionOptions smallPath(VsmRaster raster, bool caching, bool house) {
         // FZK-Haus: meshes of up to 2,508 triangles (many meshlets each, some closed), static spots.
         // ../shared beside the checkout (ML_SHARED_DIR overrides it, e.g. from a git worktree elsewhere).
         const char* shared = std::getenv("ML_SHARED_DIR");
-        o.scene = (shared ? std::string(shared) : std::string(ML_SOURCE_DIR) + "/../shared") + "/scenes/fzk-haus.glb";
+        o.scene = (shared ? std::string(shared) : std::string(ML_SOURCE_DIR) + "/../shared") +
+                  "/scenes/fzk-haus.glb";
         o.path = CameraPath::Orbit;
         o.lights = 12;
         o.width = 160;
@@ -48,8 +49,8 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
     ASSERT_TRUE(mv.meshPath());
     ASSERT_FALSE(vv.meshPath());
     const uint32_t page = mv.settings().pageSize * mv.settings().pageSize;
-    uint64_t pagesCompared = 0, texelsWritten = 0, total = 0, afterTask = 0, rendered = 0, trianglesVertex = 0,
-             taskCulled = 0, trianglesCulled = 0;
+    uint64_t pagesCompared = 0, texelsWritten = 0, total = 0, afterTask = 0, rendered = 0,
+             trianglesVertex = 0, taskCulled = 0, trianglesCulled = 0;
     for (uint32_t f = 0; f < frames; ++f) {
         auto rm = meshS.value()->frame(f);
         ASSERT_TRUE(rm.ok()) << rm.error();
@@ -63,9 +64,9 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
             if (!(w & ML_VSM_ALLOCATED) || !(w & ML_VSM_VALID)) continue;
             const size_t first = size_t(w & ML_VSM_PHYS_MASK) * page;
             for (size_t t = first; t < first + page; ++t) {
-                ASSERT_EQ(pm[t], pv[t]) << "frame " << f << ": entry " << e << " page " << (w & ML_VSM_PHYS_MASK)
-                                        << " texel " << (t - first) << " (mesh " << pm[t] << ", vertex " << pv[t]
-                                        << ")";
+                ASSERT_EQ(pm[t], pv[t])
+                    << "frame " << f << ": entry " << e << " page " << (w & ML_VSM_PHYS_MASK) << " texel "
+                    << (t - first) << " (mesh " << pm[t] << ", vertex " << pv[t] << ")";
                 texelsWritten += pm[t] != 0xFFFFFFFFu;
             }
             ++pagesCompared;
@@ -81,13 +82,14 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
         EXPECT_LE(s.trianglesRasterized, s.trianglesAfterTask);
         EXPECT_EQ(s.instancesDrawn, rv->stats.vsm.instancesDrawn) << "frame " << f;
         if (f + 1 == frames)
-            std::printf("frame %u: meshlets total %u, culled expansion frustum %u hpb %u, after expansion %u, task "
-                        "frustum %u cone %u hpb %u, after task %u, triangles after task %u rasterized %u, pages "
-                        "rendered %u, compared %llu, non-empty texels %llu\n",
-                        f, s.meshletsTotal, s.meshletsCulledFrustum, s.meshletsCulledHpb, s.meshletsAfterExpansion,
-                        s.taskCulledFrustum, s.taskCulledCone, s.taskCulledHpb, s.meshletsAfterTask,
-                        s.trianglesAfterTask, s.trianglesRasterized, s.pagesRendered,
-                        (unsigned long long)pagesCompared, (unsigned long long)texelsWritten);
+            std::printf(
+                "frame %u: meshlets total %u, culled expansion frustum %u hpb %u, after expansion %u, task "
+                "frustum %u cone %u hpb %u, after task %u, triangles after task %u rasterized %u, pages "
+                "rendered %u, compared %llu, non-empty texels %llu\n",
+                f, s.meshletsTotal, s.meshletsCulledFrustum, s.meshletsCulledHpb, s.meshletsAfterExpansion,
+                s.taskCulledFrustum, s.taskCulledCone, s.taskCulledHpb, s.meshletsAfterTask,
+                s.trianglesAfterTask, s.trianglesRasterized, s.pagesRendered,
+                (unsigned long long)pagesCompared, (unsigned long long)texelsWritten);
         total += s.meshletsTotal;
         taskCulled += s.taskCulledFrustum + s.taskCulledCone + s.taskCulledHpb;
         trianglesCulled += s.trianglesAfterTask - s.trianglesRasterized;
@@ -108,10 +110,18 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
-TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesCached) { comparePaths(true, 12); }
-TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesUncached) { comparePaths(false, 4); }
-TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHaus) { comparePaths(true, 4, true); }
-TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHausUncached) { comparePaths(false, 3, true); }
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesCached) {
+    comparePaths(true, 12);
+}
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesUncached) {
+    comparePaths(false, 4);
+}
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHaus) {
+    comparePaths(true, 4, true);
+}
+TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHausUncached) {
+    comparePaths(false, 3, true);
+}
 
 TEST(VsmMeshlets, ClosedMeshDetection) {
     // A unit cube with per-face vertices (welded by position) and outward counter-clockwise faces.

@@ -142,8 +142,9 @@ TEST(ScenesNightCity, MoreLightsSameCity) {
     size_t down = std::count_if(large.lights.begin(), large.lights.end(), [](const Light& l) {
         return l.type == LightType::Spot && l.direction.y < -0.9f && l.attachedInstance < 0;
     });
-    size_t up = std::count_if(large.lights.begin(), large.lights.end(),
-                              [](const Light& l) { return l.type == LightType::Spot && l.direction.y > 0.8f; });
+    size_t up = std::count_if(large.lights.begin(), large.lights.end(), [](const Light& l) {
+        return l.type == LightType::Spot && l.direction.y > 0.8f;
+    });
     size_t moon = std::count_if(large.lights.begin(), large.lights.end(),
                                 [](const Light& l) { return l.type == LightType::Directional; });
     // 4079 static spots: 45 % lamps (down), 20 % floods (up), shop windows and signs the rest; one moon.
