@@ -16,7 +16,7 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker [options]
+static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes [options]
 (`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
 static shadows' temporal stability along a camera path)
 Culling and shading time against light count, for each culling mode, in one run.
@@ -70,9 +70,11 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
     if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
+    if (std::string(argv[2]) == "cpvs") return runBenchCpvs(argc, argv);
+    if (std::string(argv[2]) == "sizes") return runBenchSizes(argc, argv);
     if (std::string(argv[2]) != "culling")
         return usageError("bench", std::string("unknown benchmark '") + argv[2] +
-                                       "' (culling, static, vsm or flicker)");
+                                       "' (culling, static, vsm, flicker, cpvs or sizes)");
     auto args =
         cli::parse(argc, argv, 3, {"--size", "--lights", "--frames", "--seed", "--csv", "--culling"}, {});
     if (!args) return usageError("bench", args.error());

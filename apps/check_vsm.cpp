@@ -130,7 +130,7 @@ int runCheck(int argc, char** argv) {
             const uint32_t want = ref.enter[size_t(y) * n + x], got = p.depth;
             // The lookup is right when it gives the answer the full map gives: the same coverage and the
             // same shadow test of the receiver's biased depth. Depths further apart than the float-vs-double
-            // interpolation tolerance of tests/gpu/test_dual_depth_gpu.cpp are counted apart (they decide
+            // interpolation tolerance of tests/gpu/dual_depth_test.cpp are counted apart (they decide
             // nothing unless the receiver lies between them).
             // Not an error of the page machinery when the two rasterisers may both be right: a tie (the
             // receiver's biased depth lies between two depths within the float-vs-double tolerance: it

@@ -2,7 +2,7 @@
 // into Vulkan clip space (y down) whose depth is 1 at the near plane and 0 at the far plane, and a
 // G-buffer cleared to 0 and tested with GREATER. A D32F value then keeps 2^-24 relative precision at
 // every distance; standard Z (far -> 1) reconstructs receivers 200 m away centimetres off their
-// surface (docs/accuracy.md, section 1; tests/gpu/test_camera_gpu.cpp measures both).
+// surface (docs/accuracy.md, section 1; tests/gpu/camera_test.cpp measures both).
 //
 // A host gives the camera either as a CameraDesc (position, target, up, fovY, near, far) or as its own
 // view and projection matrices (Module::setCameraMatrices); both may carry a sub-pixel jitter.

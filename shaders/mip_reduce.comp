@@ -4,7 +4,7 @@
 // side the last destination column / row also takes the last source column / row, so every source
 // texel reaches exactly one destination texel (nothing dropped at non-power-of-two sizes).
 // kOp: 0 sum, 1 max, 2 any (1 when a source texel is non-zero: the 2x2 OR of a page pyramid).
-// CPU twin: mipReduceReference (tests/gpu/test_image_mips_gpu.cpp).
+// CPU twin: mipReduceReference (tests/gpu/image_mips_test.cpp).
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const uint kOp = 0u;
 layout(binding = 0, r32ui) uniform readonly uimage2DArray src;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Long fuzz run of the bake-file reader and the glTF loader (tests/fuzz/fuzz_inputs.cpp).
+# Long fuzz run of the bake-file reader and the glTF loader (tests/fuzz/fuzz_inputs_test.cpp).
 #   tools/fuzz.sh [SECONDS per target, default 600] [bake|gltf|all, default all] [first SEED, default 1]
 # Runs each target in 60-second chunks with successive seeds (ctest runs seed 1 for 5 s). On a finding
 # it stops and prints how to reproduce and dump the input. BUILD_DIR (default build) is configured and

@@ -21,7 +21,7 @@ PKGS=(build-essential cmake pkg-config git
       libvulkan-dev vulkan-validationlayers mesa-vulkan-drivers vulkan-tools
       glslang-tools spirv-tools
       libglfw3-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libmeshoptimizer-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev
+      libgtest-dev libgmock-dev libembree-dev
       xvfb xauth xdotool gnuplot-nox clang-format python3)
 
 BACKPORTS=/etc/apt/sources.list.d/manylights-bookworm-backports.list

@@ -2,7 +2,7 @@
 // scene bounds (directionalLightFrustum), every method. The evaluation pass's HDR output must match
 // its CPU reference (shading.h + the static lookup's CPU twin) and the lookup must agree with rays
 // cast along the light direction; setStaticShadow refuses mixing orthographic bakes and other kinds.
-#include "failure_util.h"
+#include "failure_test_util.h"
 
 #include "shadows/static/bake.h"
 

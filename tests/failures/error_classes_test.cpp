@@ -1,6 +1,6 @@
 // The disagreement classifier (shadows/reference/error_classes.h) on receivers whose class is known by
 // construction: a light 6 m above a ground with a closed box and a floating open quad, a 64^2 map.
-#include "failure_util.h"
+#include "failure_test_util.h"
 
 #include "shadows/reference/error_classes.h"
 

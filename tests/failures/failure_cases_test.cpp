@@ -1,11 +1,11 @@
 // The failure suite (issue 11): cases where shadow methods are known to fail, each rendered at 160x90
-// through the module API, checked for NaN/Inf pixels and measured against the rays (failure_util.h).
+// through the module API, checked for NaN/Inf pixels and measured against the rays (failure_test_util.h).
 // Each case states its expected behaviour beside it; docs/accuracy.md lists the measured figures and
 // docs/failures/<case>.png the images (ML_FAILURE_IMAGES=docs/failures build/failure_tests).
 // Grazing receivers are covered by tests/static/static_visibility_test.cpp (StaticBias.*): every
 // method at 30, 10 and 5 degrees of elevation, no acne and shadows where a box blocks; the case here
 // renders the same setup through the module.
-#include "failure_util.h"
+#include "failure_test_util.h"
 
 namespace ml::test {
 

@@ -3,7 +3,7 @@
 //   fuzz_inputs bake|gltf [--seconds S] [--iterations N] [--seed X] [--dump-at I --dump-dir DIR] [--verbose]
 //
 // bake: the bake-file reader and every method's validator (SM, MH, MMH, DAG-MH, CPVS). Seeds are the
-//       hostile tests' synthetic bake files (tests/hostile/hostile_util.h). Most mutants get their
+//       hostile tests' synthetic bake files (tests/hostile/hostile_test_util.h). Most mutants get their
 //       checksums recomputed (file header, record, data, and the format's own) so that mutations reach
 //       the structural checks behind the checksums; an accepted file is then looked up at every texel
 //       (depth methods) or voxel column (CPVS) and its byte breakdown computed: under ASan/UBSan any
@@ -16,7 +16,7 @@
 // corpus. A finding is a crash (the process dies: ctest fails), a hang (ctest's timeout), or an error
 // message that is not one clean line (printed, exit 1). Deterministic for a seed: a crash at iteration
 // I is reproduced with --iterations I+1 and dumped with --dump-at I.
-#include "../hostile/hostile_util.h"
+#include "../hostile/hostile_test_util.h"
 
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
