@@ -7,6 +7,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/uint_list.h"
+#include "bake/scene_casters.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/static/cpvs.h"
@@ -82,7 +83,7 @@ int runBenchCpvs(int argc, char** argv) {
     const CasterTriangles casters = castersFromScene(*scene);
     std::vector<Light> spots;
     for (const Light& l : scene->lights)
-        if (l.type == LightType::Spot && !l.dynamic && spots.size() < lightCount.value()) spots.push_back(l);
+        if (l.type == LightKind::Spot && !l.dynamic && spots.size() < lightCount.value()) spots.push_back(l);
     if (spots.empty()) return runError("bench cpvs", "the scene has no static spotlight");
 
     std::vector<Row> rows;

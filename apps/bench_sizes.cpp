@@ -8,6 +8,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/uint_list.h"
+#include "bake/scene_casters.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/static/dagmh.h"
@@ -169,7 +170,7 @@ int runBenchSizes(int argc, char** argv) {
                 int k = 0;
                 bool found = c.spot < 0;
                 for (const Light& l : s->lights)
-                    if (l.type == LightType::Spot && c.spot >= 0 && k++ == c.spot)
+                    if (l.type == LightKind::Spot && c.spot >= 0 && k++ == c.spot)
                         fr = spotLightFrustum(l), found = true;
                 if (!found) return runError("bench sizes", c.name + ": the scene has too few spotlights");
                 const auto t0 = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 // voxels, determinism and the default, night-city spotlights.
 #include "cpvs_test_util.h"
 
+#include "bake/scene_casters.h"
 #include "scenes/scenes.h"
 
 #include <bit>
@@ -134,7 +135,7 @@ TEST(CpvsRegions, NightCityEqualsGlobal) {
     CasterTriangles casters = castersFromScene(*scene);
     std::vector<Light> spots;
     for (const Light& l : scene->lights)
-        if (l.type == LightType::Spot && !l.dynamic && spots.size() < 2) spots.push_back(l);
+        if (l.type == LightKind::Spot && !l.dynamic && spots.size() < 2) spots.push_back(l);
     ASSERT_FALSE(spots.empty());
     for (size_t li = 0; li < spots.size(); ++li) {
         LightFrustum f = spotLightFrustum(spots[li]);

@@ -2,6 +2,7 @@
 // voxel checked; lights with no caster, only casters and a caster at the near plane.
 #include "cpvs_test_util.h"
 
+#include "bake/scene_casters.h"
 #include "scenes/scenes.h"
 
 namespace ml::ctest {
@@ -13,7 +14,7 @@ namespace {
 std::vector<Light> staticSpots(const Scene& scene, size_t count) {
     std::vector<Light> out;
     for (const Light& l : scene.lights)
-        if (l.type == LightType::Spot && !l.dynamic && out.size() < count) out.push_back(l);
+        if (l.type == LightKind::Spot && !l.dynamic && out.size() < count) out.push_back(l);
     return out;
 }
 
