@@ -115,7 +115,7 @@ bake_once() {
         say "(reusing $file)"
         return 0
     fi
-    mkdir -p "$(dirname "$file")"
+    [ "$DRY" = 1 ] || mkdir -p "$(dirname "$file")"
     run "$ML" bake "$@" --out "$file"
 }
 CITY1024() { echo "$OUT/bakes/night-city-dagmh-1024.mlbk"; }
@@ -222,7 +222,7 @@ step_directional() {
     run "$BUILD/failure_tests" --gtest_filter='*Directional*'
 }
 step_failures() {
-    mkdir -p "$D/images"
+    [ "$DRY" = 1 ] || mkdir -p "$D/images"
     runenv ML_FAILURE_IMAGES="$D/images" "$BUILD/failure_tests"
     local f
     if [ "$DRY" = 0 ]; then
@@ -358,9 +358,9 @@ main() {
     status=0
     for name in "${chosen[@]}"; do
         D="$OUT/$name"
-        mkdir -p "$D"
+        [ "$DRY" = 1 ] || mkdir -p "$D"
         LOG="$D/log.txt"
-        : >"$LOG"
+        if [ "$DRY" = 1 ]; then LOG=/dev/null; else : >"$LOG"; fi
         start=$(date +%s)
         say "== $name ($(date -u '+%Y-%m-%d %H:%M UTC'), $(git rev-parse --short HEAD 2>/dev/null || echo 'no git'))"
         if ( set -euo pipefail; "step_$name" ); then
