@@ -9,7 +9,7 @@
 #include "apps/commands.h"
 #include "apps/gpu_dual_renderer.h"
 #include "apps/need_region.h"
-#include "engine/device_types.h"
+#include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "shadows/reference/error_classes.h"

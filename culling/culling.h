@@ -19,7 +19,7 @@
 // explicit bounds; the slice layout follows the exponential scheme of that paper).
 #pragma once
 #include "engine/manylights.h"
-#include "engine/program.h"
+#include "gpu/program.h"
 #include "shaders/shared/gpu_types.h"
 
 #include <vector>

@@ -5,7 +5,7 @@
 //
 // Units: metres, right-handed, +Y up. Angles in radians.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 
 #include <glm/glm.hpp>
 

@@ -22,7 +22,7 @@
 // Everything is CPU-only and independent of Vulkan. Errors come back as one-line Result messages; Embree's
 // own error text is captured by a device error callback.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "scenes/scene.h"
 
 #include <glm/glm.hpp>

@@ -6,7 +6,7 @@
 // point lights six cube faces. Lights that cannot be baked (dynamic and directional lights) are never
 // dropped silently: they come back in BakeResult::skipped with the reason.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "scenes/scenes.h"
 #include "shadows/static/bake_file.h"
 #include "shadows/static/raster_dual.h"

@@ -3,7 +3,7 @@
 // (manylights_static: static_method.h, dual_depth.h, bake_file.h), which hosts use only to make or read
 // bakes.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 
 #include <glm/glm.hpp>
 

@@ -2,7 +2,7 @@
 // every voxel), and the evaluation pass with baked shadows matches its CPU reference.
 #include "gpu_test_util.h"
 
-#include "engine/program.h"
+#include "gpu/program.h"
 #include "shaders/shared/shading.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"

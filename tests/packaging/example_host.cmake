@@ -50,7 +50,7 @@ if(MODE STREQUAL "install")
   run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${flags} -o ${OUT}/host_example_pkgconfig)
   # Public headers only: the engine's internals are not installed, and every installed engine/ header
   # compiles on its own (API types only, nothing missing).
-  foreach(f engine/device.h engine/program.h engine/resources.h engine/profiler.h engine/gbuffer.h
+  foreach(f gpu/device.h gpu/program.h gpu/resources.h gpu/profiler.h engine/gbuffer.h
             engine/module_impl.h shadows/virtual/vsm.h shadows/gpu/dual_depth_gpu.h lights/lights.h)
     if(EXISTS ${OUT}/prefix/include/manylights/${f})
       message(FATAL_ERROR "cmake --install installed the internal header ${f}")

@@ -13,8 +13,8 @@ endif()
 # Regular expressions of the headers apps and hosts may include.
 set(ALLOWED
   # the public API (installed): the module and its API types, the diagnostics read-backs, ML_VK_CHECK
-  "^engine/manylights\\.h$" "^engine/manylights_diagnostics\\.h$" "^engine/result\\.h$"
-  "^engine/device_types\\.h$" "^engine/pass_times\\.h$" "^engine/vk_check\\.h$"
+  "^engine/manylights\\.h$" "^engine/manylights_diagnostics\\.h$" "^io/result\\.h$"
+  "^gpu/device_types\\.h$" "^gpu/pass_times\\.h$" "^gpu/vk_check\\.h$"
   "^shadows/virtual/vsm_settings\\.h$"
   # GPU structs and light math shared by C++ and GLSL (installed, one source for both)
   "^shaders/shared/[a-z_]+\\.h$"
