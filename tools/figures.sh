@@ -38,6 +38,11 @@ Options:
   --dry-run        print the commands without running them
   -h, --help       this text
 
+Environment: SM_MAX (default 1024): the largest resolution at which bench static runs the plain map
+(sm), which lavapipe's 128 MiB storage buffer range refuses for 8 lights from 2048^2 on; the other
+methods run apart at every resolution. FZK_ONE_RUN=1: the fzk-haus benchmark as one command (on a
+device whose range holds its bakes).
+
 With no selection every step not marked slow runs, in --list order. Build first:
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j2
 Absolute times in the figures depend on the machine and on what else runs on it: compare within one run.
