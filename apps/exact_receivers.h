@@ -1,0 +1,31 @@
+// Exact receivers of the static shadow benchmarks (bench static, bench flicker, bench static --need):
+// the camera ray through a pixel's centre in double precision, traced against the static scene with
+// Embree, so receivers sit on the surface rather than at the G-buffer's reconstructed depth.
+#pragma once
+#include "shadows/reference/raytrace.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+namespace ml {
+
+enum class PixelConvention {
+    Standard, // NDC y up, depth 0 near and 1 far (the benchmarks' own double-precision views)
+    GBuffer,  // the module's G-buffer: NDC y down, reversed Z (depth 1 near, 0 far: engine/camera.h)
+};
+
+// The unit direction of the ray through pixel (x, y)'s centre, from the inverse view-projection.
+glm::dvec3 pixelRayDirection(const glm::dmat4& invViewProj, uint32_t x, uint32_t y, uint32_t width,
+                             uint32_t height, PixelConvention convention);
+
+struct SurfaceHit {
+    bool hit = false;
+    glm::vec3 p{0.0f}, n{0.0f}; // the hit and its geometric normal, turned to face the ray's origin
+};
+
+// The first static surface along the ray within `farDistance`.
+SurfaceHit traceSurface(const RayReference& rays, const glm::dvec3& eye, const glm::dvec3& dir,
+                        float farDistance);
+
+} // namespace ml
