@@ -353,19 +353,18 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
 
 } // namespace
 
+// The flags of `bake` beside its option groups.
+const cli::Flags kBakeFlags{{"--scene-lights", "--method", "--res", "--lights", "--out", "--renderer",
+                             "--shard", "--light-dir", "--bounds", "--need"},
+                            {"--quiet"}};
+
 int runBake(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 2,
-                           {opts::kSceneFlags,
-                            opts::kSceneDirFlags,
-                            opts::kNeedFlags,
-                            {{"--scene-lights", "--method", "--res", "--lights", "--out", "--renderer",
-                              "--shard", "--light-dir", "--bounds", "--need"},
-                             {"--quiet"}}});
-    if (!args) return usageError("bake", args.error());
-    if (args->help) {
-        std::fputs(kBakeHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args = commandArgs(
+        "bake", kBakeHelp,
+        cli::parse(argc, argv, 2, {opts::kSceneFlags, opts::kSceneDirFlags, opts::kNeedFlags, kBakeFlags}),
+        status);
+    if (!args) return status;
     auto options = parseBake(*args);
     if (!options) return usageError("bake", options.error());
     const BakeOptions& o = options.value();

@@ -115,14 +115,15 @@ std::string printRows(const std::vector<Row>& rows) {
     return csv.str();
 }
 
+// The flags of `bench culling` beside its option groups.
+const cli::Flags kCullingFlags{{"--lights", "--csv", "--culling"}, {}};
+
 int runBenchCulling(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSeedFlags, opts::kViewFlags, {{"--lights", "--csv", "--culling"}, {}}});
-    if (!args) return usageError("bench", args.error());
-    if (args->help) {
-        std::fputs(kBenchHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args =
+        commandArgs("bench", kBenchHelp,
+                    cli::parse(argc, argv, 3, {opts::kSeedFlags, opts::kViewFlags, kCullingFlags}), status);
+    if (!args) return status;
     auto view = opts::view(*args, {5, 1, 1000, "640x360"});
     auto list = opts::uintList("--lights", args->get("--lights", "256,1024,4096"), 1, ML_MAX_LIGHTS);
     auto seed = opts::seed(*args);

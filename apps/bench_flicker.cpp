@@ -177,19 +177,14 @@ void receiversOf(const Options& o, const Path& path, const Scene& scene, const R
 // Static spots reaching the most pixels of frame 0: their scene indices, at most `count`.
 std::vector<uint32_t> rankLights(const Scene& scene, const std::vector<glm::vec3>& ps,
                                  const std::vector<glm::vec3>& ns, uint32_t count) {
-    std::vector<std::pair<size_t, uint32_t>> ranked;
-    for (uint32_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
-        size_t n = 0;
-        for (size_t k = 0; k < ps.size(); ++k) n += ns[k] != glm::vec3(0.0f) && inLightCone(l, ps[k]);
-        if (n) ranked.push_back({n, i});
-    }
-    std::sort(ranked.rbegin(), ranked.rend());
-    if (ranked.size() > count) ranked.resize(count);
-    std::vector<uint32_t> lights;
-    for (auto [n, i] : ranked) lights.push_back(i);
-    return lights;
+    return firstLights(rankStaticSpots(scene,
+                                       [&](const Light& l) {
+                                           size_t n = 0;
+                                           for (size_t k = 0; k < ps.size(); ++k)
+                                               n += ns[k] != glm::vec3(0.0f) && inLightCone(l, ps[k]);
+                                           return n;
+                                       }),
+                       count);
 }
 
 // A measured light in one frame: its pose (the rays' light), the frustum its maps were rendered with,
@@ -328,19 +323,18 @@ Result<Counts> measure(const Options& o, const std::vector<Config>& configs, con
 }
 } // namespace
 
+// The flags of `bench flicker` beside its option groups.
+const cli::Flags kFlickerFlags{{"--methods", "--res", "--pcf", "--lights", "--camera", "--camera-end",
+                                "--out", "--light-move", "--light-turn", "--map-jitter"},
+                               {}};
+
 int runBenchFlicker(int argc, char** argv) {
     if (argc > 3 && std::string(argv[3]) == "--vsm") return runBenchFlickerVsm(argc, argv);
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSceneFlags,
-                            opts::kViewFlags,
-                            {{"--methods", "--res", "--pcf", "--lights", "--camera", "--camera-end", "--out",
-                              "--light-move", "--light-turn", "--map-jitter"},
-                             {}}});
-    if (!args) return usageError("bench flicker", args.error());
-    if (args->help) {
-        std::fputs(kFlickerHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args =
+        commandArgs("bench flicker", kFlickerHelp,
+                    cli::parse(argc, argv, 3, {opts::kSceneFlags, opts::kViewFlags, kFlickerFlags}), status);
+    if (!args) return status;
     auto options = parseOptions(*args);
     if (!options) return usageError("bench flicker", options.error());
     const Options& o = options.value();

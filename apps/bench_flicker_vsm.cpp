@@ -340,18 +340,14 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
 
 } // namespace
 
+// The flags of `bench flicker --vsm` beside its option groups.
+const cli::Flags kFlickerVsmFlags{{"--pcf", "--vsm-raster", "--out", "--compare-res"}, {}};
+
 int runBenchFlickerVsm(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 4,
-                           {opts::kSceneFlags,
-                            opts::kViewFlags,
-                            kVsmMapFlags,
-                            kVsmSessionFlags,
-                            {{"--pcf", "--vsm-raster", "--out", "--compare-res"}, {}}});
-    if (!args) return usageError("bench flicker --vsm", args.error());
-    if (args->help) {
-        std::fputs(kFlickerVsmHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args = commandArgs("bench flicker --vsm", kFlickerVsmHelp,
+                                  parseVsmCommand(argc, argv, 4, kFlickerVsmFlags), status);
+    if (!args) return status;
     auto parsed = parseRun(*args);
     if (!parsed) return usageError("bench flicker --vsm", parsed.error());
     Run& run = parsed.value();
@@ -375,16 +371,12 @@ int runBenchFlickerVsm(int argc, char** argv) {
     json::Object summary;
     summary.integer("pairs", sums->pairs)
         .integer("truth_flips", sums->truthFlips)
-        .integer("flips", sums->flips)
-        .integer("lookups", c.lookups)
-        .integer("mismatches", c.mismatches)
-        .integer("not_resident", c.notResident)
-        .integer("missing", c.missing)
-        .integer("fallbacks", c.fallbacks)
-        .integer("directional", c.directional)
-        .integer("back_facing", c.backFacing)
-        .integer("unknown_light", c.unknownLight)
-        .integer("probe_overflow", c.probeOverflow);
+        .integer("flips", sums->flips);
+    summary.integer("lookups", c.lookups).integer("mismatches", c.mismatches);
+    summary.integer("not_resident", c.notResident).integer("missing", c.missing);
+    summary.integer("fallbacks", c.fallbacks).integer("directional", c.directional);
+    summary.integer("back_facing", c.backFacing).integer("unknown_light", c.unknownLight);
+    summary.integer("probe_overflow", c.probeOverflow);
     std::printf("%s\n", summary.str().c_str());
     const bool clean = c.mismatches == 0 && c.notResident == 0 && c.missing == 0 && c.probeOverflow == 0 &&
                        c.unknownLight == 0;

@@ -202,24 +202,17 @@ Result<std::vector<Receiver>> gatherReceivers(Module& m, const RayReference& ray
 
 // Lights: static spots reaching the most receivers, at most `count`.
 std::vector<uint32_t> rankLights(const Scene& scene, const std::vector<Receiver>& receivers, uint32_t count) {
-    std::vector<std::pair<size_t, uint32_t>> ranked;
-    for (uint32_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+    const auto ranked = rankStaticSpots(scene, [&](const Light& l) {
         size_t n = 0;
         for (const Receiver& r : receivers) n += inLightCone(l, r.p);
-        if (n) ranked.push_back({n, i});
-    }
-    std::sort(ranked.rbegin(), ranked.rend());
+        return n;
+    });
     for (size_t k = 0; k < ranked.size() && k < 3; ++k) {
         const Light& l = scene.lights[ranked[k].second];
         std::fprintf(stderr, "  light %u at %.1f,%.1f,%.1f reaches %zu receivers\n", ranked[k].second,
                      l.position.x, l.position.y, l.position.z, ranked[k].first);
     }
-    if (ranked.size() > count) ranked.resize(count);
-    std::vector<uint32_t> lights;
-    for (auto [n, i] : ranked) lights.push_back(i);
-    return lights;
+    return firstLights(ranked, count);
 }
 
 // Ray-traced truth per light, over the receivers in its cone.
@@ -505,22 +498,21 @@ int report(const Bench& b, const std::vector<Row>& rows, double noneMs) {
 }
 } // namespace
 
+// The flags of `bench static` beside its option groups.
+const cli::Flags kStaticFlags{{"--methods", "--res", "--lights", "--pcf", "--out", "--camera", "--lookup-pcf",
+                               "--lookups", "--lookup-pairs", "--receivers", "--print-class", "--ray-bias"},
+                              {}};
+
 int runBenchStatic(int argc, char** argv) {
     // --- bench static --need: fixed against need-based resolution, its own options (bench_static_need.cpp).
     for (int i = 3; i < argc; ++i)
         if (std::string(argv[i]) == "--need") return runBenchStaticNeed(argc, argv);
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSceneFlags,
-                            opts::kSceneDirFlags,
-                            opts::kViewFlags,
-                            {{"--methods", "--res", "--lights", "--pcf", "--out", "--camera", "--lookup-pcf",
-                              "--lookups", "--lookup-pairs", "--receivers", "--print-class", "--ray-bias"},
-                             {}}});
-    if (!args) return usageError("bench static", args.error());
-    if (args->help) {
-        std::fputs(kHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args = commandArgs(
+        "bench static", kHelp,
+        cli::parse(argc, argv, 3, {opts::kSceneFlags, opts::kSceneDirFlags, opts::kViewFlags, kStaticFlags}),
+        status);
+    if (!args) return status;
     auto options = parseStatic(*args);
     if (!options) return usageError("bench static", options.error());
     const StaticOptions& o = options.value();

@@ -311,18 +311,17 @@ void printClassRows(const std::vector<ClassRow>& classRows) {
 }
 } // namespace
 
+// The flags of `bench static --need` beside its option groups.
+const cli::Flags kNeedBenchFlags{{"--need", "--views", "--size", "--res", "--methods", "--lights",
+                                  "--scene-lights", "--renderer", "--out"},
+                                 {}};
+
 int runBenchStaticNeed(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSceneFlags,
-                            opts::kNeedFlags,
-                            {{"--need", "--views", "--size", "--res", "--methods", "--lights",
-                              "--scene-lights", "--renderer", "--out"},
-                             {}}});
-    if (!args) return usageError("bench static", args.error());
-    if (args->help) {
-        std::fputs(kNeedHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args = commandArgs(
+        "bench static", kNeedHelp,
+        cli::parse(argc, argv, 3, {opts::kSceneFlags, opts::kNeedFlags, kNeedBenchFlags}), status);
+    if (!args) return status;
     auto parsed = parseNeedBench(*args);
     if (!parsed) return usageError("bench static", parsed.error());
     const NeedBench& o = parsed.value();

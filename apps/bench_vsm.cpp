@@ -241,18 +241,14 @@ void printMeshTable(const std::vector<Row>& rows, json::Object& json) {
 }
 } // namespace
 
+// The flags of `bench vsm` beside its option groups.
+const cli::Flags kBenchVsmFlags{{"--kinds", "--out", "--vsm-raster", "--meshlet"}, {}};
+
 int runBenchVsm(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSceneFlags,
-                            opts::kViewFlags,
-                            kVsmMapFlags,
-                            kVsmSessionFlags,
-                            {{"--kinds", "--out", "--vsm-raster", "--meshlet"}, {}}});
-    if (!args) return usageError("bench vsm", args.error());
-    if (args->help) {
-        std::fputs(kBenchVsmHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args =
+        commandArgs("bench vsm", kBenchVsmHelp, parseVsmCommand(argc, argv, 3, kBenchVsmFlags), status);
+    if (!args) return status;
     auto config = parseConfig(*args);
     if (!config) return usageError("bench vsm", config.error());
     const Config& c = config.value();

@@ -185,21 +185,18 @@ Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCou
 }
 
 std::string summary(const CheckCounts& c, uint32_t frames, bool meshPath) {
-    return json::Object()
-        .integer("checked", c.checked)
-        .integer("mismatches", c.mismatches)
-        .integer("depth_beyond_tolerance", c.depthBeyondTolerance)
-        .integer("fallbacks", c.fallbacks)
-        .integer("no_caster", c.noCaster)
-        .integer("missing", c.missing)
-        .integer("directional_checked", c.directionalChecked)
-        .integer("ties_or_edges", c.ties)
-        .integer("probe_overflow", c.probeOverflow)
-        .integer("frames", frames)
-        .text("raster", meshPath ? "mesh" : "vertex")
-        .str();
+    json::Object o;
+    o.integer("checked", c.checked).integer("mismatches", c.mismatches);
+    o.integer("depth_beyond_tolerance", c.depthBeyondTolerance).integer("fallbacks", c.fallbacks);
+    o.integer("no_caster", c.noCaster).integer("missing", c.missing);
+    o.integer("directional_checked", c.directionalChecked).integer("ties_or_edges", c.ties);
+    o.integer("probe_overflow", c.probeOverflow).integer("frames", frames);
+    return o.text("raster", meshPath ? "mesh" : "vertex").str();
 }
 } // namespace
+
+// The flags of `check vsm` beside its option groups.
+const cli::Flags kCheckFlags{{"--pcf", "--vsm-raster"}, {}};
 
 int runCheck(int argc, char** argv) {
     if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
@@ -208,17 +205,10 @@ int runCheck(int argc, char** argv) {
     }
     if (std::string(argv[2]) != "vsm")
         return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
-    auto args = cli::parse(argc, argv, 3,
-                           {opts::kSceneFlags,
-                            opts::kViewFlags,
-                            kVsmMapFlags,
-                            kVsmSessionFlags,
-                            {{"--pcf", "--vsm-raster"}, {}}});
-    if (!args) return usageError("check vsm", args.error());
-    if (args->help) {
-        std::fputs(kCheckHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args =
+        commandArgs("check vsm", kCheckHelp, parseVsmCommand(argc, argv, 3, kCheckFlags), status);
+    if (!args) return status;
     uint32_t frameCount = 0;
     auto options = vsmSessionOptions(*args, {10, 1, "320x180", 1024}, frameCount);
     if (!options) return usageError("check vsm", options.error());

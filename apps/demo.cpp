@@ -113,10 +113,12 @@ struct DemoOptions {
 };
 
 Result<DebugView> parseView(const std::string& name) {
-    if (name == "shaded") return DebugView::Shaded;
-    if (name == "lights") return DebugView::LightsEvaluated;
-    if (name == "lights-reaching") return DebugView::LightsReaching;
-    if (name == "vsm") return DebugView::Vsm;
+    const std::pair<const char*, DebugView> views[] = {{"shaded", DebugView::Shaded},
+                                                       {"lights", DebugView::LightsEvaluated},
+                                                       {"lights-reaching", DebugView::LightsReaching},
+                                                       {"vsm", DebugView::Vsm}};
+    for (const auto& [word, view] : views)
+        if (name == word) return view;
     return fail("--view: unknown view '" + name + "' (shaded, lights, lights-reaching or vsm)");
 }
 
@@ -283,21 +285,20 @@ Result<std::unique_ptr<Module>> createModule(const DemoOptions& d, Scene& scene,
 }
 } // namespace
 
+// The flags of `demo` beside its option groups.
+const cli::Flags kDemoFlags{{"--lights", "--culling", "--out", "--static", "--static-res", "--pcf",
+                             "--camera", "--bake", "--path", "--dynamic", "--timing", "--view",
+                             "--vsm-raster"},
+                            {"--window", "--no-stats"}};
+
 int runDemo(int argc, char** argv) {
-    auto args =
+    int status = 0;
+    const auto args = commandArgs(
+        "demo", kDemoHelp,
         cli::parse(argc, argv, 2,
-                   {opts::kSceneFlags,
-                    opts::kSceneDirFlags,
-                    opts::kViewFlags,
-                    kVsmMapFlags,
-                    {{"--lights", "--culling", "--out", "--static", "--static-res", "--pcf", "--camera",
-                      "--bake", "--path", "--dynamic", "--timing", "--view", "--vsm-raster"},
-                     {"--window", "--no-stats"}}});
-    if (!args) return usageError("demo", args.error());
-    if (args->help) {
-        std::fputs(kDemoHelp, stdout);
-        return 0;
-    }
+                   {opts::kSceneFlags, opts::kSceneDirFlags, opts::kViewFlags, kVsmMapFlags, kDemoFlags}),
+        status);
+    if (!args) return status;
     auto parsed = parseDemo(*args);
     if (!parsed) return usageError("demo", parsed.error());
     DemoOptions& d = parsed.value();

@@ -1,5 +1,7 @@
 #include "apps/exact_receivers.h"
 
+#include <algorithm>
+
 namespace ml {
 
 glm::dvec3 pixelRayDirection(const glm::dmat4& inv, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
@@ -22,6 +24,24 @@ SurfaceHit traceSurface(const RayReference& rays, const glm::dvec3& eye, const g
     const glm::vec3 n = glm::normalize(h.ng);
     s.n = glm::dot(n, glm::vec3(dir)) > 0.0f ? -n : n;
     return s;
+}
+
+std::vector<std::pair<size_t, uint32_t>> rankStaticSpots(const Scene& scene,
+                                                         const std::function<size_t(const Light&)>& reach) {
+    std::vector<std::pair<size_t, uint32_t>> ranked;
+    for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (const size_t n = reach(l)) ranked.push_back({n, i});
+    }
+    std::sort(ranked.rbegin(), ranked.rend());
+    return ranked;
+}
+
+std::vector<uint32_t> firstLights(const std::vector<std::pair<size_t, uint32_t>>& ranked, uint32_t count) {
+    std::vector<uint32_t> lights;
+    for (size_t k = 0; k < ranked.size() && k < count; ++k) lights.push_back(ranked[k].second);
+    return lights;
 }
 
 } // namespace ml

@@ -1,12 +1,16 @@
 // Exact receivers of the static shadow benchmarks (bench static, bench flicker, bench static --need):
 // the camera ray through a pixel's centre in double precision, traced against the static scene with
-// Embree, so receivers sit on the surface rather than at the G-buffer's reconstructed depth.
+// Embree, so receivers sit on the surface rather than at the G-buffer's reconstructed depth; and the
+// static spot lights measured over them (those reaching the most).
 #pragma once
 #include "shadows/reference/raytrace.h"
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
 
 namespace ml {
 
@@ -27,5 +31,12 @@ struct SurfaceHit {
 // The first static surface along the ray within `farDistance`.
 SurfaceHit traceSurface(const RayReference& rays, const glm::dvec3& eye, const glm::dvec3& dir,
                         float farDistance);
+
+// The static spot lights of `scene` by how many receivers each reaches (`reach`), most first (equal
+// counts: the higher index first), those reaching none left out: (count, light index) pairs.
+std::vector<std::pair<size_t, uint32_t>> rankStaticSpots(const Scene& scene,
+                                                         const std::function<size_t(const Light&)>& reach);
+// The light indices of the first `count` of a ranking.
+std::vector<uint32_t> firstLights(const std::vector<std::pair<size_t, uint32_t>>& ranked, uint32_t count);
 
 } // namespace ml

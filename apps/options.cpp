@@ -54,42 +54,43 @@ Result<std::vector<std::string>> splitList(const std::string& flag, const std::s
     }
 }
 
-Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,
-                                       uint32_t hi) {
+namespace {
+// Each item of the list through `parse` (a Result per item); the first error ends it.
+template <class T, class Parse>
+Result<std::vector<T>> listOf(const std::string& flag, const std::string& text, const Parse& parse) {
     auto items = splitList(flag, text);
     if (!items) return fail(items.error());
-    std::vector<uint32_t> out;
+    std::vector<T> out;
     for (const std::string& item : items.value()) {
-        auto v = cli::parseUint(flag, item, lo, hi);
+        Result<T> v = parse(item);
         if (!v) return fail(v.error());
         out.push_back(v.value());
     }
     return out;
 }
+} // namespace
+
+Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,
+                                       uint32_t hi) {
+    return listOf<uint32_t>(flag, text,
+                            [&](const std::string& item) { return cli::parseUint(flag, item, lo, hi); });
+}
 
 Result<std::vector<StaticMethod>> methodList(const std::string& flag, const std::string& text) {
-    auto items = splitList(flag, text);
-    if (!items) return fail(items.error());
-    std::vector<StaticMethod> out;
-    for (const std::string& item : items.value()) {
+    return listOf<StaticMethod>(flag, text, [&](const std::string& item) -> Result<StaticMethod> {
         auto m = parseStaticMethod(item);
         if (!m) return fail(flag + ": " + m.error());
         if (m.value() == StaticMethod::None) return fail(flag + ": method none");
-        out.push_back(m.value());
-    }
-    return out;
+        return m;
+    });
 }
 
 Result<std::vector<CullingMode>> cullingList(const std::string& flag, const std::string& text) {
-    auto items = splitList(flag, text);
-    if (!items) return fail(items.error());
-    std::vector<CullingMode> out;
-    for (const std::string& item : items.value()) {
+    return listOf<CullingMode>(flag, text, [&](const std::string& item) -> Result<CullingMode> {
         auto m = parseCulling(item);
         if (!m) return fail(flag + ": " + m.error());
-        out.push_back(m.value());
-    }
-    return out;
+        return m;
+    });
 }
 
 Result<float> number(const std::string& flag, const std::string& text, float lo, float hi) {

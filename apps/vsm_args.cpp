@@ -6,6 +6,11 @@
 
 namespace ml {
 
+Result<cli::Args> parseVsmCommand(int argc, char** argv, int first, const cli::Flags& own) {
+    return cli::parse(argc, argv, first,
+                      {opts::kSceneFlags, opts::kViewFlags, kVsmMapFlags, kVsmSessionFlags, own});
+}
+
 Result<void> vsmMapOptions(const cli::Args& args, uint32_t resolution, VsmSettings& vsm) {
     auto res = cli::parseUint("--vsm-res", args.get("--vsm-res", std::to_string(resolution)), 256, 16384);
     auto page = cli::parseUint("--vsm-page", args.get("--vsm-page", "64"), 32, 128);

@@ -15,6 +15,9 @@ inline const cli::Flags kVsmMapFlags{{"--vsm-res", "--vsm-page", "--vsm-pool"}, 
 // The session's own flags; its commands take opts::kSceneFlags, opts::kViewFlags and kVsmMapFlags too.
 inline const cli::Flags kVsmSessionFlags{{"--path", "--lights", "--bake", "--vsm-texels"}, {}};
 
+// A VSM command's flags: the scene, view, maps' and session's groups and its own.
+Result<cli::Args> parseVsmCommand(int argc, char** argv, int first, const cli::Flags& own);
+
 struct VsmArgDefaults {
     uint32_t frames = 10, minFrames = 1;
     const char* size = "320x180";
