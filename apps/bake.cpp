@@ -9,11 +9,11 @@
 #include "apps/json.h"
 #include "apps/need_region.h"
 #include "apps/options.h"
-#include "engine/device_types.h"
+#include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
-#include "shadows/static/bake.h"
-#include "shadows/static/bake_shard.h"
+#include "bake/bake.h"
+#include "bake/bake_shard.h"
 
 #include <algorithm>
 #include <chrono>

@@ -2,7 +2,7 @@
 // CPU rasteriser, or the Vulkan one of shadows/tools/gpu_dual_renderer.h on a device of its own.
 #pragma once
 #include "apps/cli.h"
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 #include "shadows/tools/gpu_dual_renderer.h"
 
 #include <memory>

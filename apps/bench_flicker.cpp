@@ -15,11 +15,12 @@
 // virtual shadow maps on a GPU path). CPU only here (the maps come from the CPU rasteriser, identical
 // to what the bake renders).
 #include "apps/commands.h"
+#include "bake/scene_casters.h"
 #include "apps/exact_receivers.h"
 #include "apps/json.h"
 #include "apps/options.h"
 #include "scenes/scenes.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 

@@ -3,12 +3,13 @@
 // maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
 // (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
-// against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
+// against time. Also (issue 11): every disagreement's cause (bake/reference/error_classes.h) with
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
 // resolution and PCF size (shadows/tools/lookup_timer.h). Receivers are moved onto the traced surface
 // by default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
 #include "apps/bench_static_tables.h"
 #include "apps/commands.h"
+#include "bake/scene_casters.h"
 #include "apps/exact_receivers.h"
 #include "apps/options.h"
 #include "io/safe_io.h"
@@ -16,8 +17,8 @@
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/light_math.h"
-#include "shadows/reference/error_classes.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/error_classes.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/static_visibility.h"
 #include "shadows/tools/gpu_dual_renderer.h"
 #include "shadows/tools/lookup_timer.h"

@@ -4,18 +4,18 @@
 // bench flicker). The static spot lights that reach some receiver are baked twice per cap R and method:
 // every light at R (fixed), and each light at its need-based resolution capped at R (bake --need). Both
 // are measured on the same (pixel, light) pairs against the rays: total bytes, wrong % (one tap) and the
-// resolution-class share (shadows/reference/error_classes.h). Table on stdout, CSV in --out.
+// resolution-class share (bake/reference/error_classes.h). Table on stdout, CSV in --out.
 #include "apps/bake_renderer.h"
 #include "apps/commands.h"
 #include "apps/exact_receivers.h"
 #include "apps/need_region.h"
 #include "apps/options.h"
-#include "engine/device_types.h"
+#include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
-#include "shadows/reference/error_classes.h"
-#include "shadows/reference/raytrace.h"
-#include "shadows/static/bake.h"
+#include "bake/reference/error_classes.h"
+#include "bake/reference/raytrace.h"
+#include "bake/bake.h"
 #include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -182,7 +182,7 @@ std::vector<uint32_t> rankLights(const Scene& scene, const std::vector<std::vect
     std::vector<std::pair<size_t, uint32_t>> ranked;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
-        if (l.type != LightType::Spot || !bakeSkipReason(scene, l).empty()) continue;
+        if (l.type != LightKind::Spot || !bakeSkipReason(scene, l).empty()) continue;
         size_t n = 0;
         for (const auto& rs : views)
             for (const Receiver& r : rs) n += inLightCone(l, r.p) && glm::dot(r.n, l.position - r.p) > 0.0f;

@@ -3,8 +3,8 @@
 // cost (bench_lookup.csv).
 #pragma once
 #include "shadows/tools/lookup_timer.h"
-#include "engine/result.h"
-#include "shadows/reference/error_classes.h"
+#include "io/result.h"
+#include "bake/reference/error_classes.h"
 #include "shadows/static/static_method.h"
 
 #include <string>
@@ -24,7 +24,7 @@ struct BenchStaticRow {
     double meanAbs = 0;
     std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
     std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
-    ErrorCounts classes{};            // disagreements by cause (shadows/reference/error_classes.h)
+    ErrorCounts classes{};            // disagreements by cause (bake/reference/error_classes.h)
 };
 
 // The main table (bytes, bake split, evaluation time, wrong %) on stdout; returns bench_static.csv's text.

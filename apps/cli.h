@@ -1,7 +1,7 @@
 // Command-line parsing shared by the subcommands: --flag value pairs and bare --switches, with
 // one-line errors naming the flag and the reason.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 
 #include <array>
 #include <cstdint>

@@ -31,7 +31,7 @@ std::vector<std::pair<size_t, uint32_t>> rankStaticSpots(const Scene& scene,
     std::vector<std::pair<size_t, uint32_t>> ranked;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         if (const size_t n = reach(l)) ranked.push_back({n, i});
     }
     std::sort(ranked.rbegin(), ranked.rend());

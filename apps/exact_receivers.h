@@ -3,7 +3,7 @@
 // Embree, so receivers sit on the surface rather than at the G-buffer's reconstructed depth; and the
 // static spot lights measured over them (those reaching the most).
 #pragma once
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 
 #include <glm/glm.hpp>
 

@@ -1,5 +1,5 @@
 #include "apps/options.h"
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -1,6 +1,6 @@
 #include "apps/window.h"
 
-#include "engine/vk_check.h"
+#include "gpu/vk_check.h"
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>

@@ -1,6 +1,6 @@
 #include "culling/culling.h"
 
-#include "engine/profiler.h"
+#include "gpu/profiler.h"
 #include "shaders/shared/light_math.h"
 
 #include "cluster_bounds.comp.spv.h"

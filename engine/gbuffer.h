@@ -1,7 +1,7 @@
 // G-buffer raster pass (module-owned targets): depth D32, world normal RGBA16F, albedo RGBA8. One
 // indexed indirect multi-draw over all instances; vertices are pulled from a storage buffer.
 #pragma once
-#include "engine/program.h"
+#include "gpu/program.h"
 
 namespace ml {
 

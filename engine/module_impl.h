@@ -6,7 +6,7 @@
 #include "engine/camera.h"
 #include "engine/gbuffer.h"
 #include "engine/manylights.h"
-#include "engine/profiler.h"
+#include "gpu/profiler.h"
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_meshlets.h"
 

@@ -16,7 +16,7 @@
 // one-line message: control characters become \n, \t, \xNN (C1 controls \u0080..\u009f too), and long
 // text is cut with a byte count, so a file cannot add lines or terminal escape codes to our output.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 
 #include <cstdint>
 #include <functional>

@@ -3,8 +3,8 @@
 // virtual shadow map x shading; and the per-pixel light counts. The module records them in this order
 // after culling and the virtual shadow map passes; both read the G-buffer and the cluster lists.
 #pragma once
-#include "engine/profiler.h"
-#include "engine/program.h"
+#include "gpu/profiler.h"
+#include "gpu/program.h"
 
 namespace ml {
 

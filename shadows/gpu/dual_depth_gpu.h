@@ -10,7 +10,7 @@
 // path by a few units of 2^-32 of the range; coverage follows Vulkan's rasterisation rules at texel
 // centres, like the CPU reference's.
 #pragma once
-#include "engine/program.h"
+#include "gpu/program.h"
 #include "shadows/static/raster_dual.h"
 
 #include <functional>

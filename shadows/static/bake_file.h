@@ -41,7 +41,7 @@
 // accepts can be uploaded and looked up without any read outside its buffers, on the CPU or the GPU.
 // Writing is deterministic: every word is defined, there are no timestamps.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/static_method.h"
 
 #include <cstdint>

@@ -42,7 +42,7 @@
 // The lookup (single tap and up to 9x9 PCF with a normal bias in integer voxel coordinates, section 5)
 // reads only those words; shaders/static/cpvs_lookup.glsl mirrors it line by line.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/dual_depth.h"
 
 #include <cstdint>

@@ -33,7 +33,7 @@
 //   factors: bit stream, little-endian within words, each chunk starting at a byte boundary.
 // Empty texels decode to exactly kDepthEmpty.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/static/format_common.h"
 #include "shadows/static/mh.h"

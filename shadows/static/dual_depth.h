@@ -18,7 +18,7 @@
 // (raster_dual.h): with a plain ">= 0" rule a centre on an edge shared by two front faces would be
 // entered twice and left once, and its exit would run to far (StaticRaster.SharedEdgesCountedOnce).
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/static_types.h"
 
 #include <glm/glm.hpp>

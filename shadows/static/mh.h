@@ -24,7 +24,7 @@
 // Lookup: the value of the deepest valued node on the texel's path (absent child -> current value).
 // Empty texels decode to exactly kDepthEmpty (their interval is the single point).
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/static/format_common.h"
 

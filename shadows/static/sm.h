@@ -5,7 +5,7 @@
 // Layout (words): header[6] = magic 'SM01' | version 1 | resolution | total words | checksum | 0,
 // then resolution^2 values, row-major, row 0 at NDC y = -1.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/static/format_common.h"
 

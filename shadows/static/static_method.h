@@ -5,7 +5,7 @@
 // Depth methods (SM, MH, MMH, DAG-MH) return a light-space depth per texel (a receiver behind it is in
 // shadow). CPVS returns binary visibility per voxel (shadows/static/cpvs.h).
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "shadows/static/static_types.h"
 #include "shadows/static/cpvs.h"
 #include "shadows/static/dagmh.h"

@@ -1,7 +1,7 @@
 #include "shadows/tools/lookup_timer.h"
 
-#include "engine/program.h"
-#include "engine/resources.h"
+#include "gpu/program.h"
+#include "gpu/resources.h"
 #include "shadows/static/static_visibility.h"
 
 #include "bench_lookup.comp.spv.h"

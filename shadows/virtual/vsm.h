@@ -32,8 +32,8 @@
 // marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them, and are
 // invalidated whole when they become active again (their maps missed the invalidations meanwhile).
 #pragma once
-#include "engine/profiler.h"
-#include "engine/program.h"
+#include "gpu/profiler.h"
+#include "gpu/program.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/virtual/vsm_settings.h"
 #include "shadows/virtual/vsm_types.h"

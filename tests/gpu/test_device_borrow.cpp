@@ -10,9 +10,9 @@
 namespace ml {
 namespace {
 
-// The names after "//   features:" / "//   extensions:" in engine/device_types.h's header comment.
+// The names after "//   features:" / "//   extensions:" in gpu/device_types.h's header comment.
 std::vector<std::string> documented(const std::string& key) {
-    std::ifstream in(std::string(ML_SOURCE_DIR) + "/engine/device_types.h");
+    std::ifstream in(std::string(ML_SOURCE_DIR) + "/gpu/device_types.h");
     EXPECT_TRUE(in.good());
     std::vector<std::string> names;
     std::string line;

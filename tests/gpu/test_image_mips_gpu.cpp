@@ -1,10 +1,10 @@
-// Images with mips and layers (engine/resources.h): every mip of every layer of a non-power-of-two
+// Images with mips and layers (gpu/resources.h): every mip of every layer of a non-power-of-two
 // R32_UINT array image is built on the GPU mip by mip (shaders/mip_reduce.comp through the per-mip
 // views), read back through the staging path one (mip, layer) at a time and compared with a CPU
 // reference; uploads into one (mip, layer) reach exactly that subresource.
-#include "engine/device.h"
-#include "engine/program.h"
-#include "engine/resources.h"
+#include "gpu/device.h"
+#include "gpu/program.h"
+#include "gpu/resources.h"
 
 #include "mip_reduce.comp.spv.h"
 

@@ -2,8 +2,8 @@
 // write-after-write the recording leaves unordered is reported and counted as an error, and the same
 // recording with the barrier that orders it is not. The frame itself is checked with synchronization
 // validation by the CliSyncValidation_* tests (the demo exits non-zero on any message).
-#include "engine/device.h"
-#include "engine/resources.h"
+#include "gpu/device.h"
+#include "gpu/resources.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-#include "engine/profiler.h"
-#include "engine/resources.h"
+#include "gpu/profiler.h"
+#include "gpu/resources.h"
 
 #include <chrono>
 

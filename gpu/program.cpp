@@ -1,4 +1,4 @@
-#include "engine/program.h"
+#include "gpu/program.h"
 
 #include <cassert>
 #include <cstdio>

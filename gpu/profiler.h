@@ -1,10 +1,10 @@
-// GPU profiler (internal; the API types Pass, PassTimes and TimingMode are engine/pass_times.h): a timestamp
+// GPU profiler (internal; the API types Pass, PassTimes and TimingMode are gpu/pass_times.h): a timestamp
 // pair around every pass, indexed by the Pass enum (no magic slot numbers), with a debug label per pass. Each
 // frame-in-flight slot has its own query range; results are read without waiting, when the host reuses the
 // slot (its previous frame is then known to be complete).
 #pragma once
-#include "engine/device.h"
-#include "engine/pass_times.h"
+#include "gpu/device.h"
+#include "gpu/pass_times.h"
 
 #include <array>
 #include <functional>

@@ -1,6 +1,6 @@
 // Device API types of the public header (engine/manylights.h): how the module gets its device (its own,
 // DeviceOptions, or the host's, DeviceBorrow), the plain handles a host reads back (DeviceInfo), the
-// required features and the validation counters. No Vulkan wrapper classes (engine/device.h, internal).
+// required features and the validation counters. No Vulkan wrapper classes (gpu/device.h, internal).
 //
 // Requirements: a Vulkan 1.3 physical device, a queue
 // family with graphics, compute and timestamps, and exactly these features and extensions (one table in

@@ -1,4 +1,4 @@
-#include "engine/resources.h"
+#include "gpu/resources.h"
 
 #include <algorithm>
 #include <bit>

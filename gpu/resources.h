@@ -19,7 +19,7 @@
 // Data the host writes or reads every frame instead lives in per-slot host-visible buffers (one per
 // frame in flight: Module::Impl::Slot, VirtualShadowMaps::Slot), since the CPU cannot wait for the GPU.
 #pragma once
-#include "engine/device.h"
+#include "gpu/device.h"
 
 #include <algorithm>
 #include <cstring>

@@ -1,6 +1,6 @@
 // Device: the Vulkan instance, physical device, logical device and one graphics+compute queue (internal:
 // the module's base layer). The API types (DeviceOptions, DeviceBorrow, DeviceInfo, the requirements and
-// the validation counters) are in the public engine/device_types.h.
+// the validation counters) are in the public gpu/device_types.h.
 //
 // Headless by default (lavapipe on machines without a GPU). The module either creates these itself or
 // borrows a host engine's handles (DeviceBorrow).
@@ -12,9 +12,9 @@
 // counted as errors) is on with DeviceOptions::validationSync or ML_VALIDATION_SYNC=1; either also
 // turns validation on. It is off by default because it slows every command down.
 #pragma once
-#include "engine/device_types.h"
-#include "engine/result.h"
-#include "engine/vk_check.h"
+#include "gpu/device_types.h"
+#include "io/result.h"
+#include "gpu/vk_check.h"
 
 #include <atomic>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "engine/device.h"
+#include "gpu/device.h"
 
 #include <GLFW/glfw3.h>
 

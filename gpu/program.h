@@ -6,7 +6,7 @@
 // pushed with VK_KHR_push_descriptor (no pools, no sets to manage).
 // Variants are specialization constants given by name at program creation: {kSpecFoo, value}.
 #pragma once
-#include "engine/resources.h"
+#include "gpu/resources.h"
 
 #include <initializer_list>
 #include <type_traits>

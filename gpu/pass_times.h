@@ -1,5 +1,5 @@
 // Per-pass GPU times of a frame (FrameReport::times): API types of the public header
-// (engine/manylights.h). The profiler that measures them is engine/profiler.h (internal).
+// (engine/manylights.h). The profiler that measures them is gpu/profiler.h (internal).
 #pragma once
 #include <array>
 #include <cstdint>

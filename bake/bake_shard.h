@@ -33,7 +33,7 @@
 // A light is "covered" by the part whose own list holds it; own lights without records are the lights
 // bakeScene skipped (dynamic, directional), exactly as a single bake skips them.
 #pragma once
-#include "engine/result.h"
+#include "io/result.h"
 #include "scenes/scene.h"
 #include "shadows/static/bake_file.h"
 
