@@ -137,7 +137,11 @@ int runBenchCulling(int argc, char** argv) {
     for (uint32_t lights : list.value()) {
         auto scene = loadScene("night-city", lights, seed.value());
         if (!scene) return runError("bench", scene.error());
-        auto module = Module::create({});
+        // Fenced: each pass timed from submit to completion. lavapipe's timestamps do not bracket
+        // compute work, so the default (timestamps) read near zero for the culling and evaluation passes.
+        ModuleOptions options;
+        options.timing = TimingChoice::Fenced;
+        auto module = Module::create(options);
         if (!module) return runError("bench", module.error());
         Module& m = *module.value();
         deviceName = m.deviceInfo().name;

@@ -99,9 +99,11 @@ Result<void> writeCharts(const std::string& dir, const std::vector<BenchStaticRo
         const char* names[3] = {"/accuracy_vs_bytes.png'\n", "/accuracy_vs_time.png'\n",
                                 "/accuracy_vs_lookup.png'\n"};
         const char* xlabels[3] = {
-            "set xlabel 'bytes per light'\n",
-            "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
-            "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
+            // Binary prefixes on the power-of-two ticks (64 KiB ... 8 MiB), not 1.04858x10^6.
+            "set format x '%.0b %BB'\nset xlabel 'bytes per light'\n",
+            "set format x '%g'\nunset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same "
+            "view)'\n",
+            "set format x '%g'\nset xlabel 'one-tap lookup, ns (isolated pass)'\n"};
         const int column[3] = {1, 2, 5};
         gp << "set output '" << dir << names[chart] << xlabels[chart] << "plot ";
         for (size_t i = 0; i < methods.size(); ++i)
