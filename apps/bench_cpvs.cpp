@@ -6,7 +6,8 @@
 // ctest runs it at 64^3. Prints a table, writes DIR/bench_cpvs.csv; the last stdout line is JSON.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "apps/uint_list.h"
+#include "apps/json.h"
+#include "apps/options.h"
 #include "bake/scene_casters.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
@@ -71,7 +72,7 @@ int runBenchCpvs(int argc, char** argv) {
         return usageError("bench cpvs", "--res: '" + args->get("--res", "") + "' is not a power of two");
     std::vector<uint32_t> regionLogs;
     if (args->has("--regions")) {
-        auto list = cli::parseUintList("--regions", args->get("--regions", ""), 0, 9);
+        auto list = opts::uintList("--regions", args->get("--regions", ""), 0, 9);
         if (!list) return usageError("bench cpvs", list.error());
         regionLogs = list.value();
     }
@@ -169,13 +170,14 @@ int runBenchCpvs(int argc, char** argv) {
     if (auto w = io::writeFileAtomically(out + "/bench_cpvs.csv", csv.str()); !w)
         return runError("bench cpvs", w.error());
     std::printf("wrote %s/bench_cpvs.csv\n", out.c_str());
-    std::printf(
-        "{\"bench\": \"cpvs\", \"res\": %u, \"lights\": %zu, \"mean_bytes\": %.0f, \"map_fraction\": %.6f, "
-        "\"bytes_goal_met\": %s, \"render_ms_mean\": %.1f, \"dag_ms_mean\": %.1f, \"time_goal_met\": %s, "
-        "\"regions_equal\": %s, \"mismatches\": %llu}\n",
-        n, spots.size(), meanBytes, meanBytes / mapBytes, meanBytes <= mapBytes / 256.0 ? "true" : "false",
-        renderMs / k, dagMs / k, dagMs <= renderMs ? "true" : "false", equal ? "true" : "false",
-        (unsigned long long)mismatches);
+    const bool bytesMet = meanBytes <= mapBytes / 256.0, timeMet = dagMs <= renderMs;
+    json::Object summary;
+    summary.text("bench", "cpvs").integer("res", n).integer("lights", spots.size());
+    summary.real("mean_bytes", meanBytes, "%.0f").real("map_fraction", meanBytes / mapBytes);
+    summary.raw("bytes_goal_met", bytesMet ? "true" : "false").real("render_ms_mean", renderMs / k, "%.1f");
+    summary.real("dag_ms_mean", dagMs / k, "%.1f").raw("time_goal_met", timeMet ? "true" : "false");
+    summary.raw("regions_equal", equal ? "true" : "false").integer("mismatches", mismatches);
+    std::printf("%s\n", summary.str().c_str());
     return equal && mismatches == 0 ? 0 : 1;
 }
 

@@ -7,7 +7,8 @@
 // DIR/bench_sizes.csv; the last stdout line is JSON.
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "apps/uint_list.h"
+#include "apps/json.h"
+#include "apps/options.h"
 #include "bake/scene_casters.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
@@ -127,13 +128,14 @@ int runBenchSizes(int argc, char** argv) {
         std::fputs(kBenchSizesHelp, stdout);
         return 0;
     }
-    auto sizes = cli::parseUintList("--res", args->get("--res", "4096,8192"), 16, 16384);
+    auto sizes = opts::uintList("--res", args->get("--res", "4096,8192"), 16, 16384);
     if (!sizes) return usageError("bench sizes", sizes.error());
     const std::string buildingFile = args->get("--building", "");
     std::vector<Case> cases;
     if (args->has("--cases")) {
-        std::stringstream ss(args->get("--cases", ""));
-        for (std::string item; std::getline(ss, item, ',');) {
+        auto names = opts::splitList("--cases", args->get("--cases", ""));
+        if (!names) return usageError("bench sizes", names.error());
+        for (const std::string& item : names.value()) {
             const Case* found = nullptr;
             for (const Case& c : kCases)
                 if (c.name == item) found = &c;
@@ -142,7 +144,6 @@ int runBenchSizes(int argc, char** argv) {
                 return usageError("bench sizes", "--cases: '" + item + "' needs --building FILE");
             cases.push_back(*found);
         }
-        if (cases.empty()) return usageError("bench sizes", "--cases: empty list");
     } else {
         for (const Case& c : kCases)
             if (!c.building || !buildingFile.empty()) cases.push_back(c);
@@ -257,11 +258,12 @@ int runBenchSizes(int argc, char** argv) {
         return runError("bench sizes", w.error());
     std::printf("wrote %s/bench_sizes.csv\n", out.c_str());
     // JSON has no NaN: a mean over no map is null.
-    auto number = [](double v) { return std::isnan(v) ? std::string("null") : std::to_string(v); };
-    std::printf(
-        "{\"bench\": \"sizes\", \"maps\": %zu, \"mean_mmh_over_mh\": %s, \"mean_dagmh_over_mmh\": %s, "
-        "\"errors\": %llu}\n",
-        rows.size(), number(meanMmh).c_str(), number(meanDag).c_str(), (unsigned long long)errors);
+    auto mean = [](double v) { return std::isnan(v) ? std::string("null") : json::number(v); };
+    json::Object summary;
+    summary.text("bench", "sizes").integer("maps", rows.size());
+    summary.raw("mean_mmh_over_mh", mean(meanMmh)).raw("mean_dagmh_over_mmh", mean(meanDag));
+    summary.integer("errors", errors);
+    std::printf("%s\n", summary.str().c_str());
     return errors == 0 ? 0 : 1;
 }
 
