@@ -47,7 +47,7 @@
 // 640x360 uses 271 K of the 3.7 M entries.
 #define ML_POOL_PER_CLUSTER 16
 
-// Culling modes (specialization constant kSpecCullingMode and FrameConstants.cluster.w). CLUSTERED
+// Culling modes (FrameConstants.cluster.w, read by the passes at run time; ml::CullingMode). CLUSTERED
 // assigns per light over its footprint (light_footprint.comp); CLUSTERED_BRUTE is the same grid and
 // lists from every light against every occupied cluster of each tile (light_assign.comp); TILED is
 // the brute force with one slice. All three write the same ranges + pool layout.
@@ -74,7 +74,7 @@
 // entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
 #define ML_HITS_PER_POOL_ENTRY_DIV 4
 
-// Light types (GpuLight.info.x); same values as ml::LightType.
+// Light types (GpuLight.info.x); same values as ml::LightKind.
 #define ML_LIGHT_SPOT 0
 #define ML_LIGHT_POINT 1
 #define ML_LIGHT_DIRECTIONAL 2
@@ -96,7 +96,7 @@
 #define ML_CLUSTER_OVERFLOW 0xFFFFFFFFu
 
 // Virtual shadow maps (shadows/virtual/). Page size, virtual resolution and pool size are runtime
-// settings (VsmSettings in engine/manylights.h); these are the fixed limits and workgroup sizes.
+// settings (VsmSettings in shadows/virtual/vsm_settings.h); these are the fixed limits and workgroup sizes.
 // GpuLight.info.y of a light without virtual shadow maps.
 #define ML_VSM_NO_MAP 0xFFFFFFFFu
 // Allocation passes (vsm_scan, vsm_assign) work in blocks of 256 page-table entries, one workgroup

@@ -192,26 +192,26 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     viewShader_ = ML_SHADER(d, spv_vsm_view_comp);
     drawVert_ = ML_SHADER(d, spv_vsm_draw_vert);
     drawFrag_ = ML_SHADER(d, spv_vsm_draw_frag);
-    markProgram_ = createComputeProgram(d, markShader_, 0);
-    scanProgram_ = createComputeProgram(d, scanShader_, 0);
-    allocProgram_ = createComputeProgram(d, allocShader_, 0);
-    assignProgram_ = createComputeProgram(d, assignShader_, 0);
-    hpbProgram_ = createComputeProgram(d, hpbShader_, 8);
-    cullProgram_ = createComputeProgram(d, cullShader_, 12);
-    clearProgram_ = createComputeProgram(d, clearShader_, 0);
-    probeProgram_ = createComputeProgram(d, probeShader_, 0);
-    viewProgram_ = createComputeProgram(d, viewShader_, 0);
+    markProgram_ = createComputeProgram(d, markShader_);
+    scanProgram_ = createComputeProgram(d, scanShader_);
+    allocProgram_ = createComputeProgram(d, allocShader_);
+    assignProgram_ = createComputeProgram(d, assignShader_);
+    hpbProgram_ = createComputeProgram(d, hpbShader_);
+    cullProgram_ = createComputeProgram(d, cullShader_);
+    clearProgram_ = createComputeProgram(d, clearShader_);
+    probeProgram_ = createComputeProgram(d, probeShader_);
+    viewProgram_ = createComputeProgram(d, viewShader_);
     GraphicsState gs; // attachment-less: depth goes to the pool with atomics
     gs.cull = VK_CULL_MODE_NONE;
     gs.depthTest = false;
     gs.depthWrite = false;
-    drawProgram_ = createGraphicsProgram(d, {&drawVert_, &drawFrag_}, 4, gs);
+    drawProgram_ = createGraphicsProgram(d, {&drawVert_, &drawFrag_}, gs);
     if (settings_.raster == VsmRaster::Mesh) {
         expandShader_ = ML_SHADER(d, spv_vsm_expand_comp);
         drawTask_ = ML_SHADER(d, spv_vsm_draw_task);
         drawMesh_ = ML_SHADER(d, spv_vsm_draw_mesh);
-        expandProgram_ = createComputeProgram(d, expandShader_, 12);
-        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, 8, gs);
+        expandProgram_ = createComputeProgram(d, expandShader_);
+        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, gs);
     }
 }
 
@@ -484,186 +484,6 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
         upload(slot.probes, header, sizeof(header));
     }
     return firstMap;
-}
-
-void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, uint32_t slotIndex,
-                               const VsmFrameInputs& in) {
-    if (!settings_.enabled) return;
-    Slot& slot = slots_[slotIndex];
-    const auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    const auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT, W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
-    const size_t usedEntries = size_t(mapsInUse_) * entriesPerMap_;
-    const Descriptor depth(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    const Descriptor normal(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    uint32_t width = 0, height = 0;
-    {
-        const auto* fc = in.frame->as<gpu::FrameConstants>();
-        width = fc->size.x;
-        height = fc->size.y;
-    }
-
-    profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // Per-frame state: marks, dirty-mip flags, draw counts (the frame-start barrier ordered these
-        // clears after the previous frame's reads).
-        const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
-        vkCmdFillBuffer(c, marks_.buffer, 0, used, 0);
-        vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
-        vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
-        vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
-        if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
-        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
-                      R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    });
-    if (slot.activeCount == 0) return;
-    const size_t activeEntries = slot.orderEntries;
-    profiler.run(cmd, Pass::VsmMark, [&](VkCommandBuffer c) {
-        dispatch(d, c, markProgram_, width, height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, depth, normal, slot.constants,
-                  slot.maps, slot.coverage, marks_});
-        memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
-    });
-    profiler.run(cmd, Pass::VsmAlloc, [&](VkCommandBuffer c) {
-        const uint32_t blocks = uint32_t((activeEntries + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
-        dispatch(d, c, scanProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
-                  slot.counters});
-        memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
-        dispatch(
-            d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
-            {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
-        memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
-        dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_,
-                  rendered_, dirtyMips_, slot.counters});
-        // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
-        memoryBarrier(c, C, W, C | indirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    });
-    profiler.run(cmd, Pass::VsmHpb, [&](VkCommandBuffer c) {
-        // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
-        // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
-        // (never read there, but a storage read for the validation layer): reads and writes follow.
-        firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, 0, C,
-                        R | W);
-        for (uint32_t level = 1; level <= hpbLevels_; ++level) {
-            const uint32_t mip = level - 1;
-            const uint32_t push[2] = {level, slot.activeCount};
-            bindProgram(d, c, hpbProgram_,
-                        {slot.constants, slot.active, table_,
-                         Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)), Descriptor(hpb_.mipView(mip))},
-                        push, sizeof(push));
-            vkCmdDispatch(c, (hpb_.mipWidth(mip) + 7) / 8, (hpb_.mipHeight(mip) + 7) / 8, slot.activeCount);
-            // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
-            imageBarrier(c, hpb_, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W,
-                         C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT,
-                         R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-        }
-    });
-    if (meshPath()) {
-        recordExpand(d, cmd, profiler, slot);
-    } else {
-        profiler.run(cmd, Pass::VsmCull, [&](VkCommandBuffer c) {
-            struct {
-                uint32_t casterCount, activeMaps, maxDraws;
-            } push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
-            dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
-                     {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
-                      dirtyMips_, draws_, drawInfo_, drawCounts_, slot.counters});
-            // Draw lists and counts -> indirect draws; draw info -> vertex shader.
-            memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                          VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
-        });
-    }
-    profiler.run(cmd, Pass::VsmDraw, [&](VkCommandBuffer c) {
-        bindProgram(d, c, clearProgram_, {slot.constants, rendered_, pagePool_}, nullptr, 0);
-        vkCmdDispatchIndirect(c, slot.counters.buffer, offsetof(gpu::VsmCounters, dispatchX));
-        memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
-        for (uint32_t m = 0; m < mips_; ++m) {
-            const uint32_t res = settings_.resolution >> m;
-            VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-            ri.renderArea = {{0, 0}, {res, res}};
-            ri.layerCount = 1;
-            vkCmdBeginRendering(c, &ri);
-            VkViewport vp{0, 0, float(res), float(res), 0, 1};
-            VkRect2D sc{{0, 0}, {res, res}};
-            vkCmdSetViewport(c, 0, 1, &vp);
-            vkCmdSetScissor(c, 0, 1, &sc);
-            if (meshPath()) {
-                // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
-                const uint32_t push[2] = {m, settings_.maxMeshletsPerMip};
-                bindProgram(d, c, meshProgram_,
-                            {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_,
-                             pagePool_, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
-                             Descriptor(hpb_.view), meshTasks_, slot.counters},
-                            push, sizeof(push));
-                d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
-            } else {
-                bindProgram(
-                    d, c, drawProgram_,
-                    {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_},
-                    &m, 4);
-                vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-                vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
-                                              VkDeviceSize(m) * settings_.maxDrawsPerMip *
-                                                  sizeof(VkDrawIndexedIndirectCommand),
-                                              drawCounts_.buffer, VkDeviceSize(m) * 4,
-                                              settings_.maxDrawsPerMip, sizeof(VkDrawIndexedIndirectCommand));
-            }
-            vkCmdEndRendering(c);
-        }
-        // Physical pages -> the evaluation pass's lookups.
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
-    });
-}
-
-void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profiler& profiler, Slot& slot) {
-    profiler.run(cmd, Pass::VsmExpand, [&](VkCommandBuffer c) {
-        struct {
-            uint32_t casterCount, activeMaps, maxMeshlets;
-        } push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
-        dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
-                 {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
-                  dirtyMips_, meshletList_, meshTasks_, slot.counters});
-        // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
-        // passes) -> task and mesh shaders.
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
-                          VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
-                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    });
-}
-
-void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
-                                    const VsmFrameInputs& in) {
-    if (!settings_.enabled || !settings_.probeCapacity || mapsInUse_ == 0) return;
-    Slot& slot = slots_[slotIndex];
-    const auto* fc = in.frame->as<gpu::FrameConstants>();
-    dispatch(d, cmd, probeProgram_, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
-              Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
-              slot.maps, slot.coverage, table_, pagePool_, slot.probes});
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
-}
-
-void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
-                                   const VsmFrameInputs& in, VkImageView output) {
-    if (!settings_.enabled) return;
-    Slot& slot = slots_[slotIndex];
-    const auto* fc = in.frame->as<gpu::FrameConstants>();
-    // The evaluation pass's output -> read and overwritten here.
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
-              Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
-              slot.maps, slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
-    // The view's output -> the host's reads after record().
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  kOutputReaderStages, kOutputReads);
 }
 
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {

@@ -32,7 +32,6 @@
 // marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them, and are
 // invalidated whole when they become active again (their maps missed the invalidations meanwhile).
 #pragma once
-#include "gpu/profiler.h"
 #include "gpu/program.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/virtual/vsm_settings.h"
@@ -111,15 +110,25 @@ class VirtualShadowMaps {
     std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame,
                                   std::span<const VsmLight> lights, std::span<const uint32_t> visible,
                                   std::span<const VsmInstance> instances, const VsmCamera& camera);
-    // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
-    void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
-                const VsmFrameInputs& in);
+    // The frame's passes, one function each (shadows/virtual/vsm_record.cpp), ordered and timed by the
+    // module's frame (engine/frame.h): reset (per-frame clears), then, when the slot has active maps
+    // (active()), mark, alloc (scan, allocate, assign), HPB, cull (raster path) or expand (mesh path),
+    // draw (clear and draw the dirty pages); after the evaluation the probe (probing()) and the view.
+    bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
+    bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
+    void recordReset(VkCommandBuffer cmd);
+    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
+    void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot);
+    void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot);
+    void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot);
+    void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot);
+    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
+    // The probe pass (probing()): records the lookups into the probe buffer.
+    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
     // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
     // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
     void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
                     VkImageView output);
-    // The probe pass (settings.probeCapacity > 0): records the lookups into the probe buffer.
-    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
 
     // Evaluation-pass bindings, in vsm_common.glsl's order: constants, maps, coverage, table, pool.
     const Buffer& constants(uint32_t slot) const { return slots_[slot].constants; }
@@ -173,7 +182,6 @@ class VirtualShadowMaps {
         bool seen = false;
     };
     uint32_t allocateSlots(uint32_t count);
-    void recordExpand(const Device& device, VkCommandBuffer cmd, Profiler& profiler, Slot& slot);
     void buildMap(uint32_t map, const VsmLight& light, uint32_t face, const VsmCamera& camera, bool& moved);
 
     VsmSettings settings_;

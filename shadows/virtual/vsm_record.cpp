@@ -1,0 +1,172 @@
+// The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; the module's
+// frame (engine/frame.h) orders and times them. Every barrier names the hazard it orders; the frame-begin
+// barrier (engine/frame.cpp) orders this frame's first writes after the previous frame's reads.
+#include "shadows/virtual/vsm.h"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace ml {
+
+namespace {
+constexpr auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+constexpr auto W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+constexpr auto kIndirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
+constexpr auto kTask = VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT;
+Descriptor sampled(VkImageView view) {
+    return Descriptor(Image{.view = view}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+}
+} // namespace
+
+void VirtualShadowMaps::recordReset(VkCommandBuffer c) {
+    // Per-frame state: marks, dirty-mip flags, draw counts (the frame-begin barrier ordered these clears
+    // after the previous frame's reads).
+    const size_t usedEntries = size_t(mapsInUse_) * entriesPerMap_;
+    const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
+    vkCmdFillBuffer(c, marks_.buffer, 0, used, 0);
+    vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
+    vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
+    vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
+    if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
+    // Cleared marks, flags and counts -> the passes' atomics and the indirect draws' counts.
+    memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | kIndirect,
+                  R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+}
+
+void VirtualShadowMaps::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
+                                   const VsmFrameInputs& in) {
+    Slot& slot = slots_[slotIndex];
+    const auto* fc = in.frame->as<gpu::FrameConstants>();
+    dispatch(d, c, markProgram_, fc->size.x, fc->size.y, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
+              slot.constants, slot.maps, slot.coverage, marks_});
+    memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
+}
+
+void VirtualShadowMaps::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
+    Slot& slot = slots_[slotIndex];
+    const uint32_t blocks = uint32_t((size_t(slot.orderEntries) + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
+    dispatch(d, c, scanProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
+             {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
+              slot.counters});
+    memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
+    dispatch(d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
+             {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
+    memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
+    dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
+             {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_, rendered_,
+              dirtyMips_, slot.counters});
+    // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
+    memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+}
+
+void VirtualShadowMaps::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
+    Slot& slot = slots_[slotIndex];
+    // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
+    // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
+    // (never read there, but a storage read for the validation layer): reads and writes follow.
+    firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | kTask, 0, C, R | W);
+    for (uint32_t level = 1; level <= hpbLevels_; ++level) {
+        const uint32_t mip = level - 1;
+        // A thread per texel of the level, one group layer per active map.
+        dispatch(d, c, hpbProgram_, hpb_.mipWidth(mip), hpb_.mipHeight(mip), slot.activeCount,
+                 gpu::VsmHpbPush{level, slot.activeCount},
+                 {slot.constants, slot.active, table_, Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)),
+                  Descriptor(hpb_.mipView(mip))});
+        // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
+        imageBarrier(c, hpb_, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W, C | kTask,
+                     R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    }
+}
+
+void VirtualShadowMaps::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
+    Slot& slot = slots_[slotIndex];
+    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
+    dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
+             {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
+              draws_, drawInfo_, drawCounts_, slot.counters});
+    // Draw lists and counts -> indirect draws; draw info -> vertex shader.
+    memoryBarrier(c, C, W, kIndirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
+}
+
+void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
+    Slot& slot = slots_[slotIndex];
+    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
+    dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
+             {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
+              meshletList_, meshTasks_, slot.counters});
+    // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
+    // passes) -> task and mesh shaders.
+    memoryBarrier(c, C, W, kIndirect | kTask | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
+                  VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
+}
+
+void VirtualShadowMaps::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
+                                   const VsmFrameInputs& in) {
+    Slot& slot = slots_[slotIndex];
+    // One group per rendered page: vsm_assign counted them into the dispatch size.
+    dispatchIndirect(d, c, clearProgram_, slot.counters, offsetof(gpu::VsmCounters, dispatchX), NoPush{},
+                     {slot.constants, rendered_, pagePool_});
+    memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
+    for (uint32_t m = 0; m < mips_; ++m) {
+        const uint32_t res = settings_.resolution >> m;
+        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        ri.renderArea = {{0, 0}, {res, res}};
+        ri.layerCount = 1;
+        vkCmdBeginRendering(c, &ri);
+        VkViewport vp{0, 0, float(res), float(res), 0, 1};
+        VkRect2D sc{{0, 0}, {res, res}};
+        vkCmdSetViewport(c, 0, 1, &vp);
+        vkCmdSetScissor(c, 0, 1, &sc);
+        const gpu::VsmDrawPush push{m, settings_.maxMeshletsPerMip};
+        if (meshPath()) {
+            // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
+            bindProgram(d, c, meshProgram_, push,
+                        {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_,
+                         pagePool_, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
+                         Descriptor(hpb_.view), meshTasks_, slot.counters});
+            d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
+        } else {
+            bindProgram(
+                d, c, drawProgram_, push,
+                {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_});
+            vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
+            vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
+                                          VkDeviceSize(m) * settings_.maxDrawsPerMip *
+                                              sizeof(VkDrawIndexedIndirectCommand),
+                                          drawCounts_.buffer, VkDeviceSize(m) * 4, settings_.maxDrawsPerMip,
+                                          sizeof(VkDrawIndexedIndirectCommand));
+        }
+        vkCmdEndRendering(c);
+    }
+    // Physical pages -> the evaluation pass's lookups.
+    memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
+}
+
+void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
+                                    const VsmFrameInputs& in) {
+    Slot& slot = slots_[slotIndex];
+    const auto* fc = in.frame->as<gpu::FrameConstants>();
+    dispatch(d, cmd, probeProgram_, fc->size.x, fc->size.y, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
+              slot.constants, slot.maps, slot.coverage, table_, pagePool_, slot.probes});
+    memoryBarrier(cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
+}
+
+void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
+                                   const VsmFrameInputs& in, VkImageView output) {
+    Slot& slot = slots_[slotIndex];
+    const auto* fc = in.frame->as<gpu::FrameConstants>();
+    // The evaluation pass's output -> read and overwritten here.
+    memoryBarrier(cmd, C, W, C, R | W);
+    dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
+              slot.constants, slot.maps, slot.coverage, table_, pagePool_,
+              Descriptor(Image{.view = output})});
+    // The view's output -> the host's reads after record().
+    memoryBarrier(cmd, C, W, kOutputReaderStages, kOutputReads);
+}
+
+} // namespace ml
