@@ -11,8 +11,8 @@
 #include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
-#include "shadows/static/bake.h"
-#include "shadows/static/bake_shard.h"
+#include "bake/bake.h"
+#include "bake/bake_shard.h"
 #include "shadows/tools/gpu_dual_renderer.h"
 
 #include <algorithm>

@@ -15,9 +15,10 @@
 // virtual shadow maps on a GPU path). CPU only here (the maps come from the CPU rasteriser, identical
 // to what the bake renders).
 #include "apps/cli.h"
+#include "bake/scene_casters.h"
 #include "apps/commands.h"
 #include "scenes/scenes.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
@@ -207,7 +208,7 @@ int runBenchFlicker(int argc, char** argv) {
     std::vector<std::pair<size_t, uint32_t>> ranked;
     for (uint32_t i = 0; i < scene->lights.size(); ++i) {
         const Light& l = scene->lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         size_t n = 0;
         for (size_t k = 0; k < ps.size(); ++k) n += ns[k] != glm::vec3(0.0f) && inLightCone(l, ps[k]);
         if (n) ranked.push_back({n, i});

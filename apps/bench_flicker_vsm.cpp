@@ -23,12 +23,13 @@
 // shader (static_visibility.h) at the same receivers and radii.
 // Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
 #include "apps/cli.h"
+#include "bake/scene_casters.h"
 #include "apps/commands.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/light_math.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
@@ -244,7 +245,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
             rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f,
                                truth.data()); // 1 mm, as bench static
             for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
-            if (!compareRes.value() || L.dynamic || L.type != LightType::Spot) continue;
+            if (!compareRes.value() || L.dynamic || L.type != LightKind::Spot) continue;
             const LightFrustum fr = spotLightFrustum(L);
             const DualDepthMap map = rasterizeDual(frameCasters, fr, compareRes.value());
             auto words = encodeStatic(StaticMethod::SM, map, {fr.nearPlane, fr.farPlane, {}});

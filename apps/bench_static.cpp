@@ -3,11 +3,12 @@
 // maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
 // (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
-// against time. Also (issue 11): every disagreement's cause (shadows/reference/error_classes.h) with
+// against time. Also (issue 11): every disagreement's cause (bake/reference/error_classes.h) with
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
 // resolution and PCF size (shadows/tools/lookup_timer.h). Receivers are moved onto the traced surface
 // by default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
 #include "apps/cli.h"
+#include "bake/scene_casters.h"
 #include "apps/commands.h"
 #include "apps/bench_static_tables.h"
 #include "io/safe_io.h"
@@ -15,8 +16,8 @@
 #include "host/scene_host.h"
 #include "scenes/scenes.h"
 #include "shaders/shared/light_math.h"
-#include "shadows/reference/error_classes.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/error_classes.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/static_visibility.h"
 #include "shadows/tools/gpu_dual_renderer.h"
 #include "shadows/tools/lookup_timer.h"
@@ -306,7 +307,7 @@ int runBenchStatic(int argc, char** argv) {
     std::vector<std::pair<size_t, uint32_t>> ranked;
     for (uint32_t i = 0; i < scene->lights.size(); ++i) {
         const Light& l = scene->lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         size_t n = 0;
         for (const Receiver& r : receivers) n += inLightCone(l, r.p);
         if (n) ranked.push_back({n, i});

@@ -4,7 +4,7 @@
 // bench flicker). The static spot lights that reach some receiver are baked twice per cap R and method:
 // every light at R (fixed), and each light at its need-based resolution capped at R (bake --need). Both
 // are measured on the same (pixel, light) pairs against the rays: total bytes, wrong % (one tap) and the
-// resolution-class share (shadows/reference/error_classes.h). Table on stdout, CSV in --out.
+// resolution-class share (bake/reference/error_classes.h). Table on stdout, CSV in --out.
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/gpu_dual_renderer.h"
@@ -12,9 +12,9 @@
 #include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
-#include "shadows/reference/error_classes.h"
-#include "shadows/reference/raytrace.h"
-#include "shadows/static/bake.h"
+#include "bake/reference/error_classes.h"
+#include "bake/reference/raytrace.h"
+#include "bake/bake.h"
 #include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -221,7 +221,7 @@ int runBenchStaticNeed(int argc, char** argv) {
     std::vector<std::pair<size_t, uint32_t>> ranked;
     for (uint32_t i = 0; i < scene->lights.size(); ++i) {
         const Light& l = scene->lights[i];
-        if (l.type != LightType::Spot || !bakeSkipReason(scene.value(), l).empty()) continue;
+        if (l.type != LightKind::Spot || !bakeSkipReason(scene.value(), l).empty()) continue;
         size_t n = 0;
         for (const auto& rs : viewReceivers)
             for (const Receiver& r : rs) n += inLightCone(l, r.p) && glm::dot(r.n, l.position - r.p) > 0.0f;

@@ -13,7 +13,7 @@ Result<void> printClassTables(const std::string& dir, const std::vector<BenchSta
     using Row = BenchStaticRow;
     // Disagreements by cause, as shares of the compared receivers (they add up to "wrong %"), and the
     // convergence of the resolution class: the least-squares slope of log(rate) against log(res).
-    std::printf("\nDisagreement by cause, %% of compared receivers (shadows/reference/error_classes.h):\n");
+    std::printf("\nDisagreement by cause, %% of compared receivers (bake/reference/error_classes.h):\n");
     std::printf("| method | res | wrong %% |");
     for (uint32_t c = 0; c < kErrorClassCount; ++c) std::printf(" %s %% |", errorClassName(ErrorClass(c)));
     std::printf("\n|---|---:|---:|");

@@ -4,7 +4,7 @@
 #pragma once
 #include "shadows/tools/lookup_timer.h"
 #include "io/result.h"
-#include "shadows/reference/error_classes.h"
+#include "bake/reference/error_classes.h"
 #include "shadows/static/static_method.h"
 
 #include <string>
@@ -24,7 +24,7 @@ struct BenchStaticRow {
     double meanAbs = 0;
     std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
     std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
-    ErrorCounts classes{};            // disagreements by cause (shadows/reference/error_classes.h)
+    ErrorCounts classes{};            // disagreements by cause (bake/reference/error_classes.h)
 };
 
 // Prints the cause breakdown (shares of compared receivers) and, per method, the least-squares slope

@@ -1,7 +1,7 @@
 // The Vulkan dual depth renderer (shadows/tools/gpu_dual_renderer.h, its own device) as a DualRenderFn
 // for the bake driver: used by bake / verify and bench static --need.
 #pragma once
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 #include "shadows/tools/gpu_dual_renderer.h"
 
 #include <memory>

@@ -4,7 +4,7 @@
 // resolution, renderer, device, build, selection and N; every selected light in exactly one part).
 #include "apps/cli.h"
 #include "apps/commands.h"
-#include "shadows/static/bake_shard.h"
+#include "bake/bake_shard.h"
 
 #include <cstdio>
 #include <filesystem>

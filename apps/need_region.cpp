@@ -2,8 +2,8 @@
 
 #include "scenes/camera_path.h"
 #include "scenes/scenes.h"
-#include "shadows/reference/raytrace.h"
-#include "shadows/static/bake.h"
+#include "bake/reference/raytrace.h"
+#include "bake/bake.h"
 
 #include <cmath>
 #include <cstdio>

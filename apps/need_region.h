@@ -1,5 +1,5 @@
 // The camera region of `bake --need` and `bench static --need`: where the camera can be, as camera
-// samples for the need estimator (shadows/static/need.h).
+// samples for the need estimator (bake/need.h).
 //   path:static|drive|orbit  the named camera path (scenes/camera_path.h) sampled at `samples` times
 //                            evenly over [0, seconds): position, view direction and field of view;
 //   box:X0,Y0,Z0,X1,Y1,Z1    a grid of k^3 positions in the box (k = the cube root of `samples`,
@@ -7,7 +7,7 @@
 #pragma once
 #include "io/result.h"
 #include "scenes/scene.h"
-#include "shadows/static/need.h"
+#include "bake/need.h"
 
 #include <string>
 #include <vector>

@@ -22,7 +22,7 @@ set(ML_INSTALL_INCLUDE ${CMAKE_INSTALL_INCLUDEDIR}/manylights)
 set(ML_INSTALL_CMAKE ${CMAKE_INSTALL_LIBDIR}/cmake/manylights)
 
 set(ML_PUBLIC_HEADERS engine/manylights.h engine/manylights_diagnostics.h io/result.h gpu/device_types.h
-    engine/pass_times.h gpu/vk_check.h shadows/virtual/vsm_settings.h)
+    engine/pass_times.h gpu/vk_check.h lights/light_types.h shadows/virtual/vsm_settings.h)
 # The libraries of their own that are installed beside the module: whole folders, so a header they start
 # to include is not forgotten.
 file(GLOB ML_LIBRARY_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS

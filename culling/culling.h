@@ -18,7 +18,7 @@
 // evaluated per pixel close to lights that reach it (Olsson et al.'s clustered shading with
 // explicit bounds; the slice layout follows the exponential scheme of that paper).
 #pragma once
-#include "engine/manylights.h"
+#include "shaders/shared/enums.h"
 #include "gpu/program.h"
 #include "shaders/shared/gpu_types.h"
 

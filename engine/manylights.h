@@ -16,13 +16,15 @@
 // stalling.
 //
 // This header and the ones it includes hold API types only (no Vulkan wrapper classes, no internal
-// state): device_types.h, engine/pass_times.h, result.h, shadows/static/static_types.h,
-// shadows/virtual/vsm_settings.h. Read-backs for tools and checks (G-buffer, last frame's constants, VSM
-// probes, counters) are engine/manylights_diagnostics.h.
+// state): gpu/device_types.h, engine/pass_times.h, io/result.h, lights/light_types.h, shaders/shared/enums.h
+// (and config.h), shadows/static/static_types.h, shadows/virtual/vsm_settings.h. Read-backs for tools and
+// checks (G-buffer, last frame's constants, VSM probes, counters) are engine/manylights_diagnostics.h.
 #pragma once
 #include "gpu/device_types.h"
 #include "engine/pass_times.h"
 #include "io/result.h"
+#include "lights/light_types.h"
+#include "shaders/shared/enums.h"
 #include "shadows/static/static_types.h"
 #include "shadows/virtual/vsm_settings.h"
 
@@ -39,9 +41,7 @@
 
 namespace ml {
 
-// Clustered: per-light footprint assignment; ClusteredBrute: the same lists from every light against
-// every occupied cluster (kept for comparison); Tiled: one depth slice (culling/culling.h).
-enum class CullingMode : uint32_t { Clustered = 0, Tiled = 1, None = 2, ClusteredBrute = 3 };
+// CullingMode, LightKind and StaticMethod: shaders/shared/enums.h (one definition for C++ and GLSL).
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
 
@@ -89,20 +89,7 @@ struct MeshDesc {
     std::string name;
 };
 
-enum class LightKind : uint32_t { Spot = 0, Point = 1, Directional = 2 };
-
-struct LightDesc {
-    LightKind kind = LightKind::Spot;
-    glm::vec3 position{0.0f};
-    glm::vec3 direction{0.0f, -1.0f, 0.0f};
-    glm::vec3 color{1.0f};
-    float intensity = 1.0f;
-    float range = 10.0f;
-    float outerAngle = 0.6f;  // half angle, radians, (0, pi/2) for spots
-    float innerAngle = 0.4f;  // [0, outer]
-    bool dynamic = false;     // moves: its shadows are never baked (virtual shadow maps draw every caster)
-    bool castsShadows = true; // false: no static bake is used and no virtual shadow map is made
-};
+// LightDesc and validateLight: lights/light_types.h.
 
 // A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
 // out of bounds) and the frustum it was rendered with. A bake file (shadows/static/bake_file.h) holds
@@ -162,13 +149,12 @@ struct FrameReport {
     FrameStats stats;
 };
 
-// Validation a host (or a command line) can run before handing values over; addLight, setLight and
-// setCamera call them. validateLight: a one-line reason when a parameter is NaN, infinite, negative or out
-// of its range. validateCamera: a one-line reason ("camera: ...") when a camera cannot give a picture: a
-// non-finite or huge (|x| > kMaxCameraCoordinate) position, target or up; target at the position; view
-// direction parallel to up (the view matrix would be NaN); fovY outside (0, pi); not 0 < near < far.
+// Validation a host (or a command line) can run before handing values over (validateLight:
+// lights/light_types.h); setCamera calls it. validateCamera: a one-line reason ("camera: ...") when a camera
+// cannot give a picture: a non-finite or huge (|x| > kMaxCameraCoordinate) position, target or up; target at
+// the position; view direction parallel to up (the view matrix would be NaN); fovY outside (0, pi); not 0 <
+// near < far.
 constexpr float kMaxCameraCoordinate = 1.0e6f; // metres; float spacing there is 0.06 m
-Result<void> validateLight(const LightDesc& light);
 Result<void> validateCamera(const CameraDesc& camera);
 
 using MeshId = uint32_t;

@@ -445,8 +445,8 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
     uint32_t done = 0;
     for (uint32_t i : bakeable) {
         const LightDesc& l = m.lights[i];
-        Light sl;
-        sl.type = l.kind == LightKind::Point ? LightType::Point : LightType::Spot;
+        LightShape sl;
+        sl.type = l.kind == LightKind::Point ? LightKind::Point : LightKind::Spot;
         sl.position = l.position;
         sl.direction = l.direction;
         sl.range = l.range;

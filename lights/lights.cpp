@@ -36,27 +36,6 @@ Result<void> validateLight(const LightDesc& l) {
     return {};
 }
 
-Result<void> validateCamera(const CameraDesc& c) {
-    auto bounded = [](glm::vec3 v) {
-        return finite3(v) && std::abs(v.x) <= kMaxCameraCoordinate && std::abs(v.y) <= kMaxCameraCoordinate &&
-               std::abs(v.z) <= kMaxCameraCoordinate;
-    };
-    const std::string range =
-        " is not finite or beyond +-" + std::to_string(int(kMaxCameraCoordinate)) + " m";
-    if (!bounded(c.position)) return fail("camera: position" + range);
-    if (!bounded(c.target)) return fail("camera: target" + range);
-    if (!finite3(c.up) || !(glm::length(c.up) > 1e-6f)) return fail("camera: up is zero or not finite");
-    const glm::vec3 view = c.target - c.position;
-    if (!(glm::length(view) > 1e-6f)) return fail("camera: target equals position");
-    // sin of the angle between view and up; below ~0.006 degrees the view basis is degenerate.
-    const float sine = glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up)));
-    if (!(sine > 1e-4f)) return fail("camera: view direction is parallel to up");
-    if (!(c.fovY > 0.0f && c.fovY < 3.14159f)) return fail("camera: fovY must be in (0, pi)");
-    if (!(c.nearPlane > 0.0f) || !(c.farPlane > c.nearPlane) || !std::isfinite(c.farPlane))
-        return fail("camera: need 0 < near < far < infinity");
-    return {};
-}
-
 gpu::GpuLight toGpuLight(const LightDesc& l, uint32_t id) {
     gpu::GpuLight g{};
     glm::vec3 dir = l.kind == LightKind::Point ? glm::vec3(0, -1, 0) : glm::normalize(l.direction);

@@ -2,14 +2,14 @@
 // frustum test that builds the visible-light list (on the CPU: 4096 sphere-plane tests cost
 // microseconds, and the culling passes then work on visible lights only).
 #pragma once
-#include "engine/manylights.h"
+#include "lights/light_types.h"
 #include "shaders/shared/gpu_types.h"
 
 #include <array>
 
 namespace ml {
 
-// validateLight, validateCamera and kMaxCameraCoordinate are public: engine/manylights.h.
+// validateLight is public (lights/light_types.h); validateCamera is engine/camera.cpp.
 
 gpu::GpuLight toGpuLight(const LightDesc& light, uint32_t id);
 

@@ -630,11 +630,11 @@ class Loader {
             const tinygltf::Light& gl = model_.lights[size_t(index)];
             Light l;
             if (gl.type == "spot")
-                l.type = LightType::Spot;
+                l.type = LightKind::Spot;
             else if (gl.type == "point")
-                l.type = LightType::Point;
+                l.type = LightKind::Point;
             else if (gl.type == "directional")
-                l.type = LightType::Directional;
+                l.type = LightKind::Directional;
             else
                 return error("light " + std::to_string(index) + ": unknown type \"" +
                              io::escapeText(gl.type, 40) + "\"");
@@ -655,7 +655,7 @@ class Loader {
             for (double c : gl.color)
                 if (!(c >= 0.0)) return error(which + "colour is negative or not finite");
             l.range = gl.range > 0.0 ? float(gl.range) : 0.5f * sceneSize();
-            if (l.type == LightType::Spot) {
+            if (l.type == LightKind::Spot) {
                 const double outer = gl.spot.outerConeAngle, inner = gl.spot.innerConeAngle;
                 if (!(outer > 0.0 && float(outer) < 1.5707963f))
                     return error(which + "spot outerConeAngle must be in (0, pi/2)");
@@ -728,7 +728,7 @@ class Loader {
             glm::vec3 dir = -n + jitter;
             if (glm::length(dir) < 1e-3f) dir = -n;
             Light l;
-            l.type = LightType::Spot;
+            l.type = LightKind::Spot;
             l.position = p + n * h;
             l.direction = glm::normalize(dir);
             float warmth = rng.uniform();

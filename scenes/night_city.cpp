@@ -406,7 +406,7 @@ class CityBuilder {
     // One dim moonlight from high in the south-west.
     void addMoon() {
         Light l;
-        l.type = LightType::Directional;
+        l.type = LightKind::Directional;
         l.direction = glm::normalize(glm::vec3(0.35f, -1.0f, 0.45f));
         l.color = glm::vec3(0.55f, 0.65f, 1.0f);
         l.intensity = 0.12f;
@@ -416,7 +416,7 @@ class CityBuilder {
     Light spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float intensity, float range,
                float outer, float innerFraction) {
         Light l;
-        l.type = LightType::Spot;
+        l.type = LightKind::Spot;
         l.position = position;
         l.direction = glm::normalize(direction);
         l.color = color;

@@ -6,6 +6,7 @@
 // Units: metres, right-handed, +Y up. Angles in radians.
 #pragma once
 #include "io/result.h"
+#include "shadows/static/static_types.h"
 
 #include <glm/glm.hpp>
 
@@ -36,18 +37,13 @@ struct Instance {
     bool dynamic = false; // moves every frame; never a static shadow caster
 };
 
-enum class LightType : uint32_t { Spot = 0, Point = 1, Directional = 2 };
-
-struct Light {
-    LightType type = LightType::Spot;
-    glm::vec3 position{0.0f};
-    glm::vec3 direction{0.0f, -1.0f, 0.0f}; // unit; spot and directional
-    glm::vec3 color{1.0f};                  // linear RGB
-    float intensity = 1.0f;                 // scale on color (candela-like)
-    float range = 10.0f;                    // metres; attenuation reaches zero here
-    float outerAngle = 0.6f;                // half angle of the cone where light ends (spot)
-    float innerAngle = 0.4f;                // half angle where the smooth edge begins (spot)
-    bool dynamic = false;                   // moves (e.g. a car's headlight)
+// A scene light: its shape (LightShape, shadows/static/static_types.h: kind, position, direction, range,
+// outer angle; what its shadow frustums depend on) plus how it shines and moves.
+struct Light : LightShape {
+    glm::vec3 color{1.0f};   // linear RGB
+    float intensity = 1.0f;  // scale on color (candela-like)
+    float innerAngle = 0.4f; // half angle where the smooth edge begins (spot)
+    bool dynamic = false;    // moves (e.g. a car's headlight)
     // For a light carried by a dynamic instance: the instance index and the light's pose in that
     // instance's object space (position w=1, direction w=0). -1 when the light is free.
     int32_t attachedInstance = -1;

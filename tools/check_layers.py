@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Layer check: lists the #include edges between top-level folders and fails on any edge that runs
 back up the declared layers (a cycle needs one), naming file and line; also fails on a source file
-over 800 lines. Run by ctest (LayerCheck); `--edges` prints the edge table.
+over 800 lines. Run by ctest (LayerCheck); `--edges` prints the edge table; LayerCheckCatchesCycle runs it on
+tests/packaging/layer_fixture, whose shadows/ header includes engine/.
 
 Layers, lowest first (a folder may include its own folder and any folder of a lower layer):
   0 io, shaders       safe file IO and Result; shaders/shared: GPU definitions only
@@ -24,10 +25,18 @@ INCLUDE = re.compile(r'\s*#\s*include\s*"([^"]+)"')
 MAX_LINES = 800
 
 def main():
+    args = sys.argv[1:]
+    if any(a in ("-h", "--help") for a in args):
+        print(__doc__ + "\nusage: check_layers.py [--edges] [--root DIR]   (DIR: the tree to check, default the repo)")
+        return 0
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-    show_edges = "--edges" in sys.argv[1:]
-    if any(a in ("-h", "--help") for a in sys.argv[1:]):
-        print(__doc__); return 0
+    if "--root" in args:
+        i = args.index("--root")
+        if i + 1 >= len(args): print("check_layers: --root needs a folder", file=sys.stderr); return 2
+        root = os.path.abspath(args[i + 1]); del args[i:i + 2]
+    show_edges = "--edges" in args
+    unknown = [a for a in args if a != "--edges"]
+    if unknown: print(f"check_layers: unknown argument '{unknown[0]}' (see --help)", file=sys.stderr); return 2
     edges = defaultdict(list)
     errors, files = [], 0
     for top in sorted(LAYERS):

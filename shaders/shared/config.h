@@ -47,7 +47,7 @@
 // 640x360 uses 271 K of the 3.7 M entries.
 #define ML_POOL_PER_CLUSTER 16
 
-// Culling modes (FrameConstants.cluster.w, read by the passes at run time; ml::CullingMode). CLUSTERED
+// Culling modes (FrameConstants.cluster.w; ml::CullingMode takes these values). CLUSTERED
 // assigns per light over its footprint (light_footprint.comp); CLUSTERED_BRUTE is the same grid and
 // lists from every light against every occupied cluster of each tile (light_assign.comp); TILED is
 // the brute force with one slice. All three write the same ranges + pool layout.
@@ -74,7 +74,7 @@
 // entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
 #define ML_HITS_PER_POOL_ENTRY_DIV 4
 
-// Light types (GpuLight.info.x); same values as ml::LightKind.
+// Light kinds (GpuLight.info.x): ml::LightKind takes these values (shaders/shared/enums.h).
 #define ML_LIGHT_SPOT 0
 #define ML_LIGHT_POINT 1
 #define ML_LIGHT_DIRECTIONAL 2
@@ -82,7 +82,7 @@
 // GpuLight.info.z of a light without a baked static shadow.
 #define ML_NO_SHADOW 0xFFFFFFFFu
 
-// Static shadow methods (StaticMethod in shadows/static/static_method.h; stored in bake files).
+// Static shadow methods (stored in bake files): ml::StaticMethod takes these values (shaders/shared/enums.h).
 #define ML_STATIC_SM 1
 #define ML_STATIC_MH 2
 #define ML_STATIC_MMH 3

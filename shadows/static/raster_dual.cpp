@@ -46,27 +46,7 @@ int64_t floorDiv(int64_t a, int64_t b) {
 
 } // namespace
 
-CasterTriangles castersFromScene(const Scene& scene) {
-    CasterTriangles out;
-    for (const Instance& inst : scene.instances) {
-        if (inst.dynamic || inst.mesh >= scene.meshes.size()) continue;
-        const Mesh& mesh = scene.meshes[inst.mesh];
-        bool mirror = glm::determinant(glm::mat3(inst.transform)) < 0.0f;
-        for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-            uint32_t ia = mesh.indices[i], ib = mesh.indices[i + 1], ic = mesh.indices[i + 2];
-            if (ia >= mesh.vertices.size() || ib >= mesh.vertices.size() || ic >= mesh.vertices.size())
-                continue;
-            glm::vec3 a = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ia].position, 1.0f));
-            glm::vec3 b = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ib].position, 1.0f));
-            glm::vec3 c = glm::vec3(inst.transform * glm::vec4(mesh.vertices[ic].position, 1.0f));
-            if (mirror) std::swap(b, c);
-            out.add(a, b, c, mesh.closed);
-        }
-    }
-    return out;
-}
-
-LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
+LightFrustum spotLightFrustum(const LightShape& light, float nearPlane) {
     LightFrustum f;
     glm::vec3 dir = glm::normalize(light.direction);
     glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
@@ -77,7 +57,7 @@ LightFrustum spotLightFrustum(const Light& light, float nearPlane) {
     return f;
 }
 
-LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane) {
+LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float nearPlane) {
     static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     const glm::vec3 axis = axes[face % 6];
     const glm::vec3 up = face == 2 || face == 3 ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
@@ -114,9 +94,9 @@ LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 lo, glm::vec
     return f;
 }
 
-std::vector<LightFrustum> lightFrustums(const Light& light) {
-    if (light.type == LightType::Spot) return {spotLightFrustum(light)};
-    if (light.type != LightType::Point) return {};
+std::vector<LightFrustum> lightFrustums(const LightShape& light) {
+    if (light.type == LightKind::Spot) return {spotLightFrustum(light)};
+    if (light.type != LightKind::Point) return {};
     std::vector<LightFrustum> out;
     for (uint32_t face = 0; face < 6; ++face) out.push_back(pointLightFaceFrustum(light, face));
     return out;

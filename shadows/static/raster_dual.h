@@ -26,7 +26,7 @@
 // Rows are rendered in tiles (renderRows) so that only one tile's hit list is held at a time.
 #pragma once
 #include "shadows/static/dual_depth.h"
-#include "scenes/scene.h"
+#include "shadows/static/static_types.h"
 
 #include <cstdint>
 #include <vector>
@@ -45,27 +45,25 @@ struct CasterTriangles {
     }
 };
 
-// The static (non-dynamic) instances of a scene as world-space triangles. Instances whose transform
-// mirrors (negative determinant) get their winding swapped so that front faces stay front faces.
-CasterTriangles castersFromScene(const Scene& scene);
+// A scene's casters as CasterTriangles: castersFromScene (bake/scene_casters.h).
 
 // A spotlight's frustum: looking along its direction, full angle 2 * outerAngle, far = range.
 // The near plane is min(nearPlane, range / 100): a light of 5 cm range would otherwise get near = far
 // and no bake (tests/failures Range5Centimetres). Depth is linear over [0, far], so a smaller near
 // costs no depth precision; it only keeps casters closer to the light in the map.
-LightFrustum spotLightFrustum(const Light& light, float nearPlane = 0.05f);
+LightFrustum spotLightFrustum(const LightShape& light, float nearPlane = 0.05f);
 
 // A point light's cube face (0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z): 90 degrees, far = range. The face a
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
 // ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
-LightFrustum pointLightFaceFrustum(const Light& light, uint32_t face, float nearPlane = 0.05f);
+LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float nearPlane = 0.05f);
 // A directional light's orthographic frustum over the box [boundsMin, boundsMax]: looking along
 // `direction` from 1 m outside the box's bounding sphere, square side and far plane fitted to the box's
 // corners in light space (near 0.5 m, far = deepest corner + 0.5 m).
 LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 boundsMin, glm::vec3 boundsMax);
 // The frustums a static light bakes: one for a spot, six for a point light, none otherwise (a
 // directional light needs bounds: directionalLightFrustum).
-std::vector<LightFrustum> lightFrustums(const Light& light);
+std::vector<LightFrustum> lightFrustums(const LightShape& light);
 
 class DualRasterizer {
   public:

@@ -4,6 +4,7 @@
 // bakes.
 #pragma once
 #include "io/result.h"
+#include "shaders/shared/enums.h"
 
 #include <glm/glm.hpp>
 
@@ -12,9 +13,7 @@
 
 namespace ml {
 
-// Values are stored in bake files and in GpuShadowRecord.method: never renumber.
-enum class StaticMethod : uint32_t { None = 0, SM = 1, MH = 2, MMH = 3, DAGMH = 4, CPVS = 5 };
-
+// StaticMethod is shaders/shared/enums.h (one definition for C++ and GLSL).
 const char* staticMethodName(StaticMethod method); // "sm", "mh", "mmh", "dagmh", "cpvs", "none"
 Result<StaticMethod> parseStaticMethod(const std::string& name);
 inline bool isDepthMethod(StaticMethod m) {
@@ -33,6 +32,17 @@ struct LightFrustum {
     // perspective maps.
     float orthoHalf = 0.0f;
     bool orthographic() const { return orthoHalf > 0.0f; }
+};
+
+// What a light's shadow frustums depend on (spotLightFrustum, pointLightFaceFrustum, lightFrustums in
+// raster_dual.h): its kind, pose, range and cone. A scene's Light (scenes/scene.h) is one, so the
+// static shadow library needs no scene type.
+struct LightShape {
+    LightKind type = LightKind::Spot;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f}; // unit; spot and directional
+    float range = 10.0f;                    // metres; attenuation reaches zero here
+    float outerAngle = 0.6f;                // half angle of the cone where light ends (spot)
 };
 
 } // namespace ml

@@ -285,8 +285,8 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
         info.frustum.farPlane = settings_.clipDepth;
         info.frustum.orthoHalf = h;
     } else {
-        Light sl;
-        sl.type = l.kind == ML_LIGHT_POINT ? LightType::Point : LightType::Spot;
+        LightShape sl;
+        sl.type = l.kind == ML_LIGHT_POINT ? LightKind::Point : LightKind::Spot;
         sl.position = l.position;
         sl.direction = l.direction;
         sl.range = l.range;

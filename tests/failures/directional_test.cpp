@@ -3,8 +3,9 @@
 // its CPU reference (shading.h + the static lookup's CPU twin) and the lookup must agree with rays
 // cast along the light direction; setStaticShadow refuses mixing orthographic bakes and other kinds.
 #include "failure_util.h"
+#include "bake/scene_casters.h"
 
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 
 namespace ml::test {
 
@@ -18,7 +19,7 @@ Scene boxesUnderTheMoon() {
     s.boundsMin = glm::vec3(-12, 0, -12);
     s.boundsMax = glm::vec3(12, 3, 12);
     Light moon;
-    moon.type = LightType::Directional;
+    moon.type = LightKind::Directional;
     moon.direction = glm::normalize(glm::vec3(0.9f, -1.0f, 0.5f));
     moon.intensity = 0.6f;
     s.lights.push_back(moon);

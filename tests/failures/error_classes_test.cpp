@@ -1,8 +1,9 @@
-// The disagreement classifier (shadows/reference/error_classes.h) on receivers whose class is known by
+// The disagreement classifier (bake/reference/error_classes.h) on receivers whose class is known by
 // construction: a light 6 m above a ground with a closed box and a floating open quad, a 64^2 map.
 #include "failure_util.h"
+#include "bake/scene_casters.h"
 
-#include "shadows/reference/error_classes.h"
+#include "bake/reference/error_classes.h"
 
 namespace ml::test {
 

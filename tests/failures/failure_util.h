@@ -4,7 +4,7 @@
 // 160x90 and read back, and the outcome is measured:
 //   - the HDR image (RGBA16F, before tone mapping) must hold no NaN or Inf in any pixel;
 //   - per baked light, the receivers the G-buffer sees in the light's cone and facing it are compared
-//     with Embree rays (shadows/reference/raytrace.h, bias 0.02 m along the normal as in bench static,
+//     with Embree rays (bake/reference/raytrace.h, bias 0.02 m along the normal as in bench static,
 //     less in centimetre-scale cases):
 //     the method's visibility is the CPU twin of the shader's lookup (static_visibility.h), which
 //     tests/gpu proves equal to the GPU's value.
@@ -12,11 +12,12 @@
 // output): `ML_FAILURE_IMAGES=docs/failures build/failure_tests` regenerates docs/failures/.
 #pragma once
 #include "tests/gpu/gpu_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "scenes/mesh_utils.h"
 #include "shaders/shared/light_math.h"
 #include "shaders/shared/shading.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
@@ -62,7 +63,7 @@ inline Scene groundScene(const char* name, float half = 40.0f) {
 inline Light spotAt(glm::vec3 position, glm::vec3 target, float range, float outer = 0.6f,
                     float intensity = 4.0f) {
     Light l;
-    l.type = LightType::Spot;
+    l.type = LightKind::Spot;
     l.position = position;
     l.direction = glm::normalize(target - position);
     l.range = range;
@@ -144,7 +145,7 @@ inline Outcome runCase(const char* name, const Scene& scene, const CameraDesc& c
     std::vector<int> bakeOfLight(scene.lights.size(), -1);
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         float nearPlane = o.nearOverRange > 0 ? l.range * o.nearOverRange : o.lightNear;
         LightFrustum f = spotLightFrustum(l, nearPlane);
         std::vector<float> key(&f.view[0][0], &f.view[0][0] + 16);

@@ -396,7 +396,7 @@ int run(const Options& o) {
                 ok = true;
                 for (const Light& l : s->lights)
                     if (!(l.range > 0.0f) ||
-                        (l.type == LightType::Spot && !(l.outerAngle > 0.0f && l.outerAngle < 1.5707964f)))
+                        (l.type == LightKind::Spot && !(l.outerAngle > 0.0f && l.outerAngle < 1.5707964f)))
                         error = "accepted a light out of range";
             } else {
                 error = s.error();

@@ -1,6 +1,7 @@
 // The Vulkan dual depth bake against the CPU reference rasteriser, tiling, and losslessness of the
 // encoders on GPU-rendered maps.
 #include "gpu_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "shadows/gpu/dual_depth_gpu.h"
 

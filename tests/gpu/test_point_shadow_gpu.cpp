@@ -2,6 +2,7 @@
 // evaluation pass. A box on open ground under a point light: the GPU's shadow on the ground matches the
 // exact ray-box answer on every pixel away from the shadow's edge, and every face that sees ground is used.
 #include "gpu_test_util.h"
+#include "bake/scene_casters.h"
 #include "tests/common/ray_box.h"
 
 #include "shaders/shared/shading.h"
@@ -46,7 +47,7 @@ Scene boxOnGround(glm::vec3 lo, glm::vec3 hi, glm::vec3 lightPos) {
     gi.mesh = 1;
     s.instances = {bi, gi};
     Light l;
-    l.type = LightType::Point;
+    l.type = LightKind::Point;
     l.position = lightPos;
     l.range = 14.0f;
     l.intensity = 30.0f;

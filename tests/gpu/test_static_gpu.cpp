@@ -1,6 +1,7 @@
 // Static shadows on the GPU: the GLSL decoders return the CPU twins' values bit for bit (every texel,
 // every voxel), and the evaluation pass with baked shadows matches its CPU reference.
 #include "gpu_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "gpu/program.h"
 #include "shaders/shared/shading.h"
@@ -24,7 +25,7 @@ DualDepthMap cityLightMap(const Scene& scene, uint32_t res, LightFrustum* frustu
     size_t bestCount = 0;
     for (size_t i = 0; i < scene.lights.size() && i < 40; ++i) {
         const Light& l = scene.lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         LightFrustum f = spotLightFrustum(l);
         DualDepthMap map = rasterizeDual(casters, f, res);
         std::set<uint32_t> distinct(map.enter.begin(), map.enter.end());
@@ -103,7 +104,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     // Look down at the first street lamp's pool from above, so its bench, bollard and pole shadows
     // fill many pixels.
     for (const Light& l : scene->lights)
-        if (!l.dynamic && l.type == LightType::Spot && l.direction.y < -0.9f) {
+        if (!l.dynamic && l.type == LightKind::Spot && l.direction.y < -0.9f) {
             glm::vec3 ground = l.position + l.direction * (l.position.y / -l.direction.y);
             CameraDesc cam;
             cam.position = ground + glm::vec3(4.0f, 9.0f, 5.0f);
@@ -115,7 +116,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     uint32_t baked = 0;
     for (uint32_t i = 0; i < scene->lights.size(); ++i) {
         const Light& l = scene->lights[i];
-        if (l.dynamic || l.type != LightType::Spot) continue;
+        if (l.dynamic || l.type != LightKind::Spot) continue;
         LightFrustum f = spotLightFrustum(l);
         DualDepthMap map = rasterizeDual(casters, f, 256);
         auto words = encodeStatic(method, map, {f.nearPlane, f.farPlane, {}});

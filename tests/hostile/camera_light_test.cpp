@@ -3,7 +3,7 @@
 // validateLight (not clamped).
 #include "hostile_util.h"
 
-#include "lights/lights.h"
+#include "engine/manylights.h"
 
 #include <gtest/gtest.h>
 

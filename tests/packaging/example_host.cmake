@@ -48,15 +48,18 @@ if(MODE STREQUAL "install")
   run(${PKG_CONFIG} --cflags --libs manylights)
   separate_arguments(flags UNIX_COMMAND "${last_output}")
   run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${flags} -o ${OUT}/host_example_pkgconfig)
-  # Public headers only: the engine's internals are not installed, and every installed engine/ header
-  # compiles on its own (API types only, nothing missing).
-  foreach(f gpu/device.h gpu/program.h gpu/resources.h gpu/profiler.h engine/gbuffer.h
+  # Public headers only: the engine's internals are not installed, and every installed header (the
+  # API types, the static shadow library, io/, shaders/shared/) compiles on its own: nothing it needs
+  # is missing from the install, and none reaches a folder above it (bake/, scenes/).
+  foreach(f gpu/device.h gpu/program.h gpu/resources.h gpu/profiler.h engine/gbuffer.h bake/bake.h scenes/scene.h
             engine/module_impl.h shadows/virtual/vsm.h shadows/gpu/dual_depth_gpu.h lights/lights.h)
     if(EXISTS ${OUT}/prefix/include/manylights/${f})
       message(FATAL_ERROR "cmake --install installed the internal header ${f}")
     endif()
   endforeach()
-  file(GLOB installed RELATIVE ${OUT}/prefix/include/manylights ${OUT}/prefix/include/manylights/engine/*.h)
+  file(GLOB_RECURSE installed RELATIVE ${OUT}/prefix/include/manylights ${OUT}/prefix/include/manylights/*.h)
+  list(LENGTH installed count)
+  message("installed headers compiled on their own: ${count}")
   foreach(h ${installed})
     file(WRITE ${OUT}/alone.cpp "#include \"${h}\"\n")
     run(c++ -std=c++20 -fsyntax-only ${flags} ${OUT}/alone.cpp)

@@ -15,12 +15,12 @@ set(ALLOWED
   # the public API (installed): the module and its API types, the diagnostics read-backs, ML_VK_CHECK
   "^engine/manylights\\.h$" "^engine/manylights_diagnostics\\.h$" "^io/result\\.h$"
   "^gpu/device_types\\.h$" "^engine/pass_times\\.h$" "^gpu/vk_check\\.h$"
-  "^shadows/virtual/vsm_settings\\.h$"
+  "^shadows/virtual/vsm_settings\\.h$" "^lights/light_types\\.h$"
   # GPU structs and light math shared by C++ and GLSL (installed, one source for both)
   "^shaders/shared/[a-z_]+\\.h$"
   # libraries of their own, below the commands: static shadow encoders and bake files (installed), file
   # io, scenes, the Embree reference, the static shadow commands' GPU tools
-  "^shadows/static/[a-z_]+\\.h$" "^io/[a-z_]+\\.h$" "^scenes/[a-z_]+\\.h$" "^shadows/reference/[a-z_]+\\.h$"
+  "^shadows/static/[a-z_]+\\.h$" "^io/[a-z_]+\\.h$" "^scenes/[a-z_]+\\.h$" "^bake/[a-z_]+\\.h$" "^bake/reference/[a-z_]+\\.h$"
   "^shadows/tools/[a-z_]+\\.h$"
   # the folders' own headers, and examples/host's generated SPIR-V arrays
   "^apps/[a-z_]+\\.h$" "^host/[a-z_]+\\.h$" "^host_gbuffer_(vert|frag)\\.h$")

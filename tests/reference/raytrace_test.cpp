@@ -1,7 +1,7 @@
 // Tests of the ray-traced visibility reference: analytic occluders whose shadows are known in closed form,
 // the bias rules, the batch path against the single-ray path, the accuracy measure, and a timing run on the
 // shared glTF house.
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 
 #include "scenes/scenes.h"
 
@@ -400,7 +400,7 @@ TEST(ReferenceCompare, CountsMismatchesAndMeanAbsDiff) {
 
 TEST(ReferenceCone, SpotAndPointLights) {
     Light spot;
-    spot.type = LightType::Spot;
+    spot.type = LightKind::Spot;
     spot.position = {0, 5, 0};
     spot.direction = {0, -1, 0};
     spot.outerAngle = 0.5f;
@@ -416,14 +416,14 @@ TEST(ReferenceCone, SpotAndPointLights) {
     EXPECT_TRUE(inLightCone(spot, {0, 6, 0})); // a cone wider than a hemisphere reaches behind
 
     Light point;
-    point.type = LightType::Point;
+    point.type = LightKind::Point;
     point.position = {1, 1, 1};
     point.range = 2.0f;
     EXPECT_TRUE(inLightCone(point, {1, 1, 1}));
     EXPECT_TRUE(inLightCone(point, {1, -0.9f, 1}));
     EXPECT_FALSE(inLightCone(point, {1, -1.0f, 1})); // distance == range is out
     Light sun;
-    sun.type = LightType::Directional;
+    sun.type = LightKind::Directional;
     EXPECT_TRUE(inLightCone(sun, {1e4f, 0, 0}));
 }
 

@@ -235,7 +235,7 @@ TEST(ScenesGltf, PunctualLightsAreUsedFirst) {
     ASSERT_TRUE(r.ok()) << r.error();
     ASSERT_EQ(r->lights.size(), 4u);
     const Light& l = r->lights[0];
-    EXPECT_EQ(l.type, LightType::Spot);
+    EXPECT_EQ(l.type, LightKind::Spot);
     EXPECT_NEAR(l.position.y, 5.0f, 1e-5f);
     EXPECT_NEAR(l.direction.y, -1.0f, 1e-5f) << "-Z rotated -90 degrees about X points down";
     EXPECT_EQ(l.color, glm::vec3(1, 0, 0));

@@ -140,19 +140,19 @@ TEST(ScenesNightCity, MoreLightsSameCity) {
     };
     EXPECT_EQ(buildings(small), buildings(large));
     size_t down = std::count_if(large.lights.begin(), large.lights.end(), [](const Light& l) {
-        return l.type == LightType::Spot && l.direction.y < -0.9f && l.attachedInstance < 0;
+        return l.type == LightKind::Spot && l.direction.y < -0.9f && l.attachedInstance < 0;
     });
     size_t up = std::count_if(large.lights.begin(), large.lights.end(), [](const Light& l) {
-        return l.type == LightType::Spot && l.direction.y > 0.8f;
+        return l.type == LightKind::Spot && l.direction.y > 0.8f;
     });
     size_t moon = std::count_if(large.lights.begin(), large.lights.end(),
-                                [](const Light& l) { return l.type == LightType::Directional; });
+                                [](const Light& l) { return l.type == LightKind::Directional; });
     // 4079 static spots: 45 % lamps (down), 20 % floods (up), shop windows and signs the rest; one moon.
     EXPECT_NEAR(double(down) / 4079.0, 0.45, 0.02);
     EXPECT_NEAR(double(up) / 4079.0, 0.20, 0.02);
     EXPECT_EQ(moon, 1u);
     const Light& m = *std::find_if(large.lights.begin(), large.lights.end(),
-                                   [](const Light& l) { return l.type == LightType::Directional; });
+                                   [](const Light& l) { return l.type == LightKind::Directional; });
     EXPECT_LT(m.direction.y, -0.5f) << "from above";
     EXPECT_LT(m.intensity * std::max({m.color.x, m.color.y, m.color.z}), 0.5f) << "dim";
 }
@@ -164,7 +164,7 @@ TEST(ScenesNightCity, DefaultViewHoldsMostLights) {
     const Camera& c = s.camera;
     size_t near = 0, spots = 0;
     for (const Light& l : s.lights) {
-        if (l.type != LightType::Spot || l.dynamic) continue;
+        if (l.type != LightKind::Spot || l.dynamic) continue;
         ++spots;
         near += std::abs(l.position.z - c.position.z) < 30.0f && l.position.x - c.position.x < 110.0f;
     }
@@ -183,7 +183,7 @@ TEST(ScenesNightCity, LampsLightTheStreet) {
     Scene s = city(256);
     int lamps = 0;
     for (const Light& l : s.lights) {
-        if (l.type != LightType::Spot || l.attachedInstance >= 0 || l.direction.y > -0.9f) continue;
+        if (l.type != LightKind::Spot || l.attachedInstance >= 0 || l.direction.y > -0.9f) continue;
         ++lamps;
         EXPECT_NEAR(l.position.y, 6.0f, 0.5f);
         EXPECT_GE(l.outerAngle, 0.6f);

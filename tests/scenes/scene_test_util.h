@@ -105,7 +105,7 @@ inline void expectValidLights(const Scene& s) {
         ASSERT_GE(l.color.y, 0.0f);
         ASSERT_GE(l.color.z, 0.0f);
         ASSERT_GT(l.color.x + l.color.y + l.color.z, 0.0f);
-        if (l.type == LightType::Spot) {
+        if (l.type == LightKind::Spot) {
             ASSERT_GE(l.innerAngle, 0.0f);
             ASSERT_LE(l.innerAngle, l.outerAngle);
             ASSERT_GT(l.outerAngle, 0.0f);

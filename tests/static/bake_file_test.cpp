@@ -4,7 +4,7 @@
 #include "static_test_util.h"
 
 #include "scenes/scenes.h"
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 #include "shadows/static/static_method.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -272,7 +272,7 @@ class BakeScene : public testing::Test {
     static std::vector<uint32_t> staticSpots(size_t count) {
         std::vector<uint32_t> out;
         for (uint32_t i = 0; i < scene_->lights.size() && out.size() < count; ++i)
-            if (!scene_->lights[i].dynamic && scene_->lights[i].type == LightType::Spot) out.push_back(i);
+            if (!scene_->lights[i].dynamic && scene_->lights[i].type == LightKind::Spot) out.push_back(i);
         return out;
     }
     static inline SceneSpec spec_{"night-city", 256, 1};
@@ -351,8 +351,8 @@ TEST_F(BakeScene, SkippedLightsAreReported) {
         if (s.lights[i].dynamic) dynamicLights.push_back(i);
     ASSERT_FALSE(dynamicLights.empty()) << "the night city should have car headlights";
     const std::vector<uint32_t> spots = staticSpots(3);
-    s.lights[spots[1]].type = LightType::Point;
-    s.lights[spots[2]].type = LightType::Directional;
+    s.lights[spots[1]].type = LightKind::Point;
+    s.lights[spots[2]].type = LightKind::Directional;
     std::vector<uint32_t> sel = {spots[0], spots[1], spots[2], dynamicLights[0]};
     auto baked = bakeScene(s, spec_, StaticMethod::MH, 64, sel);
     ASSERT_TRUE(baked.ok()) << baked.error();

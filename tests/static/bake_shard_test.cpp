@@ -3,8 +3,8 @@
 // light (6 faces) and skipped lights among the selection; mismatched, missing and doubled parts are
 // refused with one line naming the parts and lights.
 #include "scenes/scenes.h"
-#include "shadows/static/bake.h"
-#include "shadows/static/bake_shard.h"
+#include "bake/bake.h"
+#include "bake/bake_shard.h"
 
 #include <gtest/gtest.h>
 
@@ -81,7 +81,7 @@ class BakeShardScene : public testing::Test {
         ASSERT_TRUE(s.ok()) << s.error();
         scene_ = new Scene(std::move(s.value()));
         // A point light among the spots (6 cube faces; the night city has none of its own).
-        scene_->lights[2].type = LightType::Point;
+        scene_->lights[2].type = LightKind::Point;
         for (uint32_t i = 0; i < scene_->lights.size(); ++i)
             if (scene_->lights[i].dynamic) dynamicLight_ = i;
     }

@@ -5,6 +5,7 @@
 // (the per-texel check of the same encoder runs in the exhaustive tests and in StaticSizeBench).
 // ML_DAGMH_CACHE=dir keeps the MH trees on disk so reruns skip the rasteriser.
 #include "static_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "scenes/scenes.h"
 
@@ -91,7 +92,7 @@ TEST(StaticSizeBench, DagMhRealMaps) {
                     int k = 0;
                     bool found = false;
                     for (const Light& l : s->lights)
-                        if (l.type == LightType::Spot && k++ == c.frustum)
+                        if (l.type == LightKind::Spot && k++ == c.frustum)
                             fr = spotLightFrustum(l), found = true;
                     ASSERT_TRUE(found);
                 }

@@ -1,4 +1,4 @@
-// Resolution from need (shadows/static/need.h) and the need block of bake files (version 2): the
+// Resolution from need (bake/need.h) and the need block of bake files (version 2): the
 // estimator against a hand-computed footprint, lights near and far, a light with no caster, the cap and
 // the minimum, a box region, frustum and occlusion tests; need-based files round-trip, forged need
 // blocks are refused, and a need-based bake of night-city lights verifies lossless at every texel.
@@ -6,8 +6,8 @@
 
 #include "scenes/mesh_utils.h"
 #include "scenes/scenes.h"
-#include "shadows/static/bake.h"
-#include "shadows/static/need.h"
+#include "bake/bake.h"
+#include "bake/need.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -40,7 +40,7 @@ Scene groundScene(const std::vector<float>& boxes) {
 
 Light spotAt(glm::vec3 p, glm::vec3 dir = {0, -1, 0}) {
     Light l;
-    l.type = LightType::Spot;
+    l.type = LightKind::Spot;
     l.position = p;
     l.direction = glm::normalize(dir);
     l.range = 12.0f;

@@ -2,6 +2,7 @@
 // frusta, then MH, MMH and DAG-MH checked at every texel; sizes printed against the 32-bit map.
 // The scene loader (scenes/) is another engineer's: a loader error fails these tests (never skips).
 #include "static_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "scenes/scenes.h"
 
@@ -40,7 +41,7 @@ std::vector<MapCase> sceneMaps(const Scene& scene, const std::string& name, uint
     std::vector<LightFrustum> frusta;
     if (overview) frusta.push_back(overviewFrustum(scene, {0.35f, -1.0f, 0.25f}));
     for (const Light& l : scene.lights)
-        if (l.type == LightType::Spot && frusta.size() < spots + (overview ? 1u : 0u))
+        if (l.type == LightKind::Spot && frusta.size() < spots + (overview ? 1u : 0u))
             frusta.push_back(spotLightFrustum(l));
     for (size_t i = 0; i < frusta.size(); ++i) {
         auto t0 = std::chrono::steady_clock::now();

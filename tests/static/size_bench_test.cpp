@@ -2,6 +2,7 @@
 // with ML_STATIC_BENCH=1 and prints MH / MMH / DAG-MH bytes and the ratios the issue names
 // (MMH <= 0.85 MH, DAG-MH <= 0.75 MMH). Every texel is still checked.
 #include "static_test_util.h"
+#include "bake/scene_casters.h"
 
 #include "scenes/scenes.h"
 

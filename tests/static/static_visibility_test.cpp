@@ -1,6 +1,7 @@
 // The static lookups' bias (shadows/static/static_visibility.h, twin of the shader): no self-shadowing
 // ("acne") on a ground lit at grazing angles, and shadows where a box really blocks the light, for every
 // method and resolution. Truth is an exact ray-box test.
+#include "scenes/scene.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 

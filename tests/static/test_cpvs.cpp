@@ -2,6 +2,7 @@
 // derived directly from synthetic dual depth maps, DAG == uncompressed octree, region build == global build,
 // determinism, validation of damaged data, and the lookup helpers. See shadows/static/cpvs.h.
 #include "scenes/scenes.h"
+#include "bake/scene_casters.h"
 #include "shadows/static/cpvs.h"
 #include "shadows/static/raster_dual.h"
 
@@ -613,7 +614,7 @@ TEST(CpvsRegions, NightCityEqualsGlobal) {
     CasterTriangles casters = castersFromScene(*scene);
     std::vector<Light> spots;
     for (const Light& l : scene->lights)
-        if (l.type == LightType::Spot && !l.dynamic && spots.size() < 2) spots.push_back(l);
+        if (l.type == LightKind::Spot && !l.dynamic && spots.size() < 2) spots.push_back(l);
     ASSERT_FALSE(spots.empty());
     for (size_t li = 0; li < spots.size(); ++li) {
         LightFrustum f = spotLightFrustum(spots[li]);
@@ -796,7 +797,7 @@ TEST(CpvsLookup, BaseOffsetPcfAndNormalBias) {
 std::vector<Light> staticSpots(const Scene& scene, size_t count) {
     std::vector<Light> out;
     for (const Light& l : scene.lights)
-        if (l.type == LightType::Spot && !l.dynamic && out.size() < count) out.push_back(l);
+        if (l.type == LightKind::Spot && !l.dynamic && out.size() < count) out.push_back(l);
     return out;
 }
 

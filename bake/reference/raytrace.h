@@ -100,7 +100,7 @@ class RayReference {
     unsigned threads() const { return threads_; }
 
     // Nearest hit on (origin + t * dir), t in (tnear, tfar); dir need not be unit length (t scales with
-    // it). Used to explain disagreements (shadows/reference/error_classes.h), not for visibility.
+    // it). Used to explain disagreements (bake/reference/error_classes.h), not for visibility.
     RayHit firstHit(glm::vec3 origin, glm::vec3 dir, float tnear, float tfar) const;
 
     uint64_t triangleCount() const { return triangles_; }

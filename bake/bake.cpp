@@ -1,4 +1,5 @@
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
+#include "bake/scene_casters.h"
 
 #include <algorithm>
 #include <chrono>
@@ -40,7 +41,7 @@ DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& fru
 // The maps a light bakes: a spot one, a point light six cube faces, a directional light one
 // orthographic map over the scene's bounds.
 std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& l) {
-    if (l.type == LightType::Directional)
+    if (l.type == LightKind::Directional)
         return {directionalLightFrustum(l.direction, scene.boundsMin, scene.boundsMax)};
     return lightFrustums(l);
 }
@@ -50,13 +51,13 @@ namespace {
 // Why a light cannot be baked, or "" when it can.
 std::string skipReason(const Scene& scene, const Light& l) {
     if (l.dynamic) return "dynamic light (moves; its shadows come from virtual shadow maps)";
-    if (l.type == LightType::Directional) {
+    if (l.type == LightKind::Directional) {
         const glm::vec3 d = l.direction, lo = scene.boundsMin, hi = scene.boundsMax;
         if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && glm::length(d) > 1e-6f))
             return "directional light with a zero or non-finite direction";
         if (!(hi.x > lo.x || hi.y > lo.y || hi.z > lo.z) || !std::isfinite(glm::length(hi - lo)))
             return "directional light over empty or non-finite scene bounds";
-    } else if (l.type != LightType::Spot && l.type != LightType::Point) {
+    } else if (l.type != LightKind::Spot && l.type != LightKind::Point) {
         return "unknown light type";
     }
     for (const LightFrustum& f : bakeFrustums(scene, l)) {
@@ -411,11 +412,30 @@ void applySceneModifiers(Scene& scene, const SceneModifiers& m) {
     if (m.bounds) scene.boundsMin = m.boundsMin, scene.boundsMax = m.boundsMax;
     for (glm::vec3 d : m.lightDirs) {
         Light l;
-        l.type = LightType::Directional;
+        l.type = LightKind::Directional;
         l.direction = glm::normalize(d);
         l.position = (scene.boundsMin + scene.boundsMax) * 0.5f; // unused by directional lights
         scene.lights.push_back(l);
     }
+}
+
+Result<Scene> loadBakeScene(const SceneSpec& spec, const LoadOptions& options) {
+    auto m = parseSceneModifiers(spec.scene);
+    if (!m) return fail(m.error());
+    const uint32_t extra = uint32_t(m->lightDirs.size());
+    if (spec.lights <= extra)
+        return fail("scene '" + spec.scene + "': light count below its appended lights");
+    auto scene = loadScene(m->base, spec.lights - extra, spec.seed, options);
+    if (!scene) return scene;
+    applySceneModifiers(scene.value(), m.value());
+    return scene;
+}
+
+Result<VerifyReport> verifyBake(const BakeFile& file, const DualRenderFn& render,
+                                const BakeProgressFn& progress) {
+    auto scene = loadBakeScene(file.scene);
+    if (!scene) return fail("cannot re-create the baked scene: " + scene.error());
+    return verifyBakeScene(file, scene.value(), render, progress);
 }
 
 } // namespace ml

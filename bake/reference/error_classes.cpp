@@ -1,4 +1,4 @@
-#include "shadows/reference/error_classes.h"
+#include "bake/reference/error_classes.h"
 
 #include "shadows/static/static_visibility.h"
 

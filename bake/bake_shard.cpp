@@ -1,8 +1,9 @@
-#include "shadows/static/bake_shard.h"
+#include "bake/bake_shard.h"
+#include "bake/scene_casters.h"
 
 #include "io/safe_io.h"
 
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 
 #include <algorithm>
 #include <cerrno>

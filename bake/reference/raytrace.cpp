@@ -1,4 +1,4 @@
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 
 #include <embree3/rtcore.h>
 
@@ -444,11 +444,11 @@ Disagreement compareVisibility(const std::vector<float>& methodVisibility, const
 }
 
 bool inLightCone(const Light& light, glm::vec3 p) {
-    if (light.type == LightType::Directional) return true;
+    if (light.type == LightKind::Directional) return true;
     glm::vec3 d = p - light.position;
     float dist = glm::length(d);
     if (!(dist < light.range)) return false;
-    if (light.type == LightType::Point) return true;
+    if (light.type == LightKind::Point) return true;
     float dirLen = glm::length(light.direction);
     if (!(dist > 0.0f) || !(dirLen > 0.0f)) return false;
     // cos is decreasing on [0, pi], so this is "angle <= outerAngle".

@@ -19,7 +19,7 @@
 // (the one-tap lookup is used for the neighbourhood test whatever the PCF radius).
 #pragma once
 #include "shaders/shared/gpu_types.h"
-#include "shadows/reference/raytrace.h"
+#include "bake/reference/raytrace.h"
 
 #include <array>
 #include <cstdint>

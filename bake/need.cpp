@@ -1,6 +1,7 @@
-#include "shadows/static/need.h"
+#include "bake/need.h"
+#include "bake/scene_casters.h"
 
-#include "shadows/static/bake.h"
+#include "bake/bake.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,7 +137,7 @@ Result<std::vector<LightNeed>> estimateNeed(const Scene& scene, const std::vecto
                         std::to_string(scene.lights.size()) + " lights");
         const Light& l = scene.lights[li];
         const std::vector<LightFrustum> frustums = bakeFrustums(scene, l);
-        const bool directional = l.type == LightType::Directional;
+        const bool directional = l.type == LightKind::Directional;
         glm::vec3 centre = l.position;
         float radius = l.range;
         if (directional) {

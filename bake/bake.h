@@ -121,26 +121,11 @@ std::string sceneModifierString(const SceneModifiers& m);
 // Applies bounds and appends the directional lights (static, white, intensity 1).
 void applySceneModifiers(Scene& scene, const SceneModifiers& m);
 
-// The scene a bake file was made from (modifiers applied). Inline: see verifyBake.
-inline Result<Scene> loadBakeScene(const SceneSpec& spec, const LoadOptions& options = {}) {
-    auto m = parseSceneModifiers(spec.scene);
-    if (!m) return fail(m.error());
-    const uint32_t extra = uint32_t(m->lightDirs.size());
-    if (spec.lights <= extra)
-        return fail("scene '" + spec.scene + "': light count below its appended lights");
-    auto scene = loadScene(m->base, spec.lights - extra, spec.seed, options);
-    if (!scene) return scene;
-    applySceneModifiers(scene.value(), m.value());
-    return scene;
-}
+// The scene a bake file was made from (modifiers applied).
+Result<Scene> loadBakeScene(const SceneSpec& spec, const LoadOptions& options = {});
 
-// Reloads the scene from the file's SceneSpec, then verifyBakeScene. Inline on purpose: the static
-// library does not link the scene loaders, its callers (the command line, the tests) do.
-inline Result<VerifyReport> verifyBake(const BakeFile& file, const DualRenderFn& render = {},
-                                       const BakeProgressFn& progress = {}) {
-    auto scene = loadBakeScene(file.scene);
-    if (!scene) return fail("cannot re-create the baked scene: " + scene.error());
-    return verifyBakeScene(file, scene.value(), render, progress);
-}
+// Reloads the scene from the file's SceneSpec, then verifyBakeScene.
+Result<VerifyReport> verifyBake(const BakeFile& file, const DualRenderFn& render = {},
+                                const BakeProgressFn& progress = {});
 
 } // namespace ml

@@ -1,0 +1,3 @@
+// Fixture of LayerCheckCatchesCycle: the facade includes the feature (the edge that is allowed).
+#pragma once
+#include "shadows/feature.h"
