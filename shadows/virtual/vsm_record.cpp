@@ -38,7 +38,7 @@ void VirtualShadowMaps::recordMark(const Device& d, VkCommandBuffer c, uint32_t 
                                    const VsmFrameInputs& in) {
     Slot& slot = slots_[slotIndex];
     const auto* fc = in.frame->as<gpu::FrameConstants>();
-    dispatch(d, c, markProgram_, fc->size.x, fc->size.y, NoPush{},
+    dispatch(d, c, programs_.mark, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
               slot.constants, slot.maps, slot.coverage, marks_});
     memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
@@ -47,14 +47,14 @@ void VirtualShadowMaps::recordMark(const Device& d, VkCommandBuffer c, uint32_t 
 void VirtualShadowMaps::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
     Slot& slot = slots_[slotIndex];
     const uint32_t blocks = uint32_t((size_t(slot.orderEntries) + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
-    dispatch(d, c, scanProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
+    dispatch(d, c, programs_.scan, blocks * ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
               slot.counters});
     memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
-    dispatch(d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
+    dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
     memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
-    dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
+    dispatch(d, c, programs_.assign, blocks * ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_, rendered_,
               dirtyMips_, slot.counters});
     // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
@@ -70,7 +70,7 @@ void VirtualShadowMaps::recordHpb(const Device& d, VkCommandBuffer c, uint32_t s
     for (uint32_t level = 1; level <= hpbLevels_; ++level) {
         const uint32_t mip = level - 1;
         // A thread per texel of the level, one group layer per active map.
-        dispatch(d, c, hpbProgram_, hpb_.mipWidth(mip), hpb_.mipHeight(mip), slot.activeCount,
+        dispatch(d, c, programs_.hpb, hpb_.mipWidth(mip), hpb_.mipHeight(mip), slot.activeCount,
                  gpu::VsmHpbPush{level, slot.activeCount},
                  {slot.constants, slot.active, table_, Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)),
                   Descriptor(hpb_.mipView(mip))});
@@ -83,7 +83,7 @@ void VirtualShadowMaps::recordHpb(const Device& d, VkCommandBuffer c, uint32_t s
 void VirtualShadowMaps::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
     Slot& slot = slots_[slotIndex];
     const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
-    dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
+    dispatch(d, c, programs_.cull, slot.casterCount, slot.activeCount, push,
              {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
               draws_, drawInfo_, drawCounts_, slot.counters});
     // Draw lists and counts -> indirect draws; draw info -> vertex shader.
@@ -94,7 +94,7 @@ void VirtualShadowMaps::recordCull(const Device& d, VkCommandBuffer c, uint32_t 
 void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIndex) {
     Slot& slot = slots_[slotIndex];
     const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
-    dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
+    dispatch(d, c, programs_.expand, slot.casterCount, slot.activeCount, push,
              {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters, dirtyMips_,
               meshletList_, meshTasks_, slot.counters});
     // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
@@ -107,7 +107,7 @@ void VirtualShadowMaps::recordDraw(const Device& d, VkCommandBuffer c, uint32_t 
                                    const VsmFrameInputs& in) {
     Slot& slot = slots_[slotIndex];
     // One group per rendered page: vsm_assign counted them into the dispatch size.
-    dispatchIndirect(d, c, clearProgram_, slot.counters, offsetof(gpu::VsmCounters, dispatchX), NoPush{},
+    dispatchIndirect(d, c, programs_.clear, slot.counters, offsetof(gpu::VsmCounters, dispatchX), NoPush{},
                      {slot.constants, rendered_, pagePool_});
     memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
     for (uint32_t m = 0; m < mips_; ++m) {
@@ -123,14 +123,14 @@ void VirtualShadowMaps::recordDraw(const Device& d, VkCommandBuffer c, uint32_t 
         const gpu::VsmDrawPush push{m, settings_.maxMeshletsPerMip};
         if (meshPath()) {
             // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
-            bindProgram(d, c, meshProgram_, push,
+            bindProgram(d, c, programs_.mesh, push,
                         {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_,
                          pagePool_, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
                          Descriptor(hpb_.view), meshTasks_, slot.counters});
             d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
         } else {
             bindProgram(
-                d, c, drawProgram_, push,
+                d, c, programs_.draw, push,
                 {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_});
             vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
             vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
@@ -149,7 +149,7 @@ void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32
                                     const VsmFrameInputs& in) {
     Slot& slot = slots_[slotIndex];
     const auto* fc = in.frame->as<gpu::FrameConstants>();
-    dispatch(d, cmd, probeProgram_, fc->size.x, fc->size.y, NoPush{},
+    dispatch(d, cmd, programs_.probe, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
               slot.constants, slot.maps, slot.coverage, table_, pagePool_, slot.probes});
     memoryBarrier(cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
@@ -161,7 +161,7 @@ void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     // The evaluation pass's output -> read and overwritten here.
     memoryBarrier(cmd, C, W, C, R | W);
-    dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
+    dispatch(d, cmd, programs_.view, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
               slot.constants, slot.maps, slot.coverage, table_, pagePool_,
               Descriptor(Image{.view = output})});
