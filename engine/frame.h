@@ -15,7 +15,7 @@
 #include "engine/manylights.h"
 #include "gpu/profiler.h"
 #include "lights/evaluate_pass.h"
-#include "shadows/virtual/vsm.h"
+#include "shadows/virtual/vsm_passes.h"
 
 #include <optional>
 #include <span>
@@ -101,14 +101,15 @@ struct CullingPass final : FramePass {
     void record(FrameContext& f) override;
     LightCulling& cull;
 };
-// One virtual shadow map pass (VirtualShadowMaps::record*): Reset (untimed, VSM on), then the timed
+// One virtual shadow map pass (VsmPasses::record*): Reset (untimed, VSM on), then the timed
 // ones while the slot has active maps; Cull on the raster path, Expand on the mesh path.
 struct VsmPass final : FramePass {
     enum Kind { Reset, Mark, Alloc, Hpb, Cull, Expand, Draw };
-    VsmPass(VirtualShadowMaps& v, Kind k);
+    VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k);
     bool enabled(const FrameContext& f) const override;
     void record(FrameContext& f) override;
-    VirtualShadowMaps& vsm;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
     Kind kind;
 };
 // The evaluation's HDR and output images: old contents discarded (layout transition), ordered after
@@ -122,10 +123,11 @@ struct EvaluationPass final : FramePass {
     const EvaluatePass& evaluate;
 };
 struct VsmProbePass final : FramePass {
-    explicit VsmProbePass(VirtualShadowMaps& v) : vsm(v) {}
+    VsmProbePass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
     bool enabled(const FrameContext&) const override { return vsm.probing(); }
     void record(FrameContext& f) override;
-    VirtualShadowMaps& vsm;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
 };
 struct StatisticsFramePass final : FramePass {
     explicit StatisticsFramePass(const StatisticsPass& s) : FramePass(Pass::Statistics), statistics(s) {}
@@ -135,21 +137,23 @@ struct StatisticsFramePass final : FramePass {
 };
 // demo --view: the VSM page view, or the light-complexity views (culling/culling.h), over the output.
 struct DebugViewPass final : FramePass {
-    DebugViewPass(LightCulling& c, VirtualShadowMaps& v) : cull(c), vsm(v) {}
+    DebugViewPass(LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& p)
+        : cull(c), vsm(v), passes(p) {}
     bool enabled(const FrameContext& f) const override;
     void record(FrameContext& f) override;
     LightCulling& cull;
-    VirtualShadowMaps& vsm;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
 };
 
 // Every pass object of the module, built once over its features.
 struct FramePasses {
-    FramePasses(const GBufferPass& g, LightCulling& c, VirtualShadowMaps& v, const EvaluatePass& e,
-                const StatisticsPass& s)
+    FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
+                const EvaluatePass& e, const StatisticsPass& s)
         : gbuffer(g), clusterBounds(c, Pass::ClusterBounds), lightAssign(c, Pass::LightAssign),
-          vsmReset(v, VsmPass::Reset), vsmMark(v, VsmPass::Mark), vsmAlloc(v, VsmPass::Alloc),
-          vsmHpb(v, VsmPass::Hpb), vsmCull(v, VsmPass::Cull), vsmExpand(v, VsmPass::Expand),
-          vsmDraw(v, VsmPass::Draw), evaluate(e), vsmProbe(v), statistics(s), debugView(c, v) {}
+          vsmReset(v, vp, VsmPass::Reset), vsmMark(v, vp, VsmPass::Mark), vsmAlloc(v, vp, VsmPass::Alloc),
+          vsmHpb(v, vp, VsmPass::Hpb), vsmCull(v, vp, VsmPass::Cull), vsmExpand(v, vp, VsmPass::Expand),
+          vsmDraw(v, vp, VsmPass::Draw), evaluate(e), vsmProbe(v, vp), statistics(s), debugView(c, v, vp) {}
     FrameBeginPass begin;
     GBufferDrawPass gbuffer;
     CullingPass clusterBounds, lightAssign;

@@ -98,7 +98,8 @@ std::optional<Pass> vsmTimer(VsmPass::Kind k) {
 }
 } // namespace
 
-VsmPass::VsmPass(VirtualShadowMaps& v, Kind k) : FramePass(vsmTimer(k)), vsm(v), kind(k) {}
+VsmPass::VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k)
+    : FramePass(vsmTimer(k)), vsm(v), passes(p), kind(k) {}
 
 bool VsmPass::enabled(const FrameContext& f) const {
     if (kind == Reset) return vsm.enabled();
@@ -112,25 +113,25 @@ void VsmPass::record(FrameContext& f) {
     const Device& d = *f.device;
     switch (kind) {
     case Reset:
-        vsm.recordReset(f.cmd);
+        passes.recordReset(f.cmd);
         break;
     case Mark:
-        vsm.recordMark(d, f.cmd, f.slot, f.vsm);
+        passes.recordMark(d, f.cmd, f.slot, f.vsm);
         break;
     case Alloc:
-        vsm.recordAlloc(d, f.cmd, f.slot);
+        passes.recordAlloc(d, f.cmd, f.slot);
         break;
     case Hpb:
-        vsm.recordHpb(d, f.cmd, f.slot);
+        passes.recordHpb(d, f.cmd, f.slot);
         break;
     case Cull:
-        vsm.recordCull(d, f.cmd, f.slot);
+        passes.recordCull(d, f.cmd, f.slot);
         break;
     case Expand:
-        vsm.recordExpand(d, f.cmd, f.slot);
+        passes.recordExpand(d, f.cmd, f.slot);
         break;
     case Draw:
-        vsm.recordDraw(d, f.cmd, f.slot, f.vsm);
+        passes.recordDraw(d, f.cmd, f.slot, f.vsm);
         break;
     }
 }
@@ -153,7 +154,7 @@ void EvaluationPass::record(FrameContext& f) {
 }
 
 void VsmProbePass::record(FrameContext& f) {
-    vsm.recordProbe(*f.device, f.cmd, f.slot, f.vsm);
+    passes.recordProbe(*f.device, f.cmd, f.slot, f.vsm);
 }
 
 void StatisticsFramePass::record(FrameContext& f) {
@@ -167,7 +168,7 @@ bool DebugViewPass::enabled(const FrameContext& f) const {
 
 void DebugViewPass::record(FrameContext& f) {
     if (f.view == DebugView::Vsm)
-        vsm.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
+        passes.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
     else
         cull.recordView(*f.device, f.cmd, f.view == DebugView::LightsReaching, *f.frame, *f.slices, *f.lights,
                         f.depth, f.output, f.width, f.height);

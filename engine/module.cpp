@@ -135,6 +135,7 @@ void Module::Impl::init() {
     gbuffer.create(d);
     cull.create(d);
     vsm.create(d, vsmSettings, uint32_t(slots.size()));
+    if (vsm.enabled()) vsmPasses.create(d, vsm);
     evaluate.create(d, hdrOutput);
     statisticsPass.create(d);
     profiler.create(d, uint32_t(slots.size()), passTimerNames());
@@ -156,6 +157,7 @@ void Module::Impl::destroy() {
     cull.destroy(d);
     evaluate.destroy(d);
     statisticsPass.destroy(d);
+    vsmPasses.destroy(d);
     vsm.destroy(d);
     profiler.destroy(d);
     for (auto& s : slots) {

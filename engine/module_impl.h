@@ -99,11 +99,12 @@ struct Module::Impl {
     EvaluatePass evaluate;
     StatisticsPass statisticsPass;
     bool hdrOutput = false;
-    VirtualShadowMaps vsm;
+    VirtualShadowMaps vsm; // state: map slots, page tables, pool
+    VsmPasses vsmPasses;   // its GPU passes
     VsmSettings vsmSettings;
     std::vector<InstanceData> lastInstances; // for moved-caster detection (by the VSM)
     Profiler profiler;
-    FramePasses passes{gbuffer, cull, vsm, evaluate, statisticsPass}; // Module::record's list
+    FramePasses passes{gbuffer, cull, vsm, vsmPasses, evaluate, statisticsPass}; // Module::record's list
     std::vector<Slot> slots;
     uint64_t frameIndex = 0;
     std::vector<FrameReport> reports;

@@ -74,20 +74,20 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t bitWords = (entries + 31) / 32;
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
-    table_ = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    owners_ =
+    pages_.table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    pages_.owners =
         createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
-    lastUsed_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
+    pages_.lastUsed = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
     markWords_ = bitWords;
-    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
-                                "vsm_marks"); // lookup, then fallback marks
-    pagePool_ = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage,
-                                   "vsm_pool", 0xFFFFFFFFu);
-    blockCounts_ =
+    pages_.marks = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
+                                      "vsm_marks"); // lookup, then fallback marks
+    pages_.pool = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
+                                     kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu);
+    pages_.blockCounts =
         createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
-    avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    pages_.avail = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
+    pages_.rendered = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
+    pages_.dirtyMips = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
     // HPB levels 1..log2(S_0) as image mips 0.. (none when a map is one page). Rebuilt every frame for the
     // active maps before it is read: PerFrame. One layer per map slot: maxMaps <= maxImageArrayLayers.
     hpbLevels_ = mips_ - 1;
@@ -101,11 +101,12 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     hpb.lifetime = Lifetime::PerFrame;
     hpb.arrayViews = true; // one map slot is still an array of one
     hpb.name = "vsm_hpb";
-    hpb_ = createImage(d, hpb);
+    pages_.hpb = createImage(d, hpb);
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    drawCounts_ = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    pages_.draws =
+        createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
+    pages_.drawInfo = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
+    pages_.drawCounts = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
@@ -120,9 +121,9 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
-                                          kStorageBufferUsage, "vsm_meshlet_list");
-        meshTasks_ = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+        pages_.meshletList = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
+                                                kStorageBufferUsage, "vsm_meshlet_list");
+        pages_.meshTasks = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
     }
 
     slots_.resize(framesInFlight);
@@ -147,17 +148,15 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     maps_.assign(s.maxMaps, VsmMapInfo{});
     wasActive_.assign(s.maxMaps, 0);
     for (uint32_t i = s.maxMaps; i-- > 0;) freeSlots_.push_back(i);
-
-    programs_.create(d, settings_.raster == VsmRaster::Mesh);
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
-    programs_.destroy(d);
-    for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
-                      &dirtyMips_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
+    for (Buffer* b : {&pages_.table, &pages_.owners, &pages_.lastUsed, &pages_.marks, &pages_.pool,
+                      &pages_.blockCounts, &pages_.avail, &pages_.rendered, &pages_.dirtyMips, &pages_.draws,
+                      &pages_.drawInfo, &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks})
         destroyBuffer(d, *b);
-    destroyImage(d, hpb_);
+    destroyImage(d, pages_.hpb);
     for (Slot& s : slots_)
         for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters,
                           &s.counters, &s.probes})
@@ -294,20 +293,20 @@ std::vector<uint32_t> readWords(const Device& d, const Buffer& b, size_t words) 
 std::vector<uint32_t> VirtualShadowMaps::read(const Device& d, VsmState state) const {
     switch (state) {
     case VsmState::Table:
-        return readWords(d, table_, size_t(mapsInUse_) * entriesPerMap_);
+        return readWords(d, pages_.table, size_t(mapsInUse_) * entriesPerMap_);
     case VsmState::Owners:
-        return readWords(d, owners_, settings_.poolPages);
+        return readWords(d, pages_.owners, settings_.poolPages);
     case VsmState::LastUsed:
-        return readWords(d, lastUsed_, settings_.poolPages);
+        return readWords(d, pages_.lastUsed, settings_.poolPages);
     case VsmState::Marks:
-        return readWords(d, marks_, 2 * markWords_);
+        return readWords(d, pages_.marks, 2 * markWords_);
     case VsmState::PagePool:
         break;
     }
-    return readWords(d, pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
+    return readWords(d, pages_.pool, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
 }
 std::vector<uint32_t> VirtualShadowMaps::readHpb(const Device& d, uint32_t map, uint32_t level) const {
-    std::vector<uint8_t> bytes = readImage(d, hpb_, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
+    std::vector<uint8_t> bytes = readImage(d, pages_.hpb, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
     std::vector<uint32_t> out(bytes.size() / 4);
     std::memcpy(out.data(), bytes.data(), out.size() * 4);
     return out;

@@ -34,7 +34,6 @@
 #pragma once
 #include "gpu/program.h"
 #include "shadows/static/dual_depth.h"
-#include "shadows/virtual/vsm_programs.h"
 #include "shadows/virtual/vsm_settings.h"
 #include "shadows/virtual/vsm_types.h"
 
@@ -113,6 +112,24 @@ struct VsmSlotHost {
 // the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
 enum class VsmState { Table, Owners, LastUsed, Marks, PagePool };
 
+// The GPU state the passes share, created with the settings: persistent across frames (page table,
+// physical page owners and last use, the pool), and per frame but kept (marks, block counts, lists,
+// draw lists, HPB).
+struct VsmPages {
+    Buffer table, owners, lastUsed, marks, pool, blockCounts, avail, rendered, dirtyMips, draws, drawInfo,
+        drawCounts, meshletList, meshTasks;
+    Image hpb; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+};
+// Per frame in flight: what prepare() computes and uploads for the passes.
+struct VsmSlot {
+    Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
+    VsmSlotHost host;
+    uint32_t orderEntries = 0; // page-table entries of the allocation order
+    uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
+};
+
+// The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
+// the CPU part of a frame (prepare). Its GPU passes are VsmPasses (vsm_passes.h).
 class VirtualShadowMaps {
   public:
     void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
@@ -130,32 +147,20 @@ class VirtualShadowMaps {
     std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame,
                                   std::span<const VsmLight> lights, std::span<const uint32_t> visible,
                                   std::span<const VsmInstance> instances, const VsmCamera& camera);
-    // The frame's passes, one function each (shadows/virtual/vsm_record.cpp), ordered and timed by the
-    // module's frame (engine/frame.h): reset (per-frame clears), then, when the slot has active maps
-    // (active()), mark, alloc (scan, allocate, assign), HPB, cull (raster path) or expand (mesh path),
-    // draw (clear and draw the dirty pages); after the evaluation the probe (probing()) and the view.
+    // When the passes run (VsmPasses, engine/frame.h): the slot has active maps; the probe pass.
     bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
     bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
-    void recordReset(VkCommandBuffer cmd);
-    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
-    void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot);
-    void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot);
-    void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot);
-    void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot);
-    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
-    // The probe pass (probing()): records the lookups into the probe buffer.
-    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
-    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
-    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
-    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
-                    VkImageView output);
+    uint32_t mapsInUse() const { return mapsInUse_; }
+    // The GPU state the passes read and write.
+    const VsmPages& pages() const { return pages_; }
+    const VsmSlot& slot(uint32_t slot) const { return slots_[slot]; }
 
     // Evaluation-pass bindings, in vsm_common.glsl's order: constants, maps, coverage, table, pool.
     const Buffer& constants(uint32_t slot) const { return slots_[slot].constants; }
     const Buffer& maps(uint32_t slot) const { return slots_[slot].maps; }
     const Buffer& coverage(uint32_t slot) const { return slots_[slot].coverage; }
-    const Buffer& table() const { return table_; }
-    const Buffer& pagePool() const { return pagePool_; }
+    const Buffer& table() const { return pages_.table; }
+    const Buffer& pagePool() const { return pages_.pool; }
 
     // Statistics of the frame last recorded in `slot` (call once its fence has passed).
     VsmStats readStats(uint32_t slot) const;
@@ -174,12 +179,7 @@ class VirtualShadowMaps {
     std::vector<uint32_t> readHpb(const Device& device, uint32_t map, uint32_t level) const;
 
   private:
-    struct Slot {
-        Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
-        VsmSlotHost host;
-        uint32_t orderEntries = 0;
-        uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
-    };
+    using Slot = VsmSlot;
     struct LightState {
         uint32_t firstMap = ML_VSM_NO_MAP, mapCount = 0, kind = 0;
         VsmLight last;
@@ -212,11 +212,8 @@ class VirtualShadowMaps {
     std::vector<VsmInstance> lastInstances_;
     gpu::VsmConstants lastConstants_{};
 
-    Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, draws_,
-        drawInfo_, drawCounts_, meshletList_, meshTasks_;
-    Image hpb_; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+    VsmPages pages_;
     uint32_t hpbLevels_ = 0;
-    VsmPrograms programs_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside
