@@ -5,7 +5,7 @@
 // with shared-memory atomics on order-preserving integer encodings of the floats (min/max are exact
 // and order-independent, so the result equals the CPU reference bit for bit). Also writes the tile's
 // occupancy as a 64-bit mask (bit s: slice s holds a pixel), which the footprint assignment walks.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
 
 layout(local_size_x = ML_TILE_SIZE, local_size_y = ML_TILE_SIZE) in;

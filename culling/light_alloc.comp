@@ -7,7 +7,7 @@
 // so `ranges` is the same layout the brute-force pass writes. When pass A recorded more hits than
 // `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
 // with a pool far too small for the frame (the hit buffer is sized from the pool).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 
 layout(local_size_x = ML_ALLOC_GROUP) in;

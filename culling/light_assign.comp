@@ -6,7 +6,7 @@
 // Pass A counts, the group allocates each cluster's list from the global pool with one atomic, and
 // pass B writes the indices. A cluster whose list does not fit is marked ML_CLUSTER_OVERFLOW and
 // counted; its pixels then test every visible light, so no light is ever dropped.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
 
 layout(local_size_x = ML_ASSIGN_GROUP) in;

@@ -5,7 +5,7 @@
 // ranges[c].x + (atomic decrement of counts[c]) - 1, so counts[c] ends at 0 and every slot of the range
 // is written once. Overflowed clusters are skipped (their pixels test every visible light). A fixed
 // number of groups strides over the hits (their count is only known on the GPU).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 
 layout(local_size_x = ML_FILL_GROUP) in;

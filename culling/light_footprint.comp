@@ -11,7 +11,7 @@
 // Per hit (light l touches cluster c): counts[c] += 1, and (c, l) is appended to `hits` (capacity
 // hitCapacity; past it only hitCount grows, and light_alloc then overflows every non-empty cluster, so
 // nothing is lost). Recording the hits spares pass C a second round of box tests.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 #include "shaders/shared/light_math.h"
 

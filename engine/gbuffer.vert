@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // G-buffer vertices: pulled from storage buffers (no vertex input state); the draw's firstInstance is
 // the instance index, so one indirect multi-draw renders every instance.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };

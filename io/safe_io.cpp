@@ -5,7 +5,11 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cctype>
+#include <cstdlib>
 #include <cstring>
+#include <dirent.h>
+#include <signal.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -51,7 +55,62 @@ std::string parentOf(const std::string& path, std::string* base) {
     return slash == 0 ? "/" : path.substr(0, slash);
 }
 
+// This machine's name as it goes into temporary names: [A-Za-z0-9-] only, at most 32 characters, so
+// that '.' stays the field separator ("host" when it has none usable).
+std::string hostTag() {
+    char name[256] = {};
+    std::string out;
+    if (::gethostname(name, sizeof name - 1) == 0)
+        for (const char* c = name; *c && out.size() < 32; ++c)
+            if (std::isalnum(static_cast<unsigned char>(*c)) || *c == '-') out += *c;
+    return out.empty() ? std::string("host") : out;
+}
+
+bool allOf(const std::string& s, const char* set) {
+    return !s.empty() && s.find_first_not_of(set) == std::string::npos;
+}
+
 } // namespace
+
+size_t removeStaleTemporaries(const std::string& path) {
+    std::string base;
+    const std::string dir = parentOf(path, &base);
+    const std::string prefix = "." + base + ".tmp.", host = hostTag();
+    Fd d(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (d.fd < 0) return 0;
+    const int listed = ::dup(d.fd);
+    DIR* listing = listed < 0 ? nullptr : ::fdopendir(listed);
+    if (!listing) {
+        if (listed >= 0) ::close(listed);
+        return 0;
+    }
+    std::vector<std::string> stale;
+    while (const dirent* e = ::readdir(listing)) {
+        const std::string name = e->d_name;
+        if (name.compare(0, prefix.size(), prefix) != 0) continue;
+        // HOST.PID.HEX (this writer's names) or PID.HEX (names of writers before the host field).
+        std::vector<std::string> fields;
+        for (size_t at = prefix.size();;) {
+            const size_t dot = name.find('.', at);
+            fields.push_back(name.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+            if (dot == std::string::npos) break;
+            at = dot + 1;
+        }
+        if (fields.size() == 2) fields.insert(fields.begin(), host);
+        if (fields.size() != 3 || fields[0] != host || !allOf(fields[1], "0123456789") ||
+            fields[1].size() > 9 || !allOf(fields[2], "0123456789abcdef"))
+            continue; // another machine's writer (a shared folder) or not our name: never touched
+        const long pid = std::strtol(fields[1].c_str(), nullptr, 10);
+        if (pid <= 0 || ::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue; // its writer may live
+        struct stat st {};
+        if (::fstatat(d.fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode))
+            stale.push_back(name);
+    }
+    ::closedir(listing);
+    size_t removed = 0;
+    for (const std::string& name : stale) removed += ::unlinkat(d.fd, name.c_str(), 0) == 0 ? 1 : 0;
+    return removed;
+}
 
 Result<uint64_t> checkRegularFile(const std::string& path, uint64_t maxBytes) {
     struct stat st {};
@@ -153,16 +212,18 @@ Result<void> writeFileAtomically(const std::string& path, const void* data, size
     }
     std::string base;
     const std::string dir = parentOf(path, &base);
+    (void)removeStaleTemporaries(path); // left by a writer of this target that died (kill -9, power loss)
 
     // A fresh name per try: pid, a process-wide counter and the clock. O_EXCL makes a name that exists
     // (left over, or planted as a symlink) fail with EEXIST, and we try the next one.
     static std::atomic<uint64_t> counter{0};
+    static const std::string host = hostTag();
     std::string tmp;
     int raw = -1;
     for (int attempt = 0; attempt < 64 && raw < 0; ++attempt) {
         const uint64_t tick = uint64_t(std::chrono::steady_clock::now().time_since_epoch().count());
-        char suffix[64];
-        std::snprintf(suffix, sizeof suffix, ".tmp.%ld.%llx", long(::getpid()),
+        char suffix[96];
+        std::snprintf(suffix, sizeof suffix, ".tmp.%s.%ld.%llx", host.c_str(), long(::getpid()),
                       (unsigned long long)((tick * 0x9E3779B97F4A7C15ull) ^ counter.fetch_add(1)));
         tmp = dir + "/." + base + suffix;
         raw = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY, 0666);

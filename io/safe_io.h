@@ -9,8 +9,9 @@
 // beside the target exclusively (O_CREAT | O_EXCL | O_NOFOLLOW, a fresh name each try), checks every
 // write, fsync and close, and renames it over the target. It refuses a target that exists and is not a
 // regular file (a symbolic link, a directory, /dev/full...), so it never writes through a link and
-// never replaces a device node. An interrupted or failed write leaves the old target untouched and no
-// temporary behind.
+// never replaces a device node. A failed write leaves the old target untouched and no temporary behind;
+// a writer that is killed leaves its temporary (.NAME.tmp.HOST.PID.N), and the next write of the same
+// target removes it once that process is gone (removeStaleTemporaries).
 //
 // Printing: escapeText makes bytes from a file (scene names, mesh names, parser messages) safe for a
 // one-line message: control characters become \n, \t, \xNN (C1 controls \u0080..\u009f too), and long
@@ -44,6 +45,12 @@ Result<std::vector<unsigned char>> readRegularFileHead(const std::string& path, 
 // Whether writeFileAtomically may write `path`: it does not exist, or it is a regular file (not a
 // symlink, folder or device). Lets a command refuse before a long computation, not after it.
 Result<void> checkReplaceable(const std::string& path);
+
+// Removes the temporaries that writers of `path` on this machine left when they died (".NAME.tmp.HOST.PID.*"
+// whose process is gone, regular files only); returns how many. writeFileAtomically calls it first, so
+// a bake killed mid-write leaves no 100 MB file behind for long. Temporaries of live writers and of
+// other machines (a shared folder of a bake farm) are never touched.
+size_t removeStaleTemporaries(const std::string& path);
 
 // See the overview. Errors: "<path>: <reason>".
 Result<void> writeFileAtomically(const std::string& path, const void* data, size_t bytes);

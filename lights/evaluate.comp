@@ -3,7 +3,7 @@
 // The one evaluation pass: per pixel, every light of its cluster: visibility (static bake x dynamic
 // virtual shadow map) x shading, accumulated in HDR, tone-mapped to the output. Per-pixel light counts
 // are a pass of their own (statistics.comp), so this pass times only the frame's work.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shaders/shared/shading.h"
 

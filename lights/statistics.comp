@@ -4,7 +4,7 @@
 // evaluated (its cluster's list, or every visible light in an overflowed cluster / without culling) and
 // the lights whose cone and range really hold the point (a brute-force loop over every visible light:
 // diagnostic cost, which is why it is a pass of its own with its own profile entry).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 

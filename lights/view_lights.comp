@@ -6,7 +6,7 @@
 // point (a brute-force loop over the visible lights), written to `viewCounts` (evaluated | reaching
 // << 16) and, as heatColor of the chosen count, over the output image. Pixels without geometry stay
 // as shaded (the sky). Diagnostic: its cost is not part of the frame's passes.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/heat.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;

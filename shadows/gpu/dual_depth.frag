@@ -8,7 +8,7 @@
 // The CPU turns them into [enter, exit]: marked ? exit (or far when no back face) : enter. The nearest
 // back face behind a closed entry always lies inside closed geometry, so the interval never claims
 // space outside it (it may end earlier than the CPU reference's counting rule where closed meshes nest).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/gpu/dual_depth_push.h"
 
 layout(constant_id = 0) const uint kSpecPass = 0;

@@ -3,7 +3,7 @@
 // Dual depth bake (shadows/gpu/dual_depth_gpu.h): world-space caster triangles pulled from a storage
 // buffer (4 floats per vertex, w = 1 for triangles of closed meshes), projected by the light's tile
 // matrix; the view-space depth goes to the fragment shader for the integer depth.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/gpu/dual_depth_push.h"
 
 layout(binding = 0, std430) readonly buffer Vertices { vec4 vertices[]; };

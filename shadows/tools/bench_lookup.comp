@@ -7,7 +7,7 @@
 // and dividing the difference by K * pairs leaves the cost of one lookup, free of the pass's fixed
 // cost (launch, item loads, record fetch). The sum is written out so that nothing is dead code; the
 // host checks it against the CPU twin (static_visibility.cpp).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/tools/lookup_push.h"
 
 layout(local_size_x = 64) in;

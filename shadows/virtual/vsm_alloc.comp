@@ -6,7 +6,7 @@
 //      cached pages whose entry is not marked this frame, least recently used first (age buckets of
 //      powers of two: 1, 2-3, 4-7, ... >= 128 frames), by index within a bucket.
 // Rank r of vsm_assign takes avail[r]; ranks past the list are fallbacks (counted).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;

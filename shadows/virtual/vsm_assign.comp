@@ -7,7 +7,7 @@
 // VALID, its physical page appended to the clear list (the clear pass's indirect dispatch size), and
 // its map's mip flagged for the draw passes. Only wanted entries are written, and no wanted entry is
 // ever evicted, so the writes do not race.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;

@@ -3,7 +3,7 @@
 // vsm_clear: one workgroup per page rendered this frame (indirect dispatch: the count vsm_assign
 // appended), resetting its texels to empty before the draws take the atomic minimum. Only the pages
 // drawn this frame are cleared; cached pages keep their depths.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_CLEAR_GROUP) in;

@@ -6,7 +6,7 @@
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
 // static bake take dynamic casters only. Draws go to one list per mip (one indirect-count draw each).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;

@@ -3,7 +3,7 @@
 // vsm_draw: attachment-less raster; each fragment of a page rendered this frame (DIRTY) takes the
 // atomic minimum of its quantised linear depth into the page's physical texel (as the static dual-depth
 // bake does: order-independent, so the result does not depend on draw order).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };

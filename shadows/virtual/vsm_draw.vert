@@ -4,7 +4,7 @@
 // indirect-count draw per mip. The draw's firstInstance indexes drawInfo (instance, map). The world
 // position is computed with vsmPoint, the same operation order as the CPU reference's casters, so both
 // rasterise the same vertices.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };

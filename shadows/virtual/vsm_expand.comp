@@ -9,7 +9,7 @@
 // workgroup) is raised to cover them. Directional clip levels use mip 0, so they share the mip-0 list.
 // The cone bit allows the task shader's back-facing test: the mesh is closed and the box lies wholly in
 // front of the map's near plane (the light outside it, and no front face clipped where a back face is not).
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;

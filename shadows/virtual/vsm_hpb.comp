@@ -5,7 +5,7 @@
 // the DIRTY bits of its 2x2 pages in the page table; a texel of level l > 1 is the OR of its 2x2 texels
 // of level l - 1 (`src`). Texels outside every mip's cells are written 0, so the levels above OR zeros
 // there. vsm_cull, vsm_expand and the task shader then test at most 2x2 cells per caster or meshlet.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;

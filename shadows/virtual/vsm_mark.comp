@@ -4,7 +4,7 @@
 // its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) plus the last page of
 // its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame.
 // Clustered marking: the seed (RMVSM section 6) marks against every light and names this as future work.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;

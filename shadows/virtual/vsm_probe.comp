@@ -4,7 +4,7 @@
 // maps): the map, mip and texel it read, the depth there and how it got it (page, fallback, no caster,
 // missing). `manylights check vsm` and the tests compare each record with a full reference map of the
 // same casters at the same mip (CPU rasteriser); nothing else reads it.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;

@@ -8,7 +8,7 @@
 //   - a wanted page (marked or reserved as fallback) that has a physical page refreshes its last use (LRU);
 //     one without is a request,
 //     counted per block for vsm_alloc's prefix sum.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;

@@ -5,7 +5,7 @@
 // 3 green, 4 cyan, 5 blue, 6+ magenta; bright where the page was drawn this frame, dim where it came
 // from the cache; grey where no dynamic caster covers the point (no page needed), white where the
 // lookup fell back to a coarser page. Blended over the shaded frame so the scene stays readable.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;

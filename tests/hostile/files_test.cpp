@@ -11,6 +11,8 @@
 #include <csignal>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace ml {
 namespace {
@@ -138,6 +140,43 @@ TEST(HostileWrite, PlantedTemporaryIsNotFollowed) {
     ASSERT_TRUE(writeBakeFile(out, hostile::syntheticBake(StaticMethod::MH, 1)).ok());
     EXPECT_EQ(hostile::readBytes(victim), "precious");
     EXPECT_TRUE(readBakeFile(out).ok());
+}
+
+// A writer killed mid-write (here by the file size limit's SIGXFSZ, as kill -9 or a power cut would)
+// leaves its temporary; the next write of the same target removes it once that process is gone. Those
+// of a live writer, of another machine (a shared folder) and anything not a regular file stay.
+TEST(HostileWrite, KilledWritersTemporaryIsRemovedByTheNextWrite) {
+    const std::string p = fresh("killed.bin");
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        struct rlimit small {
+            1000, 1000
+        }, none{0, 0};
+        ::setrlimit(RLIMIT_CORE, &none);
+        ::setrlimit(RLIMIT_FSIZE, &small);
+        std::signal(SIGXFSZ, SIG_DFL);
+        (void)io::writeFileAtomically(p, std::string(4000, 'y'));
+        ::_exit(0); // not reached: SIGXFSZ ends the writer inside write()
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGXFSZ) << status;
+    ASSERT_EQ(entriesStartingWith(".killed.bin.tmp."), 1u);
+
+    const std::string dir = tempDir().string(), live = std::to_string(::getpid());
+    const std::string dead = std::to_string(child); // reaped above: no such process now
+    hostile::writeBytes(dir + "/.killed.bin.tmp." + live + ".1f", "a live writer's (older name form)");
+    hostile::writeBytes(dir + "/.killed.bin.tmp.otherhost." + dead + ".2f", "another machine's");
+    ASSERT_EQ(::symlink("/nonexistent", (dir + "/.killed.bin.tmp." + dead + ".3f").c_str()), 0);
+    ASSERT_TRUE(io::writeFileAtomically(p, std::string("new")).ok());
+    EXPECT_EQ(hostile::readBytes(p), "new");
+    EXPECT_EQ(entriesStartingWith(".killed.bin.tmp."), 3u) << "only the dead writer's temporary goes";
+    EXPECT_TRUE(std::filesystem::exists(dir + "/.killed.bin.tmp." + live + ".1f"));
+    EXPECT_TRUE(std::filesystem::exists(dir + "/.killed.bin.tmp.otherhost." + dead + ".2f"));
+    EXPECT_EQ(io::removeStaleTemporaries(p), 0u);
+    for (const auto& e : std::filesystem::directory_iterator(tempDir()))
+        if (e.path().filename().string().rfind(".killed.bin.tmp.", 0) == 0) std::filesystem::remove(e.path());
 }
 
 // A write that fails part-way (here: the file size limit, as a full disk would) is reported, the old

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cstring>
 
 namespace ml {
@@ -77,8 +79,9 @@ TEST(HostileGltf, UrisStayInsideTheSceneFolder) {
         SCOPED_TRACE(uri);
         auto r = loadGltf(path, 2, 1);
         if (uri == l.secret.string()) {
-            // tinygltf joins it under the folder (".../scene//root/.../secret.bin"): not found, not read.
-            ASSERT_FALSE(r.ok());
+            // tinygltf joins it under the folder (".../scene//root/.../secret.bin"): not read, and the
+            // message says it is refused as an absolute path (it used to say "File not found").
+            expectRefused(r, "is an absolute path, outside the scene's folder");
             continue;
         }
         expectRefused(r, "outside the scene's folder");
@@ -160,6 +163,65 @@ TEST(HostileGltf, PunctualLightsOutOfRangeRefused) {
         {R"({"type": "point", "color": [1, -1, 1]})", "colour"},
     };
     for (const auto& [light, needle] : bad) expectRefused(scene(light), needle);
+}
+
+// A primitive mode outside glTF's 0..6 is a broken file: it used to load as triangles. An absent mode
+// (tinygltf's -1) stays triangles; 0..6 other than triangles are skipped and counted in the warnings.
+TEST(HostileGltf, PrimitiveModesOutsideTheSpecAreRefused) {
+    Layout l;
+    const std::string buffer = "\"uri\": \"sub/tetra.bin\"";
+    const std::string base = hostile::tetraJson(buffer);
+    const std::string tag = "\"indices\": 1}";
+    ASSERT_NE(base.find(tag), std::string::npos);
+    auto withMode = [&](int mode) {
+        std::string j = base;
+        j.replace(j.find(tag), tag.size(), "\"indices\": 1, \"mode\": " + std::to_string(mode) + "}");
+        return loadGltf(l.write("mode.gltf", j), 2, 1);
+    };
+    for (int bad : {-5, -2, 7, 1000}) {
+        SCOPED_TRACE(bad);
+        expectRefused(withMode(bad), "mode " + std::to_string(bad) + " is not a glTF primitive mode (0..6)");
+    }
+    auto triangles = withMode(4);
+    ASSERT_TRUE(triangles.ok()) << triangles.error();
+    EXPECT_EQ(triangles.value().meshes.size(), 1u);
+    auto absent = loadGltf(l.write("absent.gltf", base), 2, 1);
+    ASSERT_TRUE(absent.ok()) << absent.error();
+    EXPECT_EQ(absent.value().meshes.size(), 1u);
+}
+
+// glTF 1.0 files (and versions that are not "2.minor") are refused instead of read with 2.0 meanings.
+TEST(HostileGltf, AssetVersionMustBe2x) {
+    Layout l;
+    const std::string base = hostile::tetraJson("\"uri\": \"sub/tetra.bin\"");
+    const std::string tag = "\"version\": \"2.0\"";
+    ASSERT_NE(base.find(tag), std::string::npos);
+    for (const std::string version : {"1.0", "3.0", "2", "2.x", "20.0", ""}) {
+        SCOPED_TRACE(version);
+        std::string j = base;
+        j.replace(j.find(tag), tag.size(), "\"version\": \"" + version + "\"");
+        expectRefused(loadGltf(l.write("v.gltf", j), 2, 1), "asset.version is not 2.x");
+    }
+    std::string j = base;
+    j.replace(j.find(tag), tag.size(), "\"version\": \"2.1\"");
+    auto ok = loadGltf(l.write("v21.gltf", j), 2, 1);
+    EXPECT_TRUE(ok.ok()) << ok.error();
+}
+
+// A buffer over 4 GiB (a sparse file: nothing is written) is refused naming its size and the limit,
+// not "cannot read".
+TEST(HostileGltf, BufferOver4GiBNamesTheLimit) {
+    Layout l;
+    const fs::path big = l.scene / "big.bin";
+    {
+        std::ofstream f(big, std::ios::binary);
+        ASSERT_TRUE(f.good());
+    }
+    fs::resize_file(big, (uint64_t(5) << 30));
+    auto r = loadGltf(l.write("big.gltf", hostile::tetraJson("\"uri\": \"big.bin\"")), 2, 1);
+    expectRefused(r,
+                  "5368709120 bytes, more than the 4294967295-byte limit (a glTF buffer is at most 4 GiB)");
+    fs::remove(big);
 }
 
 } // namespace

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Test program: decodes every texel (depth methods) or every voxel (CPVS) of one encoded static shadow
 // with the GLSL decoders, so tests/gpu can compare them bit for bit with the CPU twins.
-#include "shaders/shared/glsl_common.h"
+#include "shaders/shared/glsl_common.glsl"
 #include "tests/shaders/static_decode_push.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
