@@ -631,10 +631,26 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     const uint32_t slotIndex = m.beginFrame();
     FrameContext frame = m.frameContext(cmd, slotIndex);
     FramePasses& p = m.passes;
+    // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
     FramePass* const passes[] = {
-        &p.begin,    &p.gbuffer,  &p.clusterBounds, &p.lightAssign, &p.vsmReset, &p.vsmMark,
-        &p.vsmAlloc, &p.vsmHpb,   &p.vsmCull,       &p.vsmExpand,   &p.vsmDraw,  &p.evaluationOutputs,
-        &p.evaluate, &p.vsmProbe, &p.statistics,    &p.debugView,   &p.end};
+        &p.begin,             // frame-begin barrier, counters cleared
+        &p.gbuffer,           // module-owned targets only
+        &p.clusterBounds,     // culling (mode None: skipped): cluster bounds,
+        &p.lightAssign,       //   light lists
+        &p.vsmReset,          // virtual shadow maps: per-frame clears,
+        &p.vsmMark,           //   then, with active maps, mark,
+        &p.vsmAlloc,          //   scan / allocate / assign,
+        &p.vsmHpb,            //   hierarchical page buffer,
+        &p.vsmCull,           //   instance culling (raster path)
+        &p.vsmExpand,         //   or expansion into meshlets (mesh path),
+        &p.vsmDraw,           //   clear and draw the dirty pages
+        &p.evaluationOutputs, // HDR and output discarded
+        &p.evaluate,          // the one evaluation pass
+        &p.vsmProbe,          // optional lookup probe
+        &p.statistics,        // optional per-pixel light counts
+        &p.debugView,         // --view lights / lights-reaching / vsm
+        &p.end,               // counters -> host
+    };
     runFrame(m.profiler, frame, passes);
     m.endFrame(slotIndex);
     return {};
