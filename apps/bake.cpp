@@ -4,16 +4,16 @@
 //   inspect  validates a bake file and reports its method, resolution, lights and bytes per part;
 //   verify   re-creates the scene, re-renders every light and checks every texel (or voxel).
 // Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
-#include "apps/cli.h"
 #include "apps/commands.h"
-#include "apps/gpu_dual_renderer.h"
+#include "apps/bake_renderer.h"
+#include "apps/json.h"
 #include "apps/need_region.h"
+#include "apps/options.h"
 #include "gpu/device_types.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "bake/bake.h"
 #include "bake/bake_shard.h"
-#include "shadows/tools/gpu_dual_renderer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -90,22 +90,6 @@ no records: nothing checked is not a pass).
   --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
   --quiet   no progress lines on stderr
 )";
-
-std::string jsonString(const std::string& s) {
-    std::string o = "\"";
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') {
-            o += '\\', o += char(c);
-        } else if (c < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-            o += buf;
-        } else {
-            o += char(c);
-        }
-    }
-    return o + "\"";
-}
 
 // Progress on stderr, at most one line a second, so short runs stay quiet and long ones show the light,
 // the phase, the overall percentage and the elapsed time.
@@ -224,125 +208,129 @@ Result<BakeNeed> bakeNeed(const Scene& scene, const std::vector<uint32_t>& light
     return n;
 }
 
-} // namespace
-
-int runBake(int argc, char** argv) {
-    auto args = cli::parse(argc, argv, 2,
-                           {"--scene", "--scene-lights", "--seed", "--method", "--res", "--lights", "--out",
-                            "--renderer", "--shard", "--light-dir", "--bounds", "--need", "--need-size",
-                            "--need-min", "--need-samples", "--need-seconds"},
-                           {"--quiet", "--allow-outside-scene-dir"});
-    if (!args) return usageError("bake", args.error());
-    if (args->help) {
-        std::fputs(kBakeHelp, stdout);
-        return 0;
-    }
-    for (const char* required : {"--method", "--res", "--lights", "--out"})
-        if (!args->has(required))
-            return usageError("bake", std::string(required) + ": required (see --help)");
-    auto method = parseStaticMethod(args->get("--method", ""));
-    if (method && method.value() == StaticMethod::None) method = fail("method 'none' cannot be baked");
-    auto res = cli::parseUint("--res", args->get("--res", ""), 1, kBakeMaxResolution);
-    auto sceneLights = cli::parseUint("--scene-lights", args->get("--scene-lights", "256"), 1, 4096);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    if (!method) return usageError("bake", "--method: " + method.error());
-    for (const std::string* e : {&res.error(), &sceneLights.error(), &seed.error()})
-        if (!e->empty()) return usageError("bake", *e);
-    if (method.value() == StaticMethod::CPVS)
-        if (auto s = makeCpvsSpace(res.value(), 1.0f, 2.0f); !s)
-            return usageError("bake", "--res: " + s.error());
+struct BakeOptions {
+    StaticMethod method = StaticMethod::None;
+    uint32_t res = 0, sceneLights = 256;
+    opts::Scene scene;
     std::optional<ShardId> shard;
-    if (args->has("--shard")) {
-        auto s = parseShard(args->get("--shard", ""));
-        if (!s) return usageError("bake", s.error());
-        shard = s.value();
-    }
-    const bool byNeed = args->has("--need");
-    if (!byNeed)
-        for (const char* f : {"--need-size", "--need-min", "--need-samples", "--need-seconds"})
-            if (args->has(f)) return usageError("bake", std::string(f) + ": only with --need");
-    if (byNeed && shard) return usageError("bake", "--need: not with --shard (parts hold one resolution)");
-    auto needSize = cli::parseSize("--need-size", args->get("--need-size", "1280x720"));
-    auto needMin = cli::parseUint("--need-min", args->get("--need-min", "64"), 1, kBakeMaxResolution);
-    auto needSamples = cli::parseUint("--need-samples", args->get("--need-samples", "120"), 1, 100000);
-    auto needSeconds = cli::parseUint("--need-seconds", args->get("--need-seconds", "60"), 1, 86400);
-    for (const std::string* e :
-         {&needSize.error(), &needMin.error(), &needSamples.error(), &needSeconds.error()})
-        if (!e->empty()) return usageError("bake", *e);
-    if (byNeed && (needMin.value() & (needMin.value() - 1)) != 0)
-        return usageError("bake",
-                          "--need-min: " + std::to_string(needMin.value()) + " is not a power of two");
-    if (byNeed && needMin.value() > res.value())
-        return usageError("bake", "--need-min: " + std::to_string(needMin.value()) +
-                                      " is above the cap --res " + std::to_string(res.value()));
-    if (byNeed && method.value() == StaticMethod::CPVS)
-        if (auto s = makeCpvsSpace(needMin.value(), 1.0f, 2.0f); !s)
-            return usageError("bake", "--need-min: " + s.error());
-    const std::string out = args->get("--out", "");
-    if (out.empty()) return usageError("bake", "--out: empty path");
-    // Fail before a long bake, not after it.
-    const std::filesystem::path outDir = std::filesystem::absolute(out).parent_path();
-    if (!std::filesystem::is_directory(outDir))
-        return usageError("bake", "--out: " + outDir.string() + " is not a directory");
-    if (auto r = io::checkReplaceable(out); !r) return usageError("bake", "--out: " + r.error());
+    bool byNeed = false, quiet = false;
+    opts::Need need;
+    std::string out;
+    BakeRenderer renderer = BakeRenderer::Gpu;
+};
 
-    const std::string rendererName = args->get("--renderer", "gpu");
-    if (rendererName != "gpu" && rendererName != "cpu")
-        return usageError("bake", "--renderer: '" + rendererName + "' is not gpu or cpu");
-    const BakeRenderer rendererKind = rendererName == "gpu" ? BakeRenderer::Gpu : BakeRenderer::Cpu;
-    GpuRendererFn gpu;
-    DualRenderFn render = cpuDualRenderer();
-    if (rendererKind == BakeRenderer::Gpu) {
-        auto fn = gpu.make();
-        if (!fn) return runError("bake", fn.error());
-        render = fn.value();
+// --need and its region's options: only together, never with --shard; the minimum a power of two at
+// most the cap, and one CPVS takes.
+Result<void> parseNeed(const cli::Args& args, BakeOptions& o) {
+    o.byNeed = args.has("--need");
+    if (!o.byNeed)
+        for (const std::string& f : opts::kNeedFlags.valued)
+            if (args.has(f)) return fail(f + ": only with --need");
+    if (o.byNeed && o.shard) return fail("--need: not with --shard (parts hold one resolution)");
+    auto need = opts::need(args, "1280x720");
+    if (!need) return fail(need.error());
+    o.need = need.value();
+    if (!o.byNeed) return {};
+    if (auto r = opts::checkNeedMin(o.need.minRes); !r) return r;
+    if (o.need.minRes > o.res)
+        return fail("--need-min: " + std::to_string(o.need.minRes) + " is above the cap --res " +
+                    std::to_string(o.res));
+    if (o.method == StaticMethod::CPVS)
+        if (auto s = makeCpvsSpace(o.need.minRes, 1.0f, 2.0f); !s) return fail("--need-min: " + s.error());
+    return {};
+}
+
+Result<BakeOptions> parseBake(const cli::Args& args) {
+    for (const char* required : {"--method", "--res", "--lights", "--out"})
+        if (!args.has(required)) return fail(std::string(required) + ": required (see --help)");
+    BakeOptions o;
+    auto method = parseStaticMethod(args.get("--method", ""));
+    if (method && method.value() == StaticMethod::None) method = fail("method 'none' cannot be baked");
+    auto res = cli::parseUint("--res", args.get("--res", ""), 1, kBakeMaxResolution);
+    auto sceneLights = cli::parseUint("--scene-lights", args.get("--scene-lights", "256"), 1, 4096);
+    auto scene = opts::scene(args);
+    if (!method) return fail("--method: " + method.error());
+    for (const std::string* e : {&res.error(), &sceneLights.error(), &scene.error()})
+        if (!e->empty()) return fail(*e);
+    o.method = method.value(), o.res = res.value(), o.sceneLights = sceneLights.value();
+    o.scene = scene.value();
+    o.quiet = args.has("--quiet");
+    if (o.method == StaticMethod::CPVS)
+        if (auto s = makeCpvsSpace(o.res, 1.0f, 2.0f); !s) return fail("--res: " + s.error());
+    if (args.has("--shard")) {
+        auto s = parseShard(args.get("--shard", ""));
+        if (!s) return fail(s.error());
+        o.shard = s.value();
     }
-    SceneSpec spec{args->get("--scene", "night-city"), sceneLights.value(), seed.value()};
+    if (auto r = parseNeed(args, o); !r) return fail(r.error());
+    o.out = args.get("--out", "");
+    if (o.out.empty()) return fail("--out: empty path");
+    // Fail before a long bake, not after it.
+    const std::filesystem::path outDir = std::filesystem::absolute(o.out).parent_path();
+    if (!std::filesystem::is_directory(outDir))
+        return fail("--out: " + outDir.string() + " is not a directory");
+    if (auto r = io::checkReplaceable(o.out); !r) return fail("--out: " + r.error());
+    auto renderer = parseRenderer(args);
+    if (!renderer) return fail(renderer.error());
+    o.renderer = renderer.value();
+    return o;
+}
+
+// The scene with its --bounds and --light-dir modifiers, and the selected lights (the --light-dir
+// ones always among them).
+struct Selection {
+    SceneSpec spec;
+    Scene scene;
+    std::vector<uint32_t> lights;
+};
+
+Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o) {
+    Selection sel;
+    sel.spec = SceneSpec{o.scene.name, o.sceneLights, o.scene.seed};
+    SceneSpec& spec = sel.spec;
     SceneModifiers mods;
     mods.base = spec.scene;
-    if (spec.scene.find('|') != std::string::npos) return usageError("bake", "--scene: '|' is not allowed");
-    if (args->has("--bounds") || args->has("--light-dir")) {
+    if (spec.scene.find('|') != std::string::npos) return fail("--scene: '|' is not allowed");
+    if (args.has("--bounds") || args.has("--light-dir")) {
         std::string text;
-        if (args->has("--bounds")) text += "|bounds=" + args->get("--bounds", "");
-        if (args->has("--light-dir")) text += "|light-dir=" + args->get("--light-dir", "");
+        if (args.has("--bounds")) text += "|bounds=" + args.get("--bounds", "");
+        if (args.has("--light-dir")) text += "|light-dir=" + args.get("--light-dir", "");
         auto m = parseSceneModifiers(spec.scene + text);
-        if (!m) return usageError("bake", m.error());
+        if (!m) return fail(m.error());
         mods = m.value();
         spec.scene = sceneModifierString(mods);
         spec.lights += uint32_t(mods.lightDirs.size());
     }
-    auto scene = loadBakeScene(spec, {args->has("--allow-outside-scene-dir")});
-    if (!scene) return usageError("bake", scene.error());
+    auto scene = loadBakeScene(spec, {o.scene.allowOutside});
+    if (!scene) return fail(scene.error());
     for (const auto& w : scene->warnings)
         std::fprintf(stderr, "manylights bake: warning: %s\n", io::escapeText(w).c_str());
-    auto lights = parseLightSelection(args->get("--lights", ""), uint32_t(scene->lights.size()));
-    if (!lights) return usageError("bake", lights.error());
+    auto lights = parseLightSelection(args.get("--lights", ""), uint32_t(scene->lights.size()));
+    if (!lights) return fail(lights.error());
     for (size_t i = 0; i < mods.lightDirs.size(); ++i) // the --light-dir lights are always baked
         if (uint32_t li = uint32_t(scene->lights.size() - mods.lightDirs.size() + i);
             std::find(lights->begin(), lights->end(), li) == lights->end())
             lights->push_back(li);
+    sel.scene = std::move(scene.value());
+    sel.lights = std::move(lights.value());
+    return sel;
+}
 
-    std::printf("manylights bake: %s, %s at %s%u^2, %zu of %zu lights selected\n",
-                io::escapeText(spec.scene).c_str(), staticMethodName(method.value()),
-                byNeed ? "need-based resolutions up to " : "", res.value(), lights->size(),
-                scene->lights.size());
-    std::fflush(stdout);
-    if (shard)
-        return bakeShard(scene.value(), spec, method.value(), res.value(), lights.value(), shard.value(), out,
-                         rendererKind, render, gpu.renderer.get(), args->has("--quiet"));
+// The whole selection into one bake file (by need or at one resolution), and what was baked.
+int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel, const DualRenderFn& render) {
     Result<BakeResult> baked = fail("");
-    if (byNeed) {
-        auto need = bakeNeed(scene.value(), lights.value(), args->get("--need", ""), needSamples.value(),
-                             needSeconds.value(), needSize.value(), needMin.value(), res.value());
+    if (o.byNeed) {
+        auto need = bakeNeed(sel.scene, sel.lights, args.get("--need", ""), o.need.samples, o.need.seconds,
+                             {o.need.width, o.need.height}, o.need.minRes, o.res);
         if (!need) return usageError("bake", need.error());
-        baked = bakeSceneNeed(scene.value(), spec, method.value(), need.value(), lights.value(),
-                              progressPrinter("bake", args->has("--quiet")), render);
+        baked = bakeSceneNeed(sel.scene, sel.spec, o.method, need.value(), sel.lights,
+                              progressPrinter("bake", o.quiet), render);
     } else {
-        baked = bakeScene(scene.value(), spec, method.value(), res.value(), lights.value(),
-                          progressPrinter("bake", args->has("--quiet")), render);
+        baked = bakeScene(sel.scene, sel.spec, o.method, o.res, sel.lights, progressPrinter("bake", o.quiet),
+                          render);
     }
     if (!baked) return runError("bake", baked.error());
-    baked->file.renderer = rendererKind;
+    baked->file.renderer = o.renderer;
     for (const SkippedLight& s : baked->skipped)
         std::printf("skipped light %u: %s\n", s.light, io::escapeText(s.reason).c_str());
     for (const LightBakeStats& l : baked->lights)
@@ -350,107 +338,192 @@ int runBake(int argc, char** argv) {
                     l.resolution, l.renderSeconds, l.encodeSeconds,
                     100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
-    if (auto w = writeBakeFile(out, baked->file); !w) return runError("bake", w.error());
+    if (auto w = writeBakeFile(o.out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
     size_t noCaster = 0;
     for (const LightNeed& n : baked->file.need.lights) noCaster += n.reason == NeedReason::NoCaster;
     std::printf("wrote %s: %zu lights baked, %zu skipped, %zu not baked (no caster), %llu bytes; render "
                 "%.2f s, encode %.2f s\n",
-                io::escapeText(out).c_str(), baked->file.records.size(), baked->skipped.size(), noCaster,
+                io::escapeText(o.out).c_str(), baked->file.records.size(), baked->skipped.size(), noCaster,
                 (unsigned long long)b.total(), baked->renderSeconds, baked->encodeSeconds);
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
     return 0;
 }
 
-int runInspect(int argc, char** argv) {
-    auto fa = fileAndFlags(argc, argv, {"--json"});
-    if (!fa) return usageError("inspect", fa.error());
-    auto& [path, args] = fa.value();
-    if (args.help) {
-        std::fputs(kInspectHelp, stdout);
-        return 0;
-    }
-    // A part of a sharded bake is shown as its shard and the bake file it wraps.
+} // namespace
+
+// The flags of `bake` beside its option groups.
+const cli::Flags kBakeFlags{{"--scene-lights", "--method", "--res", "--lights", "--out", "--renderer",
+                             "--shard", "--light-dir", "--bounds", "--need"},
+                            {"--quiet"}};
+
+int runBake(int argc, char** argv) {
+    int status = 0;
+    const auto args = commandArgs(
+        "bake", kBakeHelp,
+        cli::parse(argc, argv, 2, {opts::kSceneFlags, opts::kSceneDirFlags, opts::kNeedFlags, kBakeFlags}),
+        status);
+    if (!args) return status;
+    auto options = parseBake(*args);
+    if (!options) return usageError("bake", options.error());
+    const BakeOptions& o = options.value();
+    auto rendering = makeRendering(o.renderer);
+    if (!rendering) return runError("bake", rendering.error());
+    auto sel = selectLights(*args, o);
+    if (!sel) return usageError("bake", sel.error());
+    std::printf("manylights bake: %s, %s at %s%u^2, %zu of %zu lights selected\n",
+                io::escapeText(sel->spec.scene).c_str(), staticMethodName(o.method),
+                o.byNeed ? "need-based resolutions up to " : "", o.res, sel->lights.size(),
+                sel->scene.lights.size());
+    std::fflush(stdout);
+    if (o.shard)
+        return bakeShard(sel->scene, sel->spec, o.method, o.res, sel->lights, o.shard.value(), o.out,
+                         o.renderer, rendering->render, rendering->gpu.get(), o.quiet);
+    return bakeWhole(*args, o, sel.value(), rendering->render);
+}
+
+namespace {
+// A bake file, or a part of a sharded bake: shown as its shard and the bake file it wraps.
+struct Inspected {
     std::optional<BakePart> part;
+    BakeFile file;
+    std::string ownList; // the part's own lights, ", "-separated
+};
+
+Result<Inspected> readInspected(const std::string& path) {
+    Inspected in;
     uint32_t magic = 0;
     uint64_t fileSize = 0;
     if (auto head = io::readRegularFileHead(path, 4, &fileSize); !head)
-        return usageError("inspect", head.error());
+        return fail(head.error());
     else if (head->size() == 4)
         std::memcpy(&magic, head->data(), 4);
-    Result<BakeFile> file = fail("");
     if (magic == partfmt::kMagic) {
         auto p = readBakePart(path);
-        if (!p) return usageError("inspect", p.error());
-        part = std::move(p.value());
-        file = part->file;
-    } else {
-        file = readBakeFile(path);
+        if (!p) return fail(p.error());
+        in.part = std::move(p.value());
+        in.file = in.part->file;
+        for (uint32_t l : in.part->own) in.ownList += (in.ownList.empty() ? "" : ", ") + std::to_string(l);
+        return in;
     }
-    if (!file) return usageError("inspect", file.error());
-    const BakeFile& f = file.value();
-    std::string ownList;
-    if (part)
-        for (uint32_t l : part->own) ownList += (ownList.empty() ? "" : ", ") + std::to_string(l);
+    auto file = readBakeFile(path);
+    if (!file) return fail(file.error());
+    in.file = std::move(file.value());
+    return in;
+}
+
+std::string partsJson(uint64_t headers, uint64_t skipList, uint64_t nodes, uint64_t treelets, uint64_t values,
+                      uint64_t factors) {
+    return json::Object()
+        .integer("headers", headers)
+        .integer("skip_list", skipList)
+        .integer("nodes", nodes)
+        .integer("treelets", treelets)
+        .integer("values", values)
+        .integer("factors", factors)
+        .str();
+}
+
+// inspect --json's "need" object: the region and every light's need.
+std::string needJson(const BakeNeed& n) {
+    std::vector<std::string> lights;
+    for (const LightNeed& l : n.lights)
+        lights.push_back(json::Object()
+                             .integer("light", l.light)
+                             .integer("resolution", l.resolution)
+                             .text("reason", needReasonName(l.reason))
+                             .text("why", needReasonText(l, n.samples))
+                             .real("depth", l.distance, "%.9g")
+                             .integer("sample", l.sample)
+                             .real("needed", l.needed, "%.9g")
+                             .integer("receivers", l.receivers)
+                             .integer("seen", l.seen)
+                             .str());
+    json::Object o;
+    o.text("region", n.region).integer("width", n.width).integer("height", n.height);
+    o.integer("min", n.minRes).integer("max", n.maxRes).integer("samples", n.samples);
+    o.raw("lights", json::array(lights, ",\n  ", "[\n  ", "]"));
+    return o.str();
+}
+
+// inspect --json: one object, a line per part of it and per record.
+std::string inspectJson(const std::string& path, const Inspected& in) {
+    const BakeFile& f = in.file;
     std::vector<BakeRecordBytes> per;
-    BakeBytes b = bakeFileBytes(f, &per);
-    const uint64_t mapBytes = uint64_t(f.resolution) * f.resolution * 4; // at the file's resolution
+    const BakeBytes b = bakeFileBytes(f, &per);
+    json::Object o;
+    o.text("file", path).integer("version", bakeFileVersion(f));
+    o.raw("scene", json::Object()
+                       .text("name", f.scene.scene)
+                       .integer("lights", f.scene.lights)
+                       .integer("seed", f.scene.seed)
+                       .str());
+    if (in.part) {
+        std::vector<std::string> own;
+        for (uint32_t l : in.part->own) own.push_back(std::to_string(l));
+        o.breakLine().raw("part", json::Object()
+                                      .integer("shard", in.part->shard.index)
+                                      .integer("shards", in.part->shard.count)
+                                      .integer("selected", in.part->selected.size())
+                                      .raw("own", json::array(own))
+                                      .text("device", in.part->device)
+                                      .str());
+    }
+    o.breakLine().text("method", staticMethodName(f.method)).integer("resolution", f.resolution);
+    o.integer("lights", f.records.size()).integer("bytes_total", b.total());
+    o.breakLine().raw("bytes", partsJson(b.headers, b.skipList, b.nodes, b.treelets, b.values, b.factors));
+    o.breakLine().integer("map_bytes_per_light", uint64_t(f.resolution) * f.resolution * 4);
+    std::vector<std::string> records;
+    for (size_t i = 0; i < f.records.size(); ++i) {
+        const BakeRecord& r = f.records[i];
+        const stat::ByteBreakdown& p = per[i].parts;
+        records.push_back(
+            json::Object()
+                .integer("light", r.light)
+                .integer("resolution", r.resolution)
+                .integer("bytes", uint64_t(r.data.size() * 4))
+                .real("fov", r.frustum.fov, "%.9g")
+                .real("near", r.frustum.nearPlane, "%.9g")
+                .real("far", r.frustum.farPlane, "%.9g")
+                .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors))
+                .str());
+    }
+    o.breakLine().raw("per_light", json::array(records, ",\n  ", "[\n  ", "]"));
+    if (f.hasNeed) o.breakLine().raw("need", needJson(f.need));
+    return o.str();
+}
+
+// inspect's need-based resolution summary: lights per resolution and by reason, one line per light.
+void printNeed(const BakeNeed& n) {
+    uint32_t byReason[6] = {};
+    std::map<uint32_t, uint32_t> byRes; // lights per resolution, highest first below
+    for (const LightNeed& l : n.lights) ++byReason[uint32_t(l.reason)], ++byRes[l.resolution];
+    std::printf("resolution from need: %s, image %ux%u, resolutions %u..%u\n",
+                io::escapeText(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes);
+    std::string hist;
+    for (auto it = byRes.rbegin(); it != byRes.rend(); ++it)
+        hist += (hist.empty() ? "" : ", ") + std::to_string(it->second) + " at " +
+                (it->first ? std::to_string(it->first) : std::string("none"));
+    std::printf("lights per resolution: %s\n", hist.c_str());
+    std::printf("%zu lights: %u by footprint, %u capped, %u raised to the minimum, %u not seen, %u with no "
+                "caster (not baked)\n",
+                n.lights.size(), byReason[uint32_t(NeedReason::Footprint)],
+                byReason[uint32_t(NeedReason::Capped)], byReason[uint32_t(NeedReason::Floor)],
+                byReason[uint32_t(NeedReason::NotSeen)], byReason[uint32_t(NeedReason::NoCaster)]);
+    for (const LightNeed& l : n.lights)
+        std::printf("light %u: %s\n", l.light, needReasonText(l, n.samples).c_str());
+}
+
+// inspect without --json: the file, its bytes by part and per record.
+void printInspected(const std::string& path, const Inspected& in) {
+    const BakeFile& f = in.file;
+    const std::optional<BakePart>& part = in.part;
+    const std::string& ownList = in.ownList;
+    const BakeBytes b = bakeFileBytes(f);
     uint64_t allMapBytes = 0; // the 32-bit maps of every record at its own resolution
     for (const BakeRecord& r : f.records) allMapBytes += uint64_t(r.resolution) * r.resolution * 4;
     const uint32_t version = bakeFileVersion(f);
-    if (args.has("--json")) {
-        std::printf(
-            "{\"file\": %s, \"version\": %u, \"scene\": {\"name\": %s, \"lights\": %u, \"seed\": %u},\n",
-            jsonString(path).c_str(), version, jsonString(f.scene.scene).c_str(), f.scene.lights,
-            f.scene.seed);
-        if (part)
-            std::printf(" \"part\": {\"shard\": %u, \"shards\": %u, \"selected\": %zu, \"own\": [%s], "
-                        "\"device\": %s},\n",
-                        part->shard.index, part->shard.count, part->selected.size(), ownList.c_str(),
-                        jsonString(part->device).c_str());
-        std::printf(" \"method\": \"%s\", \"resolution\": %u, \"lights\": %zu, \"bytes_total\": %llu,\n",
-                    staticMethodName(f.method), f.resolution, f.records.size(),
-                    (unsigned long long)b.total());
-        std::printf(
-            " \"bytes\": {\"headers\": %llu, \"skip_list\": %llu, \"nodes\": %llu, \"treelets\": %llu, "
-            "\"values\": %llu, \"factors\": %llu},\n",
-            (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.nodes,
-            (unsigned long long)b.treelets, (unsigned long long)b.values, (unsigned long long)b.factors);
-        std::printf(" \"map_bytes_per_light\": %llu,\n \"per_light\": [", (unsigned long long)mapBytes);
-        for (size_t i = 0; i < f.records.size(); ++i) {
-            const BakeRecord& r = f.records[i];
-            const stat::ByteBreakdown& p = per[i].parts;
-            std::printf(
-                "%s\n  {\"light\": %u, \"resolution\": %u, \"bytes\": %llu, \"fov\": %.9g, \"near\": %.9g, "
-                "\"far\": %.9g, "
-                "\"parts\": {\"headers\": %llu, \"skip_list\": %llu, \"nodes\": %llu, \"treelets\": %llu, "
-                "\"values\": %llu, \"factors\": %llu}}",
-                i ? "," : "", r.light, r.resolution, (unsigned long long)(r.data.size() * 4), r.frustum.fov,
-                r.frustum.nearPlane, r.frustum.farPlane, (unsigned long long)p.header,
-                (unsigned long long)p.skipList, (unsigned long long)p.nodes, (unsigned long long)p.treelets,
-                (unsigned long long)p.values, (unsigned long long)p.factors);
-        }
-        std::printf("]");
-        if (f.hasNeed) {
-            const BakeNeed& n = f.need;
-            std::printf(",\n \"need\": {\"region\": %s, \"width\": %u, \"height\": %u, \"min\": %u, "
-                        "\"max\": %u, \"samples\": %u, \"lights\": [",
-                        jsonString(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes, n.samples);
-            for (size_t i = 0; i < n.lights.size(); ++i) {
-                const LightNeed& l = n.lights[i];
-                std::printf(
-                    "%s\n  {\"light\": %u, \"resolution\": %u, \"reason\": \"%s\", \"why\": %s, "
-                    "\"depth\": %.9g, \"sample\": %u, \"needed\": %.9g, \"receivers\": %u, \"seen\": %u}",
-                    i ? "," : "", l.light, l.resolution, needReasonName(l.reason),
-                    jsonString(needReasonText(l, n.samples)).c_str(), l.distance, l.sample, l.needed,
-                    l.receivers, l.seen);
-            }
-            std::printf("]}");
-        }
-        std::printf("}\n");
-        return 0;
-    }
     // The scene string comes from the file: escaped, so it cannot add lines or terminal codes.
     std::printf("%s: bake file version %u, scene %s (%u lights, seed %u)\n", io::escapeText(path).c_str(),
                 version, io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
@@ -471,27 +544,24 @@ int runInspect(int argc, char** argv) {
                     (unsigned long long)(r.data.size() * 4),
                     100.0 * double(r.data.size() * 4) / (double(r.resolution) * r.resolution * 4),
                     r.frustum.fov, r.frustum.farPlane);
-    if (f.hasNeed) {
-        const BakeNeed& n = f.need;
-        uint32_t byReason[6] = {};
-        std::map<uint32_t, uint32_t> byRes; // lights per resolution, highest first below
-        for (const LightNeed& l : n.lights) ++byReason[uint32_t(l.reason)], ++byRes[l.resolution];
-        std::printf("resolution from need: %s, image %ux%u, resolutions %u..%u\n",
-                    io::escapeText(n.region).c_str(), n.width, n.height, n.minRes, n.maxRes);
-        std::string hist;
-        for (auto it = byRes.rbegin(); it != byRes.rend(); ++it)
-            hist += (hist.empty() ? "" : ", ") + std::to_string(it->second) + " at " +
-                    (it->first ? std::to_string(it->first) : std::string("none"));
-        std::printf("lights per resolution: %s\n", hist.c_str());
-        std::printf(
-            "%zu lights: %u by footprint, %u capped, %u raised to the minimum, %u not seen, %u with no "
-            "caster (not baked)\n",
-            n.lights.size(), byReason[uint32_t(NeedReason::Footprint)],
-            byReason[uint32_t(NeedReason::Capped)], byReason[uint32_t(NeedReason::Floor)],
-            byReason[uint32_t(NeedReason::NotSeen)], byReason[uint32_t(NeedReason::NoCaster)]);
-        for (const LightNeed& l : n.lights)
-            std::printf("light %u: %s\n", l.light, needReasonText(l, n.samples).c_str());
+    if (f.hasNeed) printNeed(f.need);
+}
+} // namespace
+
+int runInspect(int argc, char** argv) {
+    auto fa = fileAndFlags(argc, argv, {"--json"});
+    if (!fa) return usageError("inspect", fa.error());
+    auto& [path, args] = fa.value();
+    if (args.help) {
+        std::fputs(kInspectHelp, stdout);
+        return 0;
     }
+    auto in = readInspected(path);
+    if (!in) return usageError("inspect", in.error());
+    if (args.has("--json"))
+        std::printf("%s\n", inspectJson(path, in.value()).c_str());
+    else
+        printInspected(path, in.value());
     return 0;
 }
 
@@ -514,13 +584,9 @@ int runVerify(int argc, char** argv) {
                 io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
     std::fflush(stdout);
     // Re-render with the renderer that made the bake (the file says which).
-    GpuRendererFn gpu;
-    DualRenderFn render = cpuDualRenderer();
-    if (f.renderer == BakeRenderer::Gpu) {
-        auto fn = gpu.make();
-        if (!fn) return runError("verify", fn.error());
-        render = fn.value();
-    }
+    auto rendering = makeRendering(f.renderer);
+    if (!rendering) return runError("verify", rendering.error());
+    const DualRenderFn& render = rendering->render;
     // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
     auto scene = loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
     if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());

@@ -14,9 +14,11 @@
 // test that the measure sees instability. --vsm hands over to bench_flicker_vsm.cpp (the module's
 // virtual shadow maps on a GPU path). CPU only here (the maps come from the CPU rasteriser, identical
 // to what the bake renders).
-#include "apps/cli.h"
-#include "bake/scene_casters.h"
 #include "apps/commands.h"
+#include "bake/scene_casters.h"
+#include "apps/exact_receivers.h"
+#include "apps/json.h"
+#include "apps/options.h"
 #include "scenes/scenes.h"
 #include "bake/reference/raytrace.h"
 #include "shadows/static/raster_dual.h"
@@ -59,30 +61,6 @@ With --vsm (first option): the module's virtual shadow maps on a GPU path; `benc
 )";
 
 namespace {
-// A number in [lo, hi]: the whole text must parse (strtod), nan and inf are refused.
-Result<float> floatArg(const std::string& flag, const std::string& text, float lo, float hi) {
-    char* end = nullptr;
-    const double d = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end || !std::isfinite(d) || d < lo || d > hi)
-        return fail(flag + ": '" + text + "' is not a number in [" + std::to_string(lo) + ", " +
-                    std::to_string(hi) + "]");
-    return float(d);
-}
-
-Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,
-                                       uint32_t hi) {
-    std::vector<uint32_t> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        auto v = cli::parseUint(flag, item, lo, hi);
-        if (!v) return fail(v.error());
-        out.push_back(v.value());
-    }
-    if (out.empty()) return fail(flag + ": empty list");
-    return out;
-}
-
 struct Sample {
     bool counts = false; // in the cone and facing the light
     bool truth = false;
@@ -113,211 +91,183 @@ glm::vec3 jitterDirection(uint32_t f, uint32_t light) {
     }
     return glm::length(v) > 1e-3f ? glm::normalize(v) : glm::vec3(1, 0, 0);
 }
-} // namespace
+struct Config {
+    StaticMethod method;
+    uint32_t res, pcf;
+};
 
-int runBenchFlicker(int argc, char** argv) {
-    if (argc > 3 && std::string(argv[3]) == "--vsm") return runBenchFlickerVsm(argc, argv);
-    auto args =
-        cli::parse(argc, argv, 3,
-                   {"--scene", "--methods", "--res", "--pcf", "--lights", "--size", "--frames", "--camera",
-                    "--camera-end", "--seed", "--out", "--light-move", "--light-turn", "--map-jitter"},
-                   {});
-    if (!args) return usageError("bench flicker", args.error());
-    if (args->help) {
-        std::fputs(kFlickerHelp, stdout);
-        return 0;
-    }
-    auto resList = uintList("--res", args->get("--res", "1024,2048"), 16, 16384);
-    auto pcfList = uintList("--pcf", args->get("--pcf", "0,2"), 0, ML_MAX_PCF_RADIUS);
-    auto count = cli::parseUint("--lights", args->get("--lights", "8"), 1, 4096);
-    auto size = cli::parseSize("--size", args->get("--size", "320x180"));
-    auto frames = cli::parseUint("--frames", args->get("--frames", "16"), 2, 1000);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto move = floatArg("--light-move", args->get("--light-move", "0"), 0.0f, 10.0f);
-    auto turn = floatArg("--light-turn", args->get("--light-turn", "0"), 0.0f, 45.0f);
-    auto jitter = floatArg("--map-jitter", args->get("--map-jitter", "0"), 0.0f, 10.0f);
-    for (const std::string* e :
-         {&resList.error(), &pcfList.error(), &count.error(), &size.error(), &frames.error(), &seed.error(),
-          &move.error(), &turn.error(), &jitter.error()})
-        if (!e->empty()) return usageError("bench flicker", *e);
-    const bool mapsMove = move.value() > 0.0f || turn.value() > 0.0f || jitter.value() > 0.0f;
+struct Options {
     std::vector<StaticMethod> methods;
-    {
-        std::stringstream ss(args->get("--methods", "sm,mh,mmh,dagmh,cpvs"));
-        std::string item;
-        while (std::getline(ss, item, ',')) {
-            auto m = parseStaticMethod(item);
-            if (!m || m.value() == StaticMethod::None)
-                return usageError("bench flicker", m ? "method none" : m.error());
-            methods.push_back(m.value());
+    std::vector<uint32_t> res, pcf;
+    uint32_t lights = 8;
+    opts::View view;
+    opts::Scene scene;
+    float move = 0, turn = 0, jitter = 0;
+    std::string out;
+    bool mapsMove() const { return move > 0.0f || turn > 0.0f || jitter > 0.0f; }
+};
+
+Result<Options> parseOptions(const cli::Args& args) {
+    Options o;
+    auto res = opts::uintList("--res", args.get("--res", "1024,2048"), 16, 16384);
+    auto pcf = opts::uintList("--pcf", args.get("--pcf", "0,2"), 0, ML_MAX_PCF_RADIUS);
+    auto count = cli::parseUint("--lights", args.get("--lights", "8"), 1, 4096);
+    auto view = opts::view(args, {16, 2, 1000, "320x180"});
+    auto scene = opts::scene(args);
+    auto move = opts::number("--light-move", args.get("--light-move", "0"), 0.0f, 10.0f);
+    auto turn = opts::number("--light-turn", args.get("--light-turn", "0"), 0.0f, 45.0f);
+    auto jitter = opts::number("--map-jitter", args.get("--map-jitter", "0"), 0.0f, 10.0f);
+    auto methods = opts::methodList("--methods", args.get("--methods", "sm,mh,mmh,dagmh,cpvs"));
+    for (const std::string* e : {&res.error(), &pcf.error(), &count.error(), &view.error(), &scene.error(),
+                                 &move.error(), &turn.error(), &jitter.error(), &methods.error()})
+        if (!e->empty()) return fail(*e);
+    o.methods = methods.value(), o.res = res.value(), o.pcf = pcf.value(), o.lights = count.value();
+    o.view = view.value(), o.scene = scene.value();
+    o.move = move.value(), o.turn = turn.value(), o.jitter = jitter.value();
+    o.out = args.get("--out", "out/bench_flicker");
+    return o;
+}
+
+// The straight camera path: from the start to the end eye and target.
+struct Path {
+    glm::vec3 eye0, target0, eye1, target1;
+};
+
+Result<Path> parsePath(const cli::Args& args, const Scene& scene) {
+    Path p{scene.camera.position, scene.camera.target, {}, {}};
+    if (args.has("--camera")) {
+        auto v = cli::parseCamera("--camera", args.get("--camera", ""));
+        if (!v) return fail(v.error());
+        p.eye0 = {v.value()[0], v.value()[1], v.value()[2]},
+        p.target0 = {v.value()[3], v.value()[4], v.value()[5]};
+    }
+    glm::vec3 side = glm::normalize(glm::cross(p.target0 - p.eye0, glm::vec3(0, 1, 0)));
+    p.eye1 = p.eye0 + side * 2.0f, p.target1 = p.target0 + side * 2.0f;
+    if (args.has("--camera-end")) {
+        auto v = cli::parseCamera("--camera-end", args.get("--camera-end", ""));
+        if (!v) return fail(v.error());
+        p.eye1 = {v.value()[0], v.value()[1], v.value()[2]},
+        p.target1 = {v.value()[3], v.value()[4], v.value()[5]};
+    }
+    return p;
+}
+
+// Exact receivers of frame f: the static surface each pixel's centre ray hits (position, normal facing
+// the camera); pixels that see nothing get a zero normal.
+void receiversOf(const Options& o, const Path& path, const Scene& scene, const RayReference& rays, uint32_t f,
+                 std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
+    const uint32_t width = o.view.width, height = o.view.height, F = o.view.frames;
+    float t = F > 1 ? float(f) / float(F - 1) : 0.0f;
+    glm::dvec3 eye = glm::dvec3(glm::mix(path.eye0, path.eye1, t)),
+               target = glm::dvec3(glm::mix(path.target0, path.target1, t));
+    glm::dmat4 view = glm::lookAt(eye, target, glm::dvec3(0, 1, 0));
+    glm::dmat4 proj = glm::perspective(double(scene.camera.fovY), double(width) / height, 0.1, 1000.0);
+    glm::dmat4 inv = glm::inverse(proj * view);
+    ps.assign(size_t(width) * height, glm::vec3(0.0f));
+    ns.assign(ps.size(), glm::vec3(0.0f));
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const glm::dvec3 dir = pixelRayDirection(inv, x, y, width, height, PixelConvention::Standard);
+            const SurfaceHit h = traceSurface(rays, eye, dir, 1e4f);
+            if (!h.hit) continue;
+            const size_t i = size_t(y) * width + x;
+            ps[i] = h.p, ns[i] = h.n;
+        }
+}
+
+// Static spots reaching the most pixels of frame 0: their scene indices, at most `count`.
+std::vector<uint32_t> rankLights(const Scene& scene, const std::vector<glm::vec3>& ps,
+                                 const std::vector<glm::vec3>& ns, uint32_t count) {
+    return firstLights(rankStaticSpots(scene,
+                                       [&](const Light& l) {
+                                           size_t n = 0;
+                                           for (size_t k = 0; k < ps.size(); ++k)
+                                               n += ns[k] != glm::vec3(0.0f) && inLightCone(l, ps[k]);
+                                           return n;
+                                       }),
+                       count);
+}
+
+// A measured light in one frame: its pose (the rays' light), the frustum its maps were rendered with,
+// and words[res index][method index]. Static lights bake once; moving or jittered ones every frame.
+struct LightMaps {
+    Light light;
+    LightFrustum frustum;
+    std::vector<std::vector<std::vector<uint32_t>>> words;
+};
+
+Result<void> bakeLight(const Options& o, const CasterTriangles& casters, const Light& base, uint32_t k,
+                       uint32_t f, LightMaps& lm) {
+    lm.light = posed(base, f, o.move, o.turn);
+    Light mapLight = lm.light;
+    mapLight.position += jitterDirection(f, k) * o.jitter;
+    lm.frustum = spotLightFrustum(mapLight);
+    lm.words.clear();
+    for (uint32_t res : o.res) {
+        DualDepthMap map = rasterizeDual(casters, lm.frustum, res);
+        std::vector<std::vector<uint32_t>> perMethod;
+        for (StaticMethod m : o.methods) {
+            auto w = encodeStatic(m, map, {lm.frustum.nearPlane, lm.frustum.farPlane, {}});
+            if (!w) return fail(std::string(staticMethodName(m)) + ": " + w.error());
+            perMethod.push_back(std::move(w.value()));
+        }
+        lm.words.push_back(std::move(perMethod));
+    }
+    return {};
+}
+
+// The samples of one light's receivers (in the cone, facing it) in this frame, every configuration.
+void sampleLight(const Options& o, const std::vector<Config>& configs, const RayReference& rays,
+                 const LightMaps& lm, const std::vector<glm::vec3>& ps, const std::vector<glm::vec3>& ns,
+                 size_t k, size_t lightCount, std::vector<Sample>& cur) {
+    const Light& l = lm.light;
+    std::vector<glm::vec3> qp, qn;
+    std::vector<size_t> idx;
+    for (size_t i = 0; i < ps.size(); ++i)
+        if (ns[i] != glm::vec3(0.0f) && inLightCone(l, ps[i]) && glm::dot(ns[i], l.position - ps[i]) > 0.0f)
+            qp.push_back(ps[i]), qn.push_back(ns[i]), idx.push_back(i);
+    std::vector<uint8_t> truth(qp.size());
+    rays.visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.001f,
+                      truth.data()); // 1 mm, as bench static (docs/accuracy.md section 1)
+    for (size_t j = 0; j < idx.size(); ++j) {
+        Sample& s = cur[idx[j] * lightCount + k];
+        s.counts = true;
+        s.truth = truth[j] != 0;
+        for (const Config& c : configs) {
+            size_t ri = size_t(std::find(o.res.begin(), o.res.end(), c.res) - o.res.begin());
+            size_t mi = size_t(std::find(o.methods.begin(), o.methods.end(), c.method) - o.methods.begin());
+            auto rec = makeShadowRecord(c.method, lm.frustum, 0, c.res, c.pcf);
+            s.vis.push_back(staticVisibility(rec, lm.words[ri][mi].data(), qp[j], qn[j]));
         }
     }
-    const std::string sceneName = args->get("--scene", "night-city");
-    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value());
-    if (!scene) return runError("bench flicker", scene.error());
-    glm::vec3 eye0 = scene->camera.position, target0 = scene->camera.target;
-    if (args->has("--camera")) {
-        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
-        if (!v) return usageError("bench flicker", v.error());
-        eye0 = {v.value()[0], v.value()[1], v.value()[2]},
-        target0 = {v.value()[3], v.value()[4], v.value()[5]};
-    }
-    glm::vec3 side = glm::normalize(glm::cross(target0 - eye0, glm::vec3(0, 1, 0)));
-    glm::vec3 eye1 = eye0 + side * 2.0f, target1 = target0 + side * 2.0f;
-    if (args->has("--camera-end")) {
-        auto v = cli::parseCamera("--camera-end", args->get("--camera-end", ""));
-        if (!v) return usageError("bench flicker", v.error());
-        eye1 = {v.value()[0], v.value()[1], v.value()[2]},
-        target1 = {v.value()[3], v.value()[4], v.value()[5]};
-    }
-    const std::string out = args->get("--out", "out/bench_flicker");
-    if (auto r = cli::makeDirectory(out); !r) return runError("bench flicker", r.error());
-    auto rays = RayReference::build(scene.value(), true);
-    if (!rays) return runError("bench flicker", rays.error());
-    const auto [width, height] = size.value();
-    const uint32_t F = frames.value();
+}
 
-    // Exact receivers of frame f: the static surface each pixel's centre ray hits (position, normal
-    // facing the camera); pixels that see nothing get a zero normal.
-    auto receiversOf = [&](uint32_t f, std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
-        float t = F > 1 ? float(f) / float(F - 1) : 0.0f;
-        glm::dvec3 eye = glm::dvec3(glm::mix(eye0, eye1, t)),
-                   target = glm::dvec3(glm::mix(target0, target1, t));
-        glm::dmat4 view = glm::lookAt(eye, target, glm::dvec3(0, 1, 0));
-        glm::dmat4 proj = glm::perspective(double(scene->camera.fovY), double(width) / height, 0.1, 1000.0);
-        glm::dmat4 inv = glm::inverse(proj * view);
-        ps.assign(size_t(width) * height, glm::vec3(0.0f));
-        ns.assign(ps.size(), glm::vec3(0.0f));
-        for (uint32_t y = 0; y < height; ++y)
-            for (uint32_t x = 0; x < width; ++x) {
-                double nx = (x + 0.5) / width * 2.0 - 1.0, ny = 1.0 - (y + 0.5) / height * 2.0;
-                glm::dvec4 a = inv * glm::dvec4(nx, ny, 0.0, 1.0), b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
-                glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
-                RayHit h = rays->firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, 1e4f);
-                if (!h.hit) continue;
-                size_t i = size_t(y) * width + x;
-                ps[i] = glm::vec3(eye + dir * double(h.t));
-                glm::vec3 n = glm::normalize(h.ng);
-                ns[i] = glm::dot(n, glm::vec3(dir)) > 0.0f ? -n : n;
+// Per configuration: pairs counted in consecutive frames, the rays' flips, the method's flips where the
+// rays do not, and the sum of |delta visibility| there.
+struct Counts {
+    explicit Counts(size_t n) : pairs(n, 0), flips(n, 0), truthFlips(n, 0), graded(n, 0.0) {}
+    std::vector<uint64_t> pairs, flips, truthFlips;
+    std::vector<double> graded;
+};
+
+void comparePairs(const std::vector<Sample>& prev, const std::vector<Sample>& cur, Counts& n) {
+    for (size_t i = 0; i < cur.size(); ++i) {
+        const Sample &a = prev[i], &b = cur[i];
+        if (!a.counts || !b.counts) continue;
+        for (size_t c = 0; c < n.pairs.size(); ++c) {
+            ++n.pairs[c];
+            if (a.truth != b.truth) {
+                ++n.truthFlips[c];
+                continue;
             }
-    };
-
-    // Lights: static spots reaching the most pixels of frame 0.
-    std::vector<glm::vec3> ps, ns;
-    receiversOf(0, ps, ns);
-    std::vector<std::pair<size_t, uint32_t>> ranked;
-    for (uint32_t i = 0; i < scene->lights.size(); ++i) {
-        const Light& l = scene->lights[i];
-        if (l.dynamic || l.type != LightKind::Spot) continue;
-        size_t n = 0;
-        for (size_t k = 0; k < ps.size(); ++k) n += ns[k] != glm::vec3(0.0f) && inLightCone(l, ps[k]);
-        if (n) ranked.push_back({n, i});
-    }
-    std::sort(ranked.rbegin(), ranked.rend());
-    if (ranked.size() > count.value()) ranked.resize(count.value());
-    if (ranked.empty())
-        return runError("bench flicker", sceneName + ": no static spot light reaches the view");
-
-    // Bakes: per light, per resolution, per method.
-    struct Config {
-        StaticMethod method;
-        uint32_t res, pcf;
-    };
-    std::vector<Config> configs;
-    for (uint32_t res : resList.value())
-        for (StaticMethod m : methods)
-            for (uint32_t r : pcfList.value()) configs.push_back({m, res, r});
-    const CasterTriangles casters = castersFromScene(scene.value());
-    // Per measured light: its pose this frame (the rays' light), the frustum its maps were rendered
-    // with, and words[res index][method index]. Static lights bake once; moving or jittered ones every frame.
-    struct LightMaps {
-        Light light;
-        LightFrustum frustum;
-        std::vector<std::vector<std::vector<uint32_t>>> words;
-    };
-    std::vector<LightMaps> maps(ranked.size());
-    auto bake = [&](size_t k, uint32_t f) -> Result<void> {
-        const Light base = scene->lights[ranked[k].second];
-        LightMaps& lm = maps[k];
-        lm.light = posed(base, f, move.value(), turn.value());
-        Light mapLight = lm.light;
-        mapLight.position += jitterDirection(f, uint32_t(k)) * jitter.value();
-        lm.frustum = spotLightFrustum(mapLight);
-        lm.words.clear();
-        for (uint32_t res : resList.value()) {
-            DualDepthMap map = rasterizeDual(casters, lm.frustum, res);
-            std::vector<std::vector<uint32_t>> perMethod;
-            for (StaticMethod m : methods) {
-                auto w = encodeStatic(m, map, {lm.frustum.nearPlane, lm.frustum.farPlane, {}});
-                if (!w) return fail(std::string(staticMethodName(m)) + ": " + w.error());
-                perMethod.push_back(std::move(w.value()));
-            }
-            lm.words.push_back(std::move(perMethod));
+            n.flips[c] += (a.vis[c] >= 0.5f) != (b.vis[c] >= 0.5f);
+            n.graded[c] += std::abs(double(a.vis[c]) - double(b.vis[c]));
         }
-        return {};
-    };
-    std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations%s\n",
-                 scene->name.c_str(), ranked.size(), F, width, height, configs.size(),
-                 mapsMove ? ", maps re-rendered every frame" : "");
-
-    std::vector<uint64_t> pairs(configs.size(), 0), flips(configs.size(), 0), truthFlips(configs.size(), 0);
-    std::vector<double> graded(configs.size(), 0.0); // sum of |delta visibility| where the rays do not flip
-    std::vector<Sample> prev, cur;
-    for (uint32_t f = 0; f < F; ++f) {
-        if (f) receiversOf(f, ps, ns);
-        for (size_t k = 0; k < ranked.size(); ++k)
-            if (f == 0 || mapsMove)
-                if (auto r = bake(k, f); !r) return runError("bench flicker", r.error());
-        cur.assign(ps.size() * ranked.size(), {});
-        for (size_t k = 0; k < ranked.size(); ++k) {
-            const Light& l = maps[k].light;
-            const LightFrustum& fr = maps[k].frustum;
-            std::vector<glm::vec3> qp, qn;
-            std::vector<size_t> idx;
-            for (size_t i = 0; i < ps.size(); ++i)
-                if (ns[i] != glm::vec3(0.0f) && inLightCone(l, ps[i]) &&
-                    glm::dot(ns[i], l.position - ps[i]) > 0.0f)
-                    qp.push_back(ps[i]), qn.push_back(ns[i]), idx.push_back(i);
-            std::vector<uint8_t> truth(qp.size());
-            rays->visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.001f,
-                               truth.data()); // 1 mm, as bench static (docs/accuracy.md section 1)
-            for (size_t j = 0; j < idx.size(); ++j) {
-                Sample& s = cur[idx[j] * ranked.size() + k];
-                s.counts = true;
-                s.truth = truth[j] != 0;
-                for (const Config& c : configs) {
-                    size_t ri = size_t(std::find(resList->begin(), resList->end(), c.res) - resList->begin());
-                    size_t mi = size_t(std::find(methods.begin(), methods.end(), c.method) - methods.begin());
-                    auto rec = makeShadowRecord(c.method, fr, 0, c.res, c.pcf);
-                    s.vis.push_back(staticVisibility(rec, maps[k].words[ri][mi].data(), qp[j], qn[j]));
-                }
-            }
-        }
-        if (f)
-            for (size_t i = 0; i < cur.size(); ++i) {
-                const Sample &a = prev[i], &b = cur[i];
-                if (!a.counts || !b.counts) continue;
-                for (size_t c = 0; c < configs.size(); ++c) {
-                    ++pairs[c];
-                    if (a.truth != b.truth) {
-                        ++truthFlips[c];
-                        continue;
-                    }
-                    flips[c] += (a.vis[c] >= 0.5f) != (b.vis[c] >= 0.5f);
-                    graded[c] += std::abs(double(a.vis[c]) - double(b.vis[c]));
-                }
-            }
-        std::swap(prev, cur);
     }
+}
 
-    std::printf("bench flicker: %s, %zu lights, %u frames %ux%u from %.1f,%.1f,%.1f to %.1f,%.1f,%.1f\n",
-                scene->name.c_str(), ranked.size(), F, width, height, eye0.x, eye0.y, eye0.z, eye1.x, eye1.y,
-                eye1.z);
-    if (mapsMove)
-        std::printf(
-            "lights move %.3f m and turn %.3f deg per frame, maps jittered by %.3f m; maps re-rendered "
-            "every frame\n",
-            move.value(), turn.value(), jitter.value());
+// The table and CSV per configuration; the summary line's object.
+Result<json::Object> report(const Options& o, const std::vector<Config>& configs, const Counts& n) {
     std::printf(
         "| method | res | pcf | pixel-light pairs in consecutive frames | rays flip %% | method flips "
         "where rays do not %% | mean abs delta visibility where rays do not flip %% |\n"
@@ -328,25 +278,102 @@ int runBenchFlicker(int argc, char** argv) {
     double worstGraded = 0.0;
     for (size_t c = 0; c < configs.size(); ++c) {
         const Config& g = configs[c];
-        double rate = pairs[c] ? double(flips[c]) / double(pairs[c]) : 0.0;
-        const uint64_t stable = pairs[c] - truthFlips[c];
-        const double meanDelta = stable ? graded[c] / double(stable) : 0.0;
+        const uint64_t pairs = n.pairs[c], stable = pairs - n.truthFlips[c];
+        double rate = pairs ? double(n.flips[c]) / double(pairs) : 0.0;
+        const double meanDelta = stable ? n.graded[c] / double(stable) : 0.0;
         worstGraded = std::max(worstGraded, meanDelta);
-        allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
+        allPairs += pairs, allTruth += n.truthFlips[c], allFlips += n.flips[c];
         std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f | %.4f |\n", staticMethodName(g.method), g.res,
-                    2 * g.pcf + 1, 2 * g.pcf + 1, (unsigned long long)pairs[c],
-                    pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0, 100.0 * rate,
+                    2 * g.pcf + 1, 2 * g.pcf + 1, (unsigned long long)pairs,
+                    pairs ? 100.0 * double(n.truthFlips[c]) / double(pairs) : 0.0, 100.0 * rate,
                     100.0 * meanDelta);
-        csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << pairs[c] << ","
-            << truthFlips[c] << "," << flips[c] << "," << graded[c] << "\n";
+        csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << pairs << ","
+            << n.truthFlips[c] << "," << n.flips[c] << "," << n.graded[c] << "\n";
     }
-    std::ofstream file(out + "/bench_flicker.csv");
-    if (!file || !(file << csv.str()))
-        return runError("bench flicker", out + "/bench_flicker.csv: cannot write");
-    std::printf("wrote %s/bench_flicker.csv\n", out.c_str());
-    std::printf("{\"pairs\": %llu, \"truth_flips\": %llu, \"flips\": %llu, \"graded\": %.6f}\n",
-                (unsigned long long)allPairs, (unsigned long long)allTruth, (unsigned long long)allFlips,
-                worstGraded);
+    std::ofstream file(o.out + "/bench_flicker.csv");
+    if (!file || !(file << csv.str())) return fail(o.out + "/bench_flicker.csv: cannot write");
+    std::printf("wrote %s/bench_flicker.csv\n", o.out.c_str());
+    json::Object summary;
+    summary.integer("pairs", allPairs).integer("truth_flips", allTruth).integer("flips", allFlips);
+    summary.real("graded", worstGraded, "%.6f");
+    return summary;
+}
+
+// The frames of the path: each frame's receivers, the lights' maps when they move, the samples, and
+// the pairs against the frame before.
+Result<Counts> measure(const Options& o, const std::vector<Config>& configs, const Path& path,
+                       const Scene& scene, const RayReference& rays, const std::vector<uint32_t>& lights,
+                       std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
+    const CasterTriangles casters = castersFromScene(scene);
+    std::vector<LightMaps> maps(lights.size());
+    Counts n(configs.size());
+    std::vector<Sample> prev, cur;
+    for (uint32_t f = 0; f < o.view.frames; ++f) {
+        if (f) receiversOf(o, path, scene, rays, f, ps, ns);
+        for (size_t k = 0; k < lights.size(); ++k)
+            if (f == 0 || o.mapsMove())
+                if (auto r = bakeLight(o, casters, scene.lights[lights[k]], uint32_t(k), f, maps[k]); !r)
+                    return fail(r.error());
+        cur.assign(ps.size() * lights.size(), {});
+        for (size_t k = 0; k < lights.size(); ++k)
+            sampleLight(o, configs, rays, maps[k], ps, ns, k, lights.size(), cur);
+        if (f) comparePairs(prev, cur, n);
+        std::swap(prev, cur);
+    }
+    return n;
+}
+} // namespace
+
+// The flags of `bench flicker` beside its option groups.
+const cli::Flags kFlickerFlags{{"--methods", "--res", "--pcf", "--lights", "--camera", "--camera-end",
+                                "--out", "--light-move", "--light-turn", "--map-jitter"},
+                               {}};
+
+int runBenchFlicker(int argc, char** argv) {
+    if (argc > 3 && std::string(argv[3]) == "--vsm") return runBenchFlickerVsm(argc, argv);
+    int status = 0;
+    const auto args =
+        commandArgs("bench flicker", kFlickerHelp,
+                    cli::parse(argc, argv, 3, {opts::kSceneFlags, opts::kViewFlags, kFlickerFlags}), status);
+    if (!args) return status;
+    auto options = parseOptions(*args);
+    if (!options) return usageError("bench flicker", options.error());
+    const Options& o = options.value();
+    auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed);
+    if (!scene) return runError("bench flicker", scene.error());
+    auto path = parsePath(*args, scene.value());
+    if (!path) return usageError("bench flicker", path.error());
+    if (auto r = cli::makeDirectory(o.out); !r) return runError("bench flicker", r.error());
+    auto rays = RayReference::build(scene.value(), true);
+    if (!rays) return runError("bench flicker", rays.error());
+
+    std::vector<glm::vec3> ps, ns;
+    receiversOf(o, path.value(), scene.value(), rays.value(), 0, ps, ns);
+    const std::vector<uint32_t> lights = rankLights(scene.value(), ps, ns, o.lights);
+    if (lights.empty())
+        return runError("bench flicker", o.scene.name + ": no static spot light reaches the view");
+    std::vector<Config> configs;
+    for (uint32_t res : o.res)
+        for (StaticMethod m : o.methods)
+            for (uint32_t r : o.pcf) configs.push_back({m, res, r});
+    std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations%s\n",
+                 scene->name.c_str(), lights.size(), o.view.frames, o.view.width, o.view.height,
+                 configs.size(), o.mapsMove() ? ", maps re-rendered every frame" : "");
+    auto counts = measure(o, configs, path.value(), scene.value(), rays.value(), lights, ps, ns);
+    if (!counts) return runError("bench flicker", counts.error());
+
+    const Path& p = path.value();
+    std::printf("bench flicker: %s, %zu lights, %u frames %ux%u from %.1f,%.1f,%.1f to %.1f,%.1f,%.1f\n",
+                scene->name.c_str(), lights.size(), o.view.frames, o.view.width, o.view.height, p.eye0.x,
+                p.eye0.y, p.eye0.z, p.eye1.x, p.eye1.y, p.eye1.z);
+    if (o.mapsMove())
+        std::printf(
+            "lights move %.3f m and turn %.3f deg per frame, maps jittered by %.3f m; maps re-rendered "
+            "every frame\n",
+            o.move, o.turn, o.jitter);
+    auto summary = report(o, configs, counts.value());
+    if (!summary) return runError("bench flicker", summary.error());
+    std::printf("%s\n", summary->str().c_str());
     return 0;
 }
 

@@ -22,9 +22,9 @@
 // an N^2 map of that frame's casters (CPU rasteriser, cars included), looked up by the CPU twin of the
 // shader (static_visibility.h) at the same receivers and radii.
 // Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
-#include "apps/cli.h"
-#include "bake/scene_casters.h"
 #include "apps/commands.h"
+#include "bake/scene_casters.h"
+#include "apps/json.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
@@ -79,216 +79,230 @@ struct Sample {
     std::vector<float> vis;    // per PCF radius of the list
     std::vector<float> cmpVis; // --compare-res: the per-frame sm map's, per radius (static spots only)
 };
+using Samples = std::unordered_map<uint64_t, Sample>; // by (pixel << 32 | module light)
 
-Result<std::vector<uint32_t>> radiusList(const std::string& text) {
-    std::vector<uint32_t> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        auto v = cli::parseUint("--pcf", item, 0, ML_MAX_PCF_RADIUS);
-        if (!v) return fail(v.error());
-        out.push_back(v.value());
-    }
-    if (out.empty()) return fail("--pcf: empty list");
-    return out;
-}
+// Per kind (moving, static, static with the per-frame sm map of --compare-res) and radius.
+constexpr uint32_t kKinds = 3;
 
-} // namespace
-
-int runBenchFlickerVsm(int argc, char** argv) {
-    auto args =
-        cli::parse(argc, argv, 4, vsmSessionFlags({"--pcf", "--vsm-raster", "--out", "--compare-res"}), {});
-    if (!args) return usageError("bench flicker --vsm", args.error());
-    if (args->help) {
-        std::fputs(kFlickerVsmHelp, stdout);
-        return 0;
-    }
-    uint32_t frameCount = 0;
-    auto options = vsmSessionOptions(*args, {16, 2, "320x180", 1024}, frameCount);
-    if (!options) return usageError("bench flicker --vsm", options.error());
-    if (args->has("--bake"))
-        return usageError("bench flicker --vsm",
-                          "--bake is not taken: every light's maps must hold every caster");
-    auto radii = radiusList(args->get("--pcf", "0,2"));
-    auto compareRes = cli::parseUint("--compare-res", args->get("--compare-res", "0"), 0, 8192);
-    for (const std::string* e : {&radii.error(), &compareRes.error()})
-        if (!e->empty()) return usageError("bench flicker --vsm", *e);
-    VsmRaster raster = VsmRaster::Auto;
-    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
-        return usageError("bench flicker --vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") +
-                                                     "' is not auto, mesh or vertex");
-    const std::string out = args->get("--out", "out/bench_flicker_vsm");
-    if (auto r = cli::makeDirectory(out); !r) return runError("bench flicker --vsm", r.error());
-    const std::vector<uint32_t>& R = radii.value();
-    const uint32_t moduleRadius = *std::max_element(R.begin(), R.end());
-
-    VsmSessionOptions o = options.value();
-    o.module.vsm.probeCapacity = o.width * o.height * 8;
-    o.module.vsm.raster = raster;
-    auto session = VsmSession::create(o);
-    if (!session) return runError("bench flicker --vsm", session.error());
-    VsmSession& s = *session.value();
-    if (auto r = s.module->setShadowFilter(moduleRadius); !r)
-        return usageError("bench flicker --vsm", r.error());
-    // Module light index -> scene light (bindScene adds them in order to a fresh module).
-    std::unordered_map<uint32_t, uint32_t> sceneLight;
-    for (uint32_t k = 0; k < s.binding.lights.size(); ++k) sceneLight[s.binding.lights[k]] = k;
-
-    const size_t K = R.size();
-    // Per kind (moving, static, static with the per-frame sm map of --compare-res) and radius.
-    constexpr uint32_t kKinds = 3;
-    std::vector<uint64_t> pairs(kKinds * K, 0), truthFlips(kKinds * K, 0), flips(kKinds * K, 0);
-    std::vector<double> graded(kKinds * K, 0.0);
+struct Counts {
+    explicit Counts(size_t n)
+        : pairs(n), truthFlips(n), flips(n), mipChanged(n), mipChangedFlips(n), graded(n, 0.0) {}
     // Pairs (rays stable) whose lookup changed map or mip between the frames, and the flips among them:
     // the VSM picks the mip from the camera's footprint, so a moving camera moves receivers across mips.
-    std::vector<uint64_t> mipChanged(kKinds * K, 0), mipChangedFlips(kKinds * K, 0);
+    std::vector<uint64_t> pairs, truthFlips, flips, mipChanged, mipChangedFlips;
+    std::vector<double> graded;
+    // Probes: checked against the CPU kernel, or left out and why.
     uint64_t lookups = 0, mismatches = 0, notResident = 0, missing = 0, directional = 0, backFacing = 0,
              fallbacks = 0, unknownLight = 0;
     uint32_t probeOverflow = 0;
-    std::vector<uint64_t> perMip(16, 0); // lookups (spot and point maps) per mip they ended at
-    std::unordered_map<uint64_t, Sample> prev, cur;
-    for (uint32_t f = 0; f < frameCount; ++f) {
-        auto report = s.frame(f);
-        if (!report) return runError("bench flicker --vsm", report.error());
-        uint32_t overflow = 0;
-        const auto probes = diag::readVsmProbes(*s.module, &overflow);
-        probeOverflow += overflow;
-        const auto st = diag::readVsmPageState(*s.module);
-        const auto vsmMaps = diag::vsmMaps(*s.module);
-        const diag::LastFrame fc = diag::lastFrame(*s.module);
-        std::vector<float> depth;
-        std::vector<glm::vec3> normal;
-        if (auto r = diag::readGBuffer(*s.module, depth, normal); !r)
-            return runError("bench flicker --vsm", r.error());
-        auto rays = RayReference::build(s.scene, false); // this frame's cars too: the VSM draws them
-        if (!rays) return runError("bench flicker --vsm", rays.error());
+    std::vector<uint64_t> perMip = std::vector<uint64_t>(16, 0); // lookups per mip they ended at
+};
 
-        // Per light: the receivers to trace, and their samples' keys.
-        struct Batch {
-            std::vector<glm::vec3> p, n;
-            std::vector<uint64_t> keys;
-        };
-        std::unordered_map<uint32_t, Batch> batches;
-        cur.clear();
-        for (const diag::VsmProbe& p : probes) {
-            const uint32_t map = p.map, mip = p.mip, pixel = p.pixel, light = p.light;
-            if (p.status == diag::VsmProbeStatus::Missing) {
-                ++missing;
-                continue;
-            }
-            if (vsmMaps[map].orthographic) {
-                ++directional;
-                continue;
-            }
-            auto sl = sceneLight.find(light);
-            if (sl == sceneLight.end()) {
-                ++unknownLight;
-                continue;
-            }
-            ++lookups;
-            ++perMip[std::min<uint32_t>(mip, 15)];
-            fallbacks += p.status == diag::VsmProbeStatus::Fallback;
-            const Light& L = s.scene.lights[sl->second];
-            const uint32_t px = pixel % o.width, py = pixel / o.width;
-            const glm::vec3 P = gpu::worldFromPixel(px, py, depth[pixel], fc.invViewProj, fc.size);
-            glm::vec3 N = normal[pixel];
-            const float len = glm::length(N);
-            N = len > 0.0f ? N / len : glm::vec3(0, 1, 0);
+struct Run {
+    VsmSessionOptions options;
+    uint32_t frames = 0, compareRes = 0, moduleRadius = 0;
+    std::vector<uint32_t> radii;
+    std::string out;
+    std::unordered_map<uint32_t, uint32_t> sceneLight; // module light index -> scene light
+};
 
-            // The CPU kernel at the probe's place, checked against what the probe read.
-            Sample smp;
-            smp.kind = L.dynamic ? 0 : 1;
-            smp.map = map, smp.mip = mip;
-            const int tx = int(p.x), ty = int(p.y);
-            const uint32_t receiver = p.receiverDepth;
-            uint32_t centre = 0;
-            const int full = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(moduleRadius), centre);
-            const bool centreNeedsPage = diag::vsmTexelNeedsPage(*st, map, mip, tx, ty);
-            bool ok = full >= 0 &&
-                      (p.status == diag::VsmProbeStatus::NoCaster ? !centreNeedsPage
-                                                                  : centreNeedsPage && centre == p.depth);
-            notResident += full < 0;
-            for (uint32_t r : R) {
-                const int lit = diag::vsmKernelLit(*st, map, mip, tx, ty, receiver, int(r), centre);
-                ok = ok && lit >= 0;
-                smp.vis.push_back(lit < 0 ? 1.0f : float(lit) / float((2 * r + 1) * (2 * r + 1)));
-            }
-            if (!ok) {
-                if (++mismatches <= 3)
-                    std::fprintf(stderr,
-                                 "  frame %u: map %u mip %u texel (%d, %d): probe depth %u status %u, cpu "
-                                 "kernel %d centre %u\n",
-                                 f, map, mip, tx, ty, p.depth, uint32_t(p.status), full, centre);
-                continue;
-            }
-            if (!(glm::dot(N, L.position - P) > 0.0f)) {
-                ++backFacing; // unlit by N.L whatever the shadow says
-                continue;
-            }
-            const uint64_t key = (uint64_t(pixel) << 32) | light;
-            Batch& b = batches[sl->second];
-            b.p.push_back(P), b.n.push_back(N), b.keys.push_back(key);
-            cur.emplace(key, std::move(smp));
-        }
-        // --compare-res: every instance of this frame is a caster (castersFromScene takes the static
-        // ones: the dynamic flags are lifted for the call).
-        CasterTriangles frameCasters;
-        if (compareRes.value()) {
-            std::vector<uint8_t> wasDynamic;
-            for (Instance& inst : s.scene.instances) wasDynamic.push_back(inst.dynamic), inst.dynamic = false;
-            frameCasters = castersFromScene(s.scene);
-            for (size_t i = 0; i < wasDynamic.size(); ++i) s.scene.instances[i].dynamic = wasDynamic[i] != 0;
-        }
-        for (auto& [k, b] : batches) {
-            const Light& L = s.scene.lights[k];
-            std::vector<uint8_t> truth(b.p.size());
-            rays->visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f,
-                               truth.data()); // 1 mm, as bench static
-            for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
-            if (!compareRes.value() || L.dynamic || L.type != LightKind::Spot) continue;
-            const LightFrustum fr = spotLightFrustum(L);
-            const DualDepthMap map = rasterizeDual(frameCasters, fr, compareRes.value());
-            auto words = encodeStatic(StaticMethod::SM, map, {fr.nearPlane, fr.farPlane, {}});
-            if (!words) return runError("bench flicker --vsm", "sm: " + words.error());
-            for (size_t i = 0; i < b.keys.size(); ++i)
-                for (uint32_t r : R) {
-                    auto rec = makeShadowRecord(StaticMethod::SM, fr, 0, compareRes.value(), r);
-                    cur[b.keys[i]].cmpVis.push_back(staticVisibility(rec, words->data(), b.p[i], b.n[i]));
-                }
-        }
-        if (f)
-            for (const auto& [key, b] : cur) {
-                auto it = prev.find(key);
-                if (it == prev.end()) continue;
-                const Sample& a = it->second;
-                const bool compared = !a.cmpVis.empty() && !b.cmpVis.empty();
-                for (size_t r = 0; r < K * (compared ? 2 : 1); ++r) {
-                    // r < K: the VSM's answer; r >= K: the per-frame sm map's, as kind 2
-                    const size_t c = r < K ? b.kind * K + r : 2 * K + (r - K);
-                    const float va = r < K ? a.vis[r] : a.cmpVis[r - K],
-                                vb = r < K ? b.vis[r] : b.cmpVis[r - K];
-                    ++pairs[c];
-                    if (a.truth != b.truth) {
-                        ++truthFlips[c];
-                        continue;
-                    }
-                    const bool flip = (va >= 0.5f) != (vb >= 0.5f);
-                    const bool moved = r < K && (a.map != b.map || a.mip != b.mip); // the VSM rows only
-                    flips[c] += flip;
-                    mipChanged[c] += moved;
-                    mipChangedFlips[c] += flip && moved;
-                    graded[c] += std::abs(double(va) - double(vb));
-                }
-            }
-        std::fprintf(stderr, "frame %u: %zu probes, %zu pairs with rays\n", f, probes.size(), cur.size());
-        std::swap(prev, cur);
+Result<Run> parseRun(const cli::Args& args) {
+    Run run;
+    auto options = vsmSessionOptions(args, {16, 2, "320x180", 1024}, run.frames);
+    if (!options) return fail(options.error());
+    if (args.has("--bake")) return fail("--bake is not taken: every light's maps must hold every caster");
+    auto radii = opts::uintList("--pcf", args.get("--pcf", "0,2"), 0, ML_MAX_PCF_RADIUS);
+    auto compareRes = cli::parseUint("--compare-res", args.get("--compare-res", "0"), 0, 8192);
+    auto raster = vsmRaster(args);
+    for (const std::string* e : {&radii.error(), &compareRes.error(), &raster.error()})
+        if (!e->empty()) return fail(*e);
+    run.options = options.value();
+    run.options.module.vsm.probeCapacity = run.options.width * run.options.height * 8;
+    run.options.module.vsm.raster = raster.value();
+    run.radii = radii.value();
+    run.moduleRadius = *std::max_element(run.radii.begin(), run.radii.end());
+    run.compareRes = compareRes.value();
+    run.out = args.get("--out", "out/bench_flicker_vsm");
+    return run;
+}
+
+// The frame's read-backs the probes are judged with.
+struct FrameState {
+    std::vector<diag::VsmProbe> probes;
+    std::shared_ptr<const diag::VsmPageState> pages;
+    std::vector<diag::VsmMap> maps;
+    diag::LastFrame constants;
+    std::vector<float> depth;
+    std::vector<glm::vec3> normal;
+};
+
+// Per scene light: the receivers to trace, and their samples' keys.
+struct Batch {
+    std::vector<glm::vec3> p, n;
+    std::vector<uint64_t> keys;
+};
+
+// One probe: the CPU kernel at the probe's place, checked against what the probe read, as a sample
+// of its (pixel, light) pair in `batches` and `cur`; or counted as left out.
+void sampleProbe(const Run& run, const VsmSession& s, const FrameState& fs, const diag::VsmProbe& p,
+                 uint32_t f, Counts& c, std::unordered_map<uint32_t, Batch>& batches, Samples& cur) {
+    const uint32_t map = p.map, mip = p.mip, pixel = p.pixel, light = p.light;
+    if (p.status == diag::VsmProbeStatus::Missing) {
+        ++c.missing;
+        return;
     }
-    if (s.module->deviceInfo().validation && validationErrors())
-        std::fprintf(stderr, "manylights bench flicker --vsm: %u validation messages\n", validationErrors());
+    if (fs.maps[map].orthographic) {
+        ++c.directional;
+        return;
+    }
+    auto sl = run.sceneLight.find(light);
+    if (sl == run.sceneLight.end()) {
+        ++c.unknownLight;
+        return;
+    }
+    ++c.lookups;
+    ++c.perMip[std::min<uint32_t>(mip, 15)];
+    c.fallbacks += p.status == diag::VsmProbeStatus::Fallback;
+    const Light& L = s.scene.lights[sl->second];
+    const uint32_t width = run.options.width, px = pixel % width, py = pixel / width;
+    const glm::vec3 P =
+        gpu::worldFromPixel(px, py, fs.depth[pixel], fs.constants.invViewProj, fs.constants.size);
+    glm::vec3 N = fs.normal[pixel];
+    const float len = glm::length(N);
+    N = len > 0.0f ? N / len : glm::vec3(0, 1, 0);
 
+    Sample smp;
+    smp.kind = L.dynamic ? 0 : 1;
+    smp.map = map, smp.mip = mip;
+    const int tx = int(p.x), ty = int(p.y);
+    const uint32_t receiver = p.receiverDepth;
+    uint32_t centre = 0;
+    const diag::VsmPageState& st = *fs.pages;
+    const int full = diag::vsmKernelLit(st, map, mip, tx, ty, receiver, int(run.moduleRadius), centre);
+    const bool centreNeedsPage = diag::vsmTexelNeedsPage(st, map, mip, tx, ty);
+    bool ok =
+        full >= 0 && (p.status == diag::VsmProbeStatus::NoCaster ? !centreNeedsPage
+                                                                 : centreNeedsPage && centre == p.depth);
+    c.notResident += full < 0;
+    for (uint32_t r : run.radii) {
+        const int lit = diag::vsmKernelLit(st, map, mip, tx, ty, receiver, int(r), centre);
+        ok = ok && lit >= 0;
+        smp.vis.push_back(lit < 0 ? 1.0f : float(lit) / float((2 * r + 1) * (2 * r + 1)));
+    }
+    if (!ok) {
+        if (++c.mismatches <= 3)
+            std::fprintf(stderr,
+                         "  frame %u: map %u mip %u texel (%d, %d): probe depth %u status %u, cpu "
+                         "kernel %d centre %u\n",
+                         f, map, mip, tx, ty, p.depth, uint32_t(p.status), full, centre);
+        return;
+    }
+    if (!(glm::dot(N, L.position - P) > 0.0f)) {
+        ++c.backFacing; // unlit by N.L whatever the shadow says
+        return;
+    }
+    const uint64_t key = (uint64_t(pixel) << 32) | light;
+    Batch& b = batches[sl->second];
+    b.p.push_back(P), b.n.push_back(N), b.keys.push_back(key);
+    cur.emplace(key, std::move(smp));
+}
+
+// Every instance of this frame as a caster (castersFromScene takes the static ones: the dynamic flags
+// are lifted for the call).
+CasterTriangles frameCasters(Scene& scene) {
+    std::vector<uint8_t> wasDynamic;
+    for (Instance& inst : scene.instances) wasDynamic.push_back(inst.dynamic), inst.dynamic = false;
+    CasterTriangles casters = castersFromScene(scene);
+    for (size_t i = 0; i < wasDynamic.size(); ++i) scene.instances[i].dynamic = wasDynamic[i] != 0;
+    return casters;
+}
+
+// The rays' visibility of every batch, and with --compare-res the per-frame sm map's.
+Result<void> traceBatches(const Run& run, VsmSession& s, const RayReference& rays,
+                          const std::unordered_map<uint32_t, Batch>& batches, Samples& cur) {
+    CasterTriangles casters;
+    if (run.compareRes) casters = frameCasters(s.scene);
+    for (auto& [k, b] : batches) {
+        const Light& L = s.scene.lights[k];
+        std::vector<uint8_t> truth(b.p.size());
+        rays.visibleBatch(b.p.data(), b.n.data(), b.p.size(), L.position, 0.001f,
+                          truth.data()); // 1 mm, as bench static
+        for (size_t i = 0; i < b.keys.size(); ++i) cur[b.keys[i]].truth = truth[i] != 0;
+        if (!run.compareRes || L.dynamic || L.type != LightKind::Spot) continue;
+        const LightFrustum fr = spotLightFrustum(L);
+        const DualDepthMap map = rasterizeDual(casters, fr, run.compareRes);
+        auto words = encodeStatic(StaticMethod::SM, map, {fr.nearPlane, fr.farPlane, {}});
+        if (!words) return fail("sm: " + words.error());
+        for (size_t i = 0; i < b.keys.size(); ++i)
+            for (uint32_t r : run.radii) {
+                auto rec = makeShadowRecord(StaticMethod::SM, fr, 0, run.compareRes, r);
+                cur[b.keys[i]].cmpVis.push_back(staticVisibility(rec, words->data(), b.p[i], b.n[i]));
+            }
+    }
+    return {};
+}
+
+// The pairs with a sample in both frames: flips of the VSM's (and the sm map's) answer against the rays'.
+void comparePairs(size_t K, const Samples& prev, const Samples& cur, Counts& c) {
+    for (const auto& [key, b] : cur) {
+        auto it = prev.find(key);
+        if (it == prev.end()) continue;
+        const Sample& a = it->second;
+        const bool compared = !a.cmpVis.empty() && !b.cmpVis.empty();
+        for (size_t r = 0; r < K * (compared ? 2 : 1); ++r) {
+            // r < K: the VSM's answer; r >= K: the per-frame sm map's, as kind 2
+            const size_t i = r < K ? b.kind * K + r : 2 * K + (r - K);
+            const float va = r < K ? a.vis[r] : a.cmpVis[r - K], vb = r < K ? b.vis[r] : b.cmpVis[r - K];
+            ++c.pairs[i];
+            if (a.truth != b.truth) {
+                ++c.truthFlips[i];
+                continue;
+            }
+            const bool flip = (va >= 0.5f) != (vb >= 0.5f);
+            const bool moved = r < K && (a.map != b.map || a.mip != b.mip); // the VSM rows only
+            c.flips[i] += flip;
+            c.mipChanged[i] += moved;
+            c.mipChangedFlips[i] += flip && moved;
+            c.graded[i] += std::abs(double(va) - double(vb));
+        }
+    }
+}
+
+Result<void> measureFrame(const Run& run, VsmSession& s, uint32_t f, Counts& c, Samples& prev, Samples& cur) {
+    auto report = s.frame(f);
+    if (!report) return fail(report.error());
+    FrameState fs;
+    uint32_t overflow = 0;
+    fs.probes = diag::readVsmProbes(*s.module, &overflow);
+    c.probeOverflow += overflow;
+    fs.pages = diag::readVsmPageState(*s.module);
+    fs.maps = diag::vsmMaps(*s.module);
+    fs.constants = diag::lastFrame(*s.module);
+    if (auto r = diag::readGBuffer(*s.module, fs.depth, fs.normal); !r) return fail(r.error());
+    auto rays = RayReference::build(s.scene, false); // this frame's cars too: the VSM draws them
+    if (!rays) return fail(rays.error());
+    std::unordered_map<uint32_t, Batch> batches;
+    cur.clear();
+    for (const diag::VsmProbe& p : fs.probes) sampleProbe(run, s, fs, p, f, c, batches, cur);
+    if (auto r = traceBatches(run, s, rays.value(), batches, cur); !r) return r;
+    if (f) comparePairs(run.radii.size(), prev, cur, c);
+    std::fprintf(stderr, "frame %u: %zu probes, %zu pairs with rays\n", f, fs.probes.size(), cur.size());
+    std::swap(prev, cur);
+    return {};
+}
+
+struct Sums {
+    uint64_t pairs = 0, truthFlips = 0, flips = 0;
+};
+
+// The table and CSV per (kind, radius); returns the sums over the moving and static rows.
+Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
+    const VsmSessionOptions& o = run.options;
+    const std::vector<uint32_t>& R = run.radii;
+    const size_t K = R.size();
     std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",
-                s.scene.name.c_str(), cameraPathName(o.path), frameCount, o.width, o.height,
-                o.module.vsm.resolution, moduleRadius);
+                s.scene.name.c_str(), cameraPathName(o.path), run.frames, o.width, o.height,
+                o.module.vsm.resolution, run.moduleRadius);
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
                 "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
@@ -297,44 +311,77 @@ int runBenchFlickerVsm(int argc, char** argv) {
     std::printf("lookups per mip (virtual %u^2, mip m is %u^2 >> m):", o.module.vsm.resolution,
                 o.module.vsm.resolution);
     for (uint32_t m = 0; m < 16; ++m)
-        if (perMip[m]) std::printf(" %u: %llu", m, (unsigned long long)perMip[m]);
+        if (c.perMip[m]) std::printf(" %u: %llu", m, (unsigned long long)c.perMip[m]);
     std::printf("\n");
     std::ostringstream csv;
     csv << "lights,pcf_radius,pairs,truth_flips,flicker,graded_sum,mip_changed,mip_changed_flips\n";
-    uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
-    const std::string smName = "static, sm " + std::to_string(compareRes.value()) + "^2";
-    for (uint32_t kind = 0; kind < (compareRes.value() ? kKinds : 2); ++kind)
+    Sums all;
+    const std::string smName = "static, sm " + std::to_string(run.compareRes) + "^2";
+    for (uint32_t kind = 0; kind < (run.compareRes ? kKinds : 2); ++kind)
         for (size_t r = 0; r < K; ++r) {
-            const size_t c = kind * K + r;
-            const uint64_t stable = pairs[c] - truthFlips[c];
+            const size_t i = kind * K + r;
+            const uint64_t pairs = c.pairs[i], stable = pairs - c.truthFlips[i];
             const char* name = kind == 0 ? "moving" : kind == 1 ? "static" : smName.c_str();
             std::printf("| %s | %ux%u | %llu | %.3f | %.4f | %.4f | %.2f | %.1f |\n", name, 2 * R[r] + 1,
-                        2 * R[r] + 1, (unsigned long long)pairs[c],
-                        pairs[c] ? 100.0 * double(truthFlips[c]) / double(pairs[c]) : 0.0,
-                        pairs[c] ? 100.0 * double(flips[c]) / double(pairs[c]) : 0.0,
-                        stable ? 100.0 * graded[c] / double(stable) : 0.0,
-                        stable ? 100.0 * double(mipChanged[c]) / double(stable) : 0.0,
-                        flips[c] ? 100.0 * double(mipChangedFlips[c]) / double(flips[c]) : 0.0);
-            csv << name << "," << R[r] << "," << pairs[c] << "," << truthFlips[c] << "," << flips[c] << ","
-                << graded[c] << "," << mipChanged[c] << "," << mipChangedFlips[c] << "\n";
-            if (kind < 2) allPairs += pairs[c], allTruth += truthFlips[c], allFlips += flips[c];
+                        2 * R[r] + 1, (unsigned long long)pairs,
+                        pairs ? 100.0 * double(c.truthFlips[i]) / double(pairs) : 0.0,
+                        pairs ? 100.0 * double(c.flips[i]) / double(pairs) : 0.0,
+                        stable ? 100.0 * c.graded[i] / double(stable) : 0.0,
+                        stable ? 100.0 * double(c.mipChanged[i]) / double(stable) : 0.0,
+                        c.flips[i] ? 100.0 * double(c.mipChangedFlips[i]) / double(c.flips[i]) : 0.0);
+            csv << name << "," << R[r] << "," << pairs << "," << c.truthFlips[i] << "," << c.flips[i] << ","
+                << c.graded[i] << "," << c.mipChanged[i] << "," << c.mipChangedFlips[i] << "\n";
+            if (kind < 2) all.pairs += pairs, all.truthFlips += c.truthFlips[i], all.flips += c.flips[i];
         }
-    std::ofstream file(out + "/bench_flicker_vsm.csv");
-    if (!file || !(file << csv.str()))
-        return runError("bench flicker --vsm", out + "/bench_flicker_vsm.csv: cannot write");
-    std::printf("wrote %s/bench_flicker_vsm.csv\n", out.c_str());
-    std::printf(
-        "{\"pairs\": %llu, \"truth_flips\": %llu, \"flips\": %llu, \"lookups\": %llu, \"mismatches\": %llu, "
-        "\"not_resident\": %llu, \"missing\": %llu, \"fallbacks\": %llu, \"directional\": %llu, "
-        "\"back_facing\": %llu, \"unknown_light\": %llu, \"probe_overflow\": %u}\n",
-        (unsigned long long)allPairs, (unsigned long long)allTruth, (unsigned long long)allFlips,
-        (unsigned long long)lookups, (unsigned long long)mismatches, (unsigned long long)notResident,
-        (unsigned long long)missing, (unsigned long long)fallbacks, (unsigned long long)directional,
-        (unsigned long long)backFacing, (unsigned long long)unknownLight, probeOverflow);
-    return allPairs > 0 && mismatches == 0 && notResident == 0 && missing == 0 && probeOverflow == 0 &&
-                   unknownLight == 0
-               ? 0
-               : 1;
+    std::ofstream file(run.out + "/bench_flicker_vsm.csv");
+    if (!file || !(file << csv.str())) return fail(run.out + "/bench_flicker_vsm.csv: cannot write");
+    std::printf("wrote %s/bench_flicker_vsm.csv\n", run.out.c_str());
+    return all;
+}
+
+} // namespace
+
+// The flags of `bench flicker --vsm` beside its option groups.
+const cli::Flags kFlickerVsmFlags{{"--pcf", "--vsm-raster", "--out", "--compare-res"}, {}};
+
+int runBenchFlickerVsm(int argc, char** argv) {
+    int status = 0;
+    const auto args = commandArgs("bench flicker --vsm", kFlickerVsmHelp,
+                                  parseVsmCommand(argc, argv, 4, kFlickerVsmFlags), status);
+    if (!args) return status;
+    auto parsed = parseRun(*args);
+    if (!parsed) return usageError("bench flicker --vsm", parsed.error());
+    Run& run = parsed.value();
+    if (auto r = cli::makeDirectory(run.out); !r) return runError("bench flicker --vsm", r.error());
+    auto session = VsmSession::create(run.options);
+    if (!session) return runError("bench flicker --vsm", session.error());
+    VsmSession& s = *session.value();
+    if (auto r = s.module->setShadowFilter(run.moduleRadius); !r)
+        return usageError("bench flicker --vsm", r.error());
+    // bindScene adds the scene's lights in order to a fresh module.
+    for (uint32_t k = 0; k < s.binding.lights.size(); ++k) run.sceneLight[s.binding.lights[k]] = k;
+    Counts c(kKinds * run.radii.size());
+    Samples prev, cur;
+    for (uint32_t f = 0; f < run.frames; ++f)
+        if (auto r = measureFrame(run, s, f, c, prev, cur); !r)
+            return runError("bench flicker --vsm", r.error());
+    if (s.module->deviceInfo().validation && validationErrors())
+        std::fprintf(stderr, "manylights bench flicker --vsm: %u validation messages\n", validationErrors());
+    auto sums = report(run, s, c);
+    if (!sums) return runError("bench flicker --vsm", sums.error());
+    json::Object summary;
+    summary.integer("pairs", sums->pairs)
+        .integer("truth_flips", sums->truthFlips)
+        .integer("flips", sums->flips);
+    summary.integer("lookups", c.lookups).integer("mismatches", c.mismatches);
+    summary.integer("not_resident", c.notResident).integer("missing", c.missing);
+    summary.integer("fallbacks", c.fallbacks).integer("directional", c.directional);
+    summary.integer("back_facing", c.backFacing).integer("unknown_light", c.unknownLight);
+    summary.integer("probe_overflow", c.probeOverflow);
+    std::printf("%s\n", summary.str().c_str());
+    const bool clean = c.mismatches == 0 && c.notResident == 0 && c.missing == 0 && c.probeOverflow == 0 &&
+                       c.unknownLight == 0;
+    return sums->pairs > 0 && clean ? 0 : 1;
 }
 
 } // namespace ml

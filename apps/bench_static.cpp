@@ -7,10 +7,11 @@
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
 // resolution and PCF size (shadows/tools/lookup_timer.h). Receivers are moved onto the traced surface
 // by default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.
-#include "apps/cli.h"
-#include "bake/scene_casters.h"
-#include "apps/commands.h"
 #include "apps/bench_static_tables.h"
+#include "apps/commands.h"
+#include "bake/scene_casters.h"
+#include "apps/exact_receivers.h"
+#include "apps/options.h"
 #include "io/safe_io.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/scene_host.h"
@@ -69,16 +70,6 @@ evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, C
 )";
 
 namespace {
-Result<std::vector<std::string>> splitList(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        if (!item.empty()) out.push_back(item);
-    if (out.empty()) return fail("empty list '" + text + "'");
-    return out;
-}
-
 // The rays' normal offset, metres (default of --ray-bias). It must stay below the maps' own normal
 // offset (one texel footprint: 3 mm for a 4096^2, 90-degree map 6 m away), or at grazing incidence
 // the truth's ray passes shadow edges that the map's lookup resolves (docs/accuracy.md, section 1:
@@ -108,462 +99,448 @@ double evaluateMs(Module& m, uint32_t frames) {
     return n ? sum / n : 0.0;
 }
 
-// One data file per method (gnuplot joins the points of a file with lines), then two charts.
-Result<void> writeCharts(const std::string& dir, const std::vector<Row>& rows) {
-    std::vector<std::string> methods;
-    for (const Row& r : rows)
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-    std::string script = dir + "/charts.gp";
-    std::ostringstream gp;
-    gp << "set terminal pngcairo size 900,600\nset key outside right\nset grid\nset logscale x 2\n"
-          "set ylabel 'disagreement with ray-traced visibility (%)'\n";
-    for (const auto& m : methods) {
-        std::ostringstream dat;
-        dat << "# bytes_per_light eval_ms disagreement_percent res one_tap_lookup_ns\n";
-        for (const Row& r : rows)
-            if (r.method == m && r.evalMs >= 0 && r.failed.empty()) {
-                // The isolated one-tap lookup cost, or NaN (gnuplot skips it) when not measured.
-                double ns = std::nan("");
-                for (const LookupTiming& t : r.lookup)
-                    if (t.radius == 0) ns = t.nsPerLookup;
-                dat << double(r.bytes) / r.lights << " " << r.evalMs << " "
-                    << (r.compared ? 100.0 * double(r.mismatches) / r.compared : 0.0) << " " << r.res << " "
-                    << ns << "\n";
-            }
-        if (auto w = io::writeFileAtomically(dir + "/" + m + ".dat", dat.str()); !w) return w;
+struct StaticOptions {
+    std::vector<StaticMethod> methods;
+    std::vector<uint32_t> resolutions, lookupRadii;
+    uint32_t lights = 8, pcf = 0, extraLookups = 8, lookupPairs = 16384;
+    opts::View view;
+    opts::Scene scene;
+    bool exactReceivers = true;
+    float rayBias = kRayBias;
+    uint32_t printClass = kErrorClassCount; // none
+    std::string out;
+};
+
+// --receivers, --ray-bias and --print-class: how the truth is made and which disagreements are shown.
+Result<void> parseTruth(const cli::Args& args, StaticOptions& o) {
+    if (args.has("--ray-bias")) {
+        const std::string v = args.get("--ray-bias", "");
+        auto bias = opts::number("--ray-bias", v, 0.0f, 1.0f);
+        if (!bias) return fail("--ray-bias: '" + v + "' is not a distance in [0, 1] m");
+        o.rayBias = bias.value();
     }
-    const bool anyLookup = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
-        return std::any_of(r.lookup.begin(), r.lookup.end(),
-                           [](const LookupTiming& t) { return t.radius == 0; });
-    });
-    for (int chart = 0; chart < (anyLookup ? 3 : 2); ++chart) {
-        const char* names[3] = {"/accuracy_vs_bytes.png'\n", "/accuracy_vs_time.png'\n",
-                                "/accuracy_vs_lookup.png'\n"};
-        const char* xlabels[3] = {
-            "set xlabel 'bytes per light'\n",
-            "unset logscale x\nset xlabel 'evaluation pass, GPU ms (same lights, same view)'\n",
-            "set xlabel 'one-tap lookup, ns (isolated pass)'\n"};
-        const int column[3] = {1, 2, 5};
-        gp << "set output '" << dir << names[chart] << xlabels[chart] << "plot ";
-        for (size_t i = 0; i < methods.size(); ++i)
-            gp << (i ? ", " : "") << "'" << dir << "/" << methods[i] << ".dat' using " << column[chart]
-               << ":3 with linespoints title '" << methods[i] << "'";
-        gp << "\n";
+    if (args.has("--print-class")) {
+        const std::string name = args.get("--print-class", "");
+        for (uint32_t c = 0; c < kErrorClassCount; ++c)
+            if (name == errorClassName(ErrorClass(c))) o.printClass = c;
+        if (o.printClass == kErrorClassCount)
+            return fail("--print-class: '" + name +
+                        "' is not inside, contact, resolution, thin-open or other");
     }
-    if (auto w = io::writeFileAtomically(script, gp.str()); !w) return w;
-    std::string cmd = "gnuplot '" + script + "' 2>&1";
-    if (std::system(cmd.c_str()) != 0)
-        return fail("gnuplot failed on " + script + " (is gnuplot-nox installed?)");
+    const std::string receiverMode = args.get("--receivers", "exact");
+    if (receiverMode != "exact" && receiverMode != "gbuffer")
+        return fail("--receivers: '" + receiverMode + "' is not exact or gbuffer");
+    o.exactReceivers = receiverMode == "exact";
     return {};
 }
-} // namespace
 
-int runBenchStatic(int argc, char** argv) {
-    // --- bench static --need: fixed against need-based resolution, its own options (bench_static_need.cpp).
-    for (int i = 3; i < argc; ++i)
-        if (std::string(argv[i]) == "--need") return runBenchStaticNeed(argc, argv);
-    auto args = cli::parse(argc, argv, 3,
-                           {"--scene", "--methods", "--res", "--lights", "--size", "--frames", "--pcf",
-                            "--seed", "--out", "--camera", "--lookup-pcf", "--lookups", "--lookup-pairs",
-                            "--receivers", "--print-class", "--ray-bias"},
-                           {"--allow-outside-scene-dir"});
-    if (!args) return usageError("bench static", args.error());
-    if (args->help) {
-        std::fputs(kHelp, stdout);
-        return 0;
+Result<StaticOptions> parseStatic(const cli::Args& args) {
+    StaticOptions o;
+    auto methods = opts::methodList("--methods", args.get("--methods", "sm,mh,mmh,dagmh,cpvs"));
+    auto resolutions = opts::uintList("--res", args.get("--res", "1024,2048,4096,8192"), 16, 65536);
+    auto count = cli::parseUint("--lights", args.get("--lights", "8"), 1, 4096);
+    auto view = opts::view(args, {3, 1, 100, "640x360"});
+    auto pcf = cli::parseUint("--pcf", args.get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
+    auto scene = opts::scene(args);
+    auto extraLookups = cli::parseUint("--lookups", args.get("--lookups", "8"), 1, 1024);
+    auto lookupPairs = cli::parseUint("--lookup-pairs", args.get("--lookup-pairs", "16384"), 1, 1u << 24);
+    for (const std::string* e : {&methods.error(), &resolutions.error(), &count.error(), &view.error(),
+                                 &pcf.error(), &scene.error(), &extraLookups.error(), &lookupPairs.error()})
+        if (!e->empty()) return fail(*e);
+    if (auto r = parseTruth(args, o); !r) return fail(r.error());
+    if (const std::string radii = args.get("--lookup-pcf", "0,1,2,3,4"); radii != "none") {
+        auto r = opts::uintList("--lookup-pcf", radii, 0, ML_MAX_PCF_RADIUS);
+        if (!r) return fail(r.error());
+        o.lookupRadii = r.value();
     }
-    auto methodNames = splitList(args->get("--methods", "sm,mh,mmh,dagmh,cpvs"));
-    auto resNames = splitList(args->get("--res", "1024,2048,4096,8192"));
-    auto count = cli::parseUint("--lights", args->get("--lights", "8"), 1, 4096);
-    auto size = cli::parseSize("--size", args->get("--size", "640x360"));
-    auto frames = cli::parseUint("--frames", args->get("--frames", "3"), 1, 100);
-    auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto extraLookups = cli::parseUint("--lookups", args->get("--lookups", "8"), 1, 1024);
-    auto lookupPairs = cli::parseUint("--lookup-pairs", args->get("--lookup-pairs", "16384"), 1, 1u << 24);
-    for (const std::string* e :
-         {&methodNames.error(), &resNames.error(), &count.error(), &size.error(), &frames.error(),
-          &pcf.error(), &seed.error(), &extraLookups.error(), &lookupPairs.error()})
-        if (!e->empty()) return usageError("bench static", *e);
-    const std::string receiverMode = args->get("--receivers", "exact");
-    float rayBias = kRayBias;
-    if (args->has("--ray-bias")) {
-        const std::string v = args->get("--ray-bias", "");
-        char* end = nullptr;
-        rayBias = std::strtof(v.c_str(), &end);
-        if (v.empty() || *end || !(rayBias >= 0.0f && rayBias <= 1.0f))
-            return usageError("bench static", "--ray-bias: '" + v + "' is not a distance in [0, 1] m");
-    }
-    uint32_t printClass = kErrorClassCount; // none
-    if (args->has("--print-class")) {
-        const std::string name = args->get("--print-class", "");
-        for (uint32_t c = 0; c < kErrorClassCount; ++c)
-            if (name == errorClassName(ErrorClass(c))) printClass = c;
-        if (printClass == kErrorClassCount)
-            return usageError("bench static", "--print-class: '" + name +
-                                                  "' is not inside, contact, resolution, thin-open or other");
-    }
-    if (receiverMode != "exact" && receiverMode != "gbuffer")
-        return usageError("bench static", "--receivers: '" + receiverMode + "' is not exact or gbuffer");
-    std::vector<uint32_t> lookupRadii;
-    if (args->get("--lookup-pcf", "0,1,2,3,4") != "none") {
-        auto names = splitList(args->get("--lookup-pcf", "0,1,2,3,4"));
-        if (!names) return usageError("bench static", names.error());
-        for (const auto& n : names.value()) {
-            auto r = cli::parseUint("--lookup-pcf", n, 0, ML_MAX_PCF_RADIUS);
-            if (!r) return usageError("bench static", r.error());
-            lookupRadii.push_back(r.value());
-        }
-    }
-    std::vector<StaticMethod> methods;
-    for (const auto& n : methodNames.value()) {
-        auto m = parseStaticMethod(n);
-        if (!m || m.value() == StaticMethod::None)
-            return usageError("bench static", m ? "method none" : m.error());
-        methods.push_back(m.value());
-    }
-    std::vector<uint32_t> resolutions;
-    for (const auto& n : resNames.value()) {
-        auto r = cli::parseUint("--res", n, 16, 65536);
-        if (!r) return usageError("bench static", r.error());
-        resolutions.push_back(r.value());
-    }
-    const std::string out = args->get("--out", "out/bench_static");
-    if (auto r = cli::makeDirectory(out); !r) return runError("bench static", r.error());
-    const std::string sceneName = args->get("--scene", "night-city");
+    o.methods = methods.value(), o.resolutions = resolutions.value(), o.lights = count.value();
+    o.view = view.value(), o.pcf = pcf.value(), o.scene = scene.value();
+    o.extraLookups = extraLookups.value(), o.lookupPairs = lookupPairs.value();
+    o.out = args.get("--out", "out/bench_static");
+    return o;
+}
 
-    auto scene = loadScene(sceneName, sceneName == "night-city" ? 256 : 32, seed.value(),
-                           {args->has("--allow-outside-scene-dir")});
-    if (!scene) return runError("bench static", scene.error());
-    // Fenced: each pass in its own submission, timed with the host clock. GPU timestamps do not bracket
-    // compute work on lavapipe (engine/manylights.h, TimingChoice), so the eval column would be noise.
-    ModuleOptions moduleOptions;
-    moduleOptions.timing = TimingChoice::Fenced;
-    auto module = Module::create(moduleOptions);
-    if (!module) return runError("bench static", module.error());
-    Module& m = *module.value();
-    auto binding = bindScene(m, scene.value());
-    if (!binding) return runError("bench static", binding.error());
-    auto [width, height] = size.value();
-    if (auto r = m.createTargets(width, height); !r) return runError("bench static", r.error());
-    m.setStatistics(false);
-    if (args->has("--camera")) {
-        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
-        if (!v) return usageError("bench static", v.error());
-        scene->camera.position = {v.value()[0], v.value()[1], v.value()[2]};
-        scene->camera.target = {v.value()[3], v.value()[4], v.value()[5]};
-        if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r)
-            return usageError("bench static", r.error());
-    }
-    if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("bench static", r.error());
-
-    auto rays = RayReference::build(scene.value(), true);
-    if (!rays) return runError("bench static", rays.error());
-
-    // Receivers: the G-buffer of one frame.
+// Receivers: the G-buffer of one frame. Exact receivers (the default) are moved onto the surface the
+// pixel centre's camera ray (in double) hits in the static scene, when it is near the G-buffer's depth.
+Result<std::vector<Receiver>> gatherReceivers(Module& m, const RayReference& rays, const StaticOptions& o) {
     evaluateMs(m, 1);
     const diag::LastFrame fc = diag::lastFrame(m);
+    std::vector<float> depth;
+    std::vector<glm::vec3> normal;
+    if (auto r = diag::readGBuffer(m, depth, normal); !r) return fail(r.error());
+    const uint32_t width = o.view.width, height = o.view.height;
+    const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
+    const glm::dvec3 eye(fc.cameraPosition);
+    uint64_t moved = 0, kept = 0;
+    double maxMove = 0;
     std::vector<Receiver> receivers;
-    {
-        std::vector<float> depth;
-        std::vector<glm::vec3> normal;
-        if (auto r = diag::readGBuffer(m, depth, normal); !r) return runError("bench static", r.error());
-        // Exact receivers: the pixel centre's camera ray in double, traced against the static scene.
-        const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
-        const glm::dvec3 eye(fc.cameraPosition);
-        uint64_t moved = 0, kept = 0;
-        double maxMove = 0;
-        for (uint32_t y = 0; y < height; ++y)
-            for (uint32_t x = 0; x < width; ++x) {
-                size_t i = size_t(y) * width + x;
-                if (!gpu::hasSurface(depth[i])) continue;
-                glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
-                glm::vec3 n = normal[i];
-                if (receiverMode == "exact") {
-                    double nx = (x + 0.5) / width * 2.0 - 1.0, ny = (y + 0.5) / height * 2.0 - 1.0;
-                    // Reversed Z: depth 1 is the near plane, 0 the far plane.
-                    glm::dvec4 a = inv * glm::dvec4(nx, ny, 1.0, 1.0), b = inv * glm::dvec4(nx, ny, 0.0, 1.0);
-                    glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
-                    double t0 = glm::length(glm::dvec3(p) - eye);
-                    RayHit h = rays->firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, float(t0 * 1.5 + 1.0));
-                    if (h.hit && std::abs(double(h.t) - t0) < std::max(0.05, 0.002 * t0)) {
-                        glm::vec3 q = glm::vec3(eye + dir * double(h.t));
-                        maxMove = std::max(maxMove, double(glm::length(q - p)));
-                        p = q;
-                        ++moved;
-                    } else {
-                        ++kept; // a dynamic instance (not in the rays) or a silhouette pixel
-                    }
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            size_t i = size_t(y) * width + x;
+            if (!gpu::hasSurface(depth[i])) continue;
+            glm::vec3 p = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
+            glm::vec3 n = normal[i];
+            if (o.exactReceivers) {
+                const glm::dvec3 dir = pixelRayDirection(inv, x, y, width, height, PixelConvention::GBuffer);
+                double t0 = glm::length(glm::dvec3(p) - eye);
+                RayHit h = rays.firstHit(glm::vec3(eye), glm::vec3(dir), 0.0f, float(t0 * 1.5 + 1.0));
+                if (h.hit && std::abs(double(h.t) - t0) < std::max(0.05, 0.002 * t0)) {
+                    glm::vec3 q = glm::vec3(eye + dir * double(h.t));
+                    maxMove = std::max(maxMove, double(glm::length(q - p)));
+                    p = q;
+                    ++moved;
+                } else {
+                    ++kept; // a dynamic instance (not in the rays) or a silhouette pixel
                 }
-                receivers.push_back({p, glm::normalize(n)});
             }
-        if (receiverMode == "exact")
-            std::fprintf(stderr,
-                         "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
-                         (unsigned long long)moved, maxMove, (unsigned long long)kept);
-    }
+            receivers.push_back({p, glm::normalize(n)});
+        }
+    if (o.exactReceivers)
+        std::fprintf(stderr, "  receivers: %llu moved onto the traced surface (at most %.3f m), %llu kept\n",
+                     (unsigned long long)moved, maxMove, (unsigned long long)kept);
+    return receivers;
+}
 
-    // Lights: static spots reaching the most receivers.
-    std::vector<std::pair<size_t, uint32_t>> ranked;
-    for (uint32_t i = 0; i < scene->lights.size(); ++i) {
-        const Light& l = scene->lights[i];
-        if (l.dynamic || l.type != LightKind::Spot) continue;
+// Lights: static spots reaching the most receivers, at most `count`.
+std::vector<uint32_t> rankLights(const Scene& scene, const std::vector<Receiver>& receivers, uint32_t count) {
+    const auto ranked = rankStaticSpots(scene, [&](const Light& l) {
         size_t n = 0;
         for (const Receiver& r : receivers) n += inLightCone(l, r.p);
-        if (n) ranked.push_back({n, i});
-    }
-    std::sort(ranked.rbegin(), ranked.rend());
+        return n;
+    });
     for (size_t k = 0; k < ranked.size() && k < 3; ++k) {
-        const Light& l = scene->lights[ranked[k].second];
+        const Light& l = scene.lights[ranked[k].second];
         std::fprintf(stderr, "  light %u at %.1f,%.1f,%.1f reaches %zu receivers\n", ranked[k].second,
                      l.position.x, l.position.y, l.position.z, ranked[k].first);
     }
-    if (ranked.size() > count.value()) ranked.resize(count.value());
-    if (ranked.empty())
-        return runError("bench static", sceneName + ": no static spot light reaches the view");
+    return firstLights(ranked, count);
+}
 
-    // Ray-traced truth per light, over the receivers in its cone.
-    struct LightSet {
-        uint32_t light;
-        LightFrustum frustum;
-        std::vector<uint32_t> receivers;
-        std::vector<uint8_t> truth;
-    };
+// Ray-traced truth per light, over the receivers in its cone.
+struct LightSet {
+    uint32_t light;
+    LightFrustum frustum;
+    std::vector<uint32_t> receivers;
+    std::vector<uint8_t> truth;
+};
+
+std::vector<LightSet> lightSets(const Scene& scene, const RayReference& rays,
+                                const std::vector<Receiver>& receivers, const std::vector<uint32_t>& lights,
+                                float rayBias) {
     std::vector<LightSet> sets;
-    for (auto [n, i] : ranked) {
-        LightSet s{i, spotLightFrustum(scene->lights[i]), {}, {}};
+    for (uint32_t i : lights) {
+        const Light& l = scene.lights[i];
+        LightSet s{i, spotLightFrustum(l), {}, {}};
         std::vector<glm::vec3> ps, ns;
         for (uint32_t r = 0; r < receivers.size(); ++r)
             // Receivers that face the light: elsewhere the shading is zero whatever the visibility.
-            if (inLightCone(scene->lights[i], receivers[r].p) &&
-                glm::dot(receivers[r].n, scene->lights[i].position - receivers[r].p) > 0.0f) {
+            if (inLightCone(l, receivers[r].p) &&
+                glm::dot(receivers[r].n, l.position - receivers[r].p) > 0.0f) {
                 s.receivers.push_back(r);
                 ps.push_back(receivers[r].p);
                 ns.push_back(receivers[r].n);
             }
         s.truth.resize(ps.size());
-        rays->visibleBatch(ps.data(), ns.data(), ps.size(), scene->lights[i].position, rayBias,
-                           s.truth.data());
+        rays.visibleBatch(ps.data(), ns.data(), ps.size(), l.position, rayBias, s.truth.data());
         sets.push_back(std::move(s));
     }
-    std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", scene->name.c_str(),
-                 sets.size(), [&] {
-                     size_t n = 0;
-                     for (auto& s : sets) n += s.receivers.size();
-                     return n;
-                 }());
+    return sets;
+}
 
-    // Lookup timing pairs: the same (receiver, light) pairs for every method and resolution, evenly
-    // sampled from the compared ones.
+// Lookup timing pairs: the same (receiver, light) pairs for every method and resolution, evenly
+// sampled from the compared ones.
+std::vector<LookupPair> lookupPairs(const std::vector<LightSet>& sets, const std::vector<Receiver>& receivers,
+                                    uint32_t count) {
     std::vector<LookupPair> pairs;
-    {
-        size_t total = 0;
-        for (auto& s : sets) total += s.receivers.size();
-        const double step = std::max(1.0, double(total) / lookupPairs.value());
-        double next = 0;
-        size_t index = 0;
-        for (uint32_t k = 0; k < sets.size(); ++k)
-            for (uint32_t r : sets[k].receivers) {
-                if (double(index++) >= next) {
-                    pairs.push_back({receivers[r].p, receivers[r].n, k});
-                    next += step;
-                }
+    size_t total = 0;
+    for (auto& s : sets) total += s.receivers.size();
+    const double step = std::max(1.0, double(total) / count);
+    double next = 0;
+    size_t index = 0;
+    for (uint32_t k = 0; k < sets.size(); ++k)
+        for (uint32_t r : sets[k].receivers) {
+            if (double(index++) >= next) {
+                pairs.push_back({receivers[r].p, receivers[r].n, k});
+                next += step;
             }
-    }
+        }
+    return pairs;
+}
+
+// Everything the configurations are measured against.
+struct Bench {
+    const StaticOptions& o;
+    Scene& scene;
+    Module& m;
+    const SceneBinding& binding;
+    const RayReference& rays;
+    std::vector<Receiver> receivers;
+    std::vector<LightSet> sets;
+    std::vector<LookupPair> pairs;
     std::unique_ptr<LookupTimer> timer;
-    if (!lookupRadii.empty()) {
-        auto t = LookupTimer::create();
-        if (!t) return runError("bench static", t.error());
-        timer = std::move(t.value());
-    }
+    std::unique_ptr<GpuDualRenderer> renderer;
+    CasterTriangles casters;
+};
 
-    auto renderer = GpuDualRenderer::create();
-    if (!renderer) return runError("bench static", renderer.error());
-    CasterTriangles casters = castersFromScene(scene.value());
-    std::vector<Row> rows;
-    for (uint32_t res : resolutions) {
-        // One light's dual map at a time (a 16K map is 2 GiB): render it, encode it with every method,
-        // keep the encodings. The 32-bit map itself is kept only while it fits in 512 MiB per light.
-        const bool keepPlain = uint64_t(res) * res * 4 <= (512ull << 20);
-        std::vector<Row> resRows(methods.size());
-        std::vector<std::vector<std::vector<uint32_t>>> encoded(
-            methods.size(), std::vector<std::vector<uint32_t>>(sets.size()));
-        double renderS = 0;
-        for (size_t k = 0; k < sets.size(); ++k) {
-            auto t0 = std::chrono::steady_clock::now();
-            auto map = renderer.value()->render(casters, sets[k].frustum, res);
-            if (!map) return runError("bench static", map.error());
-            renderS += seconds(t0);
-            for (size_t mi = 0; mi < methods.size(); ++mi) {
-                Row& row = resRows[mi];
-                auto t1 = std::chrono::steady_clock::now();
-                CpvsStats cs;
-                auto words = encodeStatic(methods[mi], map.value(),
-                                          {sets[k].frustum.nearPlane, sets[k].frustum.farPlane, {}, &cs});
-                if (!words) { // reported in the table, the other methods go on
-                    if (row.failed.empty()) row.failed = words.error();
-                    continue;
-                }
-                row.encodeS += seconds(t1);
-                if (methods[mi] == StaticMethod::CPVS) {
-                    row.precomputeS += cs.precomputeMs / 1000.0;
-                    row.insertS += cs.insertMs / 1000.0;
-                    row.compressS += (cs.compressMs + cs.layoutMs) / 1000.0;
-                }
-                row.bytes += words->size() * 4;
-                if (methods[mi] != StaticMethod::SM || keepPlain) encoded[mi][k] = std::move(words.value());
-            }
-        }
+// Encoded words per method and light (empty: the plain map past 512 MiB per light, sized only).
+using Encodings = std::vector<std::vector<std::vector<uint32_t>>>;
+
+// One light's dual map at a time (a 16K map is 2 GiB): render it, encode it with every method, keep
+// the encodings. The 32-bit map itself is kept only while it fits in 512 MiB per light.
+Result<void> encodeAll(Bench& b, uint32_t res, std::vector<Row>& resRows, Encodings& encoded) {
+    const bool keepPlain = uint64_t(res) * res * 4 <= (512ull << 20);
+    const std::vector<StaticMethod>& methods = b.o.methods;
+    double renderS = 0;
+    for (size_t k = 0; k < b.sets.size(); ++k) {
+        auto t0 = std::chrono::steady_clock::now();
+        auto map = b.renderer->render(b.casters, b.sets[k].frustum, res);
+        if (!map) return fail(map.error());
+        renderS += seconds(t0);
         for (size_t mi = 0; mi < methods.size(); ++mi) {
-            const StaticMethod method = methods[mi];
             Row& row = resRows[mi];
-            row.method = staticMethodName(method);
-            row.res = res;
-            row.lights = uint32_t(sets.size());
-            row.renderS = renderS;
-            row.mapBytes = uint64_t(res) * res * 4 * sets.size();
-            if (!row.failed.empty()) {
-                std::fprintf(stderr, "  %-5s %5u^2: cannot encode: %s\n", row.method.c_str(), res,
-                             row.failed.c_str());
-                rows.push_back(row);
+            auto t1 = std::chrono::steady_clock::now();
+            CpvsStats cs;
+            auto words = encodeStatic(methods[mi], map.value(),
+                                      {b.sets[k].frustum.nearPlane, b.sets[k].frustum.farPlane, {}, &cs});
+            if (!words) { // reported in the table, the other methods go on
+                if (row.failed.empty()) row.failed = words.error();
                 continue;
             }
-            if (encoded[mi][0].empty()) { // the plain map past 512 MiB per light: bytes only
-                row.evalMs = -1.0;
-                rows.push_back(row);
-                continue;
+            row.encodeS += seconds(t1);
+            if (methods[mi] == StaticMethod::CPVS) {
+                row.precomputeS += cs.precomputeMs / 1000.0;
+                row.insertS += cs.insertMs / 1000.0;
+                row.compressS += (cs.compressMs + cs.layoutMs) / 1000.0;
             }
-            for (size_t k = 0; k < sets.size(); ++k)
-                if (auto r = m.setStaticShadow(binding->lights[sets[k].light],
-                                               {method, sets[k].frustum, encoded[mi][k]});
-                    !r)
-                    return runError("bench static", r.error());
-            row.evalMs = evaluateMs(m, frames.value());
-            for (const LightSet& ls : sets) m.clearStaticShadow(binding->lights[ls.light]);
-            if (timer) {
-                std::vector<gpu::GpuShadowRecord> records;
-                std::vector<uint32_t> all;
-                for (size_t k = 0; k < sets.size(); ++k) {
-                    records.push_back(
-                        makeShadowRecord(method, sets[k].frustum, uint32_t(all.size()), res, 0));
-                    all.insert(all.end(), encoded[mi][k].begin(), encoded[mi][k].end());
-                }
-                const uint64_t range = timer->maxStorageBufferRange();
-                if (all.size() * 4 > range) {
-                    row.lookupSkipped = std::to_string(all.size() * 4 >> 20) +
-                                        " MiB of words > the device's " + std::to_string(range >> 20) +
-                                        " MiB storage buffer range";
-                } else {
-                    auto t = timer->measure(records, all, pairs, lookupRadii, extraLookups.value(), 3);
-                    if (!t) return runError("bench static", t.error());
-                    row.lookup = std::move(t.value());
-                }
-            }
-            // Accuracy: the method's visibility (the CPU twin of the shader's lookup) against the rays.
-            Disagreement total;
-            for (size_t k = 0; k < sets.size(); ++k) {
-                auto rec = makeShadowRecord(method, sets[k].frustum, 0, res, pcf.value());
-                std::vector<float> vis;
-                for (uint32_t r : sets[k].receivers)
-                    vis.push_back(
-                        staticVisibility(rec, encoded[mi][k].data(), receivers[r].p, receivers[r].n));
-                total.merge(compareVisibility(vis, sets[k].truth));
-                // Each disagreement's cause.
-                ErrorContext ctx{&rays.value(), rec, encoded[mi][k].data(),
-                                 scene->lights[sets[k].light].position, rayBias};
-                for (size_t j = 0; j < vis.size(); ++j)
-                    if ((vis[j] >= 0.5f) != (sets[k].truth[j] != 0)) {
-                        const Receiver& rc = receivers[sets[k].receivers[j]];
-                        ErrorClass ec = classifyDisagreement(ctx, rc.p, rc.n);
-                        ++row.classes[uint32_t(ec)];
-                        if (uint32_t(ec) == printClass) {
-                            const glm::vec3 lp = scene->lights[sets[k].light].position;
-                            std::fprintf(stderr,
-                                         "  %s %s %u light %u receiver %.2f,%.2f,%.2f normal %.2f,%.2f,%.2f "
-                                         "%.2f m from the light: map %.2f, rays %s\n",
-                                         errorClassName(ec), row.method.c_str(), res, sets[k].light, rc.p.x,
-                                         rc.p.y, rc.p.z, rc.n.x, rc.n.y, rc.n.z, glm::length(lp - rc.p),
-                                         vis[j], sets[k].truth[j] ? "lit" : "shadowed");
-                        }
-                    }
-            }
-            encoded[mi] = {};
-            row.compared = total.compared;
-            row.mismatches = total.mismatches;
-            row.meanAbs = total.meanAbsDiff;
-            rows.push_back(row);
-            std::fprintf(
-                stderr,
-                "  %-5s %5u^2: %10llu bytes, render %.2f s, encode %.2f s, eval %.1f ms, %.3f%% wrong\n",
-                row.method.c_str(), res, (unsigned long long)row.bytes, row.renderS, row.encodeS, row.evalMs,
-                100.0 * total.rate());
+            row.bytes += words->size() * 4;
+            if (methods[mi] != StaticMethod::SM || keepPlain) encoded[mi][k] = std::move(words.value());
         }
     }
-    // Unshadowed evaluation time, same lights and view, for reference.
-    double noneMs = evaluateMs(m, frames.value());
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+        Row& row = resRows[mi];
+        row.method = staticMethodName(methods[mi]);
+        row.res = res;
+        row.lights = uint32_t(b.sets.size());
+        row.renderS = renderS;
+        row.mapBytes = uint64_t(res) * res * 4 * b.sets.size();
+    }
+    return {};
+}
 
-    std::printf("bench static: %s, %zu lights, view %ux%u, pcf %u, %s\n", scene->name.c_str(), sets.size(),
-                width, height, pcf.value(), m.deviceInfo().name.c_str());
-    std::printf("| method | res | bytes/light | vs 32-bit map | render s | encode s | eval ms | eval vs sm | "
-                "wrong %% |\n");
-    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    std::ostringstream csv;
-    csv << "method,res,lights,bytes_total,map32_bytes,render_s,encode_s,eval_ms,eval_vs_sm,compared,"
-           "disagreement,"
-           "mean_abs_diff,cpvs_precompute_s,cpvs_insert_s,cpvs_compress_s\n";
-    for (const Row& r : rows) {
-        if (!r.failed.empty()) {
-            std::printf("| %s | %u | %s |\n", r.method.c_str(), r.res, r.failed.c_str());
-            csv << r.method << "," << r.res << "," << r.lights << ",,,,,,,,,,,,\n";
-            continue;
-        }
-        double smMs = -1;
-        for (const Row& s : rows)
-            if (s.method == "sm" && s.res == r.res) smMs = s.evalMs;
-        const bool measured = r.evalMs >= 0;
-        double vsSm = smMs > 0 && measured ? r.evalMs / smMs : 0;
-        double rate = r.compared ? double(r.mismatches) / r.compared : 0;
-        char eval[32] = "-", ratio[32] = "-", wrong[32] = "-";
-        if (measured) {
-            std::snprintf(eval, sizeof(eval), "%.1f", r.evalMs);
-            std::snprintf(wrong, sizeof(wrong), "%.3f", 100.0 * rate);
-        }
-        if (vsSm > 0) std::snprintf(ratio, sizeof(ratio), "%.2fx", vsSm);
-        std::printf("| %s | %u | %.0f | 1/%.1f | %.2f | %.2f | %s | %s | %s |\n", r.method.c_str(), r.res,
-                    double(r.bytes) / r.lights, double(r.mapBytes) / r.bytes, r.renderS, r.encodeS, eval,
-                    ratio, wrong);
-        csv << r.method << "," << r.res << "," << r.lights << "," << r.bytes << "," << r.mapBytes << ","
-            << r.renderS << "," << r.encodeS << "," << r.evalMs << "," << vsSm << "," << r.compared << ","
-            << rate << "," << r.meanAbs << "," << r.precomputeS << "," << r.insertS << "," << r.compressS
-            << "\n";
+// The isolated cost of one lookup per PCF radius, over every light's words in one buffer.
+Result<void> timeLookups(Bench& b, StaticMethod method, uint32_t res,
+                         const std::vector<std::vector<uint32_t>>& words, Row& row) {
+    std::vector<gpu::GpuShadowRecord> records;
+    std::vector<uint32_t> all;
+    for (size_t k = 0; k < b.sets.size(); ++k) {
+        records.push_back(makeShadowRecord(method, b.sets[k].frustum, uint32_t(all.size()), res, 0));
+        all.insert(all.end(), words[k].begin(), words[k].end());
     }
+    const uint64_t range = b.timer->maxStorageBufferRange();
+    if (all.size() * 4 > range) {
+        row.lookupSkipped = std::to_string(all.size() * 4 >> 20) + " MiB of words > the device's " +
+                            std::to_string(range >> 20) + " MiB storage buffer range";
+        return {};
+    }
+    auto t = b.timer->measure(records, all, b.pairs, b.o.lookupRadii, b.o.extraLookups, 3);
+    if (!t) return fail(t.error());
+    row.lookup = std::move(t.value());
+    return {};
+}
+
+// Accuracy: the method's visibility (the CPU twin of the shader's lookup) against the rays, and each
+// disagreement's cause.
+Disagreement measureAccuracy(const Bench& b, StaticMethod method, uint32_t res,
+                             const std::vector<std::vector<uint32_t>>& words, Row& row) {
+    Disagreement total;
+    for (size_t k = 0; k < b.sets.size(); ++k) {
+        const LightSet& set = b.sets[k];
+        auto rec = makeShadowRecord(method, set.frustum, 0, res, b.o.pcf);
+        std::vector<float> vis;
+        for (uint32_t r : set.receivers)
+            vis.push_back(staticVisibility(rec, words[k].data(), b.receivers[r].p, b.receivers[r].n));
+        total.merge(compareVisibility(vis, set.truth));
+        const glm::vec3 lp = b.scene.lights[set.light].position;
+        ErrorContext ctx{&b.rays, rec, words[k].data(), lp, b.o.rayBias};
+        for (size_t j = 0; j < vis.size(); ++j) {
+            if ((vis[j] >= 0.5f) == (set.truth[j] != 0)) continue;
+            const Receiver& rc = b.receivers[set.receivers[j]];
+            ErrorClass ec = classifyDisagreement(ctx, rc.p, rc.n);
+            ++row.classes[uint32_t(ec)];
+            if (uint32_t(ec) == b.o.printClass)
+                std::fprintf(stderr,
+                             "  %s %s %u light %u receiver %.2f,%.2f,%.2f normal %.2f,%.2f,%.2f "
+                             "%.2f m from the light: map %.2f, rays %s\n",
+                             errorClassName(ec), row.method.c_str(), res, set.light, rc.p.x, rc.p.y, rc.p.z,
+                             rc.n.x, rc.n.y, rc.n.z, glm::length(lp - rc.p), vis[j],
+                             set.truth[j] ? "lit" : "shadowed");
+        }
+    }
+    return total;
+}
+
+// One method at one resolution: the evaluation pass with its maps loaded, the lookup timing and the
+// accuracy.
+Result<void> measureMethod(Bench& b, StaticMethod method, uint32_t res,
+                           const std::vector<std::vector<uint32_t>>& words, Row& row) {
+    for (size_t k = 0; k < b.sets.size(); ++k)
+        if (auto r =
+                b.m.setStaticShadow(b.binding.lights[b.sets[k].light], {method, b.sets[k].frustum, words[k]});
+            !r) {
+            // The device cannot hold these maps (e.g. plain maps past the storage buffer range): the
+            // row says so and the other methods and resolutions still run.
+            for (size_t j = 0; j < k; ++j) b.m.clearStaticShadow(b.binding.lights[b.sets[j].light]);
+            row.failed = "not loaded: " + r.error();
+            return {};
+        }
+    row.evalMs = evaluateMs(b.m, b.o.view.frames);
+    for (const LightSet& ls : b.sets) b.m.clearStaticShadow(b.binding.lights[ls.light]);
+    if (b.timer)
+        if (auto r = timeLookups(b, method, res, words, row); !r) return r;
+    const Disagreement total = measureAccuracy(b, method, res, words, row);
+    row.compared = total.compared;
+    row.mismatches = total.mismatches;
+    row.meanAbs = total.meanAbsDiff;
+    std::fprintf(stderr,
+                 "  %-5s %5u^2: %10llu bytes, render %.2f s, encode %.2f s, eval %.1f ms, %.3f%% wrong\n",
+                 row.method.c_str(), res, (unsigned long long)row.bytes, row.renderS, row.encodeS, row.evalMs,
+                 100.0 * total.rate());
+    return {};
+}
+
+Result<void> measureResolution(Bench& b, uint32_t res, std::vector<Row>& rows) {
+    const std::vector<StaticMethod>& methods = b.o.methods;
+    std::vector<Row> resRows(methods.size());
+    Encodings encoded(methods.size(), std::vector<std::vector<uint32_t>>(b.sets.size()));
+    if (auto r = encodeAll(b, res, resRows, encoded); !r) return r;
+    for (size_t mi = 0; mi < methods.size(); ++mi) {
+        Row& row = resRows[mi];
+        if (!row.failed.empty()) {
+            std::fprintf(stderr, "  %-5s %5u^2: cannot encode: %s\n", row.method.c_str(), res,
+                         row.failed.c_str());
+        } else if (encoded[mi][0].empty()) { // the plain map past 512 MiB per light: bytes only
+            row.evalMs = -1.0;
+        } else {
+            if (auto r = measureMethod(b, methods[mi], res, encoded[mi], row); !r) return r;
+            if (!row.failed.empty())
+                std::fprintf(stderr, "  %-5s %5u^2: %s\n", row.method.c_str(), res, row.failed.c_str());
+            encoded[mi] = {};
+        }
+        rows.push_back(row);
+    }
+    return {};
+}
+
+// The scene's module: fenced timing, the scene bound, the view's targets, the camera and the filter.
+// Each pass in its own submission, timed with the host clock: GPU timestamps do not bracket compute
+// work on lavapipe (engine/manylights.h, TimingChoice), so the eval column would be noise.
+int setupModule(const cli::Args& args, const StaticOptions& o, Scene& scene, std::unique_ptr<Module>& module,
+                SceneBinding& binding) {
+    ModuleOptions moduleOptions;
+    moduleOptions.timing = TimingChoice::Fenced;
+    auto created = Module::create(moduleOptions);
+    if (!created) return runError("bench static", created.error());
+    module = std::move(created.value());
+    Module& m = *module;
+    auto bound = bindScene(m, scene);
+    if (!bound) return runError("bench static", bound.error());
+    binding = std::move(bound.value());
+    if (auto r = m.createTargets(o.view.width, o.view.height); !r) return runError("bench static", r.error());
+    m.setStatistics(false);
+    if (args.has("--camera")) {
+        auto v = cli::parseCamera("--camera", args.get("--camera", ""));
+        if (!v) return usageError("bench static", v.error());
+        scene.camera.position = {v.value()[0], v.value()[1], v.value()[2]};
+        scene.camera.target = {v.value()[3], v.value()[4], v.value()[5]};
+        if (auto r = m.setCamera(toCameraDesc(scene.camera)); !r)
+            return usageError("bench static", r.error());
+    }
+    if (auto r = m.setShadowFilter(o.pcf); !r) return usageError("bench static", r.error());
+    return 0;
+}
+
+// Receivers, lights, their truth, the lookup pairs and timer, and the renderer of the maps.
+Result<void> prepare(Bench& b) {
+    auto receivers = gatherReceivers(b.m, b.rays, b.o);
+    if (!receivers) return fail(receivers.error());
+    b.receivers = std::move(receivers.value());
+    const std::vector<uint32_t> lights = rankLights(b.scene, b.receivers, b.o.lights);
+    if (lights.empty()) return fail(b.o.scene.name + ": no static spot light reaches the view");
+    b.sets = lightSets(b.scene, b.rays, b.receivers, lights, b.o.rayBias);
+    size_t compared = 0;
+    for (auto& s : b.sets) compared += s.receivers.size();
+    std::fprintf(stderr, "bench static: %s, %zu lights, %zu receivers in their cones\n", b.scene.name.c_str(),
+                 b.sets.size(), compared);
+    b.pairs = lookupPairs(b.sets, b.receivers, b.o.lookupPairs);
+    if (!b.o.lookupRadii.empty()) {
+        auto t = LookupTimer::create();
+        if (!t) return fail(t.error());
+        b.timer = std::move(t.value());
+    }
+    auto renderer = GpuDualRenderer::create();
+    if (!renderer) return fail(renderer.error());
+    b.renderer = std::move(renderer.value());
+    b.casters = castersFromScene(b.scene);
+    return {};
+}
+
+// The tables, bench_static.csv, the cause and lookup tables and the charts.
+int report(const Bench& b, const std::vector<Row>& rows, double noneMs) {
+    const StaticOptions& o = b.o;
+    std::printf("bench static: %s, %zu lights, view %ux%u, pcf %u, %s\n", b.scene.name.c_str(), b.sets.size(),
+                o.view.width, o.view.height, o.pcf, b.m.deviceInfo().name.c_str());
+    const std::string csv = printMainTable(rows);
     std::printf("(sm past 512 MiB per light is sized, not loaded: eval and wrong are '-')\n");
     std::printf("evaluation pass without static shadows: %.1f ms\n", noneMs);
-    bool anyCpvs = false;
-    for (const Row& r : rows) anyCpvs |= r.method == "cpvs";
-    if (anyCpvs) {
-        std::printf("\nCPVS bake split (paper Table 3), seconds over all lights; bytes per light against a "
-                    "16-bit map:\n");
-        std::printf("| res | render maps | precompute | insert | compress | insert+compress vs render | "
-                    "bytes/light | vs 16-bit map |\n");
-        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-        for (const Row& r : rows)
-            if (r.method == "cpvs")
-                std::printf("| %u | %.3f | %.3f | %.3f | %.3f | %.2fx | %.0f | 1/%.0f |\n", r.res, r.renderS,
-                            r.precomputeS, r.insertS, r.compressS, (r.insertS + r.compressS) / r.renderS,
-                            double(r.bytes) / r.lights,
-                            double(r.res) * r.res * 2.0 / (double(r.bytes) / r.lights));
-    }
-    if (auto r = printClassTables(out, rows, methods); !r) return runError("bench static", r.error());
-    if (!lookupRadii.empty())
-        if (auto r = printLookupTable(out, rows, lookupRadii, pairs.size(), extraLookups.value()); !r)
+    printCpvsSplit(rows);
+    if (auto r = printClassTables(o.out, rows, o.methods); !r) return runError("bench static", r.error());
+    if (!o.lookupRadii.empty())
+        if (auto r = printLookupTable(o.out, rows, o.lookupRadii, b.pairs.size(), o.extraLookups); !r)
             return runError("bench static", r.error());
-    if (auto w = io::writeFileAtomically(out + "/bench_static.csv", csv.str()); !w)
+    if (auto w = io::writeFileAtomically(o.out + "/bench_static.csv", csv); !w)
         return runError("bench static", w.error());
-    if (auto r = writeCharts(out, rows); !r) return runError("bench static", r.error());
+    if (auto r = writeCharts(o.out, rows); !r) return runError("bench static", r.error());
     std::printf("wrote %s/bench_static.csv, bench_classes.csv, bench_lookup.csv and the charts\n",
-                out.c_str());
+                o.out.c_str());
     return 0;
+}
+} // namespace
+
+// The flags of `bench static` beside its option groups.
+const cli::Flags kStaticFlags{{"--methods", "--res", "--lights", "--pcf", "--out", "--camera", "--lookup-pcf",
+                               "--lookups", "--lookup-pairs", "--receivers", "--print-class", "--ray-bias"},
+                              {}};
+
+int runBenchStatic(int argc, char** argv) {
+    // --- bench static --need: fixed against need-based resolution, its own options (bench_static_need.cpp).
+    for (int i = 3; i < argc; ++i)
+        if (std::string(argv[i]) == "--need") return runBenchStaticNeed(argc, argv);
+    int status = 0;
+    const auto args = commandArgs(
+        "bench static", kHelp,
+        cli::parse(argc, argv, 3, {opts::kSceneFlags, opts::kSceneDirFlags, opts::kViewFlags, kStaticFlags}),
+        status);
+    if (!args) return status;
+    auto options = parseStatic(*args);
+    if (!options) return usageError("bench static", options.error());
+    const StaticOptions& o = options.value();
+    if (auto r = cli::makeDirectory(o.out); !r) return runError("bench static", r.error());
+    auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed,
+                           {o.scene.allowOutside});
+    if (!scene) return runError("bench static", scene.error());
+    std::unique_ptr<Module> module;
+    SceneBinding binding;
+    if (int status = setupModule(*args, o, scene.value(), module, binding)) return status;
+    auto rays = RayReference::build(scene.value(), true);
+    if (!rays) return runError("bench static", rays.error());
+    Bench b{o, scene.value(), *module, binding, rays.value(), {}, {}, {}, {}, {}, {}};
+    if (auto r = prepare(b); !r) return runError("bench static", r.error());
+    std::vector<Row> rows;
+    for (uint32_t res : o.resolutions)
+        if (auto r = measureResolution(b, res, rows); !r) return runError("bench static", r.error());
+    // Unshadowed evaluation time, same lights and view, for reference.
+    const double noneMs = evaluateMs(b.m, o.view.frames);
+    return report(b, rows, noneMs);
 }
 
 } // namespace ml

@@ -27,6 +27,13 @@ struct BenchStaticRow {
     ErrorCounts classes{};            // disagreements by cause (bake/reference/error_classes.h)
 };
 
+// The main table (bytes, bake split, evaluation time, wrong %) on stdout; returns bench_static.csv's text.
+std::string printMainTable(const std::vector<BenchStaticRow>& rows);
+// CPVS's bake split (the paper's Table 3), when a CPVS row ran.
+void printCpvsSplit(const std::vector<BenchStaticRow>& rows);
+// Per method a data file and, with gnuplot, the charts of accuracy against bytes, time and lookup cost.
+Result<void> writeCharts(const std::string& dir, const std::vector<BenchStaticRow>& rows);
+
 // Prints the cause breakdown (shares of compared receivers) and, per method, the least-squares slope
 // of log(rate) on log(res) for the resolution class, all disagreements and contact; writes
 // <dir>/bench_classes.csv (counts).

@@ -7,8 +7,8 @@
 // With --vsm-raster both (default) every run is made once per page-draw path (mesh: meshlets with task and
 // mesh shaders; vertex: indexed draws), and a second table gives the mesh path's culling stages: the share
 // of the meshlets of (caster, map, dirty mip) each stage removed, summed over the frames after the first.
-#include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/json.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
@@ -56,143 +56,135 @@ struct Row {
     uint32_t lightsWithPages = 0;
 };
 
-} // namespace
+const char* rasterName(VsmRaster r) {
+    return r == VsmRaster::Mesh ? "mesh" : "vertex";
+}
 
-int runBenchVsm(int argc, char** argv) {
-    auto args =
-        cli::parse(argc, argv, 3, vsmSessionFlags({"--kinds", "--out", "--vsm-raster", "--meshlet"}), {});
-    if (!args) return usageError("bench vsm", args.error());
-    if (args->help) {
-        std::fputs(kBenchVsmHelp, stdout);
-        return 0;
-    }
-    uint32_t frameCount = 0;
-    auto options = vsmSessionOptions(*args, {20, 2, "640x360", 4096}, frameCount);
-    if (!options) return usageError("bench vsm", options.error());
+struct Config {
+    VsmSessionOptions options;
+    uint32_t frames = 0;
     std::vector<std::string> kinds;
-    {
-        std::stringstream ss(args->get("--kinds", "static-spot,moving-spot,point,directional"));
-        for (std::string k; std::getline(ss, k, ',');) {
-            if (k != "static-spot" && k != "moving-spot" && k != "point" && k != "directional")
-                return usageError("bench vsm", "--kinds: unknown kind '" + k +
-                                                   "' (static-spot, moving-spot, point, directional)");
-            kinds.push_back(k);
-        }
-    }
     std::vector<VsmRaster> rasters;
-    {
-        const std::string r = args->get("--vsm-raster", "both");
-        VsmRaster one;
-        if (r == "both")
-            rasters = {VsmRaster::Mesh, VsmRaster::Vertex};
-        else if (parseVsmRaster(r, one))
-            rasters = {one};
-        else
-            return usageError("bench vsm", "--vsm-raster takes mesh, vertex, auto or both, not '" + r + "'");
+    std::pair<uint32_t, uint32_t> meshlet;
+    std::string out;
+};
+
+Result<Config> parseConfig(const cli::Args& args) {
+    Config c;
+    auto options = vsmSessionOptions(args, {20, 2, "640x360", 4096}, c.frames);
+    if (!options) return fail(options.error());
+    c.options = options.value();
+    auto kinds = opts::splitList("--kinds", args.get("--kinds", "static-spot,moving-spot,point,directional"));
+    if (!kinds) return fail(kinds.error());
+    for (const std::string& k : kinds.value())
+        if (k != "static-spot" && k != "moving-spot" && k != "point" && k != "directional")
+            return fail("--kinds: unknown kind '" + k + "' (static-spot, moving-spot, point, directional)");
+    c.kinds = kinds.value();
+    if (args.get("--vsm-raster", "both") == "both") {
+        c.rasters = {VsmRaster::Mesh, VsmRaster::Vertex};
+    } else {
+        auto one = vsmRaster(args);
+        if (!one)
+            return fail("--vsm-raster takes mesh, vertex, auto or both, not '" +
+                        args.get("--vsm-raster", "") + "'");
+        c.rasters = {one.value()};
     }
-    auto rasterName = [](VsmRaster r) { return r == VsmRaster::Mesh ? "mesh" : "vertex"; };
-    auto meshlet = cli::parseSize("--meshlet", args->get("--meshlet", "64x124"));
-    if (!meshlet) return usageError("bench vsm", meshlet.error());
-    const std::string out = args->get("--out", "out/bench_vsm");
-    if (auto r = cli::makeDirectory(out); !r) return runError("bench vsm", r.error());
+    auto meshlet = cli::parseSize("--meshlet", args.get("--meshlet", "64x124"));
+    if (!meshlet) return fail(meshlet.error());
+    c.meshlet = meshlet.value();
+    c.out = args.get("--out", "out/bench_vsm");
+    return c;
+}
 
-    std::ostringstream csv;
-    csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
-           "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
-           "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
-           "rasterized\n";
-    std::vector<Row> rows;
-    for (const std::string& kind : kinds)
-        for (bool cached : {false, true})
-            for (VsmRaster raster : rasters) {
-                VsmSessionOptions o = options.value();
-                o.module.timing = TimingChoice::Fenced;
-                o.module.vsm.caching = cached;
-                o.module.vsm.raster = raster;
-                std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = meshlet.value();
-                o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
-                o.module.vsm.movingLights = kind != "static-spot";
-                o.module.vsm.staticLights = kind != "moving-spot";
-                auto session = VsmSession::create(o);
-                if (!session) return runError("bench vsm", session.error());
-                if (rows.empty()) {
-                    const diag::SceneCounts counts = diag::sceneCounts(*session.value()->module);
-                    std::fprintf(
-                        stderr,
-                        "  %u meshes, %u instances, %u meshlets of at most %u vertices / %u triangles\n",
-                        counts.meshes, counts.instances, counts.meshlets, meshlet.value().first,
-                        meshlet.value().second);
-                }
-                Row row;
-                row.kind = kind;
-                row.cached = cached;
-                // Auto resolves at creation (vertex on CPU devices): report the path that ran.
-                const VsmRaster used =
-                    diag::vsmMeshPath(*session.value()->module) ? VsmRaster::Mesh : VsmRaster::Vertex;
-                row.raster = used;
-                for (uint32_t f = 0; f < frameCount; ++f) {
-                    auto r = session.value()->frame(f);
-                    if (!r) return runError("bench vsm", r.error());
-                    const PassTimes& t = r->times;
-                    const VsmStats& v = r->stats.vsm;
-                    auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
-                    // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
-                    const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
-                    csv << kind << "," << (cached ? "cached" : "uncached") << "," << rasterName(used) << ","
-                        << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << ","
-                        << ms(Pass::VsmHpb) << "," << cullMs << "," << ms(Pass::VsmDraw) << ","
-                        << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered << ","
-                        << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
-                        << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
-                        << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << ","
-                        << v.trianglesAfterTask << "," << v.trianglesRasterized << "\n";
-                    row.fallbacks += v.fallbacks;
-                    if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
-                    row.markMs += ms(Pass::VsmMark);
-                    row.allocMs += ms(Pass::VsmAlloc);
-                    row.hpbMs += ms(Pass::VsmHpb);
-                    row.cullMs += cullMs;
-                    row.triangles += v.trianglesRasterized;
-                    row.total += v.meshletsTotal;
-                    row.expFrustum += v.meshletsCulledFrustum;
-                    row.expHpb += v.meshletsCulledHpb;
-                    row.afterExp += v.meshletsAfterExpansion;
-                    row.taskFrustum += v.taskCulledFrustum;
-                    row.taskCone += v.taskCulledCone;
-                    row.taskHpb += v.taskCulledHpb;
-                    row.afterTask += v.meshletsAfterTask;
-                    row.trisAfterTask += v.trianglesAfterTask;
-                    row.trisRaster += v.trianglesRasterized;
-                    row.overflow += v.meshletOverflow + v.drawOverflow;
-                    row.drawMs += ms(Pass::VsmDraw);
-                    row.marked += v.pagesMarked;
-                    row.allocated += v.pagesAllocated;
-                    row.rendered += v.pagesRendered;
-                    row.draws += v.instancesDrawn;
-                    row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
-                    row.frames += 1;
-                }
-                for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs,
-                                  &row.marked, &row.allocated, &row.rendered, &row.draws, &row.triangles})
-                    *x /= std::max(row.frames, 1.0);
-                rows.push_back(row);
-                std::fprintf(
-                    stderr,
-                    "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
-                    kind.c_str(), cached ? "cached" : "uncached", rasterName(used), row.drawMs, row.rendered,
-                    row.triangles);
-            }
+// One run of the path with only `kind`'s maps: its per-frame CSV lines, and the row of means.
+Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, VsmRaster raster, bool first,
+                       std::ostringstream& csv) {
+    VsmSessionOptions o = c.options;
+    o.module.timing = TimingChoice::Fenced;
+    o.module.vsm.caching = cached;
+    o.module.vsm.raster = raster;
+    std::tie(o.module.vsm.meshletVertices, o.module.vsm.meshletTriangles) = c.meshlet;
+    o.module.vsm.kinds = kind == "point" ? 2u : kind == "directional" ? 4u : 1u;
+    o.module.vsm.movingLights = kind != "static-spot";
+    o.module.vsm.staticLights = kind != "moving-spot";
+    auto session = VsmSession::create(o);
+    if (!session) return fail(session.error());
+    VsmSession& s = *session.value();
+    if (first) {
+        const diag::SceneCounts counts = diag::sceneCounts(*s.module);
+        std::fprintf(stderr, "  %u meshes, %u instances, %u meshlets of at most %u vertices / %u triangles\n",
+                     counts.meshes, counts.instances, counts.meshlets, c.meshlet.first, c.meshlet.second);
+    }
+    Row row;
+    row.kind = kind;
+    row.cached = cached;
+    // Auto resolves at creation (vertex on CPU devices): report the path that ran.
+    row.raster = diag::vsmMeshPath(*s.module) ? VsmRaster::Mesh : VsmRaster::Vertex;
+    for (uint32_t f = 0; f < c.frames; ++f) {
+        auto r = s.frame(f);
+        if (!r) return fail(r.error());
+        const PassTimes& t = r->times;
+        const VsmStats& v = r->stats.vsm;
+        auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
+        // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
+        const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
+        csv << row.kind << "," << (row.cached ? "cached" : "uncached") << "," << rasterName(row.raster) << ","
+            << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << "," << ms(Pass::VsmHpb) << ","
+            << cullMs << "," << ms(Pass::VsmDraw) << "," << v.pagesMarked << "," << v.pagesAllocated << ","
+            << v.pagesRendered << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
+            << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
+            << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << "," << v.trianglesAfterTask << ","
+            << v.trianglesRasterized << "\n";
+        row.fallbacks += v.fallbacks;
+        if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
+        row.markMs += ms(Pass::VsmMark);
+        row.allocMs += ms(Pass::VsmAlloc);
+        row.hpbMs += ms(Pass::VsmHpb);
+        row.cullMs += cullMs;
+        row.triangles += v.trianglesRasterized;
+        row.total += v.meshletsTotal;
+        row.expFrustum += v.meshletsCulledFrustum;
+        row.expHpb += v.meshletsCulledHpb;
+        row.afterExp += v.meshletsAfterExpansion;
+        row.taskFrustum += v.taskCulledFrustum;
+        row.taskCone += v.taskCulledCone;
+        row.taskHpb += v.taskCulledHpb;
+        row.afterTask += v.meshletsAfterTask;
+        row.trisAfterTask += v.trianglesAfterTask;
+        row.trisRaster += v.trianglesRasterized;
+        row.overflow += v.meshletOverflow + v.drawOverflow;
+        row.drawMs += ms(Pass::VsmDraw);
+        row.marked += v.pagesMarked;
+        row.allocated += v.pagesAllocated;
+        row.rendered += v.pagesRendered;
+        row.draws += v.instancesDrawn;
+        row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
+        row.frames += 1;
+    }
+    for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked,
+                      &row.allocated, &row.rendered, &row.draws, &row.triangles})
+        *x /= std::max(row.frames, 1.0);
+    std::fprintf(stderr,
+                 "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
+                 kind.c_str(), cached ? "cached" : "uncached", rasterName(row.raster), row.drawMs,
+                 row.rendered, row.triangles);
+    return row;
+}
 
+void printMeshTable(const std::vector<Row>& rows, json::Object& json);
+
+// The tables on stdout; returns the summary's per-row members.
+json::Object printTables(const Config& c, const std::vector<Row>& rows, double& cachedDraw,
+                         double& uncachedDraw, double& allocated, uint64_t& fallbacks) {
+    const VsmSessionOptions& o = c.options;
+    json::Object json;
     std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
-                cameraPathName(options->path), options->width, options->height,
-                options->module.vsm.resolution, options->module.vsm.pageSize, options->module.vsm.poolPages,
-                frameCount);
+                cameraPathName(o.path), o.width, o.height, o.module.vsm.resolution, o.module.vsm.pageSize,
+                o.module.vsm.poolPages, c.frames);
     std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
                 "triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
     std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    double cachedDraw = 0, uncachedDraw = 0, allocated = 0;
-    uint64_t fallbacks = 0, overflow = 0;
-    std::ostringstream json;
+    uint64_t overflow = 0;
     for (const Row& r : rows) {
         std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | %.1f | "
                     "%.1f | %llu |\n",
@@ -200,21 +192,27 @@ int runBenchVsm(int argc, char** argv) {
                     r.markMs, r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.triangles, r.marked, r.allocated,
                     r.rendered, r.draws, (unsigned long long)r.fallbacks);
         overflow += r.overflow;
-        json << (json.tellp() > 0 ? ", " : "") << "\"" << r.kind << "_" << (r.cached ? "cached" : "uncached")
-             << "_" << rasterName(r.raster) << "_draw_ms\": " << r.drawMs << ", \"" << r.kind << "_"
-             << (r.cached ? "cached" : "uncached") << "_" << rasterName(r.raster)
-             << "_triangles\": " << r.triangles;
+        const std::string name = r.kind + (r.cached ? "_cached_" : "_uncached_") + rasterName(r.raster);
+        json.real(name + "_draw_ms", r.drawMs).real(name + "_triangles", r.triangles);
         if (r.raster != rows.front().raster) continue;
         (r.cached ? cachedDraw : uncachedDraw) += r.drawMs;
         allocated += r.cached ? r.allocated : 0.0;
         fallbacks += r.fallbacks;
     }
-    for (const Row& c : rows)
+    for (const Row& cr : rows)
         for (const Row& u : rows)
-            if (c.cached && !u.cached && c.kind == u.kind && c.raster == u.raster && u.drawMs > 0)
-                std::printf("%s %s: cached draw = %.1f %% of uncached\n", c.kind.c_str(),
-                            rasterName(c.raster), 100.0 * c.drawMs / u.drawMs);
-    // Mesh path: the share of meshlets each stage removed (of every stage's input: meshlets_total).
+            if (cr.cached && !u.cached && cr.kind == u.kind && cr.raster == u.raster && u.drawMs > 0)
+                std::printf("%s %s: cached draw = %.1f %% of uncached\n", cr.kind.c_str(),
+                            rasterName(cr.raster), 100.0 * cr.drawMs / u.drawMs);
+    printMeshTable(rows, json);
+    if (overflow)
+        std::fprintf(stderr, "manylights bench vsm: warning: %llu draws or meshlets over their lists\n",
+                     (unsigned long long)overflow);
+    return json;
+}
+
+// Mesh path: the share of meshlets each stage removed (of every stage's input: meshlets_total).
+void printMeshTable(const std::vector<Row>& rows, json::Object& json) {
     bool header = false;
     for (const Row& r : rows) {
         if (r.raster != VsmRaster::Mesh) continue;
@@ -236,26 +234,54 @@ int runBenchVsm(int argc, char** argv) {
                     100.0 * r.expFrustum / t, 100.0 * r.expHpb / t, 100.0 * r.taskFrustum / t,
                     100.0 * r.taskCone / t, 100.0 * r.taskHpb / t, 100.0 * r.afterTask / t, hpbShare,
                     (unsigned long long)r.trisAfterTask, (unsigned long long)r.trisRaster);
-        json << ", \"" << r.kind << "_" << (r.cached ? "cached" : "uncached")
-             << "_hpb_cull_share\": " << (r.total ? double(r.expHpb + r.taskHpb) / t : 0.0) << ", \""
-             << r.kind << "_" << (r.cached ? "cached" : "uncached")
-             << "_hpb_cull_share_in_frustum\": " << hpbShare / 100.0;
+        const std::string name = r.kind + (r.cached ? "_cached" : "_uncached");
+        json.real(name + "_hpb_cull_share", r.total ? double(r.expHpb + r.taskHpb) / t : 0.0)
+            .real(name + "_hpb_cull_share_in_frustum", hpbShare / 100.0);
     }
-    if (overflow)
-        std::fprintf(stderr, "manylights bench vsm: warning: %llu draws or meshlets over their lists\n",
-                     (unsigned long long)overflow);
-    std::ofstream(out + "/bench_vsm.csv") << csv.str();
-    char line[512];
-    std::snprintf(
-        line, sizeof(line),
-        "{\"cached_draw_ms_mean\": %.4f, \"uncached_draw_ms_mean\": %.4f, \"pages_allocated_mean\": %.2f, "
-        "\"fallbacks_total\": %llu, \"raster\": \"%s\", ",
-        cachedDraw / std::max<size_t>(kinds.size(), 1), uncachedDraw / std::max<size_t>(kinds.size(), 1),
-        allocated / std::max<size_t>(kinds.size(), 1), (unsigned long long)fallbacks,
-        rasters.size() > 1 ? "both" : rasterName(rows.empty() ? VsmRaster::Vertex : rows.front().raster));
-    const std::string last = std::string(line) + json.str() + "}";
-    std::ofstream(out + "/bench_vsm.json") << last << "\n";
-    std::printf("wrote %s/bench_vsm.csv and bench_vsm.json\n%s\n", out.c_str(), last.c_str());
+}
+} // namespace
+
+// The flags of `bench vsm` beside its option groups.
+const cli::Flags kBenchVsmFlags{{"--kinds", "--out", "--vsm-raster", "--meshlet"}, {}};
+
+int runBenchVsm(int argc, char** argv) {
+    int status = 0;
+    const auto args =
+        commandArgs("bench vsm", kBenchVsmHelp, parseVsmCommand(argc, argv, 3, kBenchVsmFlags), status);
+    if (!args) return status;
+    auto config = parseConfig(*args);
+    if (!config) return usageError("bench vsm", config.error());
+    const Config& c = config.value();
+    if (auto r = cli::makeDirectory(c.out); !r) return runError("bench vsm", r.error());
+    std::ostringstream csv;
+    csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
+           "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
+           "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
+           "rasterized\n";
+    std::vector<Row> rows;
+    for (const std::string& kind : c.kinds)
+        for (bool cached : {false, true})
+            for (VsmRaster raster : c.rasters) {
+                auto row = measureRun(c, kind, cached, raster, rows.empty(), csv);
+                if (!row) return runError("bench vsm", row.error());
+                rows.push_back(row.value());
+            }
+    double cachedDraw = 0, uncachedDraw = 0, allocated = 0;
+    uint64_t fallbacks = 0;
+    const json::Object perRow = printTables(c, rows, cachedDraw, uncachedDraw, allocated, fallbacks);
+    std::ofstream(c.out + "/bench_vsm.csv") << csv.str();
+    const double kinds = double(std::max<size_t>(c.kinds.size(), 1));
+    json::Object summary;
+    summary.real("cached_draw_ms_mean", cachedDraw / kinds, "%.4f")
+        .real("uncached_draw_ms_mean", uncachedDraw / kinds, "%.4f")
+        .real("pages_allocated_mean", allocated / kinds, "%.2f")
+        .integer("fallbacks_total", fallbacks)
+        .text("raster", c.rasters.size() > 1
+                            ? "both"
+                            : rasterName(rows.empty() ? VsmRaster::Vertex : rows.front().raster));
+    const std::string last = summary.append(perRow).str();
+    std::ofstream(c.out + "/bench_vsm.json") << last << "\n";
+    std::printf("wrote %s/bench_vsm.csv and bench_vsm.json\n%s\n", c.out.c_str(), last.c_str());
     return 0;
 }
 

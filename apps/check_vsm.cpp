@@ -10,8 +10,8 @@
 // depth with float error on the GPU (measured: up to 0.05 % of the range at mip 3 on the night city).
 // Last stdout line: JSON; exit 0 only when something was checked and
 // nothing disagreed.
-#include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/json.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
@@ -63,7 +63,140 @@ CasterTriangles mapCasters(const Scene& scene, bool dynamicOnly) {
     return t;
 }
 
+// What the check counted over the frames: the summary line's fields.
+struct CheckCounts {
+    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0,
+             fallbacks = 0, noCaster = 0, missing = 0;
+    uint32_t probeOverflow = 0;
+};
+
+// Whether the reference texel (x, y) or one of its eight neighbours holds `value` within `tol` (or is
+// empty too, for an empty value).
+bool neighbourHas(const DualDepthMap& ref, uint32_t x, uint32_t y, uint32_t value, uint64_t tol) {
+    const uint32_t n = ref.resolution;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int nx = int(x) + dx, ny = int(y) + dy;
+            if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
+            const uint32_t v = ref.enter[size_t(ny) * n + nx];
+            if (value == kDepthEmpty
+                    ? v == kDepthEmpty
+                    : v != kDepthEmpty && uint64_t(std::llabs(int64_t(v) - int64_t(value))) <= tol)
+                return true;
+        }
+    return false;
+}
+
+enum class Verdict { Agrees, TieOrEdge, Disagrees };
+
+// The lookup is right when it gives the answer the full map gives: the same coverage and the same
+// shadow test of the receiver's biased depth. Depths further apart than the float-vs-double
+// interpolation tolerance of tests/gpu/test_dual_depth_gpu.cpp are counted apart (they decide nothing
+// unless the receiver lies between them).
+// Not an error of the page machinery when the two rasterisers may both be right: a tie (the receiver's
+// biased depth lies between two depths within the float-vs-double tolerance: it sits on the caster) or
+// an edge (the GPU's texel centre took a neighbouring reference texel's surface, or its emptiness,
+// within tolerance: a triangle edge through the texel centre that the fixed-point reference puts on the
+// other side). Counted apart, printed.
+Verdict judgeProbe(const diag::VsmProbe& p, const DualDepthMap& ref, CheckCounts& c, bool& tie) {
+    const uint32_t x = p.x, y = p.y, n = ref.resolution;
+    const uint32_t want = ref.enter[size_t(y) * n + x], got = p.depth;
+    const uint64_t baseTol = uint64_t(4294967294.0 * 2e-5);
+    const uint32_t tap = p.receiverDepth;
+    bool ok, edge = false;
+    tie = false;
+    if (p.status == diag::VsmProbeStatus::NoCaster) {
+        ++c.noCaster;
+        ok = want == kDepthEmpty;
+    } else {
+        c.fallbacks += p.status == diag::VsmProbeStatus::Fallback;
+        if (want == kDepthEmpty || got == kDepthEmpty) {
+            ok = want == got;
+            edge = !ok && neighbourHas(ref, x, y, got, baseTol);
+        } else {
+            ok = (tap <= got) == (tap <= want);
+            uint64_t step = 0;
+            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                int nx = int(x) + dx, ny = int(y) + dy;
+                if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
+                uint32_t v = ref.enter[size_t(ny) * n + nx];
+                if (v != kDepthEmpty)
+                    step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
+            }
+            const uint64_t tol = baseTol + step / 64;
+            const uint64_t diff = uint64_t(std::llabs(int64_t(got) - int64_t(want)));
+            c.depthBeyondTolerance += diff > tol;
+            tie = !ok && diff <= tol;
+            edge = !ok && !tie && neighbourHas(ref, x, y, got, tol);
+        }
+    }
+    return ok ? Verdict::Agrees : tie || edge ? Verdict::TieOrEdge : Verdict::Disagrees;
+}
+
+// One frame's probes against reference maps rendered on first use, per (map, mip).
+Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCounts& c) {
+    auto report = s.frame(f);
+    if (!report) return fail(report.error());
+    uint32_t overflow = 0;
+    auto probes = diag::readVsmProbes(*s.module, &overflow);
+    const std::vector<diag::VsmMap> maps = diag::vsmMaps(*s.module);
+    c.probeOverflow += overflow;
+    std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
+    uint64_t frameMismatches = 0, frameTies = 0;
+    for (const diag::VsmProbe& p : probes) {
+        const uint32_t map = p.map, mip = p.mip;
+        const diag::VsmMap& info = maps[map];
+        if (p.status == diag::VsmProbeStatus::Missing) {
+            ++c.missing;
+            ++c.mismatches;
+            ++frameMismatches;
+            continue;
+        }
+        c.directionalChecked += info.orthographic;
+        auto key = std::make_pair(map, mip);
+        auto it = references.find(key);
+        if (it == references.end()) {
+            DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum, resolution >> mip);
+            it = references.emplace(key, raster.render()).first;
+        }
+        const DualDepthMap& ref = it->second;
+        const uint32_t want = ref.enter[size_t(p.y) * ref.resolution + p.x];
+        bool tie = false;
+        const Verdict v = judgeProbe(p, ref, c, tie);
+        ++c.checked;
+        if (v == Verdict::TieOrEdge) {
+            ++c.ties;
+            if (++frameTies <= 3)
+                std::fprintf(
+                    stderr,
+                    "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, receiver %u\n", f,
+                    map, mip, p.x, p.y, tie ? "tie" : "edge", p.depth, want, p.receiverDepth);
+        } else if (v == Verdict::Disagrees) {
+            ++c.mismatches;
+            if (++frameMismatches <= 3)
+                std::fprintf(stderr,
+                             "  frame %u: map %u mip %u texel (%u, %u): vsm %u, reference %u (status %u)\n",
+                             f, map, mip, p.x, p.y, p.depth, want, uint32_t(p.status));
+        }
+    }
+    std::fprintf(stderr, "frame %u: %zu lookups, %zu reference maps, %llu mismatches\n", f, probes.size(),
+                 references.size(), (unsigned long long)frameMismatches);
+    return {};
+}
+
+std::string summary(const CheckCounts& c, uint32_t frames, bool meshPath) {
+    json::Object o;
+    o.integer("checked", c.checked).integer("mismatches", c.mismatches);
+    o.integer("depth_beyond_tolerance", c.depthBeyondTolerance).integer("fallbacks", c.fallbacks);
+    o.integer("no_caster", c.noCaster).integer("missing", c.missing);
+    o.integer("directional_checked", c.directionalChecked).integer("ties_or_edges", c.ties);
+    o.integer("probe_overflow", c.probeOverflow).integer("frames", frames);
+    return o.text("raster", meshPath ? "mesh" : "vertex").str();
+}
 } // namespace
+
+// The flags of `check vsm` beside its option groups.
+const cli::Flags kCheckFlags{{"--pcf", "--vsm-raster"}, {}};
 
 int runCheck(int argc, char** argv) {
     if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
@@ -72,147 +205,32 @@ int runCheck(int argc, char** argv) {
     }
     if (std::string(argv[2]) != "vsm")
         return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
-    auto args = cli::parse(argc, argv, 3, vsmSessionFlags({"--pcf", "--vsm-raster"}), {});
-    if (!args) return usageError("check vsm", args.error());
-    if (args->help) {
-        std::fputs(kCheckHelp, stdout);
-        return 0;
-    }
+    int status = 0;
+    const auto args =
+        commandArgs("check vsm", kCheckHelp, parseVsmCommand(argc, argv, 3, kCheckFlags), status);
+    if (!args) return status;
     uint32_t frameCount = 0;
     auto options = vsmSessionOptions(*args, {10, 1, "320x180", 1024}, frameCount);
     if (!options) return usageError("check vsm", options.error());
     auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
     if (!pcf) return usageError("check vsm", pcf.error());
-    VsmRaster raster = VsmRaster::Auto;
-    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), raster))
-        return usageError("check vsm", "--vsm-raster: '" + args->get("--vsm-raster", "") +
-                                           "' is not auto, mesh or vertex");
+    auto raster = vsmRaster(*args);
+    if (!raster) return usageError("check vsm", raster.error());
     VsmSessionOptions o = options.value();
     o.module.vsm.probeCapacity = o.width * o.height * 8;
-    o.module.vsm.raster = raster;
-    const uint32_t resolution = o.module.vsm.resolution;
+    o.module.vsm.raster = raster.value();
     auto session = VsmSession::create(o);
     if (!session) return runError("check vsm", session.error());
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
-
-    uint64_t checked = 0, mismatches = 0, depthBeyondTolerance = 0, directionalChecked = 0, ties = 0,
-             fallbacks = 0, noCaster = 0, missing = 0;
-    uint32_t probeOverflow = 0;
-    for (uint32_t f = 0; f < frameCount; ++f) {
-        auto report = s.frame(f);
-        if (!report) return runError("check vsm", report.error());
-        uint32_t overflow = 0;
-        auto probes = diag::readVsmProbes(*s.module, &overflow);
-        const std::vector<diag::VsmMap> maps = diag::vsmMaps(*s.module);
-        probeOverflow += overflow;
-        std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
-        uint64_t frameMismatches = 0, frameTies = 0;
-        for (const diag::VsmProbe& p : probes) {
-            const uint32_t map = p.map, mip = p.mip;
-            const diag::VsmProbeStatus status = p.status;
-            const diag::VsmMap& info = maps[map];
-            if (status == diag::VsmProbeStatus::Missing) {
-                ++missing;
-                ++mismatches;
-                ++frameMismatches;
-                continue;
-            }
-            directionalChecked += info.orthographic;
-            auto key = std::make_pair(map, mip);
-            auto it = references.find(key);
-            if (it == references.end()) {
-                DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum, resolution >> mip);
-                it = references.emplace(key, raster.render()).first;
-            }
-            const DualDepthMap& ref = it->second;
-            const uint32_t x = p.x, y = p.y, n = ref.resolution;
-            const uint32_t want = ref.enter[size_t(y) * n + x], got = p.depth;
-            // The lookup is right when it gives the answer the full map gives: the same coverage and the
-            // same shadow test of the receiver's biased depth. Depths further apart than the float-vs-double
-            // interpolation tolerance of tests/gpu/test_dual_depth_gpu.cpp are counted apart (they decide
-            // nothing unless the receiver lies between them).
-            // Not an error of the page machinery when the two rasterisers may both be right: a tie (the
-            // receiver's biased depth lies between two depths within the float-vs-double tolerance: it
-            // sits on the caster) or an edge (the GPU's texel centre took a neighbouring reference
-            // texel's surface, or its emptiness, within tolerance: a triangle edge through the texel
-            // centre that the fixed-point reference puts on the other side). Counted apart, printed.
-            const uint64_t baseTol = uint64_t(4294967294.0 * 2e-5);
-            auto neighbourHas = [&](uint32_t value, uint64_t tol) {
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        int nx = int(x) + dx, ny = int(y) + dy;
-                        if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
-                        const uint32_t v = ref.enter[size_t(ny) * n + nx];
-                        if (value == kDepthEmpty
-                                ? v == kDepthEmpty
-                                : v != kDepthEmpty &&
-                                      uint64_t(std::llabs(int64_t(v) - int64_t(value))) <= tol)
-                            return true;
-                    }
-                return false;
-            };
-            bool ok, tie = false, edge = false;
-            const uint32_t tap = p.receiverDepth;
-            if (status == diag::VsmProbeStatus::NoCaster) {
-                ++noCaster;
-                ok = want == kDepthEmpty;
-            } else {
-                fallbacks += status == diag::VsmProbeStatus::Fallback;
-                if (want == kDepthEmpty || got == kDepthEmpty) {
-                    ok = want == got;
-                    edge = !ok && neighbourHas(got, baseTol);
-                } else {
-                    ok = (tap <= got) == (tap <= want);
-                    uint64_t step = 0;
-                    for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                        int nx = int(x) + dx, ny = int(y) + dy;
-                        if (nx < 0 || ny < 0 || nx >= int(n) || ny >= int(n)) continue;
-                        uint32_t v = ref.enter[size_t(ny) * n + nx];
-                        if (v != kDepthEmpty)
-                            step = std::max<uint64_t>(step, uint64_t(std::llabs(int64_t(v) - int64_t(want))));
-                    }
-                    const uint64_t tol = baseTol + step / 64;
-                    const uint64_t diff = uint64_t(std::llabs(int64_t(got) - int64_t(want)));
-                    depthBeyondTolerance += diff > tol;
-                    tie = !ok && diff <= tol;
-                    edge = !ok && !tie && neighbourHas(got, tol);
-                }
-            }
-            if (tie || edge) {
-                ok = true;
-                ++ties;
-                if (++frameTies <= 3)
-                    std::fprintf(
-                        stderr,
-                        "  frame %u: map %u mip %u texel (%u, %u): %s: vsm %u, reference %u, receiver %u\n",
-                        f, map, mip, x, y, tie ? "tie" : "edge", got, want, tap);
-            }
-            ++checked;
-            if (!ok) {
-                ++mismatches;
-                if (++frameMismatches <= 3)
-                    std::fprintf(
-                        stderr,
-                        "  frame %u: map %u mip %u texel (%u, %u): vsm %u, reference %u (status %u)\n", f,
-                        map, mip, x, y, got, want, uint32_t(status));
-            }
-        }
-        std::fprintf(stderr, "frame %u: %zu lookups, %zu reference maps, %llu mismatches\n", f, probes.size(),
-                     references.size(), (unsigned long long)frameMismatches);
-    }
+    CheckCounts c;
+    for (uint32_t f = 0; f < frameCount; ++f)
+        if (auto r = checkFrame(s, f, o.module.vsm.resolution, c); !r)
+            return runError("check vsm", r.error());
     if (s.module->deviceInfo().validation && validationErrors())
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
-    std::printf(
-        "{\"checked\": %llu, \"mismatches\": %llu, \"depth_beyond_tolerance\": %llu, \"fallbacks\": %llu, "
-        "\"no_caster\": %llu, \"missing\": %llu, \"directional_checked\": %llu, \"ties_or_edges\": %llu, "
-        "\"probe_overflow\": %u, "
-        "\"frames\": %u, \"raster\": \"%s\"}\n",
-        (unsigned long long)checked, (unsigned long long)mismatches, (unsigned long long)depthBeyondTolerance,
-        (unsigned long long)fallbacks, (unsigned long long)noCaster, (unsigned long long)missing,
-        (unsigned long long)directionalChecked, (unsigned long long)ties, probeOverflow, frameCount,
-        diag::vsmMeshPath(*s.module) ? "mesh" : "vertex");
-    return checked > 0 && mismatches == 0 && probeOverflow == 0 ? 0 : 1;
+    std::printf("%s\n", summary(c, frameCount, diag::vsmMeshPath(*s.module)).c_str());
+    return c.checked > 0 && c.mismatches == 0 && c.probeOverflow == 0 ? 0 : 1;
 }
 
 } // namespace ml

@@ -30,6 +30,18 @@ Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>
     return a;
 }
 
+Result<Args> parse(int argc, char** argv, int first, std::initializer_list<Flags> groups) {
+    Flags all;
+    for (const Flags& g : groups)
+        for (const auto* names : {&g.valued, &g.switches})
+            for (const std::string& name : *names)
+                if (all.valued.count(name) || all.switches.count(name))
+                    return fail(name + ": defined by two option groups");
+                else
+                    (names == &g.valued ? all.valued : all.switches).insert(name);
+    return parse(argc, argv, first, all.valued, all.switches);
+}
+
 Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi) {
     char* end = nullptr;
     errno = 0;

@@ -3,8 +3,9 @@
 #pragma once
 #include "io/result.h"
 
-#include <cstdint>
 #include <array>
+#include <cstdint>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <string>
@@ -24,9 +25,17 @@ struct Args {
     }
 };
 
+// The flags of a command or of an option group (apps/options.h): `valued` take a value, `switches` none.
+struct Flags {
+    std::set<std::string> valued, switches;
+};
+
 // `valued` flags take a value; `switches` take none. Anything else is an error.
 Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>& valued,
                    const std::set<std::string>& switches);
+// A command's option groups and its own flags together. A name in two of them is refused (the
+// command's flag would silently take over the group's parse), before any argument is read.
+Result<Args> parse(int argc, char** argv, int first, std::initializer_list<Flags> groups);
 Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi);
 Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const std::string& text);
 Result<void> makeDirectory(const std::string& path);

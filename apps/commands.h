@@ -1,6 +1,9 @@
 // Subcommands of the `manylights` command line. Each prints --help and exits non-zero with one line
 // naming the problem on bad input.
 #pragma once
+#include "apps/cli.h"
+
+#include <optional>
 #include <string>
 
 namespace ml {
@@ -17,4 +20,8 @@ int runBenchVsm(int argc, char** argv);
 int runMerge(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1
+// The start every command shares: its parsed flags, or none with `status` set to the exit status
+// (0 after printing `help` for --help, 2 after printing the parse error).
+std::optional<cli::Args> commandArgs(const char* command, const char* help, Result<cli::Args> args,
+                                     int& status);
 } // namespace ml

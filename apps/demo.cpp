@@ -1,8 +1,9 @@
 // `manylights demo`: renders a scene (the night city by default) with the module, headless, and writes
 // frame_NNNN.png, profile.json, frames.csv and stats.json into --out. A host of the public API only.
-#include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "apps/report.h"
+#include "apps/vsm_args.h"
 #include "apps/window.h"
 #include "host/scene_host.h"
 #include "scenes/camera_path.h"
@@ -12,8 +13,10 @@
 
 #include <GLFW/glfw3.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 namespace ml {
 
@@ -93,172 +96,159 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
 Writes DIR/frame_NNNN.png, DIR/profile.json (Chrome trace), DIR/frames.csv, DIR/stats.json.
 )";
 
-int runDemo(int argc, char** argv) {
-    auto args =
-        cli::parse(argc, argv, 2, {"--scene",    "--frames",   "--size",   "--lights",     "--seed",
-                                   "--culling",  "--out",      "--static", "--static-res", "--pcf",
-                                   "--camera",   "--bake",     "--path",   "--dynamic",    "--vsm-res",
-                                   "--vsm-page", "--vsm-pool", "--timing", "--view",       "--vsm-raster"},
-                   {"--window", "--no-stats", "--allow-outside-scene-dir"});
-    if (!args) return usageError("demo", args.error());
-    if (args->help) {
-        std::fputs(kDemoHelp, stdout);
-        return 0;
-    }
-    bool window = args->has("--window");
-    auto frames = cli::parseUint("--frames", args->get("--frames", "3"), window ? 0 : 1, 100000);
-    auto size = cli::parseSize("--size", args->get("--size", "1280x720"));
-    auto lights = cli::parseUint("--lights", args->get("--lights", "256"), 1, ML_MAX_LIGHTS);
-    auto seed = cli::parseUint("--seed", args->get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto culling = parseCulling(args->get("--culling", "clustered"));
-    for (const std::string* e :
-         {&frames.error(), &size.error(), &lights.error(), &seed.error(), &culling.error()})
-        if (!e->empty()) return usageError("demo", *e);
-    std::string out = args->get("--out", "out/demo");
-    auto staticMethod = parseStaticMethod(args->get("--static", "none"));
-    auto staticRes = cli::parseUint("--static-res", args->get("--static-res", "512"), 8, 16384);
-    auto pcf = cli::parseUint("--pcf", args->get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
-    for (const std::string* e : {&staticMethod.error(), &staticRes.error(), &pcf.error()})
-        if (!e->empty()) return usageError("demo", *e);
-    // Checked before any device work: a bad camera is a usage error, not a blank frame.
-    std::array<float, 6> camera{};
-    if (args->has("--camera")) {
-        auto v = cli::parseCamera("--camera", args->get("--camera", ""));
-        if (!v) return usageError("demo", v.error());
-        camera = v.value();
-    }
-    auto path = parseCameraPath(args->get("--path", "static"));
-    auto vsmRes = cli::parseUint("--vsm-res", args->get("--vsm-res", "4096"), 256, 16384);
-    auto vsmPage = cli::parseUint("--vsm-page", args->get("--vsm-page", "64"), 32, 128);
-    auto vsmPool = cli::parseUint("--vsm-pool", args->get("--vsm-pool", "4096"), 1, 1u << 20);
-    for (const std::string* e : {&path.error(), &vsmRes.error(), &vsmPage.error(), &vsmPool.error()})
-        if (!e->empty()) return usageError("demo", *e);
-    const std::string viewName = args->get("--view", "shaded");
-    DebugView view = DebugView::Shaded;
-    if (viewName == "lights")
-        view = DebugView::LightsEvaluated;
-    else if (viewName == "lights-reaching")
-        view = DebugView::LightsReaching;
-    else if (viewName == "vsm")
-        view = DebugView::Vsm;
-    else if (viewName != "shaded")
-        return usageError("demo",
-                          "--view: unknown view '" + viewName + "' (shaded, lights, lights-reaching or vsm)");
-    const std::string dynamic = args->get("--dynamic", "vsm"), timing = args->get("--timing", "fenced");
+namespace {
+struct DemoOptions {
+    opts::View view;
+    opts::Scene scene;
+    uint32_t lights = 256;
+    CullingMode culling = CullingMode::Clustered;
+    std::string out;
+    StaticMethod staticMethod = StaticMethod::None;
+    uint32_t staticRes = 512, pcf = 0;
+    std::optional<std::array<float, 6>> camera;
+    CameraPath path = CameraPath::Static;
+    DebugView debugView = DebugView::Shaded;
+    ModuleOptions module;
+    std::optional<std::string> bake; // --bake FILE
+};
+
+Result<DebugView> parseView(const std::string& name) {
+    const std::pair<const char*, DebugView> views[] = {{"shaded", DebugView::Shaded},
+                                                       {"lights", DebugView::LightsEvaluated},
+                                                       {"lights-reaching", DebugView::LightsReaching},
+                                                       {"vsm", DebugView::Vsm}};
+    for (const auto& [word, view] : views)
+        if (name == word) return view;
+    return fail("--view: unknown view '" + name + "' (shaded, lights, lights-reaching or vsm)");
+}
+
+// The module's options: culling, statistics, window, timing and the virtual shadow maps.
+Result<void> parseModule(const cli::Args& args, DemoOptions& d) {
+    ModuleOptions& mo = d.module;
+    const bool window = args.has("--window");
+    const std::string dynamic = args.get("--dynamic", "vsm"), timing = args.get("--timing", "fenced");
     if (dynamic != "vsm" && dynamic != "off")
-        return usageError("demo", "--dynamic takes vsm or off, not '" + dynamic + "'");
+        return fail("--dynamic takes vsm or off, not '" + dynamic + "'");
     if (timing != "fenced" && timing != "timestamps")
-        return usageError("demo", "--timing takes fenced or timestamps, not '" + timing + "'");
-
-    auto scene = loadScene(args->get("--scene", "night-city"), lights.value(), seed.value(),
-                           {args->has("--allow-outside-scene-dir")});
-    if (!scene) return runError("demo", scene.error());
-    for (const auto& w : scene->warnings)
-        std::fprintf(stderr, "manylights demo: warning: %s\n", io::escapeText(w).c_str());
-    if (auto r = cli::makeDirectory(out); !r) return runError("demo", r.error());
-
-    ModuleOptions mo;
-    mo.culling = culling.value();
-    mo.statistics = !args->has("--no-stats");
+        return fail("--timing takes fenced or timestamps, not '" + timing + "'");
+    auto raster = vsmRaster(args);
+    if (!raster) return fail(raster.error());
+    mo.culling = d.culling;
+    mo.statistics = !args.has("--no-stats");
     mo.device.window = window;
     mo.timing = timing == "fenced" && !window ? TimingChoice::Fenced : TimingChoice::Timestamps;
     mo.vsm.enabled = dynamic == "vsm";
-    mo.vsm.resolution = vsmRes.value();
-    mo.vsm.pageSize = vsmPage.value();
-    mo.vsm.poolPages = vsmPool.value();
-    if (!parseVsmRaster(args->get("--vsm-raster", "auto"), mo.vsm.raster))
-        return usageError("demo", "--vsm-raster takes auto, mesh or vertex, not '" +
-                                      args->get("--vsm-raster", "") + "'");
-    auto module = Module::create(mo);
-    if (!module) return runError("demo", module.error());
-    Module& m = *module.value();
-    m.setView(view);
-    auto [width, height] = size.value();
-    auto binding = bindScene(m, scene.value());
-    if (!binding) return runError("demo", binding.error());
-    if (auto r = m.createTargets(width, height); !r) return runError("demo", r.error());
-    if (args->has("--bake")) {
-        if (staticMethod.value() != StaticMethod::None)
-            return usageError("demo", "--bake and --static exclude each other");
-        auto n = attachBakeFile(m, binding.value(), args->get("--bake", ""),
-                                args->get("--scene", "night-city"), lights.value(), seed.value());
-        if (!n) return runError("demo", n.error());
-        std::printf("static shadows of %u lights from %s\n", n.value(), args->get("--bake", "").c_str());
-    }
-    if (args->has("--bake") || staticMethod.value() != StaticMethod::None) {
-        if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
-    }
-    if (staticMethod.value() != StaticMethod::None) {
-        auto baked =
-            bakeStaticShadows(m, scene.value(), binding.value(), staticMethod.value(), staticRes.value());
-        if (!baked) return runError("demo", baked.error());
-        if (auto r = m.setShadowFilter(pcf.value()); !r) return usageError("demo", r.error());
-    }
-    if (args->has("--camera")) {
-        scene->camera.position = {camera[0], camera[1], camera[2]};
-        scene->camera.target = {camera[3], camera[4], camera[5]};
-        if (auto r = m.setCamera(toCameraDesc(scene->camera)); !r) return usageError("demo", r.error());
-    }
-    std::unique_ptr<Window> win;
-    if (window) {
-        auto w = Window::open(m, width, height);
-        if (!w) return runError("demo", w.error());
-        win = std::move(w.value());
-    }
-    std::printf("manylights demo: %s, %u lights, %ux%u, %s culling, %u frames on %s\n", scene->name.c_str(),
-                uint32_t(scene->lights.size()), width, height, cullingName(mo.culling), frames.value(),
-                m.deviceInfo().name.c_str());
+    mo.vsm.raster = raster.value();
+    return {};
+}
 
-    const DeviceInfo d = m.deviceInfo();
+Result<DemoOptions> parseDemo(const cli::Args& args) {
+    DemoOptions d;
+    auto view = opts::view(args, {3, args.has("--window") ? 0u : 1u, 100000, "1280x720"});
+    auto lights = cli::parseUint("--lights", args.get("--lights", "256"), 1, ML_MAX_LIGHTS);
+    auto scene = opts::scene(args);
+    auto culling = parseCulling(args.get("--culling", "clustered"));
+    auto staticMethod = parseStaticMethod(args.get("--static", "none"));
+    auto staticRes = cli::parseUint("--static-res", args.get("--static-res", "512"), 8, 16384);
+    auto pcf = cli::parseUint("--pcf", args.get("--pcf", "0"), 0, ML_MAX_PCF_RADIUS);
+    for (const std::string* e : {&view.error(), &lights.error(), &scene.error(), &culling.error(),
+                                 &staticMethod.error(), &staticRes.error(), &pcf.error()})
+        if (!e->empty()) return fail(*e);
+    // Checked before any device work: a bad camera is a usage error, not a blank frame.
+    if (args.has("--camera")) {
+        auto v = cli::parseCamera("--camera", args.get("--camera", ""));
+        if (!v) return fail(v.error());
+        d.camera = v.value();
+    }
+    auto path = parseCameraPath(args.get("--path", "static"));
+    auto maps = vsmMapOptions(args, 4096, d.module.vsm);
+    auto debugView = parseView(args.get("--view", "shaded"));
+    for (const std::string* e : {&path.error(), &maps.error(), &debugView.error()})
+        if (!e->empty()) return fail(*e);
+    d.view = view.value(), d.scene = scene.value(), d.lights = lights.value(), d.culling = culling.value();
+    d.staticMethod = staticMethod.value(), d.staticRes = staticRes.value(), d.pcf = pcf.value();
+    d.path = path.value(), d.debugView = debugView.value();
+    d.out = args.get("--out", "out/demo");
+    if (args.has("--bake")) d.bake = args.get("--bake", "");
+    if (d.bake && d.staticMethod != StaticMethod::None) return fail("--bake and --static exclude each other");
+    if (auto r = parseModule(args, d); !r) return fail(r.error());
+    return d;
+}
+
+// Static shadows (a bake file or baked now), the shadow filter and the camera: 0, or the exit status
+// (a filter or camera the module refuses is a usage error, a bake that fails is not).
+int setupShadows(const DemoOptions& d, Module& m, Scene& scene, const SceneBinding& binding) {
+    if (d.bake) {
+        auto n = attachBakeFile(m, binding, *d.bake, d.scene.name, d.lights, d.scene.seed);
+        if (!n) return runError("demo", n.error());
+        std::printf("static shadows of %u lights from %s\n", n.value(), d.bake->c_str());
+    }
+    if (d.bake || d.staticMethod != StaticMethod::None)
+        if (auto r = m.setShadowFilter(d.pcf); !r) return usageError("demo", r.error());
+    if (d.staticMethod != StaticMethod::None) {
+        auto baked = bakeStaticShadows(m, scene, binding, d.staticMethod, d.staticRes);
+        if (!baked) return runError("demo", baked.error());
+        if (auto r = m.setShadowFilter(d.pcf); !r) return usageError("demo", r.error());
+    }
+    if (d.camera) {
+        const std::array<float, 6>& c = *d.camera;
+        scene.camera.position = {c[0], c[1], c[2]};
+        scene.camera.target = {c[3], c[4], c[5]};
+        if (auto r = m.setCamera(toCameraDesc(scene.camera)); !r) return usageError("demo", r.error());
+    }
+    return 0;
+}
+
+// The frames: the scene animated, the camera on its path or steered in the window, each frame's PNG
+// (not in an endless window run) and its report.
+Result<std::vector<FrameReport>> renderFrames(DemoOptions& d, Module& m, Scene& scene,
+                                              const SceneBinding& binding, Window* win) {
     std::vector<FrameReport> reports;
     std::vector<uint8_t> rgba;
-    const CameraDesc baseCamera = toCameraDesc(scene->camera);
+    const uint32_t frames = d.view.frames;
+    const CameraDesc baseCamera = toCameraDesc(scene.camera);
     FlyCamera fly = FlyCamera::lookingAt(baseCamera.position, baseCamera.target);
     if (win) printCamera("start", fly.desc(baseCamera));
     auto last = std::chrono::steady_clock::now();
-    for (uint32_t f = 0; frames.value() == 0 || f < frames.value(); ++f) {
-        animateScene(scene.value(), f / 30.0);
-        if (auto r = updateScene(m, scene.value(), binding.value()); !r) return runError("demo", r.error());
-        if (path.value() != CameraPath::Static) {
-            auto cam = cameraOnPath(scene.value(), path.value(), f / 30.0);
-            if (!cam) return runError("demo", cam.error());
-            if (auto r = m.setCamera(toCameraDesc(cam.value())); !r) return runError("demo", r.error());
+    for (uint32_t f = 0; frames == 0 || f < frames; ++f) {
+        animateScene(scene, f / 30.0);
+        if (auto r = updateScene(m, scene, binding); !r) return fail(r.error());
+        if (d.path != CameraPath::Static) {
+            auto cam = cameraOnPath(scene, d.path, f / 30.0);
+            if (!cam) return fail(cam.error());
+            if (auto r = m.setCamera(toCameraDesc(cam.value())); !r) return fail(r.error());
         }
         if (win) {
             auto now = std::chrono::steady_clock::now();
             // Slow frames on CPU devices: cap a step so one long frame does not throw the camera away.
             float seconds = std::min(0.25f, std::chrono::duration<float>(now - last).count());
             last = now;
-            steer(*win, m, culling.value(), fly, baseCamera, seconds);
+            steer(*win, m, d.culling, fly, baseCamera, seconds);
             if (win->shouldClose()) break;
-            if (auto r = win->frame(m); !r) return runError("demo", r.error());
-        } else {
-            if (auto r = m.submitFrame(); !r) return runError("demo", r.error());
+            if (auto r = win->frame(m); !r) return fail(r.error());
+        } else if (auto r = m.submitFrame(); !r) {
+            return fail(r.error());
         }
-        if (frames.value() != 0) {
-            if (auto r = m.readOutput(rgba); !r) return runError("demo", r.error());
+        if (frames != 0) {
+            if (auto r = m.readOutput(rgba); !r) return fail(r.error());
             char name[64];
             std::snprintf(name, sizeof(name), "/frame_%04u.png", f);
-            if (auto r = writePng(out + name, width, height, rgba); !r) return runError("demo", r.error());
+            if (auto r = writePng(d.out + name, d.view.width, d.view.height, rgba); !r)
+                return fail(r.error());
         }
         m.collect();
         for (auto& r : m.takeReports()) reports.push_back(r);
         if (!reports.empty()) {
             std::printf("  frame %u: %.2f ms GPU\n", f, reports.back().times.totalMs());
-            if (win) win->setTitle(windowTitle(culling.value(), reports.back()));
+            if (win) win->setTitle(windowTitle(d.culling, reports.back()));
         }
     }
     if (win) printCamera("end", fly.desc(baseCamera));
-    vkDeviceWaitIdle(d.device);
-    m.collect();
-    for (auto& r : m.takeReports()) reports.push_back(r);
-    if (reports.empty()) return runError("demo", "the window was closed before a frame completed");
+    return reports;
+}
 
-    RunInfo info{scene->name, cullingName(mo.culling), d.name, width, height, frames.value(), seed.value()};
-    for (auto r : {writeProfile(out + "/profile.json", reports), writeFramesCsv(out + "/frames.csv", reports),
-                   writeStats(out + "/stats.json", info, reports)})
-        if (!r) return runError("demo", r.error());
-    const FrameStats& s = reports.back().stats;
+// The last frame's counts on stdout, and a warning when the VSM ran out of room.
+void printSummary(const ModuleOptions& mo, const FrameStats& s) {
     if (mo.statistics)
         std::printf(
             "lights %u (visible %u), clusters %u, lights/pixel evaluated %.2f, reaching %.2f, overflow %u\n",
@@ -267,21 +257,88 @@ int runDemo(int argc, char** argv) {
     else
         std::printf("lights %u (visible %u), clusters %u, overflow %u (per-pixel counts off: --no-stats)\n",
                     s.lightsTotal, s.lightsVisible, s.clusters, s.clusterOverflowCount);
-    if (mo.vsm.enabled) {
-        const VsmStats& v = s.vsm;
-        std::printf("vsm: %u lights with pages, pages marked %u, allocated %u (%.1f MiB of a %.1f MiB pool), "
-                    "rendered %u, cached %u, fallbacks %u, draws %u (HPB culled %u)\n",
-                    v.lightsWithPages, v.pagesMarked, v.pagesAllocated, double(v.usedBytes) / 1048576.0,
-                    double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks,
-                    v.instancesDrawn, v.instancesCulledHpb);
-        if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot)
-            std::fprintf(stderr,
-                         "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
-                         "over the draw buffer, %u lights without a map slot\n",
-                         v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
+    if (!mo.vsm.enabled) return;
+    const VsmStats& v = s.vsm;
+    std::printf("vsm: %u lights with pages, pages marked %u, allocated %u (%.1f MiB of a %.1f MiB pool), "
+                "rendered %u, cached %u, fallbacks %u, draws %u (HPB culled %u)\n",
+                v.lightsWithPages, v.pagesMarked, v.pagesAllocated, double(v.usedBytes) / 1048576.0,
+                double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks,
+                v.instancesDrawn, v.instancesCulledHpb);
+    if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot)
+        std::fprintf(stderr,
+                     "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
+                     "over the draw buffer, %u lights without a map slot\n",
+                     v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
+}
+
+// The module on the scene: created, bound, its targets, view, static shadows and camera.
+Result<std::unique_ptr<Module>> createModule(const DemoOptions& d, Scene& scene, SceneBinding& binding) {
+    auto module = Module::create(d.module);
+    if (!module) return fail(module.error());
+    Module& m = *module.value();
+    m.setView(d.debugView);
+    auto b = bindScene(m, scene);
+    if (!b) return fail(b.error());
+    binding = std::move(b.value());
+    if (auto r = m.createTargets(d.view.width, d.view.height); !r) return fail(r.error());
+    return std::move(module.value());
+}
+} // namespace
+
+// The flags of `demo` beside its option groups.
+const cli::Flags kDemoFlags{{"--lights", "--culling", "--out", "--static", "--static-res", "--pcf",
+                             "--camera", "--bake", "--path", "--dynamic", "--timing", "--view",
+                             "--vsm-raster"},
+                            {"--window", "--no-stats"}};
+
+int runDemo(int argc, char** argv) {
+    int status = 0;
+    const auto args = commandArgs(
+        "demo", kDemoHelp,
+        cli::parse(argc, argv, 2,
+                   {opts::kSceneFlags, opts::kSceneDirFlags, opts::kViewFlags, kVsmMapFlags, kDemoFlags}),
+        status);
+    if (!args) return status;
+    auto parsed = parseDemo(*args);
+    if (!parsed) return usageError("demo", parsed.error());
+    DemoOptions& d = parsed.value();
+    auto scene = loadScene(d.scene.name, d.lights, d.scene.seed, {d.scene.allowOutside});
+    if (!scene) return runError("demo", scene.error());
+    for (const auto& w : scene->warnings)
+        std::fprintf(stderr, "manylights demo: warning: %s\n", io::escapeText(w).c_str());
+    if (auto r = cli::makeDirectory(d.out); !r) return runError("demo", r.error());
+    SceneBinding binding;
+    auto module = createModule(d, scene.value(), binding);
+    if (!module) return runError("demo", module.error());
+    Module& m = *module.value();
+    if (int status = setupShadows(d, m, scene.value(), binding)) return status;
+    std::unique_ptr<Window> win;
+    if (d.module.device.window) {
+        auto w = Window::open(m, d.view.width, d.view.height);
+        if (!w) return runError("demo", w.error());
+        win = std::move(w.value());
     }
+    std::printf("manylights demo: %s, %u lights, %ux%u, %s culling, %u frames on %s\n", scene->name.c_str(),
+                uint32_t(scene->lights.size()), d.view.width, d.view.height, cullingName(d.module.culling),
+                d.view.frames, m.deviceInfo().name.c_str());
+    auto reports = renderFrames(d, m, scene.value(), binding, win.get());
+    if (!reports) return runError("demo", reports.error());
+    const DeviceInfo dev = m.deviceInfo();
+    vkDeviceWaitIdle(dev.device);
+    m.collect();
+    for (auto& r : m.takeReports()) reports->push_back(r);
+    if (reports->empty()) return runError("demo", "the window was closed before a frame completed");
+    RunInfo info{
+        scene->name, cullingName(d.module.culling), dev.name, d.view.width, d.view.height, d.view.frames,
+        d.scene.seed};
+    const std::string& out = d.out;
+    for (auto r :
+         {writeProfile(out + "/profile.json", *reports), writeFramesCsv(out + "/frames.csv", *reports),
+          writeStats(out + "/stats.json", info, *reports)})
+        if (!r) return runError("demo", r.error());
+    printSummary(d.module, reports->back().stats);
     std::printf("wrote %s/frame_*.png, profile.json, frames.csv, stats.json\n", out.c_str());
-    if (d.validation && validationErrors()) {
+    if (dev.validation && validationErrors()) {
         std::fprintf(stderr, "manylights demo: %u validation errors\n", validationErrors());
         return 1;
     }

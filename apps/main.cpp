@@ -16,6 +16,19 @@ int runError(const char* command, const std::string& message) {
     std::fprintf(stderr, "manylights %s: %s\n", command, io::escapeText(message, 1000).c_str());
     return 1;
 }
+std::optional<cli::Args> commandArgs(const char* command, const char* help, Result<cli::Args> args,
+                                     int& status) {
+    if (!args) {
+        status = usageError(command, args.error());
+        return std::nullopt;
+    }
+    if (args->help) {
+        std::fputs(help, stdout);
+        status = 0;
+        return std::nullopt;
+    }
+    return std::move(args.value());
+}
 } // namespace ml
 
 static const char* kHelp = R"(usage: manylights <command> [options]

@@ -1,4 +1,5 @@
 #include "apps/report.h"
+#include "apps/json.h"
 #include "io/safe_io.h"
 
 #include <algorithm>
@@ -13,26 +14,25 @@ namespace {
 Result<void> writeText(const std::string& path, const std::string& text) {
     return io::writeFileAtomically(path, text);
 }
-// A JSON string literal: quotes, backslashes and control characters escaped.
-std::string jsonText(const std::string& s) {
-    std::string o;
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') {
-            o += '\\', o += char(c);
-        } else if (c < 0x20 || c == 0x7F) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            o += buf;
-        } else {
-            o += char(c);
-        }
-    }
-    return o;
-}
-std::string num(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof(buf), "%.6g", v);
-    return buf;
+
+// stats.json's "vsm" object: the last frame's virtual shadow map counts.
+std::string vsmJson(const VsmStats& v) {
+    json::Object o;
+    o.integer("pages_marked", v.pagesMarked).integer("pages_allocated", v.pagesAllocated);
+    o.integer("pages_cached", v.pagesCached).integer("pages_rendered", v.pagesRendered);
+    o.integer("pages_invalidated", v.pagesInvalidated).integer("pages_evicted", v.pagesEvicted);
+    o.integer("fallbacks", v.fallbacks).integer("pool_pages", v.poolPages).integer("pool_bytes", v.poolBytes);
+    o.integer("used_bytes", v.usedBytes).integer("virtual_bytes", v.virtualBytes);
+    o.integer("atlas_bytes", v.atlasBytes).integer("lights_with_pages", v.lightsWithPages);
+    o.integer("lights_without_slot", v.lightsWithoutSlot).integer("maps_active", v.mapsActive);
+    o.integer("instances_drawn", v.instancesDrawn).integer("instances_culled_hpb", v.instancesCulledHpb);
+    o.integer("draw_overflow", v.drawOverflow).text("raster", v.meshPath ? "mesh" : "vertex");
+    o.integer("meshlets_total", v.meshletsTotal)
+        .integer("meshlets_after_expansion", v.meshletsAfterExpansion);
+    o.integer("meshlets_after_task", v.meshletsAfterTask)
+        .integer("triangles_after_task", v.trianglesAfterTask);
+    o.integer("triangles_rasterized", v.trianglesRasterized).integer("meshlet_overflow", v.meshletOverflow);
+    return o.str();
 }
 } // namespace
 
@@ -43,20 +43,23 @@ Result<void> writeProfile(const std::string& path, const std::vector<FrameReport
     for (const auto& r : reports)
         for (uint32_t p = 0; p < kPassCount; ++p)
             if (r.times.ran[p]) origin = std::min(origin, r.times.startMs[p]);
-    std::ostringstream o;
-    o << "{\"displayTimeUnit\":\"ms\",\"traceEvents\":[\n";
-    bool first = true;
+    std::vector<std::string> events;
     for (const auto& r : reports)
         for (uint32_t p = 0; p < kPassCount; ++p) {
             if (!r.times.ran[p]) continue;
-            o << (first ? "" : ",\n") << "{\"name\":\"" << passName(Pass(p))
-              << "\",\"cat\":\"gpu\",\"ph\":\"X\",\"pid\":1,"
-              << "\"tid\":1,\"ts\":" << num((r.times.startMs[p] - origin) * 1000.0)
-              << ",\"dur\":" << num(r.times.ms[p] * 1000.0) << ",\"args\":{\"frame\":" << r.frame << "}}";
-            first = false;
+            json::Object e;
+            e.text("name", passName(Pass(p)))
+                .text("cat", "gpu")
+                .text("ph", "X")
+                .integer("pid", 1)
+                .integer("tid", 1);
+            e.real("ts", (r.times.startMs[p] - origin) * 1000.0).real("dur", r.times.ms[p] * 1000.0);
+            e.raw("args", json::Object().integer("frame", r.frame).str(json::Style::Compact));
+            events.push_back(e.str(json::Style::Compact));
         }
-    o << "\n]}\n";
-    return writeText(path, o.str());
+    json::Object trace;
+    trace.text("displayTimeUnit", "ms").raw("traceEvents", json::array(events, ",\n", "[\n", "\n]"));
+    return writeText(path, trace.str(json::Style::Compact) + "\n");
 }
 
 Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameReport>& reports) {
@@ -64,7 +67,8 @@ Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameRepo
     o << "frame,pass,gpu_ms\n";
     for (const auto& r : reports)
         for (uint32_t p = 0; p < kPassCount; ++p)
-            if (r.times.ran[p]) o << r.frame << "," << passName(Pass(p)) << "," << num(r.times.ms[p]) << "\n";
+            if (r.times.ran[p])
+                o << r.frame << "," << passName(Pass(p)) << "," << json::number(r.times.ms[p]) << "\n";
     return writeText(path, o.str());
 }
 
@@ -90,57 +94,27 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     const double median = frameMs.size() % 2
                               ? frameMs[frameMs.size() / 2]
                               : 0.5 * (frameMs[frameMs.size() / 2 - 1] + frameMs[frameMs.size() / 2]);
-    std::ostringstream o;
-    o << "{\n";
-    o << "  \"scene\": \"" << jsonText(info.scene) << "\",\n  \"culling\": \"" << info.culling << "\",\n";
-    o << "  \"device\": \"" << jsonText(info.device) << "\",\n";
-    o << "  \"width\": " << info.width << ",\n  \"height\": " << info.height << ",\n";
-    o << "  \"frames\": " << reports.size() << ",\n  \"seed\": " << info.seed << ",\n";
-    o << "  \"lights_total\": " << s.lightsTotal << ",\n";
-    o << "  \"lights_visible\": " << s.lightsVisible << ",\n";
-    o << "  \"clusters\": " << s.clusters << ",\n";
-    o << "  \"clusters_occupied\": " << s.clustersOccupied << ",\n";
-    o << "  \"cluster_lights_mean\": " << num(s.clusterLightsMean) << ",\n";
-    o << "  \"cluster_lights_max\": " << s.clusterLightsMax << ",\n";
-    o << "  \"cluster_overflow_count\": " << s.clusterOverflowCount << ",\n";
-    o << "  \"light_list_entries\": " << s.poolEntries << ",\n";
-    o << "  \"light_list_capacity\": " << s.poolCapacity << ",\n";
-    o << "  \"surface_pixels\": " << s.surfacePixels << ",\n";
-    o << "  \"lights_per_pixel_evaluated_mean\": " << num(s.lightsPerPixelEvaluatedMean) << ",\n";
-    o << "  \"lights_per_pixel_reaching_mean\": " << num(s.lightsPerPixelReachingMean) << ",\n";
-    double tight =
+    const double tight =
         s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
-    o << "  \"culling_tightness\": " << num(tight) << ",\n";
-    o << "  \"frame_gpu_ms_first\": " << num(reports.front().times.totalMs()) << ",\n";
-    o << "  \"frame_gpu_ms_mean\": " << num(total / double(frameMs.size())) << ",\n";
-    o << "  \"frame_gpu_ms_median\": " << num(median) << ",\n";
-    const VsmStats& v = s.vsm;
-    o << "  \"vsm\": {\"pages_marked\": " << v.pagesMarked << ", \"pages_allocated\": " << v.pagesAllocated
-      << ", \"pages_cached\": " << v.pagesCached << ", \"pages_rendered\": " << v.pagesRendered
-      << ", \"pages_invalidated\": " << v.pagesInvalidated << ", \"pages_evicted\": " << v.pagesEvicted
-      << ", \"fallbacks\": " << v.fallbacks << ", \"pool_pages\": " << v.poolPages
-      << ", \"pool_bytes\": " << v.poolBytes << ", \"used_bytes\": " << v.usedBytes
-      << ", \"virtual_bytes\": " << v.virtualBytes << ", \"atlas_bytes\": " << v.atlasBytes
-      << ", \"lights_with_pages\": " << v.lightsWithPages
-      << ", \"lights_without_slot\": " << v.lightsWithoutSlot << ", \"maps_active\": " << v.mapsActive
-      << ", \"instances_drawn\": " << v.instancesDrawn
-      << ", \"instances_culled_hpb\": " << v.instancesCulledHpb << ", \"draw_overflow\": " << v.drawOverflow
-      << ", \"raster\": \"" << (v.meshPath ? "mesh" : "vertex")
-      << "\", \"meshlets_total\": " << v.meshletsTotal
-      << ", \"meshlets_after_expansion\": " << v.meshletsAfterExpansion
-      << ", \"meshlets_after_task\": " << v.meshletsAfterTask
-      << ", \"triangles_after_task\": " << v.trianglesAfterTask
-      << ", \"triangles_rasterized\": " << v.trianglesRasterized
-      << ", \"meshlet_overflow\": " << v.meshletOverflow << "},\n";
-    o << "  \"pass_gpu_ms_mean\": {";
-    bool first = true;
-    for (uint32_t p = 0; p < kPassCount; ++p) {
-        if (!passCount[p]) continue;
-        o << (first ? "" : ", ") << "\"" << passName(Pass(p)) << "\": " << num(passMean[p] / passCount[p]);
-        first = false;
-    }
-    o << "}\n}\n";
-    return writeText(path, o.str());
+    json::Object passes;
+    for (uint32_t p = 0; p < kPassCount; ++p)
+        if (passCount[p]) passes.real(passName(Pass(p)), passMean[p] / passCount[p]);
+    json::Object o;
+    o.text("scene", info.scene).text("culling", info.culling).text("device", info.device);
+    o.integer("width", info.width).integer("height", info.height).integer("frames", reports.size());
+    o.integer("seed", info.seed)
+        .integer("lights_total", s.lightsTotal)
+        .integer("lights_visible", s.lightsVisible);
+    o.integer("clusters", s.clusters).integer("clusters_occupied", s.clustersOccupied);
+    o.real("cluster_lights_mean", s.clusterLightsMean).integer("cluster_lights_max", s.clusterLightsMax);
+    o.integer("cluster_overflow_count", s.clusterOverflowCount).integer("light_list_entries", s.poolEntries);
+    o.integer("light_list_capacity", s.poolCapacity).integer("surface_pixels", s.surfacePixels);
+    o.real("lights_per_pixel_evaluated_mean", s.lightsPerPixelEvaluatedMean);
+    o.real("lights_per_pixel_reaching_mean", s.lightsPerPixelReachingMean).real("culling_tightness", tight);
+    o.real("frame_gpu_ms_first", reports.front().times.totalMs());
+    o.real("frame_gpu_ms_mean", total / double(frameMs.size())).real("frame_gpu_ms_median", median);
+    o.raw("vsm", vsmJson(s.vsm)).raw("pass_gpu_ms_mean", passes.str());
+    return writeText(path, o.str(json::Style::Lines) + "\n");
 }
 
 } // namespace ml

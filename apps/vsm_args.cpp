@@ -3,30 +3,44 @@
 #include "shaders/shared/config.h"
 
 #include <cstdlib>
-#include <tuple>
 
 namespace ml {
 
-std::set<std::string> vsmSessionFlags(std::set<std::string> own) {
-    for (const char* f : {"--scene", "--path", "--frames", "--size", "--lights", "--seed", "--bake",
-                          "--vsm-res", "--vsm-page", "--vsm-pool", "--vsm-texels"})
-        own.insert(f);
-    return own;
+Result<cli::Args> parseVsmCommand(int argc, char** argv, int first, const cli::Flags& own) {
+    return cli::parse(argc, argv, first,
+                      {opts::kSceneFlags, opts::kViewFlags, kVsmMapFlags, kVsmSessionFlags, own});
+}
+
+Result<void> vsmMapOptions(const cli::Args& args, uint32_t resolution, VsmSettings& vsm) {
+    auto res = cli::parseUint("--vsm-res", args.get("--vsm-res", std::to_string(resolution)), 256, 16384);
+    auto page = cli::parseUint("--vsm-page", args.get("--vsm-page", "64"), 32, 128);
+    auto pool = cli::parseUint("--vsm-pool", args.get("--vsm-pool", "4096"), 1, 1u << 20);
+    for (const std::string* e : {&res.error(), &page.error(), &pool.error()})
+        if (!e->empty()) return fail(*e);
+    vsm.resolution = res.value();
+    vsm.pageSize = page.value();
+    vsm.poolPages = pool.value();
+    return {};
+}
+
+Result<VsmRaster> vsmRaster(const cli::Args& args, const char* fallback) {
+    VsmRaster raster = VsmRaster::Auto;
+    const std::string word = args.get("--vsm-raster", fallback);
+    if (!parseVsmRaster(word, raster))
+        return fail("--vsm-raster: '" + word + "' is not auto, mesh or vertex");
+    return raster;
 }
 
 Result<VsmSessionOptions> vsmSessionOptions(const cli::Args& args, const VsmArgDefaults& d,
                                             uint32_t& frames) {
+    VsmSessionOptions o;
     auto path = parseCameraPath(args.get("--path", "drive"));
-    auto count =
-        cli::parseUint("--frames", args.get("--frames", std::to_string(d.frames)), d.minFrames, 100000);
-    auto size = cli::parseSize("--size", args.get("--size", d.size));
+    auto view = opts::view(args, {d.frames, d.minFrames, 100000, d.size});
     auto lights = cli::parseUint("--lights", args.get("--lights", "256"), 1, ML_MAX_LIGHTS);
-    auto seed = cli::parseUint("--seed", args.get("--seed", "1"), 0, 0xFFFFFFFFu);
-    auto res = cli::parseUint("--vsm-res", args.get("--vsm-res", std::to_string(d.resolution)), 256, 16384);
-    auto page = cli::parseUint("--vsm-page", args.get("--vsm-page", "64"), 32, 128);
-    auto pool = cli::parseUint("--vsm-pool", args.get("--vsm-pool", "4096"), 1, 1u << 20);
-    for (const std::string* e : {&path.error(), &count.error(), &size.error(), &lights.error(), &seed.error(),
-                                 &res.error(), &page.error(), &pool.error()})
+    auto scene = opts::scene(args);
+    auto maps = vsmMapOptions(args, d.resolution, o.module.vsm);
+    for (const std::string* e :
+         {&path.error(), &view.error(), &lights.error(), &scene.error(), &maps.error()})
         if (!e->empty()) return fail(*e);
     // Texels per pixel footprint: a power of two from 1/4 to 8 (VsmSettings::texelsPerPixel).
     const std::string texels = args.get("--vsm-texels", "1");
@@ -34,19 +48,16 @@ Result<VsmSessionOptions> vsmSessionOptions(const cli::Args& args, const VsmArgD
     const float texelsPerPixel = std::strtof(texels.c_str(), &end);
     if (texels.empty() || *end || !validTexelsPerPixel(texelsPerPixel))
         return fail("--vsm-texels: '" + texels + "' is not 0.25, 0.5, 1, 2, 4 or 8");
-    VsmSessionOptions o;
-    o.scene = args.get("--scene", "night-city");
+    o.scene = scene->name;
     o.lights = lights.value();
-    o.seed = seed.value();
-    std::tie(o.width, o.height) = size.value();
+    o.seed = scene->seed;
+    o.width = view->width;
+    o.height = view->height;
     o.path = path.value();
     o.bake = args.get("--bake", "");
     o.module.vsm.enabled = true;
-    o.module.vsm.resolution = res.value();
-    o.module.vsm.pageSize = page.value();
-    o.module.vsm.poolPages = pool.value();
     o.module.vsm.texelsPerPixel = texelsPerPixel;
-    frames = count.value();
+    frames = view->frames;
     return o;
 }
 

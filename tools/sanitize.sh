@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
 # AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/) and the whole ctest under it.
-#   tools/sanitize.sh [extra ctest arguments, e.g. -R Hostile]
+#   tools/sanitize.sh [extra ctest arguments, e.g. -R Hostile]     (release check: ~35 min cold here)
+#   tools/sanitize.sh --cpu [FUZZ_SECONDS, default 20]               (CI, .ci/run: a few minutes)
+# --cpu builds only the CPU-side libraries that read untrusted bytes or encode (io/, the bake-file reader
+# and writer and the encoders in shadows/static/, the glTF loader in scenes/, the bake driver) with their
+# gtest areas (static_tests, scenes_tests) and the fuzz targets, in build-asan-cpu/, and runs them:
+# every test, then each fuzz target for FUZZ_SECONDS from seed 1. No Vulkan device is involved.
 # Any ASan report or UBSan finding fails the test that hit it (-fno-sanitize-recover). Leak checking
 # is off by default: the Vulkan loader and lavapipe keep allocations alive until exit (set
 # ASAN_OPTIONS yourself to turn it on). allocator_may_return_null=1 lets a huge allocation throw
@@ -12,6 +17,31 @@ JOBS=${JOBS:-2}
 FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g1"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+if [ "${1:-}" = --cpu ]; then
+  FUZZ_SECONDS=${2:-20}
+  case "$FUZZ_SECONDS" in ''|*[!0-9]*) echo "sanitize.sh: --cpu takes seconds per fuzz target, got '$FUZZ_SECONDS'" >&2; exit 1 ;; esac
+  BUILD_DIR=${BUILD_DIR_CPU:-build-asan-cpu}
+  t0=$(date +%s)
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
+    -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_C_FLAGS="$FLAGS" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+  cmake --build "$BUILD_DIR" -j"$JOBS" --target static_tests scenes_tests fuzz_inputs
+  t1=$(date +%s)
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:allocator_may_return_null=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+  status=0
+  for t in static_tests scenes_tests; do
+    "$BUILD_DIR/$t" --gtest_brief=1 || { echo "sanitize.sh: $t failed under ASan/UBSan" >&2; status=1; }
+  done
+  for target in bake gltf; do
+    "$BUILD_DIR/fuzz_inputs" "$target" --seconds "$FUZZ_SECONDS" --seed 1 ||
+      { echo "sanitize.sh: fuzz target $target failed under ASan/UBSan (seed 1)" >&2; status=1; }
+  done
+  t2=$(date +%s)
+  echo "sanitize.sh --cpu: build $((t1 - t0)) s, tests and fuzzers $((t2 - t1)) s, exit $status"
+  exit $status
+fi
+
 t0=$(date +%s)
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
   -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_C_FLAGS="$FLAGS" \
