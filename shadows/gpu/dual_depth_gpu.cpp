@@ -104,14 +104,7 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
             }
             for (uint32_t pass = 0; pass < 3; ++pass) {
-                VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-                ri.renderArea = {{0, 0}, {tile, tile}};
-                ri.layerCount = 1;
-                vkCmdBeginRendering(cmd, &ri);
-                VkViewport vp{0, 0, float(tile), float(tile), 0, 1};
-                VkRect2D sc{{0, 0}, {w, h}};
-                vkCmdSetViewport(cmd, 0, 1, &vp);
-                vkCmdSetScissor(cmd, 0, 1, &sc);
+                beginAttachmentless(cmd, tile, {w, h});
                 bindProgram(d, cmd, passes_[pass], push,
                             {vertices_, Descriptor(enter_), Descriptor(closed_), Descriptor(exit_)});
                 if (!verts.empty()) vkCmdDraw(cmd, uint32_t(verts.size()), 1, 0, 0);

@@ -129,14 +129,7 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
     memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
     for (uint32_t m = 0; m < state_->layout().mips; ++m) {
         const uint32_t res = state_->settings().resolution >> m;
-        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        ri.renderArea = {{0, 0}, {res, res}};
-        ri.layerCount = 1;
-        vkCmdBeginRendering(c, &ri);
-        VkViewport vp{0, 0, float(res), float(res), 0, 1};
-        VkRect2D sc{{0, 0}, {res, res}};
-        vkCmdSetViewport(c, 0, 1, &vp);
-        vkCmdSetScissor(c, 0, 1, &sc);
+        beginAttachmentless(c, res, {res, res});
         const gpu::VsmDrawPush push{m, state_->settings().maxMeshletsPerMip};
         if (state_->meshPath()) {
             // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
