@@ -1,7 +1,7 @@
 # Install rules for a host engine: included by the top-level CMakeLists.txt when ML_INSTALL is on.
 #
 #   include/manylights/engine/manylights.h      the public header: API types only, and the headers it
-#   include/manylights/io/result.h, gpu/{device_types,pass_times}.h   includes
+#   include/manylights/io/result.h, gpu/device_types.h, engine/pass_times.h   includes
 #   include/manylights/shadows/static/static_types.h, shadows/virtual/vsm_settings.h
 #   include/manylights/engine/manylights_diagnostics.h   read-backs for tools and checks
 #   include/manylights/gpu/vk_check.h        ML_VK_CHECK
@@ -22,7 +22,7 @@ set(ML_INSTALL_INCLUDE ${CMAKE_INSTALL_INCLUDEDIR}/manylights)
 set(ML_INSTALL_CMAKE ${CMAKE_INSTALL_LIBDIR}/cmake/manylights)
 
 set(ML_PUBLIC_HEADERS engine/manylights.h engine/manylights_diagnostics.h io/result.h gpu/device_types.h
-    gpu/pass_times.h gpu/vk_check.h lights/light_types.h shadows/virtual/vsm_settings.h)
+    engine/pass_times.h gpu/vk_check.h lights/light_types.h shadows/virtual/vsm_settings.h)
 # The libraries of their own that are installed beside the module: whole folders, so a header they start
 # to include is not forgotten.
 file(GLOB ML_LIBRARY_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS

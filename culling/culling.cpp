@@ -1,6 +1,6 @@
 #include "culling/culling.h"
 
-#include "gpu/profiler.h"
+#include "culling/culling_push.h"
 #include "shaders/shared/light_math.h"
 
 #include "cluster_bounds.comp.spv.h"
@@ -25,6 +25,7 @@ constexpr auto kW = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 static_assert(uint32_t(CullingMode::Clustered) == ML_CULL_CLUSTERED &&
               uint32_t(CullingMode::Tiled) == ML_CULL_TILED && uint32_t(CullingMode::None) == ML_CULL_NONE &&
               uint32_t(CullingMode::ClusteredBrute) == ML_CULL_CLUSTERED_BRUTE);
+static_assert(ML_FOOTPRINT_GROUP % ML_FOOTPRINT_LANES == 0, "a light's lanes share one group");
 static_assert(ML_CLUSTER_SLICES <= ML_MAX_SLICES && ML_MAX_SLICES <= 64, "tile masks hold 64 slices");
 
 std::vector<float> sliceBoundaries(float nearPlane, float farPlane, uint32_t slices) {
@@ -54,15 +55,14 @@ void LightCulling::create(const Device& device) {
     assignShader_ = ML_SHADER(device, spv_light_assign_comp);
     footprintShader_ = ML_SHADER(device, spv_light_footprint_comp);
     allocShader_ = ML_SHADER(device, spv_light_alloc_comp);
-    boundsProgram_ = createComputeProgram(device, boundsShader_, 0);
-    assignProgram_ = createComputeProgram(device, assignShader_, 0);
+    boundsProgram_ = createComputeProgram(device, boundsShader_);
+    assignProgram_ = createComputeProgram(device, assignShader_);
     fillShader_ = ML_SHADER(device, spv_light_fill_comp);
-    countProgram_ = createComputeProgram(device, footprintShader_, 4);
-    allocProgram_ = createComputeProgram(device, allocShader_, 4);
-    fillProgram_ = createComputeProgram(device, fillShader_, 4);
+    countProgram_ = createComputeProgram(device, footprintShader_);
+    allocProgram_ = createComputeProgram(device, allocShader_);
+    fillProgram_ = createComputeProgram(device, fillShader_);
     viewShader_ = ML_SHADER(device, spv_view_lights_comp);
-    for (uint32_t r = 0; r < 2; ++r)
-        viewPrograms_[r] = createComputeProgram(device, viewShader_, 0, {{0, r}});
+    for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, {{0, r}});
     work = createBuffer(device, 8, kStorageBufferUsage, "cull_work");
 }
 
@@ -98,81 +98,68 @@ void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t p
     ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits");
 }
 
-void LightCulling::record(const Device& device, VkCommandBuffer cmd, const Buffer& frame,
-                          const Buffer& slices, const Buffer& lights, VkImageView depth,
-                          const Buffer& counters, Profiler& profiler) {
+void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const Buffer& frame,
+                                const Buffer& slices, VkImageView depth, const Buffer& counters) {
+    // One ML_TILE_SIZE^2 group per tile: a thread per pixel of the tile grid.
+    dispatch(device, c, boundsProgram_, grid.tilesX * ML_TILE_SIZE, grid.tilesY * ML_TILE_SIZE, NoPush{},
+             {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+              bounds, counters, tileMasks});
+    // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's
+    // atomics.
+    memoryBarrier(c, kC, kW, kC, kR | kW);
+}
+
+void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const Buffer& frame,
+                                const Buffer& slices, const Buffer& lights, const Buffer& counters) {
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
-    constexpr uint32_t kLightsPerGroup = ML_FOOTPRINT_GROUP / ML_FOOTPRINT_LANES;
-    const uint32_t lightGroups = (visible + kLightsPerGroup - 1) / kLightsPerGroup;
-    profiler.run(cmd, Pass::ClusterBounds, [&](VkCommandBuffer c) {
-        bindProgram(device, c, boundsProgram_,
-                    {frame, slices,
-                     Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), bounds,
-                     counters, tileMasks},
-                    nullptr, 0);
-        vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1); // one group per tile by construction
-        // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's
-        // atomics.
-        memoryBarrier(c, kC, kW, kC, kR | kW);
-    });
-    profiler.run(cmd, Pass::LightAssign, [&](VkCommandBuffer c) {
-        vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
-        if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
-        // Cleared work counters and per-cluster counts -> the atomics of count, alloc, fill and assign.
-        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
-        if (mode == ML_CULL_CLUSTERED) {
-            // Count and record hits (8 threads per light), allocate (one thread per tile), scatter.
-            if (visible) {
-                bindProgram(device, c, countProgram_,
-                            {frame, slices, lights, bounds, tileMasks, counts, hits, work}, &hitCapacity, 4);
-                vkCmdDispatch(c, lightGroups, 1, 1);
-                memoryBarrier(c, kC, kW, kC,
-                              kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
-            }
-            bindProgram(device, c, allocProgram_, {frame, tileMasks, counts, ranges, counters, work},
-                        &hitCapacity, 4);
-            vkCmdDispatch(c, (tiles + ML_ALLOC_GROUP - 1) / ML_ALLOC_GROUP, 1, 1);
-            memoryBarrier(c, kC, kW, kC,
-                          kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
-            if (visible) {
-                bindProgram(device, c, fillProgram_, {hits, ranges, counts, pool, work}, &hitCapacity, 4);
-                vkCmdDispatch(c, ML_FILL_GROUPS, 1, 1);
-            }
-        } else {
-            bindProgram(device, c, assignProgram_, {frame, lights, bounds, ranges, pool, counters, work},
-                        nullptr, 0);
-            vkCmdDispatch(c, grid.tilesX, grid.tilesY, 1);
+    vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
+    if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
+    // Cleared work counters and per-cluster counts -> the atomics of count, alloc, fill and assign.
+    memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
+    if (mode == ML_CULL_CLUSTERED) {
+        // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
+        // scatter (ML_FILL_GROUPS groups stride over the hits).
+        const gpu::CullPush push{hitCapacity};
+        if (visible) {
+            dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
+                     {frame, slices, lights, bounds, tileMasks, counts, hits, work});
+            memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
-        // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
-        // counters reach the host through the frame's last barrier (module.cpp).
-        memoryBarrier(c, kC, kW, kC, kR);
-    });
+        dispatch(device, c, allocProgram_, tiles, 1, push,
+                 {frame, tileMasks, counts, ranges, counters, work});
+        memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
+        if (visible)
+            dispatch(device, c, fillProgram_, ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
+                     {hits, ranges, counts, pool, work});
+    } else {
+        // One ML_ASSIGN_GROUP group per tile (its threads stride over the lights).
+        dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},
+                 {frame, lights, bounds, ranges, pool, counters, work});
+    }
+    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
+    // counters reach the host through the frame-end barrier (engine/frame.cpp).
+    memoryBarrier(c, kC, kW, kC, kR);
 }
 
-void LightCulling::recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
+void LightCulling::recordView(const Device& device, VkCommandBuffer c, bool reaching, const Buffer& frame,
                               const Buffer& slices, const Buffer& lights, VkImageView depth,
-                              VkImageView output, uint32_t width, uint32_t height, Profiler& profiler) {
+                              VkImageView output, uint32_t width, uint32_t height) {
     VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
     if (viewCounts.size < bytes) {
         vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
         ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts");
     }
-    profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // The evaluation's output -> overwritten here (write-after-write).
-        memoryBarrier(c, kC, kW, kC, kW);
-        bindProgram(device, c, viewPrograms_[reaching ? 1 : 0],
-                    {frame, slices, lights, ranges,
-                     Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-                     Descriptor(Image{.view = output}), viewCounts},
-                    nullptr, 0);
-        vkCmdDispatch(c, (width + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP,
-                      (height + ML_EVAL_GROUP - 1) / ML_EVAL_GROUP, 1);
-        // Output -> the host's reads after record(); per-pixel counts -> host (tests read them mapped).
-        memoryBarrier(c, kC, kW, kOutputReaderStages | VK_PIPELINE_STAGE_2_HOST_BIT,
-                      kOutputReads | VK_ACCESS_2_HOST_READ_BIT);
-    });
+    // The evaluation's output -> overwritten here (write-after-write).
+    memoryBarrier(c, kC, kW, kC, kW);
+    dispatch(device, c, viewPrograms_[reaching ? 1 : 0], width, height, NoPush{},
+             {frame, slices, lights, ranges,
+              Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+              Descriptor(Image{.view = output}), viewCounts});
+    // Output -> the host's reads after record(); per-pixel counts -> host (tests read them mapped).
+    memoryBarrier(c, kC, kW, kOutputReaderStages | VK_PIPELINE_STAGE_2_HOST_BIT,
+                  kOutputReads | VK_ACCESS_2_HOST_READ_BIT);
 }
 
 namespace {

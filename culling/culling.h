@@ -43,16 +43,19 @@ class LightCulling {
     // Sizes the cluster buffers for a grid; the pool holds ML_POOL_PER_CLUSTER entries per cluster
     // unless poolEntries overrides it (tests force overflow with a tiny pool).
     void resize(const Device& device, const ClusterGrid& grid, uint32_t poolEntries = 0);
-    // The mode and the visible-light count are read from the frame constants `frame` holds (host
-    // memory, written by the module just before).
-    void record(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                const Buffer& lights, VkImageView depth, const Buffer& counters, class Profiler& profiler);
+    // The two passes of the frame (engine/frame.h times them): cluster bounds from the depth buffer, then
+    // light assignment, whose mode and visible-light count are read from the frame constants `frame`
+    // holds (host memory, written by the module just before).
+    void recordBounds(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
+                      VkImageView depth, const Buffer& counters);
+    void recordAssign(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
+                      const Buffer& lights, const Buffer& counters);
     // Light-complexity view (shaders/view_lights.comp), after the evaluation pass: overwrites the
     // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
     // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
     void recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
                     const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
-                    uint32_t width, uint32_t height, class Profiler& profiler);
+                    uint32_t width, uint32_t height);
     // Box tests (light x cluster) the last recorded assignment ran; valid once its frame completed.
     uint32_t lastBoxTests() const { return work.data ? *work.as<uint32_t>() : 0u; }
 

@@ -8,6 +8,7 @@
 // `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
 // with a pool far too small for the frame (the hit buffer is sized from the pool).
 #include "shaders/shared/glsl_common.glsl"
+#include "culling/culling_push.h"
 
 layout(local_size_x = ML_ALLOC_GROUP) in;
 
@@ -17,7 +18,7 @@ layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
 layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
 layout(binding = 5, std430) readonly buffer Work { uint workTests; uint hitCount; };
-layout(push_constant) uniform Push { uint hitCapacity; };
+layout(push_constant) uniform Push { CullPush push; };
 
 void main() {
     uint tile = gl_GlobalInvocationID.x;
@@ -34,7 +35,7 @@ void main() {
         uint count = (mask[s >> 5] & (1u << (s & 31u))) != 0u ? counts[c] : 0u;
         uvec2 r = uvec2(0u, count);
         if (count > 0u) {
-            if (offset + count > frame.limits.x || hitCount > hitCapacity) {
+            if (offset + count > frame.limits.x || hitCount > push.hitCapacity) {
                 r.x = ML_CLUSTER_OVERFLOW;
                 atomicAdd(counters.overflowClusters, 1u);
             } else {

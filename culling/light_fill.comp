@@ -6,6 +6,7 @@
 // is written once. Overflowed clusters are skipped (their pixels test every visible light). A fixed
 // number of groups strides over the hits (their count is only known on the GPU).
 #include "shaders/shared/glsl_common.glsl"
+#include "culling/culling_push.h"
 
 layout(local_size_x = ML_FILL_GROUP) in;
 
@@ -14,10 +15,10 @@ layout(binding = 1, std430) readonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 2, std430) buffer Counts { uint counts[]; };
 layout(binding = 3, std430) writeonly buffer Pool { uint pool[]; };
 layout(binding = 4, std430) readonly buffer Work { uint workTests; uint hitCount; };
-layout(push_constant) uniform Push { uint hitCapacity; };
+layout(push_constant) uniform Push { CullPush push; };
 
 void main() {
-    uint n = min(hitCount, hitCapacity);
+    uint n = min(hitCount, push.hitCapacity);
     for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * ML_FILL_GROUP) {
         uvec2 h = hits[i];
         uvec2 r = ranges[h.x];

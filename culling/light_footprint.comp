@@ -12,10 +12,11 @@
 // hitCapacity; past it only hitCount grows, and light_alloc then overflows every non-empty cluster, so
 // nothing is lost). Recording the hits spares pass C a second round of box tests.
 #include "shaders/shared/glsl_common.glsl"
+#include "culling/culling_push.h"
 #include "shaders/shared/light_math.h"
 
 layout(local_size_x = ML_FOOTPRINT_GROUP) in;
-layout(push_constant) uniform Push { uint hitCapacity; };
+layout(push_constant) uniform Push { CullPush push; };
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
@@ -83,7 +84,7 @@ void main() {
                 uint c = tile * slices + word * 32u + uint(findLSB(bits));
                 bits &= bits - 1u;
                 atomicAdd(counts[c], 1u);
-                if (h < hitCapacity) hits[h] = uvec2(c, l);
+                if (h < push.hitCapacity) hits[h] = uvec2(c, l);
                 ++h;
             }
         }

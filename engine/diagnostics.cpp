@@ -133,10 +133,10 @@ std::shared_ptr<const VsmPageState> readVsmPageState(Module& module) {
     Module::Impl& m = internals(module);
     auto s = std::make_shared<VsmPageState>();
     s->c = m.vsm.lastConstants();
-    s->maps = m.vsm.mapsHost(m.lastSlot);
-    s->coverage = m.vsm.coverageBits(m.lastSlot);
-    s->table = m.vsm.readTable(*m.device);
-    s->pool = m.vsm.readPagePool(*m.device);
+    s->maps = m.vsm.slotHost(m.lastSlot).maps;
+    s->coverage = m.vsm.slotHost(m.lastSlot).coverage;
+    s->table = m.vsm.read(*m.device, VsmState::Table);
+    s->pool = m.vsm.read(*m.device, VsmState::PagePool);
     return s;
 }
 

@@ -12,7 +12,7 @@ void GBufferPass::create(const Device& device) {
     state.colorFormats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM};
     state.depthFormat = VK_FORMAT_D32_SFLOAT;
     state.cull = VK_CULL_MODE_NONE; // open geometry (cards, awnings, fences) is two-sided
-    program_ = createGraphicsProgram(device, {&vs_, &fs_}, 0, state);
+    program_ = createGraphicsProgram(device, {&vs_, &fs_}, state);
 }
 
 void GBufferPass::destroy(const Device& device) {

@@ -16,12 +16,12 @@
 // stalling.
 //
 // This header and the ones it includes hold API types only (no Vulkan wrapper classes, no internal
-// state): gpu/device_types.h, gpu/pass_times.h, io/result.h, lights/light_types.h, shaders/shared/enums.h
+// state): gpu/device_types.h, engine/pass_times.h, io/result.h, lights/light_types.h, shaders/shared/enums.h
 // (and config.h), shadows/static/static_types.h, shadows/virtual/vsm_settings.h. Read-backs for tools and
 // checks (G-buffer, last frame's constants, VSM probes, counters) are engine/manylights_diagnostics.h.
 #pragma once
 #include "gpu/device_types.h"
-#include "gpu/pass_times.h"
+#include "engine/pass_times.h"
 #include "io/result.h"
 #include "lights/light_types.h"
 #include "shaders/shared/enums.h"
@@ -51,7 +51,7 @@ Result<CullingMode> parseCulling(const std::string& name);
 // this frame or cached, no caster, fallback; shadows/virtual/vsm_view.comp).
 enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching, Vsm };
 
-// How per-pass GPU times are measured (gpu/pass_times.h).
+// How per-pass GPU times are measured (engine/pass_times.h).
 //   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own
 //     commands, with a timestamp pair around each. On lavapipe the timestamps do not bracket compute work
 //     (llvmpipe writes them from its rasteriser bins), so compute passes read near zero there.

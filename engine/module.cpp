@@ -1,8 +1,6 @@
-// The frame driver behind the public API (engine/manylights.h): owns the scene buffers, per-slot
-// frame data, the passes and the profiler, and records a frame as a list of pass objects:
-//   [gbuffer] -> culling (cluster bounds, light assignment; skipped in mode None)
-//   -> virtual shadow maps (mark, alloc, hpb, cull/expand, draw; only with active maps)
-//   -> evaluate -> [statistics] -> [debug view]
+// The module behind the public API (engine/manylights.h): owns the scene buffers, per-slot frame data,
+// the features and the profiler, and records a frame as a list of pass objects (engine/frame.h; the host
+// side of a frame is engine/frame_write.cpp).
 #include "engine/manylights.h"
 
 #include "culling/culling.h"
@@ -137,10 +135,11 @@ void Module::Impl::init() {
     gbuffer.create(d);
     cull.create(d);
     vsm.create(d, vsmSettings, uint32_t(slots.size()));
+    if (vsm.enabled()) vsmPasses.create(d, vsm);
     evaluate.create(d, hdrOutput);
     statisticsPass.create(d);
-    profiler.create(d, uint32_t(slots.size()));
-    profiler.mode = timing;
+    profiler.create(d, uint32_t(slots.size()), passTimerNames());
+    profiler.fenced = timing == TimingMode::Fenced;
     for (auto& s : slots) {
         s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                "frame_constants");
@@ -158,6 +157,7 @@ void Module::Impl::destroy() {
     cull.destroy(d);
     evaluate.destroy(d);
     statisticsPass.destroy(d);
+    vsmPasses.destroy(d);
     vsm.destroy(d);
     profiler.destroy(d);
     for (auto& s : slots) {
@@ -628,246 +628,32 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
     if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)
         return fail("record: no command buffer (the module records into the host's)");
-    if (m.geometryDirty) m.uploadGeometry();
-    if (m.shadowsDirty || m.recordOfLight.size() != m.lights.size()) m.uploadShadows();
-    const Device& d = *m.device;
-    uint32_t slotIndex = uint32_t(m.frameIndex % m.slots.size());
-    Impl::Slot& slot = m.slots[slotIndex];
-    if (slot.pending) m.collectSlot(slotIndex); // the host waited for this slot's previous frame
-
-    CullingMode mode = m.culling;
-    ClusterGrid grid =
-        mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(m.width, m.height, mode);
-    if (mode != m.cullingMode || grid.count() != m.cull.grid.count()) {
-        vkDeviceWaitIdle(d.device);
-        m.cull.resize(d, grid, m.poolOverride);
-        m.cullingMode = mode;
-    }
-
-    m.writeFrame(slot, slotIndex, grid, mode);
-
-    VkImageView depthView = m.ownTargets ? m.targets.depth.view : m.host.depth;
-    VkImageView normalView = m.ownTargets ? m.targets.normal.view : m.host.normal;
-    VkImageView albedoView = m.ownTargets ? m.targets.albedo.view : m.host.albedo;
-    VkImageView outputView = m.ownTargets ? m.output.view : m.host.output;
-    const Descriptor depth(Image{.view = depthView}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    const auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    const auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT, W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-
-    // The frame as a list of passes (each a profiler entry with a debug label).
-    m.profiler.beginFrame(cmd, slotIndex);
-    m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // The frame boundary: the previous frame read and wrote the cluster buffers, the persistent VSM
-        // state (page table, pool, owners, HPB: read-after-write across frames) and the targets this frame
-        // rewrites (write-after-read), in every stage the module uses; later barriers of the frame chain
-        // from this one. Only the module's stages and accesses: a host's other work (host reads, ray
-        // tracing, video...) on a borrowed queue is not waited for. Host targets arrive already
-        // transitioned by the host (HostTargets). Two frames recorded back to back show no hazard under
-        // synchronization validation even without this barrier (the passes' own barriers chain across
-        // the boundary; SyncValidation.TwoFramesInOneCommandBuffer); it stays for the host's commands
-        // before record() that touch module-visible memory in these stages.
-        const VkPipelineStageFlags2 frameStages =
-            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | kFillStages | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT |
-            VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-            VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT |
-            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT |
-            VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-        const VkAccessFlags2 frameWrites =
-            VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
-            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-        const VkAccessFlags2 frameAccesses =
-            frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
-            VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT |
-            VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
-            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
-        memoryBarrier(c, frameStages, frameWrites, frameStages, frameAccesses);
-        vkCmdFillBuffer(c, slot.counters.buffer, 0, VK_WHOLE_SIZE, 0);
-        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
-    });
-    if (m.ownTargets)
-        m.profiler.run(cmd, Pass::GBuffer, [&](VkCommandBuffer c) {
-            m.gbuffer.record(d, c, m.targets, slot.frame, m.vertexBuffer, m.indexBuffer, slot.instances,
-                             m.drawBuffer, uint32_t(m.instances.size()));
-        });
-    if (mode != CullingMode::None)
-        m.cull.record(d, cmd, slot.frame, slot.slices, slot.lights, depthView, slot.counters, m.profiler);
-
-    VsmFrameInputs vin{&slot.frame, &slot.slices, &slot.lights,    &m.cull.ranges, &m.cull.pool,
-                       depthView,   normalView,   &m.vertexBuffer, &m.indexBuffer, &slot.instances};
-    vin.meshlets = &m.meshletBuffer;
-    vin.meshletVertices = &m.meshletVertexBuffer;
-    vin.meshletTriangles = &m.meshletTriangleBuffer;
-    m.vsm.record(d, cmd, m.profiler, slotIndex, vin);
-
-    // The HDR and output images are rewritten whole: their old contents are discarded. Write-after-read
-    // and write-after-write against the previous frame's evaluation and debug views (compute): its
-    // storage writes are in the source scope, so the layout transition is ordered after them (two frames
-    // in one command buffer: SyncValidation.TwoFramesInOneCommandBuffer). The host's reads of them
-    // (copies, blits) reach the compute stage through the frame-start barrier.
-    m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        imageBarrier(c, m.hdr.image, m.hdr.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, W,
-                     C, W);
-        if (m.ownTargets)
-            imageBarrier(c, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
-                         VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
-    });
-    const ShadingInputs shading{&slot.frame, &slot.slices, &slot.lights, &m.cull.ranges, &m.cull.pool,
-                                depthView,   normalView,   albedoView,   m.width,        m.height};
-    const VirtualShadowMaps& v = m.vsm;
-    const bool vsmOn = v.enabled(); // without VSM any valid buffers fill its bindings (never read)
-    const ShadowInputs shadows{&m.staticWords,
-                               &m.shadowRecords,
-                               vsmOn ? &v.constants(slotIndex) : &slot.frame,
-                               vsmOn ? &v.maps(slotIndex) : &m.staticWords,
-                               vsmOn ? &v.coverage(slotIndex) : &m.staticWords,
-                               vsmOn ? &v.table() : &m.staticWords,
-                               vsmOn ? &v.pagePool() : &m.staticWords};
-    // HDR-only output: the host's output view (RGBA16F) takes the HDR radiance; the tone-mapped binding
-    // gets the module's own output image, which the shader then never writes.
-    const VkImageView hdrView = m.hdrOutput && !m.ownTargets ? m.host.output : m.hdr.view;
-    const VkImageView toneView = m.hdrOutput ? m.output.view : outputView;
-    m.evaluate.record(d, cmd, m.profiler, shading, shadows, hdrView, toneView);
-    if (m.vsm.settings().probeCapacity)
-        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) { m.vsm.recordProbe(d, c, slotIndex, vin); });
-    if (m.statistics)
-        m.statisticsPass.record(d, cmd, m.profiler, shading, slot.counters);
-    else
-        m.profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-            memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_HOST_BIT,
-                          VK_ACCESS_2_HOST_READ_BIT); // counters -> host
-        });
-
-    if (m.view == DebugView::Vsm && m.vsm.enabled() && !m.hdrOutput)
-        m.profiler.runUntimed(cmd,
-                              [&](VkCommandBuffer c) { m.vsm.recordView(d, c, slotIndex, vin, outputView); });
-    else if (m.view == DebugView::LightsEvaluated || m.view == DebugView::LightsReaching)
-        m.cull.recordView(d, cmd, m.view == DebugView::LightsReaching, slot.frame, slot.slices, slot.lights,
-                          depthView, outputView, m.width, m.height, m.profiler);
-
-    slot.pending = true;
-    slot.statistics = m.statistics;
-    m.lastSlot = slotIndex;
-    m.frameIndex++;
+    const uint32_t slotIndex = m.beginFrame();
+    FrameContext frame = m.frameContext(cmd, slotIndex);
+    FramePasses& p = m.passes;
+    // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
+    FramePass* const passes[] = {
+        &p.begin,             // frame-begin barrier, counters cleared
+        &p.gbuffer,           // module-owned targets only
+        &p.clusterBounds,     // culling (mode None: skipped): cluster bounds,
+        &p.lightAssign,       //   light lists
+        &p.vsmReset,          // virtual shadow maps: per-frame clears,
+        &p.vsmMark,           //   then, with active maps, mark,
+        &p.vsmAlloc,          //   scan / allocate / assign,
+        &p.vsmHpb,            //   hierarchical page buffer,
+        &p.vsmCull,           //   instance culling (raster path)
+        &p.vsmExpand,         //   or expansion into meshlets (mesh path),
+        &p.vsmDraw,           //   clear and draw the dirty pages
+        &p.evaluationOutputs, // HDR and output discarded
+        &p.evaluate,          // the one evaluation pass
+        &p.vsmProbe,          // optional lookup probe
+        &p.statistics,        // optional per-pixel light counts
+        &p.debugView,         // --view lights / lights-reaching / vsm
+        &p.end,               // counters -> host
+    };
+    runFrame(m.profiler, frame, passes);
+    m.endFrame(slotIndex);
     return {};
-}
-
-// Frame constants, visible lights (with their static records and virtual maps), instances: everything
-// the host side writes into the slot's buffers for one frame.
-void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode) {
-    const CameraDesc& c = camera;
-    const CameraMatrices cm = frameCamera(); // reversed Z (engine/camera.h)
-    gpu::FrameConstants fc{};
-    fc.viewProj = cm.projection * cm.view;
-    fc.invViewProj = glm::inverse(fc.viewProj);
-    fc.cameraPosition = glm::vec4(c.position, 1.0f);
-    fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
-    fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
-    fc.ambient = glm::vec4(ambient, exposure);
-    fc.sky = glm::vec4(sky, 0.0f);
-    fc.limits = glm::uvec4(cull.poolCapacity, grid.count(), 0, 0);
-
-    // Visible lights: bounding sphere against the camera frustum.
-    auto planes = frustumPlanes(fc.viewProj);
-    auto* gl = slot.lights.as<gpu::GpuLight>();
-    std::vector<uint32_t> visibleIds;
-    for (uint32_t i = 0; i < lights.size(); ++i) {
-        const LightDesc& l = lights[i];
-        if (!lightAlive[i]) continue;
-        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
-        gl[visibleIds.size()] = toGpuLight(l, i);
-        gl[visibleIds.size()].info.z = recordOfLight[i];
-        visibleIds.push_back(i);
-    }
-    const uint32_t visible = uint32_t(visibleIds.size());
-
-    // Instances, and what the virtual shadow maps need of them and of the lights.
-    auto* inst = slot.instances.as<GpuInstance>();
-    std::vector<VsmInstance> casters(instances.size());
-    for (size_t i = 0; i < instances.size(); ++i) {
-        const InstanceData& id = instances[i];
-        inst[i].model = id.transform;
-        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
-        inst[i].albedo = glm::vec4(id.albedo, 1.0f);
-        const MeshRange& r = meshes[id.mesh];
-        VsmInstance& v = casters[i];
-        v.lo = glm::vec3(1e30f);
-        v.hi = glm::vec3(-1e30f);
-        for (uint32_t k = 0; k < 8; ++k) {
-            glm::vec3 p((k & 1) ? r.hi.x : r.lo.x, (k & 2) ? r.hi.y : r.lo.y, (k & 4) ? r.hi.z : r.lo.z);
-            glm::vec3 w = glm::vec3(id.transform * glm::vec4(p, 1.0f));
-            v.lo = glm::min(v.lo, w);
-            v.hi = glm::max(v.hi, w);
-        }
-        v.indexCount = r.indexCount;
-        v.firstIndex = r.firstIndex;
-        v.vertexOffset = r.firstVertex;
-        v.firstMeshlet = r.firstMeshlet;
-        v.meshletCount = r.meshletCount;
-        v.closed = r.coneCull;
-        v.dynamic = id.dynamic;
-        v.castsShadows = id.alive && id.castsShadows;
-    }
-    if (vsm.enabled()) {
-        std::vector<VsmLight> vl(lights.size());
-        for (size_t i = 0; i < lights.size(); ++i) {
-            const LightDesc& l = lights[i];
-            vl[i].kind = uint32_t(l.kind);
-            vl[i].position = l.position;
-            vl[i].direction = l.direction;
-            vl[i].range = l.range;
-            vl[i].outerAngle = l.outerAngle;
-            vl[i].moving = l.dynamic;
-            vl[i].castsShadows = lightAlive[i] && l.castsShadows;
-            const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
-            bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
-            for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
-            // A moving light's bake (if any) no longer matches it: its maps take every caster.
-            vl[i].staticBake = baked && !l.dynamic;
-        }
-        std::vector<uint32_t> firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
-                                                     {c.position, c.fovY, height});
-        for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap[v];
-    }
-
-    fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
-    upload(slot.frame, &fc, sizeof(fc));
-    std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
-    upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
-    slot.lightsTotal = uint32_t(lights.size());
-    slot.lightsVisible = visible;
-    slot.clusters = mode == CullingMode::None ? 0 : grid.count();
-    slot.poolCapacity = cull.poolCapacity;
-    slot.mode = mode;
-    slot.frameNumber = frameIndex;
-    lastConstants = fc;
-    lastSliceFar = sliceFar;
-    lastLights.assign(gl, gl + visible);
-}
-
-void Module::Impl::collectSlot(uint32_t index) {
-    Slot& s = slots[index];
-    FrameReport r;
-    r.frame = s.frameNumber;
-    if (!profiler.read(index, r.times)) return; // not complete yet: keep pending
-    const auto& c = *s.counters.as<gpu::FrameCounters>();
-    FrameStats& st = r.stats;
-    st.lightsTotal = s.lightsTotal;
-    st.lightsVisible = s.lightsVisible;
-    st.clusters = s.clusters;
-    st.clustersOccupied = c.occupiedClusters;
-    st.clusterLightsMean = c.occupiedClusters ? double(c.clusterLightsSum) / c.occupiedClusters : 0.0;
-    st.clusterLightsMax = c.maxClusterLights;
-    st.clusterOverflowCount = c.overflowClusters;
-    st.poolEntries = std::min(c.poolCursor, s.poolCapacity);
-    st.poolCapacity = s.poolCapacity;
-    st.surfacePixels = c.surfacePixels;
-    st.vsm = vsm.readStats(index);
-    if (s.statistics && c.surfacePixels) {
-        st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
-        st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);
-    }
-    reports.push_back(r);
-    s.pending = false;
 }
 
 void Module::collect() {

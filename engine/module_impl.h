@@ -4,6 +4,7 @@
 #pragma once
 #include "culling/culling.h"
 #include "engine/camera.h"
+#include "engine/frame.h"
 #include "engine/gbuffer.h"
 #include "engine/manylights.h"
 #include "gpu/profiler.h"
@@ -98,10 +99,12 @@ struct Module::Impl {
     EvaluatePass evaluate;
     StatisticsPass statisticsPass;
     bool hdrOutput = false;
-    VirtualShadowMaps vsm;
+    VirtualShadowMaps vsm; // state: map slots, page tables, pool
+    VsmPasses vsmPasses;   // its GPU passes
     VsmSettings vsmSettings;
     std::vector<InstanceData> lastInstances; // for moved-caster detection (by the VSM)
     Profiler profiler;
+    FramePasses passes{gbuffer, cull, vsm, vsmPasses, evaluate, statisticsPass}; // Module::record's list
     std::vector<Slot> slots;
     uint64_t frameIndex = 0;
     std::vector<FrameReport> reports;
@@ -121,6 +124,11 @@ struct Module::Impl {
     void collectSlot(uint32_t index);
     Result<uint32_t> lightIndex(LightId id, const char* what) const;
     Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
+    // The host side of Module::record (engine/frame_write.cpp): uploads, the slot's collection and
+    // buffers (returns the slot), the passes' context; endFrame marks the slot pending.
+    uint32_t beginFrame();
+    FrameContext frameContext(VkCommandBuffer cmd, uint32_t slot) const;
+    void endFrame(uint32_t slot);
     void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
 

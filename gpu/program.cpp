@@ -1,5 +1,6 @@
 #include "gpu/program.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cstdio>
 #include <vector>
@@ -8,11 +9,15 @@ namespace ml {
 
 namespace {
 
-// Minimal SPIR-V reflection: entry stage, LocalSize, and the descriptor type of every set-0 binding.
-// Opcodes and enums from the SPIR-V specification, section 3.
+// Minimal SPIR-V reflection: entry stage, LocalSize, the descriptor type of every set-0 binding and
+// the size of the push-constant block. Opcodes and enums from the SPIR-V specification, section 3.
 enum : uint32_t {
     OpEntryPoint = 15,
     OpExecutionMode = 16,
+    OpTypeInt = 21,
+    OpTypeFloat = 22,
+    OpTypeVector = 23,
+    OpTypeMatrix = 24,
     OpTypeImage = 25,
     OpTypeSampler = 26,
     OpTypeSampledImage = 27,
@@ -24,7 +29,16 @@ enum : uint32_t {
     OpDecorate = 71,
     OpTypeAccelerationStructureKHR = 5341
 };
-enum : uint32_t { DecBlock = 2, DecBufferBlock = 3, DecBinding = 33, DecDescriptorSet = 34 };
+enum : uint32_t {
+    DecArrayStride = 6,
+    DecMatrixStride = 7,
+    DecBlock = 2,
+    DecBufferBlock = 3,
+    DecBinding = 33,
+    DecDescriptorSet = 34,
+    DecOffset = 35
+};
+enum : uint32_t { OpMemberDecorate = 72 };
 enum : uint32_t { ScUniformConstant = 0, ScUniform = 2, ScPushConstant = 9, ScStorageBuffer = 12 };
 
 struct Id {
@@ -33,8 +47,46 @@ struct Id {
     uint32_t storageClass = 0;
     uint32_t binding = ~0u, set = ~0u;
     uint32_t sampled = 0; // OpTypeImage Sampled operand
+    uint32_t width = 0;   // OpTypeInt / OpTypeFloat: bits; OpTypeVector / OpTypeMatrix / OpTypeArray: count
+    uint32_t stride = 0;  // ArrayStride of an array type
     bool block = false, bufferBlock = false;
+    std::vector<uint32_t> members;                // OpTypeStruct member type ids
+    std::vector<uint32_t> offsets, matrixStrides; // per member (Offset, MatrixStride decorations)
 };
+
+// Bytes a value of type `t` spans in an explicitly laid-out block (push constants): scalars and vectors
+// by their width, matrices and arrays by their strides, structs up to the end of their last member.
+uint32_t typeBytes(const std::vector<Id>& ids, const std::vector<uint32_t>& constants, uint32_t t,
+                   uint32_t matrixStride = 0) {
+    const Id& ty = ids[t];
+    switch (ty.opcode) {
+    case OpTypeInt:
+    case OpTypeFloat:
+        return ty.width / 8;
+    case OpTypeVector:
+        return ty.width * typeBytes(ids, constants, ty.typeId);
+    case OpTypeMatrix:
+        return ty.width * (matrixStride ? matrixStride : typeBytes(ids, constants, ty.typeId));
+    case OpTypeArray:
+        return constants[ty.width] * ty.stride;
+    case OpTypeStruct: {
+        uint32_t end = 0;
+        for (size_t m = 0; m < ty.members.size(); ++m) {
+            uint32_t off = m < ty.offsets.size() ? ty.offsets[m] : 0;
+            uint32_t ms = m < ty.matrixStrides.size() ? ty.matrixStrides[m] : 0;
+            end = std::max(end, off + typeBytes(ids, constants, ty.members[m], ms));
+        }
+        return end;
+    }
+    default:
+        return 0;
+    }
+}
+
+void memberDecoration(std::vector<uint32_t>& v, uint32_t member, uint32_t value) {
+    if (v.size() <= member) v.resize(member + 1, 0);
+    v[member] = value;
+}
 
 void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
     assert(words >= 5 && code[0] == 0x07230203);
@@ -81,7 +133,12 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
         case 43: // OpConstant (32-bit scalars are all the local sizes need)
             if (n == 4) constants[ins[2]] = ins[3];
             break;
+        case OpMemberDecorate:
+            if (ins[3] == DecOffset) memberDecoration(ids[ins[1]].offsets, ins[2], ins[4]);
+            if (ins[3] == DecMatrixStride) memberDecoration(ids[ins[1]].matrixStrides, ins[2], ins[4]);
+            break;
         case OpDecorate:
+            if (ins[2] == DecArrayStride) ids[ins[1]].stride = ins[3];
             if (ins[2] == DecBinding) ids[ins[1]].binding = ins[3];
             if (ins[2] == DecDescriptorSet) ids[ins[1]].set = ins[3];
             if (ins[2] == DecBlock) ids[ins[1]].block = true;
@@ -93,11 +150,29 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
             break;
         case OpTypeSampler:
         case OpTypeSampledImage:
-        case OpTypeStruct:
         case OpTypeAccelerationStructureKHR:
             ids[ins[1]].opcode = op;
             break;
+        case OpTypeStruct:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].members.assign(ins + 2, ins + n);
+            break;
+        case OpTypeInt:
+        case OpTypeFloat:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].width = ins[2];
+            break;
+        case OpTypeVector:
+        case OpTypeMatrix:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].typeId = ins[2];
+            ids[ins[1]].width = ins[3];
+            break;
         case OpTypeArray:
+            ids[ins[1]].opcode = op;
+            ids[ins[1]].typeId = ins[2];
+            ids[ins[1]].width = ins[3]; // the length's constant id
+            break;
         case OpTypeRuntimeArray:
             ids[ins[1]].opcode = op;
             ids[ins[1]].typeId = ins[2];
@@ -121,7 +196,8 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
         for (int k = 0; k < 3; ++k) sm.localSize[k] = constants[localSizeIds[k]];
     for (const Id& v : ids) {
         if (v.opcode != OpVariable) continue;
-        if (v.storageClass == ScPushConstant) sm.usesPushConstants = true;
+        if (v.storageClass == ScPushConstant) // pointer -> the block struct
+            sm.pushSize = typeBytes(ids, constants, ids[v.typeId].typeId);
         if (v.binding == ~0u) continue;
         if (v.set != 0) {
             std::fprintf(stderr, "%s: only descriptor set 0 is supported\n", sm.name.c_str());
@@ -169,11 +245,11 @@ struct SpecData {
     }
 };
 
-void createLayout(const Device& device, Program& p, std::initializer_list<const ShaderModule*> shaders,
-                  uint32_t pushSize) {
-    uint32_t mask = 0;
+void createLayout(const Device& device, Program& p, std::initializer_list<const ShaderModule*> shaders) {
+    uint32_t mask = 0, pushSize = 0;
     for (const ShaderModule* s : shaders) {
         p.stages |= s->stage;
+        pushSize = std::max(pushSize, s->pushSize); // stages may declare a prefix of the block
         for (uint32_t b = 0; b < 32; ++b) {
             if (!(s->bindingMask & (1u << b))) continue;
             if ((mask & (1u << b)) && p.bindingTypes[b] != s->bindingTypes[b]) {
@@ -200,6 +276,11 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
     sci.bindingCount = uint32_t(bindings.size());
     sci.pBindings = bindings.data();
     ML_VK_CHECK(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
+    if (pushSize > device.properties.limits.maxPushConstantsSize) {
+        std::fprintf(stderr, "%s: %u push bytes exceed the device's %u\n", p.name.c_str(), pushSize,
+                     device.properties.limits.maxPushConstantsSize);
+        std::abort();
+    }
     VkPushConstantRange range{p.stages, 0, pushSize};
     VkPipelineLayoutCreateInfo lci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     lci.setLayoutCount = 1;
@@ -228,12 +309,12 @@ void destroyShader(const Device& device, ShaderModule& shader) {
     shader.module = VK_NULL_HANDLE;
 }
 
-Program createComputeProgram(const Device& device, const ShaderModule& shader, uint32_t pushSize,
+Program createComputeProgram(const Device& device, const ShaderModule& shader,
                              std::initializer_list<SpecConstant> spec) {
     Program p;
     p.name = shader.name;
     p.bindPoint = VK_PIPELINE_BIND_POINT_COMPUTE;
-    createLayout(device, p, {&shader}, pushSize);
+    createLayout(device, p, {&shader});
     for (int i = 0; i < 3; ++i) p.localSize[i] = shader.localSize[i];
     SpecData sd(spec);
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -249,12 +330,11 @@ Program createComputeProgram(const Device& device, const ShaderModule& shader, u
 }
 
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
-                              uint32_t pushSize, const GraphicsState& state,
-                              std::initializer_list<SpecConstant> spec) {
+                              const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
     Program p;
     p.name = (*shaders.begin())->name;
     p.bindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    createLayout(device, p, shaders, pushSize);
+    createLayout(device, p, shaders);
     SpecData sd(spec);
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     for (const ShaderModule* s : shaders) {
@@ -357,11 +437,28 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
     if (pushSize) vkCmdPushConstants(cmd, p.layout, p.stages, 0, pushSize, push);
 }
 
-void checkGroupCount(const Program& p, uint32_t gx, uint32_t gy) {
-    if (gx <= 65535 && gy <= 65535) return;
-    std::fprintf(stderr, "%s: dispatch of %u x %u groups exceeds 65535 per dimension\n", p.name.c_str(), gx,
-                 gy);
-    std::abort();
+void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& p, const uint32_t threads[3],
+                     const void* push, uint32_t pushSize, std::initializer_list<Descriptor> descriptors) {
+    bindProgram(device, cmd, p, descriptors, push, pushSize);
+    uint32_t groups[3];
+    for (int k = 0; k < 3; ++k) {
+        groups[k] = (threads[k] + p.localSize[k] - 1) / p.localSize[k];
+        if (groups[k] > device.properties.limits.maxComputeWorkGroupCount[k]) {
+            std::fprintf(stderr,
+                         "%s: dispatch of %u x %u x %u groups exceeds the device's %u in dimension %d\n",
+                         p.name.c_str(), groups[0], groups[1], groups[2],
+                         device.properties.limits.maxComputeWorkGroupCount[k], k);
+            std::abort();
+        }
+    }
+    if (groups[0] && groups[1] && groups[2]) vkCmdDispatch(cmd, groups[0], groups[1], groups[2]);
+}
+
+void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& p, const Buffer& args,
+                      VkDeviceSize offset, const void* push, uint32_t pushSize,
+                      std::initializer_list<Descriptor> descriptors) {
+    bindProgram(device, cmd, p, descriptors, push, pushSize);
+    vkCmdDispatchIndirect(cmd, args.buffer, offset);
 }
 
 } // namespace ml

@@ -1,10 +1,14 @@
 // Programs: shader modules, pipelines and the dispatch that records a compute pass in a few lines.
 //
-// Descriptor bindings and the compute local size are read from the SPIR-V itself (a small reflection
-// pass), so the C++ side never restates them: `dispatch` divides thread counts by the shader's local
-// size, and `Descriptors` are matched to the shader's bindings in binding order, type-checked, and
-// pushed with VK_KHR_push_descriptor (no pools, no sets to manage).
-// Variants are specialization constants given by name at program creation: {kSpecFoo, value}.
+// Descriptor bindings, the push-constant block size and the compute local size are read from the SPIR-V
+// itself (a small reflection pass), so the C++ side never restates them: `dispatch` divides thread
+// counts by the shader's local size, checks sizeof(Push) against the shader's block (each push block is
+// one ML_STRUCT shared by C++ and GLSL, beside its feature) and matches `Descriptors` to the shader's
+// bindings in binding order, type-checked, pushed with VK_KHR_push_descriptor (no pools, no sets).
+// Every compute dispatch goes through dispatch / dispatchIndirect; draws bind with bindProgram.
+// Variants are specialization constants given by id at program creation, {id, value}: the shaders are
+// built with -g0 (no names in the SPIR-V), so the id is the shader's `constant_id` (each shader has
+// at most one, id 0, named kSpec* in its source).
 #pragma once
 #include "gpu/resources.h"
 
@@ -21,7 +25,7 @@ struct ShaderModule {
     uint32_t localSize[3] = {1, 1, 1};
     uint32_t bindingMask = 0;               // bit b: set 0 binding b is used
     VkDescriptorType bindingTypes[32] = {}; // valid where bindingMask has the bit
-    bool usesPushConstants = false;
+    uint32_t pushSize = 0;                  // bytes of the push-constant block (0: none)
     std::string name;
 };
 
@@ -41,14 +45,14 @@ struct Program {
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineBindPoint bindPoint = VK_PIPELINE_BIND_POINT_COMPUTE;
     VkShaderStageFlags stages = 0;
-    uint32_t pushSize = 0;
+    uint32_t pushSize = 0; // largest push block of its stages (reflected)
     uint32_t localSize[3] = {1, 1, 1};
     uint32_t bindingCount = 0; // bindings 0..bindingCount-1, all used
     VkDescriptorType bindingTypes[32] = {};
     std::string name;
 };
 
-Program createComputeProgram(const Device& device, const ShaderModule& shader, uint32_t pushSize,
+Program createComputeProgram(const Device& device, const ShaderModule& shader,
                              std::initializer_list<SpecConstant> spec = {});
 
 struct GraphicsState {
@@ -63,8 +67,7 @@ struct GraphicsState {
     bool depthClamp = false;
 };
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
-                              uint32_t pushSize, const GraphicsState& state,
-                              std::initializer_list<SpecConstant> spec = {});
+                              const GraphicsState& state, std::initializer_list<SpecConstant> spec = {});
 void destroyProgram(const Device& device, Program& program);
 
 // One descriptor: a buffer (whole range) or an image view in a layout.
@@ -80,28 +83,53 @@ struct Descriptor {
     Descriptor(VkImageView v, VkImageLayout l = VK_IMAGE_LAYOUT_GENERAL) : view(v), layout(l) {}
 };
 
-// Binds the program and pushes descriptors (in binding order) and the push constants.
+// Binds the program and pushes descriptors (in binding order) and the push constants; aborts naming the
+// program when their count, types or the push size differ from the shader's.
 void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& program,
                  std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize);
-
-// Aborts naming the program when a dispatch exceeds the 65535 groups per dimension every device has.
-void checkGroupCount(const Program& program, uint32_t groupsX, uint32_t groupsY);
 
 // A program without push constants takes NoPush{}.
 struct NoPush {};
 
-// Binds, checks the push size and descriptors against the shader's reflection (bindProgram aborts with
-// the program's name on a mismatch) and dispatches ceil(threads / local size) groups.
+// Bytes a push block passes (the device's maxPushConstantsSize is checked at program creation: 128 on
+// every device, 144 used by the dual depth bake).
+template <class Push> constexpr uint32_t pushBytes() {
+    return std::is_empty_v<Push> ? 0u : uint32_t(sizeof(Push));
+}
+
+template <class Push>
+void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& program, const Push& push,
+                 std::initializer_list<Descriptor> descriptors) {
+    bindProgram(device, cmd, program, descriptors, &push, pushBytes<Push>());
+}
+
+// Binds, then dispatches ceil(threads / local size) groups per dimension; aborts naming the program when
+// a count exceeds the device's maxComputeWorkGroupCount. Nothing is recorded for zero threads.
+void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& program,
+                     const uint32_t threads[3], const void* push, uint32_t pushSize,
+                     std::initializer_list<Descriptor> descriptors);
+// Binds, then dispatches the VkDispatchIndirectCommand at `offset` in `args` (written on the GPU, so its
+// counts are the writer's to bound: vsm_scan.comp clamps them).
+void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& program, const Buffer& args,
+                      VkDeviceSize offset, const void* push, uint32_t pushSize,
+                      std::initializer_list<Descriptor> descriptors);
+
+template <class Push>
+void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX,
+              uint32_t threadsY, uint32_t threadsZ, const Push& push,
+              std::initializer_list<Descriptor> descriptors) {
+    const uint32_t threads[3] = {threadsX, threadsY, threadsZ};
+    dispatchThreads(device, cmd, program, threads, &push, pushBytes<Push>(), descriptors);
+}
 template <class Push>
 void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX,
               uint32_t threadsY, const Push& push, std::initializer_list<Descriptor> descriptors) {
-    static_assert(sizeof(Push) <= 128, "push constants are limited to 128 bytes");
-    constexpr uint32_t pushSize = std::is_empty_v<Push> ? 0u : uint32_t(sizeof(Push));
-    bindProgram(device, cmd, program, descriptors, &push, pushSize);
-    uint32_t gx = (threadsX + program.localSize[0] - 1) / program.localSize[0];
-    uint32_t gy = (threadsY + program.localSize[1] - 1) / program.localSize[1];
-    checkGroupCount(program, gx, gy);
-    if (gx && gy) vkCmdDispatch(cmd, gx, gy, 1);
+    dispatch(device, cmd, program, threadsX, threadsY, 1, push, descriptors);
+}
+template <class Push>
+void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& program, const Buffer& args,
+                      VkDeviceSize offset, const Push& push, std::initializer_list<Descriptor> descriptors) {
+    dispatchIndirect(device, cmd, program, args, offset, &push, pushBytes<Push>(), descriptors);
 }
 
 } // namespace ml

@@ -385,4 +385,15 @@ void firstUseBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout layo
         imageBarrier(cmd, image, 0, image.mips, layout, layout, src, srcAccess, dst, dstAccess);
 }
 
+void beginAttachmentless(VkCommandBuffer cmd, uint32_t size, VkExtent2D scissor) {
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {size, size}};
+    ri.layerCount = 1;
+    vkCmdBeginRendering(cmd, &ri);
+    VkViewport vp{0, 0, float(size), float(size), 0, 1};
+    VkRect2D sc{{0, 0}, scissor};
+    vkCmdSetViewport(cmd, 0, 1, &vp);
+    vkCmdSetScissor(cmd, 0, 1, &sc);
+}
+
 } // namespace ml

@@ -138,6 +138,9 @@ constexpr VkAccessFlags2 kOutputReads =
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);
 void fullBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src, VkPipelineStageFlags2 dst);
+// Dynamic rendering without attachments (the fragment shaders write storage with atomics) over a
+// size x size area, viewport the same, scissor `scissor`; end it with vkCmdEndRendering.
+void beginAttachmentless(VkCommandBuffer cmd, uint32_t size, VkExtent2D scissor);
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
                   VkImageLayout to, VkPipelineStageFlags2 src, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dst, VkAccessFlags2 dstAccess);

@@ -15,7 +15,7 @@ Descriptor sampled(VkImageView view) {
 
 void EvaluatePass::create(const Device& device, bool hdrOnly) {
     shader_ = ML_SHADER(device, spv_evaluate_comp);
-    program_ = createComputeProgram(device, shader_, 0, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
+    program_ = createComputeProgram(device, shader_, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
 }
 
 void EvaluatePass::destroy(const Device& device) {
@@ -23,23 +23,21 @@ void EvaluatePass::destroy(const Device& device) {
     destroyShader(device, shader_);
 }
 
-void EvaluatePass::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
-                          const ShadowInputs& s, VkImageView hdr, VkImageView output) const {
-    profiler.run(cmd, Pass::Evaluate, [&](VkCommandBuffer c) {
-        dispatch(d, c, program_, in.width, in.height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
-                  sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),
-                  Descriptor(Image{.view = output}), *s.staticWords, *s.shadowRecords, *s.vsmConstants,
-                  *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool});
-        // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
-        // overwrite the output order their writes themselves.
-        memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
-    });
+void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
+                          VkImageView hdr, VkImageView output) const {
+    dispatch(d, c, program_, in.width, in.height, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
+              sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
+              *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
+              *s.vsmPool});
+    // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
+    // overwrite the output order their writes themselves.
+    memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
 }
 
 void StatisticsPass::create(const Device& device) {
     shader_ = ML_SHADER(device, spv_statistics_comp);
-    program_ = createComputeProgram(device, shader_, 0);
+    program_ = createComputeProgram(device, shader_);
 }
 
 void StatisticsPass::destroy(const Device& device) {
@@ -47,14 +45,13 @@ void StatisticsPass::destroy(const Device& device) {
     destroyShader(device, shader_);
 }
 
-void StatisticsPass::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
+void StatisticsPass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in,
                             const Buffer& counters) const {
-    profiler.run(cmd, Pass::Statistics, [&](VkCommandBuffer c) {
-        dispatch(d, c, program_, in.width, in.height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
-        memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT,
-                      VK_ACCESS_2_HOST_READ_BIT); // counters
-    });
+    dispatch(d, c, program_, in.width, in.height, NoPush{},
+             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
+    // Counters (every pass's atomics, and these sums) -> host (engine/frame.cpp's frame end does it
+    // when statistics are off).
+    memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 } // namespace ml

@@ -1,9 +1,9 @@
 // The one evaluation pass (shaders/evaluate.comp) and the optional statistics pass
-// (shaders/statistics.comp) as pass objects: per pixel, every light of its cluster list, static bake x
-// virtual shadow map x shading; and the per-pixel light counts. The module records them in this order
-// after culling and the virtual shadow map passes; both read the G-buffer and the cluster lists.
+// (shaders/statistics.comp): per pixel, every light of its cluster list, static bake x virtual shadow
+// map x shading; and the per-pixel light counts. The module's frame (engine/frame.h) records and times
+// them in this order after culling and the virtual shadow map passes; both read the G-buffer and the
+// cluster lists.
 #pragma once
-#include "gpu/profiler.h"
 #include "gpu/program.h"
 
 namespace ml {
@@ -35,7 +35,7 @@ class EvaluatePass {
     void create(const Device& device, bool hdrOnly);
     void destroy(const Device& device);
     // Writes `hdr` (RGBA16F storage, GENERAL) and, unless hdrOnly, `output` (RGBA8 storage, GENERAL).
-    void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
+    void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
                 const ShadowInputs& shadows, VkImageView hdr, VkImageView output) const;
 
   private:
@@ -48,7 +48,7 @@ class StatisticsPass {
     void create(const Device& device);
     void destroy(const Device& device);
     // Adds the frame's per-pixel counts to `counters` (FrameCounters) and makes them visible to the host.
-    void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, const ShadingInputs& in,
+    void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
                 const Buffer& counters) const;
 
   private:

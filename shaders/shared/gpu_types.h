@@ -1,6 +1,8 @@
-// GPU structs, defined once for C++ and GLSL. Only vec4/uvec4/mat4 members (and 64-bit counters at
-// 8-byte offsets), so std140/std430 and C++ agree without padding rules; C++ static_asserts sizes and
-// offsets below.
+// GPU structs, defined once for C++ and GLSL. Members are vec4/uvec4/mat4, or 4-byte scalars in runs
+// that keep every vec4 at a 16-byte offset (GpuVertex's floats, FrameCounters' uints) and 64-bit
+// counters at 8-byte offsets, so std430 (and std140 for the uniform ones) and C++ agree without padding
+// rules; C++ static_asserts sizes and offsets below. Push blocks follow the same rules (feature headers:
+// culling/culling_push.h, shadows/virtual/vsm_types.h, ...).
 #ifndef ML_GPU_TYPES_H
 #define ML_GPU_TYPES_H
 

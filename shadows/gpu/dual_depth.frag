@@ -9,21 +9,18 @@
 // back face behind a closed entry always lies inside closed geometry, so the interval never claims
 // space outside it (it may end earlier than the CPU reference's counting rule where closed meshes nest).
 #include "shaders/shared/glsl_common.glsl"
+#include "shadows/gpu/dual_depth_push.h"
 
 layout(constant_id = 0) const uint kSpecPass = 0;
 layout(binding = 1, r32ui) uniform coherent uimage2D enterImage;
 layout(binding = 2, r32ui) uniform coherent uimage2D closedImage;
 layout(binding = 3, r32ui) uniform coherent uimage2D exitImage;
-layout(push_constant) uniform Push {
-    mat4 viewProj;
-    mat4 view;
-    vec4 params; // x far
-};
+layout(push_constant) uniform Push { DualDepthPush push; };
 layout(location = 0) in float inDepth;
 layout(location = 1) flat in uint inClosed;
 
 void main() {
-    float t = clamp(inDepth / params.x, 0.0, 1.0);
+    float t = clamp(inDepth / push.params.x, 0.0, 1.0);
     uint depth = t >= 1.0 ? 0xFFFFFFFEu : uint(t * 4294967040.0);
     ivec2 p = ivec2(gl_FragCoord.xy);
     if (kSpecPass == 0u) {

@@ -4,20 +4,17 @@
 // buffer (4 floats per vertex, w = 1 for triangles of closed meshes), projected by the light's tile
 // matrix; the view-space depth goes to the fragment shader for the integer depth.
 #include "shaders/shared/glsl_common.glsl"
+#include "shadows/gpu/dual_depth_push.h"
 
 layout(binding = 0, std430) readonly buffer Vertices { vec4 vertices[]; };
-layout(push_constant) uniform Push {
-    mat4 viewProj; // light view, then the projection of this tile
-    mat4 view;
-    vec4 params;   // x far, y tile x0, z tile y0, w tile size
-};
+layout(push_constant) uniform Push { DualDepthPush push; };
 layout(location = 0) out float outDepth;
 layout(location = 1) flat out uint outClosed;
 
 void main() {
     vec4 v = vertices[gl_VertexIndex];
     vec4 world = vec4(v.xyz, 1.0);
-    outDepth = -(view * world).z;
+    outDepth = -(push.view * world).z;
     outClosed = v.w > 0.5 ? 1u : 0u;
-    gl_Position = viewProj * world;
+    gl_Position = push.viewProj * world;
 }

@@ -1,5 +1,7 @@
 #include "shadows/gpu/dual_depth_gpu.h"
 
+#include "shadows/gpu/dual_depth_push.h"
+
 #include "dual_depth.frag.spv.h"
 #include "dual_depth.vert.spv.h"
 
@@ -10,14 +12,6 @@
 #include <cstring>
 
 namespace ml {
-
-namespace {
-struct Push {
-    glm::mat4 viewProj;
-    glm::mat4 view;
-    glm::vec4 params;
-};
-} // namespace
 
 Result<std::unique_ptr<DualDepthRenderer>> DualDepthRenderer::create(const Device& device) {
     std::unique_ptr<DualDepthRenderer> r(new DualDepthRenderer(device));
@@ -31,8 +25,7 @@ Result<std::unique_ptr<DualDepthRenderer>> DualDepthRenderer::create(const Devic
     state.depthTest = false;
     state.depthWrite = false;
     for (uint32_t pass = 0; pass < 3; ++pass)
-        r->passes_[pass] =
-            createGraphicsProgram(device, {&r->vs_, &r->fs_}, sizeof(Push), state, {{0, pass}});
+        r->passes_[pass] = createGraphicsProgram(device, {&r->vs_, &r->fs_}, state, {{0, pass}});
     return r;
 }
 
@@ -92,7 +85,8 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
             crop[1][1] = float(res) / float(tile);
             crop[3][0] = (float(res) - 2.0f * float(x0)) / float(tile) - 1.0f;
             crop[3][1] = (float(res) - 2.0f * float(y0)) / float(tile) - 1.0f;
-            Push push{crop * proj * f.view, f.view, glm::vec4(f.farPlane, float(x0), float(y0), float(tile))};
+            gpu::DualDepthPush push{crop * proj * f.view, f.view,
+                                    glm::vec4(f.farPlane, float(x0), float(y0), float(tile))};
 
             VkCommandBuffer cmd = d.beginOneTime();
             for (const Image* img : {&enter_, &closed_, &exit_}) {
@@ -110,17 +104,9 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
             }
             for (uint32_t pass = 0; pass < 3; ++pass) {
-                VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-                ri.renderArea = {{0, 0}, {tile, tile}};
-                ri.layerCount = 1;
-                vkCmdBeginRendering(cmd, &ri);
-                VkViewport vp{0, 0, float(tile), float(tile), 0, 1};
-                VkRect2D sc{{0, 0}, {w, h}};
-                vkCmdSetViewport(cmd, 0, 1, &vp);
-                vkCmdSetScissor(cmd, 0, 1, &sc);
-                bindProgram(d, cmd, passes_[pass],
-                            {vertices_, Descriptor(enter_), Descriptor(closed_), Descriptor(exit_)}, &push,
-                            sizeof(push));
+                beginAttachmentless(cmd, tile, {w, h});
+                bindProgram(d, cmd, passes_[pass], push,
+                            {vertices_, Descriptor(enter_), Descriptor(closed_), Descriptor(exit_)});
                 if (!verts.empty()) vkCmdDraw(cmd, uint32_t(verts.size()), 1, 0, 0);
                 vkCmdEndRendering(cmd);
                 fullBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,

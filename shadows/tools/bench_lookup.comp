@@ -8,13 +8,14 @@
 // cost (launch, item loads, record fetch). The sum is written out so that nothing is dead code; the
 // host checks it against the CPU twin (static_visibility.cpp).
 #include "shaders/shared/glsl_common.glsl"
+#include "shadows/tools/lookup_push.h"
 
 layout(local_size_x = 64) in;
 layout(binding = 0, std430) readonly buffer Items { vec4 items[]; }; // per pair: P (w unused), N (w = record bits)
 layout(binding = 1, std430) readonly buffer Records { GpuShadowRecord records[]; };
 layout(binding = 2, std430) readonly buffer Words { uint words[]; };
 layout(binding = 3, std430) writeonly buffer Out { float sums[]; };
-layout(push_constant) uniform Push { uint count, lookups, radius, pad; };
+layout(push_constant) uniform Push { LookupPush push; };
 
 #define ML_STATIC_DATA words
 #define CPVS_DATA words
@@ -22,11 +23,11 @@ layout(push_constant) uniform Push { uint count, lookups, radius, pad; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= count) return;
+    if (i >= push.count) return;
     vec4 p = items[2u * i], n = items[2u * i + 1u];
     GpuShadowRecord rec = records[floatBitsToUint(n.w)];
-    rec.info.w = radius;
+    rec.info.w = push.radius;
     float acc = 0.0;
-    for (uint k = 0u; k < lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz);
+    for (uint k = 0u; k < push.lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz);
     sums[i] = acc;
 }

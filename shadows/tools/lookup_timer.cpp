@@ -3,6 +3,7 @@
 #include "gpu/program.h"
 #include "gpu/resources.h"
 #include "shadows/static/static_visibility.h"
+#include "shadows/tools/lookup_push.h"
 
 #include "bench_lookup.comp.spv.h"
 
@@ -36,7 +37,7 @@ Result<std::unique_ptr<LookupTimer>> LookupTimer::create() {
     s->device = s->owned.get();
     Device& device = *s->device;
     s->shader = ML_SHADER(device, spv_bench_lookup_comp);
-    s->program = createComputeProgram(device, s->shader, 16);
+    s->program = createComputeProgram(device, s->shader);
     return std::unique_ptr<LookupTimer>(new LookupTimer(std::move(s)));
 }
 
@@ -67,11 +68,8 @@ Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::Gp
     upload(itemBuf, items.data(), items.size() * 16);
     upload(recBuf, records.data(), records.size() * sizeof(gpu::GpuShadowRecord));
     upload(wordBuf, words.data(), words.size() * 4);
-    struct Push {
-        uint32_t count, lookups, radius, pad;
-    };
     auto run = [&](uint32_t lookups, uint32_t radius) {
-        Push push{count, lookups, radius, 0};
+        const gpu::LookupPush push{count, lookups, radius, 0};
         VkCommandBuffer cmd = d.beginOneTime();
         dispatch(d, cmd, s_->program, count, 1, push, {itemBuf, recBuf, wordBuf, outBuf});
         fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);

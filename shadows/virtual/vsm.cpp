@@ -7,21 +7,6 @@
 #include "shadows/static/raster_dual.h"
 #include "shadows/virtual/vsm_math.h"
 
-#include "vsm_alloc.comp.spv.h"
-#include "vsm_assign.comp.spv.h"
-#include "vsm_clear.comp.spv.h"
-#include "vsm_cull.comp.spv.h"
-#include "vsm_draw.frag.spv.h"
-#include "vsm_draw.mesh.spv.h"
-#include "vsm_draw.task.spv.h"
-#include "vsm_draw.vert.spv.h"
-#include "vsm_expand.comp.spv.h"
-#include "vsm_hpb.comp.spv.h"
-#include "vsm_mark.comp.spv.h"
-#include "vsm_probe.comp.spv.h"
-#include "vsm_scan.comp.spv.h"
-#include "vsm_view.comp.spv.h"
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -36,28 +21,10 @@ namespace {
 
 constexpr VkBufferUsageFlags kIndirectUsage = kStorageBufferUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
 
-void setBit(std::vector<uint32_t>& bits, uint32_t i) {
-    bits[i >> 5] |= 1u << (i & 31u);
-}
-
-// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive).
-void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
-                 uint32_t entriesPerMap) {
-    for (uint32_t m = 0; m < mips; ++m)
-        for (uint32_t y = rect.y >> m; y <= (rect.w >> m); ++y)
-            for (uint32_t x = rect.x >> m; x <= (rect.z >> m); ++x)
-                setBit(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, x, y));
-}
-
 bool sameMap(const gpu::GpuVsmMap& a, const gpu::GpuVsmMap& b) {
     return std::memcmp(&a.viewProj, &b.viewProj, sizeof(glm::mat4)) == 0 &&
            std::memcmp(&a.params, &b.params, sizeof(glm::vec4)) == 0 &&
            (a.info.y & ML_VSM_MAP_DYNAMIC_ONLY) == (b.info.y & ML_VSM_MAP_DYNAMIC_ONLY);
-}
-
-bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
-    glm::vec3 d = glm::max(glm::max(lo - c, c - hi), glm::vec3(0.0f));
-    return glm::dot(d, d) <= r * r;
 }
 
 } // namespace
@@ -107,20 +74,20 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t bitWords = (entries + 31) / 32;
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
-    table_ = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    owners_ =
+    pages_.table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    pages_.owners =
         createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
-    lastUsed_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
+    pages_.lastUsed = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
     markWords_ = bitWords;
-    marks_ = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
-                                "vsm_marks"); // lookup, then fallback marks
-    pagePool_ = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4, kStorageBufferUsage,
-                                   "vsm_pool", 0xFFFFFFFFu);
-    blockCounts_ =
+    pages_.marks = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
+                                      "vsm_marks"); // lookup, then fallback marks
+    pages_.pool = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
+                                     kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu);
+    pages_.blockCounts =
         createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
-    avail_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    rendered_ = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    dirtyMips_ = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    pages_.avail = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
+    pages_.rendered = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
+    pages_.dirtyMips = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
     // HPB levels 1..log2(S_0) as image mips 0.. (none when a map is one page). Rebuilt every frame for the
     // active maps before it is read: PerFrame. One layer per map slot: maxMaps <= maxImageArrayLayers.
     hpbLevels_ = mips_ - 1;
@@ -134,11 +101,12 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     hpb.lifetime = Lifetime::PerFrame;
     hpb.arrayViews = true; // one map slot is still an array of one
     hpb.name = "vsm_hpb";
-    hpb_ = createImage(d, hpb);
+    pages_.hpb = createImage(d, hpb);
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    draws_ = createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    drawInfo_ = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    drawCounts_ = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    pages_.draws =
+        createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
+    pages_.drawInfo = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
+    pages_.drawCounts = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
@@ -153,9 +121,9 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        meshletList_ = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
-                                          kStorageBufferUsage, "vsm_meshlet_list");
-        meshTasks_ = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+        pages_.meshletList = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
+                                                kStorageBufferUsage, "vsm_meshlet_list");
+        pages_.meshTasks = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
     }
 
     slots_.resize(framesInFlight);
@@ -173,62 +141,22 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
         sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
         sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
                                  kStorageBufferUsage, "vsm_probes");
-        sl.coverageHost.assign(bitWords, 0);
-        sl.staleHost.assign(bitWords, 0);
-        sl.mapsHost.assign(s.maxMaps, gpu::GpuVsmMap{});
+        sl.host.coverage.assign(bitWords, 0);
+        sl.host.stale.assign(bitWords, 0);
+        sl.host.maps.assign(s.maxMaps, gpu::GpuVsmMap{});
     }
     maps_.assign(s.maxMaps, VsmMapInfo{});
     wasActive_.assign(s.maxMaps, 0);
     for (uint32_t i = s.maxMaps; i-- > 0;) freeSlots_.push_back(i);
-
-    markShader_ = ML_SHADER(d, spv_vsm_mark_comp);
-    scanShader_ = ML_SHADER(d, spv_vsm_scan_comp);
-    allocShader_ = ML_SHADER(d, spv_vsm_alloc_comp);
-    assignShader_ = ML_SHADER(d, spv_vsm_assign_comp);
-    hpbShader_ = ML_SHADER(d, spv_vsm_hpb_comp);
-    cullShader_ = ML_SHADER(d, spv_vsm_cull_comp);
-    clearShader_ = ML_SHADER(d, spv_vsm_clear_comp);
-    probeShader_ = ML_SHADER(d, spv_vsm_probe_comp);
-    viewShader_ = ML_SHADER(d, spv_vsm_view_comp);
-    drawVert_ = ML_SHADER(d, spv_vsm_draw_vert);
-    drawFrag_ = ML_SHADER(d, spv_vsm_draw_frag);
-    markProgram_ = createComputeProgram(d, markShader_, 0);
-    scanProgram_ = createComputeProgram(d, scanShader_, 0);
-    allocProgram_ = createComputeProgram(d, allocShader_, 0);
-    assignProgram_ = createComputeProgram(d, assignShader_, 0);
-    hpbProgram_ = createComputeProgram(d, hpbShader_, 8);
-    cullProgram_ = createComputeProgram(d, cullShader_, 12);
-    clearProgram_ = createComputeProgram(d, clearShader_, 0);
-    probeProgram_ = createComputeProgram(d, probeShader_, 0);
-    viewProgram_ = createComputeProgram(d, viewShader_, 0);
-    GraphicsState gs; // attachment-less: depth goes to the pool with atomics
-    gs.cull = VK_CULL_MODE_NONE;
-    gs.depthTest = false;
-    gs.depthWrite = false;
-    drawProgram_ = createGraphicsProgram(d, {&drawVert_, &drawFrag_}, 4, gs);
-    if (settings_.raster == VsmRaster::Mesh) {
-        expandShader_ = ML_SHADER(d, spv_vsm_expand_comp);
-        drawTask_ = ML_SHADER(d, spv_vsm_draw_task);
-        drawMesh_ = ML_SHADER(d, spv_vsm_draw_mesh);
-        expandProgram_ = createComputeProgram(d, expandShader_, 12);
-        meshProgram_ = createGraphicsProgram(d, {&drawTask_, &drawMesh_, &drawFrag_}, 8, gs);
-    }
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
-    for (Program* p :
-         {&markProgram_, &scanProgram_, &allocProgram_, &assignProgram_, &hpbProgram_, &cullProgram_,
-          &clearProgram_, &probeProgram_, &viewProgram_, &drawProgram_, &expandProgram_, &meshProgram_})
-        destroyProgram(d, *p);
-    for (ShaderModule* s :
-         {&markShader_, &scanShader_, &allocShader_, &assignShader_, &hpbShader_, &cullShader_, &clearShader_,
-          &probeShader_, &viewShader_, &drawVert_, &drawFrag_, &expandShader_, &drawTask_, &drawMesh_})
-        destroyShader(d, *s);
-    for (Buffer* b : {&table_, &owners_, &lastUsed_, &marks_, &pagePool_, &blockCounts_, &avail_, &rendered_,
-                      &dirtyMips_, &draws_, &drawInfo_, &drawCounts_, &meshletList_, &meshTasks_})
+    for (Buffer* b : {&pages_.table, &pages_.owners, &pages_.lastUsed, &pages_.marks, &pages_.pool,
+                      &pages_.blockCounts, &pages_.avail, &pages_.rendered, &pages_.dirtyMips, &pages_.draws,
+                      &pages_.drawInfo, &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks})
         destroyBuffer(d, *b);
-    destroyImage(d, hpb_);
+    destroyImage(d, pages_.hpb);
     for (Slot& s : slots_)
         for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters,
                           &s.counters, &s.probes})
@@ -307,365 +235,6 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
     info.gpu = g;
 }
 
-std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex, uint64_t frame,
-                                                 std::span<const VsmLight> lights,
-                                                 std::span<const uint32_t> visible,
-                                                 std::span<const VsmInstance> instances,
-                                                 const VsmCamera& camera) {
-    std::vector<uint32_t> firstMap(visible.size(), ML_VSM_NO_MAP);
-    if (!settings_.enabled) return firstMap;
-    Slot& slot = slots_[slotIndex];
-    if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
-
-    // Which visible lights need maps this frame. A light with a static bake needs them only while a
-    // dynamic caster is inside its range; moving lights and lights without a bake always do.
-    slot.lightsWithPages = slot.lightsWithoutSlot = 0;
-    std::vector<uint8_t> needs(lights.size(), 0);
-    for (uint32_t id : visible) {
-        const VsmLight& l = lights[id];
-        if (!l.castsShadows || !(settings_.kinds & (1u << l.kind))) continue;
-        if (l.moving ? !settings_.movingLights : !settings_.staticLights) continue;
-        bool need = !l.staticBake;
-        for (size_t i = 0; i < instances.size() && !need; ++i)
-            need = instances[i].dynamic && instances[i].castsShadows &&
-                   (l.kind == ML_LIGHT_DIRECTIONAL ||
-                    boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
-        needs[id] = need ? 1 : 0;
-    }
-    // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
-    // when it comes back into view); a kind change frees them.
-    for (uint32_t id = 0; id < lights.size(); ++id) {
-        LightState& st = lightState_[id];
-        const uint32_t count = lights[id].kind == ML_LIGHT_POINT         ? 6u
-                               : lights[id].kind == ML_LIGHT_DIRECTIONAL ? settings_.clipLevels
-                                                                         : 1u;
-        if (st.firstMap != ML_VSM_NO_MAP && (st.kind != lights[id].kind || st.mapCount != count)) {
-            for (uint32_t m = 0; m < st.mapCount; ++m) {
-                maps_[st.firstMap + m].inUse = false;
-                freeSlots_.push_back(st.firstMap + m);
-            }
-            std::sort(freeSlots_.rbegin(), freeSlots_.rend());
-            st.firstMap = ML_VSM_NO_MAP;
-        }
-        if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
-            st.firstMap = allocateSlots(count);
-            if (st.firstMap == ML_VSM_NO_MAP) {
-                ++slot.lightsWithoutSlot;
-                continue;
-            }
-            st.mapCount = count;
-            st.kind = lights[id].kind;
-            for (uint32_t m = 0; m < count; ++m) {
-                maps_[st.firstMap + m] = VsmMapInfo{};
-                maps_[st.firstMap + m].light = id;
-            }
-        }
-    }
-
-    // Matrices of every map in use; a map whose projection or caster set changed is stale as a whole.
-    std::fill(slot.coverageHost.begin(), slot.coverageHost.end(), 0u);
-    std::fill(slot.staleHost.begin(), slot.staleHost.end(), 0u);
-    for (uint32_t m = 0; m < mapsInUse_; ++m) slot.mapsHost[m] = gpu::GpuVsmMap{};
-    for (uint32_t id = 0; id < lights.size(); ++id) {
-        const LightState& st = lightState_[id];
-        if (st.firstMap == ML_VSM_NO_MAP) continue;
-        for (uint32_t f = 0; f < st.mapCount; ++f) {
-            bool moved = false;
-            buildMap(st.firstMap + f, lights[id], f, camera, moved);
-            slot.mapsHost[st.firstMap + f] = maps_[st.firstMap + f].gpu;
-            if (moved) slot.mapsHost[st.firstMap + f].info.y |= ML_VSM_MAP_INVALIDATE;
-        }
-    }
-    // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
-    // added or removed caster's old or new bounds).
-    const bool firstFrame = lastInstances_.size() != instances.size();
-    for (uint32_t m = 0; m < mapsInUse_; ++m) {
-        if (!maps_[m].inUse) continue;
-        const gpu::GpuVsmMap& g = slot.mapsHost[m];
-        const bool dynamicOnly = (g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0;
-        for (size_t i = 0; i < instances.size(); ++i) {
-            const VsmInstance& in = instances[i];
-            if (dynamicOnly && !in.dynamic) continue;
-            glm::uvec4 rect;
-            if (dynamicOnly && in.castsShadows && vsmProjectBox(g, in.lo, in.hi, s0_, rect))
-                setRectBits(slot.coverageHost, m, rect, s0_, mips_, entriesPerMap_);
-            if (firstFrame) continue;
-            const VsmInstance& old = lastInstances_[i];
-            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
-            for (const VsmInstance* b : {&old, &in})
-                if (vsmProjectBox(g, b->lo, b->hi, s0_, rect))
-                    setRectBits(slot.staleHost, m, rect, s0_, mips_, entriesPerMap_);
-        }
-    }
-    if (firstFrame)
-        for (uint32_t m = 0; m < mapsInUse_; ++m) slot.mapsHost[m].info.y |= ML_VSM_MAP_INVALIDATE;
-    lastInstances_.assign(instances.begin(), instances.end());
-
-    // Active maps: those of visible lights with maps (only they get marks, allocation, HPB and draws).
-    // A map that was not active last frame missed the invalidations in between: stale as a whole.
-    slot.activeHost.clear();
-    std::vector<uint8_t> active(maps_.size(), 0);
-    for (size_t v = 0; v < visible.size(); ++v) {
-        const LightState& st = lightState_[visible[v]];
-        if (!needs[visible[v]] || st.firstMap == ML_VSM_NO_MAP) continue;
-        firstMap[v] = st.firstMap;
-        ++slot.lightsWithPages;
-        for (uint32_t f = 0; f < st.mapCount; ++f) {
-            const uint32_t m = st.firstMap + f;
-            slot.activeHost.push_back(m);
-            active[m] = 1;
-            if (!wasActive_[m]) slot.mapsHost[m].info.y |= ML_VSM_MAP_INVALIDATE;
-        }
-    }
-    wasActive_ = active;
-    slot.activeCount = uint32_t(slot.activeHost.size());
-    // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
-    // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
-    // within a level, active map order.
-    slot.runsHost.clear();
-    uint32_t rank = 0;
-    const uint32_t steps = std::max(mips_, settings_.clipLevels);
-    for (uint32_t r = 0; r < steps; ++r)
-        for (uint32_t m : slot.activeHost) {
-            const gpu::GpuVsmMap& g = slot.mapsHost[m];
-            const bool ortho = g.info.x == ML_VSM_ORTHOGRAPHIC;
-            const uint32_t count = ortho ? g.light.z : mips_; // clip levels, or mips
-            if (r >= count) continue;
-            const uint32_t level = count - 1 - r;
-            if (ortho && g.light.y != level) continue;
-            const uint32_t mip = ortho ? 0u : level;
-            const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
-            slot.runsHost.push_back(glm::uvec4(rank, m, mip, n));
-            rank += n;
-        }
-
-    // Casters.
-    std::vector<gpu::GpuCaster> casters(instances.size());
-    for (size_t i = 0; i < instances.size(); ++i) {
-        const VsmInstance& in = instances[i];
-        casters[i].lo = glm::vec4(in.lo, 0.0f);
-        casters[i].hi = glm::vec4(in.hi, 0.0f);
-        casters[i].draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
-                                     in.dynamic ? 1u : 0u);
-        casters[i].meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
-    }
-    slot.casterCount = uint32_t(casters.size());
-
-    gpu::VsmConstants c{};
-    c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
-    c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
-    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
-    // The pixel footprint per metre, divided by the texels wanted per pixel: the mip (or clip level) a
-    // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
-    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
-                             settings_.texelsPerPixel,
-                         0, 0, 0);
-    c.order = glm::uvec4(uint32_t(slot.runsHost.size()), rank, 0, 0);
-    slot.orderEntries = rank;
-    lastConstants_ = c;
-
-    // Upload (this slot's previous frame has completed: the module waited for its fence).
-    upload(slot.constants, &c, sizeof(c));
-    upload(slot.maps, slot.mapsHost.data(), size_t(mapsInUse_) * sizeof(gpu::GpuVsmMap));
-    const size_t usedWords = (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32;
-    upload(slot.coverage, slot.coverageHost.data(), usedWords * 4);
-    upload(slot.stale, slot.staleHost.data(), usedWords * 4);
-    if (!slot.activeHost.empty()) upload(slot.active, slot.activeHost.data(), slot.activeHost.size() * 4);
-    if (!slot.runsHost.empty())
-        upload(slot.runs, slot.runsHost.data(), slot.runsHost.size() * sizeof(glm::uvec4));
-    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
-                 "vsm_casters");
-    if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
-    gpu::VsmCounters zero{};
-    zero.dispatchY = zero.dispatchZ = 1;
-    upload(slot.counters, &zero, sizeof(zero));
-    if (settings_.probeCapacity) {
-        uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};
-        upload(slot.probes, header, sizeof(header));
-    }
-    return firstMap;
-}
-
-void VirtualShadowMaps::record(const Device& d, VkCommandBuffer cmd, Profiler& profiler, uint32_t slotIndex,
-                               const VsmFrameInputs& in) {
-    if (!settings_.enabled) return;
-    Slot& slot = slots_[slotIndex];
-    const auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    const auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT, W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
-    const size_t usedEntries = size_t(mapsInUse_) * entriesPerMap_;
-    const Descriptor depth(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    const Descriptor normal(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    uint32_t width = 0, height = 0;
-    {
-        const auto* fc = in.frame->as<gpu::FrameConstants>();
-        width = fc->size.x;
-        height = fc->size.y;
-    }
-
-    profiler.runUntimed(cmd, [&](VkCommandBuffer c) {
-        // Per-frame state: marks, dirty-mip flags, draw counts (the frame-start barrier ordered these
-        // clears after the previous frame's reads).
-        const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
-        vkCmdFillBuffer(c, marks_.buffer, 0, used, 0);
-        vkCmdFillBuffer(c, marks_.buffer, VkDeviceSize(markWords_) * 4, used, 0);
-        vkCmdFillBuffer(c, dirtyMips_.buffer, 0, std::max<VkDeviceSize>(mapsInUse_ * 4u, 4), 0);
-        vkCmdFillBuffer(c, drawCounts_.buffer, 0, VK_WHOLE_SIZE, 0);
-        if (meshPath()) vkCmdFillBuffer(c, meshTasks_.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
-        memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C | indirect,
-                      R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    });
-    if (slot.activeCount == 0) return;
-    const size_t activeEntries = slot.orderEntries;
-    profiler.run(cmd, Pass::VsmMark, [&](VkCommandBuffer c) {
-        dispatch(d, c, markProgram_, width, height, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, depth, normal, slot.constants,
-                  slot.maps, slot.coverage, marks_});
-        memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
-    });
-    profiler.run(cmd, Pass::VsmAlloc, [&](VkCommandBuffer c) {
-        const uint32_t blocks = uint32_t((activeEntries + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
-        dispatch(d, c, scanProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, slot.maps, slot.stale, table_, marks_, lastUsed_, blockCounts_,
-                  slot.counters});
-        memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
-        dispatch(
-            d, c, allocProgram_, ML_VSM_BLOCK, 1, NoPush{},
-            {slot.constants, slot.runs, marks_, owners_, lastUsed_, blockCounts_, avail_, slot.counters});
-        memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
-        dispatch(d, c, assignProgram_, blocks * ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.runs, table_, marks_, owners_, lastUsed_, blockCounts_, avail_,
-                  rendered_, dirtyMips_, slot.counters});
-        // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
-        memoryBarrier(c, C, W, C | indirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    });
-    profiler.run(cmd, Pass::VsmHpb, [&](VkCommandBuffer c) {
-        // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
-        // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
-        // (never read there, but a storage read for the validation layer): reads and writes follow.
-        firstUseBarrier(c, hpb_, VK_IMAGE_LAYOUT_GENERAL, C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT, 0, C,
-                        R | W);
-        for (uint32_t level = 1; level <= hpbLevels_; ++level) {
-            const uint32_t mip = level - 1;
-            const uint32_t push[2] = {level, slot.activeCount};
-            bindProgram(d, c, hpbProgram_,
-                        {slot.constants, slot.active, table_,
-                         Descriptor(hpb_.mipView(level > 1 ? mip - 1 : 0)), Descriptor(hpb_.mipView(mip))},
-                        push, sizeof(push));
-            vkCmdDispatch(c, (hpb_.mipWidth(mip) + 7) / 8, (hpb_.mipHeight(mip) + 7) / 8, slot.activeCount);
-            // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
-            imageBarrier(c, hpb_, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W,
-                         C | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT,
-                         R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-        }
-    });
-    if (meshPath()) {
-        recordExpand(d, cmd, profiler, slot);
-    } else {
-        profiler.run(cmd, Pass::VsmCull, [&](VkCommandBuffer c) {
-            struct {
-                uint32_t casterCount, activeMaps, maxDraws;
-            } push{slot.casterCount, slot.activeCount, settings_.maxDrawsPerMip};
-            dispatch(d, c, cullProgram_, slot.casterCount, slot.activeCount, push,
-                     {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
-                      dirtyMips_, draws_, drawInfo_, drawCounts_, slot.counters});
-            // Draw lists and counts -> indirect draws; draw info -> vertex shader.
-            memoryBarrier(c, C, W, indirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                          VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
-        });
-    }
-    profiler.run(cmd, Pass::VsmDraw, [&](VkCommandBuffer c) {
-        bindProgram(d, c, clearProgram_, {slot.constants, rendered_, pagePool_}, nullptr, 0);
-        vkCmdDispatchIndirect(c, slot.counters.buffer, offsetof(gpu::VsmCounters, dispatchX));
-        memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
-        for (uint32_t m = 0; m < mips_; ++m) {
-            const uint32_t res = settings_.resolution >> m;
-            VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-            ri.renderArea = {{0, 0}, {res, res}};
-            ri.layerCount = 1;
-            vkCmdBeginRendering(c, &ri);
-            VkViewport vp{0, 0, float(res), float(res), 0, 1};
-            VkRect2D sc{{0, 0}, {res, res}};
-            vkCmdSetViewport(c, 0, 1, &vp);
-            vkCmdSetScissor(c, 0, 1, &sc);
-            if (meshPath()) {
-                // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
-                const uint32_t push[2] = {m, settings_.maxMeshletsPerMip};
-                bindProgram(d, c, meshProgram_,
-                            {*in.vertices, *in.instances, meshletList_, slot.maps, slot.constants, table_,
-                             pagePool_, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
-                             Descriptor(hpb_.view), meshTasks_, slot.counters},
-                            push, sizeof(push));
-                d.cmdDrawMeshTasksIndirect(c, meshTasks_.buffer, VkDeviceSize(m) * 16, 1, 16);
-            } else {
-                bindProgram(
-                    d, c, drawProgram_,
-                    {*in.vertices, *in.instances, drawInfo_, slot.maps, slot.constants, table_, pagePool_},
-                    &m, 4);
-                vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-                vkCmdDrawIndexedIndirectCount(c, draws_.buffer,
-                                              VkDeviceSize(m) * settings_.maxDrawsPerMip *
-                                                  sizeof(VkDrawIndexedIndirectCommand),
-                                              drawCounts_.buffer, VkDeviceSize(m) * 4,
-                                              settings_.maxDrawsPerMip, sizeof(VkDrawIndexedIndirectCommand));
-            }
-            vkCmdEndRendering(c);
-        }
-        // Physical pages -> the evaluation pass's lookups.
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
-    });
-}
-
-void VirtualShadowMaps::recordExpand(const Device& d, VkCommandBuffer cmd, Profiler& profiler, Slot& slot) {
-    profiler.run(cmd, Pass::VsmExpand, [&](VkCommandBuffer c) {
-        struct {
-            uint32_t casterCount, activeMaps, maxMeshlets;
-        } push{slot.casterCount, slot.activeCount, settings_.maxMeshletsPerMip};
-        dispatch(d, c, expandProgram_, slot.casterCount, slot.activeCount, push,
-                 {slot.constants, slot.maps, slot.active, table_, Descriptor(hpb_.view), slot.casters,
-                  dirtyMips_, meshletList_, meshTasks_, slot.counters});
-        // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
-        // passes) -> task and mesh shaders.
-        memoryBarrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
-                          VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
-                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    });
-}
-
-void VirtualShadowMaps::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
-                                    const VsmFrameInputs& in) {
-    if (!settings_.enabled || !settings_.probeCapacity || mapsInUse_ == 0) return;
-    Slot& slot = slots_[slotIndex];
-    const auto* fc = in.frame->as<gpu::FrameConstants>();
-    dispatch(d, cmd, probeProgram_, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
-              Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
-              slot.maps, slot.coverage, table_, pagePool_, slot.probes});
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
-}
-
-void VirtualShadowMaps::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
-                                   const VsmFrameInputs& in, VkImageView output) {
-    if (!settings_.enabled) return;
-    Slot& slot = slots_[slotIndex];
-    const auto* fc = in.frame->as<gpu::FrameConstants>();
-    // The evaluation pass's output -> read and overwritten here.
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    dispatch(d, cmd, viewProgram_, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool,
-              Descriptor(Image{.view = in.depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = in.normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), slot.constants,
-              slot.maps, slot.coverage, table_, pagePool_, Descriptor(Image{.view = output})});
-    // The view's output -> the host's reads after record().
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  kOutputReaderStages, kOutputReads);
-}
-
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     VsmStats s;
     if (!settings_.enabled) return s;
@@ -704,7 +273,7 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     const uint64_t mip0 = uint64_t(settings_.resolution) * settings_.resolution * 4;
     uint64_t allMips = 0;
     for (uint32_t m = 0; m < mips_; ++m) allMips += mip0 >> (2 * m);
-    for (uint32_t map : slot.activeHost) {
+    for (uint32_t map : slot.host.active) {
         const bool ortho = maps_[map].gpu.info.x == ML_VSM_ORTHOGRAPHIC;
         s.virtualBytes += ortho ? mip0 : allMips;
         s.atlasBytes += mip0;
@@ -721,23 +290,23 @@ std::vector<uint32_t> readWords(const Device& d, const Buffer& b, size_t words) 
 }
 } // namespace
 
-std::vector<uint32_t> VirtualShadowMaps::readTable(const Device& d) const {
-    return readWords(d, table_, size_t(mapsInUse_) * entriesPerMap_);
-}
-std::vector<uint32_t> VirtualShadowMaps::readOwners(const Device& d) const {
-    return readWords(d, owners_, settings_.poolPages);
-}
-std::vector<uint32_t> VirtualShadowMaps::readLastUsed(const Device& d) const {
-    return readWords(d, lastUsed_, settings_.poolPages);
-}
-std::vector<uint32_t> VirtualShadowMaps::readMarks(const Device& d) const {
-    return readWords(d, marks_, 2 * markWords_);
-}
-std::vector<uint32_t> VirtualShadowMaps::readPagePool(const Device& d) const {
-    return readWords(d, pagePool_, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
+std::vector<uint32_t> VirtualShadowMaps::read(const Device& d, VsmState state) const {
+    switch (state) {
+    case VsmState::Table:
+        return readWords(d, pages_.table, size_t(mapsInUse_) * entriesPerMap_);
+    case VsmState::Owners:
+        return readWords(d, pages_.owners, settings_.poolPages);
+    case VsmState::LastUsed:
+        return readWords(d, pages_.lastUsed, settings_.poolPages);
+    case VsmState::Marks:
+        return readWords(d, pages_.marks, 2 * markWords_);
+    case VsmState::PagePool:
+        break;
+    }
+    return readWords(d, pages_.pool, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
 }
 std::vector<uint32_t> VirtualShadowMaps::readHpb(const Device& d, uint32_t map, uint32_t level) const {
-    std::vector<uint8_t> bytes = readImage(d, hpb_, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
+    std::vector<uint8_t> bytes = readImage(d, pages_.hpb, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
     std::vector<uint32_t> out(bytes.size() / 4);
     std::memcpy(out.data(), bytes.data(), out.size() * 4);
     return out;

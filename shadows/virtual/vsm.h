@@ -32,7 +32,6 @@
 // marks; lights whose maps nobody needs keep their cached pages until the LRU evicts them, and are
 // invalidated whole when they become active again (their maps missed the invalidations meanwhile).
 #pragma once
-#include "gpu/profiler.h"
 #include "gpu/program.h"
 #include "shadows/static/dual_depth.h"
 #include "shadows/virtual/vsm_settings.h"
@@ -94,6 +93,43 @@ struct VsmMapInfo {
     LightFrustum frustum; // the volume a reference rasteriser uses (clip levels: orthographic)
 };
 
+// Sizes of the page tables and marks (vsm_types.h's vocabulary).
+struct VsmLayout {
+    uint32_t pagesPerSide = 0;  // S_0, mip-0 pages per map side
+    uint32_t mips = 0;          // log2(S_0) + 1
+    uint32_t entriesPerMap = 0; // page-table words per map, every mip
+    uint32_t hpbLevels = 0;     // HPB levels 1..mips - 1
+    size_t markWords = 0;       // words of one mark region (lookup marks; fallback marks follow)
+};
+// What prepare() computes per slot on the CPU, uploaded for the passes (tests compare the GPU with it).
+struct VsmSlotHost {
+    std::vector<uint32_t> coverage, stale; // bits per page-table entry
+    std::vector<uint32_t> active;          // active map slots
+    std::vector<glm::uvec4> runs;          // allocation order: (first rank, map, mip, entries)
+    std::vector<gpu::GpuVsmMap> maps;      // per map slot
+};
+// Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
+// the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
+enum class VsmState { Table, Owners, LastUsed, Marks, PagePool };
+
+// The GPU state the passes share, created with the settings: persistent across frames (page table,
+// physical page owners and last use, the pool), and per frame but kept (marks, block counts, lists,
+// draw lists, HPB).
+struct VsmPages {
+    Buffer table, owners, lastUsed, marks, pool, blockCounts, avail, rendered, dirtyMips, draws, drawInfo,
+        drawCounts, meshletList, meshTasks;
+    Image hpb; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+};
+// Per frame in flight: what prepare() computes and uploads for the passes.
+struct VsmSlot {
+    Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
+    VsmSlotHost host;
+    uint32_t orderEntries = 0; // page-table entries of the allocation order
+    uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
+};
+
+// The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
+// the CPU part of a frame (prepare). Its GPU passes are VsmPasses (vsm_passes.h).
 class VirtualShadowMaps {
   public:
     void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
@@ -111,69 +147,57 @@ class VirtualShadowMaps {
     std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame,
                                   std::span<const VsmLight> lights, std::span<const uint32_t> visible,
                                   std::span<const VsmInstance> instances, const VsmCamera& camera);
-    // Records mark, allocation, HPB, culling, clear and draw (each a profiler pass) into cmd.
-    void record(const Device& device, VkCommandBuffer cmd, Profiler& profiler, uint32_t slot,
-                const VsmFrameInputs& in);
-    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
-    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
-    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
-                    VkImageView output);
-    // The probe pass (settings.probeCapacity > 0): records the lookups into the probe buffer.
-    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in);
+    // When the passes run (VsmPasses, engine/frame.h): the slot has active maps; the probe pass.
+    bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
+    bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
+    uint32_t mapsInUse() const { return mapsInUse_; }
+    // The GPU state the passes read and write.
+    const VsmPages& pages() const { return pages_; }
+    const VsmSlot& slot(uint32_t slot) const { return slots_[slot]; }
 
     // Evaluation-pass bindings, in vsm_common.glsl's order: constants, maps, coverage, table, pool.
     const Buffer& constants(uint32_t slot) const { return slots_[slot].constants; }
     const Buffer& maps(uint32_t slot) const { return slots_[slot].maps; }
     const Buffer& coverage(uint32_t slot) const { return slots_[slot].coverage; }
-    const Buffer& table() const { return table_; }
-    const Buffer& pagePool() const { return pagePool_; }
+    const Buffer& table() const { return pages_.table; }
+    const Buffer& pagePool() const { return pages_.pool; }
 
     // Statistics of the frame last recorded in `slot` (call once its fence has passed).
     VsmStats readStats(uint32_t slot) const;
 
-    // --- for tests, `check vsm` and `bench vsm` ---
-    uint32_t pagesPerSide() const { return s0_; }
-    uint32_t mips() const { return mips_; }
-    uint32_t entriesPerMap() const { return entriesPerMap_; }
-    uint32_t mapsInUse() const { return mapsInUse_; }
-    size_t markWords() const { return markWords_; }
+    // --- for tests, `check vsm` and `bench vsm` (engine/manylights_diagnostics.h wraps them) ---
+    VsmLayout layout() const { return {s0_, mips_, entriesPerMap_, hpbLevels_, markWords_}; }
     const std::vector<VsmMapInfo>& mapInfo() const { return maps_; }
     const gpu::VsmConstants& lastConstants() const { return lastConstants_; }
-    // Host copies of GPU state (the device must be idle): page table, owners, last use, marks (lookup
-    // marks then fallback marks, markWords() each), probes.
-    std::vector<uint32_t> readTable(const Device& device) const;
-    std::vector<uint32_t> readOwners(const Device& device) const;
-    std::vector<uint32_t> readLastUsed(const Device& device) const;
-    std::vector<uint32_t> readMarks(const Device& device) const;
-    std::vector<uint32_t> readPagePool(const Device& device) const;
+    // What the last prepare() of a slot computed on the CPU.
+    const VsmSlotHost& slotHost(uint32_t slot) const { return slots_[slot].host; }
+    // A host copy of persistent GPU state (the device must be idle): the used part of the buffer.
+    std::vector<uint32_t> read(const Device& device, VsmState state) const;
     std::vector<gpu::GpuVsmProbe> readProbes(uint32_t slot, uint32_t* overflow = nullptr) const;
-    // HPB level 1..hpbLevels() of one map slot (the whole image mip, layout in vsm_math.h), valid for the
-    // maps active in the frame last recorded.
-    uint32_t hpbLevels() const { return hpbLevels_; }
+    // HPB level 1..layout().hpbLevels of one map slot (the whole image mip, layout in vsm_math.h), valid
+    // for the maps active in the frame last recorded.
     std::vector<uint32_t> readHpb(const Device& device, uint32_t map, uint32_t level) const;
-    // The per-slot CPU inputs of the last prepare() of that slot.
-    const std::vector<uint32_t>& coverageBits(uint32_t slot) const { return slots_[slot].coverageHost; }
-    const std::vector<uint32_t>& staleBits(uint32_t slot) const { return slots_[slot].staleHost; }
-    const std::vector<gpu::GpuVsmMap>& mapsHost(uint32_t slot) const { return slots_[slot].mapsHost; }
-    const std::vector<uint32_t>& activeMaps(uint32_t slot) const { return slots_[slot].activeHost; }
-    const std::vector<glm::uvec4>& allocationOrder(uint32_t slot) const { return slots_[slot].runsHost; }
 
   private:
-    struct Slot {
-        Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
-        std::vector<uint32_t> coverageHost, staleHost, activeHost;
-        std::vector<glm::uvec4> runsHost; // allocation order: (first rank, map, mip, entries)
-        uint32_t orderEntries = 0;
-        std::vector<gpu::GpuVsmMap> mapsHost;
-        uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
-    };
+    using Slot = VsmSlot;
     struct LightState {
         uint32_t firstMap = ML_VSM_NO_MAP, mapCount = 0, kind = 0;
         VsmLight last;
         bool seen = false;
     };
     uint32_t allocateSlots(uint32_t count);
-    void recordExpand(const Device& device, VkCommandBuffer cmd, Profiler& profiler, Slot& slot);
+    // prepare()'s steps, in order (vsm_prepare.cpp).
+    std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
+                                           std::span<const uint32_t> visible,
+                                           std::span<const VsmInstance> instances) const;
+    void assignMapSlots(Slot& slot, std::span<const VsmLight> lights, const std::vector<uint8_t>& needs);
+    void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
+    void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
+    std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
+                                       const std::vector<uint8_t>& needs);
+    void buildAllocationOrder(Slot& slot);
+    void uploadSlot(const Device& device, Slot& slot, uint64_t frame, std::span<const VsmInstance> instances,
+                    const VsmCamera& camera);
     void buildMap(uint32_t map, const VsmLight& light, uint32_t face, const VsmCamera& camera, bool& moved);
 
     VsmSettings settings_;
@@ -188,14 +212,8 @@ class VirtualShadowMaps {
     std::vector<VsmInstance> lastInstances_;
     gpu::VsmConstants lastConstants_{};
 
-    Buffer table_, owners_, lastUsed_, marks_, pagePool_, blockCounts_, avail_, rendered_, dirtyMips_, draws_,
-        drawInfo_, drawCounts_, meshletList_, meshTasks_;
-    Image hpb_; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+    VsmPages pages_;
     uint32_t hpbLevels_ = 0;
-    ShaderModule markShader_, scanShader_, allocShader_, assignShader_, hpbShader_, cullShader_, clearShader_,
-        probeShader_, viewShader_, drawVert_, drawFrag_, expandShader_, drawTask_, drawMesh_;
-    Program markProgram_, scanProgram_, allocProgram_, assignProgram_, hpbProgram_, cullProgram_,
-        clearProgram_, probeProgram_, viewProgram_, drawProgram_, expandProgram_, meshProgram_;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside

@@ -22,17 +22,13 @@ layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawI
 layout(binding = 8, std430) writeonly buffer DrawInfo { uvec2 drawInfo[]; }; // (instance, map)
 layout(binding = 9, std430) buffer DrawCounts { uint drawCounts[]; };      // per mip
 layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(push_constant) uniform Push {
-    uint casterCount;
-    uint activeMaps;
-    uint maxDraws; // per mip
-};
+layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: draws per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
-    if (instance >= casterCount || gl_GlobalInvocationID.y >= activeMaps) return;
+    if (instance >= push.casterCount || gl_GlobalInvocationID.y >= push.activeMaps) return;
     uint map = vsmActive[gl_GlobalInvocationID.y];
     uint mipsDirty = vsmDirtyMips[map];
     if (mipsDirty == 0u) return;
@@ -56,11 +52,11 @@ void main() {
             continue;
         }
         uint slot = atomicAdd(drawCounts[mip], 1u);
-        if (slot >= maxDraws) {
+        if (slot >= push.capacity) {
             atomicAdd(vsmCounters.drawOverflow, 1u);
             continue;
         }
-        uint d = mip * maxDraws + slot;
+        uint d = mip * push.capacity + slot;
         draws[d * 5u + 0u] = c.draw.x; // index count
         draws[d * 5u + 1u] = 1u;       // instance count
         draws[d * 5u + 2u] = c.draw.y; // first index

@@ -10,7 +10,7 @@ layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 5, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 6, std430) buffer PagePool { uint vsmPool[]; };
-layout(push_constant) uniform Push { uint mip; };
+layout(push_constant) uniform Push { VsmDrawPush push; };
 
 layout(location = 0) in float inDepth;
 layout(location = 1) flat in uint inMap;
@@ -18,7 +18,7 @@ layout(location = 1) flat in uint inMap;
 void main() {
     uvec2 t = uvec2(gl_FragCoord.xy);
     uint shift = vsm.page.y, size = vsm.page.x;
-    uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, inMap, mip, t.x >> shift, t.y >> shift)];
+    uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, inMap, push.mip, t.x >> shift, t.y >> shift)];
     if ((pt & ML_VSM_DIRTY) == 0u) return;
     uint texel = (pt & ML_VSM_PHYS_MASK) * size * size + (t.y & (size - 1u)) * size + (t.x & (size - 1u));
     atomicMin(vsmPool[texel], vsmQuantize(inDepth, vsmMaps[inMap].params.z));

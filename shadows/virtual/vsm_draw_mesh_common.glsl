@@ -9,10 +9,7 @@ layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 7, std430) readonly buffer Meshlets { GpuMeshlet meshlets[]; };
 layout(binding = 12, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(push_constant) uniform Push {
-    uint mip;
-    uint maxMeshlets; // list entries per mip
-};
+layout(push_constant) uniform Push { VsmDrawPush push; };
 
 // What a task workgroup hands its mesh workgroups: one (instance, map, meshlet, unused) per survivor.
 struct VsmTaskPayload {

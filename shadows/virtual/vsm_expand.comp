@@ -24,17 +24,13 @@ layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
 layout(binding = 8, std430) buffer Tasks { uint meshTasks[]; };            // per mip: x, y, z groups, count
 layout(binding = 9, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(push_constant) uniform Push {
-    uint casterCount;
-    uint activeMaps;
-    uint maxMeshlets; // list entries per mip
-};
+layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: meshlet entries per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
-    if (instance >= casterCount || gl_GlobalInvocationID.y >= activeMaps) return;
+    if (instance >= push.casterCount || gl_GlobalInvocationID.y >= push.activeMaps) return;
     uint map = vsmActive[gl_GlobalInvocationID.y];
     uint mipsDirty = vsmDirtyMips[map];
     if (mipsDirty == 0u) return;
@@ -75,7 +71,7 @@ void main() {
         }
         atomicAdd(vsmCounters.instancesDrawn, 1u);
         uint base = atomicAdd(meshTasks[mip * 4u + 3u], n);
-        uint end = min(base + n, maxMeshlets);
+        uint end = min(base + n, push.capacity);
         if (base + n > end) atomicAdd(vsmCounters.meshletOverflow, base + n - max(end, base));
         if (end <= base) continue;
         atomicAdd(vsmCounters.meshletsAfterExpansion, end - base);
@@ -83,7 +79,7 @@ void main() {
         meshTasks[mip * 4u + 1u] = 1u; // y, z: one row of workgroups (zero when nothing was appended)
         meshTasks[mip * 4u + 2u] = 1u;
         for (uint i = base; i < end; ++i) {
-            uint e = (mip * maxMeshlets + i) * 3u;
+            uint e = (mip * push.capacity + i) * 3u;
             meshletList[e + 0u] = instance;
             meshletList[e + 1u] = map;
             meshletList[e + 2u] = (c.meshlets.x + i - base) | cone;

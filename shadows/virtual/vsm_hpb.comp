@@ -15,18 +15,15 @@ layout(binding = 1, std430) readonly buffer Active { uint vsmActive[]; };
 layout(binding = 2, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 3, r32ui) uniform readonly uimage2DArray src;  // level - 1 (level 1: not read)
 layout(binding = 4, r32ui) uniform writeonly uimage2DArray dst; // this level
-layout(push_constant) uniform Push {
-    uint level; // 1..log2(S_0)
-    uint activeMaps;
-};
+layout(push_constant) uniform Push { VsmHpbPush push; };
 
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
     uvec2 size = uvec2(imageSize(dst).xy);
-    if (p.x >= size.x || p.y >= size.y || gl_WorkGroupID.z >= activeMaps) return;
+    if (p.x >= size.x || p.y >= size.y || gl_WorkGroupID.z >= push.activeMaps) return;
     uint map = vsmActive[gl_WorkGroupID.z];
     uint any = 0u;
-    if (level == 1u) {
+    if (push.level == 1u) {
         uint s0 = vsm.page.z, mips = vsm.page.w;
         for (uint mip = 0u; mip < mips; ++mip) { // the mip whose level-1 cells hold column p.x
             uint side = (s0 >> mip) >> 1u, first = vsmHpbColumn(s0, mip) >> 1u;

@@ -1,6 +1,6 @@
 // Virtual shadow map GPU structs and page-table encoding, defined once for C++ and GLSL (included by
-// shadows/virtual/*.cpp and every vsm_*.comp / vsm_draw.* shader). Layout rules as in
-// shaders/shared/gpu_types.h: vec4/uvec4/mat4 members only, static_asserted on the C++ side.
+// shadows/virtual/*.cpp and every vsm_*.comp / vsm_draw.* shader), and the push blocks of its passes.
+// Layout rules as in shaders/shared/gpu_types.h, static_asserted on the C++ side.
 //
 // Vocabulary (shadows/virtual/vsm.h has the algorithm):
 //   map      one virtual shadow map: a spot light, one cube face of a point light, or one clip level of
@@ -118,7 +118,31 @@ ML_STRUCT(GpuVsmProbe) {
     uvec4 tap;   // x the receiver's biased depth the texel is compared with, yzw unused
 };
 
+// Push blocks. vsm_hpb: one level of the hierarchical page buffer. 8 bytes.
+ML_STRUCT(VsmHpbPush) {
+    uint level; // 1..log2(S_0)
+    uint activeMaps;
+};
+
+// vsm_cull and vsm_expand: one thread per (caster, active map); `capacity` is the per-mip list size
+// (cull: draws, VsmSettings::maxDrawsPerMip; expand: meshlet entries, maxMeshletsPerMip). 12 bytes.
+ML_STRUCT(VsmCullPush) {
+    uint casterCount;
+    uint activeMaps;
+    uint capacity;
+};
+
+// vsm_draw (raster path: .vert / .frag; mesh path: .task / .mesh / .frag): the mip drawn, and the mesh
+// path's meshlet entries per mip (the raster path leaves it unused). 8 bytes.
+ML_STRUCT(VsmDrawPush) {
+    uint mip;
+    uint maxMeshlets;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(VsmHpbPush) == 8);
+static_assert(sizeof(VsmCullPush) == 12);
+static_assert(sizeof(VsmDrawPush) == 8);
 static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);

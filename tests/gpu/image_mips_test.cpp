@@ -60,16 +60,15 @@ struct Fixture {
 // Builds mips 1.. of `image` on the GPU with operator `op` (mip 0 uploaded, every mip in GENERAL).
 void buildMips(const Device& d, const Image& image, uint32_t op) {
     ShaderModule shader = ML_SHADER(d, spv_mip_reduce_comp);
-    Program program = createComputeProgram(d, shader, 0, {{0, op}});
+    Program program = createComputeProgram(d, shader, {{0, op}});
     VkCommandBuffer cmd = d.beginOneTime();
     const auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     // Mips 1.. are written whole: discarded (their first use).
     imageBarrier(cmd, image, 1, image.mips - 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C,
                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     for (uint32_t m = 1; m < image.mips; ++m) {
-        bindProgram(d, cmd, program, {Descriptor(image.mipView(m - 1)), Descriptor(image.mipView(m))},
-                    nullptr, 0);
-        vkCmdDispatch(cmd, (image.mipWidth(m) + 7) / 8, (image.mipHeight(m) + 7) / 8, image.layers);
+        dispatch(d, cmd, program, image.mipWidth(m), image.mipHeight(m), image.layers, NoPush{},
+                 {Descriptor(image.mipView(m - 1)), Descriptor(image.mipView(m))});
         // Mip m -> the next dispatch reads it (read-after-write).
         imageBarrier(cmd, image, m, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C,
                      VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, C, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);

@@ -7,6 +7,7 @@
 #include "shaders/shared/shading.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
+#include "tests/shaders/static_decode_push.h"
 
 #include "test_static_decode.comp.spv.h"
 
@@ -44,7 +45,7 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
     DualDepthMap map = cityLightMap(scene.value(), res, &frustum);
     ASSERT_EQ(map.resolution, res);
     ShaderModule shader = ML_SHADER(d, spv_test_static_decode_comp);
-    Program program = createComputeProgram(d, shader, 16);
+    Program program = createComputeProgram(d, shader);
     for (StaticMethod method :
          {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH, StaticMethod::DAGMH, StaticMethod::CPVS}) {
         StaticEncodeOptions o{frustum.nearPlane, frustum.farPlane, {}};
@@ -59,9 +60,7 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
         uint32_t perColumn = method == StaticMethod::CPVS ? (res + 31) / 32 : 1;
         size_t outWords = size_t(res) * res * perColumn;
         Buffer out = createBuffer(d, outWords * 4, kStorageBufferUsage, "decode_out");
-        struct Push {
-            uint32_t method, base, res, pad;
-        } push{uint32_t(method), base, res, 0};
+        const ml::gpu::StaticDecodePush push{uint32_t(method), base, res, 0};
         VkCommandBuffer cmd = d.beginOneTime();
         dispatch(d, cmd, program, res, res, push, {in, out});
         fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);

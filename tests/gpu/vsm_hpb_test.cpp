@@ -47,17 +47,18 @@ TEST(GpuVsmHpb, EveryLevelOfEveryActiveMapEqualsCpuBuild) {
     VsmSession& s = *session.value();
     Module& m = *s.module;
     const VirtualShadowMaps& vsm = internals(m).vsm;
-    ASSERT_EQ(vsm.hpbLevels(), 4u);
+    ASSERT_EQ(vsm.layout().hpbLevels, 4u);
     uint64_t maps = 0, ones = 0, zeros = 0;
     for (uint32_t f = 0; f < 6; ++f) {
         auto report = s.frame(f);
         ASSERT_TRUE(report.ok()) << report.error();
         const uint32_t slot = internals(m).lastSlot;
-        std::vector<uint32_t> table = vsm.readTable(deviceOf(m));
-        table.resize(size_t(vsm.settings().maxMaps) * vsm.entriesPerMap(), 0);
-        for (uint32_t map : vsm.activeMaps(slot)) {
-            auto ref = hpbReference(table, map, vsm.pagesPerSide(), vsm.mips(), vsm.entriesPerMap());
-            for (uint32_t level = 1; level <= vsm.hpbLevels(); ++level) {
+        std::vector<uint32_t> table = vsm.read(deviceOf(m), VsmState::Table);
+        table.resize(size_t(vsm.settings().maxMaps) * vsm.layout().entriesPerMap, 0);
+        for (uint32_t map : vsm.slotHost(slot).active) {
+            auto ref = hpbReference(table, map, vsm.layout().pagesPerSide, vsm.layout().mips,
+                                    vsm.layout().entriesPerMap);
+            for (uint32_t level = 1; level <= vsm.layout().hpbLevels; ++level) {
                 std::vector<uint32_t> gpu = vsm.readHpb(deviceOf(m), map, level);
                 ASSERT_EQ(gpu, ref[level - 1]) << "frame " << f << " map " << map << " level " << level;
                 for (uint32_t v : gpu) (v ? ones : zeros)++;

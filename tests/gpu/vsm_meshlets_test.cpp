@@ -56,9 +56,11 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
         ASSERT_TRUE(rm.ok()) << rm.error();
         auto rv = vertS.value()->frame(f);
         ASSERT_TRUE(rv.ok()) << rv.error();
-        std::vector<uint32_t> tm = mv.readTable(deviceOf(mm)), tv = vv.readTable(deviceOf(vm));
+        std::vector<uint32_t> tm = mv.read(deviceOf(mm), VsmState::Table),
+                              tv = vv.read(deviceOf(vm), VsmState::Table);
         ASSERT_EQ(tm, tv) << "frame " << f << ": page tables differ";
-        std::vector<uint32_t> pm = mv.readPagePool(deviceOf(mm)), pv = vv.readPagePool(deviceOf(vm));
+        std::vector<uint32_t> pm = mv.read(deviceOf(mm), VsmState::PagePool),
+                              pv = vv.read(deviceOf(vm), VsmState::PagePool);
         for (size_t e = 0; e < tm.size(); ++e) {
             const uint32_t w = tm[e];
             if (!(w & ML_VSM_ALLOCATED) || !(w & ML_VSM_VALID)) continue;

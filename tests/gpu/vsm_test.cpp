@@ -39,9 +39,9 @@ VsmMarkInputs markInputs(Module& m) {
     in.normal.resize(in.depth.size());
     for (size_t i = 0; i < in.normal.size(); ++i) in.normal[i] = glm::vec3(half4(normal, i));
     in.constants = vsm.lastConstants();
-    in.maps = vsm.mapsHost(slot);
-    in.coverage = vsm.coverageBits(slot);
-    in.markWords = vsm.markWords();
+    in.maps = vsm.slotHost(slot).maps;
+    in.coverage = vsm.slotHost(slot).coverage;
+    in.markWords = vsm.layout().markWords;
     return in;
 }
 
@@ -53,7 +53,7 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     Module& m = *s.module;
     const VirtualShadowMaps& vsm = internals(m).vsm;
     VsmAllocState cpu;
-    const size_t entries = size_t(vsm.settings().maxMaps) * vsm.entriesPerMap();
+    const size_t entries = size_t(vsm.settings().maxMaps) * vsm.layout().entriesPerMap;
     cpu.table.assign(entries, 0);
     cpu.owners.assign(vsm.settings().poolPages, ML_VSM_NO_OWNER);
     cpu.lastUsed.assign(vsm.settings().poolPages, 0);
@@ -64,7 +64,7 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
         ASSERT_TRUE(report.ok()) << report.error();
         const uint32_t slot = internals(m).lastSlot;
         // Marking.
-        std::vector<uint32_t> gpuMarks = vsm.readMarks(deviceOf(m));
+        std::vector<uint32_t> gpuMarks = vsm.read(deviceOf(m), VsmState::Marks);
         if (f % 10 == 0 || f < 3) { // the mark reference walks every pixel: every 10th frame keeps it short
             std::vector<uint32_t> cpuMarks = vsmMarkReference(markInputs(m));
             size_t differ = 0;
@@ -72,16 +72,16 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
             ASSERT_EQ(differ, 0u) << "frame " << f << ": mark words differ";
         }
         // Allocation from the previous frame's state, with this frame's marks.
-        std::vector<uint32_t> stale = vsm.staleBits(slot);
-        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.mapsHost(slot),
-                                                  vsm.allocationOrder(slot), vsm.lastConstants());
-        std::vector<uint32_t> table = vsm.readTable(deviceOf(m));
+        std::vector<uint32_t> stale = vsm.slotHost(slot).stale;
+        gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.slotHost(slot).maps,
+                                                  vsm.slotHost(slot).runs, vsm.lastConstants());
+        std::vector<uint32_t> table = vsm.read(deviceOf(m), VsmState::Table);
         ASSERT_LE(table.size(), cpu.table.size());
         size_t differ = 0;
         for (size_t e = 0; e < table.size(); ++e) differ += table[e] != cpu.table[e];
         ASSERT_EQ(differ, 0u) << "frame " << f << ": page-table entries differ";
-        ASSERT_EQ(vsm.readOwners(deviceOf(m)), cpu.owners) << "frame " << f;
-        ASSERT_EQ(vsm.readLastUsed(deviceOf(m)), cpu.lastUsed) << "frame " << f;
+        ASSERT_EQ(vsm.read(deviceOf(m), VsmState::Owners), cpu.owners) << "frame " << f;
+        ASSERT_EQ(vsm.read(deviceOf(m), VsmState::LastUsed), cpu.lastUsed) << "frame " << f;
         const VsmStats& g = report->stats.vsm;
         EXPECT_EQ(g.pagesMarked, c.pagesMarked) << "frame " << f;
         EXPECT_EQ(g.pagesCached, c.pagesCached) << "frame " << f;
@@ -90,7 +90,8 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
         EXPECT_EQ(g.pagesInvalidated, c.pagesInvalidated) << "frame " << f;
         EXPECT_EQ(g.fallbacks, c.fallbacks) << "frame " << f;
         EXPECT_EQ(g.pagesAllocated, c.pagesAllocated) << "frame " << f;
-        std::string bad = vsmCheckInvariants(cpu, gpuMarks, vsm.activeMaps(slot), vsm.lastConstants(), c);
+        std::string bad =
+            vsmCheckInvariants(cpu, gpuMarks, vsm.slotHost(slot).active, vsm.lastConstants(), c);
         ASSERT_TRUE(bad.empty()) << "frame " << f << ": " << bad;
         marked += g.pagesMarked;
         cached += g.pagesCached;

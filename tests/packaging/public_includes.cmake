@@ -14,7 +14,7 @@ endif()
 set(ALLOWED
   # the public API (installed): the module and its API types, the diagnostics read-backs, ML_VK_CHECK
   "^engine/manylights\\.h$" "^engine/manylights_diagnostics\\.h$" "^io/result\\.h$"
-  "^gpu/device_types\\.h$" "^gpu/pass_times\\.h$" "^gpu/vk_check\\.h$"
+  "^gpu/device_types\\.h$" "^engine/pass_times\\.h$" "^gpu/vk_check\\.h$"
   "^shadows/virtual/vsm_settings\\.h$" "^lights/light_types\\.h$"
   # GPU structs and light math shared by C++ and GLSL (installed, one source for both)
   "^shaders/shared/[a-z_]+\\.h$"

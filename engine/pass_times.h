@@ -1,12 +1,14 @@
 // Per-pass GPU times of a frame (FrameReport::times): API types of the public header
-// (engine/manylights.h). The profiler that measures them is gpu/profiler.h (internal).
+// (engine/manylights.h). The profiler that measures them is gpu/profiler.h (internal, generic: timer
+// slots and names given by the module, engine/frame.h, one slot per Pass).
 #pragma once
 #include <array>
 #include <cstdint>
 
 namespace ml {
 
-// Every pass the module records. Later passes (shadows) add entries here and a name in passName().
+// Every timed pass of the module's frame (engine/frame.h), in recording order; a new pass adds an entry
+// here and a name in passName() (engine/pass_times.cpp).
 enum class Pass : uint32_t {
     GBuffer,
     ClusterBounds,

@@ -1,0 +1,169 @@
+// The module's frame as a list of pass objects (Module::record): every pass has one interface,
+// record(FrameContext&), and says whether it runs this frame and under which Pass timer. The frame loop
+// (runFrame) is the one place that times passes: a timed pass is recorded between its timestamps, or in
+// Fenced mode submitted on its own and timed; an untimed one (barriers, clears, probes, views) is only
+// kept in order with them. Passes wrap the features (culling/, shadows/virtual/, lights/, engine/gbuffer),
+// which record commands and know nothing of the profiler or of this list.
+//
+// Order (each pass's barriers order its hazards; the frame-begin barrier orders the frame after the
+// previous one): frame begin, G-buffer (module targets only), cluster bounds, light assignment (culling on),
+// VSM reset / mark / alloc / HPB / cull or expand / draw, evaluation outputs, evaluation, VSM probe,
+// statistics, debug view, frame end.
+#pragma once
+#include "culling/culling.h"
+#include "engine/gbuffer.h"
+#include "engine/manylights.h"
+#include "gpu/profiler.h"
+#include "lights/evaluate_pass.h"
+#include "shadows/virtual/vsm_passes.h"
+
+#include <optional>
+#include <span>
+
+namespace ml {
+
+// What the passes of one frame read and write, as named fields (filled by Module::record).
+struct FrameContext {
+    const Device* device = nullptr;
+    VkCommandBuffer cmd = VK_NULL_HANDLE; // the current pass's (its own one when timing is Fenced)
+    uint32_t slot = 0;                    // frame-in-flight index of the per-slot buffers
+    CullingMode culling = CullingMode::Clustered;
+    bool statistics = false;
+    DebugView view = DebugView::Shaded;
+    bool hdrOutput = false; // the host's output takes HDR radiance (no tone-mapped output, no views)
+
+    // Targets. gbuffer: the module's own G-buffer (it draws it), null for the host's. The G-buffer views
+    // are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten whole each frame.
+    const GBufferTargets* gbuffer = nullptr;
+    const Image* hdrImage = nullptr;
+    const Image* outputImage = nullptr; // the module's own output (null: the host's, already GENERAL)
+    VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;
+    VkImageView output = VK_NULL_HANDLE;                             // the debug views' target
+    VkImageView hdrView = VK_NULL_HANDLE, toneView = VK_NULL_HANDLE; // the evaluation's two outputs
+    uint32_t width = 0, height = 0;
+
+    // Per-frame inputs: the slot's buffers (written by the host just before) and the geometry.
+    const Buffer* frame = nullptr;    // FrameConstants (uniform)
+    const Buffer* slices = nullptr;   // cluster slice boundaries
+    const Buffer* lights = nullptr;   // visible GpuLights
+    const Buffer* counters = nullptr; // FrameCounters (atomics; read by the host one frame later)
+    const Buffer* instances = nullptr;
+    const Buffer* vertices = nullptr;
+    const Buffer* indices = nullptr;
+    const Buffer* draws = nullptr; // G-buffer indirect draws
+    uint32_t instanceCount = 0;
+
+    // The same, grouped as the passes' bindings want them.
+    ShadingInputs shading{};
+    ShadowInputs shadows{};
+    VsmFrameInputs vsm{};
+};
+
+class FramePass {
+  public:
+    explicit FramePass(std::optional<Pass> timer = std::nullopt) : timer_(timer) {}
+    virtual ~FramePass() = default;
+    // The Pass it is timed as (FrameReport::times), none for untimed work.
+    std::optional<Pass> timer() const { return timer_; }
+    virtual bool enabled(const FrameContext&) const { return true; }
+    virtual void record(FrameContext& frame) = 0;
+
+  private:
+    std::optional<Pass> timer_;
+};
+
+// Records the enabled passes in order, timing each under its Pass (or untimed).
+void runFrame(Profiler& profiler, FrameContext& frame, std::span<FramePass* const> passes);
+// The profiler's timer names: one per Pass, in enum order.
+std::vector<std::string> passTimerNames();
+
+// --- the passes (engine/frame_passes.cpp) ---
+
+// Frame boundary: orders this frame's accesses after the previous frame's, and clears the counters.
+struct FrameBeginPass final : FramePass {
+    void record(FrameContext& f) override;
+};
+// Counters -> host, unless the statistics pass did it.
+struct FrameEndPass final : FramePass {
+    bool enabled(const FrameContext& f) const override { return !f.statistics; }
+    void record(FrameContext& f) override;
+};
+struct GBufferDrawPass final : FramePass {
+    explicit GBufferDrawPass(const GBufferPass& g) : FramePass(Pass::GBuffer), gbuffer(g) {}
+    bool enabled(const FrameContext& f) const override { return f.gbuffer != nullptr; }
+    void record(FrameContext& f) override;
+    const GBufferPass& gbuffer;
+};
+// Cluster bounds, and light assignment into the cluster lists (culling on).
+struct CullingPass final : FramePass {
+    CullingPass(LightCulling& c, Pass which) : FramePass(which), cull(c) {}
+    bool enabled(const FrameContext& f) const override { return f.culling != CullingMode::None; }
+    void record(FrameContext& f) override;
+    LightCulling& cull;
+};
+// One virtual shadow map pass (VsmPasses::record*): Reset (untimed, VSM on), then the timed
+// ones while the slot has active maps; Cull on the raster path, Expand on the mesh path.
+struct VsmPass final : FramePass {
+    enum Kind { Reset, Mark, Alloc, Hpb, Cull, Expand, Draw };
+    VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k);
+    bool enabled(const FrameContext& f) const override;
+    void record(FrameContext& f) override;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
+    Kind kind;
+};
+// The evaluation's HDR and output images: old contents discarded (layout transition), ordered after
+// the previous frame's writes.
+struct EvaluationOutputsPass final : FramePass {
+    void record(FrameContext& f) override;
+};
+struct EvaluationPass final : FramePass {
+    explicit EvaluationPass(const EvaluatePass& e) : FramePass(Pass::Evaluate), evaluate(e) {}
+    void record(FrameContext& f) override;
+    const EvaluatePass& evaluate;
+};
+struct VsmProbePass final : FramePass {
+    VsmProbePass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
+    bool enabled(const FrameContext&) const override { return vsm.probing(); }
+    void record(FrameContext& f) override;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
+};
+struct StatisticsFramePass final : FramePass {
+    explicit StatisticsFramePass(const StatisticsPass& s) : FramePass(Pass::Statistics), statistics(s) {}
+    bool enabled(const FrameContext& f) const override { return f.statistics; }
+    void record(FrameContext& f) override;
+    const StatisticsPass& statistics;
+};
+// demo --view: the VSM page view, or the light-complexity views (culling/culling.h), over the output.
+struct DebugViewPass final : FramePass {
+    DebugViewPass(LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& p)
+        : cull(c), vsm(v), passes(p) {}
+    bool enabled(const FrameContext& f) const override;
+    void record(FrameContext& f) override;
+    LightCulling& cull;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
+};
+
+// Every pass object of the module, built once over its features.
+struct FramePasses {
+    FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
+                const EvaluatePass& e, const StatisticsPass& s)
+        : gbuffer(g), clusterBounds(c, Pass::ClusterBounds), lightAssign(c, Pass::LightAssign),
+          vsmReset(v, vp, VsmPass::Reset), vsmMark(v, vp, VsmPass::Mark), vsmAlloc(v, vp, VsmPass::Alloc),
+          vsmHpb(v, vp, VsmPass::Hpb), vsmCull(v, vp, VsmPass::Cull), vsmExpand(v, vp, VsmPass::Expand),
+          vsmDraw(v, vp, VsmPass::Draw), evaluate(e), vsmProbe(v, vp), statistics(s), debugView(c, v, vp) {}
+    FrameBeginPass begin;
+    GBufferDrawPass gbuffer;
+    CullingPass clusterBounds, lightAssign;
+    VsmPass vsmReset, vsmMark, vsmAlloc, vsmHpb, vsmCull, vsmExpand, vsmDraw;
+    EvaluationOutputsPass evaluationOutputs;
+    EvaluationPass evaluate;
+    VsmProbePass vsmProbe;
+    StatisticsFramePass statistics;
+    DebugViewPass debugView;
+    FrameEndPass end;
+};
+
+} // namespace ml

@@ -1,0 +1,177 @@
+// The pass objects of the module's frame (engine/frame.h) and the frame loop that orders and times them.
+#include "engine/frame.h"
+
+namespace ml {
+
+namespace {
+constexpr auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+constexpr auto W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+} // namespace
+
+std::vector<std::string> passTimerNames() {
+    std::vector<std::string> names;
+    for (uint32_t p = 0; p < kPassCount; ++p) names.emplace_back(passName(Pass(p)));
+    return names;
+}
+
+void runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> passes) {
+    const VkCommandBuffer frameCmd = f.cmd;
+    profiler.beginFrame(frameCmd, f.slot);
+    for (FramePass* pass : passes) {
+        if (!pass->enabled(f)) continue;
+        auto body = [&](VkCommandBuffer c) {
+            f.cmd = c;
+            pass->record(f);
+        };
+        if (auto timer = pass->timer())
+            profiler.run(frameCmd, uint32_t(*timer), body);
+        else
+            profiler.runUntimed(frameCmd, body);
+    }
+    f.cmd = frameCmd;
+}
+
+void FrameBeginPass::record(FrameContext& f) {
+    // The frame boundary: the previous frame read and wrote the cluster buffers, the persistent VSM
+    // state (page table, pool, owners, HPB: read-after-write across frames) and the targets this frame
+    // rewrites (write-after-read), in every stage the module uses; later barriers of the frame chain
+    // from this one. Only the module's stages and accesses: a host's other work (host reads, ray
+    // tracing, video...) on a borrowed queue is not waited for. Host targets arrive already
+    // transitioned by the host (HostTargets). Two frames recorded back to back show no hazard under
+    // synchronization validation even without this barrier (the passes' own barriers chain across
+    // the boundary; SyncValidation.TwoFramesInOneCommandBuffer); it stays for the host's commands
+    // before record() that touch module-visible memory in these stages.
+    const VkPipelineStageFlags2 frameStages =
+        C | kFillStages | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT |
+        VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT |
+        VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
+        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkAccessFlags2 frameWrites = W | VK_ACCESS_2_TRANSFER_WRITE_BIT |
+                                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    const VkAccessFlags2 frameAccesses =
+        frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+        VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT |
+        VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    memoryBarrier(f.cmd, frameStages, frameWrites, frameStages, frameAccesses);
+    vkCmdFillBuffer(f.cmd, f.counters->buffer, 0, VK_WHOLE_SIZE, 0);
+    memoryBarrier(f.cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
+}
+
+void FrameEndPass::record(FrameContext& f) {
+    memoryBarrier(f.cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
+}
+
+void GBufferDrawPass::record(FrameContext& f) {
+    gbuffer.record(*f.device, f.cmd, *f.gbuffer, *f.frame, *f.vertices, *f.indices, *f.instances, *f.draws,
+                   f.instanceCount);
+}
+
+void CullingPass::record(FrameContext& f) {
+    if (timer() == Pass::ClusterBounds)
+        cull.recordBounds(*f.device, f.cmd, *f.frame, *f.slices, f.depth, *f.counters);
+    else
+        cull.recordAssign(*f.device, f.cmd, *f.frame, *f.slices, *f.lights, *f.counters);
+}
+
+namespace {
+std::optional<Pass> vsmTimer(VsmPass::Kind k) {
+    switch (k) {
+    case VsmPass::Mark:
+        return Pass::VsmMark;
+    case VsmPass::Alloc:
+        return Pass::VsmAlloc;
+    case VsmPass::Hpb:
+        return Pass::VsmHpb;
+    case VsmPass::Cull:
+        return Pass::VsmCull;
+    case VsmPass::Expand:
+        return Pass::VsmExpand;
+    case VsmPass::Draw:
+        return Pass::VsmDraw;
+    case VsmPass::Reset:
+        break;
+    }
+    return std::nullopt;
+}
+} // namespace
+
+VsmPass::VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k)
+    : FramePass(vsmTimer(k)), vsm(v), passes(p), kind(k) {}
+
+bool VsmPass::enabled(const FrameContext& f) const {
+    if (kind == Reset) return vsm.enabled();
+    if (!vsm.active(f.slot)) return false;
+    if (kind == Cull) return !vsm.meshPath();
+    if (kind == Expand) return vsm.meshPath();
+    return true;
+}
+
+void VsmPass::record(FrameContext& f) {
+    const Device& d = *f.device;
+    switch (kind) {
+    case Reset:
+        passes.recordReset(f.cmd);
+        break;
+    case Mark:
+        passes.recordMark(d, f.cmd, f.slot, f.vsm);
+        break;
+    case Alloc:
+        passes.recordAlloc(d, f.cmd, f.slot);
+        break;
+    case Hpb:
+        passes.recordHpb(d, f.cmd, f.slot);
+        break;
+    case Cull:
+        passes.recordCull(d, f.cmd, f.slot);
+        break;
+    case Expand:
+        passes.recordExpand(d, f.cmd, f.slot);
+        break;
+    case Draw:
+        passes.recordDraw(d, f.cmd, f.slot, f.vsm);
+        break;
+    }
+}
+
+void EvaluationOutputsPass::record(FrameContext& f) {
+    // The HDR and output images are rewritten whole: their old contents are discarded. Write-after-read
+    // and write-after-write against the previous frame's evaluation and debug views (compute): its
+    // storage writes are in the source scope, so the layout transition is ordered after them (two frames
+    // in one command buffer: SyncValidation.TwoFramesInOneCommandBuffer). The host's reads of them
+    // (copies, blits) reach the compute stage through the frame-begin barrier.
+    imageBarrier(f.cmd, f.hdrImage->image, f.hdrImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
+    if (f.outputImage)
+        imageBarrier(f.cmd, f.outputImage->image, f.outputImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                     VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
+}
+
+void EvaluationPass::record(FrameContext& f) {
+    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.hdrView, f.toneView);
+}
+
+void VsmProbePass::record(FrameContext& f) {
+    passes.recordProbe(*f.device, f.cmd, f.slot, f.vsm);
+}
+
+void StatisticsFramePass::record(FrameContext& f) {
+    statistics.record(*f.device, f.cmd, f.shading, *f.counters);
+}
+
+bool DebugViewPass::enabled(const FrameContext& f) const {
+    return (f.view == DebugView::Vsm && vsm.enabled() && !f.hdrOutput) ||
+           f.view == DebugView::LightsEvaluated || f.view == DebugView::LightsReaching;
+}
+
+void DebugViewPass::record(FrameContext& f) {
+    if (f.view == DebugView::Vsm)
+        passes.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
+    else
+        cull.recordView(*f.device, f.cmd, f.view == DebugView::LightsReaching, *f.frame, *f.slices, *f.lights,
+                        f.depth, f.output, f.width, f.height);
+}
+
+} // namespace ml

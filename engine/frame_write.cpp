@@ -1,0 +1,214 @@
+// The host side of a frame (Module::record): geometry and shadow uploads, the slot's collection and
+// buffers (frame constants, visible lights with their static records and virtual maps, instances), and
+// the FrameContext the passes read (engine/frame.h).
+#include "engine/module_impl.h"
+#include "lights/lights.h"
+
+#include <algorithm>
+
+namespace ml {
+
+uint32_t Module::Impl::beginFrame() {
+    if (geometryDirty) uploadGeometry();
+    if (shadowsDirty || recordOfLight.size() != lights.size()) uploadShadows();
+    const Device& d = *device;
+    const uint32_t slotIndex = uint32_t(frameIndex % slots.size());
+    Slot& slot = slots[slotIndex];
+    if (slot.pending) collectSlot(slotIndex); // the host waited for this slot's previous frame
+
+    const CullingMode mode = culling;
+    const ClusterGrid grid =
+        mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
+    if (mode != cullingMode || grid.count() != cull.grid.count()) {
+        vkDeviceWaitIdle(d.device);
+        cull.resize(d, grid, poolOverride);
+        cullingMode = mode;
+    }
+    writeFrame(slot, slotIndex, grid, mode);
+    return slotIndex;
+}
+
+FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex) const {
+    const Slot& slot = slots[slotIndex];
+    FrameContext f;
+    f.device = device.get();
+    f.cmd = cmd;
+    f.slot = slotIndex;
+    f.culling = slot.mode;
+    f.statistics = statistics;
+    f.view = view;
+    f.hdrOutput = hdrOutput;
+    f.gbuffer = ownTargets ? &targets : nullptr;
+    f.hdrImage = &hdr;
+    f.outputImage = ownTargets ? &output : nullptr;
+    f.depth = ownTargets ? targets.depth.view : host.depth;
+    f.normal = ownTargets ? targets.normal.view : host.normal;
+    f.albedo = ownTargets ? targets.albedo.view : host.albedo;
+    f.output = ownTargets ? output.view : host.output;
+    // HDR-only output: the host's output view (RGBA16F) takes the HDR radiance; the tone-mapped binding
+    // gets the module's own output image, which the shader then never writes.
+    f.hdrView = hdrOutput && !ownTargets ? host.output : hdr.view;
+    f.toneView = hdrOutput ? output.view : f.output;
+    f.width = width;
+    f.height = height;
+    f.frame = &slot.frame;
+    f.slices = &slot.slices;
+    f.lights = &slot.lights;
+    f.counters = &slot.counters;
+    f.instances = &slot.instances;
+    f.vertices = &vertexBuffer;
+    f.indices = &indexBuffer;
+    f.draws = &drawBuffer;
+    f.instanceCount = uint32_t(instances.size());
+    f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
+                 f.depth, f.normal, f.albedo, width,        height};
+    const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
+    f.shadows = {&staticWords,
+                 &shadowRecords,
+                 vsmOn ? &vsm.constants(slotIndex) : f.frame,
+                 vsmOn ? &vsm.maps(slotIndex) : &staticWords,
+                 vsmOn ? &vsm.coverage(slotIndex) : &staticWords,
+                 vsmOn ? &vsm.table() : &staticWords,
+                 vsmOn ? &vsm.pagePool() : &staticWords};
+    f.vsm = {f.frame, f.slices, f.lights,   &cull.ranges, &cull.pool,
+             f.depth, f.normal, f.vertices, f.indices,    f.instances};
+    f.vsm.meshlets = &meshletBuffer;
+    f.vsm.meshletVertices = &meshletVertexBuffer;
+    f.vsm.meshletTriangles = &meshletTriangleBuffer;
+    return f;
+}
+
+void Module::Impl::endFrame(uint32_t slotIndex) {
+    Slot& slot = slots[slotIndex];
+    slot.pending = true;
+    slot.statistics = statistics;
+    lastSlot = slotIndex;
+    frameIndex++;
+}
+
+// Frame constants, visible lights (with their static records and virtual maps), instances: everything
+// the host side writes into the slot's buffers for one frame.
+void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode) {
+    const CameraDesc& c = camera;
+    const CameraMatrices cm = frameCamera(); // reversed Z (engine/camera.h)
+    gpu::FrameConstants fc{};
+    fc.viewProj = cm.projection * cm.view;
+    fc.invViewProj = glm::inverse(fc.viewProj);
+    fc.cameraPosition = glm::vec4(c.position, 1.0f);
+    fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
+    fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
+    fc.ambient = glm::vec4(ambient, exposure);
+    fc.sky = glm::vec4(sky, 0.0f);
+    fc.limits = glm::uvec4(cull.poolCapacity, grid.count(), 0, 0);
+
+    // Visible lights: bounding sphere against the camera frustum.
+    auto planes = frustumPlanes(fc.viewProj);
+    auto* gl = slot.lights.as<gpu::GpuLight>();
+    std::vector<uint32_t> visibleIds;
+    for (uint32_t i = 0; i < lights.size(); ++i) {
+        const LightDesc& l = lights[i];
+        if (!lightAlive[i]) continue;
+        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
+        gl[visibleIds.size()] = toGpuLight(l, i);
+        gl[visibleIds.size()].info.z = recordOfLight[i];
+        visibleIds.push_back(i);
+    }
+    const uint32_t visible = uint32_t(visibleIds.size());
+
+    // Instances, and what the virtual shadow maps need of them and of the lights.
+    auto* inst = slot.instances.as<GpuInstance>();
+    std::vector<VsmInstance> casters(instances.size());
+    for (size_t i = 0; i < instances.size(); ++i) {
+        const InstanceData& id = instances[i];
+        inst[i].model = id.transform;
+        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
+        inst[i].albedo = glm::vec4(id.albedo, 1.0f);
+        const MeshRange& r = meshes[id.mesh];
+        VsmInstance& v = casters[i];
+        v.lo = glm::vec3(1e30f);
+        v.hi = glm::vec3(-1e30f);
+        for (uint32_t k = 0; k < 8; ++k) {
+            glm::vec3 p((k & 1) ? r.hi.x : r.lo.x, (k & 2) ? r.hi.y : r.lo.y, (k & 4) ? r.hi.z : r.lo.z);
+            glm::vec3 w = glm::vec3(id.transform * glm::vec4(p, 1.0f));
+            v.lo = glm::min(v.lo, w);
+            v.hi = glm::max(v.hi, w);
+        }
+        v.indexCount = r.indexCount;
+        v.firstIndex = r.firstIndex;
+        v.vertexOffset = r.firstVertex;
+        v.firstMeshlet = r.firstMeshlet;
+        v.meshletCount = r.meshletCount;
+        v.closed = r.coneCull;
+        v.dynamic = id.dynamic;
+        v.castsShadows = id.alive && id.castsShadows;
+    }
+    if (vsm.enabled()) {
+        std::vector<VsmLight> vl(lights.size());
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const LightDesc& l = lights[i];
+            vl[i].kind = uint32_t(l.kind);
+            vl[i].position = l.position;
+            vl[i].direction = l.direction;
+            vl[i].range = l.range;
+            vl[i].outerAngle = l.outerAngle;
+            vl[i].moving = l.dynamic;
+            vl[i].castsShadows = lightAlive[i] && l.castsShadows;
+            const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
+            bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
+            for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
+            // A moving light's bake (if any) no longer matches it: its maps take every caster.
+            vl[i].staticBake = baked && !l.dynamic;
+        }
+        std::vector<uint32_t> firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
+                                                     {c.position, c.fovY, height});
+        for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap[v];
+    }
+
+    fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
+    upload(slot.frame, &fc, sizeof(fc));
+    std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
+    upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
+    slot.lightsTotal = uint32_t(lights.size());
+    slot.lightsVisible = visible;
+    slot.clusters = mode == CullingMode::None ? 0 : grid.count();
+    slot.poolCapacity = cull.poolCapacity;
+    slot.mode = mode;
+    slot.frameNumber = frameIndex;
+    lastConstants = fc;
+    lastSliceFar = sliceFar;
+    lastLights.assign(gl, gl + visible);
+}
+
+void Module::Impl::collectSlot(uint32_t index) {
+    Slot& s = slots[index];
+    FrameReport r;
+    r.frame = s.frameNumber;
+    Profiler::Times times;
+    if (!profiler.read(index, times)) return;   // not complete yet: keep pending
+    for (uint32_t p = 0; p < kPassCount; ++p) { // the profiler's timers are the Pass entries, in order
+        r.times.ms[p] = times.ms[p];
+        r.times.startMs[p] = times.startMs[p];
+        r.times.ran[p] = times.ran[p];
+    }
+    const auto& c = *s.counters.as<gpu::FrameCounters>();
+    FrameStats& st = r.stats;
+    st.lightsTotal = s.lightsTotal;
+    st.lightsVisible = s.lightsVisible;
+    st.clusters = s.clusters;
+    st.clustersOccupied = c.occupiedClusters;
+    st.clusterLightsMean = c.occupiedClusters ? double(c.clusterLightsSum) / c.occupiedClusters : 0.0;
+    st.clusterLightsMax = c.maxClusterLights;
+    st.clusterOverflowCount = c.overflowClusters;
+    st.poolEntries = std::min(c.poolCursor, s.poolCapacity);
+    st.poolCapacity = s.poolCapacity;
+    st.surfacePixels = c.surfacePixels;
+    st.vsm = vsm.readStats(index);
+    if (s.statistics && c.surfacePixels) {
+        st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
+        st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);
+    }
+    reports.push_back(r);
+    s.pending = false;
+}
+
+} // namespace ml

@@ -1,0 +1,37 @@
+// The virtual shadow map passes (vsm.h has the algorithm) over the state VirtualShadowMaps keeps: one
+// function per pass, their programs (vsm_programs.h). The module's frame (engine/frame.h) orders and
+// times them: reset (per-frame clears), then, when the slot has active maps (state.active()), mark, alloc
+// (scan, allocate, assign), HPB, cull (raster path) or expand (mesh path), draw (clear and draw the dirty
+// pages); after the evaluation the probe (state.probing()) and the debug view.
+#pragma once
+#include "shadows/virtual/vsm.h"
+#include "shadows/virtual/vsm_programs.h"
+
+namespace ml {
+
+class VsmPasses {
+  public:
+    // Programs for the state's raster path (state.meshPath()); the state outlives the passes.
+    void create(const Device& device, const VirtualShadowMaps& state);
+    void destroy(const Device& device);
+    void recordReset(VkCommandBuffer cmd) const;
+    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    // The probe pass: records the lookups into the slot's probe buffer.
+    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot,
+                     const VsmFrameInputs& in) const;
+    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
+    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
+    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
+                    VkImageView output) const;
+
+  private:
+    const VirtualShadowMaps* state_ = nullptr;
+    VsmPrograms programs_;
+};
+
+} // namespace ml

@@ -1,0 +1,247 @@
+// The CPU part of a virtual shadow map frame (VirtualShadowMaps::prepare), in named steps: which lights
+// need maps, their map slots, the maps' matrices, coverage and stale bits, the active maps, the
+// allocation order, and the slot's uploads. The GPU passes that read them are vsm_record.cpp.
+#include "shadows/virtual/vsm.h"
+
+#include "shadows/virtual/vsm_math.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace ml {
+
+namespace {
+
+void setBit(std::vector<uint32_t>& bits, uint32_t i) {
+    bits[i >> 5] |= 1u << (i & 31u);
+}
+
+// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive).
+void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
+                 uint32_t entriesPerMap) {
+    for (uint32_t m = 0; m < mips; ++m)
+        for (uint32_t y = rect.y >> m; y <= (rect.w >> m); ++y)
+            for (uint32_t x = rect.x >> m; x <= (rect.z >> m); ++x)
+                setBit(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, x, y));
+}
+
+bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
+    glm::vec3 d = glm::max(glm::max(lo - c, c - hi), glm::vec3(0.0f));
+    return glm::dot(d, d) <= r * r;
+}
+
+} // namespace
+
+std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex, uint64_t frame,
+                                                 std::span<const VsmLight> lights,
+                                                 std::span<const uint32_t> visible,
+                                                 std::span<const VsmInstance> instances,
+                                                 const VsmCamera& camera) {
+    if (!settings_.enabled) return std::vector<uint32_t>(visible.size(), ML_VSM_NO_MAP);
+    Slot& slot = slots_[slotIndex];
+    if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
+    slot.lightsWithPages = slot.lightsWithoutSlot = 0;
+    const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
+    assignMapSlots(slot, lights, needs);
+    buildFrameMaps(slot, lights, camera);
+    markCoverageAndStale(slot, instances);
+    std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
+    buildAllocationOrder(slot);
+    uploadSlot(device, slot, frame, instances, camera);
+    return firstMap;
+}
+
+std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLight> lights,
+                                                          std::span<const uint32_t> visible,
+                                                          std::span<const VsmInstance> instances) const {
+    // Which visible lights need maps this frame. A light with a static bake needs them only while a
+    // dynamic caster is inside its range; moving lights and lights without a bake always do.
+    std::vector<uint8_t> needs(lights.size(), 0);
+    for (uint32_t id : visible) {
+        const VsmLight& l = lights[id];
+        if (!l.castsShadows || !(settings_.kinds & (1u << l.kind))) continue;
+        if (l.moving ? !settings_.movingLights : !settings_.staticLights) continue;
+        bool need = !l.staticBake;
+        for (size_t i = 0; i < instances.size() && !need; ++i)
+            need = instances[i].dynamic && instances[i].castsShadows &&
+                   (l.kind == ML_LIGHT_DIRECTIONAL ||
+                    boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
+        needs[id] = need ? 1 : 0;
+    }
+    return needs;
+}
+
+void VirtualShadowMaps::assignMapSlots(Slot& slot, std::span<const VsmLight> lights,
+                                       const std::vector<uint8_t>& needs) {
+    // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
+    // when it comes back into view); a kind change frees them.
+    for (uint32_t id = 0; id < lights.size(); ++id) {
+        LightState& st = lightState_[id];
+        const uint32_t count = lights[id].kind == ML_LIGHT_POINT         ? 6u
+                               : lights[id].kind == ML_LIGHT_DIRECTIONAL ? settings_.clipLevels
+                                                                         : 1u;
+        if (st.firstMap != ML_VSM_NO_MAP && (st.kind != lights[id].kind || st.mapCount != count)) {
+            for (uint32_t m = 0; m < st.mapCount; ++m) {
+                maps_[st.firstMap + m].inUse = false;
+                freeSlots_.push_back(st.firstMap + m);
+            }
+            std::sort(freeSlots_.rbegin(), freeSlots_.rend());
+            st.firstMap = ML_VSM_NO_MAP;
+        }
+        if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
+            st.firstMap = allocateSlots(count);
+            if (st.firstMap == ML_VSM_NO_MAP) {
+                ++slot.lightsWithoutSlot;
+                continue;
+            }
+            st.mapCount = count;
+            st.kind = lights[id].kind;
+            for (uint32_t m = 0; m < count; ++m) {
+                maps_[st.firstMap + m] = VsmMapInfo{};
+                maps_[st.firstMap + m].light = id;
+            }
+        }
+    }
+}
+
+void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lights,
+                                       const VsmCamera& camera) {
+    // Matrices of every map in use; a map whose projection or caster set changed is stale as a whole.
+    std::fill(slot.host.coverage.begin(), slot.host.coverage.end(), 0u);
+    std::fill(slot.host.stale.begin(), slot.host.stale.end(), 0u);
+    for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m] = gpu::GpuVsmMap{};
+    for (uint32_t id = 0; id < lights.size(); ++id) {
+        const LightState& st = lightState_[id];
+        if (st.firstMap == ML_VSM_NO_MAP) continue;
+        for (uint32_t f = 0; f < st.mapCount; ++f) {
+            bool moved = false;
+            buildMap(st.firstMap + f, lights[id], f, camera, moved);
+            slot.host.maps[st.firstMap + f] = maps_[st.firstMap + f].gpu;
+            if (moved) slot.host.maps[st.firstMap + f].info.y |= ML_VSM_MAP_INVALIDATE;
+        }
+    }
+}
+
+void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances) {
+    // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
+    // added or removed caster's old or new bounds).
+    const bool firstFrame = lastInstances_.size() != instances.size();
+    for (uint32_t m = 0; m < mapsInUse_; ++m) {
+        if (!maps_[m].inUse) continue;
+        const gpu::GpuVsmMap& g = slot.host.maps[m];
+        const bool dynamicOnly = (g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0;
+        for (size_t i = 0; i < instances.size(); ++i) {
+            const VsmInstance& in = instances[i];
+            if (dynamicOnly && !in.dynamic) continue;
+            glm::uvec4 rect;
+            if (dynamicOnly && in.castsShadows && vsmProjectBox(g, in.lo, in.hi, s0_, rect))
+                setRectBits(slot.host.coverage, m, rect, s0_, mips_, entriesPerMap_);
+            if (firstFrame) continue;
+            const VsmInstance& old = lastInstances_[i];
+            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
+            for (const VsmInstance* b : {&old, &in})
+                if (vsmProjectBox(g, b->lo, b->hi, s0_, rect))
+                    setRectBits(slot.host.stale, m, rect, s0_, mips_, entriesPerMap_);
+        }
+    }
+    if (firstFrame)
+        for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+    lastInstances_.assign(instances.begin(), instances.end());
+}
+
+std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<const uint32_t> visible,
+                                                      const std::vector<uint8_t>& needs) {
+    std::vector<uint32_t> firstMap(visible.size(), ML_VSM_NO_MAP);
+    // Active maps: those of visible lights with maps (only they get marks, allocation, HPB and draws).
+    // A map that was not active last frame missed the invalidations in between: stale as a whole.
+    slot.host.active.clear();
+    std::vector<uint8_t> active(maps_.size(), 0);
+    for (size_t v = 0; v < visible.size(); ++v) {
+        const LightState& st = lightState_[visible[v]];
+        if (!needs[visible[v]] || st.firstMap == ML_VSM_NO_MAP) continue;
+        firstMap[v] = st.firstMap;
+        ++slot.lightsWithPages;
+        for (uint32_t f = 0; f < st.mapCount; ++f) {
+            const uint32_t m = st.firstMap + f;
+            slot.host.active.push_back(m);
+            active[m] = 1;
+            if (!wasActive_[m]) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+        }
+    }
+    wasActive_ = active;
+    slot.activeCount = uint32_t(slot.host.active.size());
+    return firstMap;
+}
+
+void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
+    // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
+    // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
+    // within a level, active map order.
+    slot.host.runs.clear();
+    uint32_t rank = 0;
+    const uint32_t steps = std::max(mips_, settings_.clipLevels);
+    for (uint32_t r = 0; r < steps; ++r)
+        for (uint32_t m : slot.host.active) {
+            const gpu::GpuVsmMap& g = slot.host.maps[m];
+            const bool ortho = g.info.x == ML_VSM_ORTHOGRAPHIC;
+            const uint32_t count = ortho ? g.light.z : mips_; // clip levels, or mips
+            if (r >= count) continue;
+            const uint32_t level = count - 1 - r;
+            if (ortho && g.light.y != level) continue;
+            const uint32_t mip = ortho ? 0u : level;
+            const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
+            slot.host.runs.push_back(glm::uvec4(rank, m, mip, n));
+            rank += n;
+        }
+    slot.orderEntries = rank;
+}
+
+void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t frame,
+                                   std::span<const VsmInstance> instances, const VsmCamera& camera) {
+    // Casters.
+    std::vector<gpu::GpuCaster> casters(instances.size());
+    for (size_t i = 0; i < instances.size(); ++i) {
+        const VsmInstance& in = instances[i];
+        casters[i].lo = glm::vec4(in.lo, 0.0f);
+        casters[i].hi = glm::vec4(in.hi, 0.0f);
+        casters[i].draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
+                                     in.dynamic ? 1u : 0u);
+        casters[i].meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
+    }
+    slot.casterCount = uint32_t(casters.size());
+
+    gpu::VsmConstants c{};
+    c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
+    c.sizes = glm::uvec4(entriesPerMap_, slot.activeCount, settings_.poolPages, uint32_t(frame + 1));
+    c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
+    // The pixel footprint per metre, divided by the texels wanted per pixel: the mip (or clip level) a
+    // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
+    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
+                             settings_.texelsPerPixel,
+                         0, 0, 0);
+    c.order = glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, 0, 0);
+    lastConstants_ = c;
+
+    // Upload (this slot's previous frame has completed: the module waited for its fence).
+    upload(slot.constants, &c, sizeof(c));
+    upload(slot.maps, slot.host.maps.data(), size_t(mapsInUse_) * sizeof(gpu::GpuVsmMap));
+    const size_t usedWords = (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32;
+    upload(slot.coverage, slot.host.coverage.data(), usedWords * 4);
+    upload(slot.stale, slot.host.stale.data(), usedWords * 4);
+    if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
+    if (!slot.host.runs.empty())
+        upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
+    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
+                 "vsm_casters");
+    if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
+    gpu::VsmCounters zero{};
+    zero.dispatchY = zero.dispatchZ = 1;
+    upload(slot.counters, &zero, sizeof(zero));
+    if (settings_.probeCapacity) {
+        uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};
+        upload(slot.probes, header, sizeof(header));
+    }
+}
+
+} // namespace ml

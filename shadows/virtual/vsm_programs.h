@@ -1,0 +1,23 @@
+// The virtual shadow map passes' programs (vsm.h lists the passes, vsm_record.cpp records them): one per
+// pass shader, created once for the raster path the settings chose; the mesh path's expand and
+// task/mesh programs only when it is taken. The shader modules live as long as the programs.
+#pragma once
+#include "gpu/program.h"
+
+#include <deque>
+
+namespace ml {
+
+struct VsmPrograms {
+    Program mark, scan, alloc, assign, hpb, cull, clear, probe, view;
+    Program draw;   // raster path: vsm_draw.vert + vsm_draw.frag
+    Program expand; // mesh path: vsm_expand.comp
+    Program mesh;   // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
+    void create(const Device& device, bool meshPath);
+    void destroy(const Device& device);
+
+  private:
+    std::deque<ShaderModule> shaders_; // stable addresses: a graphics program takes several
+};
+
+} // namespace ml

@@ -1,0 +1,25 @@
+// Push block of the static decode test program (test_static_decode.comp, tests/gpu/test_static_gpu.cpp),
+// defined once for C++ and GLSL; layout rules as in shaders/shared/gpu_types.h.
+#ifndef ML_STATIC_DECODE_PUSH_H
+#define ML_STATIC_DECODE_PUSH_H
+
+#include "shaders/shared/gpu_types.h"
+
+#ifdef __cplusplus
+namespace ml::gpu {
+#endif
+
+// 16 bytes: the encoding (StaticMethod), its first word in the bound buffer, its resolution.
+ML_STRUCT(StaticDecodePush) {
+    uint method;
+    uint base;
+    uint res;
+    uint pad;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(StaticDecodePush) == 16);
+} // namespace ml::gpu
+#endif
+
+#endif
