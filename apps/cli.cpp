@@ -18,8 +18,14 @@ Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>
             a.help = true;
             continue;
         }
+        // A flag given twice would silently keep one of its values: refused.
+        if ((valued.count(s) || switches.count(s)) && a.has(s)) return fail(s + ": given twice");
         if (valued.count(s)) {
             if (i + 1 >= argc) return fail(s + ": missing value");
+            // "--culling --frames 1" would take "--frames" as the value and then stumble on "1".
+            const std::string v = argv[i + 1];
+            if (valued.count(v) || switches.count(v) || v == "--help")
+                return fail(s + ": missing value (the next argument is the flag " + v + ")");
             a.values[s] = argv[++i];
         } else if (switches.count(s)) {
             a.switches.insert(s);

@@ -154,6 +154,9 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
     for (const std::string* e : {&view.error(), &lights.error(), &scene.error(), &culling.error(),
                                  &staticMethod.error(), &staticRes.error(), &pcf.error()})
         if (!e->empty()) return fail(*e);
+    // An option that does nothing without another is a mistake worth a word, not a silent default.
+    if (args.has("--static-res") && staticMethod.value() == StaticMethod::None)
+        return fail("--static-res: does nothing without --static METHOD");
     // Checked before any device work: a bad camera is a usage error, not a blank frame.
     if (args.has("--camera")) {
         auto v = cli::parseCamera("--camera", args.get("--camera", ""));

@@ -47,6 +47,28 @@ TEST(Options, FlagsOutsideTheGroupsAreRefused) {
     EXPECT_FALSE(parseWords({"--seed"}, {opts::kSceneFlags})); // missing value
 }
 
+// A flag given twice, or a valued flag followed by another flag instead of its value, is refused
+// naming the flag (both used to pass: the second value won, or "--frames" became the culling mode).
+TEST(Options, DuplicatesAndMissingValuesAreRefused) {
+    const cli::Flags own{{"--culling", "--out"}, {"--json"}};
+    auto twice = parseWords({"--seed", "1", "--seed", "2"}, {opts::kSceneFlags, own});
+    ASSERT_FALSE(twice);
+    EXPECT_EQ(twice.error(), "--seed: given twice");
+    auto sw = parseWords({"--json", "--json"}, {own});
+    ASSERT_FALSE(sw);
+    EXPECT_EQ(sw.error(), "--json: given twice");
+    auto swallowed = parseWords({"--culling", "--frames", "1"}, {opts::kViewFlags, own});
+    ASSERT_FALSE(swallowed);
+    EXPECT_EQ(swallowed.error(), "--culling: missing value (the next argument is the flag --frames)");
+    auto beforeSwitch = parseWords({"--out", "--json"}, {own});
+    ASSERT_FALSE(beforeSwitch);
+    EXPECT_NE(beforeSwitch.error().find("the next argument is the flag --json"), std::string::npos);
+    // Values that merely start with '-' (negative numbers, a camera with a leading space) still parse.
+    auto negative = parseWords({"--out", "-0.25,-1,0"}, {own});
+    ASSERT_TRUE(negative) << negative.error();
+    EXPECT_EQ(negative->get("--out", ""), "-0.25,-1,0");
+}
+
 TEST(Options, SeedAndViewBounds) {
     auto a = parseWords({"--seed", "4294967296"}, {opts::kSceneFlags});
     ASSERT_TRUE(a);
