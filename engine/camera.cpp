@@ -71,14 +71,18 @@ Result<CameraDesc> cameraFromMatrices(const glm::mat4& view, const glm::mat4& p)
         p[3][1] != 0.0f)
         return fail("camera: projection has rotation or shear terms");
     if (!(p[0][0] > 0.0f)) return fail("camera: projection x scale must be > 0");
-    if (!(p[1][1] < 0.0f))
-        return fail("camera: projection y must point down (Vulkan clip space): negate glm's [1][1]");
+    // Every convention problem in one line: an infinite reversed-Z projection with y up used to be
+    // reported as "y must point down" alone.
     const float a = p[2][2], b = p[3][2];
+    std::string problems;
+    auto add = [&](const char* why) { problems += (problems.empty() ? "" : "; ") + std::string(why); };
+    if (!(p[1][1] < 0.0f)) add("y must point down (Vulkan clip space): negate glm's [1][1]");
     if (a < 0.0f || b < 0.0f)
-        return fail("camera: projection is standard Z (near -> 0); the module needs reversed Z (near -> 1, "
-                    "far -> 0), e.g. glm::perspectiveRH_ZO(fovY, aspect, far, near)");
-    if (a == 0.0f)
-        return fail("camera: projection has an infinite far plane; the cluster grid needs a finite one");
+        add("it is standard Z (near -> 0); the module needs reversed Z (near -> 1, far -> 0), e.g. "
+            "glm::perspectiveRH_ZO(fovY, aspect, far, near)");
+    else if (a == 0.0f)
+        add("it has an infinite far plane; the cluster grid needs a finite one");
+    if (!problems.empty()) return fail("camera: projection: " + problems);
     // Reversed Z: A = n / (f - n), B = n f / (f - n), so f = B / A and n = B / (1 + A).
     CameraDesc c;
     c.farPlane = b / a;

@@ -79,7 +79,16 @@ static bool finiteMatrix(const glm::mat4& m) {
     return true;
 }
 
+// A zero (or vanishing: below 1e-8 per axis) scale has no inverse: normals, bounds and the shadow
+// maps' culling would come out NaN or empty. Refused rather than drawn as nothing.
+static bool singularMatrix(const glm::mat4& m) {
+    return !(std::abs(glm::determinant(glm::mat3(m))) > 1e-24f);
+}
+
 Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
+    // Each frame in flight has its own per-frame buffers and queries; 0 used to be clamped to 1.
+    if (options.framesInFlight < 1 || options.framesInFlight > 16)
+        return fail("framesInFlight must be 1..16, got " + std::to_string(options.framesInFlight));
     auto impl = std::make_unique<Impl>();
     auto device = options.borrow ? Device::borrow(*options.borrow) : Device::create(options.device);
     if (!device) return fail(device.error());
@@ -125,7 +134,7 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                     " image array layers (the page buffer has a layer per map)");
     impl->vsmSettings = v;
     impl->hdrOutput = options.hdrOutput;
-    impl->slots.resize(std::max(1u, options.framesInFlight));
+    impl->slots.resize(options.framesInFlight);
     impl->init();
     return std::unique_ptr<Module>(new Module(std::move(impl)));
 }
@@ -247,6 +256,7 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
     if (mesh >= m.meshes.size() || !m.meshes[mesh].alive)
         return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist (or was removed)");
     if (!finiteMatrix(transform)) return fail("addInstance: transform is not finite");
+    if (singularMatrix(transform)) return fail("addInstance: transform is singular (a zero scale)");
     if (!std::isfinite(albedo.x) || !std::isfinite(albedo.y) || !std::isfinite(albedo.z) || albedo.x < 0 ||
         albedo.y < 0 || albedo.z < 0)
         return fail("addInstance: albedo must be finite and >= 0");
@@ -303,6 +313,9 @@ Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transf
                     " is static (its baked shadows would go stale); add it with dynamic = true to move it");
     if (!finiteMatrix(transform))
         return fail("setInstanceTransform: instance " + std::to_string(id) + ": transform is not finite");
+    if (singularMatrix(transform))
+        return fail("setInstanceTransform: instance " + std::to_string(id) +
+                    ": transform is singular (a zero scale)");
     inst.transform = transform;
     return {};
 }
@@ -523,6 +536,7 @@ Result<void> Module::setCamera(const CameraDesc& c) {
     if (auto v = validateJitter(c.jitter); !v) return v;
     impl_->camera = c;
     impl_->hostCamera.reset();
+    impl_->cameraSet = true;
     return {};
 }
 
@@ -533,6 +547,7 @@ Result<void> Module::setCameraMatrices(const glm::mat4& view, const glm::mat4& p
     impl_->camera = c.value();
     impl_->camera.jitter = jitter;
     impl_->hostCamera = CameraMatrices{view, projection};
+    impl_->cameraSet = true;
     return {};
 }
 
@@ -626,6 +641,8 @@ void Module::Impl::uploadGeometry() {
 Result<void> Module::record(VkCommandBuffer cmd) {
     auto& m = *impl_;
     if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
+    // A default camera would render a frame the host never asked for (often empty): refused.
+    if (!m.cameraSet) return fail("record: no camera (call setCamera or setCameraMatrices first)");
     if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)
         return fail("record: no command buffer (the module records into the host's)");
     const uint32_t slotIndex = m.beginFrame();

@@ -82,7 +82,8 @@ struct Module::Impl {
     std::vector<gpu::GpuShadowRecord> records;
     CameraDesc camera;                        // setCamera's, or the one setCameraMatrices' matrices describe
     std::optional<CameraMatrices> hostCamera; // setCameraMatrices: used as given (plus jitter)
-    CameraMatrices frameCamera() const;       // view and jittered projection for the current target size
+    bool cameraSet = false;             // record() refuses a frame before setCamera or setCameraMatrices
+    CameraMatrices frameCamera() const; // view and jittered projection for the current target size
     bool geometryDirty = true;
     Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
     MeshletSet meshlets;

@@ -187,6 +187,11 @@ TEST(GpuCamera, UnusableMatricesAreRefusedWithAReason) {
     glm::mat4 yUp = good.projection;
     yUp[1][1] *= -1.0f;
     refused(good.view, yUp, {}, "y must point down");
+    // Both problems of an infinite reversed-Z projection with y up, in one line.
+    glm::mat4 infiniteYUp = infinite;
+    infiniteYUp[1][1] *= -1.0f;
+    refused(good.view, infiniteYUp, {},
+            "y must point down (Vulkan clip space): negate glm's [1][1]; it has an infinite far plane");
     glm::mat4 leftHanded = good.projection;
     leftHanded[2][3] = 1.0f;
     refused(good.view, leftHanded, {}, "right-handed");

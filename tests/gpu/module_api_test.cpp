@@ -125,6 +125,36 @@ TEST(ModuleApi, NonCastingLightsAndInstancesGetNoShadowMaps) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
+// Values that used to pass silently: 0 frames in flight (clamped to 1), a frame recorded before any
+// camera (a default view the host never chose), a zero-scale transform (no inverse: NaN normals).
+TEST(ModuleApi, RefusesZeroFramesInFlightNoCameraAndZeroScale) {
+    resetValidationCounters();
+    ModuleOptions o;
+    o.device.validation = true;
+    o.framesInFlight = 0;
+    auto none = Module::create(o);
+    ASSERT_FALSE(none.ok());
+    EXPECT_EQ(none.error(), "framesInFlight must be 1..16, got 0");
+    auto m = makeModule();
+    ASSERT_TRUE(m->createTargets(32, 18).ok());
+    auto early = m->submitFrame();
+    ASSERT_FALSE(early.ok());
+    EXPECT_EQ(early.error(), "record: no camera (call setCamera or setCameraMatrices first)");
+    ASSERT_TRUE(m->setCamera({{0, 5, 10}, {0, 0, 0}}).ok());
+    EXPECT_TRUE(m->submitFrame().ok());
+    MeshId mesh = addBox(*m);
+    const glm::mat4 flat = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 1.0f));
+    auto zero = m->addInstance(mesh, flat, glm::vec3(0.5f), true);
+    ASSERT_FALSE(zero.ok());
+    EXPECT_EQ(zero.error(), "addInstance: transform is singular (a zero scale)");
+    auto dyn = m->addInstance(mesh, glm::mat4(1.0f), glm::vec3(0.5f), true);
+    ASSERT_TRUE(dyn.ok()) << dyn.error();
+    auto moved = m->setInstanceTransform(dyn.value(), glm::mat4(0.0f));
+    ASSERT_FALSE(moved.ok());
+    EXPECT_NE(moved.error().find("transform is singular (a zero scale)"), std::string::npos) << moved.error();
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
 TEST(ModuleApi, HdrOutputWritesTheHdrImageOnly) {
     resetValidationCounters();
     ModuleOptions o;
@@ -133,6 +163,7 @@ TEST(ModuleApi, HdrOutputWritesTheHdrImageOnly) {
     auto m = Module::create(o);
     ASSERT_TRUE(m.ok()) << m.error();
     ASSERT_TRUE(m.value()->createTargets(32, 18).ok());
+    ASSERT_TRUE(m.value()->setCamera({{0, 5, 10}, {0, 0, 0}}).ok());
     renderFrame(*m.value());
     std::vector<uint8_t> rgba;
     EXPECT_FALSE(m.value()->readOutput(rgba).ok());
@@ -209,6 +240,7 @@ TEST(ModuleApi, RefusesStaticShadowsBeyondTheStorageBufferRange) {
     m->clearStaticShadow(ids[0]);
     EXPECT_TRUE(m->setStaticShadow(ids[fit], {StaticMethod::SM, f, words.value(), 0}).ok());
     ASSERT_TRUE(m->createTargets(64, 36).ok());
+    ASSERT_TRUE(m->setCamera({{0, 5, 10}, {0, 0, 0}}).ok());
     renderFrame(*m);
     EXPECT_EQ(validationErrors(), 0u);
 }
