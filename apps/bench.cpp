@@ -18,8 +18,11 @@ namespace ml {
 
 static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes [options]
 (`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
-static shadows' temporal stability along a camera path)
-Culling and shading time against light count, for each culling mode, in one run.
+static shadows' temporal stability along a camera path, `bench vsm`, `bench cpvs` and `bench sizes
+--help` for theirs)
+Culling and shading time against light count, for each culling mode, in one run; every pass timed
+fenced (its own submission, timed to completion: lavapipe's timestamps do not bracket compute).
+Every flag of every command may be given once; a flag's value cannot be another flag.
   --size WxH       image size (default 640x360)
   --lights LIST    comma-separated light counts (default 256,1024,4096)
   --culling LIST   modes to run (default clustered,clustered-brute,tiled,none); "vs none" needs none

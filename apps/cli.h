@@ -30,7 +30,8 @@ struct Flags {
     std::set<std::string> valued, switches;
 };
 
-// `valued` flags take a value; `switches` take none. Anything else is an error.
+// `valued` flags take a value; `switches` take none. Anything else is an error, and so is a flag given
+// twice or a valued flag whose next argument is one of the flags (its value is missing).
 Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>& valued,
                    const std::set<std::string>& switches);
 // A command's option groups and its own flags together. A name in two of them is refused (the

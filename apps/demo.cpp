@@ -74,7 +74,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --bake FILE      static shadows from a bake file (manylights bake) of this scene, lights and seed
   --static M       bake static shadows in-process (Module::bakeStaticShadows) for every static spot and
                    point light: sm, mh, mmh, dagmh, cpvs
-  --static-res N   resolution of those bakes (default 512)
+  --static-res N   resolution of those bakes (default 512; only with --static)
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --pcf R          shadow filter radius (static and dynamic): 0 one tap (default), 1 = 3x3 ... 4 = 9x9

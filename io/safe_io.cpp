@@ -57,13 +57,16 @@ std::string parentOf(const std::string& path, std::string* base) {
 
 // This machine's name as it goes into temporary names: [A-Za-z0-9-] only, at most 32 characters, so
 // that '.' stays the field separator ("host" when it has none usable).
-std::string hostTag() {
-    char name[256] = {};
-    std::string out;
-    if (::gethostname(name, sizeof name - 1) == 0)
-        for (const char* c = name; *c && out.size() < 32; ++c)
-            if (std::isalnum(static_cast<unsigned char>(*c)) || *c == '-') out += *c;
-    return out.empty() ? std::string("host") : out;
+const std::string& hostTag() {
+    static const std::string tag = [] {
+        char name[256] = {};
+        std::string out;
+        if (::gethostname(name, sizeof name - 1) == 0)
+            for (const char* c = name; *c && out.size() < 32; ++c)
+                if (std::isalnum(static_cast<unsigned char>(*c)) || *c == '-') out += *c;
+        return out.empty() ? std::string("host") : out;
+    }();
+    return tag;
 }
 
 bool allOf(const std::string& s, const char* set) {
@@ -75,7 +78,8 @@ bool allOf(const std::string& s, const char* set) {
 size_t removeStaleTemporaries(const std::string& path) {
     std::string base;
     const std::string dir = parentOf(path, &base);
-    const std::string prefix = "." + base + ".tmp.", host = hostTag();
+    const std::string prefix = "." + base + ".tmp.";
+    const std::string& host = hostTag();
     Fd d(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (d.fd < 0) return 0;
     const int listed = ::dup(d.fd);
@@ -217,7 +221,7 @@ Result<void> writeFileAtomically(const std::string& path, const void* data, size
     // A fresh name per try: pid, a process-wide counter and the clock. O_EXCL makes a name that exists
     // (left over, or planted as a symlink) fail with EEXIST, and we try the next one.
     static std::atomic<uint64_t> counter{0};
-    static const std::string host = hostTag();
+    const std::string& host = hostTag();
     std::string tmp;
     int raw = -1;
     for (int attempt = 0; attempt < 64 && raw < 0; ++attempt) {

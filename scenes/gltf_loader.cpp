@@ -9,13 +9,15 @@
 //
 // Hostile files: the JSON's bracket nesting is bounded (kMaxJsonDepth) before tinygltf's recursive
 // parser sees it; buffer and image URIs resolve only to regular files inside the scene's folder (after
-// realpath, so neither "..", an absolute path nor a symlink leaves it) unless the caller allows more;
+// realpath, so neither "..", an absolute path nor a symlink leaves it; scenes/gltf_guard.*) unless the
+// caller allows more;
 // messages are escaped and cut (io::escapeText), with data URIs and the JSON parser's "last read" text
 // removed, so an error never echoes the file's bytes.
 //
 // Mapping: each (glTF mesh, TRIANGLES primitive) becomes one ml::Mesh (its material gives the albedo,
 // so primitives cannot share a mesh); each node that uses the mesh becomes one Instance per primitive.
-// Primitives of other modes are skipped and counted in scene.warnings. Missing normals become flat
+// Primitives of other glTF modes (0..6) are skipped and counted in scene.warnings; a mode outside
+// 0..6 is an error, and so is an asset.version other than 2.x. Missing normals become flat
 // normals (architectural models are flat-faced).
 //
 // Mirrored transforms (negative determinant) reverse the winding in world space. When EVERY instance

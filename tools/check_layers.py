@@ -56,7 +56,7 @@ def main():
                     target = m.group(1).split("/")[0]
                     if target == top or target not in LAYERS: continue
                     edges[(top, target)].append(f"{rel}:{i}")
-                    if LAYERS[target] > LAYERS[top] or (LAYERS[target] == LAYERS[top]):
+                    if LAYERS[target] >= LAYERS[top]:
                         errors.append(f"{rel}:{i}: {top} (layer {LAYERS[top]}) includes {m.group(1)} "
                                       f"({target}, layer {LAYERS[target]}): runs back up or across a layer")
     if show_edges:

@@ -17,14 +17,18 @@ JOBS=${JOBS:-2}
 FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g1"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+configure() {
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
+    -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_C_FLAGS="$FLAGS" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+}
+
 if [ "${1:-}" = --cpu ]; then
   FUZZ_SECONDS=${2:-20}
   case "$FUZZ_SECONDS" in ''|*[!0-9]*) echo "sanitize.sh: --cpu takes seconds per fuzz target, got '$FUZZ_SECONDS'" >&2; exit 1 ;; esac
   BUILD_DIR=${BUILD_DIR_CPU:-build-asan-cpu}
   t0=$(date +%s)
-  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
-    -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_C_FLAGS="$FLAGS" \
-    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+  configure
   cmake --build "$BUILD_DIR" -j"$JOBS" --target static_tests scenes_tests fuzz_inputs
   t1=$(date +%s)
   export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:allocator_may_return_null=1}
@@ -43,9 +47,7 @@ if [ "${1:-}" = --cpu ]; then
 fi
 
 t0=$(date +%s)
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
-  -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_C_FLAGS="$FLAGS" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+configure
 cmake --build "$BUILD_DIR" -j"$JOBS"
 t1=$(date +%s)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:halt_on_error=1:allocator_may_return_null=1}
