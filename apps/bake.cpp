@@ -447,6 +447,21 @@ std::string needJson(const BakeNeed& n) {
     return o.str();
 }
 
+// A fitted directional record's map and box (issue 21): sizes, extents and the shares in the box.
+std::string directionalJson(const DirectionalFit& d) {
+    return json::Object()
+        .integer("width", d.width)
+        .integer("rows", d.rows)
+        .real("extent_x", d.extentX, "%.9g")
+        .real("extent_y", d.extentY, "%.9g")
+        .real("slab_near", d.slabNear, "%.9g")
+        .real("slab_far", d.slabFar, "%.9g")
+        .real("texels_in_box", d.texelsInBox, "%.6f")
+        .real("depth_slices_in_box", d.depthSlicesInBox, "%.6f")
+        .real("caster_slices", d.casterSlices, "%.6f")
+        .str();
+}
+
 // inspect --json: one object, a line per part of it and per record.
 std::string inspectJson(const std::string& path, const Inspected& in) {
     const BakeFile& f = in.file;
@@ -478,16 +493,16 @@ std::string inspectJson(const std::string& path, const Inspected& in) {
     for (size_t i = 0; i < f.records.size(); ++i) {
         const BakeRecord& r = f.records[i];
         const stat::ByteBreakdown& p = per[i].parts;
-        records.push_back(
-            json::Object()
-                .integer("light", r.light)
-                .integer("resolution", r.resolution)
-                .integer("bytes", uint64_t(r.data.size() * 4))
-                .real("fov", r.frustum.fov, "%.9g")
-                .real("near", r.frustum.nearPlane, "%.9g")
-                .real("far", r.frustum.farPlane, "%.9g")
-                .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors))
-                .str());
+        json::Object rec;
+        rec.integer("light", r.light)
+            .integer("resolution", r.resolution)
+            .integer("bytes", uint64_t(r.data.size() * 4))
+            .real("fov", r.frustum.fov, "%.9g")
+            .real("near", r.frustum.nearPlane, "%.9g")
+            .real("far", r.frustum.farPlane, "%.9g")
+            .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors));
+        if (auto fit = directionalFit(r); fit) rec.raw("directional", directionalJson(fit.value()));
+        records.push_back(rec.str());
     }
     o.breakLine().raw("per_light", json::array(records, ",\n  ", "[\n  ", "]"));
     if (f.hasNeed) o.breakLine().raw("need", needJson(f.need));
@@ -544,6 +559,14 @@ void printInspected(const std::string& path, const Inspected& in) {
                     (unsigned long long)(r.data.size() * 4),
                     100.0 * double(r.data.size() * 4) / (double(r.resolution) * r.resolution * 4),
                     r.frustum.fov, r.frustum.farPlane);
+    for (const BakeRecord& r : f.records)
+        if (auto d = directionalFit(r); d)
+            std::printf(
+                "directional light %u: map %u x %u texels over %.3f x %.3f m, depth slab %.3f..%.3f m; "
+                "%.1f%% of texels and %.1f%% of depth slices in the box, casters span %.1f%% of the "
+                "slices\n",
+                r.light, d->width, d->rows, d->extentX, d->extentY, d->slabNear, d->slabFar,
+                100.0 * d->texelsInBox, 100.0 * d->depthSlicesInBox, 100.0 * d->casterSlices);
     if (f.hasNeed) printNeed(f.need);
 }
 } // namespace
@@ -597,6 +620,8 @@ int runVerify(int argc, char** argv) {
         std::printf("light %u: %llu %s checked, %llu mismatches", l.light, (unsigned long long)l.checked,
                     unit, (unsigned long long)l.mismatches);
         if (f.method == StaticMethod::CPVS) std::printf(", %llu undefined", (unsigned long long)l.undefined);
+        if (l.casterSlices >= 0.0)
+            std::printf(", casters span %.1f%% of the depth slices", 100.0 * l.casterSlices);
         std::printf(" (render %.2f s, check %.2f s)\n", l.renderSeconds, l.checkSeconds);
     }
     for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", io::escapeText(e).c_str());

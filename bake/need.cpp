@@ -67,7 +67,10 @@ float mapWidthAt(const LightFrustum& f, const glm::vec3& p) {
     const float z = -v.z;
     if (!(z >= f.nearPlane && z <= f.farPlane)) return 0.0f;
     if (f.orthographic())
-        return std::abs(v.x) <= f.orthoHalf && std::abs(v.y) <= f.orthoHalf ? 2.0f * f.orthoHalf : 0.0f;
+        return std::abs(v.x) <= f.orthoHalf && std::abs(v.y) <= f.orthoHalf &&
+                       (!f.fitted() || v.y <= 2.0f * f.orthoHalfY - f.orthoHalf)
+                   ? 2.0f * f.orthoHalf
+                   : 0.0f;
     const float t = std::tan(0.5f * f.fov) * z;
     return std::abs(v.x) <= t && std::abs(v.y) <= t ? 2.0f * t : 0.0f;
 }
