@@ -83,7 +83,9 @@ bool triangleTouchesFrustum(const LightFrustum& f, const glm::vec3& a, const glm
                       glm::vec3(f.view * glm::vec4(c, 1.0f))};
     const float t = f.orthographic() ? 0.0f : std::tan(0.5f * f.fov);
     auto allOutside = [&](auto outside) { return outside(v[0]) && outside(v[1]) && outside(v[2]); };
-    if (allOutside([&](glm::vec3 p) { return -p.z < f.nearPlane; }) ||
+    // A fitted directional map rasterises casters from kDirectionalClipNear on (raster_dual.h).
+    const float clipNear = f.fitted() ? std::min(f.nearPlane, kDirectionalClipNear) : f.nearPlane;
+    if (allOutside([&](glm::vec3 p) { return -p.z < clipNear; }) ||
         allOutside([&](glm::vec3 p) { return -p.z > f.farPlane; }))
         return false;
     for (int axis = 0; axis < 2; ++axis)

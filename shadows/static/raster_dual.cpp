@@ -133,7 +133,12 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     auto side = [&](const V3& v) {
         return ortho_ ? kGuard * oh : kGuard * t * v.z;
     }; // perspective: as before
-    const double n = frustum.nearPlane, fa = frustum.farPlane;
+    // A fitted directional map clips casters at kDirectionalClipNear, not at its near plane (the box's
+    // slab): casters between the light and the box within its bounding sphere still shadow it, at depths
+    // below near (CPVS slice 0 and the depth maps take them as any nearer caster).
+    const double n = frustum.fitted() ? std::min(double(frustum.nearPlane), double(kDirectionalClipNear))
+                                      : double(frustum.nearPlane);
+    const double fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
     for (size_t tri = 0; tri < count; ++tri) {

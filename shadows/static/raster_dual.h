@@ -63,7 +63,10 @@ LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float
 // (rows past it are outside the light): the box's light-space rectangle plus fitMargin fills it, so at
 // least 1 - 1/rows - 2 margin/extent of its texels lie inside the rectangle. Depth: near/far = the box's
 // slab along the light (nearest and deepest corner) -+ fitMargin, the margin 1/1024 of the box's
-// diagonal (>= 0.1 mm). Casters outside the slab are clipped: the box must hold the casters.
+// diagonal (>= 0.1 mm). The rasteriser clips casters at kDirectionalClipNear from the eye, not at near:
+// casters between the light and the box, up to 0.5 m beyond its bounding sphere, keep shadowing it (as
+// before the fit); casters past far are clipped.
+constexpr float kDirectionalClipNear = 0.5f;
 LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 boundsMin, glm::vec3 boundsMax);
 // The frustums a static light bakes: one for a spot, six for a point light, none otherwise (a
 // directional light needs bounds: directionalLightFrustum).

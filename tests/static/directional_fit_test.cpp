@@ -132,6 +132,26 @@ TEST(DirectionalFit, RowsOutsideTheLightAreEmptyAndSmStoresOnlyTheRest) {
     EXPECT_FALSE(validateSM(bad.data(), bad.size()).ok());
 }
 
+// A caster above the box (outside its slab, inside its bounding sphere) still shadows it: the rasteriser
+// clips at kDirectionalClipNear, and the depth lies below near (CPVS: every voxel of the column shadowed).
+TEST(DirectionalFit, CastersAboveTheBoxStillShadowIt) {
+    CasterTriangles c;
+    addClosedBox(c, {-0.5f, 3.0f, -0.5f}, {0.5f, 3.5f, 0.5f}); // above the box's top (y = 2)
+    addClosedBox(c, {-3, 0, -1}, {3, 0.5f, 1});
+    const LightFrustum f = directionalLightFrustum({0, -1, 0}, {-3, 0, -1}, {3, 2, 1});
+    const uint32_t n = 64;
+    const DualDepthMap map = rasterizeDual(c, f, n);
+    const uint32_t centre = map.enter[size_t(f.mapRows(n) / 2) * n + n / 2];
+    ASSERT_NE(centre, kDepthEmpty);
+    EXPECT_LT(centre, quantizeDepth(f.nearPlane, f.farPlane));
+    auto words = encodeStatic(StaticMethod::CPVS, map, {f.nearPlane, f.farPlane, {}});
+    ASSERT_TRUE(words.ok());
+    for (uint32_t s = 0; s < n; ++s)
+        EXPECT_TRUE(
+            cpvsShadowedVoxel(words->data(), 0, int32_t(n / 2), int32_t(f.mapRows(n) / 2), int32_t(s)));
+    EXPECT_EQ(verifyCpvs(words->data(), map).mismatches, 0u);
+}
+
 TEST(DirectionalFit, CpvsSlicesTheSlabLinearly) {
     const float nearZ = 3.0f, farZ = 11.0f;
     auto space = makeCpvsSpace(64, nearZ, farZ, CpvsSlicing::Linear);
