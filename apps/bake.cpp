@@ -329,13 +329,13 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o, bool
 
 // The bake's peak memory from its arguments: every record's words are held until the file is written,
 // then serialised beside them (x2), and one map at a time is rendered (enter and exit, 8 B a texel)
-// and encoded (scratch: measured below). Bytes per texel of the words, upper bounds measured on the
-// night city (tools/figures.sh --only bake-memory: docs/reliability.md): sm 4 (one depth per texel);
-// mh, mmh, dagmh, cpvs at most 4 as well on every map measured (the encoders never grow a map past its
-// raw depths in the measurements; the bound is a measurement, not a proof). Base: the scene, its
-// casters and the renderer (~0.4 GiB measured at 256 lights).
-uint64_t bakePeakBytes(StaticMethod method, const std::vector<uint32_t>& faceResolutions) {
-    (void)method;
+// and encoded (scratch: 16 B a texel allowed). Words: 4 B a texel for every method: sm stores one
+// depth per texel (8 lights at 2048^2: 134,219,020 bytes); the compressed methods are far below it on
+// the night city (the same bake: mh 1.2 MB, dagmh 0.6 MB, cpvs 0.8 MB) but have no proven bound, so
+// they are counted as sm (conservative; --max-memory raises the limit). Base: scene, casters,
+// device and renderer, 400 MiB. Measured peak RSS (/usr/bin/time -v manylights bake --method M
+// --res 2048 --lights 0-7): sm 516 MB, mh 310, dagmh 310, cpvs 257, estimate 752 MiB.
+uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions) {
     uint64_t words = 0, largest = 0;
     for (uint32_t r : faceResolutions) {
         const uint64_t texels = uint64_t(r) * r;
@@ -366,7 +366,7 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                              (need ? std::string("at the need's resolutions")
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
-    return opts::checkMemory("bake", bakePeakBytes(o.method, faces), o.maxMemory, what);
+    return opts::checkMemory("bake", bakePeakBytes(faces), o.maxMemory, what);
 }
 
 // The whole selection into one bake file (by need or at one resolution), and what was baked.
