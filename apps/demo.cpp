@@ -324,6 +324,12 @@ int runDemo(int argc, char** argv) {
     auto parsed = parseDemo(*args);
     if (!parsed) return usageError("demo", parsed.error());
     DemoOptions& d = parsed.value();
+    // The bake file is read after the device and scene are built: one that is missing, a folder or a
+    // FIFO is refused now.
+    uint64_t bakeBytes = 0;
+    if (d.bake)
+        if (auto head = io::readRegularFileHead(*d.bake, 4, &bakeBytes); !head)
+            return inputError("demo", head.error());
     auto scene = loadScene(d.scene.name, d.lights, d.scene.seed, {d.scene.allowOutside});
     if (!scene) return inputError("demo", scene.error()); // a missing, malformed or hostile scene file
     for (const auto& w : scene->warnings)
