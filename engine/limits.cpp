@@ -19,6 +19,7 @@ DeviceLimitTable deviceLimitTable(const Device& device) {
     t.maxStorageBufferRange = l.maxStorageBufferRange;
     t.maxImageDimension2D = l.maxImageDimension2D;
     t.maxImageArrayLayers = l.maxImageArrayLayers;
+    t.maxDrawIndirectCount = l.maxDrawIndirectCount;
     VkPhysicalDeviceMaintenance4Properties m4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
     VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
     const bool v13 = device.properties.apiVersion >= VK_API_VERSION_1_3;
@@ -132,6 +133,9 @@ Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& l, const VsmSettings&
     if (draws > range)
         return fail("vsm: max draws per mip " + std::to_string(s.maxDrawsPerMip) + " needs " + mib(draws) +
                     ", past the device's maxStorageBufferRange " + mib(range));
+    if (s.maxDrawsPerMip > l.maxDrawIndirectCount)
+        return fail("vsm: max draws per mip " + std::to_string(s.maxDrawsPerMip) + " exceeds the device's " +
+                    "maxDrawIndirectCount " + std::to_string(l.maxDrawIndirectCount));
     if (s.maxMaps > l.maxImageArrayLayers)
         return fail("vsm: max maps " + std::to_string(s.maxMaps) + " exceeds the device's " +
                     std::to_string(l.maxImageArrayLayers) +

@@ -27,6 +27,8 @@ struct DeviceLimitTable {
     uint64_t maxMemoryAllocationSize = uint64_t(1) << 30;
     uint64_t maxBufferSize = uint64_t(1) << 30;
     uint64_t deviceLocalHeap = 0;
+    uint32_t maxDrawIndirectCount =
+        65535; // the VSM page draws' indirect count (vkCmdDrawIndexedIndirectCount)
 };
 
 DeviceLimitTable deviceLimitTable(const Device& device);
@@ -43,8 +45,9 @@ Result<void> checkTargetLimits(const DeviceLimitTable& limits, uint32_t width, u
                                bool ownTargets);
 
 // The VSM settings as the device holds them: map slots and pool pages reduced to what one storage
-// buffer binding holds (each reduction one line in `notes`); probe records and meshlet lists past it
-// refused naming the setting.
+// buffer binding holds (each reduction one line in `notes`); probe records, meshlet and draw lists past
+// it, draws per mip past maxDrawIndirectCount and map slots past the array layers refused naming the
+// setting.
 Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& limits, const VsmSettings& settings,
                                    std::vector<std::string>& notes);
 

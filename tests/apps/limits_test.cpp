@@ -17,6 +17,7 @@ DeviceLimitTable lavapipe() {
     t.maxMemoryAllocationSize = 0x80000000ull;
     t.maxBufferSize = 0xFFFFFFFFull;
     t.deviceLocalHeap = 25275990016ull; // 23.5 GiB (the machine's memory)
+    t.maxDrawIndirectCount = 0xFFFFFFFFu;
     return t;
 }
 DeviceLimitTable desktop() {
@@ -28,6 +29,7 @@ DeviceLimitTable desktop() {
     t.maxMemoryAllocationSize = 0xFFFFFFFFull;
     t.maxBufferSize = 0xFFFFFFFFull;
     t.deviceLocalHeap = 24ull << 30;
+    t.maxDrawIndirectCount = 0xFFFFFFFFu;
     return t;
 }
 
@@ -109,6 +111,11 @@ TEST(Limits, VsmRefusals) {
     auto layers = fitVsmSettings(few, s, notes);
     ASSERT_FALSE(layers);
     expectOneLine(layers.error(), "max maps 512 exceeds the device's 256 image array layers");
+    DeviceLimitTable single = lavapipe();
+    single.maxDrawIndirectCount = 1; // a device without multiDrawIndirect
+    auto draws = fitVsmSettings(single, s, notes);
+    ASSERT_FALSE(draws);
+    expectOneLine(draws.error(), "vsm: max draws per mip 16384 exceeds the device's maxDrawIndirectCount 1");
 }
 
 // vsm_scan / vsm_assign's 2-D grid: 16384^2 maps of 64^2 pages at 256 lights are 88,235 blocks.
