@@ -135,6 +135,8 @@ int runBenchCulling(int argc, char** argv) {
     for (const std::string* e : {&view.error(), &list.error(), &seed.error(), &modes.error()})
         if (!e->empty()) return usageError("bench", *e);
     const std::string csvPath = args->get("--csv", "out/bench_culling.csv");
+    if (auto r = cli::checkOutputFile("--csv", csvPath); !r)
+        return usageError("bench", r.error()); // before the runs
     std::vector<Row> rows;
     std::string deviceName;
     for (uint32_t lights : list.value()) {
@@ -150,7 +152,7 @@ int runBenchCulling(int argc, char** argv) {
         deviceName = m.deviceInfo().name;
         auto binding = bindScene(m, scene.value());
         if (!binding) return runError("bench", binding.error());
-        if (auto r = m.createTargets(view->width, view->height); !r) return runError("bench", r.error());
+        if (auto r = m.createTargets(view->width, view->height); !r) return usageError("bench", r.error());
         for (CullingMode mode : modes.value()) {
             auto row = measureMode(m, lights, mode, view->frames);
             if (!row) return runError("bench", row.error());
@@ -160,9 +162,6 @@ int runBenchCulling(int argc, char** argv) {
     std::printf("bench culling: night-city, %ux%u, %u timed frames each, %s\n", view->width, view->height,
                 view->frames, deviceName.c_str());
     const std::string csv = printRows(rows);
-    auto slash = csvPath.find_last_of('/');
-    if (slash != std::string::npos)
-        if (auto r = cli::makeDirectory(csvPath.substr(0, slash)); !r) return runError("bench", r.error());
     if (auto w = io::writeFileAtomically(csvPath, csv); !w) return runError("bench", w.error());
     std::printf("wrote %s\n", csvPath.c_str());
     return 0;
@@ -172,7 +171,7 @@ int runBenchCulling(int argc, char** argv) {
 int runBench(int argc, char** argv) {
     if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
         std::fputs(kBenchHelp, argc < 3 ? stderr : stdout);
-        return argc < 3 ? 2 : 0;
+        return argc < 3 ? kExitUsage : 0;
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);

@@ -87,7 +87,13 @@ void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t p
     grid = g;
     // Sized for the clustered grid in every mode: a tiled list holds what the tile's 64 clusters would
     // (at 4096 lights on the default view a tile's list is ~100 lights, past 16 per grid cluster).
-    poolCapacity = poolEntries ? poolEntries : g.tilesX * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER;
+    // The pool is bound whole: at most maxStorageBufferRange (lavapipe: 128 MiB, 2 M pixels of 64 B;
+    // frames use a tenth of it, and lists past it overflow, counted, never lost).
+    const uint64_t fit = device.properties.limits.maxStorageBufferRange / 4;
+    poolCapacity = poolEntries
+                       ? poolEntries
+                       : uint32_t(std::min<uint64_t>(
+                             uint64_t(g.tilesX) * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER, fit));
     ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds), kStorageBufferUsage,
                  "cluster_bounds");
     ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges");

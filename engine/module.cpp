@@ -5,6 +5,7 @@
 
 #include "culling/culling.h"
 #include "engine/gbuffer.h"
+#include "engine/limits.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
 #include "shadows/gpu/dual_depth_gpu.h"
@@ -14,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <tuple>
 
@@ -127,12 +129,12 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         std::to_string(ML_MESHLET_VERTICES) + " / 4.." +
                         std::to_string(ML_MESHLET_TRIANGLES) + " (a multiple of 4)");
     }
-    // The hierarchical page buffer is an image array with one layer per map slot.
-    if (v.enabled && v.maxMaps > impl->device->properties.limits.maxImageArrayLayers)
-        return fail("vsm: max maps " + std::to_string(v.maxMaps) + " exceeds the device's " +
-                    std::to_string(impl->device->properties.limits.maxImageArrayLayers) +
-                    " image array layers (the page buffer has a layer per map)");
-    impl->vsmSettings = v;
+    // Sizes against the device (engine/limits.h): map slots and pool pages reduced to fit, said once.
+    std::vector<std::string> notes;
+    auto fitted = fitVsmSettings(deviceLimitTable(*impl->device), v, notes);
+    if (!fitted) return fail(fitted.error());
+    for (const std::string& n : notes) std::fprintf(stderr, "%s\n", n.c_str());
+    impl->vsmSettings = fitted.value();
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(options.framesInFlight);
     impl->init();
@@ -569,6 +571,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
         return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is outside 1x1..16384x16384");
     auto& m = *impl_;
+    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
     m.targets = m.gbuffer.createTargets(*m.device, width, height);
@@ -584,6 +587,8 @@ Result<void> Module::setTargets(const HostTargets& t) {
         return fail(
             "setTargets: width, height and the depth, normal, albedo and output views are all required");
     auto& m = *impl_;
+    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), t.width, t.height, false); !r)
+        return fail("setTargets: " + r.error());
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
     m.ownTargets = false;
