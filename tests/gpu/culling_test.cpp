@@ -1,5 +1,6 @@
 // GPU light culling against its CPU reference (culling/culling.h) on the night city: cluster bounds
-// bit for bit, light lists exactly (as sorted sets), and the per-pixel counts of the statistics.
+// bit for bit, light lists exactly and in order (light_sort: ascending light index), and the per-pixel
+// counts of the statistics.
 #include "gpu_test_util.h"
 
 #include "shaders/shared/light_math.h"
@@ -33,7 +34,7 @@ Fixture renderCity(CullingMode mode, uint32_t lights, uint32_t width = 320, uint
     return f;
 }
 
-void compareWithReference(Module& m, CullingMode mode) {
+void compareWithReference(Module& m, CullingMode mode, uint32_t* wideOut = nullptr) {
     auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
@@ -52,14 +53,20 @@ void compareWithReference(Module& m, CullingMode mode) {
         ++occupied;
         ASSERT_NE(ranges[c].x, ML_CLUSTER_OVERFLOW) << "unexpected overflow in cluster " << c;
         std::vector<uint32_t> gpuList(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
-        std::sort(gpuList.begin(), gpuList.end());
-        ASSERT_EQ(gpuList, ref.lists[c]) << "cluster " << c;
+        ASSERT_EQ(gpuList, ref.lists[c]) << "cluster " << c << " (equal in order)";
         entries += gpuList.size();
     }
     EXPECT_GT(occupied, 100u);
     EXPECT_GT(entries, 20u) << "lists too small to mean anything";
-    std::printf("  %s: %zu occupied clusters, %zu list entries identical\n", cullingName(mode), occupied,
-                entries);
+    uint32_t wide = 0; // lights the wide pass assigned (params.w), checked against the host's rule
+    for (const gpu::GpuLight& l : impl.lastLights) {
+        EXPECT_EQ(l.params.w == 1.0f,
+                  mode == CullingMode::Clustered && wideFootprint(l, impl.lastConstants).has_value());
+        wide += l.params.w == 1.0f;
+    }
+    if (wideOut) *wideOut = wide;
+    std::printf("  %s: %zu occupied clusters, %zu list entries identical, %u wide lights\n",
+                cullingName(mode), occupied, entries, wide);
 }
 
 } // namespace
@@ -67,6 +74,31 @@ void compareWithReference(Module& m, CullingMode mode) {
 TEST(GpuCulling, ClusteredListsEqualCpuReference) {
     auto f = renderCity(CullingMode::Clustered, 256);
     compareWithReference(*f.module, CullingMode::Clustered);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// Wide lights (ML_WIDE_LIGHT_TILES): the moon and a point light around the camera whose footprint is
+// the whole screen are assigned by the wide pass, one thread per tile; their clusters' lists still
+// equal the reference's, in order.
+TEST(GpuCulling, WideLightsListsEqualCpuReference) {
+    auto m = makeModule(CullingMode::Clustered);
+    auto s = loadScene("night-city", 64, 7);
+    ASSERT_TRUE(s.ok()) << s.error();
+    Scene scene = s.value();
+    Light around;
+    around.type = LightKind::Point;
+    around.position = scene.camera.position;
+    around.range = 60.0f;
+    scene.lights.push_back(around);
+    bool moon = false;
+    for (const Light& l : scene.lights) moon = moon || l.type == LightKind::Directional;
+    ASSERT_TRUE(moon) << "the night city is expected to have its moon";
+    ASSERT_TRUE(bindScene(*m, scene).ok());
+    ASSERT_TRUE(m->createTargets(320, 180).ok());
+    renderFrame(*m);
+    uint32_t wide = 0;
+    compareWithReference(*m, CullingMode::Clustered, &wide);
+    EXPECT_GE(wide, 2u);
     EXPECT_EQ(validationErrors(), 0u);
 }
 
