@@ -8,7 +8,6 @@
 #include "light_assign.comp.spv.h"
 #include "light_fill.comp.spv.h"
 #include "light_footprint.comp.spv.h"
-#include "light_sort.comp.spv.h"
 #include "view_lights.comp.spv.h"
 
 #include <algorithm>
@@ -56,9 +55,7 @@ std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
     const gpu::LightFootprint f =
         gpu::lightFootprint(light, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
     if (f.tiles.x > f.tiles.z || f.tiles.y > f.tiles.w) return std::nullopt; // off screen
-    if (light.info.x == ML_LIGHT_DIRECTIONAL ||
-        uint64_t(f.tiles.z - f.tiles.x + 1) * (f.tiles.w - f.tiles.y + 1) >= ML_WIDE_LIGHT_TILES)
-        return f;
+    if (light.info.x == ML_LIGHT_DIRECTIONAL) return f;
     return std::nullopt;
 }
 
@@ -72,8 +69,7 @@ void LightCulling::create(const Device& device) {
     fillShader_ = ML_SHADER(device, spv_light_fill_comp);
     countProgram_ = createComputeProgram(device, footprintShader_, {{0, 0u}});
     wideProgram_ = createComputeProgram(device, footprintShader_, {{0, 1u}});
-    sortShader_ = ML_SHADER(device, spv_light_sort_comp);
-    sortProgram_ = createComputeProgram(device, sortShader_);
+
     allocProgram_ = createComputeProgram(device, allocShader_);
     fillProgram_ = createComputeProgram(device, fillShader_);
     viewShader_ = ML_SHADER(device, spv_view_lights_comp);
@@ -86,8 +82,7 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, assignProgram_);
     destroyProgram(device, countProgram_);
     destroyProgram(device, wideProgram_);
-    destroyProgram(device, sortProgram_);
-    destroyShader(device, sortShader_);
+
     destroyProgram(device, fillProgram_);
     destroyProgram(device, allocProgram_);
     for (Program& p : viewPrograms_) destroyProgram(device, p);
@@ -163,10 +158,7 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},
                  {frame, lights, bounds, ranges, pool, counters, work});
     }
-    // Ranges and pool -> the sort (reads ranges, reorders the pool in place).
-    memoryBarrier(c, kC, kW, kC, kR | kW);
-    dispatch(device, c, sortProgram_, grid.count(), 1, NoPush{}, {frame, ranges, pool});
-    // Ranges and sorted pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
+    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
     // The counters reach the host through the frame-end barrier (engine/frame.cpp).
     memoryBarrier(c, kC, kW, kC, kR);
 }

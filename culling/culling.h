@@ -10,15 +10,13 @@
 //                   light_fill. Each visible light (8 threads) tests only the occupied clusters inside
 //                   its footprint (lightFootprint: tile rectangle x depth-slice range), with the same
 //                   exact box test; cost follows the lights' footprints, not lights x clusters. Wide
-//                   lights (directional, or footprints of ML_WIDE_LIGHT_TILES tiles and more, chosen by
-//                   the host: wideLight) take a thread per tile instead (light_footprint's wide
-//                   variant), so no light is serial over the screen.
+//                   lights (directional ones, chosen by the host: wideFootprint) take a thread per tile
+//                   instead (light_footprint's wide variant), so the moon is not serial over the screen.
 //   clustered-brute light_assign, one group per tile: every visible light against each occupied
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).
-// Every mode with lists ends with light_sort: each list in light-index order (deterministic, and equal
-// to the CPU reference in order). Overflowing clusters are flagged and counted in every mode; "none"
-// skips culling.
+// Lists come out in the order of the atomics (the CPU reference's are sorted; tests compare sets).
+// Overflowing clusters are flagged and counted in every mode; "none" skips culling.
 // Tight bounds from the actual pixels (rather than the froxel's frustum volume) is what keeps lights
 // evaluated per pixel close to lights that reach it (Olsson et al.'s clustered shading with
 // explicit bounds; the slice layout follows the exponential scheme of that paper).
@@ -82,16 +80,14 @@ class LightCulling {
     Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
-    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_,
-        sortShader_;
-    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, fillProgram_, allocProgram_,
-        sortProgram_;
+    ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
+    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, fillProgram_, allocProgram_;
     Program viewPrograms_[2]; // evaluated, reaching
 };
 
-// Whether the host gives a visible light to the wide pass: directional lights, and lights whose
-// footprint (lightFootprint with the frame's constants) holds ML_WIDE_LIGHT_TILES tiles or more. The
-// footprint when it is wide (the host writes it into the light's WideLight entry).
+// Whether the host gives a visible light to the wide pass (directional lights, config.h): its footprint
+// (lightFootprint with the frame's constants) when it is wide; the host writes it into the light's
+// WideLight entry, so host and shader agree on its tiles exactly.
 std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
                                                  const gpu::FrameConstants& frame);
 

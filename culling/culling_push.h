@@ -15,7 +15,7 @@ namespace ml::gpu {
 // hitCapacity: the hit list's capacity (LightCulling::hitCapacity): hits past it are counted but not
 // stored, and light_alloc then flags the clusters overflowed (their pixels test every visible light).
 // wideCount, wideThreads: wide lights this frame and the wide pass's threads (the sum of their
-// footprints' tiles; ML_WIDE_LIGHT_TILES). 12 bytes.
+// footprints' tiles; directional lights, config.h). 12 bytes.
 ML_STRUCT(CullPush) {
     uint hitCapacity;
     uint wideCount;

@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Footprint light assignment (clustered mode), pass A: count and record the hits; light_alloc.comp
-// (B) allocates, light_fill.comp (C) scatters the recorded hits into the pool, light_sort.comp (D)
-// orders each list by light index. Two variants (kSpecWide): the lane variant walks the footprints of
-// the ordinary lights, the wide variant gives each wide light (GpuLight.params.w = 1: directional, or a
-// footprint of ML_WIDE_LIGHT_TILES tiles or more, chosen by the host) one thread per tile of the grid.
+// (B) allocates, light_fill.comp (C) scatters the recorded hits into the pool. Two variants
+// (kSpecWide): the lane variant walks the footprints of the spot and point lights, the wide variant
+// gives each wide light (GpuLight.params.w = 1: the directional ones, chosen by the host) one thread
+// per tile of its footprint.
 // ML_FOOTPRINT_LANES threads per visible light, several lights per workgroup: the light's footprint
 // (lightFootprint: screen rectangle of tiles and depth range, conservative, camera inside the volume
 // included) selects tiles; within each tile only

@@ -64,19 +64,15 @@
 // 76 ms of assignment for 70k box tests; 8 lanes per light, 46 ms in the same conditions.
 #define ML_FOOTPRINT_GROUP 64
 #define ML_FOOTPRINT_LANES 8
-// Wide lights: a light whose footprint holds at least this many tiles (every directional light: the
-// moon covers the whole grid, 32,400 tiles at 1920x1080, 4,050 per lane) is not walked by its 8 lanes
-// but by a pass of its own with one thread per (wide light, tile), so no light is serial over the
-// screen. 256 tiles is 32 per lane, about what a light's lanes take at most when a street lamp fills
-// a quarter of a 640x360 frame; wide lights are few (1-3 per frame in the night city), so their
-// pass costs about one thread per tile each.
-#define ML_WIDE_LIGHT_TILES 256
+// Wide lights are the directional ones: the moon covers the whole grid (32,400 tiles at 1920x1080,
+// 4,050 per lane of its 8), so it is not walked by lanes but by a pass with one thread per tile of
+// its footprint. Spot and point lights with big footprints stay on their lanes: giving lights of
+// 256 or 1024+ tiles the wide pass made assignment 3-4x slower at 4096 lights, 640x360, on lavapipe
+// (a thread per tile repeats the light's setup for every tile; culling.md).
 // The wide pass's threads (one per tile of each wide light's footprint) run in rows of this many:
 // 1024 groups of 64 per row keeps each dimension far below the 65,535-group limit (the moon alone is
-// 32,400 threads at 1920x1080; 4096 wide lights of 1080p footprints would be 2,025 rows).
+// 32,400 threads at 1920x1080; 16 directional lights at 16384^2 pixels would be 1,024 rows).
 #define ML_WIDE_ROW 65536
-// List sort (light_sort.comp): one thread per cluster, 64 per group (empty clusters return at once).
-#define ML_SORT_GROUP 64
 // Allocation pass of the footprint mode: one thread per tile, 64 tiles per group.
 #define ML_ALLOC_GROUP 64
 // Fill pass of the footprint mode: ML_FILL_GROUPS groups of 64 threads stride over the recorded hits.
