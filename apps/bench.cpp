@@ -28,6 +28,7 @@ Every flag of every command may be given once; a flag's value cannot be another 
   --culling LIST   modes to run (default clustered,clustered-brute,tiled,none); "vs none" needs none
   --frames N       timed frames per configuration (default 5)
   --seed S         scene seed (default 1)
+  --directional D  on (default) or off: the night city's moon (a directional light) in or out
   --csv FILE       CSV output (default out/bench_culling.csv)
 )";
 
@@ -119,7 +120,7 @@ std::string printRows(const std::vector<Row>& rows) {
 }
 
 // The flags of `bench culling` beside its option groups.
-const cli::Flags kCullingFlags{{"--lights", "--csv", "--culling"}, {}};
+const cli::Flags kCullingFlags{{"--lights", "--csv", "--culling", "--directional"}, {}};
 
 int runBenchCulling(int argc, char** argv) {
     int status = 0;
@@ -137,11 +138,16 @@ int runBenchCulling(int argc, char** argv) {
     const std::string csvPath = args->get("--csv", "out/bench_culling.csv");
     if (auto r = cli::checkOutputFile("--csv", csvPath); !r)
         return usageError("bench", r.error()); // before the runs
+    const std::string directional = args->get("--directional", "on");
+    if (directional != "on" && directional != "off")
+        return usageError("bench", "--directional must be on or off, got '" + directional + "'");
     std::vector<Row> rows;
     std::string deviceName;
     for (uint32_t lights : list.value()) {
         auto scene = loadScene("night-city", lights, seed.value());
         if (!scene) return runError("bench", scene.error());
+        if (directional == "off")
+            std::erase_if(scene->lights, [](const Light& l) { return l.type == LightKind::Directional; });
         // Fenced: each pass timed from submit to completion. lavapipe's timestamps do not bracket
         // compute work, so the default (timestamps) read near zero for the culling and evaluation passes.
         ModuleOptions options;
@@ -159,8 +165,8 @@ int runBenchCulling(int argc, char** argv) {
             rows.push_back(row.value());
         }
     }
-    std::printf("bench culling: night-city, %ux%u, %u timed frames each, %s\n", view->width, view->height,
-                view->frames, deviceName.c_str());
+    std::printf("bench culling: night-city, %ux%u, %u timed frames each, directional light %s, %s\n",
+                view->width, view->height, view->frames, directional.c_str(), deviceName.c_str());
     const std::string csv = printRows(rows);
     if (auto w = io::writeFileAtomically(csvPath, csv); !w) return runError("bench", w.error());
     std::printf("wrote %s\n", csvPath.c_str());

@@ -50,6 +50,15 @@ uint32_t sliceOf(float z, const std::vector<float>& sliceFar, uint32_t slices) {
     return s;
 }
 
+std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
+                                                 const gpu::FrameConstants& frame) {
+    const gpu::LightFootprint f =
+        gpu::lightFootprint(light, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
+    if (f.tiles.x > f.tiles.z || f.tiles.y > f.tiles.w) return std::nullopt; // off screen
+    if (light.info.x == ML_LIGHT_DIRECTIONAL) return f;
+    return std::nullopt;
+}
+
 void LightCulling::create(const Device& device) {
     boundsShader_ = ML_SHADER(device, spv_cluster_bounds_comp);
     assignShader_ = ML_SHADER(device, spv_light_assign_comp);
@@ -58,7 +67,9 @@ void LightCulling::create(const Device& device) {
     boundsProgram_ = createComputeProgram(device, boundsShader_);
     assignProgram_ = createComputeProgram(device, assignShader_);
     fillShader_ = ML_SHADER(device, spv_light_fill_comp);
-    countProgram_ = createComputeProgram(device, footprintShader_);
+    countProgram_ = createComputeProgram(device, footprintShader_, {{0, 0u}});
+    wideProgram_ = createComputeProgram(device, footprintShader_, {{0, 1u}});
+
     allocProgram_ = createComputeProgram(device, allocShader_);
     fillProgram_ = createComputeProgram(device, fillShader_);
     viewShader_ = ML_SHADER(device, spv_view_lights_comp);
@@ -70,6 +81,8 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, boundsProgram_);
     destroyProgram(device, assignProgram_);
     destroyProgram(device, countProgram_);
+    destroyProgram(device, wideProgram_);
+
     destroyProgram(device, fillProgram_);
     destroyProgram(device, allocProgram_);
     for (Program& p : viewPrograms_) destroyProgram(device, p);
@@ -116,7 +129,8 @@ void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const B
 }
 
 void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const Buffer& frame,
-                                const Buffer& slices, const Buffer& lights, const Buffer& counters) {
+                                const Buffer& slices, const Buffer& lights, const Buffer& wideLights,
+                                uint32_t wideCount, uint32_t wideThreads, const Buffer& counters) {
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
@@ -127,10 +141,16 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
     if (mode == ML_CULL_CLUSTERED) {
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
         // scatter (ML_FILL_GROUPS groups stride over the hits).
-        const gpu::CullPush push{hitCapacity};
+        const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
         if (visible) {
             dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
-                     {frame, slices, lights, bounds, tileMasks, counts, hits, work});
+                     {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
+            // The wide lights: a thread per tile of each one's footprint, in rows of ML_WIDE_ROW. Its
+            // atomics (counts, hit cursor) commute with the lane pass's: no barrier between the two.
+            if (wideThreads)
+                dispatch(device, c, wideProgram_, std::min(wideThreads, uint32_t(ML_WIDE_ROW)),
+                         (wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW, push,
+                         {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
             memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
         dispatch(device, c, allocProgram_, tiles, 1, push,
@@ -144,8 +164,8 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},
                  {frame, lights, bounds, ranges, pool, counters, work});
     }
-    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
-    // counters reach the host through the frame-end barrier (engine/frame.cpp).
+    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
+    // The counters reach the host through the frame-end barrier (engine/frame.cpp).
     memoryBarrier(c, kC, kW, kC, kR);
 }
 

@@ -4,6 +4,7 @@
 #include "engine/manylights.h"
 
 #include "culling/culling.h"
+#include "culling/culling_push.h"
 #include "engine/gbuffer.h"
 #include "engine/limits.h"
 #include "engine/module_impl.h"
@@ -158,6 +159,7 @@ void Module::Impl::init() {
             createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
         s.counters = createBuffer(d, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters");
         s.slices = createBuffer(d, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far");
+        s.wide = createBuffer(d, sizeof(gpu::WideLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "wide_lights");
     }
 }
 
@@ -176,6 +178,7 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.lights);
         destroyBuffer(d, s.counters);
         destroyBuffer(d, s.slices);
+        destroyBuffer(d, s.wide);
         destroyBuffer(d, s.instances);
     }
     for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords,
