@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_samplerless_texture_functions : require
 // vsm_cull (work expansion at the instance level, RMVSM section 4.3): one thread per (caster, active
 // map) (x, y). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
@@ -15,7 +14,7 @@ layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 2, std430) readonly buffer Active { uint vsmActive[]; };
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4) uniform utexture2DArray vsmHpb; // every level (vsm_math.h)
+layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
 layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawIndexedIndirectCommand

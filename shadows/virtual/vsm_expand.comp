@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_samplerless_texture_functions : require
 // vsm_expand (work expansion of the mesh path, RMVSM section 4 and Fig. 8): one thread per (caster,
 // active map) (x, y). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
 // (frustum, HPB at the level where its projected box spans at most 2x2 cells); a surviving caster's
@@ -18,7 +17,7 @@ layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 2, std430) readonly buffer Active { uint vsmActive[]; };
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4) uniform utexture2DArray vsmHpb; // every level (vsm_math.h)
+layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
 layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip

@@ -192,6 +192,7 @@ void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
             const uint32_t mip = ortho ? 0u : level;
             const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
             slot.host.runs.push_back(glm::uvec4(rank, m, mip, n));
+            slot.host.rankBase[size_t(m) * mips_ + mip] = rank;
             rank += n;
         }
     slot.orderEntries = rank;
@@ -220,7 +221,8 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
                              settings_.texelsPerPixel,
                          0, 0, 0);
-    c.order = glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, 0, 0);
+    c.order =
+        glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, settings_.requestCapacity, hpbWords_);
     lastConstants_ = c;
 
     // Upload (this slot's previous frame has completed: the module waited for its fence).
@@ -232,11 +234,13 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
+    upload(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_ * 4);
     ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
                  "vsm_casters");
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
+    zero.listGroupsY = zero.listGroupsZ = 1;
     upload(slot.counters, &zero, sizeof(zero));
     if (settings_.probeCapacity) {
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};

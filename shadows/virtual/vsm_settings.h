@@ -52,6 +52,10 @@ struct VsmSettings {
     float texelsPerPixel = 1.0f;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     uint32_t maxDrawsPerMip = 16384;
+    // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
+    // up to a power of two >= 256; 4 B each, twice (the sort's ping-pong). Wanted pages past it get no
+    // page that frame and are counted (VsmStats::requestOverflow). 2^18: 64x the default pool.
+    uint32_t requestCapacity = 1u << 18;
     uint32_t kinds = 7;         // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
     bool staticLights = true;   // lights that do not move get maps
     bool movingLights = true;   // moving lights (headlights) get maps
@@ -69,7 +73,7 @@ struct VsmStats {
     uint32_t pagesMarked = 0, pagesAllocated = 0, pagesCached = 0, pagesRendered = 0, pagesInvalidated = 0,
              pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0,
              mapsActive = 0, instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0,
-             lightsWithoutSlot = 0;
+             lightsWithoutSlot = 0, requestOverflow = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
     // Mesh path only (zero on the vertex path, except trianglesRasterized: the indexed draws' triangles):
     // meshlets of (instance, map, mip) at each culling stage.
