@@ -127,11 +127,8 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         std::to_string(ML_MESHLET_VERTICES) + " / 4.." +
                         std::to_string(ML_MESHLET_TRIANGLES) + " (a multiple of 4)");
     }
-    // The hierarchical page buffer is an image array with one layer per map slot.
-    if (v.enabled && v.maxMaps > impl->device->properties.limits.maxImageArrayLayers)
-        return fail("vsm: max maps " + std::to_string(v.maxMaps) + " exceeds the device's " +
-                    std::to_string(impl->device->properties.limits.maxImageArrayLayers) +
-                    " image array layers (the page buffer has a layer per map)");
+    // (Map slots are not bounded by the device's image array layers: the HPB is a buffer, and the slot
+    // pool grows up to maxMaps and the 32-bit entry index, shadows/virtual/vsm.cpp.)
     impl->vsmSettings = v;
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(options.framesInFlight);

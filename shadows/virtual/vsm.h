@@ -165,6 +165,7 @@ class VirtualShadowMaps {
     bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
     bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
     uint32_t mapsInUse() const { return mapsInUse_; }
+    uint32_t mapCapacity() const { return capacity_; } // map slots now (grows up to settings().maxMaps)
     // The GPU state the passes read and write.
     const VsmPages& pages() const { return pages_; }
     const VsmSlot& slot(uint32_t slot) const { return slots_[slot]; }
@@ -199,12 +200,17 @@ class VirtualShadowMaps {
         VsmLight last;
         bool seen = false;
     };
-    uint32_t allocateSlots(uint32_t count);
+    // `count` consecutive free map slots (growing the slot pool when none are left), ML_VSM_NO_MAP when
+    // settings().maxMaps are all in use.
+    uint32_t allocateSlots(const Device& device, uint32_t count);
+    uint32_t takeSlots(uint32_t count);
+    void resizeMaps(const Device& device, uint32_t capacity);
     // prepare()'s steps, in order (vsm_prepare.cpp).
     std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
                                            std::span<const uint32_t> visible,
                                            std::span<const VsmInstance> instances) const;
-    void assignMapSlots(Slot& slot, std::span<const VsmLight> lights, const std::vector<uint8_t>& needs);
+    void assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
+                        const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
     void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
@@ -216,7 +222,7 @@ class VirtualShadowMaps {
 
     VsmSettings settings_;
     uint32_t pcf_ = 0;
-    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, mapsInUse_ = 0;
+    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, mapsInUse_ = 0, capacity_ = 0;
     size_t markWords_ = 0; // words of one mark region (lookup marks; fallback marks follow)
     std::vector<Slot> slots_;
     std::vector<LightState> lightState_;

@@ -43,7 +43,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
     slot.lightsWithPages = slot.lightsWithoutSlot = 0;
     const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
-    assignMapSlots(slot, lights, needs);
+    assignMapSlots(device, slot, lights, needs);
     buildFrameMaps(slot, lights, camera);
     markCoverageAndStale(slot, instances);
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
@@ -72,7 +72,7 @@ std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLig
     return needs;
 }
 
-void VirtualShadowMaps::assignMapSlots(Slot& slot, std::span<const VsmLight> lights,
+void VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
                                        const std::vector<uint8_t>& needs) {
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
     // when it comes back into view); a kind change frees them.
@@ -90,7 +90,7 @@ void VirtualShadowMaps::assignMapSlots(Slot& slot, std::span<const VsmLight> lig
             st.firstMap = ML_VSM_NO_MAP;
         }
         if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
-            st.firstMap = allocateSlots(count);
+            st.firstMap = allocateSlots(device, count);
             if (st.firstMap == ML_VSM_NO_MAP) {
                 ++slot.lightsWithoutSlot;
                 continue;

@@ -39,8 +39,11 @@ struct VsmSettings {
     uint32_t pageSize = 64;
     // Physical pages in the shared pool (4 B per texel: 4096 pages of 64^2 = 64 MiB).
     uint32_t poolPages = 4096;
-    // Map slots (a spot light takes 1, a point light 6, a directional light clipLevels).
-    uint32_t maxMaps = 512;
+    // Map slots at most (a spot light takes 1, a point light 6, a directional light clipLevels). The slot
+    // pool starts at initialMaps and doubles when a light needs slots and none are free (page table 4 B per
+    // entry: 21.8 KiB per map at 4096^2 / 64^2). 32768 holds 4096 point lights (24,576 cube faces).
+    uint32_t maxMaps = 32768;
+    uint32_t initialMaps = 512; // the slot pool's first size (tests start it small to exercise growth)
     // Directional lights: clip levels, and the half extent (metres) of level 0; level l covers 2^l that.
     uint32_t clipLevels = 10;
     float clipHalfExtent = 8.0f;
