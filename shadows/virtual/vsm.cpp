@@ -82,7 +82,8 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
     settings_.requestCapacity = capacity;
     pages_.mergePasses = uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK));
-    pages_.sortedList = (1 + pages_.mergePasses) % 2; // the block sort writes list[1], merges alternate
+    pages_.sortArgs =
+        createDeviceBuffer(d, (4 + 3 * (pages_.mergePasses + 1)) * 4, kIndirectUsage, "vsm_sort_args");
     for (uint32_t i = 0; i < 2; ++i)
         pages_.list[i] = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_request_list");
     pages_.blockCounts =
@@ -184,7 +185,7 @@ void VirtualShadowMaps::destroy(const Device& d) {
     for (Buffer* b : {&pages_.table, &pages_.owners, &pages_.lastUsed, &pages_.marks, &pages_.pool,
                       &pages_.blockCounts, &pages_.avail, &pages_.rendered, &pages_.dirtyMips, &pages_.draws,
                       &pages_.drawInfo, &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks,
-                      &pages_.hpb, &pages_.list[0], &pages_.list[1], &pages_.classCounts})
+                      &pages_.hpb, &pages_.list[0], &pages_.list[1], &pages_.classCounts, &pages_.sortArgs})
         destroyBuffer(d, *b);
     for (Slot& s : slots_)
         for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.rankBase,

@@ -131,8 +131,8 @@ struct VsmPages {
     Buffer hpb;               // hierarchical page buffer bits, layout().hpbWords per map slot (vsm_math.h)
     Buffer list[2];           // the request list and its sort's ping-pong twin (VsmSettings::requestCapacity)
     Buffer classCounts;       // per pool block and page class: counts, then bases (vsm_invalidate, vsm_alloc)
-    uint32_t sortedList = 0;  // which of list[] holds the sorted list after vsm_sort's passes
-    uint32_t mergePasses = 0; // vsm_sort's merge passes: log2(capacity / ML_VSM_BLOCK)
+    Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
+    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
 };
 // Per frame in flight: what prepare() computes and uploads for the passes.
 struct VsmSlot {

@@ -38,6 +38,12 @@ bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out u
 }
 #endif
 
+#ifdef VSM_LISTS
+// Entry i of the sorted request list: the includer declares vsmListA[], vsmListB[] (the sort's two
+// buffers) and vsmSorted (which of them holds the sorted list, written by vsm_list).
+uint vsmListRank(uint i) { return vsmSorted == 0u ? vsmListA[i] : vsmListB[i]; }
+#endif
+
 #ifndef VSM_NO_MARKS
 // Marked: a lookup reads the page. Wanted: marked, or reserved as a fallback page; wanted pages get memory
 // and are not evicted. The includer declares `vsm` (VsmConstants).

@@ -15,7 +15,7 @@ layout(local_size_x = ML_VSM_BLOCK) in;
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = 2, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 3, std430) readonly buffer List { uint vsmList[]; }; // sorted priority ranks
+layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
 layout(binding = 4, std430) buffer Table { uint vsmTable[]; };
 layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; };
 layout(binding = 6, std430) buffer Owner { uint vsmOwner[]; };
@@ -25,12 +25,16 @@ layout(binding = 9, std430) readonly buffer Avail { uint vsmAvail[]; };
 layout(binding = 10, std430) writeonly buffer Rendered { uint vsmRendered[]; };
 layout(binding = 11, std430) buffer MapMips { uint vsmDirtyMips[]; };
 
+layout(binding = 12, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = 13, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+#define vsmSorted vsmSortArgs[0]
+#define VSM_LISTS
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
     uint entry, map, mip;
     bool wanted = gl_GlobalInvocationID.x < vsmCounters.listCount &&
-                  vsmEntryOfOrder(vsmList[gl_GlobalInvocationID.x], vsm, entry, map, mip);
+                  vsmEntryOfOrder(vsmListRank(gl_GlobalInvocationID.x), vsm, entry, map, mip);
     uint pt = wanted ? vsmTable[entry] : 0u;
     bool request = wanted && (pt & ML_VSM_ALLOCATED) == 0u;
     uint sum;

@@ -13,17 +13,21 @@ layout(local_size_x = ML_VSM_BLOCK) in;
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = 2, std430) readonly buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 3, std430) readonly buffer List { uint vsmList[]; }; // sorted priority ranks
+layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
 layout(binding = 4, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; }; // (vsm_alloc_common.glsl)
 layout(binding = 6, std430) buffer Hpb { uint vsmHpb[]; };
 
+layout(binding = 7, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = 8, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+#define vsmSorted vsmSortArgs[0]
+#define VSM_LISTS
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
     uint entry, map, mip;
     if (gl_GlobalInvocationID.x >= vsmCounters.listCount ||
-        !vsmEntryOfOrder(vsmList[gl_GlobalInvocationID.x], vsm, entry, map, mip))
+        !vsmEntryOfOrder(vsmListRank(gl_GlobalInvocationID.x), vsm, entry, map, mip))
         return;
     if ((vsmTable[entry] & ML_VSM_DIRTY) == 0u) return;
     uint s0 = vsm.page.z, side = s0 >> mip;

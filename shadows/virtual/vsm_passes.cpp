@@ -66,25 +66,26 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
     const uint32_t pool = state_->settings().poolPages;
     // The list's count and dispatch size; the pool pass (invalidation, class counts) beside it.
-    dispatch(d, c, programs_.list, 1, 1, NoPush{}, {slot.constants, slot.counters});
+    dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
+             {slot.constants, slot.counters, pg.sortArgs});
     dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
              {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
               pg.classCounts, slot.counters});
     // List count and groups -> the list passes (storage reads, indirect dispatch); table, class counts.
     memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-    // Sort: block sort list[0] -> list[1], then merges of doubling runs, alternating.
+    // Sort: block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
+    // merges past the list's length no groups (an empty dispatch).
     for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
         const uint32_t width = pass == 0 ? 0u : uint32_t(ML_VSM_BLOCK) << (pass - 1);
         const Buffer& src = pg.list[pass % 2];
         const Buffer& dst = pg.list[(pass + 1) % 2];
-        dispatchIndirect(d, c, programs_.sort, slot.counters, listArgs, gpu::VsmSortPush{width, 0},
-                         {slot.counters, src, dst});
+        dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
+                         gpu::VsmSortPush{width, 0}, {slot.counters, src, dst});
         memoryBarrier(c, C, W, C, R | W); // this pass's runs -> the next pass
     }
-    const Buffer& list = pg.list[pg.sortedList];
-    dispatchIndirect(
-        d, c, programs_.scan, slot.counters, listArgs, NoPush{},
-        {slot.constants, slot.runs, slot.counters, list, pg.table, pg.marks, pg.lastUsed, pg.blockCounts});
+    dispatchIndirect(d, c, programs_.scan, slot.counters, listArgs, NoPush{},
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
+                      pg.blockCounts, pg.list[1], pg.sortArgs});
     memoryBarrier(c, C, W, C, R | W); // block counts, last use -> alloc, avail
     dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
@@ -93,8 +94,9 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
              {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail});
     memoryBarrier(c, C, W, C, R | W); // the available-page list -> assign
     dispatchIndirect(d, c, programs_.assign, slot.counters, listArgs, NoPush{},
-                     {slot.constants, slot.runs, slot.counters, list, pg.table, pg.marks, pg.owners,
-                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips});
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
+                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.list[1],
+                      pg.sortArgs});
     // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
     memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
@@ -103,9 +105,9 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // One thread per listed (wanted) entry; the bits were cleared at the frame's start (recordReset).
-    dispatchIndirect(
-        d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
-        {slot.constants, slot.runs, slot.counters, pg.list[pg.sortedList], pg.table, pg.marks, pg.hpb});
+    dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.hpb,
+                      pg.list[1], pg.sortArgs});
     // HPB bits -> the culling's reads (compute; mesh path: task shaders).
     memoryBarrier(c, C, W, C | kTask, R);
 }
