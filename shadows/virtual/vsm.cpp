@@ -147,7 +147,8 @@ void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         const VkBufferCopy region{0, 0, VkDeviceSize(old) * entriesPerMap_ * 4};
         vkCmdCopyBuffer(cmd, pages_.table.buffer, table.buffer, 1, &region);
         d.endOneTime(cmd);
-        for (Buffer* b : {&pages_.table, &pages_.marks, &pages_.dirtyMips, &pages_.hpb}) destroyBuffer(d, *b);
+        for (Buffer* b : {&pages_.table, &pages_.marks, &pages_.dirtyMips, &pages_.dirtyMaps, &pages_.hpb})
+            destroyBuffer(d, *b);
         for (Slot& sl : slots_)
             for (Buffer* b : {&sl.maps, &sl.coverage, &sl.stale, &sl.active, &sl.runs, &sl.rankBase})
                 destroyBuffer(d, *b);
@@ -157,6 +158,7 @@ void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
     pages_.marks = createDeviceBuffer(d, 3 * bitWords * 4, kStorageBufferUsage,
                                       "vsm_marks"); // lookup, fallback, then wanted (either) marks
     pages_.dirtyMips = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    pages_.dirtyMaps = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_maps");
     pages_.hpb = createDeviceBuffer(d, size_t(capacity) * hpbWords_ * 4, kStorageBufferUsage, "vsm_hpb");
     for (Slot& sl : slots_) {
         sl.maps = createBuffer(d, size_t(capacity) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
@@ -182,10 +184,11 @@ void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
-    for (Buffer* b : {&pages_.table, &pages_.owners, &pages_.lastUsed, &pages_.marks, &pages_.pool,
-                      &pages_.blockCounts, &pages_.avail, &pages_.rendered, &pages_.dirtyMips, &pages_.draws,
-                      &pages_.drawInfo, &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks,
-                      &pages_.hpb, &pages_.list[0], &pages_.list[1], &pages_.classCounts, &pages_.sortArgs})
+    for (Buffer* b :
+         {&pages_.table,       &pages_.owners,     &pages_.lastUsed,    &pages_.marks,     &pages_.pool,
+          &pages_.blockCounts, &pages_.avail,      &pages_.rendered,    &pages_.dirtyMips, &pages_.draws,
+          &pages_.drawInfo,    &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks, &pages_.hpb,
+          &pages_.list[0],     &pages_.list[1],    &pages_.classCounts, &pages_.sortArgs,  &pages_.dirtyMaps})
         destroyBuffer(d, *b);
     for (Slot& s : slots_)
         for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.rankBase,

@@ -131,6 +131,7 @@ struct VsmPages {
     Buffer hpb;               // hierarchical page buffer bits, layout().hpbWords per map slot (vsm_math.h)
     Buffer list[2];           // the request list and its sort's ping-pong twin (VsmSettings::requestCapacity)
     Buffer classCounts;       // per pool block and page class: counts, then bases (vsm_invalidate, vsm_alloc)
+    Buffer dirtyMaps;         // maps with a page rendered this frame (vsm_assign): the culling's y
     Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
     uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
 };

@@ -24,9 +24,10 @@ layout(binding = 8, std430) readonly buffer BlockRanks { uint vsmBlockRanks[]; }
 layout(binding = 9, std430) readonly buffer Avail { uint vsmAvail[]; };
 layout(binding = 10, std430) writeonly buffer Rendered { uint vsmRendered[]; };
 layout(binding = 11, std430) buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = 12, std430) writeonly buffer DirtyMaps { uint vsmDirtyMaps[]; };
 
-layout(binding = 12, std430) readonly buffer ListB { uint vsmListB[]; };
-layout(binding = 13, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+layout(binding = 13, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = 14, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
 #include "shadows/virtual/vsm_alloc_common.glsl"
@@ -61,7 +62,8 @@ void main() {
         pt |= ML_VSM_VALID | ML_VSM_DIRTY;
         uint slot = atomicAdd(vsmCounters.dispatchX, 1u);
         vsmRendered[slot] = pt & ML_VSM_PHYS_MASK;
-        atomicOr(vsmDirtyMips[map], 1u << mip);
+        // The first dirty page of a map lists it for the culling passes (their dispatch's y size).
+        if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u) vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
         atomicAdd(vsmCounters.pagesRendered, 1u);
     } else if (marked && (pt & ML_VSM_VALID) != 0u) {
         atomicAdd(vsmCounters.pagesCached, 1u);

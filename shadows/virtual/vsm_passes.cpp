@@ -66,13 +66,16 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
     const uint32_t pool = state_->settings().poolPages;
     // The list's count and dispatch size; the pool pass (invalidation, class counts) beside it.
+    // Every pass here reads or writes the counters (atomics) and the next may take its dispatch size
+    // from them: each barrier orders compute writes before compute reads, writes and indirect reads.
+    auto next = [&] { memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT); };
     dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
              {slot.constants, slot.counters, pg.sortArgs});
+    next(); // the list's count -> invalidate's counters, the sort's dispatch sizes
     dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
              {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
               pg.classCounts, slot.counters});
-    // List count and groups -> the list passes (storage reads, indirect dispatch); table, class counts.
-    memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+    next(); // table, class counts, counters -> the list passes
     // Sort: block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
     // merges past the list's length no groups (an empty dispatch).
     for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
@@ -81,24 +84,25 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
         const Buffer& dst = pg.list[(pass + 1) % 2];
         dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
                          gpu::VsmSortPush{width, 0}, {slot.counters, src, dst});
-        memoryBarrier(c, C, W, C, R | W); // this pass's runs -> the next pass
+        next(); // this pass's runs -> the next pass
     }
     dispatchIndirect(d, c, programs_.scan, slot.counters, listArgs, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
                       pg.blockCounts, pg.list[1], pg.sortArgs});
-    memoryBarrier(c, C, W, C, R | W); // block counts, last use -> alloc, avail
+    next(); // block counts, last use -> alloc, avail
     dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
-    memoryBarrier(c, C, W, C, R | W); // block ranks, class bases, counters -> avail, assign
+    next(); // block ranks, class bases, counters -> avail, assign
     dispatch(d, c, programs_.avail, pool, 1, NoPush{},
              {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail});
-    memoryBarrier(c, C, W, C, R | W); // the available-page list -> assign
+    next(); // the available-page list -> assign
     dispatchIndirect(d, c, programs_.assign, slot.counters, listArgs, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
-                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.list[1],
-                      pg.sortArgs});
-    // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
-    memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.dirtyMaps,
+                      pg.list[1], pg.sortArgs});
+    // Page table (DIRTY), dirty mips and maps, rendered list, the clear's and the culling's dispatch
+    // sizes -> HPB, cull, clear.
+    next(); // (the culling passes add to the counters too)
 }
 
 void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
@@ -115,10 +119,11 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
 void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, state_->settings().maxDrawsPerMip};
-    dispatch(d, c, programs_.cull, slot.casterCount, slot.activeCount, push,
-             {slot.constants, slot.maps, slot.active, pg.table, pg.hpb, slot.casters, pg.dirtyMips, pg.draws,
-              pg.drawInfo, pg.drawCounts, slot.counters});
+    const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxDrawsPerMip};
+    // (caster groups, maps with a dirty page): vsm_assign counted the maps into the dispatch size.
+    dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
+                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.draws, pg.drawInfo, pg.drawCounts, slot.counters});
     // Draw lists and counts -> indirect draws; draw info -> vertex shader.
     memoryBarrier(c, C, W, kIndirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -127,10 +132,10 @@ void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotInde
 void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, state_->settings().maxMeshletsPerMip};
-    dispatch(d, c, programs_.expand, slot.casterCount, slot.activeCount, push,
-             {slot.constants, slot.maps, slot.active, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
-              pg.meshletList, pg.meshTasks, slot.counters});
+    const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxMeshletsPerMip};
+    dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
+                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.meshletList, pg.meshTasks, slot.counters});
     // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
     // passes) -> task and mesh shaders.
     memoryBarrier(c, C, W, kIndirect | kTask | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,

@@ -241,6 +241,8 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;
+    zero.cullGroupsX = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
+    zero.cullGroupsZ = 1;
     upload(slot.counters, &zero, sizeof(zero));
     if (settings_.probeCapacity) {
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};

@@ -92,6 +92,9 @@ ML_STRUCT(VsmCounters) {
     uint listCount;    // entries in the list (vsm_list clamps it to the capacity, VsmConstants.order.z)
     uint listOverflow; // wanted entries that did not fit the list (counted, never silent)
     uint listGroupsX, listGroupsY, listGroupsZ; // the list passes' indirect dispatch: ML_VSM_BLOCK per group
+    // vsm_cull / vsm_expand's indirect dispatch: x caster groups (the CPU), y maps with a dirty page
+    // (vsm_assign appends each to the dirty-map list), z 1.
+    uint cullGroupsX, cullGroupsY, cullGroupsZ, pad7;
 };
 
 // A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.
@@ -129,11 +132,11 @@ ML_STRUCT(VsmSortPush) {
     uint pad;
 };
 
-// vsm_cull and vsm_expand: one thread per (caster, active map); `capacity` is the per-mip list size
-// (cull: draws, VsmSettings::maxDrawsPerMip; expand: meshlet entries, maxMeshletsPerMip). 12 bytes.
+// vsm_cull and vsm_expand: one thread per (caster, map with a dirty page); `capacity` is the per-mip
+// list size (cull: draws, VsmSettings::maxDrawsPerMip; expand: meshlet entries, maxMeshletsPerMip).
+// 8 bytes.
 ML_STRUCT(VsmCullPush) {
     uint casterCount;
-    uint activeMaps;
     uint capacity;
 };
 
@@ -147,13 +150,14 @@ ML_STRUCT(VsmDrawPush) {
 #ifdef __cplusplus
 static_assert(sizeof(VsmSortPush) == 8);
 static_assert(offsetof(VsmCounters, listGroupsX) == 116);
-static_assert(sizeof(VsmCullPush) == 12);
+static_assert(sizeof(VsmCullPush) == 8);
 static_assert(sizeof(VsmDrawPush) == 8);
 static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 128);
+static_assert(sizeof(VsmCounters) == 144);
+static_assert(offsetof(VsmCounters, cullGroupsX) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
 static_assert(sizeof(GpuCaster) == 64);
 static_assert(offsetof(GpuCaster, meshlets) == 48);
