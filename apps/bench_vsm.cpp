@@ -22,7 +22,7 @@ namespace ml {
 
 static const char* kBenchVsmHelp = R"(usage: manylights bench vsm [options]
 Virtual shadow maps on a camera path: pass times and page counts, cached against uncached, per light kind.
-  --scene S       night-city (default) or a .gltf / .glb file
+  --scene S       night-city (default), indoor (rooms: spot, point lights, carts) or a .gltf / .glb file
   --path P        drive (default), orbit or static
   --frames N      frames per run (default 20; the first is reported apart)
   --size WxH      frame size (default 640x360)

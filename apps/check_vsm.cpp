@@ -28,7 +28,7 @@ namespace ml {
 
 static const char* kCheckHelp = R"(usage: manylights check vsm [options]
 Checks every virtual-shadow-map lookup of a camera path against full reference maps (CPU rasteriser).
-  --scene S      night-city (default) or a .gltf / .glb file
+  --scene S      night-city (default), indoor (rooms: spot, point lights, carts) or a .gltf / .glb file
   --path P       drive (default), orbit or static
   --frames N     frames of the path (default 10)
   --size WxH     frame size (default 320x180)

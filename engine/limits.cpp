@@ -104,10 +104,14 @@ Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& l, const VsmSettings&
     if (maxMaps < 1)
         return fail("vsm: the page table of one map (" + res + ") needs " + mib(entriesPerMap * 4) +
                     ", past the device's maxStorageBufferRange " + mib(range));
+    // The default maxMaps (VsmSettings) means "as many as the device holds": reduced without a note; a
+    // host's own value that does not fit is reduced with one. Lights past the slots are counted
+    // (lights_without_slot) either way.
     if (s.maxMaps > maxMaps) {
-        notes.push_back("vsm: map slots " + std::to_string(s.maxMaps) + " -> " + std::to_string(maxMaps) +
-                        ": the page table of " + res + " fits the device's maxStorageBufferRange " +
-                        mib(range) + " for that many (lights past them get no map, counted)");
+        if (in.maxMaps != VsmSettings{}.maxMaps)
+            notes.push_back("vsm: map slots " + std::to_string(s.maxMaps) + " -> " + std::to_string(maxMaps) +
+                            ": the page table of " + res + " fits the device's maxStorageBufferRange " +
+                            mib(range) + " for that many (lights past them get no map, counted)");
         s.maxMaps = uint32_t(maxMaps);
     }
     // The physical pool (4 B per texel) is one binding too.
@@ -136,10 +140,6 @@ Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& l, const VsmSettings&
     if (s.maxDrawsPerMip > l.maxDrawIndirectCount)
         return fail("vsm: max draws per mip " + std::to_string(s.maxDrawsPerMip) + " exceeds the device's " +
                     "maxDrawIndirectCount " + std::to_string(l.maxDrawIndirectCount));
-    if (s.maxMaps > l.maxImageArrayLayers)
-        return fail("vsm: max maps " + std::to_string(s.maxMaps) + " exceeds the device's " +
-                    std::to_string(l.maxImageArrayLayers) +
-                    " image array layers (the page buffer has a layer per map)");
     return s;
 }
 

@@ -46,8 +46,8 @@ Result<void> checkTargetLimits(const DeviceLimitTable& limits, uint32_t width, u
 
 // The VSM settings as the device holds them: map slots and pool pages reduced to what one storage
 // buffer binding holds (each reduction one line in `notes`); probe records, meshlet and draw lists past
-// it, draws per mip past maxDrawIndirectCount and map slots past the array layers refused naming the
-// setting.
+// it and draws per mip past maxDrawIndirectCount refused naming the setting. The default maxMaps is
+// reduced without a note (it means "as many as the device holds").
 Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& limits, const VsmSettings& settings,
                                    std::vector<std::string>& notes);
 

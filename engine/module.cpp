@@ -131,6 +131,8 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         std::to_string(ML_MESHLET_TRIANGLES) + " (a multiple of 4)");
     }
     // Sizes against the device (engine/limits.h): map slots and pool pages reduced to fit, said once.
+    // (Map slots are not bounded by the device's image array layers: the HPB is a buffer, and the slot
+    // pool grows up to maxMaps and the 32-bit entry index, shadows/virtual/vsm.cpp.)
     std::vector<std::string> notes;
     auto fitted = fitVsmSettings(deviceLimitTable(*impl->device), v, notes);
     if (!fitted) return fail(fitted.error());

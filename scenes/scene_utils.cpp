@@ -17,6 +17,12 @@ Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t
         options.lights = lights;
         return makeNightCity(options);
     }
+    if (nameOrPath == "indoor") {
+        IndoorOptions options;
+        options.seed = seed;
+        options.lights = lights;
+        return makeIndoor(options);
+    }
     std::string lower = nameOrPath;
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
@@ -25,7 +31,8 @@ Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t
         return lower.size() >= n && lower.compare(lower.size() - n, n, suffix) == 0;
     };
     if (endsWith(".gltf") || endsWith(".glb")) return loadGltf(nameOrPath, lights, seed, options);
-    return fail(nameOrPath + ": unknown scene (expected \"night-city\" or a path ending in .gltf or .glb)");
+    return fail(nameOrPath +
+                ": unknown scene (expected \"night-city\", \"indoor\" or a path ending in .gltf or .glb)");
 }
 
 bool isClosedMesh(const Mesh& mesh) {

@@ -18,6 +18,17 @@ struct NightCityOptions {
 // signs, and cars driving along the streets (dynamic instances with headlights).
 Result<Scene> makeNightCity(const NightCityOptions& options);
 
+struct IndoorOptions {
+    uint32_t seed = 1;
+    uint32_t lights = 600; // total, 1..4096: a tenth point lights, one headlight per cart, the rest spots
+    uint32_t roomsX = 0, roomsZ = 0; // 0 x 0: about 12 spot fixtures per room, a near-square grid
+    uint32_t carts = 4;              // dynamic casters driving loops through the doorways
+};
+
+// Rooms (12 m, 6 m high) joined by doorways: ceiling and wall spot fixtures, point lights, crates and
+// pillars, carts with headlights (scenes/indoor.cpp). The virtual shadow maps' many-light level.
+Result<Scene> makeIndoor(const IndoorOptions& options);
+
 // How far a scene file is trusted (README, "Threat model").
 struct LoadOptions {
     // false: buffer and image URIs must resolve (realpath) to regular files inside the scene file's
@@ -30,7 +41,7 @@ struct LoadOptions {
 Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed,
                        const LoadOptions& options = {});
 
-// "night-city" or a path ending in .gltf / .glb.
+// "night-city", "indoor" or a path ending in .gltf / .glb.
 Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
                         const LoadOptions& options = {});
 

@@ -70,38 +70,33 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     s0_ = s.resolution / s.pageSize;
     mips_ = uint32_t(std::countr_zero(s0_)) + 1;
     entriesPerMap_ = gpu::vsmMipOffset(s0_, mips_);
-    const size_t entries = size_t(s.maxMaps) * entriesPerMap_;
-    const size_t bitWords = (entries + 31) / 32;
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
-    pages_.table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    // The map-sized buffers (page table, marks, HPB, per-slot maps and bits) are made by resizeMaps.
     pages_.owners =
         createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
     pages_.lastUsed = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
-    markWords_ = bitWords;
-    pages_.marks = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
-                                      "vsm_marks"); // lookup, then fallback marks
     pages_.pool = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
                                      kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu);
+    // The request list: a power of two, so vsm_sort's merge passes end on one sorted run.
+    const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
+    settings_.requestCapacity = capacity;
+    pages_.mergePasses = uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK));
+    pages_.sortArgs =
+        createDeviceBuffer(d, (4 + 3 * (pages_.mergePasses + 1)) * 4, kIndirectUsage, "vsm_sort_args");
+    for (uint32_t i = 0; i < 2; ++i)
+        pages_.list[i] = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_request_list");
     pages_.blockCounts =
-        createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+        createDeviceBuffer(d, (capacity / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+    const uint32_t poolBlocks = (s.poolPages + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK;
+    pages_.classCounts =
+        createDeviceBuffer(d, size_t(poolBlocks) * 9 * 4, kStorageBufferUsage, "vsm_class_counts");
     pages_.avail = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
     pages_.rendered = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    pages_.dirtyMips = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
-    // HPB levels 1..log2(S_0) as image mips 0.. (none when a map is one page). Rebuilt every frame for the
-    // active maps before it is read: PerFrame. One layer per map slot: maxMaps <= maxImageArrayLayers.
+    // HPB levels 1..log2(S_0) as bits, hpbWords_ per map slot (2730 bits at S_0 = 64): a buffer, so map
+    // slots are not bounded by maxImageArrayLayers. Cleared for the maps in use at every frame's start.
     hpbLevels_ = mips_ - 1;
-    ImageDesc hpb;
-    hpb.width = s0_;
-    hpb.height = std::max(1u, s0_ / 2);
-    hpb.format = VK_FORMAT_R32_UINT;
-    hpb.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    hpb.mips = std::max(1u, hpbLevels_);
-    hpb.layers = s.maxMaps;
-    hpb.lifetime = Lifetime::PerFrame;
-    hpb.arrayViews = true; // one map slot is still an array of one
-    hpb.name = "vsm_hpb";
-    pages_.hpb = createImage(d, hpb);
+    hpbWords_ = std::max(1u, (gpu::vsmHpbLevelOffset(s0_, mips_) + 31) / 32);
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
     pages_.draws =
         createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
@@ -130,41 +125,88 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     for (Slot& sl : slots_) {
         sl.constants =
             createBuffer(d, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "vsm_constants");
-        sl.maps =
-            createBuffer(d, size_t(s.maxMaps) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
-        sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
-        sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
-        sl.active = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_active");
-        // At most one run per active map and level of detail.
-        sl.runs = createBuffer(d, size_t(s.maxMaps) * std::max(mips_, s.clipLevels) * sizeof(glm::uvec4),
-                               kStorageBufferUsage, "vsm_runs");
         sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
         sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
                                  kStorageBufferUsage, "vsm_probes");
-        sl.host.coverage.assign(bitWords, 0);
-        sl.host.stale.assign(bitWords, 0);
-        sl.host.maps.assign(s.maxMaps, gpu::GpuVsmMap{});
     }
-    maps_.assign(s.maxMaps, VsmMapInfo{});
-    wasActive_.assign(s.maxMaps, 0);
-    for (uint32_t i = s.maxMaps; i-- > 0;) freeSlots_.push_back(i);
+    resizeMaps(d,
+               std::min({s.maxMaps, std::max(s.initialMaps, 1u), uint32_t(0xFFFFFFFFull / entriesPerMap_)}));
+}
+
+void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
+    // Map slots come from a pool that grows (doubling, up to settings().maxMaps) when a light needs slots
+    // and none are free: the page table keeps its entries (copied), the per-frame buffers are remade
+    // (every frame rewrites them), and the new slots join the free list. The device is idle meanwhile.
+    const uint32_t old = capacity_;
+    const size_t entries = size_t(capacity) * entriesPerMap_;
+    const size_t bitWords = (entries + 31) / 32;
+    Buffer table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    if (old > 0) {
+        ML_VK_CHECK(vkDeviceWaitIdle(d.device));
+        VkCommandBuffer cmd = d.beginOneTime();
+        const VkBufferCopy region{0, 0, VkDeviceSize(old) * entriesPerMap_ * 4};
+        vkCmdCopyBuffer(cmd, pages_.table.buffer, table.buffer, 1, &region);
+        d.endOneTime(cmd);
+        for (Buffer* b : {&pages_.table, &pages_.marks, &pages_.dirtyMips, &pages_.dirtyMaps, &pages_.hpb})
+            destroyBuffer(d, *b);
+        for (Slot& sl : slots_)
+            for (Buffer* b : {&sl.maps, &sl.coverage, &sl.stale, &sl.active, &sl.runs, &sl.rankBase})
+                destroyBuffer(d, *b);
+    }
+    pages_.table = table;
+    markWords_ = bitWords;
+    pages_.marks = createDeviceBuffer(d, 3 * bitWords * 4, kStorageBufferUsage,
+                                      "vsm_marks"); // lookup, fallback, then wanted (either) marks
+    pages_.dirtyMips = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    pages_.dirtyMaps = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_maps");
+    pages_.hpb = createDeviceBuffer(d, size_t(capacity) * hpbWords_ * 4, kStorageBufferUsage, "vsm_hpb");
+    for (Slot& sl : slots_) {
+        sl.maps = createBuffer(d, size_t(capacity) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
+        sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
+        sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
+        sl.active = createBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_active");
+        // At most one run per active map and level of detail.
+        sl.runs =
+            createBuffer(d, size_t(capacity) * std::max(mips_, settings_.clipLevels) * sizeof(glm::uvec4),
+                         kStorageBufferUsage, "vsm_runs");
+        sl.rankBase = createBuffer(d, size_t(capacity) * mips_ * 4, kStorageBufferUsage, "vsm_rank_base");
+        sl.host.coverage.resize(bitWords, 0);
+        sl.host.stale.resize(bitWords, 0);
+        sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
+        sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
+    }
+    maps_.resize(capacity, VsmMapInfo{});
+    wasActive_.resize(capacity, 0);
+    for (uint32_t i = old; i < capacity; ++i) freeSlots_.push_back(i);
+    std::sort(freeSlots_.rbegin(), freeSlots_.rend()); // descending: the back is the lowest
+    capacity_ = capacity;
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {
     if (!settings_.enabled) return;
-    for (Buffer* b : {&pages_.table, &pages_.owners, &pages_.lastUsed, &pages_.marks, &pages_.pool,
-                      &pages_.blockCounts, &pages_.avail, &pages_.rendered, &pages_.dirtyMips, &pages_.draws,
-                      &pages_.drawInfo, &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks})
+    for (Buffer* b :
+         {&pages_.table,       &pages_.owners,     &pages_.lastUsed,    &pages_.marks,     &pages_.pool,
+          &pages_.blockCounts, &pages_.avail,      &pages_.rendered,    &pages_.dirtyMips, &pages_.draws,
+          &pages_.drawInfo,    &pages_.drawCounts, &pages_.meshletList, &pages_.meshTasks, &pages_.hpb,
+          &pages_.list[0],     &pages_.list[1],    &pages_.classCounts, &pages_.sortArgs,  &pages_.dirtyMaps})
         destroyBuffer(d, *b);
-    destroyImage(d, pages_.hpb);
     for (Slot& s : slots_)
-        for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.casters,
-                          &s.counters, &s.probes})
+        for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.rankBase,
+                          &s.casters, &s.counters, &s.probes})
             destroyBuffer(d, *b);
     slots_.clear();
 }
 
-uint32_t VirtualShadowMaps::allocateSlots(uint32_t count) {
+uint32_t VirtualShadowMaps::allocateSlots(const Device& d, uint32_t count) {
+    // The pool's bound: settings().maxMaps, and entry indices (map x entries per map) below 2^32.
+    const uint32_t limit = uint32_t(std::min<uint64_t>(settings_.maxMaps, 0xFFFFFFFFull / entriesPerMap_));
+    const uint32_t first = takeSlots(count);
+    if (first != ML_VSM_NO_MAP || capacity_ + count > limit) return first;
+    resizeMaps(d, std::min(limit, std::max(2 * capacity_, capacity_ + count)));
+    return takeSlots(count);
+}
+
+uint32_t VirtualShadowMaps::takeSlots(uint32_t count) {
     // Consecutive slots: take the lowest run of `count` free slots (free list kept sorted descending,
     // so the back is the lowest free slot).
     std::vector<uint32_t> sorted(freeSlots_.rbegin(), freeSlots_.rend());
@@ -266,6 +308,7 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;
+    s.requestOverflow = c.listOverflow;
     s.mapsActive = slot.activeCount;
     const uint64_t page = uint64_t(settings_.pageSize) * settings_.pageSize * 4;
     s.poolBytes = page * settings_.poolPages;
@@ -298,7 +341,7 @@ std::vector<uint32_t> VirtualShadowMaps::read(const Device& d, VsmState state) c
         return readWords(d, pages_.owners, settings_.poolPages);
     case VsmState::LastUsed:
         return readWords(d, pages_.lastUsed, settings_.poolPages);
-    case VsmState::Marks:
+    case VsmState::Marks: // lookup and fallback marks (the wanted bits are their OR)
         return readWords(d, pages_.marks, 2 * markWords_);
     case VsmState::PagePool:
         break;
@@ -306,9 +349,17 @@ std::vector<uint32_t> VirtualShadowMaps::read(const Device& d, VsmState state) c
     return readWords(d, pages_.pool, size_t(settings_.poolPages) * settings_.pageSize * settings_.pageSize);
 }
 std::vector<uint32_t> VirtualShadowMaps::readHpb(const Device& d, uint32_t map, uint32_t level) const {
-    std::vector<uint8_t> bytes = readImage(d, pages_.hpb, level - 1, map, VK_IMAGE_LAYOUT_GENERAL);
-    std::vector<uint32_t> out(bytes.size() / 4);
-    std::memcpy(out.data(), bytes.data(), out.size() * 4);
+    std::vector<uint8_t> bytes =
+        readBuffer(d, pages_.hpb, VkDeviceSize(map) * hpbWords_ * 4, size_t(hpbWords_) * 4);
+    std::vector<uint32_t> bits(hpbWords_);
+    std::memcpy(bits.data(), bytes.data(), bytes.size());
+    const uint32_t width = s0_ >> (level - 1), height = s0_ >> level;
+    const uint32_t first = gpu::vsmHpbLevelOffset(s0_, level);
+    std::vector<uint32_t> out(size_t(width) * height);
+    for (size_t i = 0; i < out.size(); ++i) {
+        const size_t bit = first + i;
+        out[i] = (bits[bit >> 5] >> (bit & 31u)) & 1u;
+    }
     return out;
 }
 std::vector<gpu::GpuVsmProbe> VirtualShadowMaps::readProbes(uint32_t slotIndex, uint32_t* overflow) const {

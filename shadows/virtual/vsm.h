@@ -8,13 +8,21 @@
 //   each frame, on the GPU, after light culling:
 //     vsm_mark    per pixel, for each light of its cluster list with maps, the pages its lookup reads
 //                 (resolution-matched mip, PCF kernel, bias) and reserves two fallback pages (3 mips
-//                 coarser, and the coarsest), drawn only in frames under pool pressure;
-//     vsm_scan    over the active maps' entries: invalidation (light moved, moved casters' old and new
-//     vsm_alloc   projected bounds: "stale" bits prepared by the CPU), LRU refresh, requests; then pages
-//     vsm_assign  for the requests in priority order (each light's coarsest level first) from free
-//                 pages, then least recently used unwanted ones; marked pages that are not valid are
-//                 rendered (DIRTY);
-//     vsm_hpb     hierarchical page buffer: 2x2 OR reductions of the DIRTY bits per map and mip (4.3);
+//                 coarser, and the coarsest), drawn only in frames under pool pressure; the first want of
+//                 an entry appends its priority rank to the request list (stream compaction);
+//     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
+//     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
+//     vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner entry (light
+//                 moved, moved casters' old and new projected bounds: "stale" bits prepared by the CPU),
+//                 page classes per block (free, then unwanted least recently used);
+//     vsm_scan    per listed entry: LRU refresh, requests;
+//     vsm_alloc   one workgroup over block counts: request ranks, available-page list bases;
+//     vsm_avail   per physical page: the available-page list;
+//     vsm_assign  per listed entry: pages for the requests in priority order (each light's coarsest level
+//                 first) from that list; marked pages that are not valid are rendered (DIRTY);
+//     vsm_hpb     per listed entry: a DIRTY page sets its hierarchical page buffer cells (bits in a
+//                 buffer, 4.3), so culling tests at most 2x2 cells;
+//   every pass above walks the request list or the physical pool, never every entry of every map;
 //     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
 //                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and
 //                 appends the caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls
@@ -99,13 +107,15 @@ struct VsmLayout {
     uint32_t mips = 0;          // log2(S_0) + 1
     uint32_t entriesPerMap = 0; // page-table words per map, every mip
     uint32_t hpbLevels = 0;     // HPB levels 1..mips - 1
-    size_t markWords = 0;       // words of one mark region (lookup marks; fallback marks follow)
+    size_t markWords = 0;       // words of one mark region (lookup marks; fallback and wanted marks follow)
+    uint32_t hpbWords = 0;      // words of HPB bits per map slot (vsm_math.h)
 };
 // What prepare() computes per slot on the CPU, uploaded for the passes (tests compare the GPU with it).
 struct VsmSlotHost {
     std::vector<uint32_t> coverage, stale; // bits per page-table entry
     std::vector<uint32_t> active;          // active map slots
     std::vector<glm::uvec4> runs;          // allocation order: (first rank, map, mip, entries)
+    std::vector<uint32_t> rankBase;        // first rank per (map slot, mip) of the active maps (vsm_mark)
     std::vector<gpu::GpuVsmMap> maps;      // per map slot
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
@@ -118,11 +128,16 @@ enum class VsmState { Table, Owners, LastUsed, Marks, PagePool };
 struct VsmPages {
     Buffer table, owners, lastUsed, marks, pool, blockCounts, avail, rendered, dirtyMips, draws, drawInfo,
         drawCounts, meshletList, meshTasks;
-    Image hpb; // hierarchical page buffer: layer per map slot, mip per level (vsm_math.h); PerFrame
+    Buffer hpb;               // hierarchical page buffer bits, layout().hpbWords per map slot (vsm_math.h)
+    Buffer list[2];           // the request list and its sort's ping-pong twin (VsmSettings::requestCapacity)
+    Buffer classCounts;       // per pool block and page class: counts, then bases (vsm_invalidate, vsm_alloc)
+    Buffer dirtyMaps;         // maps with a page rendered this frame (vsm_assign): the culling's y
+    Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
+    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
 };
 // Per frame in flight: what prepare() computes and uploads for the passes.
 struct VsmSlot {
-    Buffer constants, maps, coverage, stale, active, runs, casters, counters, probes;
+    Buffer constants, maps, coverage, stale, active, runs, rankBase, casters, counters, probes;
     VsmSlotHost host;
     uint32_t orderEntries = 0; // page-table entries of the allocation order
     uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
@@ -151,6 +166,7 @@ class VirtualShadowMaps {
     bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
     bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
     uint32_t mapsInUse() const { return mapsInUse_; }
+    uint32_t mapCapacity() const { return capacity_; } // map slots now (grows up to settings().maxMaps)
     // The GPU state the passes read and write.
     const VsmPages& pages() const { return pages_; }
     const VsmSlot& slot(uint32_t slot) const { return slots_[slot]; }
@@ -166,7 +182,7 @@ class VirtualShadowMaps {
     VsmStats readStats(uint32_t slot) const;
 
     // --- for tests, `check vsm` and `bench vsm` (engine/manylights_diagnostics.h wraps them) ---
-    VsmLayout layout() const { return {s0_, mips_, entriesPerMap_, hpbLevels_, markWords_}; }
+    VsmLayout layout() const { return {s0_, mips_, entriesPerMap_, hpbLevels_, markWords_, hpbWords_}; }
     const std::vector<VsmMapInfo>& mapInfo() const { return maps_; }
     const gpu::VsmConstants& lastConstants() const { return lastConstants_; }
     // What the last prepare() of a slot computed on the CPU.
@@ -174,8 +190,8 @@ class VirtualShadowMaps {
     // A host copy of persistent GPU state (the device must be idle): the used part of the buffer.
     std::vector<uint32_t> read(const Device& device, VsmState state) const;
     std::vector<gpu::GpuVsmProbe> readProbes(uint32_t slot, uint32_t* overflow = nullptr) const;
-    // HPB level 1..layout().hpbLevels of one map slot (the whole image mip, layout in vsm_math.h), valid
-    // for the maps active in the frame last recorded.
+    // HPB level 1..layout().hpbLevels of one map slot as a grid of S_0 >> (level - 1) by S_0 >> level
+    // cells, 0 or 1 each (layout in vsm_math.h), valid for the maps active in the frame last recorded.
     std::vector<uint32_t> readHpb(const Device& device, uint32_t map, uint32_t level) const;
 
   private:
@@ -185,12 +201,17 @@ class VirtualShadowMaps {
         VsmLight last;
         bool seen = false;
     };
-    uint32_t allocateSlots(uint32_t count);
+    // `count` consecutive free map slots (growing the slot pool when none are left), ML_VSM_NO_MAP when
+    // settings().maxMaps are all in use.
+    uint32_t allocateSlots(const Device& device, uint32_t count);
+    uint32_t takeSlots(uint32_t count);
+    void resizeMaps(const Device& device, uint32_t capacity);
     // prepare()'s steps, in order (vsm_prepare.cpp).
     std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
                                            std::span<const uint32_t> visible,
                                            std::span<const VsmInstance> instances) const;
-    void assignMapSlots(Slot& slot, std::span<const VsmLight> lights, const std::vector<uint8_t>& needs);
+    void assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
+                        const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
     void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
@@ -202,7 +223,7 @@ class VirtualShadowMaps {
 
     VsmSettings settings_;
     uint32_t pcf_ = 0;
-    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, mapsInUse_ = 0;
+    uint32_t s0_ = 0, mips_ = 0, entriesPerMap_ = 0, mapsInUse_ = 0, capacity_ = 0;
     size_t markWords_ = 0; // words of one mark region (lookup marks; fallback marks follow)
     std::vector<Slot> slots_;
     std::vector<LightState> lightState_;
@@ -213,7 +234,7 @@ class VirtualShadowMaps {
     gpu::VsmConstants lastConstants_{};
 
     VsmPages pages_;
-    uint32_t hpbLevels_ = 0;
+    uint32_t hpbLevels_ = 0, hpbWords_ = 0;
 };
 
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside

@@ -1,5 +1,7 @@
-// Shared by the allocation passes (vsm_scan, vsm_alloc, vsm_assign): the priority order of page-table
-// entries and the block prefix sum.
+// Shared by the allocation passes (vsm_list, vsm_sort, vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail,
+// vsm_assign, vsm_hpb): the priority order of page-table entries, the classes of physical pages and the
+// block prefix sum. The passes walk the request list (the wanted entries, sorted by priority rank) and
+// the physical pool, never every entry of every map.
 //
 // Priority order over the active maps' entries (maps of visible lights; inactive maps get no marks, and
 // are invalidated whole when they become active again): every light's coarsest level first (a
@@ -7,13 +9,15 @@
 // within a level the active maps in order, pages row-major. When the pool cannot hold every wanted page,
 // the ones left without a page are the finest, and every lookup still finds a coarser one (each receiver
 // reserves its fallback pages) as long as the pool holds one page per light's coarsest level.
-// The CPU lays the order out as runs (uvec4: first rank, map, mip, entries), sorted by first rank;
-// the includer declares vsmRuns[], vsmMarks[] and `vsm` (VsmConstants; order.x runs, order.y entries).
+// The CPU lays the order out as runs (uvec4: first rank, map, mip, entries), sorted by first rank, and
+// the first rank per (map slot, mip) for vsm_mark; the includer declares vsmRuns[], vsmMarks[] and `vsm`
+// (VsmConstants; order.x runs, order.y entries).
 #ifndef ML_VSM_ALLOC_COMMON_GLSL
 #define ML_VSM_ALLOC_COMMON_GLSL
 
 #include "shadows/virtual/vsm_math.h"
 
+#ifndef VSM_NO_RUNS
 // Entries in priority order: rank k -> entry (binary search over the runs); false past the end.
 bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out uint mip) {
     entry = 0u;
@@ -32,22 +36,39 @@ bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out u
     entry = map * c.sizes.x + vsmMipOffset(c.page.z, mip) + (k - run.x);
     return true;
 }
+#endif
 
+#ifdef VSM_LISTS
+// Entry i of the sorted request list: the includer declares vsmListA[], vsmListB[] (the sort's two
+// buffers) and vsmSorted (which of them holds the sorted list, written by vsm_list).
+uint vsmListRank(uint i) { return vsmSorted == 0u ? vsmListA[i] : vsmListB[i]; }
+#endif
+
+#ifndef VSM_NO_MARKS
 // Marked: a lookup reads the page. Wanted: marked, or reserved as a fallback page; wanted pages get memory
 // and are not evicted. The includer declares `vsm` (VsmConstants).
 bool vsmMarked(uint entry) { return (vsmMarks[entry >> 5u] & (1u << (entry & 31u))) != 0u; }
-bool vsmWanted(uint entry) {
-    return vsmMarked(entry) || (vsmMarks[vsm.options.w + (entry >> 5u)] & (1u << (entry & 31u))) != 0u;
+bool vsmWanted(uint entry) { // the third mark region: lookup or fallback mark (vsm_common.glsl's vsmWant)
+    return (vsmMarks[2u * vsm.options.w + (entry >> 5u)] & (1u << (entry & 31u))) != 0u;
 }
 
-shared uint sScan[ML_VSM_BLOCK];
+#ifdef VSM_PAGE_CLASSES
+// The order in which requests take physical pages: class 0 free (no owner), then cached pages whose entry
+// is not wanted this frame, least recently used first (age buckets of powers of two: >= 128 frames is
+// class 1, ..., 1 frame class 8), by index within a class; class 9 (wanted this frame) is never taken.
+// The includer declares vsmOwner[] and vsmLastUsed[].
+const uint kVsmClasses = 9u;
+uint vsmPageClass(uint p) {
+    uint owner = vsmOwner[p];
+    if (owner == ML_VSM_NO_OWNER) return 0u;
+    if (vsmWanted(owner)) return kVsmClasses;
+    uint age = max(vsm.sizes.w - vsmLastUsed[p], 1u);
+    return 8u - min(uint(findMSB(age)), 7u);
+}
+#endif
+#endif // VSM_NO_MARKS
 
-// The block (workgroup) index of vsm_scan / vsm_assign: their blocks are dispatched as a 2-D grid of
-// at most maxComputeWorkGroupCount[0] per row (16384^2 maps of 64^2 pages, 256 lights: 88,235 blocks,
-// past 65,535 in one dimension), linearised row-major. Blocks of the last row past `vsm.order.y`
-// entries are padding: whole groups with nothing to do (the caller returns before its barriers).
-uint vsmBlockIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
-bool vsmPaddingBlock(uint block) { return block * ML_VSM_BLOCK >= max(vsm.order.y, 1u); }
+shared uint sScan[ML_VSM_BLOCK];
 
 // Exclusive prefix sum of `value` over the workgroup (Hillis-Steele in shared memory); total in `sum`.
 // Deterministic: the same inputs give the same ranks whatever the scheduling.

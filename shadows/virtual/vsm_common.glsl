@@ -6,7 +6,10 @@
 //   VSM_TABLE    uint[] page table      VSM_COVER    uint[] coverage bits (one per entry)
 //   VSM_POOL     uint[] physical texels (lookup only)
 //   VSM_MARKS    uint[] mark bits, coherent (marking only; define VSM_MARKING): the pages lookups read,
-//                then from word VSM_CONST.options.w the fallback pages (reserved, drawn only under pressure)
+//                then from word VSM_CONST.options.w the fallback pages (reserved, drawn only under pressure),
+//                then from word 2 * options.w the wanted bits (either of the two)
+//   VSM_COUNTERS VsmCounters, VSM_RANKS uint[] first priority rank per (map slot, mip), VSM_LIST uint[]
+//                the request list (marking only): the rank of every wanted entry, appended once
 // Which map: a spot light has one, a point light six (face by pointLightFace), a directional light one
 // per clip level. Which mip: vsm_math.h. A page "has casters" when its coverage bit is set: maps of
 // lights with a static bake keep only the pages under some dynamic caster's projected bounds (the bake
@@ -81,6 +84,19 @@ bool vsmNeedsPage(uint map, uint entry) {
 }
 
 #ifdef VSM_MARKING
+// Stream compaction of the marks: the first want of an entry this frame (lookup or fallback mark) appends
+// its priority rank (vsm_alloc_common.glsl) to the request list, so the allocation passes walk the wanted
+// entries only. Ranks are unique per entry; the list's order is the atomics' and vsm_sort makes it
+// deterministic. Past the capacity an entry is counted in listOverflow by vsm_list (never silent).
+void vsmWant(uint map, uint mip, uint px, uint py, uint entry) {
+    uint bit = 1u << (entry & 31u);
+    uint word = 2u * VSM_CONST.options.w + (entry >> 5u);
+    if ((VSM_MARKS[word] & bit) != 0u || (atomicOr(VSM_MARKS[word], bit) & bit) != 0u) return;
+    uint slot = atomicAdd(VSM_COUNTERS.listCount, 1u);
+    if (slot < VSM_CONST.order.z)
+        VSM_LIST[slot] = VSM_RANKS[map * VSM_CONST.page.w + mip] + py * (VSM_CONST.page.z >> mip) + px;
+}
+
 void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius, uint region) {
     if (tap.ok == 0u) return;
     int res = int(VSM_CONST.options.z >> mip);
@@ -93,7 +109,8 @@ void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius, uint region) {
             if (!vsmNeedsPage(map, entry)) continue;
             uint bit = 1u << (entry & 31u);
             uint word = region + (entry >> 5u);
-            if ((VSM_MARKS[word] & bit) == 0u) atomicOr(VSM_MARKS[word], bit);
+            if ((VSM_MARKS[word] & bit) == 0u && (atomicOr(VSM_MARKS[word], bit) & bit) == 0u)
+                vsmWant(map, mip, uint(px), uint(py), entry);
         }
 }
 

@@ -1,8 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_samplerless_texture_functions : require
-// vsm_cull (work expansion at the instance level, RMVSM section 4.3): one thread per (caster, active
-// map) (x, y). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
+// vsm_cull (work expansion at the instance level, RMVSM section 4.3): one thread per (caster, map with
+// a dirty page) (x, y; indirect: vsm_assign lists the maps, so cached maps launch no threads). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
 // static bake take dynamic casters only. Draws go to one list per mip (one indirect-count draw each).
@@ -13,9 +12,9 @@ layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer Active { uint vsmActive[]; };
+layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4) uniform utexture2DArray vsmHpb; // every level (vsm_math.h)
+layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
 layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawIndexedIndirectCommand
@@ -28,8 +27,8 @@ layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: draws per
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
-    if (instance >= push.casterCount || gl_GlobalInvocationID.y >= push.activeMaps) return;
-    uint map = vsmActive[gl_GlobalInvocationID.y];
+    if (instance >= push.casterCount) return;
+    uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
     uint mipsDirty = vsmDirtyMips[map];
     if (mipsDirty == 0u) return;
     GpuVsmMap m = vsmMaps[map];

@@ -1,7 +1,7 @@
 // Culling against a map shared by vsm_cull.comp (instances, vertex path), vsm_expand.comp (instances,
 // mesh path) and vsm_draw.task (meshlets): frustum, projected bounds, and the hierarchical page buffer
 // test (RMVSM section 4.3). The including shader declares `vsm` (VsmConstants), `vsmTable[]` and the HPB
-// image `vsmHpb` (utexture2DArray, all mips; GL_EXT_samplerless_texture_functions).
+// bits `vsmHpb[]` (uint[], VsmConstants.order.w words per map slot, layout in vsm_math.h).
 #ifndef ML_VSM_CULL_COMMON_GLSL
 #define ML_VSM_CULL_COMMON_GLSL
 
@@ -49,8 +49,8 @@ void vsmProjectedBounds(mat4 viewProj, vec3 blo, vec3 bhi, out vec2 lo, out vec2
 bool vsmDirtyCell(uint map, uint mip, uint level, uint x, uint y) {
     uint s0 = vsm.page.z;
     if (level == 0u) return (vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, x, y)] & ML_VSM_DIRTY) != 0u;
-    ivec3 texel = ivec3(int((vsmHpbColumn(s0, mip) >> level) + x), int(y), int(map));
-    return texelFetch(vsmHpb, texel, int(level) - 1).x != 0u;
+    uint bit = map * vsm.order.w * 32u + vsmHpbBit(s0, mip, level, x, y);
+    return (vsmHpb[bit >> 5u] & (1u << (bit & 31u))) != 0u;
 }
 
 // HPB test: any dirty page of `mip` under the NDC rectangle, read at the level where the rectangle spans

@@ -1,8 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_samplerless_texture_functions : require
 // vsm_expand (work expansion of the mesh path, RMVSM section 4 and Fig. 8): one thread per (caster,
-// active map) (x, y). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
+// map with a dirty page) (x, y; indirect, the maps vsm_assign listed). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
 // (frustum, HPB at the level where its projected box spans at most 2x2 cells); a surviving caster's
 // meshlets are appended to the mip's meshlet-instance list (instance, map, meshlet | cone bit << 31),
 // and the mip's task-workgroup count (one VkDrawMeshTasksIndirectCommandEXT per mip, 32 meshlets per
@@ -16,9 +15,9 @@ layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer Active { uint vsmActive[]; };
+layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4) uniform utexture2DArray vsmHpb; // every level (vsm_math.h)
+layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
 layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
@@ -30,8 +29,8 @@ layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: meshlet e
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
-    if (instance >= push.casterCount || gl_GlobalInvocationID.y >= push.activeMaps) return;
-    uint map = vsmActive[gl_GlobalInvocationID.y];
+    if (instance >= push.casterCount) return;
+    uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
     uint mipsDirty = vsmDirtyMips[map];
     if (mipsDirty == 0u) return;
     GpuVsmMap m = vsmMaps[map];

@@ -1,45 +1,41 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_hpb: one level of the hierarchical page buffer, the image mip `level - 1` of every active map's
-// layer (one dispatch per level, finest first; layout in vsm_math.h). A texel of level 1 is the OR of
-// the DIRTY bits of its 2x2 pages in the page table; a texel of level l > 1 is the OR of its 2x2 texels
-// of level l - 1 (`src`). Texels outside every mip's cells are written 0, so the levels above OR zeros
-// there. vsm_cull, vsm_expand and the task shader then test at most 2x2 cells per caster or meshlet.
+// vsm_hpb: the hierarchical page buffer (layout in vsm_math.h: bits, VsmConstants.order.w words per map
+// slot, cleared for the maps in use at the frame's start). One thread per entry of the sorted request
+// list (indirect: only pages rendered this frame are DIRTY, and they are all wanted): a DIRTY entry sets
+// the bit of every HPB cell above it, level 1 (2x2 pages) to the mip's last level (one cell). vsm_cull,
+// vsm_expand and the task shader then test at most 2x2 cells per caster or meshlet.
 #include "shaders/shared/glsl_common.glsl"
-#include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_types.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = ML_VSM_BLOCK) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Active { uint vsmActive[]; };
-layout(binding = 2, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 3, r32ui) uniform readonly uimage2DArray src;  // level - 1 (level 1: not read)
-layout(binding = 4, r32ui) uniform writeonly uimage2DArray dst; // this level
-layout(push_constant) uniform Push { VsmHpbPush push; };
+layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
+layout(binding = 2, std430) readonly buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
+layout(binding = 4, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; }; // (vsm_alloc_common.glsl)
+layout(binding = 6, std430) buffer Hpb { uint vsmHpb[]; };
+
+layout(binding = 7, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = 8, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+#define vsmSorted vsmSortArgs[0]
+#define VSM_LISTS
+#include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
-    uvec2 p = gl_GlobalInvocationID.xy;
-    uvec2 size = uvec2(imageSize(dst).xy);
-    if (p.x >= size.x || p.y >= size.y || gl_WorkGroupID.z >= push.activeMaps) return;
-    uint map = vsmActive[gl_WorkGroupID.z];
-    uint any = 0u;
-    if (push.level == 1u) {
-        uint s0 = vsm.page.z, mips = vsm.page.w;
-        for (uint mip = 0u; mip < mips; ++mip) { // the mip whose level-1 cells hold column p.x
-            uint side = (s0 >> mip) >> 1u, first = vsmHpbColumn(s0, mip) >> 1u;
-            if (side == 0u || p.x < first) break;
-            if (p.x >= first + side) continue;
-            if (p.y < side)
-                for (uint dy = 0u; dy < 2u; ++dy)
-                    for (uint dx = 0u; dx < 2u; ++dx) {
-                        uint px = 2u * (p.x - first) + dx, py = 2u * p.y + dy;
-                        any |= vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, px, py)] & ML_VSM_DIRTY;
-                    }
-            break;
-        }
-    } else {
-        for (uint dy = 0u; dy < 2u; ++dy)
-            for (uint dx = 0u; dx < 2u; ++dx) any |= imageLoad(src, ivec3(2u * p.x + dx, 2u * p.y + dy, map)).x;
+    uint entry, map, mip;
+    if (gl_GlobalInvocationID.x >= vsmCounters.listCount ||
+        !vsmEntryOfOrder(vsmListRank(gl_GlobalInvocationID.x), vsm, entry, map, mip))
+        return;
+    if ((vsmTable[entry] & ML_VSM_DIRTY) == 0u) return;
+    uint s0 = vsm.page.z, side = s0 >> mip;
+    uint page = entry - map * vsm.sizes.x - vsmMipOffset(s0, mip);
+    uint x = page % side, y = page / side;
+    for (uint level = 1u; (side >> level) != 0u; ++level) {
+        uint bit = map * vsm.order.w * 32u + vsmHpbBit(s0, mip, level, x >> level, y >> level);
+        uint mask = 1u << (bit & 31u);
+        if ((vsmHpb[bit >> 5u] & mask) == 0u) atomicOr(vsmHpb[bit >> 5u], mask);
     }
-    imageStore(dst, ivec3(p, map), uvec4(any != 0u ? 1u : 0u));
 }

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_mark: per shaded pixel, each light of its cluster that has virtual shadow maps marks the pages
 // its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) plus the last page of
-// its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame.
+// its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame; the
+// first want of an entry appends it to the request list (vsm_common.glsl's vsmWant).
 // Clustered marking: the seed (RMVSM section 6) marks against every light and names this as future work.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
@@ -20,11 +21,17 @@ layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
 layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
+layout(binding = 11, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 12, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
+layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
 
 #define VSM_CONST vsm
 #define VSM_MAPS vsmMaps
 #define VSM_COVER vsmCoverage
 #define VSM_MARKS vsmMarks
+#define VSM_COUNTERS vsmCounters
+#define VSM_RANKS vsmRankBase
+#define VSM_LIST vsmList
 #define VSM_MARKING
 #include "shaders/shared/cluster_list.glsl"
 #include "shadows/virtual/vsm_common.glsl"

@@ -40,15 +40,27 @@ ML_FN uint vsmEntry(uint entriesPerMap, uint s0, uint map, uint mip, uint px, ui
 }
 
 // Hierarchical page buffer (RMVSM section 4.3, Fig. 9): for each mip m of a map, levels l = 1..log2(S_m)
-// of (S_m >> l)^2 cells, each the OR of 2x2 cells of level l - 1; level 0 is the page table's DIRTY bit.
-// Stored in one R32_UINT array image (vsm_hpb.comp): layer = map slot, image mip l - 1 = level l, width
-// S_0 >> (l - 1), height S_0 >> l. The mips of a map lie side by side: mip m's cells of level l start at
-// column vsmHpbColumn(S_0, m) >> l, row 0. That column is a multiple of 2^l wherever mip m has level l,
-// so a cell's 2x2 children never straddle two mips; texels outside every mip's cells hold 0.
+// of (S_m >> l)^2 cells, each the OR of the DIRTY bits of the 2^l x 2^l pages under it. Stored as bits in
+// one buffer (vsm_hpb.comp sets them from the request list), VsmConstants.order.w words per map slot, so
+// the number of maps is bounded by memory only (an image array would be bounded by maxImageArrayLayers).
+// Inside a map, level l is a grid of width S_0 >> (l - 1) and height S_0 >> l, levels one after another;
+// the mips of a map lie side by side: mip m's cells of level l start at column vsmHpbColumn(S_0, m) >> l,
+// row 0. Bits outside every mip's cells stay 0.
 ML_FN uint vsmHpbColumn(uint s0, uint mip) {
     uint column = 0u;
     for (uint m = 0u; m < mip; ++m) column += s0 >> m;
     return column;
+}
+// First bit of level l inside a map's HPB bits (level 1 at 0); vsmHpbLevelOffset(s0, log2(s0) + 1) bits
+// in all.
+ML_FN uint vsmHpbLevelOffset(uint s0, uint level) {
+    uint offset = 0u;
+    for (uint k = 1u; k < level; ++k) offset += (s0 >> (k - 1u)) * (s0 >> k);
+    return offset;
+}
+// Bit of cell (cx, cy) of level l of mip m, inside its map's HPB bits.
+ML_FN uint vsmHpbBit(uint s0, uint mip, uint level, uint cx, uint cy) {
+    return vsmHpbLevelOffset(s0, level) + cy * (s0 >> (level - 1u)) + (vsmHpbColumn(s0, mip) >> level) + cx;
 }
 
 // Written out so both languages sum in the same order.

@@ -34,8 +34,13 @@ void VsmPasses::recordReset(VkCommandBuffer c) const {
     // after the previous frame's reads).
     const size_t usedEntries = size_t(state_->mapsInUse()) * state_->layout().entriesPerMap;
     const VkDeviceSize used = std::max<VkDeviceSize>((usedEntries + 31) / 32 * 4, 4);
-    vkCmdFillBuffer(c, pg.marks.buffer, 0, used, 0);
-    vkCmdFillBuffer(c, pg.marks.buffer, VkDeviceSize(state_->layout().markWords) * 4, used, 0);
+    // Marks: a memset of mapsInUse x entries / 8 bytes per region (the passes then walk the request
+    // list); the HPB bits of the maps in use likewise (vsm_hpb sets them).
+    for (VkDeviceSize region = 0; region < 3; ++region)
+        vkCmdFillBuffer(c, pg.marks.buffer, region * state_->layout().markWords * 4, used, 0);
+    vkCmdFillBuffer(
+        c, pg.hpb.buffer, 0,
+        std::max<VkDeviceSize>(VkDeviceSize(state_->mapsInUse()) * state_->layout().hpbWords * 4, 4), 0);
     vkCmdFillBuffer(c, pg.dirtyMips.buffer, 0, std::max<VkDeviceSize>(state_->mapsInUse() * 4u, 4), 0);
     vkCmdFillBuffer(c, pg.drawCounts.buffer, 0, VK_WHOLE_SIZE, 0);
     if (state_->meshPath()) vkCmdFillBuffer(c, pg.meshTasks.buffer, 0, VK_WHOLE_SIZE, 0); // no task groups
@@ -51,58 +56,74 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     dispatch(d, c, programs_.mark, fc->size.x, fc->size.y, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
-              slot.constants, slot.maps, slot.coverage, pg.marks});
-    memoryBarrier(c, C, W, C, R); // marks -> scan, alloc, assign
+              slot.constants, slot.maps, slot.coverage, pg.marks, slot.counters, slot.rankBase, pg.list[0]});
+    memoryBarrier(c, C, W, C, R | W); // marks, request list and its count -> the allocation passes
 }
 
 void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const uint64_t blocks = (uint64_t(slot.orderEntries) + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK;
-    // One workgroup per block, in rows of at most maxComputeWorkGroupCount[0] (vsmBlockIndex).
-    const GroupGrid grid = linearGroupGrid(blocks, d.properties.limits.maxComputeWorkGroupCount[0]);
-    dispatch(d, c, programs_.scan, grid.x * ML_VSM_BLOCK, grid.y, NoPush{},
-             {slot.constants, slot.runs, slot.maps, slot.stale, pg.table, pg.marks, pg.lastUsed,
-              pg.blockCounts, slot.counters});
-    memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
+    const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
+    const uint32_t pool = state_->settings().poolPages;
+    // The list's count and dispatch size; the pool pass (invalidation, class counts) beside it.
+    // Every pass here reads or writes the counters (atomics) and the next may take its dispatch size
+    // from them: each barrier orders compute writes before compute reads, writes and indirect reads.
+    auto next = [&] { memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT); };
+    dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
+             {slot.constants, slot.counters, pg.sortArgs});
+    next(); // the list's count -> invalidate's counters, the sort's dispatch sizes
+    dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
+             {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
+              pg.classCounts, slot.counters});
+    next(); // table, class counts, counters -> the list passes
+    // Sort: block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
+    // merges past the list's length no groups (an empty dispatch).
+    for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
+        const uint32_t width = pass == 0 ? 0u : uint32_t(ML_VSM_BLOCK) << (pass - 1);
+        const Buffer& src = pg.list[pass % 2];
+        const Buffer& dst = pg.list[(pass + 1) % 2];
+        dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
+                         gpu::VsmSortPush{width, 0}, {slot.counters, src, dst});
+        next(); // this pass's runs -> the next pass
+    }
+    dispatchIndirect(d, c, programs_.scan, slot.counters, listArgs, NoPush{},
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
+                      pg.blockCounts, pg.list[1], pg.sortArgs});
+    next(); // block counts, last use -> alloc, avail
     dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
-             {slot.constants, slot.runs, pg.marks, pg.owners, pg.lastUsed, pg.blockCounts, pg.avail,
-              slot.counters});
-    memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
-    dispatch(d, c, programs_.assign, grid.x * ML_VSM_BLOCK, grid.y, NoPush{},
-             {slot.constants, slot.runs, pg.table, pg.marks, pg.owners, pg.lastUsed, pg.blockCounts, pg.avail,
-              pg.rendered, pg.dirtyMips, slot.counters});
-    // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.
-    memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+             {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
+    next(); // block ranks, class bases, counters -> avail, assign
+    dispatch(d, c, programs_.avail, pool, 1, NoPush{},
+             {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail});
+    next(); // the available-page list -> assign
+    dispatchIndirect(d, c, programs_.assign, slot.counters, listArgs, NoPush{},
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
+                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.dirtyMaps,
+                      pg.list[1], pg.sortArgs});
+    // Page table (DIRTY), dirty mips and maps, rendered list, the clear's and the culling's dispatch
+    // sizes -> HPB, cull, clear.
+    next(); // (the culling passes add to the counters too)
 }
 
 void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    // Rewritten whole for the maps read this frame: the previous frame's contents are discarded, after
-    // its reads (culling: compute; mesh path: task shaders). Level 1 also binds mip 0 as its source
-    // (never read there, but a storage read for the validation layer): reads and writes follow.
-    firstUseBarrier(c, pg.hpb, VK_IMAGE_LAYOUT_GENERAL, C | kTask, 0, C, R | W);
-    for (uint32_t level = 1; level <= state_->layout().hpbLevels; ++level) {
-        const uint32_t mip = level - 1;
-        // A thread per texel of the level, one group layer per active map.
-        dispatch(d, c, programs_.hpb, pg.hpb.mipWidth(mip), pg.hpb.mipHeight(mip), slot.activeCount,
-                 gpu::VsmHpbPush{level, slot.activeCount},
-                 {slot.constants, slot.active, pg.table, Descriptor(pg.hpb.mipView(level > 1 ? mip - 1 : 0)),
-                  Descriptor(pg.hpb.mipView(mip))});
-        // Level l -> level l + 1 (storage reads) and the culling's fetches (sampled reads).
-        imageBarrier(c, pg.hpb, mip, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C, W, C | kTask,
-                     R | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-    }
+    // One thread per listed (wanted) entry; the bits were cleared at the frame's start (recordReset).
+    dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
+                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.hpb,
+                      pg.list[1], pg.sortArgs});
+    // HPB bits -> the culling's reads (compute; mesh path: task shaders).
+    memoryBarrier(c, C, W, C | kTask, R);
 }
 
 void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, state_->settings().maxDrawsPerMip};
-    dispatch(d, c, programs_.cull, slot.casterCount, slot.activeCount, push,
-             {slot.constants, slot.maps, slot.active, pg.table, Descriptor(pg.hpb.view), slot.casters,
-              pg.dirtyMips, pg.draws, pg.drawInfo, pg.drawCounts, slot.counters});
+    const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxDrawsPerMip};
+    // (caster groups, maps with a dirty page): vsm_assign counted the maps into the dispatch size.
+    dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
+                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.draws, pg.drawInfo, pg.drawCounts, slot.counters});
     // Draw lists and counts -> indirect draws; draw info -> vertex shader.
     memoryBarrier(c, C, W, kIndirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -111,10 +132,10 @@ void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotInde
 void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const gpu::VsmCullPush push{slot.casterCount, slot.activeCount, state_->settings().maxMeshletsPerMip};
-    dispatch(d, c, programs_.expand, slot.casterCount, slot.activeCount, push,
-             {slot.constants, slot.maps, slot.active, pg.table, Descriptor(pg.hpb.view), slot.casters,
-              pg.dirtyMips, pg.meshletList, pg.meshTasks, slot.counters});
+    const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxMeshletsPerMip};
+    dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
+                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.meshletList, pg.meshTasks, slot.counters});
     // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
     // passes) -> task and mesh shaders.
     memoryBarrier(c, C, W, kIndirect | kTask | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
@@ -137,8 +158,8 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
             // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
             bindProgram(d, c, programs_.mesh, push,
                         {*in.vertices, *in.instances, pg.meshletList, slot.maps, slot.constants, pg.table,
-                         pg.pool, *in.meshlets, *in.meshletVertices, *in.meshletTriangles,
-                         Descriptor(pg.hpb.view), pg.meshTasks, slot.counters});
+                         pg.pool, *in.meshlets, *in.meshletVertices, *in.meshletTriangles, pg.hpb,
+                         pg.meshTasks, slot.counters});
             d.cmdDrawMeshTasksIndirect(c, pg.meshTasks.buffer, VkDeviceSize(m) * 16, 1, 16);
         } else {
             bindProgram(

@@ -43,7 +43,7 @@ std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t 
     if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
     slot.lightsWithPages = slot.lightsWithoutSlot = 0;
     const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
-    assignMapSlots(slot, lights, needs);
+    assignMapSlots(device, slot, lights, needs);
     buildFrameMaps(slot, lights, camera);
     markCoverageAndStale(slot, instances);
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
@@ -72,7 +72,7 @@ std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLig
     return needs;
 }
 
-void VirtualShadowMaps::assignMapSlots(Slot& slot, std::span<const VsmLight> lights,
+void VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
                                        const std::vector<uint8_t>& needs) {
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
     // when it comes back into view); a kind change frees them.
@@ -90,7 +90,7 @@ void VirtualShadowMaps::assignMapSlots(Slot& slot, std::span<const VsmLight> lig
             st.firstMap = ML_VSM_NO_MAP;
         }
         if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
-            st.firstMap = allocateSlots(count);
+            st.firstMap = allocateSlots(device, count);
             if (st.firstMap == ML_VSM_NO_MAP) {
                 ++slot.lightsWithoutSlot;
                 continue;
@@ -192,6 +192,7 @@ void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
             const uint32_t mip = ortho ? 0u : level;
             const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
             slot.host.runs.push_back(glm::uvec4(rank, m, mip, n));
+            slot.host.rankBase[size_t(m) * mips_ + mip] = rank;
             rank += n;
         }
     slot.orderEntries = rank;
@@ -220,7 +221,8 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
                              settings_.texelsPerPixel,
                          0, 0, 0);
-    c.order = glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, 0, 0);
+    c.order =
+        glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, settings_.requestCapacity, hpbWords_);
     lastConstants_ = c;
 
     // Upload (this slot's previous frame has completed: the module waited for its fence).
@@ -232,11 +234,15 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
+    upload(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_ * 4);
     ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
                  "vsm_casters");
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
+    zero.listGroupsY = zero.listGroupsZ = 1;
+    zero.cullGroupsX = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
+    zero.cullGroupsZ = 1;
     upload(slot.counters, &zero, sizeof(zero));
     if (settings_.probeCapacity) {
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};

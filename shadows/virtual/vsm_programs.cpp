@@ -2,6 +2,7 @@
 
 #include "vsm_alloc.comp.spv.h"
 #include "vsm_assign.comp.spv.h"
+#include "vsm_avail.comp.spv.h"
 #include "vsm_clear.comp.spv.h"
 #include "vsm_cull.comp.spv.h"
 #include "vsm_draw.frag.spv.h"
@@ -10,9 +11,12 @@
 #include "vsm_draw.vert.spv.h"
 #include "vsm_expand.comp.spv.h"
 #include "vsm_hpb.comp.spv.h"
+#include "vsm_invalidate.comp.spv.h"
+#include "vsm_list.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
 #include "vsm_scan.comp.spv.h"
+#include "vsm_sort.comp.spv.h"
 #include "vsm_view.comp.spv.h"
 
 namespace ml {
@@ -21,8 +25,12 @@ void VsmPrograms::create(const Device& d, bool meshPath) {
     auto keep = [&](ShaderModule s) -> const ShaderModule& { return shaders_.emplace_back(std::move(s)); };
     auto compute = [&](ShaderModule s) { return createComputeProgram(d, keep(std::move(s))); };
     mark = compute(ML_SHADER(d, spv_vsm_mark_comp));
+    list = compute(ML_SHADER(d, spv_vsm_list_comp));
+    sort = compute(ML_SHADER(d, spv_vsm_sort_comp));
+    invalidate = compute(ML_SHADER(d, spv_vsm_invalidate_comp));
     scan = compute(ML_SHADER(d, spv_vsm_scan_comp));
     alloc = compute(ML_SHADER(d, spv_vsm_alloc_comp));
+    avail = compute(ML_SHADER(d, spv_vsm_avail_comp));
     assign = compute(ML_SHADER(d, spv_vsm_assign_comp));
     hpb = compute(ML_SHADER(d, spv_vsm_hpb_comp));
     cull = compute(ML_SHADER(d, spv_vsm_cull_comp));
@@ -43,8 +51,8 @@ void VsmPrograms::create(const Device& d, bool meshPath) {
 }
 
 void VsmPrograms::destroy(const Device& d) {
-    for (Program* p :
-         {&mark, &scan, &alloc, &assign, &hpb, &cull, &clear, &probe, &view, &draw, &expand, &mesh})
+    for (Program* p : {&mark, &list, &sort, &invalidate, &scan, &alloc, &avail, &assign, &hpb, &cull, &clear,
+                       &probe, &view, &draw, &expand, &mesh})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

@@ -9,7 +9,7 @@
 namespace ml {
 
 struct VsmPrograms {
-    Program mark, scan, alloc, assign, hpb, cull, clear, probe, view;
+    Program mark, list, sort, invalidate, scan, alloc, avail, assign, hpb, cull, clear, probe, view;
     Program draw;   // raster path: vsm_draw.vert + vsm_draw.frag
     Program expand; // mesh path: vsm_expand.comp
     Program mesh;   // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag

@@ -141,26 +141,32 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         for (uint32_t p = 0; p < run.w; ++p)
             order.push_back({run.y * k.sizes.x + vsmMipOffset(s0, run.z) + p, run.y, run.z});
     (void)mips;
-    // vsm_scan.
-    std::vector<uint32_t> requests;
-    for (const Item& it : order) {
-        uint32_t pt = st.table[it.entry] & ~ML_VSM_DIRTY;
+    // vsm_invalidate: per physical page, its owner entry loses last frame's DIRTY bit, and VALID when
+    // stale (every owned page, whether or not its map is active: inactive maps are invalidated whole when
+    // they become active again anyway).
+    for (uint32_t p = 0; p < pool; ++p) {
+        const uint32_t e = st.owners[p];
+        if (e == ML_VSM_NO_OWNER) continue;
+        uint32_t pt = st.table[e] & ~ML_VSM_DIRTY;
         if (pt & ML_VSM_VALID) {
-            bool isStale =
-                k.options.y == 0 || (maps[it.map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, it.entry);
-            if (isStale) {
+            const uint32_t map = e / k.sizes.x;
+            if (k.options.y == 0 || (maps[map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, e)) {
                 pt &= ~ML_VSM_VALID;
                 ++c.pagesInvalidated;
             }
         }
-        if (wanted(it.entry)) {
-            c.pagesMarked += marked(it.entry);
-            if (pt & ML_VSM_ALLOCATED)
-                st.lastUsed[pt & ML_VSM_PHYS_MASK] = frame;
-            else
-                requests.push_back(it.entry);
-        }
-        st.table[it.entry] = pt;
+        st.table[e] = pt;
+    }
+    // vsm_scan over the request list (the wanted entries, in priority order).
+    std::vector<uint32_t> requests;
+    for (const Item& it : order) {
+        if (!wanted(it.entry)) continue;
+        c.pagesMarked += marked(it.entry);
+        const uint32_t pt = st.table[it.entry];
+        if (pt & ML_VSM_ALLOCATED)
+            st.lastUsed[pt & ML_VSM_PHYS_MASK] = frame;
+        else
+            requests.push_back(it.entry);
     }
     // vsm_alloc: free pages, then unmarked owners from oldest to newest age bucket, by index.
     auto pageClass = [&](uint32_t p) -> uint32_t {

@@ -1,7 +1,8 @@
 // CPU references of the virtual shadow map passes (shadows/virtual/vsm.h), for the tests:
 //   vsmMarkReference      vsm_mark.comp: the mark bits from the G-buffer, the cluster lists, the lights
 //                         and the frame's maps (same functions of vsm_math.h, same order: bit for bit);
-//   vsmAllocateReference  vsm_scan + vsm_alloc + vsm_assign: invalidation, LRU refresh, requests in
+//   vsmAllocateReference  vsm_invalidate + vsm_scan + vsm_alloc + vsm_avail + vsm_assign (the passes
+//                         walk the sorted request list and the pool): invalidation, LRU refresh, requests in
 //                         priority order, the ordered list of free and evictable pages, assignment,
 //                         eviction, fallbacks, and which pages render this frame. The page table, the
 //                         owners and the last-use frames it leaves equal the GPU's exactly.

@@ -39,8 +39,11 @@ struct VsmSettings {
     uint32_t pageSize = 64;
     // Physical pages in the shared pool (4 B per texel: 4096 pages of 64^2 = 64 MiB).
     uint32_t poolPages = 4096;
-    // Map slots (a spot light takes 1, a point light 6, a directional light clipLevels).
-    uint32_t maxMaps = 512;
+    // Map slots at most (a spot light takes 1, a point light 6, a directional light clipLevels). The slot
+    // pool starts at initialMaps and doubles when a light needs slots and none are free (page table 4 B per
+    // entry: 21.8 KiB per map at 4096^2 / 64^2). 32768 holds 4096 point lights (24,576 cube faces).
+    uint32_t maxMaps = 32768;
+    uint32_t initialMaps = 512; // the slot pool's first size (tests start it small to exercise growth)
     // Directional lights: clip levels, and the half extent (metres) of level 0; level l covers 2^l that.
     uint32_t clipLevels = 10;
     float clipHalfExtent = 8.0f;
@@ -52,6 +55,10 @@ struct VsmSettings {
     float texelsPerPixel = 1.0f;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     uint32_t maxDrawsPerMip = 16384;
+    // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
+    // up to a power of two >= 256; 4 B each, twice (the sort's ping-pong). Wanted pages past it get no
+    // page that frame and are counted (VsmStats::requestOverflow). 2^18: 64x the default pool.
+    uint32_t requestCapacity = 1u << 18;
     uint32_t kinds = 7;         // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
     bool staticLights = true;   // lights that do not move get maps
     bool movingLights = true;   // moving lights (headlights) get maps
@@ -69,7 +76,7 @@ struct VsmStats {
     uint32_t pagesMarked = 0, pagesAllocated = 0, pagesCached = 0, pagesRendered = 0, pagesInvalidated = 0,
              pagesEvicted = 0, fallbacks = 0, requests = 0, poolPages = 0, lightsWithPages = 0,
              mapsActive = 0, instancesDrawn = 0, instancesCulledHpb = 0, drawOverflow = 0,
-             lightsWithoutSlot = 0;
+             lightsWithoutSlot = 0, requestOverflow = 0;
     uint64_t poolBytes = 0, usedBytes = 0, virtualBytes = 0, atlasBytes = 0;
     // Mesh path only (zero on the vertex path, except trianglesRasterized: the indexed draws' triangles):
     // meshlets of (instance, map, mip) at each culling stage.

@@ -55,7 +55,8 @@ ML_STRUCT(VsmConstants) {
     uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution,
                    // w first word of the fallback marks (they follow the lookup marks in one buffer)
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), yzw unused
-    uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, zw unused
+    uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, z capacity
+                   // of the request list (a power of two >= ML_VSM_BLOCK), w HPB words per map slot
 };
 
 // Counters written by the VSM passes with atomics, read back when the frame's slot comes round.
@@ -87,7 +88,13 @@ ML_STRUCT(VsmCounters) {
     uint trianglesAfterTask;     // triangles of those meshlets
     uint trianglesRasterized; // triangles the mesh shader emitted (not culled as zero-area or sample-free);
                               // vertex path: triangles of the indexed draws
-    uint pad2, pad3, pad4, pad5, pad6;
+    // The request list (vsm_mark appends the priority rank of every entry wanted this frame, once):
+    uint listCount;    // entries in the list (vsm_list clamps it to the capacity, VsmConstants.order.z)
+    uint listOverflow; // wanted entries that did not fit the list (counted, never silent)
+    uint listGroupsX, listGroupsY, listGroupsZ; // the list passes' indirect dispatch: ML_VSM_BLOCK per group
+    // vsm_cull / vsm_expand's indirect dispatch: x caster groups (the CPU), y maps with a dirty page
+    // (vsm_assign appends each to the dirty-map list), z 1.
+    uint cullGroupsX, cullGroupsY, cullGroupsZ, pad7;
 };
 
 // A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.
@@ -118,17 +125,18 @@ ML_STRUCT(GpuVsmProbe) {
     uvec4 tap;   // x the receiver's biased depth the texel is compared with, yzw unused
 };
 
-// Push blocks. vsm_hpb: one level of the hierarchical page buffer. 8 bytes.
-ML_STRUCT(VsmHpbPush) {
-    uint level; // 1..log2(S_0)
-    uint activeMaps;
+// Push blocks. vsm_sort: width 0 sorts each block of ML_VSM_BLOCK list entries in shared memory; a width
+// w >= ML_VSM_BLOCK merges pairs of sorted runs of w entries. 8 bytes.
+ML_STRUCT(VsmSortPush) {
+    uint width;
+    uint pad;
 };
 
-// vsm_cull and vsm_expand: one thread per (caster, active map); `capacity` is the per-mip list size
-// (cull: draws, VsmSettings::maxDrawsPerMip; expand: meshlet entries, maxMeshletsPerMip). 12 bytes.
+// vsm_cull and vsm_expand: one thread per (caster, map with a dirty page); `capacity` is the per-mip
+// list size (cull: draws, VsmSettings::maxDrawsPerMip; expand: meshlet entries, maxMeshletsPerMip).
+// 8 bytes.
 ML_STRUCT(VsmCullPush) {
     uint casterCount;
-    uint activeMaps;
     uint capacity;
 };
 
@@ -140,14 +148,16 @@ ML_STRUCT(VsmDrawPush) {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(VsmHpbPush) == 8);
-static_assert(sizeof(VsmCullPush) == 12);
+static_assert(sizeof(VsmSortPush) == 8);
+static_assert(offsetof(VsmCounters, listGroupsX) == 116);
+static_assert(sizeof(VsmCullPush) == 8);
 static_assert(sizeof(VsmDrawPush) == 8);
 static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 128);
+static_assert(sizeof(VsmCounters) == 144);
+static_assert(offsetof(VsmCounters, cullGroupsX) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
 static_assert(sizeof(GpuCaster) == 64);
 static_assert(offsetof(GpuCaster, meshlets) == 48);

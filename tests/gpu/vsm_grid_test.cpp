@@ -1,8 +1,8 @@
-// vsm_scan and vsm_assign past 65,535 workgroups in one dimension (issue 20): 16384^2 maps of 64^2
-// pages at 256 lights are ~86,000 allocation blocks of 256 entries, dispatched as a 2-D grid that the
-// shaders linearise (gpu/program.h linearGroupGrid). The page table, owners and last-use frames after
+// 16384^2 maps of 64^2 pages at 256 lights (issue 20): once ~86,000 allocation blocks of 256 entries,
+// past 65,535 workgroups in one dimension (it aborted in dispatchThreads); now the allocation walks the
+// request list of the marked pages (issue 17). The page table, owners and last-use frames after
 // allocation equal the CPU reference (vsmAllocateReference) on the same marks, two frames (the first
-// allocates, the second keeps what it can). Before the grid this aborted in dispatchThreads.
+// allocates, the second keeps what it can).
 #include "gpu_test_util.h"
 #include "host/vsm_session.h"
 #include "shadows/virtual/vsm_reference.h"

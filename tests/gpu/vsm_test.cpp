@@ -18,6 +18,7 @@ VsmSessionOptions smallPath(uint32_t width, uint32_t height) {
     o.module.device.validation = true;
     o.module.vsm.resolution = 1024;
     o.module.vsm.poolPages = 1024;
+    o.module.vsm.maxMaps = 512; // the CPU reference's table covers every slot: keep it small
     return o;
 }
 
@@ -45,9 +46,10 @@ VsmMarkInputs markInputs(Module& m) {
     return in;
 }
 
-TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
+void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint32_t frames,
+                                         uint32_t* grownTo) {
     resetValidationCounters();
-    auto session = VsmSession::create(smallPath(192, 108));
+    auto session = VsmSession::create(options);
     ASSERT_TRUE(session.ok()) << session.error();
     VsmSession& s = *session.value();
     Module& m = *s.module;
@@ -58,7 +60,6 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     cpu.owners.assign(vsm.settings().poolPages, ML_VSM_NO_OWNER);
     cpu.lastUsed.assign(vsm.settings().poolPages, 0);
     uint64_t marked = 0, cached = 0, rendered = 0, invalidated = 0;
-    const uint32_t frames = 100;
     for (uint32_t f = 0; f < frames; ++f) {
         auto report = s.frame(f);
         ASSERT_TRUE(report.ok()) << report.error();
@@ -104,6 +105,21 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     EXPECT_GT(rendered, 0u);
     EXPECT_GT(invalidated, 0u);
     EXPECT_EQ(validationErrors(), 0u);
+    if (grownTo) *grownTo = vsm.mapCapacity();
+}
+
+TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
+    marksAndAllocationEqualCpuReference(smallPath(192, 108), 100, nullptr);
+}
+
+// The map-slot pool starts at 8 slots and grows (doubling) while lights come into view: the page table
+// is copied at each growth, so the GPU state still equals the CPU reference bit for bit every frame.
+TEST(GpuVsm, SlotPoolGrowsAndKeepsThePageTable) {
+    VsmSessionOptions o = smallPath(192, 108);
+    o.module.vsm.initialMaps = 8;
+    uint32_t grownTo = 0;
+    marksAndAllocationEqualCpuReference(o, 30, &grownTo);
+    EXPECT_GT(grownTo, 8u);
 }
 
 // The guarantee holds while the pool keeps one page per light with receivers (each light's coarsest page

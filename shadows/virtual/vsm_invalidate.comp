@@ -1,0 +1,58 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_invalidate (allocation 3/7): one thread per physical page (the pool, not the maps' virtual pages).
+// For the entry that owns the page:
+//   - clears last frame's DIRTY bit (only owned entries are ever DIRTY: vsm_assign sets it with a page);
+//   - invalidation: the page loses VALID when its light moved or its map became active (map flag), when
+//     a moved caster's old or new projected bounds overlap it (the CPU's stale bits, one per entry), or
+//     always with caching off.
+// Then counts the pages of each class (vsm_alloc_common.glsl) per block of ML_VSM_BLOCK pages, for
+// vsm_alloc's prefix sum of the available-page list.
+#include "shaders/shared/glsl_common.glsl"
+#include "shadows/virtual/vsm_types.h"
+
+layout(local_size_x = ML_VSM_BLOCK) in;
+
+layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 2, std430) readonly buffer Stale { uint vsmStale[]; };
+layout(binding = 3, std430) buffer Table { uint vsmTable[]; };
+layout(binding = 4, std430) readonly buffer Marks { uint vsmMarks[]; };
+layout(binding = 5, std430) readonly buffer Owner { uint vsmOwner[]; };
+layout(binding = 6, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
+layout(binding = 7, std430) writeonly buffer ClassCounts { uint vsmClassCounts[]; }; // per block, class
+layout(binding = 8, std430) buffer Counters { VsmCounters vsmCounters; };
+
+#define VSM_PAGE_CLASSES
+#define VSM_NO_RUNS
+#include "shadows/virtual/vsm_alloc_common.glsl"
+
+shared uint sClass[kVsmClasses];
+
+void main() {
+    uint p = gl_GlobalInvocationID.x, l = gl_LocalInvocationIndex;
+    if (l < kVsmClasses) sClass[l] = 0u;
+    barrier();
+    if (p < vsm.sizes.z) {
+        uint entry = vsmOwner[p];
+        if (entry != ML_VSM_NO_OWNER) {
+            uint pt = vsmTable[entry];
+            uint before = pt;
+            pt &= ~ML_VSM_DIRTY;
+            if ((pt & ML_VSM_VALID) != 0u) {
+                uint map = entry / vsm.sizes.x;
+                bool stale = vsm.options.y == 0u || (vsmMaps[map].info.y & ML_VSM_MAP_INVALIDATE) != 0u ||
+                             (vsmStale[entry >> 5u] & (1u << (entry & 31u))) != 0u;
+                if (stale) {
+                    pt &= ~ML_VSM_VALID;
+                    atomicAdd(vsmCounters.pagesInvalidated, 1u);
+                }
+            }
+            if (pt != before) vsmTable[entry] = pt;
+        }
+        uint c = vsmPageClass(p);
+        if (c < kVsmClasses) atomicAdd(sClass[c], 1u); // counts: the same whatever the order
+    }
+    barrier();
+    if (l < kVsmClasses) vsmClassCounts[gl_WorkGroupID.x * kVsmClasses + l] = sClass[l];
+}

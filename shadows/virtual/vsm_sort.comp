@@ -1,0 +1,57 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_sort (allocation 2/7): sorts the request list by priority rank, so that the allocation is the same
+// whatever order the atomics of vsm_mark appended in (and a CPU reference reproduces it bit for bit).
+// Ranks are unique (one per wanted entry). Indirect over the list (vsm_list), ping-ponging two buffers:
+//   width 0: each block of ML_VSM_BLOCK entries is sorted in shared memory (bitonic network);
+//   width w: runs of w sorted entries are merged pairwise; an entry's place in the merged run is its
+//            index in its own run plus the number of smaller keys in the sibling run (binary search).
+// log2(capacity / ML_VSM_BLOCK) merge passes follow the block sort: n log^2 n work for n wanted pages.
+#include "shaders/shared/glsl_common.glsl"
+#include "shadows/virtual/vsm_types.h"
+
+layout(local_size_x = ML_VSM_BLOCK) in;
+
+layout(binding = 0, std430) readonly buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 1, std430) readonly buffer Src { uint src[]; };
+layout(binding = 2, std430) writeonly buffer Dst { uint dst[]; };
+layout(push_constant) uniform Push { VsmSortPush push; };
+
+shared uint sKeys[ML_VSM_BLOCK];
+
+void main() {
+    uint n = vsmCounters.listCount;
+    uint i = gl_GlobalInvocationID.x, l = gl_LocalInvocationIndex;
+    if (push.width == 0u) {
+        sKeys[l] = i < n ? src[i] : 0xFFFFFFFFu; // padding sorts last (ranks are below 2^32 - 1)
+        for (uint k = 2u; k <= ML_VSM_BLOCK; k <<= 1u)
+            for (uint j = k >> 1u; j > 0u; j >>= 1u) {
+                barrier();
+                uint p = l ^ j;
+                if (p > l) {
+                    uint a = sKeys[l], b = sKeys[p];
+                    bool up = (l & k) == 0u;
+                    if ((a > b) == up) {
+                        sKeys[l] = b;
+                        sKeys[p] = a;
+                    }
+                }
+            }
+        barrier();
+        if (i < n) dst[i] = sKeys[l];
+        return;
+    }
+    if (i >= n) return;
+    uint w = push.width, run = i / w, sibling = run ^ 1u, key = src[i];
+    uint lo = sibling * w, hi = min(lo + w, n), before = 0u;
+    if (lo < n) { // the sibling's keys below `key`
+        uint a = lo, b = hi;
+        while (a < b) {
+            uint mid = (a + b) / 2u;
+            if (src[mid] < key) a = mid + 1u;
+            else b = mid;
+        }
+        before = a - lo;
+    }
+    dst[min(run, sibling) * w + (i - run * w) + before] = key;
+}
