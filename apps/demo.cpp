@@ -140,6 +140,8 @@ Result<void> parseModule(const cli::Args& args, DemoOptions& d) {
     mo.culling = d.culling;
     mo.statistics = !args.has("--no-stats");
     mo.device.window = window;
+    if (window)
+        if (auto r = Window::prepareDevice(mo.device); !r) return r;
     mo.timing = timing == "fenced" && !window ? TimingChoice::Fenced : TimingChoice::Timestamps;
     mo.vsm.enabled = dynamic == "vsm";
     mo.vsm.raster = raster.value();

@@ -30,6 +30,14 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImag
 }
 } // namespace
 
+Result<void> Window::prepareDevice(DeviceOptions& options) {
+    if (!glfwInit())
+        return fail("--window: GLFW could not initialise (no display? DISPLAY is unset or unreachable)");
+    options.window = true;
+    options.windowExtensions = &glfwGetRequiredInstanceExtensions;
+    return {};
+}
+
 Result<std::unique_ptr<Window>> Window::open(Module& module, uint32_t width, uint32_t height) {
     std::unique_ptr<Window> w(new Window());
     w->module_ = &module;

@@ -15,6 +15,9 @@ namespace ml {
 
 class Window {
   public:
+    // Before Module::create: initialises GLFW and hands its surface extensions to the module's device
+    // (the module links no window library).
+    static Result<void> prepareDevice(DeviceOptions& options);
     static Result<std::unique_ptr<Window>> open(Module& module, uint32_t width, uint32_t height);
     ~Window();
     bool shouldClose() const;

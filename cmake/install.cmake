@@ -1,5 +1,6 @@
 # Install rules for a host engine: included by the top-level CMakeLists.txt when ML_INSTALL is on.
 #
+#   include/manylights/manylights.h             #include <manylights/manylights.h>: forwards to
 #   include/manylights/engine/manylights.h      the public header: API types only, and the headers it
 #   include/manylights/io/result.h, gpu/device_types.h, engine/pass_times.h   includes
 #   include/manylights/shadows/static/static_types.h, shadows/virtual/vsm_settings.h
@@ -9,7 +10,9 @@
 #   include/manylights/shaders/shared/*.h       that make or read bakes, and what it includes
 #   include/manylights/io/*.h
 #   lib/libmanylights_module.a, libmanylights_static.a, libmanylights_io.a
-#   lib/cmake/manylights/manylights-config.cmake (+ version, targets): imported target manylights::module
+#   lib/cmake/manylights/manylights-config.cmake (+ version, targets): imported target manylights::manylights
+#                                               (manylights::module: the same, an alias)
+# Installed headers include each other as <manylights/...>; a host's include path gets include/ only.
 #   lib/pkgconfig/manylights.pc
 #
 # The engine's internals (device.h, program.h, resources.h, profiler.h, gbuffer.h, module_impl.h, lights/,
@@ -28,10 +31,22 @@ set(ML_PUBLIC_HEADERS engine/manylights.h engine/manylights_diagnostics.h io/res
 file(GLOB ML_LIBRARY_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
   ${PROJECT_SOURCE_DIR}/shadows/static/*.h ${PROJECT_SOURCE_DIR}/shaders/shared/*.h ${PROJECT_SOURCE_DIR}/io/*.h)
 list(APPEND ML_PUBLIC_HEADERS ${ML_LIBRARY_HEADERS})
+# Installed copies with their quoted includes of the module's folders rewritten to <manylights/...>:
+# a host has only include/ on its path, so the module's engine/, io/, shaders/ never shadow (or are
+# shadowed by) folders of the host's own. Regenerated whenever a header changes (configure dependency).
+set(ML_STAGED_INCLUDE ${PROJECT_BINARY_DIR}/installed_include/manylights)
 foreach(header ${ML_PUBLIC_HEADERS})
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${header})
+  file(READ ${PROJECT_SOURCE_DIR}/${header} text)
+  string(REGEX REPLACE "#include \"((engine|gpu|io|lights|shaders|shadows|culling)/[^\"]+)\""
+                       "#include <manylights/\\1>" text "${text}")
+  file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/${header} CONTENT "${text}" @ONLY)
   get_filename_component(dir ${header} DIRECTORY)
-  install(FILES ${PROJECT_SOURCE_DIR}/${header} DESTINATION ${ML_INSTALL_INCLUDE}/${dir} COMPONENT manylights)
+  install(FILES ${ML_STAGED_INCLUDE}/${header} DESTINATION ${ML_INSTALL_INCLUDE}/${dir} COMPONENT manylights)
 endforeach()
+file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/manylights.h CONTENT
+     "// The host's entry point: #include <manylights/manylights.h> (include/ on the path, nothing else).\n#pragma once\n#include <manylights/engine/manylights.h>\n")
+install(FILES ${ML_STAGED_INCLUDE}/manylights.h DESTINATION ${ML_INSTALL_INCLUDE} COMPONENT manylights)
 
 install(TARGETS manylights_module manylights_static manylights_io EXPORT manylightsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT manylights)
@@ -46,6 +61,5 @@ install(FILES ${PROJECT_BINARY_DIR}/manylights-config.cmake ${PROJECT_BINARY_DIR
 # pkg-config: relocatable (prefix from the .pc file's own folder), so `cmake --install --prefix P` works.
 file(RELATIVE_PATH ML_PC_TO_PREFIX /root/${CMAKE_INSTALL_LIBDIR}/pkgconfig /root)
 string(REGEX REPLACE "/$" "" ML_PC_TO_PREFIX "${ML_PC_TO_PREFIX}")
-string(REPLACE ";" " -D" ML_PC_DEFS "-D${ML_DEFS}")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/manylights.pc.in ${PROJECT_BINARY_DIR}/manylights.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/manylights.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT manylights)

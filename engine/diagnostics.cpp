@@ -92,6 +92,10 @@ SceneCounts sceneCounts(const Module& module) {
     return {uint32_t(m.meshes.size()), uint32_t(m.instances.size()), uint32_t(m.meshlets.meshlets.size())};
 }
 
+uint64_t deviceWaitCount(const Module& module) {
+    return state(module).deviceWaits;
+}
+
 bool vsmMeshPath(const Module& module) {
     return state(module).vsm.meshPath();
 }

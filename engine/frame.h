@@ -35,8 +35,9 @@ struct FrameContext {
     // Targets. gbuffer: the module's own G-buffer (it draws it), null for the host's. The G-buffer views
     // are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten whole each frame.
     const GBufferTargets* gbuffer = nullptr;
-    const Image* hdrImage = nullptr;
-    const Image* outputImage = nullptr; // the module's own output (null: the host's, already GENERAL)
+    const Image* hdrImage = nullptr;                 // the module's: full-size (own targets) or a 1x1 stub
+    const Image* outputImage = nullptr;              // likewise (the host's output arrives GENERAL)
+    EvaluateOutputs outputs = EvaluateOutputs::Both; // which of hdrView / toneView the evaluation writes
     VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;
     VkImageView output = VK_NULL_HANDLE;                             // the debug views' target
     VkImageView hdrView = VK_NULL_HANDLE, toneView = VK_NULL_HANDLE; // the evaluation's two outputs

@@ -146,13 +146,12 @@ void EvaluationOutputsPass::record(FrameContext& f) {
     // (copies, blits) reach the compute stage through the frame-begin barrier.
     imageBarrier(f.cmd, f.hdrImage->image, f.hdrImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
                  VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
-    if (f.outputImage)
-        imageBarrier(f.cmd, f.outputImage->image, f.outputImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
-                     VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
+    imageBarrier(f.cmd, f.outputImage->image, f.outputImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
 }
 
 void EvaluationPass::record(FrameContext& f) {
-    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.hdrView, f.toneView);
+    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.outputs, f.hdrView, f.toneView);
 }
 
 void VsmProbePass::record(FrameContext& f) {
@@ -164,8 +163,10 @@ void StatisticsFramePass::record(FrameContext& f) {
 }
 
 bool DebugViewPass::enabled(const FrameContext& f) const {
-    return (f.view == DebugView::Vsm && vsm.enabled() && !f.hdrOutput) ||
-           f.view == DebugView::LightsEvaluated || f.view == DebugView::LightsReaching;
+    // The views write RGBA8 colours: none in HDR mode (the output is RGBA16F radiance).
+    if (f.hdrOutput) return false;
+    return (f.view == DebugView::Vsm && vsm.enabled()) || f.view == DebugView::LightsEvaluated ||
+           f.view == DebugView::LightsReaching;
 }
 
 void DebugViewPass::record(FrameContext& f) {

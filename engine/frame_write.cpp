@@ -10,21 +10,33 @@
 namespace ml {
 
 uint32_t Module::Impl::beginFrame() {
-    if (geometryDirty) uploadGeometry();
-    if (shadowsDirty || recordOfLight.size() != lights.size()) uploadShadows();
+    // No device-wide wait here (engine/module_uploads.cpp): shared buffers are replaced and the old ones
+    // retired; the slot's own buffers are rewritten in place, its previous frame being done.
+    releaseRetired(false);
+    if (meshesDirty) uploadMeshes();
+    uploadShadowWords();
     const Device& d = *device;
     const uint32_t slotIndex = uint32_t(frameIndex % slots.size());
     Slot& slot = slots[slotIndex];
     if (slot.pending) collectSlot(slotIndex); // the host waited for this slot's previous frame
+    const size_t instanceSlots = std::max<size_t>(instances.size(), 1);
+    ensureBuffer(d, slot.instances, instanceSlots * sizeof(GpuInstance), kStorageBufferUsage, "instances");
+    ensureBuffer(d, slot.draws, instanceSlots * sizeof(VkDrawIndexedIndirectCommand),
+                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
+    writeShadowRecords(slot);
 
     const CullingMode mode = culling;
     const ClusterGrid grid =
         mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
-        vkDeviceWaitIdle(d.device);
+        // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
+        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits})
+            retire(*b);
         cull.resize(d, grid, poolOverride);
         cullingMode = mode;
     }
+    evaluate.prepare(d, ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
+                                   : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly));
     writeFrame(slot, slotIndex, grid, mode);
     return slotIndex;
 }
@@ -40,16 +52,23 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.view = view;
     f.hdrOutput = hdrOutput;
     f.gbuffer = ownTargets ? &targets : nullptr;
+    // The module's two evaluation images: full-size with its own targets, 1x1 stubs with the host's
+    // (engine/module_targets.cpp); both transitioned each frame.
     f.hdrImage = &hdr;
-    f.outputImage = ownTargets ? &output : nullptr;
-    f.depth = ownTargets ? targets.depth.view : host.depth;
-    f.normal = ownTargets ? targets.normal.view : host.normal;
-    f.albedo = ownTargets ? targets.albedo.view : host.albedo;
-    f.output = ownTargets ? output.view : host.output;
-    // HDR-only output: the host's output view (RGBA16F) takes the HDR radiance; the tone-mapped binding
-    // gets the module's own output image, which the shader then never writes.
-    f.hdrView = hdrOutput && !ownTargets ? host.output : hdr.view;
-    f.toneView = hdrOutput ? output.view : f.output;
+    f.outputImage = &output;
+    f.depth = ownTargets ? targets.depth.view : host.depth.view;
+    f.normal = ownTargets ? targets.normal.view : host.normal.view;
+    f.albedo = ownTargets ? targets.albedo.view : host.albedo.view;
+    f.output = ownTargets ? output.view : host.output.view;
+    if (ownTargets) { // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
+        f.outputs = hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both;
+        f.hdrView = hdr.view;
+        f.toneView = output.view;
+    } else { // the host's output takes what the mode writes; the other binding gets the stub
+        f.outputs = hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly;
+        f.hdrView = hdrOutput ? host.output.view : hdr.view;
+        f.toneView = hdrOutput ? output.view : host.output.view;
+    }
     f.width = width;
     f.height = height;
     f.frame = &slot.frame;
@@ -59,7 +78,7 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.instances = &slot.instances;
     f.vertices = &vertexBuffer;
     f.indices = &indexBuffer;
-    f.draws = &drawBuffer;
+    f.draws = &slot.draws;
     f.instanceCount = uint32_t(instances.size());
     f.wideLights = &slot.wide;
     f.wideCount = slot.wideCount;
@@ -68,7 +87,7 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
                  f.depth, f.normal, f.albedo, width,        height};
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
     f.shadows = {&staticWords,
-                 &shadowRecords,
+                 &slot.shadowRecords,
                  vsmOn ? &vsm.constants(slotIndex) : f.frame,
                  vsmOn ? &vsm.maps(slotIndex) : &staticWords,
                  vsmOn ? &vsm.coverage(slotIndex) : &staticWords,
@@ -114,16 +133,19 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
         if (!lightAlive[i]) continue;
         if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
         gl[visibleIds.size()] = toGpuLight(l, i);
-        gl[visibleIds.size()].info.z = recordOfLight[i];
+        gl[visibleIds.size()].info.z = shadowRecordOf(i);
         visibleIds.push_back(i);
     }
     const uint32_t visible = uint32_t(visibleIds.size());
 
     // Instances, and what the virtual shadow maps need of them and of the lights.
     auto* inst = slot.instances.as<GpuInstance>();
+    auto* draws = slot.draws.as<VkDrawIndexedIndirectCommand>();
     std::vector<VsmInstance> casters(instances.size());
     for (size_t i = 0; i < instances.size(); ++i) {
         const InstanceData& id = instances[i];
+        const MeshRange& mr = meshes[id.mesh];
+        draws[i] = {id.alive ? mr.indexCount : 0u, 1, mr.firstIndex, int32_t(mr.firstVertex), uint32_t(i)};
         inst[i].model = id.transform;
         inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
         inst[i].albedo = glm::vec4(id.albedo, 1.0f);

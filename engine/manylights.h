@@ -68,8 +68,9 @@ struct ModuleOptions {
     bool statistics = false; // per-pixel light counts: a pass of its own (a brute-force loop)
     // false: the output is tone-mapped sRGB values in an RGBA8 UNORM image (an sRGB swapchain would apply
     // gamma twice: copy into a UNORM image, or use hdrOutput). true: HostTargets::output must be an
-    // RGBA16F storage view and receives linear HDR radiance (times exposure not applied); with
-    // module-owned targets, the HDR image is outputImage() and readOutput refuses.
+    // RGBA16F storage image and receives linear HDR radiance (times exposure not applied); with
+    // module-owned targets, the HDR image is outputImage() and readOutput refuses. The initial mode:
+    // Module::setHdrOutput switches it later.
     bool hdrOutput = false;
     VsmSettings vsm; // virtual shadow maps for dynamic casters (vsm.enabled)
     uint32_t framesInFlight = 2;
@@ -114,17 +115,35 @@ struct CameraDesc {
     glm::vec2 jitter{0.0f};
 };
 
-// G-buffer images the host renders itself, with Module::viewProjection(). Formats: depth D32_SFLOAT,
-// reversed Z (cleared to 0, compare GREATER: 1 at the near plane, 0 at the far plane and the sky),
-// normal RGBA16F (world-space unit normal in xyz), albedo RGBA8 (linear). All three in
-// SHADER_READ_ONLY_OPTIMAL when record() runs; output is RGBA8 storage in GENERAL layout. record()
-// leaves the output written by a compute shader and made visible to copy, fragment and compute reads
-// only: a host that reads it otherwise (e.g. presents it) adds its own barrier from
-// COMPUTE_SHADER / SHADER_STORAGE_WRITE.
+// One image the host hands over (setTargets): the image, a 2D view of its first mip and layer, and what the
+// image was created with (VkImageCreateInfo's format, extent and usage), so that setTargets can check them.
+struct HostImage {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkExtent2D extent{0, 0};
+    VkImageUsageFlags usage = 0;
+};
+
+// G-buffer images the host renders itself, with Module::viewProjection(). Required (setTargets refuses
+// anything else with one line naming the target and what is wrong; docs/integration.md has the table):
+//   depth   D32_SFLOAT, SAMPLED usage, reversed Z (cleared to 0, compare GREATER: 1 at the near plane,
+//           0 at the far plane and the sky)
+//   normal  R16G16B16A16_SFLOAT, SAMPLED (world-space unit normal in xyz)
+//   albedo  R8G8B8A8_UNORM, SAMPLED (linear)
+//   output  STORAGE; R8G8B8A8_UNORM (tone-mapped sRGB values) or, in HDR mode, R16G16B16A16_SFLOAT
+//           (linear radiance, exposure not applied)
+// Every extent at least width x height. Depth, normal and albedo in SHADER_READ_ONLY_OPTIMAL when the
+// command buffer reaches record()'s commands, their writes made visible to COMPUTE_SHADER sampled reads;
+// the output in GENERAL (its old contents are overwritten). record() leaves the output written by a
+// compute shader and made visible to copy, fragment and compute reads only: a host that reads it otherwise
+// (e.g. presents it) adds its own barrier from COMPUTE_SHADER / SHADER_STORAGE_WRITE.
 struct HostTargets {
     uint32_t width = 0, height = 0;
-    VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;
-    VkImageView output = VK_NULL_HANDLE;
+    HostImage depth, normal, albedo, output;
+    // Set: the output mode these targets are for (setHdrOutput's, switched together with the targets);
+    // unset: the module's current mode.
+    std::optional<bool> hdrOutput;
 };
 
 struct FrameStats {
@@ -213,8 +232,14 @@ class Module {
 
     // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).
     Result<void> createTargets(uint32_t width, uint32_t height);
-    // Host-owned G-buffer (record() skips the G-buffer pass).
+    // Host-owned G-buffer (record() skips the G-buffer pass). Checked against HostTargets' table.
     Result<void> setTargets(const HostTargets& targets);
+    // LDR (tone-mapped RGBA8) or HDR (linear RGBA16F) output from the next record() on, without rebuilding
+    // anything: module-owned targets hold both images (outputImage() follows the mode); host targets must
+    // already have an output of the mode's format (else refused: pass HostTargets::hdrOutput to setTargets
+    // with the new output instead). ModuleOptions::hdrOutput is the initial mode.
+    Result<void> setHdrOutput(bool hdr);
+    bool hdrOutput() const;
 
     // Records the frame's passes into the host's command buffer.
     Result<void> record(VkCommandBuffer cmd);

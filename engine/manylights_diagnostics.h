@@ -55,6 +55,11 @@ struct SceneCounts {
 };
 SceneCounts sceneCounts(const Module& module);
 
+// vkDeviceWaitIdle calls the module has made since create() (docs/integration.md lists the calls that
+// still wait: bakeStaticShadows, the module's destruction, readOutput's and submitFrame's queue waits
+// are not device waits and are not counted).
+uint64_t deviceWaitCount(const Module& module);
+
 // Whether the virtual shadow maps draw pages with task and mesh shaders (VsmRaster::Auto resolved at
 // create()); false when the maps are off or on the vertex path.
 bool vsmMeshPath(const Module& module);

@@ -51,9 +51,6 @@ Module::~Module() {
 TimingMode Module::timingMode() const {
     return impl_->timing;
 }
-VkImage Module::outputImage() const {
-    return impl_->hdrOutput ? impl_->hdr.image : impl_->output.image;
-}
 uint32_t Module::lightCount() const {
     uint32_t n = 0;
     for (uint8_t alive : impl_->lightAlive) n += alive;
@@ -150,7 +147,7 @@ void Module::Impl::init() {
     cull.create(d);
     vsm.create(d, vsmSettings, uint32_t(slots.size()));
     if (vsm.enabled()) vsmPasses.create(d, vsm);
-    evaluate.create(d, hdrOutput);
+    evaluate.create(d);
     statisticsPass.create(d);
     profiler.create(d, uint32_t(slots.size()), passTimerNames());
     profiler.fenced = timing == TimingMode::Fenced;
@@ -167,7 +164,7 @@ void Module::Impl::init() {
 
 void Module::Impl::destroy() {
     const Device& d = *device;
-    vkDeviceWaitIdle(d.device);
+    waitIdle();
     gbuffer.destroy(d);
     cull.destroy(d);
     evaluate.destroy(d);
@@ -182,16 +179,14 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.slices);
         destroyBuffer(d, s.wide);
         destroyBuffer(d, s.instances);
+        destroyBuffer(d, s.draws);
+        destroyBuffer(d, s.shadowRecords);
     }
-    for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords,
-                      &meshletBuffer, &meshletVertexBuffer, &meshletTriangleBuffer})
+    for (Buffer* b : {&vertexBuffer, &indexBuffer, &readback, &staticWords, &meshletBuffer,
+                      &meshletVertexBuffer, &meshletTriangleBuffer})
         destroyBuffer(d, *b);
     destroyTargets();
-}
-
-void Module::Impl::destroyTargets() {
-    const Device& d = *device;
-    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &hdr, &output}) destroyImage(d, *i);
+    releaseRetired(true);
 }
 
 Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
@@ -228,7 +223,7 @@ Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
     m.vertices.insert(m.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
     m.indices.insert(m.indices.end(), mesh.indices.begin(), mesh.indices.end());
     m.meshes.push_back(r);
-    m.geometryDirty = true;
+    m.meshesDirty = true;
     return MeshId(m.meshes.size() - 1);
 }
 
@@ -267,8 +262,7 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
     if (!std::isfinite(albedo.x) || !std::isfinite(albedo.y) || !std::isfinite(albedo.z) || albedo.x < 0 ||
         albedo.y < 0 || albedo.z < 0)
         return fail("addInstance: albedo must be finite and >= 0");
-    Impl::InstanceData data{mesh, transform, albedo, dynamic};
-    m.geometryDirty = true;
+    Impl::InstanceData data{mesh, transform, albedo, dynamic}; // reaches the GPU with the next frame's slot
     if (!m.freeInstances.empty()) {
         const uint32_t index = m.freeInstances.back();
         m.freeInstances.pop_back();
@@ -288,7 +282,6 @@ Result<void> Module::removeInstance(InstanceId id) {
     if (!index) return fail(index.error());
     impl_->instances[index.value()].alive = false;
     impl_->freeInstances.push_back(index.value());
-    impl_->geometryDirty = true;
     return {};
 }
 
@@ -337,7 +330,7 @@ Result<LightId> Module::addLight(const LightDesc& light) {
         m.lightAlive[index] = 1;
         m.lightGeneration[index] = (m.lightGeneration[index] + 1) & ((1u << (32 - kLightIndexBits)) - 1);
         m.shadows[index] = {};
-        m.shadowsDirty = true;
+        m.touchShadow(index);
         return LightId(makeId(index, m.lightGeneration[index], kLightIndexBits));
     }
     if (m.lights.size() >= ML_MAX_LIGHTS)
@@ -354,7 +347,7 @@ Result<void> Module::removeLight(LightId id) {
     if (!index) return fail(index.error());
     impl_->lightAlive[index.value()] = 0;
     impl_->shadows[index.value()] = {};
-    impl_->shadowsDirty = true;
+    impl_->touchShadow(index.value());
     impl_->freeLights.push_back(index.value());
     return {};
 }
@@ -364,11 +357,10 @@ Result<void> Module::setLight(LightId id, const LightDesc& light) {
     if (!index) return fail(index.error());
     const uint32_t i = index.value();
     if (auto v = validateLight(light); !v) return fail("light " + std::to_string(id) + ": " + v.error());
-    if (light.kind != impl_->lights[i].kind) { // its bakes were made for the other kind's frustums
+    if (light.kind != impl_->lights[i].kind) // its bakes were made for the other kind's frustums
         impl_->shadows[i] = {};
-        impl_->shadowsDirty = true;
-    }
     impl_->lights[i] = light;
+    impl_->touchShadow(i); // castsShadows may have changed: the light's records are rewritten
     return {};
 }
 
@@ -399,7 +391,7 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
                                                    : ": a directional light needs an orthographic bake"));
     if (shadow.method == StaticMethod::None) {
         m.shadows[id][shadow.face] = {};
-        m.shadowsDirty = true;
+        m.touchShadow(id);
         return {};
     }
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
@@ -421,7 +413,8 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
                     std::to_string(bytes >> 20) + " MiB, beyond the device's storage buffer range of " +
                     std::to_string(range >> 20) + " MiB");
     m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
-    m.shadowsDirty = true;
+    m.touchShadow(id);
+    m.wordsPending = true;
     return {};
 }
 
@@ -430,7 +423,7 @@ void Module::clearStaticShadow(LightId light) {
     if (!index) return;
     const uint32_t id = index.value();
     impl_->shadows[id] = {};
-    impl_->shadowsDirty = true; // all faces
+    impl_->touchShadow(id); // all faces
 }
 
 Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolution,
@@ -494,46 +487,9 @@ Result<void> Module::setShadowFilter(uint32_t radius) {
         return fail("setShadowFilter: PCF radius " + std::to_string(radius) + " > " +
                     std::to_string(ML_MAX_PCF_RADIUS));
     impl_->pcfRadius = radius;
-    impl_->shadowsDirty = true;
+    impl_->recordsEpoch++; // every record carries the radius
     impl_->vsm.setPcfRadius(radius);
     return {};
-}
-
-void Module::Impl::uploadShadows() {
-    const Device& d = *device;
-    vkDeviceWaitIdle(d.device); // bakes change at load time; frames in flight may read the buffers
-    records.clear();
-    recordOfLight.assign(lights.size(), ML_NO_SHADOW);
-    size_t words = 0;
-    for (const auto& faces : shadows)
-        for (const auto& s : faces) words += s.words.size();
-    ensureBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words");
-    uint32_t base = 0;
-    for (size_t i = 0; i < shadows.size(); ++i) {
-        if (!lightAlive[i] || !lights[i].castsShadows) continue;
-        const uint32_t faceCount = lights[i].kind == LightKind::Point ? 6u : 1u;
-        bool any = false;
-        for (uint32_t f = 0; f < faceCount; ++f) any |= shadows[i][f].method != StaticMethod::None;
-        if (!any) continue;
-        // Consecutive records, one per face; a face without a bake gets method 0 (unshadowed).
-        recordOfLight[i] = uint32_t(records.size());
-        for (uint32_t f = 0; f < faceCount; ++f) {
-            const StaticShadow& s = shadows[i][f];
-            if (s.method == StaticMethod::None) {
-                records.push_back(gpu::GpuShadowRecord{});
-                continue;
-            }
-            upload(staticWords, s.words.data(), s.words.size() * 4, size_t(base) * 4);
-            records.push_back(makeShadowRecord(s.method, s.frustum, base,
-                                               staticResolution(s.method, s.words.data()), pcfRadius));
-            base += uint32_t(s.words.size());
-        }
-    }
-    ensureBuffer(d, shadowRecords, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage,
-                 "shadow_records");
-    if (!records.empty())
-        upload(shadowRecords, records.data(), records.size() * sizeof(gpu::GpuShadowRecord));
-    shadowsDirty = false;
 }
 
 Result<void> Module::setCamera(const CameraDesc& c) {
@@ -571,83 +527,6 @@ glm::mat4 Module::viewProjection() const {
     return m.projection * m.view;
 }
 
-Result<void> Module::createTargets(uint32_t width, uint32_t height) {
-    if (width == 0 || height == 0 || width > 16384 || height > 16384)
-        return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1x1..16384x16384");
-    auto& m = *impl_;
-    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
-    vkDeviceWaitIdle(m.device->device);
-    m.destroyTargets();
-    m.targets = m.gbuffer.createTargets(*m.device, width, height);
-    m.ownTargets = true;
-    m.width = width;
-    m.height = height;
-    m.createOutput(true);
-    return {};
-}
-
-Result<void> Module::setTargets(const HostTargets& t) {
-    if (!t.width || !t.height || !t.depth || !t.normal || !t.albedo || !t.output)
-        return fail(
-            "setTargets: width, height and the depth, normal, albedo and output views are all required");
-    auto& m = *impl_;
-    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), t.width, t.height, false); !r)
-        return fail("setTargets: " + r.error());
-    vkDeviceWaitIdle(m.device->device);
-    m.destroyTargets();
-    m.ownTargets = false;
-    m.width = t.width;
-    m.height = t.height;
-    m.host = t;
-    m.createOutput(false);
-    return {};
-}
-
-void Module::Impl::createOutput(bool withOutput) {
-    hdr = createImage(*device, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
-                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr");
-    // HDR-only output keeps a small RGBA8 image for the tone-mapped binding, which is then never written.
-    if (hdrOutput && !withOutput)
-        output =
-            createImage(*device, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, "unused_output");
-    if (withOutput)
-        output = createImage(*device, width, height, VK_FORMAT_R8G8B8A8_UNORM,
-                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output");
-    cullingMode = CullingMode(~0u); // force resize of the cluster buffers
-}
-
-void Module::Impl::uploadGeometry() {
-    const Device& d = *device;
-    vkDeviceWaitIdle(d.device); // geometry changes are rare (load time); frames in flight may read it
-    ensureBuffer(d, vertexBuffer, vertices.size() * sizeof(MeshVertex), kStorageBufferUsage, "vertices");
-    ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
-    if (!vertices.empty()) upload(vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex));
-    if (!indices.empty()) upload(indexBuffer, indices.data(), indices.size() * 4);
-    for (auto [b, data, bytes, name] :
-         {std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
-                     meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), "meshlets"},
-          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(),
-                     meshlets.vertices.size() * 4, "meshlet_vertices"},
-          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(),
-                     meshlets.triangles.size() * 4, "meshlet_triangles"}}) {
-        ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name);
-        if (bytes) upload(*b, data, bytes);
-    }
-    ensureBuffer(d, drawBuffer, instances.size() * sizeof(VkDrawIndexedIndirectCommand),
-                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
-    auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
-    for (size_t i = 0; i < instances.size(); ++i) {
-        const MeshRange& r = meshes[instances[i].mesh];
-        draws[i] = {instances[i].alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex),
-                    uint32_t(i)};
-    }
-    for (auto& s : slots)
-        ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage,
-                     "instances");
-    geometryDirty = false;
-}
-
 Result<void> Module::record(VkCommandBuffer cmd) {
     auto& m = *impl_;
     if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
@@ -655,6 +534,12 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (!m.cameraSet) return fail("record: no camera (call setCamera or setCameraMatrices first)");
     if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)
         return fail("record: no command buffer (the module records into the host's)");
+    // Fenced timing submits every pass itself, before the host's command buffer runs: a host G-buffer
+    // recorded into `cmd` would be read before it is drawn (and in the wrong layout).
+    if (m.timing == TimingMode::Fenced && !m.ownTargets && cmd != VK_NULL_HANDLE)
+        return fail("record: Fenced timing with host targets submits the passes before the host's command "
+                    "buffer: submit and wait for the G-buffer, then call record(VK_NULL_HANDLE), or use "
+                    "TimingChoice::Timestamps");
     const uint32_t slotIndex = m.beginFrame();
     FrameContext frame = m.frameContext(cmd, slotIndex);
     FramePasses& p = m.passes;

@@ -45,6 +45,12 @@ struct Module::Impl {
         Buffer frame, lights, counters, slices, instances;
         Buffer wide; // WideLight entries (culling/culling.h wideFootprint)
         uint32_t wideCount = 0, wideThreads = 0;
+        Buffer draws; // G-buffer indirect draws, one per instance (rewritten each frame like instances)
+        // The slot's copy of the static shadow records (engine/module_uploads.cpp): light i's six at
+        // 6 i; rewritten in place for the lights whose shadowVersion moved since the slot's last frame.
+        Buffer shadowRecords;
+        std::vector<uint32_t> shadowVersion;
+        uint64_t recordsEpoch = ~uint64_t(0);
         bool pending = false;
         uint64_t frameNumber = 0;
         uint32_t lightsTotal = 0, lightsVisible = 0, clusters = 0, poolCapacity = 0;
@@ -75,19 +81,35 @@ struct Module::Impl {
         StaticMethod method = StaticMethod::None;
         LightFrustum frustum;
         std::vector<uint32_t> words;
+        uint32_t base = 0;     // first word in staticWords, once resident
+        bool resident = false; // uploaded into the current staticWords
     };
     std::vector<std::array<StaticShadow, 6>> shadows; // per light and cube face (spots: face 0)
     uint32_t pcfRadius = 0;
-    bool shadowsDirty = true;
-    Buffer staticWords, shadowRecords;
-    std::vector<uint32_t> recordOfLight; // light -> record index or ML_NO_SHADOW
-    std::vector<gpu::GpuShadowRecord> records;
-    CameraDesc camera;                        // setCamera's, or the one setCameraMatrices' matrices describe
+    // Static shadows reach the GPU without a device wait (engine/module_uploads.cpp): the words are
+    // appended to one shared arena, staticWords (a frame in flight reads only ranges written before it;
+    // removed bakes leave garbage until the arena is rebuilt into a new buffer, the old one retired), and
+    // the records live per slot, rewritten for the lights whose version moved.
+    Buffer staticWords;
+    uint64_t wordsUsed = 0;              // arena cursor (words)
+    bool wordsPending = false;           // a face has words not yet resident
+    uint64_t recordsEpoch = 0;           // bumped when every record changes (PCF radius, arena rebuilt)
+    std::vector<uint32_t> shadowVersion; // per light: bumped by every change of its shadows
+    void touchShadow(uint32_t light);
+    uint32_t shadowRecordOf(uint32_t light) const; // 6 light, or ML_NO_SHADOW
+    void uploadShadowWords();
+    void writeShadowRecords(Slot& slot);
+    // The records the last recorded frame read (its slot's copy), for the CPU references.
+    const gpu::GpuShadowRecord* lastShadowRecords() const {
+        return slots[lastSlot].shadowRecords.as<gpu::GpuShadowRecord>();
+    }
+    uint64_t recordsWritten = 0; // lights whose records a slot rewrote (tests: one light costs one)
+    CameraDesc camera;           // setCamera's, or the one setCameraMatrices' matrices describe
     std::optional<CameraMatrices> hostCamera; // setCameraMatrices: used as given (plus jitter)
     bool cameraSet = false;             // record() refuses a frame before setCamera or setCameraMatrices
     CameraMatrices frameCamera() const; // view and jittered projection for the current target size
-    bool geometryDirty = true;
-    Buffer vertexBuffer, indexBuffer, drawBuffer, readback;
+    bool meshesDirty = true; // addMesh: vertices, indices and meshlets re-uploaded into new buffers
+    Buffer vertexBuffer, indexBuffer, readback;
     MeshletSet meshlets;
     Buffer meshletBuffer, meshletVertexBuffer, meshletTriangleBuffer;
 
@@ -120,10 +142,25 @@ struct Module::Impl {
 
     void init();
     void destroy();
-    void destroyTargets();
-    void createOutput(bool withOutput);
-    void uploadGeometry();
-    void uploadShadows();
+    // Targets and output mode (engine/module_targets.cpp).
+    void destroyTargets();       // retires the module's images (host ones are the host's)
+    void createOutput(bool own); // own: full-size HDR and output; host targets: 1x1 stubs
+    // Every device-wide wait of the module goes through waitIdle, which counts it (deviceWaits;
+    // diag::deviceWaitCount): docs/integration.md lists the calls that still wait.
+    uint64_t deviceWaits = 0;
+    uint64_t waitIdle();
+    // Deferred release: a buffer or image a frame in flight may still use is retired (its handle
+    // cleared) and destroyed at the first record() whose slot contract proves that frame done.
+    struct Retired {
+        uint64_t frame; // frameIndex when retired
+        Buffer buffer;
+        Image image;
+    };
+    std::vector<Retired> retired;
+    void retire(Buffer& buffer);
+    void retire(Image& image);
+    void releaseRetired(bool all);
+    void uploadMeshes();
     void collectSlot(uint32_t index);
     Result<uint32_t> lightIndex(LightId id, const char* what) const;
     Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
@@ -134,6 +171,9 @@ struct Module::Impl {
     void endFrame(uint32_t slot);
     void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
+
+// setTargets' checks (HostTargets' table in engine/manylights.h), for an output mode.
+Result<void> checkHostTargets(const HostTargets& targets, bool hdr);
 
 // The module's internal state and device, for tests and engine/diagnostics.cpp (not for apps/ or host/:
 // the test PublicApiIncludes checks that they include only public headers).

@@ -1,7 +1,5 @@
 #include "gpu/device.h"
 
-#include <GLFW/glfw3.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -272,12 +270,13 @@ Result<std::unique_ptr<Device>> Device::create(const DeviceOptions& options) {
         }
     }
     if (options.window) {
-        if (!glfwInit())
-            return fail("--window: GLFW could not initialise (no display? DISPLAY is unset or unreachable)");
+        if (!options.windowExtensions)
+            return fail("--window: DeviceOptions::windowExtensions is not set (the host's window library)");
         uint32_t n = 0;
-        const char** glfwExt = glfwGetRequiredInstanceExtensions(&n);
-        if (!glfwExt) return fail("--window: GLFW found no Vulkan surface support on this display");
-        for (uint32_t i = 0; i < n; ++i) extensions.push_back(glfwExt[i]);
+        const char** windowExt = options.windowExtensions(&n);
+        if (!windowExt)
+            return fail("--window: the window library found no Vulkan surface support on this display");
+        for (uint32_t i = 0; i < n; ++i) extensions.push_back(windowExt[i]);
     }
 
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};

@@ -29,8 +29,11 @@ namespace ml {
 struct DeviceOptions {
     bool validation = false;     // also on when ML_VALIDATION=1
     bool validationSync = false; // synchronization validation (implies validation); also ML_VALIDATION_SYNC=1
-    bool window = false;         // create surface-capable instance (GLFW); needs a display
-    std::string preferDevice;    // substring of the device name; empty = first suitable
+    bool window = false;         // create surface-capable instance; needs windowExtensions
+    // The instance extensions a window needs, from the host's window library (the demo passes
+    // glfwGetRequiredInstanceExtensions after glfwInit): the module itself links no window library.
+    const char** (*windowExtensions)(uint32_t* count) = nullptr;
+    std::string preferDevice; // substring of the device name; empty = first suitable
 };
 
 // Handles a host engine already owns. The host keeps ownership; the module never destroys them, and

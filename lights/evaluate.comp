@@ -8,7 +8,8 @@
 #include "shaders/shared/shading.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
-// 0: tone-mapped sRGB output (and HDR); 1: HDR only (the host tone-maps).
+// 0: HDR and the tone-mapped sRGB output; 1: HDR only (the host tone-maps); 2: tone-mapped only
+// (lights/evaluate_pass.h, EvaluateOutputs).
 layout(constant_id = 0) const uint kSpecOutput = 0;
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
@@ -77,6 +78,6 @@ void main() {
             if (c != vec3(0.0)) hdr += c * lightVisibility(L, P, N, Nraw);
         }
     }
-    imageStore(hdrImage, ivec2(px), vec4(hdr, 1.0));
-    if (kSpecOutput == 0u) imageStore(outputImage, ivec2(px), vec4(toneMap(hdr * frame.ambient.w), 1.0));
+    if (kSpecOutput != 2u) imageStore(hdrImage, ivec2(px), vec4(hdr, 1.0));
+    if (kSpecOutput != 1u) imageStore(outputImage, ivec2(px), vec4(toneMap(hdr * frame.ambient.w), 1.0));
 }

@@ -13,19 +13,24 @@ Descriptor sampled(VkImageView view) {
 }
 } // namespace
 
-void EvaluatePass::create(const Device& device, bool hdrOnly) {
+void EvaluatePass::create(const Device& device) {
     shader_ = ML_SHADER(device, spv_evaluate_comp);
-    program_ = createComputeProgram(device, shader_, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
+}
+
+void EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs) {
+    Program& p = programs_[uint32_t(outputs)];
+    if (!p.pipeline) p = createComputeProgram(device, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}});
 }
 
 void EvaluatePass::destroy(const Device& device) {
-    destroyProgram(device, program_);
+    for (Program& p : programs_)
+        if (p.pipeline) destroyProgram(device, p);
     destroyShader(device, shader_);
 }
 
 void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
-                          VkImageView hdr, VkImageView output) const {
-    dispatch(d, c, program_, in.width, in.height, NoPush{},
+                          EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
+    dispatch(d, c, programs_[uint32_t(outputs)], in.width, in.height, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
               sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
               *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,

@@ -29,18 +29,27 @@ struct ShadowInputs {
     const Buffer* vsmPool;
 };
 
+// Which images the evaluation writes (shaders' kSpecOutput): the module-owned targets in LDR mode write
+// both (tests read the HDR image), the others write only what is read, into a 1x1 stub on the other
+// binding (a storage binding needs a valid image even when the shader never stores to it).
+enum class EvaluateOutputs : uint32_t { Both = 0, HdrOnly = 1, ToneOnly = 2 };
+constexpr uint32_t kEvaluateOutputModes = 3;
+
 class EvaluatePass {
   public:
-    // hdrOnly: the pass writes HDR radiance only (the host tone-maps); else HDR and the tone-mapped output.
-    void create(const Device& device, bool hdrOnly);
+    void create(const Device& device);
     void destroy(const Device& device);
-    // Writes `hdr` (RGBA16F storage, GENERAL) and, unless hdrOnly, `output` (RGBA8 storage, GENERAL).
+    // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait).
+    void prepare(const Device& device, EvaluateOutputs outputs);
+    // Writes `hdr` (RGBA16F storage, GENERAL) and `output` (RGBA8 storage, GENERAL) as `outputs` says;
+    // both views must be valid images in GENERAL. prepare(outputs) must have run.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
-                const ShadowInputs& shadows, VkImageView hdr, VkImageView output) const;
+                const ShadowInputs& shadows, EvaluateOutputs outputs, VkImageView hdr,
+                VkImageView output) const;
 
   private:
     ShaderModule shader_;
-    Program program_;
+    Program programs_[kEvaluateOutputModes];
 };
 
 class StatisticsPass {

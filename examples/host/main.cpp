@@ -1,10 +1,10 @@
-// A host engine's use of manylights, written from README.md and engine/manylights.h only: the module
+// A host engine's use of manylights, written from README.md and <manylights/manylights.h> only: the module
 // makes its device (validation on), the host makes its own G-buffer images and graphics pipeline,
 // draws a ground quad and a box, hands the images over with setTargets, and records 3 frames: its
 // G-buffer commands, then module.record(cmd), in one command buffer. It reads back its output image
 // and checks that the ground under the spot light is lit, the ground outside the cone is dark, and
 // that the validation layer said nothing. Exit 0 when all holds, 1 with a one-line reason otherwise.
-#include "engine/manylights.h"
+#include <manylights/manylights.h>
 
 #include "host_gbuffer_frag.h"
 #include "host_gbuffer_vert.h"
@@ -33,10 +33,14 @@ namespace {
 constexpr uint32_t kWidth = 320, kHeight = 180;
 constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT, kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-struct HostImage {
+struct OwnedImage {
     VkImage image = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkImageUsageFlags usage = 0;
+    // What setTargets checks: the image, its view and what it was created with.
+    ml::HostImage target() const { return {image, view, format, {kWidth, kHeight}, usage}; }
 };
 
 uint32_t memoryType(VkPhysicalDevice pd, uint32_t bits, VkMemoryPropertyFlags flags) {
@@ -48,9 +52,11 @@ uint32_t memoryType(VkPhysicalDevice pd, uint32_t bits, VkMemoryPropertyFlags fl
     std::exit(1);
 }
 
-HostImage makeImage(VkDevice dev, VkPhysicalDevice pd, VkFormat format, VkImageUsageFlags usage,
-                    VkImageAspectFlags aspect) {
-    HostImage h;
+OwnedImage makeImage(VkDevice dev, VkPhysicalDevice pd, VkFormat format, VkImageUsageFlags usage,
+                     VkImageAspectFlags aspect) {
+    OwnedImage h;
+    h.format = format;
+    h.usage = usage;
     VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ici.imageType = VK_IMAGE_TYPE_2D;
     ici.format = format;
@@ -230,16 +236,18 @@ int main() {
     glm::mat4 viewProj = proj * view;
 
     // Host-owned targets.
-    HostImage depth = makeImage(dev, pd, VK_FORMAT_D32_SFLOAT,
-                                VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                                VK_IMAGE_ASPECT_DEPTH_BIT);
+    OwnedImage depth = makeImage(dev, pd, VK_FORMAT_D32_SFLOAT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT);
     const VkImageUsageFlags colorUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    HostImage normal = makeImage(dev, pd, kNormalFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
-    HostImage albedo = makeImage(dev, pd, kAlbedoFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
-    HostImage output =
+    OwnedImage normal = makeImage(dev, pd, kNormalFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
+    OwnedImage albedo = makeImage(dev, pd, kAlbedoFormat, colorUsage, VK_IMAGE_ASPECT_COLOR_BIT);
+    OwnedImage output =
         makeImage(dev, pd, VK_FORMAT_R8G8B8A8_UNORM,
                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
-    if (auto r = module.setTargets({kWidth, kHeight, depth.view, normal.view, albedo.view, output.view}); !r)
+    if (auto r = module.setTargets(
+            {kWidth, kHeight, depth.target(), normal.target(), albedo.target(), output.target()});
+        !r)
         return std::fprintf(stderr, "host_example: %s\n", r.error().c_str()), 1;
 
     // Host buffers: vertices + indices, and the readback (host-visible, coherent).
@@ -405,7 +413,7 @@ int main() {
     vkDestroyShaderModule(dev, fs, nullptr);
     for (VkBuffer b : {geo, readback}) vkDestroyBuffer(dev, b, nullptr);
     for (VkDeviceMemory m : {geoMem, readbackMem}) vkFreeMemory(dev, m, nullptr);
-    for (HostImage* h : {&depth, &normal, &albedo, &output}) {
+    for (OwnedImage* h : {&depth, &normal, &albedo, &output}) {
         vkDestroyImageView(dev, h->view, nullptr);
         vkDestroyImage(dev, h->image, nullptr);
         vkFreeMemory(dev, h->memory, nullptr);

@@ -2,9 +2,10 @@
 // point to the light's texel and quantised depth, the bias, and the PCF loop over the decoders.
 // CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare).
 //
-// Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by one texel's world
-// size (normal-offset bias: it grows with the texel footprint, so it holds at grazing angles where a
-// constant depth bias fails) and then compared with a further half-texel depth bias. PCF averages the
+// Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by (1 + PCF radius)
+// texels' world size (normal-offset bias: it grows with the texel footprint, so it holds at grazing
+// angles where a constant depth bias fails, and with the kernel, whose outer taps would otherwise see
+// the receiver's own surface) and then compared with a further half-texel depth bias. PCF averages the
 // binary tests of (2r+1)^2 texels around it.
 // CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_lookup.glsl).
 #ifndef ML_STATIC_VISIBILITY_GLSL
@@ -56,7 +57,11 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
-    vec3 q = vp + vn * texelWorld;
+    // Normal offset of (1 + radius) texels: the PCF taps reach `radius` texels to the side, and on a
+    // surface at a grazing angle to the light (flat ground under a low point light's side faces) the taps
+    // on the light's side of the receiver see the same surface nearer than the receiver unless it is
+    // lifted past them (GpuPointShadow.NoAcneOnFlatGroundOrBoxFaces: stripes of self-shadow with PCF).
+    vec3 q = vp + vn * (texelWorld * float(1 + radius));
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0;
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);

@@ -52,7 +52,8 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
         return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
     }
     float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
-    glm::vec3 q = vp + vn * texelWorld;
+    // Normal offset of (1 + radius) texels, as the shader (its comment says why).
+    glm::vec3 q = vp + vn * (texelWorld * float(1 + radius));
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0f;
     glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);

@@ -163,7 +163,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
                 const gpu::GpuLight& L = impl.lastLights[pool[ranges[c].x + k]];
                 glm::vec3 col = gpu::shadeLight(L, P, N, V, a);
                 if (col == glm::vec3(0.0f)) continue;
-                float vis = lightStaticVisibility(L, impl.records.data(), words, P, N);
+                float vis = lightStaticVisibility(L, impl.lastShadowRecords(), words, P, N);
                 anyShadow |= vis < 1.0f;
                 expected += col * vis;
             }

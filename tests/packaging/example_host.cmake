@@ -21,7 +21,8 @@ endif()
 
 if(MODE STREQUAL "install")
   run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${OUT}/prefix)
-  foreach(f include/manylights/engine/manylights.h lib/cmake/manylights/manylights-config.cmake
+  foreach(f include/manylights/manylights.h include/manylights/engine/manylights.h
+            lib/cmake/manylights/manylights-config.cmake
             lib/cmake/manylights/manylights-config-version.cmake lib/pkgconfig/manylights.pc)
     if(NOT EXISTS ${OUT}/prefix/${f})
       message(FATAL_ERROR "cmake --install did not install ${f}")
@@ -41,11 +42,34 @@ run(${CMAKE_COMMAND} --build ${OUT}/build -j2)
 run(${OUT}/build/host_example)
 message("${last_output}")
 
+# Nothing of the package's own settings leaks into the host's target: no GLM_FORCE_* or
+# GLM_ENABLE_EXPERIMENTAL definitions, no GLFW on a headless host's link line, and (installed) no
+# generic folder of the module (engine/, io/, shaders/) on its include path: include/ only.
+file(GLOB_RECURSE flag_files ${OUT}/build/CMakeFiles/host_example.dir/flags.make)
+file(GLOB_RECURSE link_files ${OUT}/build/CMakeFiles/host_example.dir/link.txt)
+if(NOT flag_files OR NOT link_files)
+  message(FATAL_ERROR "no flags.make / link.txt for host_example under ${OUT}/build")
+endif()
+file(READ ${flag_files} host_flags)
+file(READ ${link_files} host_link)
+if(host_flags MATCHES "GLM_FORCE|GLM_ENABLE_EXPERIMENTAL")
+  message(FATAL_ERROR "the package pushed GLM definitions into the host's target:\n${host_flags}")
+endif()
+if(host_link MATCHES "glfw")
+  message(FATAL_ERROR "a headless host is linked against GLFW:\n${host_link}")
+endif()
+if(MODE STREQUAL "install" AND host_flags MATCHES "include/manylights")
+  message(FATAL_ERROR "the installed package puts include/manylights (its generic folders) on the host's path:\n${host_flags}")
+endif()
+
 if(MODE STREQUAL "install")
   # pkg-config: the same program from the .pc file's flags alone (linked, not run again).
   find_program(PKG_CONFIG pkg-config REQUIRED)
   set(ENV{PKG_CONFIG_PATH} ${OUT}/prefix/lib/pkgconfig)
   run(${PKG_CONFIG} --cflags --libs manylights)
+  if(last_output MATCHES "GLM_|glfw|include/manylights")
+    message(FATAL_ERROR "pkg-config manylights leaks settings into the host: ${last_output}")
+  endif()
   separate_arguments(flags UNIX_COMMAND "${last_output}")
   run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${flags} -o ${OUT}/host_example_pkgconfig)
   # Public headers only: the engine's internals are not installed, and every installed header (the
@@ -61,7 +85,7 @@ if(MODE STREQUAL "install")
   list(LENGTH installed count)
   message("installed headers compiled on their own: ${count}")
   foreach(h ${installed})
-    file(WRITE ${OUT}/alone.cpp "#include \"${h}\"\n")
+    file(WRITE ${OUT}/alone.cpp "#include <manylights/${h}>\n")
     run(c++ -std=c++20 -fsyntax-only ${flags} ${OUT}/alone.cpp)
   endforeach()
 endif()
