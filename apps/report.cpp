@@ -114,6 +114,11 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     o.real("frame_gpu_ms_first", reports.front().times.totalMs());
     o.real("frame_gpu_ms_mean", total / double(frameMs.size())).real("frame_gpu_ms_median", median);
     o.raw("vsm", vsmJson(s.vsm)).raw("pass_gpu_ms_mean", passes.str());
+    // Memory of the module's buffers and images by kind (gpu/memory.h roles), at the last frame.
+    json::Object memory;
+    for (uint32_t k = 0; k < kMemoryKindCount; ++k)
+        memory.integer(memoryKindName(MemoryKind(k)), s.memory.bytes[k]);
+    o.raw("memory_bytes", memory.str()).text("memory_placement", info.memoryPlacement);
     return writeText(path, o.str(json::Style::Lines) + "\n");
 }
 

@@ -8,9 +8,9 @@
 
 namespace ml {
 
-uint32_t Module::Impl::beginFrame() {
-    if (geometryDirty) uploadGeometry();
-    if (shadowsDirty || recordOfLight.size() != lights.size()) uploadShadows();
+Result<uint32_t> Module::Impl::beginFrame() {
+    if (geometryDirty) ML_TRY(uploadGeometry());
+    if (shadowsDirty || recordOfLight.size() != lights.size()) ML_TRY(uploadShadows());
     const Device& d = *device;
     const uint32_t slotIndex = uint32_t(frameIndex % slots.size());
     Slot& slot = slots[slotIndex];
@@ -21,9 +21,11 @@ uint32_t Module::Impl::beginFrame() {
         mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
         vkDeviceWaitIdle(d.device);
-        cull.resize(d, grid, poolOverride);
+        ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;
     }
+    if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
+        ML_TRY(cull.prepareView(d, width, height));
     writeFrame(slot, slotIndex, grid, mode);
     return slotIndex;
 }
@@ -203,6 +205,7 @@ void Module::Impl::collectSlot(uint32_t index) {
     st.poolCapacity = s.poolCapacity;
     st.surfacePixels = c.surfacePixels;
     st.vsm = vsm.readStats(index);
+    st.memory = device->memoryUsage();
     if (s.statistics && c.surfacePixels) {
         st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
         st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);

@@ -135,28 +135,33 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     impl->vsmSettings = v;
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(options.framesInFlight);
-    impl->init();
-    return std::unique_ptr<Module>(new Module(std::move(impl)));
+    std::unique_ptr<Module> module(new Module(std::move(impl)));
+    // Out of memory: the module's destructor releases what init made (every destroy takes empty handles).
+    if (auto r = module->impl_->init(); !r) return fail("Module::create: " + r.error());
+    return module;
 }
 
-void Module::Impl::init() {
+Result<void> Module::Impl::init() {
     const Device& d = *device;
-    gbuffer.create(d);
-    cull.create(d);
-    vsm.create(d, vsmSettings, uint32_t(slots.size()));
-    if (vsm.enabled()) vsmPasses.create(d, vsm);
-    evaluate.create(d, hdrOutput);
-    statisticsPass.create(d);
-    profiler.create(d, uint32_t(slots.size()), passTimerNames());
+    ML_TRY(gbuffer.create(d));
+    ML_TRY(cull.create(d));
+    ML_TRY(vsm.create(d, vsmSettings, uint32_t(slots.size())));
+    if (vsm.enabled()) ML_TRY(vsmPasses.create(d, vsm));
+    ML_TRY(evaluate.create(d, hdrOutput));
+    ML_TRY(statisticsPass.create(d));
+    ML_TRY(profiler.create(d, uint32_t(slots.size()), passTimerNames()));
     profiler.fenced = timing == TimingMode::Fenced;
+    // Per slot: uploads the host writes every frame; the counters are the frame's readback.
     for (auto& s : slots) {
-        s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                               "frame_constants");
-        s.lights =
-            createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
-        s.counters = createBuffer(d, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters");
-        s.slices = createBuffer(d, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far");
+        ML_TRY(createBuffer(d, s.frame, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            "frame_constants"));
+        ML_TRY(createBuffer(d, s.lights, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage,
+                            "visible_lights"));
+        ML_TRY(createBuffer(d, s.counters, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters",
+                            MemoryRole::Readback));
+        ML_TRY(createBuffer(d, s.slices, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far"));
     }
+    return {};
 }
 
 void Module::Impl::destroy() {
@@ -492,15 +497,13 @@ Result<void> Module::setShadowFilter(uint32_t radius) {
     return {};
 }
 
-void Module::Impl::uploadShadows() {
+// GPU-only buffers written at load time through a staging copy (the frames in flight were waited for).
+Result<void> Module::Impl::uploadShadows() {
     const Device& d = *device;
     vkDeviceWaitIdle(d.device); // bakes change at load time; frames in flight may read the buffers
     records.clear();
     recordOfLight.assign(lights.size(), ML_NO_SHADOW);
-    size_t words = 0;
-    for (const auto& faces : shadows)
-        for (const auto& s : faces) words += s.words.size();
-    ensureBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words");
+    std::vector<uint32_t> all; // every face's words, at its record's base
     uint32_t base = 0;
     for (size_t i = 0; i < shadows.size(); ++i) {
         if (!lightAlive[i] || !lights[i].castsShadows) continue;
@@ -516,17 +519,20 @@ void Module::Impl::uploadShadows() {
                 records.push_back(gpu::GpuShadowRecord{});
                 continue;
             }
-            upload(staticWords, s.words.data(), s.words.size() * 4, size_t(base) * 4);
+            all.insert(all.end(), s.words.begin(), s.words.end());
             records.push_back(makeShadowRecord(s.method, s.frustum, base,
                                                staticResolution(s.method, s.words.data()), pcfRadius));
             base += uint32_t(s.words.size());
         }
     }
-    ensureBuffer(d, shadowRecords, records.size() * sizeof(gpu::GpuShadowRecord), kStorageBufferUsage,
-                 "shadow_records");
-    if (!records.empty())
-        upload(shadowRecords, records.data(), records.size() * sizeof(gpu::GpuShadowRecord));
+    constexpr MemoryRole kGpu = MemoryRole::GpuOnly;
+    ML_TRY(ensureBuffer(d, staticWords, all.size() * 4, kStorageBufferUsage, "static_shadow_words", kGpu));
+    ML_TRY(uploadBuffer(d, staticWords, all.data(), all.size() * 4, 0, "static_shadow_words"));
+    const size_t recordBytes = records.size() * sizeof(gpu::GpuShadowRecord);
+    ML_TRY(ensureBuffer(d, shadowRecords, recordBytes, kStorageBufferUsage, "shadow_records", kGpu));
+    ML_TRY(uploadBuffer(d, shadowRecords, records.data(), recordBytes, 0, "shadow_records"));
     shadowsDirty = false;
+    return {};
 }
 
 Result<void> Module::setCamera(const CameraDesc& c) {
@@ -571,11 +577,16 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
     auto& m = *impl_;
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
-    m.targets = m.gbuffer.createTargets(*m.device, width, height);
     m.ownTargets = true;
     m.width = width;
     m.height = height;
-    m.createOutput(true);
+    auto r = m.gbuffer.createTargets(*m.device, width, height, m.targets);
+    if (r) r = m.createOutput(true);
+    if (!r) { // out of memory: no targets (record() refuses until a later call succeeds)
+        m.destroyTargets();
+        m.width = m.height = 0;
+        return fail("createTargets: " + r.error());
+    }
     return {};
 }
 
@@ -590,30 +601,39 @@ Result<void> Module::setTargets(const HostTargets& t) {
     m.width = t.width;
     m.height = t.height;
     m.host = t;
-    m.createOutput(false);
+    if (auto r = m.createOutput(false); !r) {
+        m.destroyTargets();
+        m.width = m.height = 0;
+        return fail("setTargets: " + r.error());
+    }
     return {};
 }
 
-void Module::Impl::createOutput(bool withOutput) {
-    hdr = createImage(*device, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
-                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr");
+Result<void> Module::Impl::createOutput(bool withOutput) {
+    cullingMode = CullingMode(~0u); // force resize of the cluster buffers
+    ML_TRY(createImage(*device, hdr, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
+                       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "hdr"));
     // HDR-only output keeps a small RGBA8 image for the tone-mapped binding, which is then never written.
     if (hdrOutput && !withOutput)
-        output =
-            createImage(*device, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, "unused_output");
+        ML_TRY(createImage(*device, output, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT,
+                           "unused_output"));
     if (withOutput)
-        output = createImage(*device, width, height, VK_FORMAT_R8G8B8A8_UNORM,
-                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output");
-    cullingMode = CullingMode(~0u); // force resize of the cluster buffers
+        ML_TRY(createImage(*device, output, width, height, VK_FORMAT_R8G8B8A8_UNORM,
+                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "output"));
+    return {};
 }
 
-void Module::Impl::uploadGeometry() {
+// Geometry, meshlets and draws: GPU-only, written through staging copies; instances: per-slot uploads.
+Result<void> Module::Impl::uploadGeometry() {
     const Device& d = *device;
+    constexpr MemoryRole kGpu = MemoryRole::GpuOnly;
     vkDeviceWaitIdle(d.device); // geometry changes are rare (load time); frames in flight may read it
-    ensureBuffer(d, vertexBuffer, vertices.size() * sizeof(MeshVertex), kStorageBufferUsage, "vertices");
-    ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices");
-    if (!vertices.empty()) upload(vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex));
-    if (!indices.empty()) upload(indexBuffer, indices.data(), indices.size() * 4);
+    const size_t vertexBytes = vertices.size() * sizeof(MeshVertex);
+    ML_TRY(ensureBuffer(d, vertexBuffer, vertexBytes, kStorageBufferUsage, "vertices", kGpu));
+    ML_TRY(
+        ensureBuffer(d, indexBuffer, indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "indices", kGpu));
+    ML_TRY(uploadBuffer(d, vertexBuffer, vertices.data(), vertexBytes, 0, "vertices"));
+    ML_TRY(uploadBuffer(d, indexBuffer, indices.data(), indices.size() * 4, 0, "indices"));
     for (auto [b, data, bytes, name] :
          {std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
                      meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), "meshlets"},
@@ -621,21 +641,25 @@ void Module::Impl::uploadGeometry() {
                      meshlets.vertices.size() * 4, "meshlet_vertices"},
           std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(),
                      meshlets.triangles.size() * 4, "meshlet_triangles"}}) {
-        ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name);
-        if (bytes) upload(*b, data, bytes);
+        ML_TRY(ensureBuffer(d, *b, std::max<size_t>(bytes, 16), kStorageBufferUsage, name, kGpu));
+        ML_TRY(uploadBuffer(d, *b, data, bytes, 0, name));
     }
-    ensureBuffer(d, drawBuffer, instances.size() * sizeof(VkDrawIndexedIndirectCommand),
-                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
-    auto* draws = drawBuffer.as<VkDrawIndexedIndirectCommand>();
+    std::vector<VkDrawIndexedIndirectCommand> draws(instances.size());
     for (size_t i = 0; i < instances.size(); ++i) {
         const MeshRange& r = meshes[instances[i].mesh];
         draws[i] = {instances[i].alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex),
                     uint32_t(i)};
     }
-    for (auto& s : slots)
-        ensureBuffer(d, s.instances, instances.size() * sizeof(GpuInstance), kStorageBufferUsage,
-                     "instances");
+    const size_t drawBytes = draws.size() * sizeof(VkDrawIndexedIndirectCommand);
+    ML_TRY(ensureBuffer(d, drawBuffer, drawBytes, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws", kGpu));
+    ML_TRY(uploadBuffer(d, drawBuffer, draws.data(), drawBytes, 0, "draws"));
+    for (uint32_t slot = 0; slot < slots.size(); ++slot) {
+        ML_TRY(ensureBuffer(d, slots[slot].instances, instances.size() * sizeof(GpuInstance),
+                            kStorageBufferUsage, "instances"));
+        ML_TRY(vsm.reserveCasters(d, slot, instances.size()));
+    }
     geometryDirty = false;
+    return {};
 }
 
 Result<void> Module::record(VkCommandBuffer cmd) {
@@ -645,7 +669,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (!m.cameraSet) return fail("record: no camera (call setCamera or setCameraMatrices first)");
     if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)
         return fail("record: no command buffer (the module records into the host's)");
-    const uint32_t slotIndex = m.beginFrame();
+    auto began = m.beginFrame();
+    if (!began) return fail("record: " + began.error());
+    const uint32_t slotIndex = began.value();
     FrameContext frame = m.frameContext(cmd, slotIndex);
     FramePasses& p = m.passes;
     // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
@@ -695,8 +721,13 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     const Device& d = *m.device;
     ML_VK_CHECK(vkQueueWaitIdle(d.queue));
     size_t bytes = size_t(m.width) * m.height * 4;
-    ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
-    VkCommandBuffer cmd = m.device->beginOneTime();
+    if (auto r = ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback",
+                              MemoryRole::Readback);
+        !r)
+        return fail("readOutput: " + r.error());
+    auto began = m.device->tryBeginOneTime("readOutput");
+    if (!began) return fail("readOutput: " + began.error());
+    VkCommandBuffer cmd = began.value();
     imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_GENERAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
@@ -705,7 +736,7 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-    m.device->endOneTime(cmd);
+    if (auto r = m.device->tryEndOneTime(cmd, "readOutput"); !r) return fail("readOutput: " + r.error());
     rgba.resize(bytes);
     std::memcpy(rgba.data(), m.readback.data, bytes);
     return {};

@@ -116,18 +116,20 @@ struct Module::Impl {
     std::vector<gpu::GpuLight> lastLights;
     uint32_t lastSlot = 0;
 
-    void init();
+    // Out of memory in any of these is an error naming what failed; the state stays destroyable and the
+    // dirty flags stay set, so a later call retries.
+    Result<void> init();
     void destroy();
     void destroyTargets();
-    void createOutput(bool withOutput);
-    void uploadGeometry();
-    void uploadShadows();
+    Result<void> createOutput(bool withOutput);
+    Result<void> uploadGeometry();
+    Result<void> uploadShadows();
     void collectSlot(uint32_t index);
     Result<uint32_t> lightIndex(LightId id, const char* what) const;
     Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
     // The host side of Module::record (engine/frame_write.cpp): uploads, the slot's collection and
     // buffers (returns the slot), the passes' context; endFrame marks the slot pending.
-    uint32_t beginFrame();
+    Result<uint32_t> beginFrame();
     FrameContext frameContext(VkCommandBuffer cmd, uint32_t slot) const;
     void endFrame(uint32_t slot);
     void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);

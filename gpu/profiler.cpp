@@ -6,7 +6,7 @@
 
 namespace ml {
 
-void Profiler::create(const Device& device, uint32_t slots, std::vector<std::string> timerNames) {
+Result<void> Profiler::create(const Device& device, uint32_t slots, std::vector<std::string> timerNames) {
     device_ = &device;
     slots_ = slots;
     names_ = std::move(timerNames);
@@ -15,8 +15,12 @@ void Profiler::create(const Device& device, uint32_t slots, std::vector<std::str
     VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     ci.queryType = VK_QUERY_TYPE_TIMESTAMP;
     ci.queryCount = slots * timers() * 2;
-    ML_VK_CHECK(vkCreateQueryPool(device.device, &ci, nullptr, &pool_));
+    if (VkResult r = ML_VK_ALLOC(vkCreateQueryPool(device.device, &ci, nullptr, &pool_)); r != VK_SUCCESS) {
+        pool_ = VK_NULL_HANDLE;
+        return fail(std::string("vkCreateQueryPool for 'profiler_queries' failed: ") + vkResultName(r));
+    }
     vkResetQueryPool(device.device, pool_, 0, ci.queryCount);
+    return {};
 }
 
 void Profiler::destroy(const Device& device) {

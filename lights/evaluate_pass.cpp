@@ -13,9 +13,9 @@ Descriptor sampled(VkImageView view) {
 }
 } // namespace
 
-void EvaluatePass::create(const Device& device, bool hdrOnly) {
-    shader_ = ML_SHADER(device, spv_evaluate_comp);
-    program_ = createComputeProgram(device, shader_, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
+Result<void> EvaluatePass::create(const Device& device, bool hdrOnly) {
+    ML_TRY(ML_LOAD_SHADER(device, shader_, spv_evaluate_comp));
+    return createComputeProgram(device, program_, shader_, {{/*kSpecOutput*/ 0, hdrOnly ? 1u : 0u}});
 }
 
 void EvaluatePass::destroy(const Device& device) {
@@ -35,9 +35,9 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInput
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
 }
 
-void StatisticsPass::create(const Device& device) {
-    shader_ = ML_SHADER(device, spv_statistics_comp);
-    program_ = createComputeProgram(device, shader_);
+Result<void> StatisticsPass::create(const Device& device) {
+    ML_TRY(ML_LOAD_SHADER(device, shader_, spv_statistics_comp));
+    return createComputeProgram(device, program_, shader_);
 }
 
 void StatisticsPass::destroy(const Device& device) {

@@ -32,7 +32,7 @@ struct ShadowInputs {
 class EvaluatePass {
   public:
     // hdrOnly: the pass writes HDR radiance only (the host tone-maps); else HDR and the tone-mapped output.
-    void create(const Device& device, bool hdrOnly);
+    Result<void> create(const Device& device, bool hdrOnly);
     void destroy(const Device& device);
     // Writes `hdr` (RGBA16F storage, GENERAL) and, unless hdrOnly, `output` (RGBA8 storage, GENERAL).
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
@@ -45,7 +45,7 @@ class EvaluatePass {
 
 class StatisticsPass {
   public:
-    void create(const Device& device);
+    Result<void> create(const Device& device);
     void destroy(const Device& device);
     // Adds the frame's per-pixel counts to `counters` (FrameCounters) and makes them visible to the host.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,

@@ -64,9 +64,9 @@ bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32
     return true;
 }
 
-void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t framesInFlight) {
+Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t framesInFlight) {
     settings_ = s;
-    if (!s.enabled) return;
+    if (!s.enabled) return {};
     s0_ = s.resolution / s.pageSize;
     mips_ = uint32_t(std::countr_zero(s0_)) + 1;
     entriesPerMap_ = gpu::vsmMipOffset(s0_, mips_);
@@ -74,20 +74,23 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t bitWords = (entries + 31) / 32;
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
-    pages_.table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
-    pages_.owners =
-        createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
-    pages_.lastUsed = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
+    ML_TRY(createDeviceBuffer(d, pages_.table, entries * 4, kStorageBufferUsage, "vsm_page_table"));
+    ML_TRY(createDeviceBuffer(d, pages_.owners, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners",
+                              ML_VSM_NO_OWNER));
+    ML_TRY(createDeviceBuffer(d, pages_.lastUsed, size_t(s.poolPages) * 4, kStorageBufferUsage,
+                              "vsm_last_used"));
     markWords_ = bitWords;
-    pages_.marks = createDeviceBuffer(d, 2 * bitWords * 4, kStorageBufferUsage,
-                                      "vsm_marks"); // lookup, then fallback marks
-    pages_.pool = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
-                                     kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu);
-    pages_.blockCounts =
-        createDeviceBuffer(d, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
-    pages_.avail = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    pages_.rendered = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
-    pages_.dirtyMips = createDeviceBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_dirty_mips");
+    ML_TRY(createDeviceBuffer(d, pages_.marks, 2 * bitWords * 4, kStorageBufferUsage,
+                              "vsm_marks")); // lookup, then fallback marks
+    ML_TRY(createDeviceBuffer(d, pages_.pool, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
+                              kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu));
+    ML_TRY(createDeviceBuffer(d, pages_.blockCounts, (entries / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage,
+                              "vsm_block_counts"));
+    ML_TRY(createDeviceBuffer(d, pages_.avail, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail"));
+    ML_TRY(
+        createDeviceBuffer(d, pages_.rendered, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered"));
+    ML_TRY(createDeviceBuffer(d, pages_.dirtyMips, size_t(s.maxMaps) * 4, kStorageBufferUsage,
+                              "vsm_dirty_mips"));
     // HPB levels 1..log2(S_0) as image mips 0.. (none when a map is one page). Rebuilt every frame for the
     // active maps before it is read: PerFrame. One layer per map slot: maxMaps <= maxImageArrayLayers.
     hpbLevels_ = mips_ - 1;
@@ -101,12 +104,12 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     hpb.lifetime = Lifetime::PerFrame;
     hpb.arrayViews = true; // one map slot is still an array of one
     hpb.name = "vsm_hpb";
-    pages_.hpb = createImage(d, hpb);
+    ML_TRY(createImage(d, pages_.hpb, hpb));
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    pages_.draws =
-        createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    pages_.drawInfo = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    pages_.drawCounts = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    ML_TRY(createDeviceBuffer(d, pages_.draws, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage,
+                              "vsm_draws"));
+    ML_TRY(createDeviceBuffer(d, pages_.drawInfo, draws * 8, kStorageBufferUsage, "vsm_draw_info"));
+    ML_TRY(createDeviceBuffer(d, pages_.drawCounts, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts"));
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
@@ -121,26 +124,28 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        pages_.meshletList = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
-                                                kStorageBufferUsage, "vsm_meshlet_list");
-        pages_.meshTasks = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+        ML_TRY(createDeviceBuffer(d, pages_.meshletList, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
+                                  kStorageBufferUsage, "vsm_meshlet_list"));
+        ML_TRY(createDeviceBuffer(d, pages_.meshTasks, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks"));
     }
 
     slots_.resize(framesInFlight);
     for (Slot& sl : slots_) {
-        sl.constants =
-            createBuffer(d, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "vsm_constants");
-        sl.maps =
-            createBuffer(d, size_t(s.maxMaps) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
-        sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
-        sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
-        sl.active = createBuffer(d, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_active");
+        ML_TRY(createBuffer(d, sl.constants, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            "vsm_constants"));
+        ML_TRY(createBuffer(d, sl.maps, size_t(s.maxMaps) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage,
+                            "vsm_maps"));
+        ML_TRY(createBuffer(d, sl.coverage, bitWords * 4, kStorageBufferUsage, "vsm_coverage"));
+        ML_TRY(createBuffer(d, sl.stale, bitWords * 4, kStorageBufferUsage, "vsm_stale"));
+        ML_TRY(createBuffer(d, sl.active, size_t(s.maxMaps) * 4, kStorageBufferUsage, "vsm_active"));
         // At most one run per active map and level of detail.
-        sl.runs = createBuffer(d, size_t(s.maxMaps) * std::max(mips_, s.clipLevels) * sizeof(glm::uvec4),
-                               kStorageBufferUsage, "vsm_runs");
-        sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
-        sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
-                                 kStorageBufferUsage, "vsm_probes");
+        ML_TRY(createBuffer(d, sl.runs,
+                            size_t(s.maxMaps) * std::max(mips_, s.clipLevels) * sizeof(glm::uvec4),
+                            kStorageBufferUsage, "vsm_runs"));
+        ML_TRY(createBuffer(d, sl.counters, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters",
+                            MemoryRole::Readback));
+        ML_TRY(createBuffer(d, sl.probes, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
+                            kStorageBufferUsage, "vsm_probes", MemoryRole::Readback));
         sl.host.coverage.assign(bitWords, 0);
         sl.host.stale.assign(bitWords, 0);
         sl.host.maps.assign(s.maxMaps, gpu::GpuVsmMap{});
@@ -148,6 +153,14 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     maps_.assign(s.maxMaps, VsmMapInfo{});
     wasActive_.assign(s.maxMaps, 0);
     for (uint32_t i = s.maxMaps; i-- > 0;) freeSlots_.push_back(i);
+    return {};
+}
+
+Result<void> VirtualShadowMaps::reserveCasters(const Device& d, uint32_t slot, size_t instances) {
+    if (!settings_.enabled) return {};
+    ML_TRY(ensureBuffer(d, slots_[slot].casters, instances * sizeof(gpu::GpuCaster), kStorageBufferUsage,
+                        "vsm_casters"));
+    return {};
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {

@@ -132,7 +132,9 @@ struct VsmSlot {
 // the CPU part of a frame (prepare). Its GPU passes are VsmPasses (vsm_passes.h).
 class VirtualShadowMaps {
   public:
-    void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
+    Result<void> create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
+    // Sizes the slot's caster buffer (an upload buffer) for `instances` instances; before prepare().
+    Result<void> reserveCasters(const Device& device, uint32_t slot, size_t instances);
     void destroy(const Device& device);
     const VsmSettings& settings() const { return settings_; }
     bool enabled() const { return settings_.enabled; }

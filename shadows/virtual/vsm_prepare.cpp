@@ -232,8 +232,11 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
-    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
-                 "vsm_casters");
+    // Sized by reserveCasters before prepare (an allocation can fail; prepare cannot).
+    if (slot.casters.size < casters.size() * sizeof(gpu::GpuCaster)) {
+        std::fprintf(stderr, "vsm: %zu casters, the slot's buffer was reserved for fewer\n", casters.size());
+        std::abort();
+    }
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
