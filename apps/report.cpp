@@ -118,7 +118,11 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     json::Object memory;
     for (uint32_t k = 0; k < kMemoryKindCount; ++k)
         memory.integer(memoryKindName(MemoryKind(k)), s.memory.bytes[k]);
-    o.raw("memory_bytes", memory.str()).text("memory_placement", info.memoryPlacement);
+    json::Object roles; // gpu/memory.h MemoryRole order
+    const char* const roleNames[] = {"gpu_only", "upload", "readback", "staging"};
+    for (uint32_t r = 0; r < 4; ++r) roles.integer(roleNames[r], s.memory.roleBytes[r]);
+    o.raw("memory_bytes", memory.str()).raw("memory_bytes_by_role", roles.str());
+    o.text("memory_placement", info.memoryPlacement);
     return writeText(path, o.str(json::Style::Lines) + "\n");
 }
 

@@ -548,6 +548,7 @@ Result<void> Device::tryEndOneTime(VkCommandBuffer cmd, const char* what) const 
 MemoryUsage Device::memoryUsage() const {
     MemoryUsage u;
     for (uint32_t k = 0; k < kMemoryKindCount; ++k) u.bytes[k] = memoryBytes_[k].load();
+    for (uint32_t r = 0; r < 4; ++r) u.roleBytes[r] = roleBytes_[r].load();
     return u;
 }
 

@@ -52,8 +52,9 @@ class Device {
     Result<void> tryEndOneTime(VkCommandBuffer cmd, const char* what) const;
 
     // Bytes of live allocations per memory kind (gpu/resources.cpp counts each allocation and free).
-    void countMemory(MemoryKind kind, int64_t bytes) const {
+    void countMemory(MemoryKind kind, uint32_t role, int64_t bytes) const {
         memoryBytes_[uint32_t(kind)] += uint64_t(bytes);
+        roleBytes_[role] += uint64_t(bytes);
     }
     MemoryUsage memoryUsage() const;
     // Where each buffer role lands on this device (gpu/memory.h), one line; printed once by hosts that
@@ -77,6 +78,7 @@ class Device {
     Result<void> loadFunctions();
     bool owned_ = false;
     mutable std::atomic<uint64_t> memoryBytes_[kMemoryKindCount] = {};
+    mutable std::atomic<uint64_t> roleBytes_[4] = {};
     bool validation_ = false;
     bool validationSync_ = false;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

@@ -81,6 +81,7 @@ const char* memoryKindName(MemoryKind kind); // "device_local", "device_mappable
 // Bytes of the module's live allocations (buffers and images) per kind (Module::memoryUsage, stats.json).
 struct MemoryUsage {
     uint64_t bytes[kMemoryKindCount] = {};
+    uint64_t roleBytes[4] = {}; // by role (gpu/memory.h MemoryRole): gpu-only, upload, readback, staging
 };
 
 // Validation message counters, process-wide (the messenger callback has no other home).

@@ -29,7 +29,7 @@
 namespace ml {
 
 enum class MemoryRole : uint8_t { GpuOnly, Upload, Readback, Staging };
-constexpr uint32_t kMemoryRoleCount = 4;
+constexpr uint32_t kMemoryRoleCount = 4; // MemoryUsage::roleBytes has one entry per role
 const char* memoryRoleName(MemoryRole role);
 inline bool roleIsMapped(MemoryRole role) {
     return role != MemoryRole::GpuOnly;

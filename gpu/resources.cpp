@@ -36,14 +36,15 @@ Result<void> allocate(const Device& device, const VkMemoryRequirements& req, Mem
                     memoryKindName(c.kind) + ")");
     }
     kind = c.kind;
-    device.countMemory(kind, int64_t(req.size));
+    device.countMemory(kind, uint32_t(role), int64_t(req.size));
     return {};
 }
 
-void freeMemory(const Device& device, VkDeviceMemory& memory, MemoryKind kind, VkDeviceSize bytes) {
+void freeMemory(const Device& device, VkDeviceMemory& memory, MemoryKind kind, MemoryRole role,
+                VkDeviceSize bytes) {
     if (!memory) return;
     vkFreeMemory(device.device, memory, nullptr);
-    device.countMemory(kind, -int64_t(bytes));
+    device.countMemory(kind, uint32_t(role), -int64_t(bytes));
     memory = VK_NULL_HANDLE;
 }
 
@@ -62,6 +63,7 @@ Result<void> makeBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBu
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
     ML_TRY(allocate(device, req, role, name, b.memory, b.kind));
+    b.role = role;
     b.allocated = req.size;
     ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0)); // fails only on a bug
     device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
@@ -111,7 +113,7 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
 void destroyBuffer(const Device& device, Buffer& b) {
     if (b.memory && b.data) vkUnmapMemory(device.device, b.memory);
     if (b.buffer) vkDestroyBuffer(device.device, b.buffer, nullptr);
-    freeMemory(device, b.memory, b.kind, b.allocated);
+    freeMemory(device, b.memory, b.kind, b.role, b.allocated);
     b = Buffer{};
 }
 
@@ -359,7 +361,7 @@ void destroyImage(const Device& device, Image& img) {
     for (VkImageView v : img.layerViews) vkDestroyImageView(device.device, v, nullptr);
     if (img.view) vkDestroyImageView(device.device, img.view, nullptr);
     if (img.image) vkDestroyImage(device.device, img.image, nullptr);
-    freeMemory(device, img.memory, img.kind, img.allocated);
+    freeMemory(device, img.memory, img.kind, MemoryRole::GpuOnly, img.allocated);
     img = Image{};
 }
 

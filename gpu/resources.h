@@ -40,8 +40,9 @@ struct Buffer {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     void* data = nullptr; // mapped roles only
     VkDeviceSize size = 0;
-    MemoryKind kind = MemoryKind::Host; // of `memory` (counted on the device)
-    VkDeviceSize allocated = 0;         // bytes of `memory`
+    MemoryKind kind = MemoryKind::Host; // of `memory` (counted on the device, with the role)
+    MemoryRole role = MemoryRole::Upload;
+    VkDeviceSize allocated = 0; // bytes of `memory`
 
     template <class T> T* as() { return static_cast<T*>(data); }
     template <class T> const T* as() const { return static_cast<const T*>(data); }
@@ -53,7 +54,7 @@ struct Image {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE; // every mip and layer (2D, or 2D_ARRAY: layers > 1 or arrayViews)
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    MemoryKind kind = MemoryKind::DeviceLocal;
+    MemoryKind kind = MemoryKind::DeviceLocal; // images are GPU-only
     VkDeviceSize allocated = 0;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;

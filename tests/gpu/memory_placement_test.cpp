@@ -144,6 +144,17 @@ TEST(MemoryPlacement, ModuleCountsBytesPerKind) {
     EXPECT_GE(withTargets, before + 64 * 32 * 28);
     for (uint32_t k = 0; k < kMemoryKindCount; ++k)
         if (MemoryKind(k) != MemoryKind::DeviceMappable) EXPECT_EQ(d.memoryUsage().bytes[k], 0u);
+    // By role: slot uploads, counters (readback), cluster-independent GPU-only images; kinds and roles
+    // count the same allocations.
+    const MemoryUsage u = d.memoryUsage();
+    uint64_t byKind = 0, byRole = 0;
+    for (uint64_t b : u.bytes) byKind += b;
+    for (uint64_t b : u.roleBytes) byRole += b;
+    EXPECT_EQ(byKind, byRole);
+    EXPECT_GE(u.roleBytes[uint32_t(MemoryRole::GpuOnly)], 64u * 32 * 28);
+    EXPECT_GT(u.roleBytes[uint32_t(MemoryRole::Upload)], 0u);
+    EXPECT_GT(u.roleBytes[uint32_t(MemoryRole::Readback)], 0u);
+    EXPECT_EQ(u.roleBytes[uint32_t(MemoryRole::Staging)], 0u); // staging lives only during a copy
     ASSERT_TRUE(m->createTargets(64, 32).ok()); // recreated: the old images were freed and uncounted
     EXPECT_EQ(d.memoryUsage().bytes[uint32_t(MemoryKind::DeviceMappable)], withTargets);
     EXPECT_EQ(validationErrors(), 0u);
