@@ -16,10 +16,10 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes [options]
+static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes|cpu [options]
 (`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
-static shadows' temporal stability along a camera path, `bench vsm`, `bench cpvs` and `bench sizes
---help` for theirs)
+static shadows' temporal stability along a camera path, `bench vsm`, `bench cpvs`, `bench sizes` and
+`bench cpu --help` (the module's CPU time per frame) for theirs)
 Culling and shading time against light count, for each culling mode, in one run; every pass timed
 fenced (its own submission, timed to completion: lavapipe's timestamps do not bracket compute).
 Every flag of every command may be given once; a flag's value cannot be another flag.
@@ -179,9 +179,10 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) == "cpvs") return runBenchCpvs(argc, argv);
     if (std::string(argv[2]) == "sizes") return runBenchSizes(argc, argv);
+    if (std::string(argv[2]) == "cpu") return runBenchCpu(argc, argv);
     if (std::string(argv[2]) != "culling")
         return usageError("bench", std::string("unknown benchmark '") + argv[2] +
-                                       "' (culling, static, vsm, flicker, cpvs or sizes)");
+                                       "' (culling, static, vsm, flicker, cpvs, sizes or cpu)");
     return runBenchCulling(argc, argv);
 }
 

@@ -19,6 +19,7 @@ int runCheck(int argc, char** argv);
 int runBenchVsm(int argc, char** argv);
 int runBenchCpvs(int argc, char** argv);  // apps/bench_cpvs.cpp
 int runBenchSizes(int argc, char** argv); // apps/bench_sizes.cpp
+int runBenchCpu(int argc, char** argv);   // apps/bench_cpu.cpp
 int runMerge(int argc, char** argv);
 int usageError(const char* command, const std::string& message); // exit code 2
 int runError(const char* command, const std::string& message);   // exit code 1

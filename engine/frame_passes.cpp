@@ -30,6 +30,7 @@ void runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> p
             profiler.runUntimed(frameCmd, body);
     }
     f.cmd = frameCmd;
+    profiler.endFrame(frameCmd); // the frame's completion, readable by the host without waiting
 }
 
 void FrameBeginPass::record(FrameContext& f) {

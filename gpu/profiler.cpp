@@ -1,8 +1,7 @@
 #include "gpu/profiler.h"
 
-#include "gpu/resources.h"
-
 #include <chrono>
+#include <cstring>
 
 namespace ml {
 
@@ -20,12 +19,29 @@ Result<void> Profiler::create(const Device& device, uint32_t slots, std::vector<
         return fail(std::string("vkCreateQueryPool for 'profiler_queries' failed: ") + vkResultName(r));
     }
     vkResetQueryPool(device.device, pool_, 0, ci.queryCount);
+    done_.assign(slots, VK_NULL_HANDLE);
+    results_.assign(slots, {});
+    for (uint32_t s = 0; s < slots; ++s) {
+        VkEventCreateInfo ei{VK_STRUCTURE_TYPE_EVENT_CREATE_INFO};
+        if (VkResult r = ML_VK_ALLOC(vkCreateEvent(device.device, &ei, nullptr, &done_[s])); r != VK_SUCCESS) {
+            done_[s] = VK_NULL_HANDLE;
+            return fail(std::string("vkCreateEvent for 'profiler_done' failed: ") + vkResultName(r));
+        }
+        // 2 queries per timer, {value, availability} of 8 bytes each; the host reads them.
+        ML_TRY(createBuffer(device, results_[s], VkDeviceSize(timers()) * 2 * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            "profiler_results", MemoryRole::Readback));
+    }
     return {};
 }
 
 void Profiler::destroy(const Device& device) {
     if (pool_) vkDestroyQueryPool(device.device, pool_, nullptr);
     pool_ = VK_NULL_HANDLE;
+    for (VkEvent e : done_)
+        if (e) vkDestroyEvent(device.device, e, nullptr);
+    for (Buffer& b : results_) destroyBuffer(device, b);
+    done_.clear();
+    results_.clear();
 }
 
 void Profiler::beginFrame(VkCommandBuffer cmd, uint32_t slot) {
@@ -69,31 +85,58 @@ void Profiler::runUntimed(VkCommandBuffer cmd, const std::function<void(VkComman
     device_->endOneTime(own);
 }
 
+void Profiler::endFrame(VkCommandBuffer cmd) {
+    if (fenced) return; // every pass was submitted and waited for already
+    // WAIT_BIT waits on the GPU timeline (the copy runs after the timestamps are written), not on the
+    // host; it may only name queries this frame wrote, so one copy per timer that ran (a timer that
+    // did not run keeps availability 0 from the host's clear below and is not read).
+    std::memset(results_[current_].data, 0, size_t(results_[current_].size));
+    for (uint32_t p = 0; p < timers(); ++p)
+        if (recorded_[current_][p])
+            vkCmdCopyQueryPoolResults(cmd, pool_, (current_ * timers() + p) * 2, 2, results_[current_].buffer,
+                                      VkDeviceSize(p) * 32, 16,
+                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT |
+                                          VK_QUERY_RESULT_WAIT_BIT);
+    // The event signals after everything recorded before it (the whole frame, the copy included) and
+    // makes those writes (results, the frame's counters) visible to host reads.
+    VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    mb.srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    mb.srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT;
+    mb.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    mb.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    di.memoryBarrierCount = 1;
+    di.pMemoryBarriers = &mb;
+    vkCmdSetEvent2(cmd, done_[current_], &di);
+}
+
 void Profiler::setFenced(uint32_t timer, double startMs, double ms) {
     fenced_[current_].ms[timer] = ms;
     fenced_[current_].startMs[timer] = startMs;
     fenced_[current_].ran[timer] = true;
 }
 
-bool Profiler::read(uint32_t slot, Times& out) const {
+bool Profiler::read(uint32_t slot, Times& out) {
     if (fenced) {
         out = fenced_[slot];
         return true;
     }
     out = {std::vector<double>(timers(), 0.0), std::vector<double>(timers(), 0.0),
            std::vector<bool>(timers(), false)};
+    // Never vkGetQueryPoolResults here: it may wait for the device (see the header).
+    if (vkGetEventStatus(device_->device, done_[slot]) != VK_EVENT_SET) return false;
+    const uint64_t* data = results_[slot].as<uint64_t>(); // {begin, avail, end, avail} per timer
     for (uint32_t p = 0; p < timers(); ++p) {
         if (!recorded_[slot][p]) continue;
-        uint64_t data[4]; // begin, availability, end, availability
-        VkResult r = vkGetQueryPoolResults(device_->device, pool_, (slot * timers() + p) * 2, 2, sizeof(data),
-                                           data, 2 * sizeof(uint64_t),
-                                           VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
-        if (r != VK_SUCCESS && r != VK_NOT_READY) return false;
-        if (!data[1] || !data[3]) return false;
-        out.ms[p] = double(data[2] - data[0]) * device_->timestampPeriodNs * 1e-6;
-        out.startMs[p] = double(data[0]) * device_->timestampPeriodNs * 1e-6;
+        const uint64_t* q = data + size_t(p) * 4;
+        if (!q[1] || !q[3]) continue; // recorded but not executed (cannot happen after the event)
+        out.ms[p] = double(q[2] - q[0]) * device_->timestampPeriodNs * 1e-6;
+        out.startMs[p] = double(q[0]) * device_->timestampPeriodNs * 1e-6;
         out.ran[p] = true;
     }
+    // The event was set by a completed frame; nothing pending waits on it, so the host may reset it
+    // before the slot's next frame is recorded.
+    vkResetEvent(device_->device, done_[slot]);
     return true;
 }
 
