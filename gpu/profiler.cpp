@@ -23,13 +23,14 @@ Result<void> Profiler::create(const Device& device, uint32_t slots, std::vector<
     results_.assign(slots, {});
     for (uint32_t s = 0; s < slots; ++s) {
         VkEventCreateInfo ei{VK_STRUCTURE_TYPE_EVENT_CREATE_INFO};
-        if (VkResult r = ML_VK_ALLOC(vkCreateEvent(device.device, &ei, nullptr, &done_[s])); r != VK_SUCCESS) {
+        if (VkResult r = ML_VK_ALLOC(vkCreateEvent(device.device, &ei, nullptr, &done_[s]));
+            r != VK_SUCCESS) {
             done_[s] = VK_NULL_HANDLE;
             return fail(std::string("vkCreateEvent for 'profiler_done' failed: ") + vkResultName(r));
         }
         // 2 queries per timer, {value, availability} of 8 bytes each; the host reads them.
-        ML_TRY(createBuffer(device, results_[s], VkDeviceSize(timers()) * 2 * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                            "profiler_results", MemoryRole::Readback));
+        ML_TRY(createBuffer(device, results_[s], VkDeviceSize(timers()) * 2 * 16,
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, "profiler_results", MemoryRole::Readback));
     }
     return {};
 }
