@@ -63,6 +63,10 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --need-samples N   camera samples (default 120; box: a grid of cbrt(N)^3)
   --need-seconds S   duration of the path sampled (default 60)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
+  --max-memory M     peak memory allowed, MiB (default: half of this machine's memory). The bake
+                     estimates its peak from the method, resolutions and lights (every record is held
+                     until the file is written) and prints it; past the limit it refuses before any
+                     work (--need: at the cap first, then at the resolutions the need chose)
   --quiet            no progress lines on stderr
 Dynamic lights among the selection are skipped and listed, never silently. Directional lights (the
 glTF's, or --light-dir) bake one orthographic map each.
@@ -85,8 +89,8 @@ need-based bakes differ per light) and checks every texel
 (sm, mh, mmh, dagmh: enter <= decoded depth <= exit, empty texels exactly empty) or every voxel
 (cpvs: against the voxelisation of the maps; undefined voxels inside closed objects are not counted).
 The last line on stdout is {"checked": N, "mismatches": M}.
-Exit status: 0 all agree, 1 mismatches found, 2 bad input (unreadable or invalid file, scene changed,
-no records: nothing checked is not a pass).
+Exit status: 0 all agree, 1 usage error, 2 bad input (unreadable or invalid file, scene changed, no
+records: nothing checked is not a pass), 3 mismatches found (or the renderer failed).
   --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
   --quiet   no progress lines on stderr
 )";
@@ -217,6 +221,7 @@ struct BakeOptions {
     opts::Need need;
     std::string out;
     BakeRenderer renderer = BakeRenderer::Gpu;
+    uint64_t maxMemory = 0; // bytes (--max-memory)
 };
 
 // --need and its region's options: only together, never with --shard; the minimum a power of two at
@@ -273,6 +278,9 @@ Result<BakeOptions> parseBake(const cli::Args& args) {
     auto renderer = parseRenderer(args);
     if (!renderer) return fail(renderer.error());
     o.renderer = renderer.value();
+    auto limit = opts::maxMemory(args);
+    if (!limit) return fail(limit.error());
+    o.maxMemory = limit.value();
     return o;
 }
 
@@ -284,7 +292,7 @@ struct Selection {
     std::vector<uint32_t> lights;
 };
 
-Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o) {
+Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o, bool& sceneFailed) {
     Selection sel;
     sel.spec = SceneSpec{o.scene.name, o.sceneLights, o.scene.seed};
     SceneSpec& spec = sel.spec;
@@ -302,7 +310,10 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o) {
         spec.lights += uint32_t(mods.lightDirs.size());
     }
     auto scene = loadBakeScene(spec, {o.scene.allowOutside});
-    if (!scene) return fail(scene.error());
+    if (!scene) {
+        sceneFailed = true;
+        return fail(scene.error());
+    }
     for (const auto& w : scene->warnings)
         std::fprintf(stderr, "manylights bake: warning: %s\n", io::escapeText(w).c_str());
     auto lights = parseLightSelection(args.get("--lights", ""), uint32_t(scene->lights.size()));
@@ -316,6 +327,48 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o) {
     return sel;
 }
 
+// The bake's peak memory from its arguments: every record's words are held until the file is written,
+// then serialised beside them (x2), and one map at a time is rendered (enter and exit, 8 B a texel)
+// and encoded (scratch: 16 B a texel allowed). Words: 4 B a texel for every method: sm stores one
+// depth per texel (8 lights at 2048^2: 134,219,020 bytes); the compressed methods are far below it on
+// the night city (the same bake: mh 1.2 MB, dagmh 0.6 MB, cpvs 0.8 MB) but have no proven bound, so
+// they are counted as sm (conservative; --max-memory raises the limit). Base: scene, casters,
+// device and renderer, 400 MiB. Measured peak RSS (/usr/bin/time -v manylights bake --method M
+// --res 2048 --lights 0-7): sm 516 MB, mh 310, dagmh 310, cpvs 257, estimate 752 MiB.
+uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions) {
+    uint64_t words = 0, largest = 0;
+    for (uint32_t r : faceResolutions) {
+        const uint64_t texels = uint64_t(r) * r;
+        words += texels * 4;
+        largest = std::max(largest, texels);
+    }
+    const uint64_t working = largest * (8 + 16); // the map, and the encoder's scratch
+    return (uint64_t(400) << 20) + 2 * words + working;
+}
+
+Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
+                             const std::optional<BakeNeed>& need) {
+    std::vector<uint32_t> faces;
+    uint32_t lights = 0;
+    for (uint32_t l : sel.lights) {
+        if (l >= sel.scene.lights.size() || !bakeSkipReason(sel.scene, sel.scene.lights[l]).empty()) continue;
+        uint32_t res = o.byNeed && !need ? o.need.minRes : o.res; // --need: its minimum until it has chosen
+        if (need) {
+            res = 0;
+            for (const LightNeed& n : need->lights)
+                if (n.light == l) res = n.resolution;
+        }
+        if (!res) continue;
+        ++lights;
+        for (size_t f = 0; f < bakeFrustums(sel.scene, sel.scene.lights[l]).size(); ++f) faces.push_back(res);
+    }
+    const std::string what = std::to_string(lights) + " lights, " + std::to_string(faces.size()) + " maps " +
+                             (need ? std::string("at the need's resolutions")
+                                   : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
+                                         (o.byNeed ? " (--need-min, before the need chooses)" : ""));
+    return opts::checkMemory("bake", bakePeakBytes(faces), o.maxMemory, what);
+}
+
 // The whole selection into one bake file (by need or at one resolution), and what was baked.
 int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel, const DualRenderFn& render) {
     Result<BakeResult> baked = fail("");
@@ -323,6 +376,7 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
         auto need = bakeNeed(sel.scene, sel.lights, args.get("--need", ""), o.need.samples, o.need.seconds,
                              {o.need.width, o.need.height}, o.need.minRes, o.res);
         if (!need) return usageError("bake", need.error());
+        if (auto r = checkBakeMemory(o, sel, need.value()); !r) return usageError("bake", r.error());
         baked = bakeSceneNeed(sel.scene, sel.spec, o.method, need.value(), sel.lights,
                               progressPrinter("bake", o.quiet), render);
     } else {
@@ -355,7 +409,7 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
 
 // The flags of `bake` beside its option groups.
 const cli::Flags kBakeFlags{{"--scene-lights", "--method", "--res", "--lights", "--out", "--renderer",
-                             "--shard", "--light-dir", "--bounds", "--need"},
+                             "--shard", "--light-dir", "--bounds", "--need", "--max-memory"},
                             {"--quiet"}};
 
 int runBake(int argc, char** argv) {
@@ -368,10 +422,14 @@ int runBake(int argc, char** argv) {
     auto options = parseBake(*args);
     if (!options) return usageError("bake", options.error());
     const BakeOptions& o = options.value();
+    bool sceneFailed = false;
+    auto sel = selectLights(*args, o, sceneFailed);
+    if (!sel) return sceneFailed ? inputError("bake", sel.error()) : usageError("bake", sel.error());
+    // Memory bounded before any work: the estimate at the selection's resolutions (--need: the cap,
+    // refined once the need has chosen them, in bakeWhole).
+    if (auto r = checkBakeMemory(o, sel.value(), std::nullopt); !r) return usageError("bake", r.error());
     auto rendering = makeRendering(o.renderer);
     if (!rendering) return runError("bake", rendering.error());
-    auto sel = selectLights(*args, o);
-    if (!sel) return usageError("bake", sel.error());
     std::printf("manylights bake: %s, %s at %s%u^2, %zu of %zu lights selected\n",
                 io::escapeText(sel->spec.scene).c_str(), staticMethodName(o.method),
                 o.byNeed ? "need-based resolutions up to " : "", o.res, sel->lights.size(),
@@ -447,6 +505,21 @@ std::string needJson(const BakeNeed& n) {
     return o.str();
 }
 
+// A fitted directional record's map and box (issue 21): sizes, extents and the shares in the box.
+std::string directionalJson(const DirectionalFit& d) {
+    return json::Object()
+        .integer("width", d.width)
+        .integer("rows", d.rows)
+        .real("extent_x", d.extentX, "%.9g")
+        .real("extent_y", d.extentY, "%.9g")
+        .real("slab_near", d.slabNear, "%.9g")
+        .real("slab_far", d.slabFar, "%.9g")
+        .real("texels_in_box", d.texelsInBox, "%.6f")
+        .real("depth_slices_in_box", d.depthSlicesInBox, "%.6f")
+        .real("caster_slices", d.casterSlices, "%.6f")
+        .str();
+}
+
 // inspect --json: one object, a line per part of it and per record.
 std::string inspectJson(const std::string& path, const Inspected& in) {
     const BakeFile& f = in.file;
@@ -478,16 +551,16 @@ std::string inspectJson(const std::string& path, const Inspected& in) {
     for (size_t i = 0; i < f.records.size(); ++i) {
         const BakeRecord& r = f.records[i];
         const stat::ByteBreakdown& p = per[i].parts;
-        records.push_back(
-            json::Object()
-                .integer("light", r.light)
-                .integer("resolution", r.resolution)
-                .integer("bytes", uint64_t(r.data.size() * 4))
-                .real("fov", r.frustum.fov, "%.9g")
-                .real("near", r.frustum.nearPlane, "%.9g")
-                .real("far", r.frustum.farPlane, "%.9g")
-                .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors))
-                .str());
+        json::Object rec;
+        rec.integer("light", r.light)
+            .integer("resolution", r.resolution)
+            .integer("bytes", uint64_t(r.data.size() * 4))
+            .real("fov", r.frustum.fov, "%.9g")
+            .real("near", r.frustum.nearPlane, "%.9g")
+            .real("far", r.frustum.farPlane, "%.9g")
+            .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors));
+        if (auto fit = directionalFit(r); fit) rec.raw("directional", directionalJson(fit.value()));
+        records.push_back(rec.str());
     }
     o.breakLine().raw("per_light", json::array(records, ",\n  ", "[\n  ", "]"));
     if (f.hasNeed) o.breakLine().raw("need", needJson(f.need));
@@ -544,6 +617,14 @@ void printInspected(const std::string& path, const Inspected& in) {
                     (unsigned long long)(r.data.size() * 4),
                     100.0 * double(r.data.size() * 4) / (double(r.resolution) * r.resolution * 4),
                     r.frustum.fov, r.frustum.farPlane);
+    for (const BakeRecord& r : f.records)
+        if (auto d = directionalFit(r); d)
+            std::printf(
+                "directional light %u: map %u x %u texels over %.3f x %.3f m, depth slab %.3f..%.3f m; "
+                "%.1f%% of texels and %.1f%% of depth slices in the box, casters span %.1f%% of the "
+                "slices\n",
+                r.light, d->width, d->rows, d->extentX, d->extentY, d->slabNear, d->slabFar,
+                100.0 * d->texelsInBox, 100.0 * d->depthSlicesInBox, 100.0 * d->casterSlices);
     if (f.hasNeed) printNeed(f.need);
 }
 } // namespace
@@ -557,7 +638,7 @@ int runInspect(int argc, char** argv) {
         return 0;
     }
     auto in = readInspected(path);
-    if (!in) return usageError("inspect", in.error());
+    if (!in) return inputError("inspect", in.error());
     if (args.has("--json"))
         std::printf("%s\n", inspectJson(path, in.value()).c_str());
     else
@@ -575,10 +656,10 @@ int runVerify(int argc, char** argv) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     auto file = readBakeFile(path);
-    if (!file) return usageError("verify", file.error());
+    if (!file) return inputError("verify", file.error());
     const BakeFile& f = file.value();
     if (f.records.empty())
-        return usageError("verify", path + ": the file holds no records: nothing to verify");
+        return inputError("verify", path + ": the file holds no records: nothing to verify");
     std::printf("manylights verify: %s: %s at %u^2, %zu lights of %s (%u lights, seed %u)\n",
                 io::escapeText(path).c_str(), staticMethodName(f.method), f.resolution, f.records.size(),
                 io::escapeText(f.scene.scene).c_str(), f.scene.lights, f.scene.seed);
@@ -589,14 +670,16 @@ int runVerify(int argc, char** argv) {
     const DualRenderFn& render = rendering->render;
     // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
     auto scene = loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
-    if (!scene) return usageError("verify", path + ": cannot re-create the baked scene: " + scene.error());
+    if (!scene) return inputError("verify", path + ": cannot re-create the baked scene: " + scene.error());
     auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
-    if (!rep) return usageError("verify", path + ": " + rep.error());
+    if (!rep) return inputError("verify", path + ": " + rep.error());
     const char* unit = f.method == StaticMethod::CPVS ? "voxels" : "texels";
     for (const VerifyLight& l : rep->lights) {
         std::printf("light %u: %llu %s checked, %llu mismatches", l.light, (unsigned long long)l.checked,
                     unit, (unsigned long long)l.mismatches);
         if (f.method == StaticMethod::CPVS) std::printf(", %llu undefined", (unsigned long long)l.undefined);
+        if (l.casterSlices >= 0.0)
+            std::printf(", casters span %.1f%% of the depth slices", 100.0 * l.casterSlices);
         std::printf(" (render %.2f s, check %.2f s)\n", l.renderSeconds, l.checkSeconds);
     }
     for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", io::escapeText(e).c_str());
@@ -606,7 +689,7 @@ int runVerify(int argc, char** argv) {
                 (unsigned long long)rep->mismatches);
     if (validationErrors())
         return runError("verify", std::to_string(validationErrors()) + " Vulkan validation errors");
-    return rep->mismatches ? 1 : 0;
+    return rep->mismatches ? kExitRun : 0;
 }
 
 } // namespace ml

@@ -107,7 +107,7 @@ int runBenchCpu(int argc, char** argv) {
     Module& m = *module.value();
     auto binding = bindScene(m, scene);
     if (!binding) return runError("bench", binding.error());
-    if (auto r = m.createTargets(view->width, view->height); !r) return runError("bench", r.error());
+    if (auto r = m.createTargets(view->width, view->height); !r) return usageError("bench", r.error());
 
     const DeviceInfo info = m.deviceInfo();
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

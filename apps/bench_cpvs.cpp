@@ -78,9 +78,10 @@ int runBenchCpvs(int argc, char** argv) {
     }
     const bool verify = args->has("--verify");
     const std::string out = args->get("--out", "out/bench_cpvs");
+    if (auto r = cli::checkOutputDirectory("--out", out); !r) return usageError("bench cpvs", r.error());
 
     auto scene = loadScene("night-city", 256, 1);
-    if (!scene) return runError("bench cpvs", scene.error());
+    if (!scene) return inputError("bench cpvs", scene.error());
     const CasterTriangles casters = castersFromScene(*scene);
     std::vector<Light> spots;
     for (const Light& l : scene->lights)

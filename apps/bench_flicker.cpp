@@ -340,10 +340,10 @@ int runBenchFlicker(int argc, char** argv) {
     if (!options) return usageError("bench flicker", options.error());
     const Options& o = options.value();
     auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed);
-    if (!scene) return runError("bench flicker", scene.error());
+    if (!scene) return inputError("bench flicker", scene.error());
     auto path = parsePath(*args, scene.value());
     if (!path) return usageError("bench flicker", path.error());
-    if (auto r = cli::makeDirectory(o.out); !r) return runError("bench flicker", r.error());
+    if (auto r = cli::checkOutputDirectory("--out", o.out); !r) return usageError("bench flicker", r.error());
     auto rays = RayReference::build(scene.value(), true);
     if (!rays) return runError("bench flicker", rays.error());
 

@@ -352,7 +352,8 @@ int runBenchFlickerVsm(int argc, char** argv) {
     auto parsed = parseRun(*args);
     if (!parsed) return usageError("bench flicker --vsm", parsed.error());
     Run& run = parsed.value();
-    if (auto r = cli::makeDirectory(run.out); !r) return runError("bench flicker --vsm", r.error());
+    if (auto r = cli::checkOutputDirectory("--out", run.out); !r)
+        return usageError("bench flicker --vsm", r.error());
     auto session = VsmSession::create(run.options);
     if (!session) return runError("bench flicker --vsm", session.error());
     VsmSession& s = *session.value();

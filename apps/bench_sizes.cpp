@@ -149,6 +149,7 @@ int runBenchSizes(int argc, char** argv) {
             if (!c.building || !buildingFile.empty()) cases.push_back(c);
     }
     const std::string cache = args->get("--cache", ""), out = args->get("--out", "out/bench_sizes");
+    if (auto r = cli::checkOutputDirectory("--out", out); !r) return usageError("bench sizes", r.error());
     if (!cache.empty())
         if (auto r = cli::makeDirectory(cache); !r) return runError("bench sizes", r.error());
 

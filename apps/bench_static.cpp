@@ -524,10 +524,10 @@ int runBenchStatic(int argc, char** argv) {
     auto options = parseStatic(*args);
     if (!options) return usageError("bench static", options.error());
     const StaticOptions& o = options.value();
-    if (auto r = cli::makeDirectory(o.out); !r) return runError("bench static", r.error());
+    if (auto r = cli::checkOutputDirectory("--out", o.out); !r) return usageError("bench static", r.error());
     auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed,
                            {o.scene.allowOutside});
-    if (!scene) return runError("bench static", scene.error());
+    if (!scene) return inputError("bench static", scene.error());
     std::unique_ptr<Module> module;
     SceneBinding binding;
     if (int status = setupModule(*args, o, scene.value(), module, binding)) return status;

@@ -325,12 +325,12 @@ int runBenchStaticNeed(int argc, char** argv) {
     auto parsed = parseNeedBench(*args);
     if (!parsed) return usageError("bench static", parsed.error());
     const NeedBench& o = parsed.value();
-    if (auto r = cli::makeDirectory(o.out); !r) return runError("bench static", r.error());
+    if (auto r = cli::checkOutputDirectory("--out", o.out); !r) return usageError("bench static", r.error());
     auto rendering = makeRendering(o.renderer);
     if (!rendering) return runError("bench static", rendering.error());
     const SceneSpec spec{o.scene.name, o.sceneLights, o.scene.seed};
     auto scene = loadBakeScene(spec);
-    if (!scene) return usageError("bench static", scene.error());
+    if (!scene) return inputError("bench static", scene.error());
     auto rays = RayReference::build(scene.value(), true);
     if (!rays) return runError("bench static", rays.error());
     auto region = makeNeedRegion(scene.value(), o.region, o.need.samples, double(o.need.seconds),

@@ -252,7 +252,7 @@ int runBenchVsm(int argc, char** argv) {
     auto config = parseConfig(*args);
     if (!config) return usageError("bench vsm", config.error());
     const Config& c = config.value();
-    if (auto r = cli::makeDirectory(c.out); !r) return runError("bench vsm", r.error());
+    if (auto r = cli::checkOutputDirectory("--out", c.out); !r) return usageError("bench vsm", r.error());
     std::ostringstream csv;
     csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
            "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"

@@ -12,14 +12,17 @@
 // nothing disagreed.
 #include "apps/commands.h"
 #include "apps/json.h"
+#include "apps/options.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/config.h"
 #include "shadows/static/raster_dual.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 namespace ml {
 
@@ -38,6 +41,8 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --vsm-texels T shadow texels per pixel footprint: 0.25, 0.5, 1 (default), 2, 4 or 8
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
   --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex
+  --max-memory M peak memory allowed, MiB (default: half of this machine's memory); the estimate is
+                 printed before the run, and a run past the limit is refused before it starts
 Last stdout line: {"checked": N, "mismatches": M, ...}; exit 0 only when N > 0 and M == 0.
 Directional lights' clip levels are checked against the orthographic reference rasteriser
 (directional_checked counts their lookups). A differing shadow decision is not a mismatch when the
@@ -133,7 +138,9 @@ Verdict judgeProbe(const diag::VsmProbe& p, const DualDepthMap& ref, CheckCounts
     return ok ? Verdict::Agrees : tie || edge ? Verdict::TieOrEdge : Verdict::Disagrees;
 }
 
-// One frame's probes against reference maps rendered on first use, per (map, mip).
+// One frame's probes against reference maps, per (map, mip): the probes sorted by map and mip, each
+// reference rendered when its first probe comes and dropped after its last, so one reference map is
+// held at a time (8 B a texel: 2 GiB at 16384^2; estimatePeak counts it).
 Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCounts& c) {
     auto report = s.frame(f);
     if (!report) return fail(report.error());
@@ -141,7 +148,12 @@ Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCou
     auto probes = diag::readVsmProbes(*s.module, &overflow);
     const std::vector<diag::VsmMap> maps = diag::vsmMaps(*s.module);
     c.probeOverflow += overflow;
-    std::map<std::pair<uint32_t, uint32_t>, DualDepthMap> references; // (map, mip) -> reference
+    std::stable_sort(probes.begin(), probes.end(), [](const diag::VsmProbe& a, const diag::VsmProbe& b) {
+        return std::make_pair(a.map, a.mip) < std::make_pair(b.map, b.mip);
+    });
+    std::optional<std::pair<uint32_t, uint32_t>> held; // the (map, mip) of `ref`
+    DualDepthMap ref;
+    size_t referenceMaps = 0;
     uint64_t frameMismatches = 0, frameTies = 0;
     for (const diag::VsmProbe& p : probes) {
         const uint32_t map = p.map, mip = p.mip;
@@ -153,13 +165,14 @@ Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCou
             continue;
         }
         c.directionalChecked += info.orthographic;
-        auto key = std::make_pair(map, mip);
-        auto it = references.find(key);
-        if (it == references.end()) {
+        const auto key = std::make_pair(map, mip);
+        if (held != key) {
+            ref = DualDepthMap{}; // the previous reference's memory goes before the next is rendered
             DualRasterizer raster(mapCasters(s.scene, info.dynamicOnly), info.frustum, resolution >> mip);
-            it = references.emplace(key, raster.render()).first;
+            ref = raster.render();
+            held = key;
+            ++referenceMaps;
         }
-        const DualDepthMap& ref = it->second;
         const uint32_t want = ref.enter[size_t(p.y) * ref.resolution + p.x];
         bool tie = false;
         const Verdict v = judgeProbe(p, ref, c, tie);
@@ -180,8 +193,22 @@ Result<void> checkFrame(VsmSession& s, uint32_t f, uint32_t resolution, CheckCou
         }
     }
     std::fprintf(stderr, "frame %u: %zu lookups, %zu reference maps, %llu mismatches\n", f, probes.size(),
-                 references.size(), (unsigned long long)frameMismatches);
+                 referenceMaps, (unsigned long long)frameMismatches);
     return {};
+}
+
+// check vsm's peak memory from its arguments: a measured base (device, lavapipe, the night city and
+// its 256 lights' module state: ~0.5 GiB at 320x180), the targets and VSM state the module allocates
+// (lavapipe's device memory is this process's), the probe records (on the device and read back), and
+// one reference map (8 B a texel) with its rasteriser's row tiles (1 M texels of hit lists).
+uint64_t estimatePeak(const VsmSessionOptions& o) {
+    const VsmSettings& v = o.module.vsm;
+    const uint64_t s0 = v.resolution / v.pageSize;
+    const uint64_t entries = uint64_t(v.maxMaps) * (s0 * s0 * 4 / 3 + 1);
+    const uint64_t vsm = entries * 4 * 2 + uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4;
+    const uint64_t probes = uint64_t(v.probeCapacity) * 48 * 2;
+    const uint64_t reference = uint64_t(v.resolution) * v.resolution * 8 + (uint64_t(1) << 20) * 64;
+    return (uint64_t(512) << 20) + diag::targetBytes(o.width, o.height, true) + vsm + probes + reference;
 }
 
 std::string summary(const CheckCounts& c, uint32_t frames, bool meshPath) {
@@ -196,12 +223,12 @@ std::string summary(const CheckCounts& c, uint32_t frames, bool meshPath) {
 } // namespace
 
 // The flags of `check vsm` beside its option groups.
-const cli::Flags kCheckFlags{{"--pcf", "--vsm-raster"}, {}};
+const cli::Flags kCheckFlags{{"--pcf", "--vsm-raster", "--max-memory"}, {}};
 
 int runCheck(int argc, char** argv) {
     if (argc < 3 || std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h") {
         std::fputs(kCheckHelp, argc < 3 ? stderr : stdout);
-        return argc < 3 ? 2 : 0;
+        return argc < 3 ? kExitUsage : 0;
     }
     if (std::string(argv[2]) != "vsm")
         return usageError("check", std::string("unknown check '") + argv[2] + "' (vsm)");
@@ -219,6 +246,13 @@ int runCheck(int argc, char** argv) {
     VsmSessionOptions o = options.value();
     o.module.vsm.probeCapacity = o.width * o.height * 8;
     o.module.vsm.raster = raster.value();
+    auto limit = opts::maxMemory(*args);
+    if (!limit) return usageError("check vsm", limit.error());
+    if (auto r = opts::checkMemory("check vsm", estimatePeak(o), limit.value(),
+                                   "one " + std::to_string(o.module.vsm.resolution) +
+                                       "^2 reference map at a time, the module's targets and maps");
+        !r)
+        return usageError("check vsm", r.error());
     auto session = VsmSession::create(o);
     if (!session) return runError("check vsm", session.error());
     VsmSession& s = *session.value();
@@ -230,7 +264,7 @@ int runCheck(int argc, char** argv) {
     if (s.module->deviceInfo().validation && validationErrors())
         std::fprintf(stderr, "manylights check vsm: %u validation messages\n", validationErrors());
     std::printf("%s\n", summary(c, frameCount, diag::vsmMeshPath(*s.module)).c_str());
-    return c.checked > 0 && c.mismatches == 0 && c.probeOverflow == 0 ? 0 : 1;
+    return c.checked > 0 && c.mismatches == 0 && c.probeOverflow == 0 ? 0 : kExitRun;
 }
 
 } // namespace ml

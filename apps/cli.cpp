@@ -1,5 +1,6 @@
 #include "apps/cli.h"
 #include "engine/manylights.h"
+#include "io/safe_io.h"
 
 #include <cerrno>
 #include <cmath>
@@ -26,6 +27,9 @@ Result<Args> parse(int argc, char** argv, int first, const std::set<std::string>
             const std::string v = argv[i + 1];
             if (valued.count(v) || switches.count(v) || v == "--help")
                 return fail(s + ": missing value (the next argument is the flag " + v + ")");
+            // No value starts with "--" (paths and numbers do not; a negative number has one dash).
+            if (v.rfind("--", 0) == 0)
+                return fail(s + ": missing value (the next argument, '" + v + "', is a flag)");
             a.values[s] = argv[++i];
         } else if (switches.count(s)) {
             a.switches.insert(s);
@@ -100,6 +104,21 @@ Result<void> makeDirectory(const std::string& path) {
     std::error_code ec;
     std::filesystem::create_directories(path, ec);
     if (ec) return fail(path + ": cannot create directory: " + ec.message());
+    return {};
+}
+
+Result<void> checkOutputFile(const std::string& flag, const std::string& path) {
+    if (path.empty()) return fail(flag + ": empty path");
+    const size_t slash = path.find_last_of('/');
+    if (slash != std::string::npos && slash > 0)
+        if (auto r = makeDirectory(path.substr(0, slash)); !r) return fail(flag + ": " + r.error());
+    if (auto r = io::checkReplaceable(path); !r) return fail(flag + ": " + r.error());
+    return {};
+}
+
+Result<void> checkOutputDirectory(const std::string& flag, const std::string& path) {
+    if (path.empty()) return fail(flag + ": empty path");
+    if (auto r = makeDirectory(path); !r) return fail(flag + ": " + r.error());
     return {};
 }
 

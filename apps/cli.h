@@ -40,6 +40,10 @@ Result<Args> parse(int argc, char** argv, int first, std::initializer_list<Flags
 Result<uint32_t> parseUint(const std::string& flag, const std::string& text, uint32_t lo, uint32_t hi);
 Result<std::pair<uint32_t, uint32_t>> parseSize(const std::string& flag, const std::string& text);
 Result<void> makeDirectory(const std::string& path);
+// Output paths checked before any heavy work: a file's folder is created (or refused) and the file must
+// be replaceable (io::checkReplaceable); a folder is created. One line naming the flag.
+Result<void> checkOutputFile(const std::string& flag, const std::string& path);
+Result<void> checkOutputDirectory(const std::string& flag, const std::string& path);
 // "X,Y,Z,TX,TY,TZ": camera position and target (six numbers, comma-separated).
 Result<std::array<float, 6>> parseCamera(const std::string& flag, const std::string& text);
 

@@ -21,10 +21,16 @@ int runBenchCpvs(int argc, char** argv);  // apps/bench_cpvs.cpp
 int runBenchSizes(int argc, char** argv); // apps/bench_sizes.cpp
 int runBenchCpu(int argc, char** argv);   // apps/bench_cpu.cpp
 int runMerge(int argc, char** argv);
-int usageError(const char* command, const std::string& message); // exit code 2
-int runError(const char* command, const std::string& message);   // exit code 1
+// Exit statuses of every command (README "Exit status"; `manylights help`).
+constexpr int kExitUsage = 1; // the command line: bad, missing, repeated or useless options, ranges, limits
+constexpr int kExitInput = 2; // a hostile or malformed input file: scene, bake file, part
+constexpr int kExitRun = 3;   // the run failed: device, output, validation messages, mismatches found
+// One escaped line "manylights COMMAND: MESSAGE" on stderr; each returns its exit status.
+int usageError(const char* command, const std::string& message); // kExitUsage
+int inputError(const char* command, const std::string& message); // kExitInput
+int runError(const char* command, const std::string& message);   // kExitRun
 // The start every command shares: its parsed flags, or none with `status` set to the exit status
-// (0 after printing `help` for --help, 2 after printing the parse error).
+// (0 after printing `help` for --help, kExitUsage after printing the parse error).
 std::optional<cli::Args> commandArgs(const char* command, const char* help, Result<cli::Args> args,
                                      int& status);
 } // namespace ml

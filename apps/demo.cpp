@@ -9,6 +9,7 @@
 #include "scenes/camera_path.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
+#include "shadows/static/cpvs.h"
 #include "shaders/shared/config.h"
 
 #include <GLFW/glfw3.h>
@@ -133,6 +134,9 @@ Result<void> parseModule(const cli::Args& args, DemoOptions& d) {
         return fail("--timing takes fenced or timestamps, not '" + timing + "'");
     auto raster = vsmRaster(args);
     if (!raster) return fail(raster.error());
+    if (dynamic == "off")
+        for (const char* f : {"--vsm-res", "--vsm-page", "--vsm-pool", "--vsm-raster"})
+            if (args.has(f)) return fail(std::string(f) + ": does nothing with --dynamic off");
     mo.culling = d.culling;
     mo.statistics = !args.has("--no-stats");
     mo.device.window = window;
@@ -157,6 +161,13 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
     // An option that does nothing without another is a mistake worth a word, not a silent default.
     if (args.has("--static-res") && staticMethod.value() == StaticMethod::None)
         return fail("--static-res: does nothing without --static METHOD");
+    // What the bake would refuse after the device and scene are built, refused now.
+    if (staticMethod.value() == StaticMethod::CPVS)
+        if (auto s = makeCpvsSpace(staticRes.value(), 1.0f, 2.0f); !s)
+            return fail("--static-res: " + s.error());
+    if (args.has("--pcf") && staticMethod.value() == StaticMethod::None && !args.has("--bake") &&
+        args.get("--dynamic", "vsm") == "off")
+        return fail("--pcf: does nothing without static shadows (--static, --bake) or --dynamic vsm");
     // Checked before any device work: a bad camera is a usage error, not a blank frame.
     if (args.has("--camera")) {
         auto v = cli::parseCamera("--camera", args.get("--camera", ""));
@@ -172,6 +183,7 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
     d.staticMethod = staticMethod.value(), d.staticRes = staticRes.value(), d.pcf = pcf.value();
     d.path = path.value(), d.debugView = debugView.value();
     d.out = args.get("--out", "out/demo");
+    if (auto r = cli::checkOutputDirectory("--out", d.out); !r) return fail(r.error());
     if (args.has("--bake")) d.bake = args.get("--bake", "");
     if (d.bake && d.staticMethod != StaticMethod::None) return fail("--bake and --static exclude each other");
     if (auto r = parseModule(args, d); !r) return fail(r.error());
@@ -183,10 +195,11 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
 int setupShadows(const DemoOptions& d, Module& m, Scene& scene, const SceneBinding& binding) {
     if (d.bake) {
         auto n = attachBakeFile(m, binding, *d.bake, d.scene.name, d.lights, d.scene.seed);
-        if (!n) return runError("demo", n.error());
+        if (!n) return inputError("demo", n.error()); // a damaged or hostile bake file, or another scene's
         std::printf("static shadows of %u lights from %s\n", n.value(), d.bake->c_str());
     }
-    if (d.bake || d.staticMethod != StaticMethod::None)
+    // The filter applies to static and dynamic (VSM) lookups alike: --pcf alone filters the VSM's.
+    if (d.bake || d.staticMethod != StaticMethod::None || d.pcf)
         if (auto r = m.setShadowFilter(d.pcf); !r) return usageError("demo", r.error());
     if (d.staticMethod != StaticMethod::None) {
         auto baked = bakeStaticShadows(m, scene, binding, d.staticMethod, d.staticRes);
@@ -274,16 +287,22 @@ void printSummary(const ModuleOptions& mo, const FrameStats& s) {
                      v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
 }
 
-// The module on the scene: created, bound, its targets, view, static shadows and camera.
-Result<std::unique_ptr<Module>> createModule(const DemoOptions& d, Scene& scene, SceneBinding& binding) {
+// The module on the scene: created, its targets (a size past the device's limits is a usage error,
+// refused before the scene is bound), bound, its view. `status` is the exit status on failure.
+Result<std::unique_ptr<Module>> createModule(const DemoOptions& d, Scene& scene, SceneBinding& binding,
+                                             int& status) {
+    status = kExitRun;
     auto module = Module::create(d.module);
     if (!module) return fail(module.error());
     Module& m = *module.value();
     m.setView(d.debugView);
+    if (auto r = m.createTargets(d.view.width, d.view.height); !r) {
+        status = kExitUsage;
+        return fail("--" + r.error());
+    }
     auto b = bindScene(m, scene);
     if (!b) return fail(b.error());
     binding = std::move(b.value());
-    if (auto r = m.createTargets(d.view.width, d.view.height); !r) return fail(r.error());
     return std::move(module.value());
 }
 } // namespace
@@ -305,14 +324,22 @@ int runDemo(int argc, char** argv) {
     auto parsed = parseDemo(*args);
     if (!parsed) return usageError("demo", parsed.error());
     DemoOptions& d = parsed.value();
+    // The bake file is read after the device and scene are built: one that is missing, a folder or a
+    // FIFO is refused now.
+    uint64_t bakeBytes = 0;
+    if (d.bake)
+        if (auto head = io::readRegularFileHead(*d.bake, 4, &bakeBytes); !head)
+            return inputError("demo", head.error());
     auto scene = loadScene(d.scene.name, d.lights, d.scene.seed, {d.scene.allowOutside});
-    if (!scene) return runError("demo", scene.error());
+    if (!scene) return inputError("demo", scene.error()); // a missing, malformed or hostile scene file
     for (const auto& w : scene->warnings)
         std::fprintf(stderr, "manylights demo: warning: %s\n", io::escapeText(w).c_str());
-    if (auto r = cli::makeDirectory(d.out); !r) return runError("demo", r.error());
     SceneBinding binding;
-    auto module = createModule(d, scene.value(), binding);
-    if (!module) return runError("demo", module.error());
+    int moduleStatus = 0;
+    auto module = createModule(d, scene.value(), binding, moduleStatus);
+    if (!module)
+        return moduleStatus == kExitUsage ? usageError("demo", module.error())
+                                          : runError("demo", module.error());
     Module& m = *module.value();
     if (int status = setupShadows(d, m, scene.value(), binding)) return status;
     std::unique_ptr<Window> win;
@@ -345,7 +372,7 @@ int runDemo(int argc, char** argv) {
     std::printf("wrote %s/frame_*.png, profile.json, frames.csv, stats.json\n", out.c_str());
     if (dev.validation && validationErrors()) {
         std::fprintf(stderr, "manylights demo: %u validation errors\n", validationErrors());
-        return 1;
+        return kExitRun;
     }
     return 0;
 }

@@ -57,11 +57,11 @@ int runMerge(int argc, char** argv) {
     std::vector<BakePart> parts;
     for (const std::string& p : paths) {
         auto part = readBakePart(p);
-        if (!part) return usageError("merge", part.error());
+        if (!part) return inputError("merge", part.error());
         parts.push_back(std::move(part.value()));
     }
     auto merged = mergeBakeParts(parts, paths);
-    if (!merged) return usageError("merge", merged.error());
+    if (!merged) return inputError("merge", merged.error());
     if (auto w = writeBakeFile(out, merged.value()); !w) return runError("merge", w.error());
     if (!args->has("--quiet")) {
         const BakeBytes b = bakeFileBytes(merged.value());

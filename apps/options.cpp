@@ -2,7 +2,9 @@
 #include "bake/bake.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <unistd.h>
 
 namespace ml::opts {
 
@@ -91,6 +93,31 @@ Result<std::vector<CullingMode>> cullingList(const std::string& flag, const std:
         if (!m) return fail(flag + ": " + m.error());
         return m;
     });
+}
+
+uint64_t machineMemory() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) : uint64_t(4) << 30;
+}
+
+Result<uint64_t> maxMemory(const cli::Args& args) {
+    const uint64_t half = machineMemory() / 2;
+    if (!args.has("--max-memory")) return half;
+    auto mib = cli::parseUint("--max-memory", args.get("--max-memory", ""), 64, 1u << 30);
+    if (!mib) return fail(mib.error() + " (MiB)");
+    return uint64_t(mib.value()) << 20;
+}
+
+Result<void> checkMemory(const char* command, uint64_t estimate, uint64_t limit, const std::string& what) {
+    const uint64_t m = 1u << 20;
+    if (estimate > limit)
+        return fail("estimated peak memory " + std::to_string((estimate + m - 1) / m) + " MiB (" + what +
+                    ") exceeds the limit " + std::to_string(limit / m) +
+                    " MiB (--max-memory MIB raises it; the default is half of this machine's " +
+                    std::to_string(machineMemory() / m) + " MiB)");
+    std::fprintf(stderr, "manylights %s: estimated peak memory %llu MiB (%s), limit %llu MiB\n", command,
+                 (unsigned long long)((estimate + m - 1) / m), what.c_str(), (unsigned long long)(limit / m));
+    return {};
 }
 
 Result<float> number(const std::string& flag, const std::string& text, float lo, float hi) {

@@ -48,6 +48,16 @@ Result<Need> need(const cli::Args& args, const std::string& defaultSize);
 // --need-min must be a power of two (the need picks powers of two between it and the cap).
 Result<void> checkNeedMin(uint32_t minRes);
 
+// --max-memory MIB: the peak memory a command may plan for (check vsm, bake). The command estimates
+// its peak from its arguments before any heavy work and refuses past the limit, printing both.
+// Default: half of this machine's physical memory (sysconf), so a run leaves room for the rest.
+inline const cli::Flags kMemoryFlags{{"--max-memory"}, {}};
+uint64_t machineMemory();                          // bytes of physical memory
+Result<uint64_t> maxMemory(const cli::Args& args); // bytes
+// "COMMAND: estimated peak memory X MiB (what), limit Y MiB" on stderr; past the limit a one-line error
+// naming both and --max-memory.
+Result<void> checkMemory(const char* command, uint64_t estimate, uint64_t limit, const std::string& what);
+
 // Comma-separated lists: no empty item and at least one; each message names the flag.
 Result<std::vector<std::string>> splitList(const std::string& flag, const std::string& text);
 Result<std::vector<uint32_t>> uintList(const std::string& flag, const std::string& text, uint32_t lo,

@@ -23,10 +23,7 @@ double secondsSince(Clock::time_point t0) {
 DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t res,
                          uint64_t tileTexels, const std::function<void(double)>& onFraction) {
     DualRasterizer raster(casters, frustum, res);
-    DualDepthMap map;
-    map.resolution = res;
-    map.enter.assign(size_t(res) * res, kDepthEmpty);
-    map.exit.assign(size_t(res) * res, kDepthEmpty);
+    DualDepthMap map = raster.blankMap();
     const uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res, 1), 1, res));
     for (uint32_t y0 = 0; y0 < res; y0 += rows) {
         const uint32_t y1 = std::min(res, y0 + rows);
@@ -74,7 +71,8 @@ std::string skipReason(const Scene& scene, const Light& l) {
 
 bool sameFrustum(const LightFrustum& a, const LightFrustum& b) {
     return std::memcmp(&a.view[0][0], &b.view[0][0], sizeof(float) * 16) == 0 && a.fov == b.fov &&
-           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane && a.orthoHalf == b.orthoHalf;
+           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane && a.orthoHalf == b.orthoHalf &&
+           a.orthoHalfY == b.orthoHalfY && a.fitMargin == b.fitMargin;
 }
 
 } // namespace
@@ -161,6 +159,10 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
                    : Result<DualDepthMap>(renderTiled(casters, frustum, res, kBakeTileTexels,
                                                       [&](double f) { report("render", 0.5 * f); }));
         if (!map) return fail("bake: light " + std::to_string(li) + ": render: " + map.error());
+        // The projection and rows decide CPVS's slicing and SM's stored rows: from the frustum, whatever
+        // renderer made the map.
+        map->orthographic = frustum.orthographic(),
+        map->rows = frustum.mapRows(res) < res ? frustum.mapRows(res) : 0;
         if (map->resolution != res || map->enter.size() != size_t(res) * res ||
             map->exit.size() != map->enter.size())
             return fail("bake: light " + std::to_string(li) +
@@ -308,6 +310,9 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
                    : Result<DualDepthMap>(renderTiled(casters, rec.frustum, rec.resolution, kBakeTileTexels,
                                                       [&](double f) { report("render", 0.5 * f); }));
         if (!map) return fail(where + ": render: " + map.error());
+        map->orthographic = rec.frustum.orthographic();
+        map->rows =
+            rec.frustum.mapRows(rec.resolution) < rec.resolution ? rec.frustum.mapRows(rec.resolution) : 0;
         if (map->resolution != rec.resolution ||
             map->enter.size() != size_t(rec.resolution) * rec.resolution ||
             map->exit.size() != map->enter.size())
@@ -339,6 +344,17 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
                 if ((y & 255) == 255) report("check", 0.5 + 0.5 * double(y + 1) / res);
             }
             vl.checked = uint64_t(res) * res;
+        }
+        if (rec.frustum.fitted()) {
+            uint32_t lo = kDepthEmpty, hi = 0;
+            for (uint32_t e : map->enter)
+                if (e != kDepthEmpty) lo = std::min(lo, e), hi = std::max(hi, e);
+            const double nz = rec.frustum.nearPlane, fz = rec.frustum.farPlane, n = rec.resolution;
+            auto slice = [&](uint32_t q) {
+                return std::clamp(std::floor((dequantizeDepth(q, rec.frustum.farPlane) - nz) / (fz - nz) * n),
+                                  0.0, n - 1);
+            };
+            vl.casterSlices = lo <= hi ? (slice(hi) - slice(lo) + 1) / n : 0.0;
         }
         vl.checkSeconds = secondsSince(tc);
         rep.checked += vl.checked, rep.mismatches += vl.mismatches, rep.undefined += vl.undefined;

@@ -67,7 +67,10 @@ float mapWidthAt(const LightFrustum& f, const glm::vec3& p) {
     const float z = -v.z;
     if (!(z >= f.nearPlane && z <= f.farPlane)) return 0.0f;
     if (f.orthographic())
-        return std::abs(v.x) <= f.orthoHalf && std::abs(v.y) <= f.orthoHalf ? 2.0f * f.orthoHalf : 0.0f;
+        return std::abs(v.x) <= f.orthoHalf && std::abs(v.y) <= f.orthoHalf &&
+                       (!f.fitted() || v.y <= 2.0f * f.orthoHalfY - f.orthoHalf)
+                   ? 2.0f * f.orthoHalf
+                   : 0.0f;
     const float t = std::tan(0.5f * f.fov) * z;
     return std::abs(v.x) <= t && std::abs(v.y) <= t ? 2.0f * t : 0.0f;
 }
@@ -80,7 +83,9 @@ bool triangleTouchesFrustum(const LightFrustum& f, const glm::vec3& a, const glm
                       glm::vec3(f.view * glm::vec4(c, 1.0f))};
     const float t = f.orthographic() ? 0.0f : std::tan(0.5f * f.fov);
     auto allOutside = [&](auto outside) { return outside(v[0]) && outside(v[1]) && outside(v[2]); };
-    if (allOutside([&](glm::vec3 p) { return -p.z < f.nearPlane; }) ||
+    // A fitted directional map rasterises casters from kDirectionalClipNear on (raster_dual.h).
+    const float clipNear = f.fitted() ? std::min(f.nearPlane, kDirectionalClipNear) : f.nearPlane;
+    if (allOutside([&](glm::vec3 p) { return -p.z < clipNear; }) ||
         allOutside([&](glm::vec3 p) { return -p.z > f.farPlane; }))
         return false;
     for (int axis = 0; axis < 2; ++axis)

@@ -50,6 +50,15 @@ uint32_t sliceOf(float z, const std::vector<float>& sliceFar, uint32_t slices) {
     return s;
 }
 
+std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
+                                                 const gpu::FrameConstants& frame) {
+    const gpu::LightFootprint f =
+        gpu::lightFootprint(light, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
+    if (f.tiles.x > f.tiles.z || f.tiles.y > f.tiles.w) return std::nullopt; // off screen
+    if (light.info.x == ML_LIGHT_DIRECTIONAL) return f;
+    return std::nullopt;
+}
+
 Result<void> LightCulling::create(const Device& device) {
     ML_TRY(ML_LOAD_SHADER(device, boundsShader_, spv_cluster_bounds_comp));
     ML_TRY(ML_LOAD_SHADER(device, assignShader_, spv_light_assign_comp));
@@ -58,7 +67,8 @@ Result<void> LightCulling::create(const Device& device) {
     ML_TRY(createComputeProgram(device, boundsProgram_, boundsShader_));
     ML_TRY(createComputeProgram(device, assignProgram_, assignShader_));
     ML_TRY(ML_LOAD_SHADER(device, fillShader_, spv_light_fill_comp));
-    ML_TRY(createComputeProgram(device, countProgram_, footprintShader_));
+    ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
+    ML_TRY(createComputeProgram(device, wideProgram_, footprintShader_, {{0, 1u}}));
     ML_TRY(createComputeProgram(device, allocProgram_, allocShader_));
     ML_TRY(createComputeProgram(device, fillProgram_, fillShader_));
     ML_TRY(ML_LOAD_SHADER(device, viewShader_, spv_view_lights_comp));
@@ -72,6 +82,8 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, boundsProgram_);
     destroyProgram(device, assignProgram_);
     destroyProgram(device, countProgram_);
+    destroyProgram(device, wideProgram_);
+
     destroyProgram(device, fillProgram_);
     destroyProgram(device, allocProgram_);
     for (Program& p : viewPrograms_) destroyProgram(device, p);
@@ -90,7 +102,13 @@ Result<void> LightCulling::resize(const Device& device, const ClusterGrid& g, ui
     grid = g;
     // Sized for the clustered grid in every mode: a tiled list holds what the tile's 64 clusters would
     // (at 4096 lights on the default view a tile's list is ~100 lights, past 16 per grid cluster).
-    poolCapacity = poolEntries ? poolEntries : g.tilesX * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER;
+    // The pool is bound whole: at most maxStorageBufferRange (lavapipe: 128 MiB, 2 M pixels of 64 B;
+    // frames use a tenth of it, and lists past it overflow, counted, never lost).
+    const uint64_t fit = device.properties.limits.maxStorageBufferRange / 4;
+    poolCapacity = poolEntries
+                       ? poolEntries
+                       : uint32_t(std::min<uint64_t>(
+                             uint64_t(g.tilesX) * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER, fit));
     ML_TRY(ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds),
                         kStorageBufferUsage, "cluster_bounds", kGpu));
     ML_TRY(ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges",
@@ -127,7 +145,8 @@ void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const B
 }
 
 void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const Buffer& frame,
-                                const Buffer& slices, const Buffer& lights, const Buffer& counters) {
+                                const Buffer& slices, const Buffer& lights, const Buffer& wideLights,
+                                uint32_t wideCount, uint32_t wideThreads, const Buffer& counters) {
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
@@ -138,10 +157,16 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
     if (mode == ML_CULL_CLUSTERED) {
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
         // scatter (ML_FILL_GROUPS groups stride over the hits).
-        const gpu::CullPush push{hitCapacity};
+        const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
         if (visible) {
             dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
-                     {frame, slices, lights, bounds, tileMasks, counts, hits, work});
+                     {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
+            // The wide lights: a thread per tile of each one's footprint, in rows of ML_WIDE_ROW. Its
+            // atomics (counts, hit cursor) commute with the lane pass's: no barrier between the two.
+            if (wideThreads)
+                dispatch(device, c, wideProgram_, std::min(wideThreads, uint32_t(ML_WIDE_ROW)),
+                         (wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW, push,
+                         {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
             memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
         dispatch(device, c, allocProgram_, tiles, 1, push,
@@ -155,8 +180,8 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},
                  {frame, lights, bounds, ranges, pool, counters, work});
     }
-    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute). The
-    // counters reach the host through the frame-end barrier (engine/frame.cpp).
+    // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
+    // The counters reach the host through the frame-end barrier (engine/frame.cpp).
     memoryBarrier(c, kC, kW, kC, kR);
 }
 

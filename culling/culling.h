@@ -9,10 +9,13 @@
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
 //                   light_fill. Each visible light (8 threads) tests only the occupied clusters inside
 //                   its footprint (lightFootprint: tile rectangle x depth-slice range), with the same
-//                   exact box test; cost follows the lights' footprints, not lights x clusters.
+//                   exact box test; cost follows the lights' footprints, not lights x clusters. Wide
+//                   lights (directional ones, chosen by the host: wideFootprint) take a thread per tile
+//                   instead (light_footprint's wide variant), so the moon is not serial over the screen.
 //   clustered-brute light_assign, one group per tile: every visible light against each occupied
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).
+// Lists come out in the order of the atomics (the CPU reference's are sorted; tests compare sets).
 // Overflowing clusters are flagged and counted in every mode; "none" skips culling.
 // Tight bounds from the actual pixels (rather than the froxel's frustum volume) is what keeps lights
 // evaluated per pixel close to lights that reach it (Olsson et al.'s clustered shading with
@@ -21,7 +24,9 @@
 #include "shaders/shared/enums.h"
 #include "gpu/program.h"
 #include "shaders/shared/gpu_types.h"
+#include "shaders/shared/light_math.h"
 
+#include <optional>
 #include <vector>
 
 namespace ml {
@@ -51,8 +56,11 @@ class LightCulling {
     // holds (a mapped upload buffer the module wrote just before; read back from it on the CPU).
     void recordBounds(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                       VkImageView depth, const Buffer& counters);
+    // wideLights: the frame's wideCount WideLight entries (the lights with params.w = 1), whose
+    // footprints hold wideThreads tiles in all.
     void recordAssign(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                      const Buffer& lights, const Buffer& counters);
+                      const Buffer& lights, const Buffer& wideLights, uint32_t wideCount,
+                      uint32_t wideThreads, const Buffer& counters);
     // Light-complexity view (shaders/view_lights.comp), after the evaluation pass: overwrites the
     // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
     // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
@@ -76,9 +84,15 @@ class LightCulling {
 
   private:
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
-    Program boundsProgram_, assignProgram_, countProgram_, fillProgram_, allocProgram_;
+    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, fillProgram_, allocProgram_;
     Program viewPrograms_[2]; // evaluated, reaching
 };
+
+// Whether the host gives a visible light to the wide pass (directional lights, config.h): its footprint
+// (lightFootprint with the frame's constants) when it is wide; the host writes it into the light's
+// WideLight entry, so host and shader agree on its tiles exactly.
+std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
+                                                 const gpu::FrameConstants& frame);
 
 // CPU reference of the passes from the same inputs (the depth buffer as floats, row-major). The mode
 // is frame.cluster.w: in clustered (footprint) mode a cluster's list holds the lights whose footprint

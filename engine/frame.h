@@ -52,6 +52,8 @@ struct FrameContext {
     const Buffer* indices = nullptr;
     const Buffer* draws = nullptr; // G-buffer indirect draws
     uint32_t instanceCount = 0;
+    const Buffer* wideLights = nullptr; // the frame's WideLight entries (light assignment)
+    uint32_t wideCount = 0, wideThreads = 0;
 
     // The same, grouped as the passes' bindings want them.
     ShadingInputs shading{};

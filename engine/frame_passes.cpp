@@ -74,7 +74,8 @@ void CullingPass::record(FrameContext& f) {
     if (timer() == Pass::ClusterBounds)
         cull.recordBounds(*f.device, f.cmd, *f.frame, *f.slices, f.depth, *f.counters);
     else
-        cull.recordAssign(*f.device, f.cmd, *f.frame, *f.slices, *f.lights, *f.counters);
+        cull.recordAssign(*f.device, f.cmd, *f.frame, *f.slices, *f.lights, *f.wideLights, f.wideCount,
+                          f.wideThreads, *f.counters);
 }
 
 namespace {

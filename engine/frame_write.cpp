@@ -1,6 +1,7 @@
 // The host side of a frame (Module::record): geometry and shadow uploads, the slot's collection and
 // buffers (frame constants, visible lights with their static records and virtual maps, instances), and
 // the FrameContext the passes read (engine/frame.h).
+#include "culling/culling_push.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
 
@@ -62,6 +63,9 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.indices = &indexBuffer;
     f.draws = &drawBuffer;
     f.instanceCount = uint32_t(instances.size());
+    f.wideLights = &slot.wide;
+    f.wideCount = slot.wideCount;
+    f.wideThreads = slot.wideThreads;
     f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
                  f.depth, f.normal, f.albedo, width,        height};
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
@@ -167,6 +171,18 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
     }
 
     fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
+    // Wide lights (directional ones, huge footprints) get a thread per tile in light assignment.
+    slot.wideCount = slot.wideThreads = 0;
+    if (mode == CullingMode::Clustered) {
+        auto* wide = slot.wide.as<gpu::WideLight>();
+        for (uint32_t v = 0; v < visible; ++v)
+            if (auto f = wideFootprint(gl[v], fc)) {
+                gl[v].params.w = 1.0f;
+                const uint32_t count = (f->tiles.z - f->tiles.x + 1) * (f->tiles.w - f->tiles.y + 1);
+                wide[slot.wideCount++] = {f->tiles, f->depth, v, slot.wideThreads, count, 0};
+                slot.wideThreads += count;
+            }
+    }
     upload(slot.frame, &fc, sizeof(fc));
     std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
     upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);

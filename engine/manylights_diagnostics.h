@@ -40,6 +40,10 @@ LastFrame lastFrame(const Module& module);
 // Refused with host targets (setTargets) or before the first frame.
 Result<void> readGBuffer(Module& module, std::vector<float>& depth, std::vector<glm::vec3>& normal);
 
+// Bytes the module allocates for targets of width x height (createTargets: ownTargets; setTargets: not):
+// the images, the cluster buffers and the readback (engine/limits.h), for a command's memory estimate.
+uint64_t targetBytes(uint32_t width, uint32_t height, bool ownTargets);
+
 // Light-versus-cluster box tests of the light assignment in the last completed frame (culling
 // statistics; 0 in mode None).
 uint32_t cullingBoxTests(const Module& module);

@@ -4,7 +4,9 @@
 #include "engine/manylights.h"
 
 #include "culling/culling.h"
+#include "culling/culling_push.h"
 #include "engine/gbuffer.h"
+#include "engine/limits.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
 #include "shadows/gpu/dual_depth_gpu.h"
@@ -14,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <tuple>
 
@@ -127,12 +130,12 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
                         std::to_string(ML_MESHLET_VERTICES) + " / 4.." +
                         std::to_string(ML_MESHLET_TRIANGLES) + " (a multiple of 4)");
     }
-    // The hierarchical page buffer is an image array with one layer per map slot.
-    if (v.enabled && v.maxMaps > impl->device->properties.limits.maxImageArrayLayers)
-        return fail("vsm: max maps " + std::to_string(v.maxMaps) + " exceeds the device's " +
-                    std::to_string(impl->device->properties.limits.maxImageArrayLayers) +
-                    " image array layers (the page buffer has a layer per map)");
-    impl->vsmSettings = v;
+    // Sizes against the device (engine/limits.h): map slots and pool pages reduced to fit, said once.
+    std::vector<std::string> notes;
+    auto fitted = fitVsmSettings(deviceLimitTable(*impl->device), v, notes);
+    if (!fitted) return fail(fitted.error());
+    for (const std::string& n : notes) std::fprintf(stderr, "%s\n", n.c_str());
+    impl->vsmSettings = fitted.value();
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(options.framesInFlight);
     std::unique_ptr<Module> module(new Module(std::move(impl)));
@@ -160,6 +163,8 @@ Result<void> Module::Impl::init() {
         ML_TRY(createBuffer(d, s.counters, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters",
                             MemoryRole::Readback));
         ML_TRY(createBuffer(d, s.slices, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far"));
+        ML_TRY(createBuffer(d, s.wide, sizeof(gpu::WideLight) * ML_MAX_LIGHTS, kStorageBufferUsage,
+                            "wide_lights"));
     }
     return {};
 }
@@ -179,6 +184,7 @@ void Module::Impl::destroy() {
         destroyBuffer(d, s.lights);
         destroyBuffer(d, s.counters);
         destroyBuffer(d, s.slices);
+        destroyBuffer(d, s.wide);
         destroyBuffer(d, s.instances);
     }
     for (Buffer* b : {&vertexBuffer, &indexBuffer, &drawBuffer, &readback, &staticWords, &shadowRecords,
@@ -575,6 +581,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
         return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is outside 1x1..16384x16384");
     auto& m = *impl_;
+    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
     m.ownTargets = true;
@@ -595,6 +602,8 @@ Result<void> Module::setTargets(const HostTargets& t) {
         return fail(
             "setTargets: width, height and the depth, normal, albedo and output views are all required");
     auto& m = *impl_;
+    if (auto r = checkTargetLimits(deviceLimitTable(*m.device), t.width, t.height, false); !r)
+        return fail("setTargets: " + r.error());
     vkDeviceWaitIdle(m.device->device);
     m.destroyTargets();
     m.ownTargets = false;

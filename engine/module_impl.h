@@ -43,6 +43,8 @@ struct Module::Impl {
     // Everything one frame in flight writes from the host.
     struct Slot {
         Buffer frame, lights, counters, slices, instances;
+        Buffer wide; // WideLight entries (culling/culling.h wideFootprint)
+        uint32_t wideCount = 0, wideThreads = 0;
         bool pending = false;
         uint64_t frameNumber = 0;
         uint32_t lightsTotal = 0, lightsVisible = 0, clusters = 0, poolCapacity = 0;

@@ -113,6 +113,19 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& progr
     bindProgram(device, cmd, program, descriptors, &push, pushBytes<Push>());
 }
 
+// `groups` workgroups as a 2-D grid of at most `maxX` per row (the device's maxComputeWorkGroupCount[0]):
+// {groups, 1} when they fit one row, else {maxX, ceil(groups / maxX)}, the last row padded. A shader
+// dispatched this way linearises gl_WorkGroupID row-major and skips the padding. 65,535 x 65,535 groups
+// is past any count here (the largest, vsm_scan's 16384^2 maps: 88,235 blocks of 256 entries).
+struct GroupGrid {
+    uint32_t x = 0, y = 0;
+};
+constexpr GroupGrid linearGroupGrid(uint64_t groups, uint32_t maxX) {
+    if (groups == 0 || maxX == 0) return {0, 0};
+    if (groups <= maxX) return {uint32_t(groups), 1};
+    return {maxX, uint32_t((groups + maxX - 1) / maxX)};
+}
+
 // Binds, then dispatches ceil(threads / local size) groups per dimension; aborts naming the program when
 // a count exceeds the device's maxComputeWorkGroupCount. Nothing is recorded for zero threads.
 void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& program,

@@ -10,7 +10,7 @@
 #   else `manylights` on PATH).
 #
 # Parts and logs go to OUT.parts/ beside --out. A failing shard stops the run: its log is printed, the
-# exit status is the first failing shard's (2: bad input), and nothing is merged.
+# exit status is the first failing shard's (1: a usage error, 2: a bad input file), and nothing is merged.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)

@@ -64,6 +64,15 @@
 // 76 ms of assignment for 70k box tests; 8 lanes per light, 46 ms in the same conditions.
 #define ML_FOOTPRINT_GROUP 64
 #define ML_FOOTPRINT_LANES 8
+// Wide lights are the directional ones: the moon covers the whole grid (32,400 tiles at 1920x1080,
+// 4,050 per lane of its 8), so it is not walked by lanes but by a pass with one thread per tile of
+// its footprint. Spot and point lights with big footprints stay on their lanes: giving lights of
+// 256 or 1024+ tiles the wide pass made assignment 3-4x slower at 4096 lights, 640x360, on lavapipe
+// (a thread per tile repeats the light's setup for every tile; culling.md).
+// The wide pass's threads (one per tile of each wide light's footprint) run in rows of this many:
+// 1024 groups of 64 per row keeps each dimension far below the 65,535-group limit (the moon alone is
+// 32,400 threads at 1920x1080; 16 directional lights at 16384^2 pixels would be 1,024 rows).
+#define ML_WIDE_ROW 65536
 // Allocation pass of the footprint mode: one thread per tile, 64 tiles per group.
 #define ML_ALLOC_GROUP 64
 // Fill pass of the footprint mode: ML_FILL_GROUPS groups of 64 threads stride over the recorded hits.

@@ -31,7 +31,8 @@ ML_STRUCT(GpuLight) {
     vec4 positionRange;     // xyz world position, w range (metres)
     vec4 directionCosOuter; // xyz unit direction, w cos(outer half angle)
     vec4 colorSinOuter;     // rgb colour * intensity, w sin(outer half angle)
-    vec4 params;            // x cos(inner half angle), y 1/range^2, zw unused
+    vec4 params;            // x cos(inner half angle), y 1/range^2, z unused, w 1 for a wide light
+                            // (its clusters come from the wide pass, culling/culling.h), else 0
     uvec4 info;             // x type (ML_LIGHT_*), y first virtual shadow map (ML_VSM_NO_MAP: none),
                             // z static shadow record (ML_NO_SHADOW: none), w light id
 };

@@ -23,8 +23,12 @@ uint staticQuantize(float z, float far) {
 }
 
 uint staticDepthAt(uint method, uint base, uint x, uint y) {
-    if (method == ML_STATIC_SM)
+    if (method == ML_STATIC_SM) {
+        // Version 2 (a directional map fitted to its box) stores only its rows (word 5).
+        uint rows = ML_STATIC_DATA[base + 1u] == 2u ? ML_STATIC_DATA[base + 5u] : ML_STATIC_DATA[base + 2u];
+        if (y >= rows) return 0xFFFFFFFFu;
         return ML_STATIC_DATA[base + 6u + y * ML_STATIC_DATA[base + 2u] + x];
+    }
     if (method == ML_STATIC_MH) return mhLookup(base, x, y);
     if (method == ML_STATIC_MMH) return mmhLookup(base, x, y);
     return dagmhLookup(base, x, y);
@@ -45,7 +49,8 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         vec2 ndc = ortho ? vp.xy / orthoHalf : vp.xy / (z * tanHalf);
         ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
         uint s = cpvsSliceOfDepth(base, staticQuantize(z, far));
-        ivec3 nq = ortho ? cpvsVoxelNormal(vn, 0.0, 0.0, orthoHalf / z, rec.frustum.w)
+        // Orthographic maps slice depth linearly: frustum.w is far - near there (log(far / near) else).
+        ivec3 nq = ortho ? cpvsVoxelNormal(vn, 0.0, 0.0, orthoHalf, rec.frustum.w)
                          : cpvsVoxelNormal(vn, ndc.x, ndc.y, tanHalf, rec.frustum.w);
         uint lit = cpvsPcfLitCount(base, t.x, t.y, int(s), nq, radius);
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));

@@ -50,9 +50,9 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         return bad("one part of a sharded bake (bake --shard), not a whole bake file: merge the parts "
                    "with `manylights merge`");
     if (w[kHMagic] != kMagic) return bad("not a manylights bake file (wrong magic)");
-    if (w[kHVersion] != kVersion && w[kHVersion] != kVersionFixed)
+    if (w[kHVersion] != kVersion && w[kHVersion] != kVersionFixed && w[kHVersion] != kVersionFitted)
         return bad("unsupported version " + std::to_string(w[kHVersion]) + " (this build reads " +
-                   std::to_string(kVersionFixed) + " and " + std::to_string(kVersion) + ")");
+                   std::to_string(kVersionFixed) + " to " + std::to_string(kVersionFitted) + ")");
     const uint32_t version = w[kHVersion];
     // The header's length must be known (and inside the file) before its checksum can be computed.
     const uint32_t sceneBytes = w[kHSceneBytes];
@@ -62,7 +62,8 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
     // Version 1 has no need block (the word was reserved, 0); version 2 always has one.
     const uint32_t needWords = w[kHNeedWords];
     if (version == kVersionFixed && needWords != 0) return bad("header: reserved word is not 0");
-    if (version == kVersion &&
+    // Version 3: a need block or none (0 words).
+    if ((version == kVersion || (version == kVersionFitted && needWords != 0)) &&
         (needWords < kNeedFixedWords ||
          needWords > kNeedFixedWords + kMaxRegionBytes / 4 + kMaxRecords * kNeedEntryWords))
         return bad("header: need block of " + std::to_string(needWords) + " words out of range");
@@ -167,8 +168,17 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         if (rec[kRChecksum] != stat::checksumWords(rec, kRecordWords, kRChecksum))
             return badRec("record checksum mismatch");
         if (rec[kRFace] > 5) return badRec("cube face " + std::to_string(rec[kRFace]) + " is not 0..5");
-        for (uint32_t i = kROrtho + 1; i < kRecordWords; ++i)
+        for (uint32_t i = kRFitMargin + 1; i < kRecordWords; ++i)
             if (rec[i] != 0) return badRec("reserved word " + std::to_string(i) + " is not 0");
+        if (rec[kROrtho] != 0 && version != kVersionFitted)
+            return badRec("a directional record of bake format version " + std::to_string(version) +
+                          " (a square map with log depth slices, from a build before issue 21): this build "
+                          "reads directional records of version " +
+                          std::to_string(kVersionFitted) + " only; re-bake the light");
+        if (rec[kROrtho] == 0 && (rec[kROrthoHalfY] != 0 || rec[kRFitMargin] != 0))
+            return badRec("reserved word 30 or 31 is not 0 (not a directional record)");
+        if (version != kVersionFitted && (rec[kROrthoHalfY] != 0 || rec[kRFitMargin] != 0))
+            return badRec("reserved word 30 or 31 is not 0");
         if (rec[kRLight] >= w[kHSceneLights])
             return badRec("light " + std::to_string(rec[kRLight]) + " is not below the scene's " +
                           std::to_string(w[kHSceneLights]) + " lights");
@@ -196,16 +206,24 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         f.fov = bitsFloat(rec[kRFov]), f.nearPlane = bitsFloat(rec[kRNear]),
         f.farPlane = bitsFloat(rec[kRFar]);
         f.orthoHalf = bitsFloat(rec[kROrtho]);
+        f.orthoHalfY = bitsFloat(rec[kROrthoHalfY]), f.fitMargin = bitsFloat(rec[kRFitMargin]);
         for (int i = 0; i < 16; ++i)
             if (!std::isfinite(m[i])) return badRec("view matrix is not finite");
         if (rec[kROrtho] != 0) {
             if (!(f.orthoHalf > 0.0f && std::isfinite(f.orthoHalf) && f.fov == 0.0f && rec[kRFace] == 0))
                 return badRec("orthographic half side not finite and > 0, or fov/face not 0");
+            if (!(f.orthoHalfY > 0.0f && f.orthoHalfY <= f.orthoHalf && f.fitMargin >= 0.0f &&
+                  f.fitMargin < f.orthoHalfY))
+                return badRec("directional fit: half height " + std::to_string(f.orthoHalfY) +
+                              " not in (0, " + std::to_string(f.orthoHalf) + "] or margin " +
+                              std::to_string(f.fitMargin) + " not in [0, half height)");
         } else if (!(f.fov > 0.0f && f.fov < 3.14159f)) {
             return badRec("field of view out of range");
         }
         if (!(f.nearPlane > 0.0f && f.farPlane > f.nearPlane && std::isfinite(f.farPlane)))
             return badRec("near/far planes out of range");
+        if (f.orthographic() && !(f.farPlane - f.nearPlane > 2.0f * f.fitMargin))
+            return badRec("directional fit: depth range not wider than twice the margin");
         const uint64_t offset = join(rec[kROffsetLo], rec[kROffsetHi]);
         const uint64_t words = join(rec[kRWordsLo], rec[kRWordsHi]);
         // Data blocks are packed back to back in record order: this one rule excludes overlaps, gaps and
@@ -225,6 +243,15 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         if (method == StaticMethod::CPVS &&
             (data[kCpvsHNearBits] != rec[kRNear] || data[kCpvsHFarBits] != rec[kRFar]))
             return badRec("CPVS depth range differs from the record's frustum");
+        // Directional records slice CPVS depth linearly, spot and point ones by eq. 1; a fitted SM
+        // stores exactly the rows in the light's volume.
+        if (method == StaticMethod::CPVS &&
+            data[kCpvsHSlicing] != uint32_t(f.orthographic() ? CpvsSlicing::Linear : CpvsSlicing::Log))
+            return badRec(f.orthographic() ? "directional CPVS is not sliced linearly"
+                                           : "spot/point CPVS is not sliced by eq. 1");
+        if (method == StaticMethod::SM && smRows(data, 0) != f.mapRows(recRes))
+            return badRec("SM stores " + std::to_string(smRows(data, 0)) + " rows, the frustum covers " +
+                          std::to_string(f.mapRows(recRes)));
         expectedOffset = offset + words;
         if (out)
             out->records.push_back(
@@ -295,6 +322,8 @@ Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file) {
         for (int i = 0; i < 16; ++i) rec[kRView + i] = floatBits(m[i]);
         rec[kRFov] = floatBits(br.frustum.fov);
         rec[kROrtho] = br.frustum.orthographic() ? floatBits(br.frustum.orthoHalf) : 0u;
+        rec[kROrthoHalfY] = br.frustum.orthographic() ? floatBits(br.frustum.orthoHalfY) : 0u;
+        rec[kRFitMargin] = br.frustum.orthographic() ? floatBits(br.frustum.fitMargin) : 0u;
         rec[kRNear] = floatBits(br.frustum.nearPlane), rec[kRFar] = floatBits(br.frustum.farPlane);
         rec[kROffsetLo] = uint32_t(offset), rec[kROffsetHi] = uint32_t(offset >> 32);
         rec[kRWordsLo] = uint32_t(br.data.size()), rec[kRWordsHi] = uint32_t(uint64_t(br.data.size()) >> 32);
@@ -342,9 +371,10 @@ Result<BakeFile> readBakeFile(const std::string& path) {
         return fail(path + ": size " + std::to_string(fileSize) +
                     " bytes is not a whole number of words (truncated?)");
     const uint64_t stated = join(h[kHTotalLo], h[kHTotalHi]);
-    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion && h[kHVersion] != kVersionFixed)
+    if (head->size() == kFixedHeaderWords * 4 && h[kHVersion] != kVersion && h[kHVersion] != kVersionFixed &&
+        h[kHVersion] != kVersionFitted)
         return fail(path + ": unsupported version " + std::to_string(h[kHVersion]) + " (this build reads " +
-                    std::to_string(kVersionFixed) + " and " + std::to_string(kVersion) + ")");
+                    std::to_string(kVersionFixed) + " to " + std::to_string(kVersionFitted) + ")");
     if (head->size() == kFixedHeaderWords * 4 && stated != fileSize / 4)
         return fail(path + ": header: file should be " + std::to_string(stated) + " words but is " +
                     std::to_string(fileSize / 4) + " (truncated or extended)");

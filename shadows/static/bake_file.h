@@ -23,9 +23,15 @@
 //     1 method              19 fov   20 near   21 far (floats)              24, 25 data words (lo, hi)
 //     2 resolution          26 data checksum   27 record checksum   28 cube face
 //     29 orthographic half side (float; 0 = perspective, > 0 = a directional light's map, fov 0)
-//     30..31 reserved (0)
+//     30 (version 3, directional) the fitted rectangle's half height orthoHalfY (float), else 0
+//     31 (version 3, directional) the fit margin (float, metres), else 0
 //   data        [H + count * 32, total): each record's words, back to back, no gaps
 //
+// Version 3 (issue 21): the file holds a directional record fitted to its box (LightFrustum::
+// orthoHalfY, fitMargin: a res x mapRows(res) map, the depth range the box's slab, CPVS sliced
+// linearly); the need block is optional there (header word 14 = its words, or 0). Files without a
+// directional record keep version 1 or 2, byte for byte as before. A directional record in a version 1
+// or 2 file (square map, log-sliced CPVS) is refused with a line saying to re-bake it.
 // Version 2 files hold a need block; then the header's resolution is the cap and each record's
 // resolution is its light's entry's (at most the cap), every record's light has an entry and every
 // entry with a resolution has records. Files without a need block are written as version 1, so that
@@ -52,8 +58,9 @@ namespace ml {
 
 namespace bakefmt {
 constexpr uint32_t kMagic = stat::fourcc('M', 'L', 'B', 'K');
-constexpr uint32_t kVersion = 2;      // the newest this build reads and writes (with a need block)
-constexpr uint32_t kVersionFixed = 1; // written when there is no need block (one resolution for all)
+constexpr uint32_t kVersion = 2;       // with a need block, no directional record
+constexpr uint32_t kVersionFixed = 1;  // written when there is no need block (one resolution for all)
+constexpr uint32_t kVersionFitted = 3; // the newest: a directional record fitted to its box (issue 21)
 // A part of a sharded bake (bake_shard.h) wraps a bake file; the reader names it instead of failing
 // with "wrong magic".
 constexpr uint32_t kPartMagic = stat::fourcc('M', 'L', 'B', 'P');
@@ -94,8 +101,10 @@ enum : uint32_t {
     kRWordsHi = 25,
     kRDataChecksum = 26,
     kRChecksum = 27,
-    kRFace = 28,  // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
-    kROrtho = 29, // LightFrustum::orthoHalf; 0 in files written before directional bakes
+    kRFace = 28,       // 0 for spots; 0..5 for a point light's cube faces (+X, -X, +Y, -Y, +Z, -Z)
+    kROrtho = 29,      // LightFrustum::orthoHalf; 0 in files written before directional bakes
+    kROrthoHalfY = 30, // version 3: LightFrustum::orthoHalfY (directional), else 0
+    kRFitMargin = 31,  // version 3: LightFrustum::fitMargin (directional), else 0
 };
 constexpr uint32_t kNeedFixedWords = 8;
 constexpr uint32_t kNeedEntryWords = 8;
@@ -161,8 +170,27 @@ struct BakeFile {
     BakeNeed need;
 };
 inline uint32_t bakeFileVersion(const BakeFile& f) {
+    for (const BakeRecord& r : f.records)
+        if (r.frustum.orthographic()) return bakefmt::kVersionFitted;
     return f.hasNeed ? bakefmt::kVersion : bakefmt::kVersionFixed;
 }
+
+// What a directional record spends where (issue 21; inspect shows it): fractions 0..1.
+struct DirectionalFit {
+    uint32_t width = 0, rows = 0;     // the map's texels: width x rows (the rest of the grid is outside)
+    double extentX = 0, extentY = 0;  // the box's light-space rectangle, metres
+    double slabNear = 0, slabFar = 0; // the box's slab along the light, light-space depth
+    double texelsInBox = 0;           // of the width x rows texels, centres inside the rectangle
+    double depthSlicesInBox = 0;      // of the N depth slices (CPVS: its thresholds; depth methods: N
+                                      // equal parts of [near, far]), those inside the slab
+    // Of the N slices, the share between the nearest and the deepest stored shadow boundary (depth
+    // methods: the stored depth; CPVS: per column the slice before the first shadowed one). For open
+    // casters that is their depth; inside closed ones a lossless encoder may place it anywhere between
+    // entry and exit, so `verify` reports the casters' own span from the re-rendered map.
+    double casterSlices = 0;
+};
+// Fails for a record that is not a fitted directional one. Reads every texel (or column) once.
+Result<DirectionalFit> directionalFit(const BakeRecord& record);
 
 // The exact file contents (checks the same invariants the reader does, except validateStatic).
 Result<std::vector<uint32_t>> serializeBakeFile(const BakeFile& file);

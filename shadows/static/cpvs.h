@@ -7,6 +7,11 @@
 //   s     the log-depth slice: s = k - 1 with k = ceil(N * log(z / near) / log(far / near)), clamped to
 //         [0, N-1]. Slice s holds the linear depths z in (z_s, z_{s+1}], z_s = near * (far/near)^(s/N),
 //         so every voxel has the same height-to-depth ratio.
+// LINEAR SLICING (directional lights, issue 21). An orthographic light has no perspective to
+// compensate, so its N slices are equal: z_s = near + (far - near) s / N, where [near, far] is the box's
+// tight slab along the light plus the fit margin (directionalLightFrustum), and slice s holds
+// (z_s, z_{s+1}]. Spot and point lights keep eq. 1. The header's slicing word says which (version 1:
+// log, version 2: linear); everything below works on the thresholds T and is the same for both.
 // All of that is integer once the depth is quantised (dual_depth.h): the N+1 slice boundaries are
 // stored as quantised depths T[0..N] (T[s] = quantizeDepth(z_s), computed in double once), and a
 // receiver's quantised depth d lies in slice s iff T[s] < d <= T[s+1] (slice 0 and N-1 also take
@@ -57,15 +62,22 @@ namespace ml {
 constexpr uint32_t kCpvsMinResolution = 64;
 constexpr uint32_t kCpvsMaxResolution = 16384;
 
+enum class CpvsSlicing : uint32_t {
+    Log = 0,    // eq. 1 (spot and point lights)
+    Linear = 1, // equal slices over [near, far] (directional lights)
+};
+
 struct CpvsSpace {
     uint32_t resolution = 0; // N
+    CpvsSlicing slicing = CpvsSlicing::Log;
     uint32_t log2Resolution = 0;
     float nearPlane = 0.0f, farPlane = 0.0f;
     std::vector<uint32_t> thresholds; // N + 1 quantised depths T[s], non-decreasing
 };
 
 // Fails unless N is a power of two in [64, 16384] and 0 < near < far (finite).
-Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane);
+Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane,
+                                CpvsSlicing slicing = CpvsSlicing::Log);
 
 // Slice of a receiver's quantised depth: the number of s in [1, N-1] with T[s] < depth.
 uint32_t cpvsSliceOf(const CpvsSpace& space, uint32_t depth);
@@ -125,6 +137,7 @@ enum class CpvsCompression : uint8_t {
 struct CpvsParams {
     uint32_t resolution = 0; // N; the map's resolution must match
     float nearPlane = 0.05f, farPlane = 10.0f;
+    CpvsSlicing slicing = CpvsSlicing::Log; // Linear for orthographic (directional) maps
     uint32_t gridLog2 = 4; // the top levels become a 2^g per axis grid of pointers; clamped to log2(N) - 3
     CpvsCompression compression = CpvsCompression::Regions;
     // Regions only: the grid's x, y are split into 2^r per axis blocks of cells (r clamped to gridLog2),
@@ -166,7 +179,8 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params);
 // Layout and lookup (cpvs_layout.cpp; words relative to the CPVS's base in a larger buffer)
 
 constexpr uint32_t kCpvsMagic = 0x53565043u; // "CPVS"
-constexpr uint32_t kCpvsVersion = 1;
+constexpr uint32_t kCpvsVersion = 1;         // log slicing (eq. 1): spot and point lights, unchanged
+constexpr uint32_t kCpvsVersionLinear = 2;   // linear slicing (directional lights); header word 15 = 1
 constexpr uint32_t kCpvsHeaderWords = 16;
 constexpr uint32_t kCpvsLit = 0, kCpvsShadowed = 1; // grid entries that are not node pointers
 
@@ -187,7 +201,7 @@ enum CpvsHeader : uint32_t {
     kCpvsHLeaves, // offset and size of the leaf region (2 words per leaf)
     kCpvsHLeafWords,
     kCpvsHChecksum, // FNV-1a over all words, this one counted as 0
-    kCpvsHReserved,
+    kCpvsHSlicing,  // CpvsSlicing: 0 in version 1 (was reserved), 1 in version 2
 };
 
 uint32_t cpvsChecksum(const uint32_t* data, size_t words);
@@ -210,7 +224,9 @@ uint32_t cpvsPcfLitCount(const uint32_t* data, uint32_t base, int32_t x, int32_t
                          const int32_t nq[3], int32_t radius);
 
 // Voxel-space direction of a light-view normal (float part, caller side; see cpvs_lookup.glsl):
-// light looks down -Z; ndc = the receiver's NDC x, y; tanHalfFov = tan(fov / 2).
+// light looks down -Z; ndc = the receiver's NDC x, y; tanHalfFov = tan(fov / 2). A linear-sliced
+// orthographic map passes ndc 0, tanHalfFov = orthoHalf and logFarOverNear = far - near: u = N (x / h
+// + 1) / 2 and w = N (z - near) / (far - near) give du = N dx / (2 h), dw = N dz / (far - near).
 void cpvsVoxelNormal(const float nView[3], float ndcX, float ndcY, float tanHalfFov, float logFarOverNear,
                      int32_t out[3]);
 

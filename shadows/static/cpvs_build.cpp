@@ -351,7 +351,7 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params) {
         if (params.progress) params.progress(f);
     };
     auto t0 = Clock::now();
-    auto space = makeCpvsSpace(params.resolution, params.nearPlane, params.farPlane);
+    auto space = makeCpvsSpace(params.resolution, params.nearPlane, params.farPlane, params.slicing);
     if (!space) return fail(space.error());
     const uint32_t gridLog2 = std::min(params.gridLog2, space->log2Resolution - 3);
     auto pre = cpvsPrecompute(*space, map, 1u << (space->log2Resolution - gridLog2));

@@ -38,7 +38,8 @@ std::vector<uint32_t> writeLayout(const CpvsSpace& space, const Dag& dag) {
     const uint32_t leaves = at, total = leaves + 2 * uint32_t(dag.leaves.size());
     std::vector<uint32_t> w(total, 0u);
     w[kCpvsHMagic] = kCpvsMagic;
-    w[kCpvsHVersion] = kCpvsVersion;
+    w[kCpvsHVersion] = space.slicing == CpvsSlicing::Linear ? kCpvsVersionLinear : kCpvsVersion;
+    w[kCpvsHSlicing] = uint32_t(space.slicing);
     w[kCpvsHResolution] = n;
     w[kCpvsHLog2Resolution] = space.log2Resolution;
     w[kCpvsHGridLog2] = dag.gridLog2;
@@ -126,7 +127,12 @@ Result<void> validateCpvs(const uint32_t* d, size_t words) {
     if (!d || words < kCpvsHeaderWords)
         return fail("cpvs: " + std::to_string(words) + " words, shorter than the header");
     if (d[kCpvsHMagic] != kCpvsMagic) return fail("cpvs: bad magic");
-    if (d[kCpvsHVersion] != kCpvsVersion) return fail("cpvs: version " + std::to_string(d[kCpvsHVersion]));
+    if (d[kCpvsHVersion] != kCpvsVersion && d[kCpvsHVersion] != kCpvsVersionLinear)
+        return fail("cpvs: version " + std::to_string(d[kCpvsHVersion]));
+    // Version 1 is log slicing (the word was reserved, 0), version 2 linear: the word must agree.
+    if (d[kCpvsHSlicing] != (d[kCpvsHVersion] == kCpvsVersionLinear ? 1u : 0u))
+        return fail("cpvs: slicing word " + std::to_string(d[kCpvsHSlicing]) + " does not match version " +
+                    std::to_string(d[kCpvsHVersion]));
     const uint64_t n = d[kCpvsHResolution], lg = d[kCpvsHLog2Resolution], gl = d[kCpvsHGridLog2];
     if (n < kCpvsMinResolution || n > kCpvsMaxResolution || lg > 31 || (uint64_t(1) << lg) != n)
         return fail("cpvs: resolution " + std::to_string(n) + " / log2 " + std::to_string(lg) + " invalid");
@@ -144,7 +150,7 @@ Result<void> validateCpvs(const uint32_t* d, size_t words) {
     const uint64_t th = d[kCpvsHThresholds], grid = d[kCpvsHGrid], nodes = d[kCpvsHNodes],
                    nodeWords = d[kCpvsHNodeWords], leaves = d[kCpvsHLeaves], leafWords = d[kCpvsHLeafWords];
     if (th != kCpvsHeaderWords || grid != th + n + 1 || nodes != grid + g * g * g ||
-        leaves != nodes + nodeWords || leaves + leafWords != total || leafWords % 2 || d[kCpvsHReserved] != 0)
+        leaves != nodes + nodeWords || leaves + leafWords != total || leafWords % 2)
         return fail("cpvs: region offsets inconsistent");
     if (cpvsChecksum(d, total) != d[kCpvsHChecksum]) return fail("cpvs: checksum mismatch");
     for (uint64_t s = 1; s <= n; ++s)

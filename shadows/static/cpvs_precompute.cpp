@@ -18,7 +18,7 @@ inline uint32_t sliceHi(const CpvsSpace& space, uint32_t s) {
 
 } // namespace
 
-Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane) {
+Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane, CpvsSlicing slicing) {
     if (resolution < kCpvsMinResolution || resolution > kCpvsMaxResolution ||
         !std::has_single_bit(resolution))
         return fail("cpvs: resolution " + std::to_string(resolution) +
@@ -31,13 +31,18 @@ Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farP
     space.log2Resolution = uint32_t(std::countr_zero(resolution));
     space.nearPlane = nearPlane;
     space.farPlane = farPlane;
+    space.slicing = slicing;
+    if (slicing != CpvsSlicing::Log && slicing != CpvsSlicing::Linear)
+        return fail("cpvs: unknown slicing " + std::to_string(uint32_t(slicing)));
     space.thresholds.resize(resolution + 1);
     // z_s = near * (far/near)^(s/N), quantised like quantizeDepth but from the double value, so T does
     // not inherit float rounding of z_s. Only ratio far/near and N matter: lights sharing both could
     // share the table.
     const double n = nearPlane, f = farPlane, logRatio = std::log(f / n);
     for (uint32_t s = 0; s <= resolution; ++s) {
-        double z = n * std::exp(logRatio * double(s) / double(resolution));
+        // Linear: z_s = near + (far - near) s / N (directional lights); log: eq. 1.
+        double z = slicing == CpvsSlicing::Linear ? n + (f - n) * double(s) / double(resolution)
+                                                  : n * std::exp(logRatio * double(s) / double(resolution));
         double t = z / f;
         uint32_t q = t >= 1.0 ? 0xFFFFFFFEu : (t > 0.0 ? uint32_t(t * 4294967294.0) : 0u);
         space.thresholds[s] = s == resolution ? 0xFFFFFFFEu : q;

@@ -73,13 +73,14 @@ CpvsVerifyReport verifyCpvs(const uint32_t* d, const DualDepthMap& map) {
     std::memcpy(&nearPlane, &d[kCpvsHNearBits], 4);
     std::memcpy(&farPlane, &d[kCpvsHFarBits], 4);
     const uint32_t n = d[kCpvsHResolution];
-    auto space = makeCpvsSpace(n, nearPlane, farPlane);
+    auto space = makeCpvsSpace(n, nearPlane, farPlane, CpvsSlicing(d[kCpvsHSlicing]));
     if (!space || map.resolution != n || map.enter.size() != size_t(n) * n ||
         map.exit.size() != size_t(n) * n) {
         r.mismatches = 1; // nothing comparable
         return r;
     }
-    // the stored slice thresholds must be the ones eq. 1 gives (the lookup's depth -> slice map)
+    // the stored slice thresholds must be the ones eq. 1 (or the linear slicing) gives: the lookup's
+    // depth -> slice map
     for (uint32_t s = 0; s <= n; ++s)
         if (d[d[kCpvsHThresholds] + s] != space->thresholds[s]) ++r.mismatches;
     ColumnWalk walk(d, r);

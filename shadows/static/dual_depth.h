@@ -42,7 +42,13 @@ inline float dequantizeDepth(uint32_t d, float farPlane) {
 }
 
 struct DualDepthMap {
-    uint32_t resolution = 0;     // width = height
+    uint32_t resolution = 0; // width = height (the container every codec stores)
+    // Rows in the light's volume (LightFrustum::mapRows): a directional map fitted to its box is
+    // resolution x rows texels, the rows from `rows` on are outside the light (empty). 0 = resolution.
+    // SM stores only these rows; the hierarchical codecs store the empty rest as homogeneous nodes.
+    uint32_t rows = 0;
+    // Rendered through an orthographic (directional) frustum: CPVS slices its depth linearly (cpvs.h).
+    bool orthographic = false;
     std::vector<uint32_t> enter; // resolution * resolution, row-major, row 0 at NDC y = -1
     std::vector<uint32_t> exit;
     uint32_t at(uint32_t x, uint32_t y) const { return enter[size_t(y) * resolution + x]; }

@@ -71,26 +71,46 @@ LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float
 
 LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 lo, glm::vec3 hi) {
     const glm::vec3 dir = glm::normalize(direction);
-    const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     const glm::vec3 centre = (lo + hi) * 0.5f;
     const float radius = glm::length(hi - lo) * 0.5f;
-    glm::vec3 eye = centre - dir * (radius + 1.0f);
+    // The stated margin: 1/1024 of the box's diagonal (at least 0.1 mm) on every side and along the
+    // light, so float rounding of the view transform keeps every corner inside the volume.
+    const float margin = std::max(radius / 512.0f, 1e-4f);
+    // The eye 1 m + 2 margins beyond the bounding sphere: the box's nearest corner is >= 1 m + 2 margins
+    // deep, so near = that depth - margin stays >= 1 m.
+    glm::vec3 eye = centre - dir * (radius + 1.0f + 2.0f * margin);
+    auto extents = [&](const glm::mat4& view, glm::vec3& vmin, glm::vec3& vmax) {
+        vmin = glm::vec3(1e30f), vmax = glm::vec3(-1e30f);
+        for (int i = 0; i < 8; ++i) {
+            glm::vec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+            glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.0f));
+            vmin = glm::min(vmin, v), vmax = glm::max(vmax, v);
+        }
+    };
     glm::mat4 view = glm::lookAt(eye, eye + dir, up);
-    // Fit the square to the corners in light space, then move the eye sideways onto its centre.
-    glm::vec3 vmin(1e30f), vmax(-1e30f);
-    for (int i = 0; i < 8; ++i) {
-        glm::vec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-        glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.0f));
-        vmin = glm::min(vmin, v), vmax = glm::max(vmax, v);
+    glm::vec3 vmin, vmax;
+    extents(view, vmin, vmax);
+    // The longer light-space extent goes along x (the map's full width): turn the view a quarter turn
+    // about the light when y is longer.
+    if (vmax.y - vmin.y > vmax.x - vmin.x) {
+        up = glm::vec3(view[0][0], view[1][0], view[2][0]); // the old right axis becomes up
+        view = glm::lookAt(eye, eye + dir, up);
+        extents(view, vmin, vmax);
     }
-    const glm::vec3 right(view[0][0], view[1][0], view[2][0]), upAxis(view[0][1], view[1][1], view[2][1]);
-    eye += right * (vmin.x + vmax.x) * 0.5f + upAxis * (vmin.y + vmax.y) * 0.5f;
     LightFrustum f;
+    f.fitMargin = margin;
+    f.orthoHalf = std::max((vmax.x - vmin.x) * 0.5f + margin, 1e-3f);
+    f.orthoHalfY = std::min((vmax.y - vmin.y) * 0.5f + margin, f.orthoHalf);
+    // Sideways: the rectangle's x centre onto the axis, its bottom edge (less the margin) onto view
+    // y = -orthoHalf, so it fills rows [0, mapRows) of the square texel grid.
+    const glm::vec3 right(view[0][0], view[1][0], view[2][0]), upAxis(view[0][1], view[1][1], view[2][1]);
+    eye += right * ((vmin.x + vmax.x) * 0.5f) + upAxis * (vmin.y - margin + f.orthoHalf);
     f.view = glm::lookAt(eye, eye + dir, up);
-    f.orthoHalf = std::max(std::max(vmax.x - vmin.x, vmax.y - vmin.y) * 0.5f * 1.001f, 1e-3f);
     f.fov = 0.0f;
-    f.nearPlane = 0.5f;
-    f.farPlane = std::max(-vmin.z + 0.5f, 1.0f);
+    // Depth: the box's slab along the light, [nearest corner, deepest corner], plus the margin.
+    f.nearPlane = -vmax.z - margin;
+    f.farPlane = -vmin.z + margin;
     return f;
 }
 
@@ -104,7 +124,8 @@ std::vector<LightFrustum> lightFrustums(const LightShape& light) {
 
 DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum,
                                uint32_t resolution)
-    : res_(resolution), far_(frustum.farPlane), ortho_(frustum.orthographic()) {
+    : res_(resolution), rows_(frustum.mapRows(resolution)), far_(frustum.farPlane),
+      ortho_(frustum.orthographic()) {
     // Perspective: NDC = x / (d tan); orthographic: NDC = x / orthoHalf. The side clip planes are
     // kGuard * g(d) -+ x with g(d) = tan * d or orthoHalf.
     const double t = ortho_ ? 0.0 : std::tan(double(frustum.fov) * 0.5);
@@ -112,7 +133,12 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     auto side = [&](const V3& v) {
         return ortho_ ? kGuard * oh : kGuard * t * v.z;
     }; // perspective: as before
-    const double n = frustum.nearPlane, fa = frustum.farPlane;
+    // A fitted directional map clips casters at kDirectionalClipNear, not at its near plane (the box's
+    // slab): casters between the light and the box within its bounding sphere still shadow it, at depths
+    // below near (CPVS slice 0 and the depth maps take them as any nearer caster).
+    const double n = frustum.fitted() ? std::min(double(frustum.nearPlane), double(kDirectionalClipNear))
+                                      : double(frustum.nearPlane);
+    const double fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
     for (size_t tri = 0; tri < count; ++tri) {
@@ -154,7 +180,8 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
                     ymax = std::max({tr.y[0], tr.y[1], tr.y[2]});
             // Rows whose centre y*256+128 lies in [ymin, ymax].
             int64_t r0 = floorDiv(ymin - kSub / 2 + kSub - 1, kSub), r1 = floorDiv(ymax - kSub / 2, kSub);
-            r0 = std::max<int64_t>(r0, 0), r1 = std::min<int64_t>(r1, int64_t(res_) - 1);
+            // Rows from rows_ on lie outside a fitted directional light's volume: never covered.
+            r0 = std::max<int64_t>(r0, 0), r1 = std::min<int64_t>(r1, int64_t(rows_) - 1);
             if (r0 > r1) continue;
             tr.yMin = int32_t(r0), tr.yMax = int32_t(r1);
             tris_.push_back(tr);
@@ -236,11 +263,18 @@ void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint3
     }
 }
 
-DualDepthMap DualRasterizer::render(uint64_t tileTexels) const {
+DualDepthMap DualRasterizer::blankMap() const {
     DualDepthMap map;
     map.resolution = res_;
+    map.rows = rows_ < res_ ? rows_ : 0u;
+    map.orthographic = ortho_;
     map.enter.assign(size_t(res_) * res_, kDepthEmpty);
     map.exit.assign(size_t(res_) * res_, kDepthEmpty);
+    return map;
+}
+
+DualDepthMap DualRasterizer::render(uint64_t tileTexels) const {
+    DualDepthMap map = blankMap();
     uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res_, 1), 1, res_));
     for (uint32_t y0 = 0; y0 < res_; y0 += rows) {
         uint32_t y1 = std::min(res_, y0 + rows);

@@ -57,9 +57,16 @@ LightFrustum spotLightFrustum(const LightShape& light, float nearPlane = 0.05f);
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
 // ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
 LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float nearPlane = 0.05f);
-// A directional light's orthographic frustum over the box [boundsMin, boundsMax]: looking along
-// `direction` from 1 m outside the box's bounding sphere, square side and far plane fitted to the box's
-// corners in light space (near 0.5 m, far = deepest corner + 0.5 m).
+// A directional light's orthographic frustum fitted to the box [boundsMin, boundsMax] (issue 21):
+// looking along `direction` from beyond the box's bounding sphere, the view turned so that the box's
+// longer light-space extent runs along x. Square texels; the map is res wide and mapRows(res) high
+// (rows past it are outside the light): the box's light-space rectangle plus fitMargin fills it, so at
+// least 1 - 1/rows - 2 margin/extent of its texels lie inside the rectangle. Depth: near/far = the box's
+// slab along the light (nearest and deepest corner) -+ fitMargin, the margin 1/1024 of the box's
+// diagonal (>= 0.1 mm). The rasteriser clips casters at kDirectionalClipNear from the eye, not at near:
+// casters between the light and the box, up to 0.5 m beyond its bounding sphere, keep shadowing it (as
+// before the fit); casters past far are clipped.
+constexpr float kDirectionalClipNear = 0.5f;
 LightFrustum directionalLightFrustum(glm::vec3 direction, glm::vec3 boundsMin, glm::vec3 boundsMax);
 // The frustums a static light bakes: one for a spot, six for a point light, none otherwise (a
 // directional light needs bounds: directionalLightFrustum).
@@ -75,6 +82,8 @@ class DualRasterizer {
     DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
 
     size_t projectedTriangles() const { return tris_.size(); }
+    // An all-empty map of this rasteriser's size, rows and projection (renderRows fills its words).
+    DualDepthMap blankMap() const;
 
   private:
     struct Tri {
@@ -85,6 +94,7 @@ class DualRasterizer {
     };
     std::vector<Tri> tris_; // sorted by yMin
     uint32_t res_;
+    uint32_t rows_; // rows in the light's volume (LightFrustum::mapRows)
     float far_;
     bool ortho_ = false;
 };

@@ -2,8 +2,11 @@
 //
 // Each texel stores the midpoint of its [enter, exit] interval (the midpoint shadow map of Woo 1992:
 // inside closed objects, away from both surfaces); empty texels store kDepthEmpty.
-// Layout (words): header[6] = magic 'SM01' | version 1 | resolution | total words | checksum | 0,
-// then resolution^2 values, row-major, row 0 at NDC y = -1.
+// Layout (words): header[6] = magic 'SM01' | version | resolution | total words | checksum | rows,
+// then resolution x rows values, row-major, row 0 at NDC y = -1. Version 1: square, the rows word 0 and
+// resolution^2 values (spot and point maps, unchanged). Version 2: a directional map fitted to its box
+// (DualDepthMap::rows, issue 21), rows in 1..resolution-1; texels in rows >= rows are outside the light
+// and read as kDepthEmpty (lit).
 #pragma once
 #include "io/result.h"
 #include "shadows/static/dual_depth.h"
@@ -17,14 +20,16 @@ namespace ml {
 namespace smfmt {
 constexpr uint32_t kMagic = stat::fourcc('S', 'M', '0', '1');
 constexpr uint32_t kHeaderWords = 6;
-enum : uint32_t { kMagicWord, kVersion, kResolution, kTotalWords, kChecksum, kReserved };
+enum : uint32_t { kMagicWord, kVersion, kResolution, kTotalWords, kChecksum, kRows, kReserved = kRows };
 } // namespace smfmt
 
 inline std::vector<uint32_t> encodeSM(const DualDepthMap& map) {
-    const size_t texels = size_t(map.resolution) * map.resolution;
+    const uint32_t rows = map.rows != 0 && map.rows < map.resolution ? map.rows : map.resolution;
+    const size_t texels = size_t(map.resolution) * rows;
     std::vector<uint32_t> out(smfmt::kHeaderWords + texels, 0u);
-    out[smfmt::kMagicWord] = smfmt::kMagic, out[smfmt::kVersion] = 1,
+    out[smfmt::kMagicWord] = smfmt::kMagic, out[smfmt::kVersion] = rows < map.resolution ? 2u : 1u,
     out[smfmt::kResolution] = map.resolution;
+    out[smfmt::kRows] = rows < map.resolution ? rows : 0u;
     out[smfmt::kTotalWords] = uint32_t(out.size());
     for (size_t i = 0; i < texels; ++i)
         out[smfmt::kHeaderWords + i] = stat::midpoint(map.enter[i], std::max(map.enter[i], map.exit[i]));
@@ -32,16 +37,28 @@ inline std::vector<uint32_t> encodeSM(const DualDepthMap& map) {
     return out;
 }
 
+// Rows stored: resolution (version 1) or the rows word (version 2).
+inline uint32_t smRows(const uint32_t* data, uint32_t base) {
+    return data[base + smfmt::kVersion] == 2u ? data[base + smfmt::kRows] : data[base + smfmt::kResolution];
+}
+
 inline Result<void> validateSM(const uint32_t* data, size_t size) {
     if (!data || size < smfmt::kHeaderWords) return fail("SM: buffer shorter than its header");
-    if (data[smfmt::kMagicWord] != smfmt::kMagic || data[smfmt::kVersion] != 1)
+    const uint32_t version = data[smfmt::kVersion];
+    if (data[smfmt::kMagicWord] != smfmt::kMagic || (version != 1 && version != 2))
         return fail("SM: wrong magic or version");
     uint64_t res = data[smfmt::kResolution];
-    if (data[smfmt::kTotalWords] != size || smfmt::kHeaderWords + res * res != size)
-        return fail("SM: size " + std::to_string(size) + " does not match resolution " + std::to_string(res));
+    if (version == 1 && data[smfmt::kRows] != 0)
+        return fail("SM: reserved (rows) header word is not 0 in version 1");
+    if (version == 2 && (data[smfmt::kRows] == 0 || data[smfmt::kRows] >= res))
+        return fail("SM: version 2 rows " + std::to_string(data[smfmt::kRows]) + " not in 1.." +
+                    std::to_string(res > 0 ? res - 1 : 0));
+    const uint64_t rows = version == 2 ? data[smfmt::kRows] : res;
+    if (data[smfmt::kTotalWords] != size || smfmt::kHeaderWords + res * rows != size)
+        return fail("SM: size " + std::to_string(size) + " does not match resolution " + std::to_string(res) +
+                    " x " + std::to_string(rows) + " rows");
     if (data[smfmt::kChecksum] != stat::checksumWords(data, size, smfmt::kChecksum))
         return fail("SM: checksum mismatch");
-    if (data[smfmt::kReserved] != 0) return fail("SM: reserved header word is not 0");
     return {};
 }
 
@@ -53,7 +70,9 @@ inline stat::ByteBreakdown breakdownSM(const uint32_t* data, size_t size) {
     return b;
 }
 
+// GLSL twin: staticDepthAt in shaders/static/static_visibility.glsl.
 inline uint32_t smLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    if (y >= smRows(data, base)) return kDepthEmpty; // outside a fitted directional light's rows
     return data[base + smfmt::kHeaderWords + y * data[base + smfmt::kResolution] + x];
 }
 

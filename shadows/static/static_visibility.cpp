@@ -12,8 +12,10 @@ gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f
     gpu::GpuShadowRecord r{};
     r.view = f.view;
     // x: tan(fov / 2) for perspective maps, -orthoHalf for orthographic ones (the sign tells them apart).
+    // w: CPVS's depth-slice scale for the voxel normal: far - near for orthographic maps (linear slices),
+    // log(far / near) for perspective ones (eq. 1).
     r.frustum = glm::vec4(f.orthographic() ? -f.orthoHalf : std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane,
-                          std::log(f.farPlane / f.nearPlane));
+                          f.orthographic() ? f.farPlane - f.nearPlane : std::log(f.farPlane / f.nearPlane));
     r.info = glm::uvec4(uint32_t(method), base, resolution, std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS));
     return r;
 }
@@ -41,10 +43,10 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
         uint32_t s = cpvsSliceOfDepth(data, base, staticQuantizeFloat(z, farPlane));
         float nView[3] = {vn.x, vn.y, vn.z};
         int32_t nq[3];
-        // Orthographic: du = N dx / (2 h), dw = N dz / (z L); times z/N that is the perspective formula
-        // with ndc = 0 and tan = h / z.
+        // Orthographic, linear slices: du = N dx / (2 h), dw = N dz / (far - near): the perspective
+        // formula with ndc = 0, tan = h and frustum.w = far - near (cpvs.h).
         if (ortho)
-            cpvsVoxelNormal(nView, 0.0f, 0.0f, orthoHalf / z, rec.frustum.w, nq);
+            cpvsVoxelNormal(nView, 0.0f, 0.0f, orthoHalf, rec.frustum.w, nq);
         else
             cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
         return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;

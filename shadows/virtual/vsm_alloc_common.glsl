@@ -42,6 +42,13 @@ bool vsmWanted(uint entry) {
 
 shared uint sScan[ML_VSM_BLOCK];
 
+// The block (workgroup) index of vsm_scan / vsm_assign: their blocks are dispatched as a 2-D grid of
+// at most maxComputeWorkGroupCount[0] per row (16384^2 maps of 64^2 pages, 256 lights: 88,235 blocks,
+// past 65,535 in one dimension), linearised row-major. Blocks of the last row past `vsm.order.y`
+// entries are padding: whole groups with nothing to do (the caller returns before its barriers).
+uint vsmBlockIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
+bool vsmPaddingBlock(uint block) { return block * ML_VSM_BLOCK >= max(vsm.order.y, 1u); }
+
 // Exclusive prefix sum of `value` over the workgroup (Hillis-Steele in shared memory); total in `sum`.
 // Deterministic: the same inputs give the same ranks whatever the scheduling.
 uint vsmBlockScan(uint value, out uint sum) {

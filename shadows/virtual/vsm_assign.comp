@@ -27,13 +27,15 @@ layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
+    uint block = vsmBlockIndex();
+    if (vsmPaddingBlock(block)) return; // uniform per workgroup: no barrier is left waiting
     uint entry, map, mip;
-    bool inside = vsmEntryOfOrder(gl_GlobalInvocationID.x, vsm, entry, map, mip);
+    bool inside = vsmEntryOfOrder(block * ML_VSM_BLOCK + gl_LocalInvocationIndex, vsm, entry, map, mip);
     bool wanted = inside && vsmWanted(entry);
     uint pt = wanted ? vsmTable[entry] : 0u;
     bool request = wanted && (pt & ML_VSM_ALLOCATED) == 0u;
     uint sum;
-    uint rank = vsmBlockRanks[gl_WorkGroupID.x] + vsmBlockScan(request ? 1u : 0u, sum);
+    uint rank = vsmBlockRanks[block] + vsmBlockScan(request ? 1u : 0u, sum);
     if (!wanted) return;
     bool marked = vsmMarked(entry);
     if (request) {

@@ -58,8 +58,10 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
 void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const uint32_t blocks = uint32_t((size_t(slot.orderEntries) + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK);
-    dispatch(d, c, programs_.scan, blocks * ML_VSM_BLOCK, 1, NoPush{},
+    const uint64_t blocks = (uint64_t(slot.orderEntries) + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK;
+    // One workgroup per block, in rows of at most maxComputeWorkGroupCount[0] (vsmBlockIndex).
+    const GroupGrid grid = linearGroupGrid(blocks, d.properties.limits.maxComputeWorkGroupCount[0]);
+    dispatch(d, c, programs_.scan, grid.x * ML_VSM_BLOCK, grid.y, NoPush{},
              {slot.constants, slot.runs, slot.maps, slot.stale, pg.table, pg.marks, pg.lastUsed,
               pg.blockCounts, slot.counters});
     memoryBarrier(c, C, W, C, R | W); // table, last use, block counts -> alloc, assign
@@ -67,7 +69,7 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
              {slot.constants, slot.runs, pg.marks, pg.owners, pg.lastUsed, pg.blockCounts, pg.avail,
               slot.counters});
     memoryBarrier(c, C, W, C, R | W); // block ranks, avail list -> assign
-    dispatch(d, c, programs_.assign, blocks * ML_VSM_BLOCK, 1, NoPush{},
+    dispatch(d, c, programs_.assign, grid.x * ML_VSM_BLOCK, grid.y, NoPush{},
              {slot.constants, slot.runs, pg.table, pg.marks, pg.owners, pg.lastUsed, pg.blockCounts, pg.avail,
               pg.rendered, pg.dirtyMips, slot.counters});
     // Page table (DIRTY), dirty mips, rendered list and the clear's dispatch size -> HPB, cull, clear.

@@ -26,8 +26,10 @@ layout(binding = 8, std430) buffer Counters { VsmCounters vsmCounters; };
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
+    uint block = vsmBlockIndex();
+    if (vsmPaddingBlock(block)) return; // uniform per workgroup: no barrier is left waiting
     uint entry, map, mip;
-    bool inside = vsmEntryOfOrder(gl_GlobalInvocationID.x, vsm, entry, map, mip);
+    bool inside = vsmEntryOfOrder(block * ML_VSM_BLOCK + gl_LocalInvocationIndex, vsm, entry, map, mip);
     uint request = 0u;
     if (inside) {
         uint pt = vsmTable[entry];
@@ -50,5 +52,5 @@ void main() {
     }
     uint sum;
     vsmBlockScan(request, sum);
-    if (gl_LocalInvocationIndex == 0u) vsmBlockCounts[gl_WorkGroupID.x] = sum;
+    if (gl_LocalInvocationIndex == 0u) vsmBlockCounts[block] = sum;
 }

@@ -67,6 +67,38 @@ TEST(Options, DuplicatesAndMissingValuesAreRefused) {
     auto negative = parseWords({"--out", "-0.25,-1,0"}, {own});
     ASSERT_TRUE(negative) << negative.error();
     EXPECT_EQ(negative->get("--out", ""), "-0.25,-1,0");
+    // A value that is an unknown flag is not taken as the value either (issue 20).
+    auto unknownFlag = parseWords({"--out", "--bogus"}, {own});
+    ASSERT_FALSE(unknownFlag);
+    EXPECT_EQ(unknownFlag.error(), "--out: missing value (the next argument, '--bogus', is a flag)");
+    EXPECT_FALSE(parseWords({"--out"}, {own})); // last argument, no value
+}
+
+// --max-memory: MiB, 64..2^30; the default is half the machine's memory; the check's refusal is one
+// line naming the estimate, the limit and the flag.
+TEST(Options, MaxMemory) {
+    auto none = parseWords({}, {opts::kMemoryFlags});
+    ASSERT_TRUE(none);
+    auto def = opts::maxMemory(none.value());
+    ASSERT_TRUE(def) << def.error();
+    EXPECT_EQ(def.value(), opts::machineMemory() / 2);
+    EXPECT_GT(def.value(), uint64_t(0));
+    auto set = parseWords({"--max-memory", "1024"}, {opts::kMemoryFlags});
+    ASSERT_TRUE(set);
+    EXPECT_EQ(opts::maxMemory(set.value()).value(), uint64_t(1024) << 20);
+    for (const char* bad : {"0", "63", "12G", "-5", "1e3"}) {
+        auto a = parseWords({"--max-memory", bad}, {opts::kMemoryFlags});
+        ASSERT_TRUE(a) << bad;
+        EXPECT_FALSE(opts::maxMemory(a.value())) << bad;
+    }
+    EXPECT_TRUE(opts::checkMemory("test", uint64_t(100) << 20, uint64_t(200) << 20, "x"));
+    auto over = opts::checkMemory("test", (uint64_t(300) << 20) + 1, uint64_t(200) << 20, "two maps");
+    ASSERT_FALSE(over);
+    EXPECT_NE(over.error().find("estimated peak memory 301 MiB (two maps) exceeds the limit 200 MiB"),
+              std::string::npos)
+        << over.error();
+    EXPECT_NE(over.error().find("--max-memory"), std::string::npos);
+    EXPECT_EQ(over.error().find('\n'), std::string::npos);
 }
 
 TEST(Options, SeedAndViewBounds) {

@@ -1,6 +1,6 @@
 # bake --need -> inspect (--json and text) -> verify, for one method: lights near the drive path get the
 # cap, lights farther away less; every record's resolution is its need entry's; verify checks every
-# texel (voxel) of each record at its own resolution with 0 mismatches; --need with --shard is refused.
+# texel (voxel) of each record at its own resolution with 0 mismatches; --need with --shard is refused (exit 1: a usage error).
 #   cmake -DEXE=path/to/manylights -DOUT=dir -DMETHOD=dagmh -P need_check.cmake
 file(MAKE_DIRECTORY ${OUT})
 set(F ${OUT}/need_${METHOD}.mlbk)
@@ -68,7 +68,7 @@ endif()
 
 execute_process(COMMAND ${EXE} bake --method ${METHOD} --res 256 --need path:drive --lights 0 --shard 0/2
                         --out ${F}.part RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(NOT rc EQUAL 2 OR NOT err MATCHES "--need: not with --shard")
+if(NOT rc EQUAL 1 OR NOT err MATCHES "--need: not with --shard")
   message(FATAL_ERROR "--need with --shard: exit ${rc}, '${err}'")
 endif()
 message(STATUS "${METHOD}: resolutions ${resolutions}, verify ${lastLine}")

@@ -1,7 +1,8 @@
 // Directional static bakes (issue 11 item 4) through the module: an orthographic map fitted to the
-// scene bounds (directionalLightFrustum), every method. The evaluation pass's HDR output must match
-// its CPU reference (shading.h + the static lookup's CPU twin) and the lookup must agree with rays
-// cast along the light direction; setStaticShadow refuses mixing orthographic bakes and other kinds.
+// scene bounds (directionalLightFrustum; rectangular, linear CPVS depth since issue 21), every method. The
+// evaluation pass's HDR output must match its CPU reference (shading.h + the static lookup's CPU twin) and
+// the lookup must agree with rays cast along the light direction; setStaticShadow refuses mixing orthographic
+// bakes and other kinds.
 #include "failure_test_util.h"
 #include "bake/scene_casters.h"
 
@@ -91,10 +92,10 @@ TEST_P(DirectionalBake, ModuleMatchesCpuAndRays) {
         ++compared;
         wrong += lit != truth;
     }
-    std::printf("  directional %s %u^2: %u pixels, %u differ from the CPU reference; %u receivers vs rays, "
-                "%u shadowed, %u disagree (%.3f%%)\n",
-                staticMethodName(method), res, checked, differ, compared, shadowed, wrong,
-                100.0 * wrong / compared);
+    std::printf("  directional %s %u^2 (%u rows, %zu bytes): %u pixels, %u differ from the CPU reference; %u "
+                "receivers vs rays, %u shadowed, %u disagree (%.3f%%)\n",
+                staticMethodName(method), res, f.mapRows(res), words->size() * 4, checked, differ, compared,
+                shadowed, wrong, 100.0 * wrong / compared);
     EXPECT_GT(checked, 8000u);
     EXPECT_LE(differ, checked / 500 + 1);
     EXPECT_GT(shadowed, 300u) << "the boxes must cast shadows for the comparison to mean anything";
@@ -153,6 +154,8 @@ TEST(DirectionalBake, FileRoundTripAndVerify) {
         auto back = parseBakeFile("mem", words->data(), words->size());
         ASSERT_TRUE(back.ok()) << back.error();
         EXPECT_EQ(back->records[0].frustum.orthoHalf, baked->file.records[0].frustum.orthoHalf);
+        EXPECT_EQ(back->records[0].frustum.orthoHalfY, baked->file.records[0].frustum.orthoHalfY);
+        EXPECT_TRUE(back->records[0].frustum.fitted());
         auto rep = verifyBakeScene(back.value(), s);
         ASSERT_TRUE(rep.ok()) << rep.error();
         EXPECT_GT(rep->checked, 128u * 128u - 1);

@@ -33,7 +33,7 @@ Fixture renderCity(CullingMode mode, uint32_t lights, uint32_t width = 320, uint
     return f;
 }
 
-void compareWithReference(Module& m, CullingMode mode) {
+void compareWithReference(Module& m, CullingMode mode, uint32_t* wideOut = nullptr) {
     auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     ClusterReference ref = cullReference(depth, impl.lastConstants, impl.lastSliceFar, impl.lastLights);
@@ -62,8 +62,15 @@ void compareWithReference(Module& m, CullingMode mode) {
     }
     EXPECT_GT(occupied, 100u);
     EXPECT_GT(entries, 20u) << "lists too small to mean anything";
-    std::printf("  %s: %zu occupied clusters, %zu list entries identical\n", cullingName(mode), occupied,
-                entries);
+    uint32_t wide = 0; // lights the wide pass assigned (params.w), checked against the host's rule
+    for (const gpu::GpuLight& l : impl.lastLights) {
+        EXPECT_EQ(l.params.w == 1.0f,
+                  mode == CullingMode::Clustered && wideFootprint(l, impl.lastConstants).has_value());
+        wide += l.params.w == 1.0f;
+    }
+    if (wideOut) *wideOut = wide;
+    std::printf("  %s: %zu occupied clusters, %zu list entries identical, %u wide lights\n",
+                cullingName(mode), occupied, entries, wide);
 }
 
 } // namespace
@@ -71,6 +78,30 @@ void compareWithReference(Module& m, CullingMode mode) {
 TEST(GpuCulling, ClusteredListsEqualCpuReference) {
     auto f = renderCity(CullingMode::Clustered, 256);
     compareWithReference(*f.module, CullingMode::Clustered);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// Wide lights: the moon is assigned by the wide pass, one thread per tile, a point light around the
+// camera (footprint: the whole screen) by its lanes; the clusters' lists still equal the reference's.
+TEST(GpuCulling, WideLightsListsEqualCpuReference) {
+    auto m = makeModule(CullingMode::Clustered);
+    auto s = loadScene("night-city", 64, 7);
+    ASSERT_TRUE(s.ok()) << s.error();
+    Scene scene = s.value();
+    Light around;
+    around.type = LightKind::Point;
+    around.position = scene.camera.position;
+    around.range = 60.0f;
+    scene.lights.push_back(around);
+    bool moon = false;
+    for (const Light& l : scene.lights) moon = moon || l.type == LightKind::Directional;
+    ASSERT_TRUE(moon) << "the night city is expected to have its moon";
+    ASSERT_TRUE(bindScene(*m, scene).ok());
+    ASSERT_TRUE(m->createTargets(320, 180).ok());
+    renderFrame(*m);
+    uint32_t wide = 0;
+    compareWithReference(*m, CullingMode::Clustered, &wide);
+    EXPECT_EQ(wide, 1u); // the moon
     EXPECT_EQ(validationErrors(), 0u);
 }
 

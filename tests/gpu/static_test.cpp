@@ -41,52 +41,64 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
     auto scene = loadScene("night-city", 256, 5);
     ASSERT_TRUE(scene.ok()) << scene.error();
     const uint32_t res = 128;
-    LightFrustum frustum;
-    DualDepthMap map = cityLightMap(scene.value(), res, &frustum);
-    ASSERT_EQ(map.resolution, res);
+    LightFrustum spot;
+    DualDepthMap spotMap = cityLightMap(scene.value(), res, &spot);
+    ASSERT_EQ(spotMap.resolution, res);
+    // A directional map fitted to a box (issue 21): fewer rows than columns (SM version 2) and linear
+    // CPVS slices; the rows past the light's volume must decode as empty on both sides.
+    const LightFrustum moon = directionalLightFrustum(glm::normalize(glm::vec3(-0.25f, -1.0f, 0.0f)),
+                                                      glm::vec3(-40, 0, -15), glm::vec3(40, 30, 15));
+    DualDepthMap moonMap = rasterizeDual(castersFromScene(scene.value()), moon, res);
+    ASSERT_LT(moonMap.rows, res);
+    ASSERT_GT(moonMap.rows, 0u);
     ShaderModule shader = ML_SHADER(d, spv_test_static_decode_comp);
     Program program = createComputeProgram(d, shader);
-    for (StaticMethod method :
-         {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH, StaticMethod::DAGMH, StaticMethod::CPVS}) {
-        StaticEncodeOptions o{frustum.nearPlane, frustum.farPlane, {}};
-        auto words = encodeStatic(method, map, o);
-        ASSERT_TRUE(words.ok()) << words.error();
-        // Put the encoding at a non-zero base so the decoders' base offsets are exercised.
-        const uint32_t base = 37;
-        std::vector<uint32_t> all(base, 0xDEADBEEFu);
-        all.insert(all.end(), words->begin(), words->end());
-        Buffer in = createBuffer(d, all.size() * 4, kStorageBufferUsage, "decode_in");
-        upload(in, all.data(), all.size() * 4);
-        uint32_t perColumn = method == StaticMethod::CPVS ? (res + 31) / 32 : 1;
-        size_t outWords = size_t(res) * res * perColumn;
-        Buffer out = createBuffer(d, outWords * 4, kStorageBufferUsage, "decode_out");
-        const ml::gpu::StaticDecodePush push{uint32_t(method), base, res, 0};
-        VkCommandBuffer cmd = d.beginOneTime();
-        dispatch(d, cmd, program, res, res, push, {in, out});
-        fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);
-        d.endOneTime(cmd);
-        const uint32_t* gpu = out.as<uint32_t>();
-        uint64_t compared = 0;
-        for (uint32_t y = 0; y < res; ++y)
-            for (uint32_t x = 0; x < res; ++x) {
-                if (method != StaticMethod::CPVS) {
-                    uint32_t cpu = lookupStaticDepth(method, all.data(), base, x, y);
-                    ASSERT_EQ(gpu[y * res + x], cpu)
-                        << staticMethodName(method) << " texel " << x << "," << y;
-                    ++compared;
-                    continue;
+    for (int kind = 0; kind < 2; ++kind)
+        for (StaticMethod method : {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH,
+                                    StaticMethod::DAGMH, StaticMethod::CPVS}) {
+            const LightFrustum& frustum = kind ? moon : spot;
+            const DualDepthMap& map = kind ? moonMap : spotMap;
+            SCOPED_TRACE(kind ? "directional" : "spot");
+            StaticEncodeOptions o{frustum.nearPlane, frustum.farPlane, {}};
+            auto words = encodeStatic(method, map, o);
+            ASSERT_TRUE(words.ok()) << words.error();
+            // Put the encoding at a non-zero base so the decoders' base offsets are exercised.
+            const uint32_t base = 37;
+            std::vector<uint32_t> all(base, 0xDEADBEEFu);
+            all.insert(all.end(), words->begin(), words->end());
+            Buffer in = createBuffer(d, all.size() * 4, kStorageBufferUsage, "decode_in");
+            upload(in, all.data(), all.size() * 4);
+            uint32_t perColumn = method == StaticMethod::CPVS ? (res + 31) / 32 : 1;
+            size_t outWords = size_t(res) * res * perColumn;
+            Buffer out = createBuffer(d, outWords * 4, kStorageBufferUsage, "decode_out");
+            const ml::gpu::StaticDecodePush push{uint32_t(method), base, res, 0};
+            VkCommandBuffer cmd = d.beginOneTime();
+            dispatch(d, cmd, program, res, res, push, {in, out});
+            fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);
+            d.endOneTime(cmd);
+            const uint32_t* gpu = out.as<uint32_t>();
+            uint64_t compared = 0;
+            for (uint32_t y = 0; y < res; ++y)
+                for (uint32_t x = 0; x < res; ++x) {
+                    if (method != StaticMethod::CPVS) {
+                        uint32_t cpu = lookupStaticDepth(method, all.data(), base, x, y);
+                        ASSERT_EQ(gpu[y * res + x], cpu)
+                            << staticMethodName(method) << " texel " << x << "," << y;
+                        ++compared;
+                        continue;
+                    }
+                    for (uint32_t s = 0; s < res; ++s) {
+                        bool g = (gpu[(y * res + x) * perColumn + s / 32] >> (s % 32)) & 1u;
+                        bool c = cpvsShadowedVoxel(all.data(), base, int32_t(x), int32_t(y), int32_t(s));
+                        ASSERT_EQ(g, c) << "cpvs voxel " << x << "," << y << "," << s;
+                        ++compared;
+                    }
                 }
-                for (uint32_t s = 0; s < res; ++s) {
-                    bool g = (gpu[(y * res + x) * perColumn + s / 32] >> (s % 32)) & 1u;
-                    bool c = cpvsShadowedVoxel(all.data(), base, int32_t(x), int32_t(y), int32_t(s));
-                    ASSERT_EQ(g, c) << "cpvs voxel " << x << "," << y << "," << s;
-                    ++compared;
-                }
-            }
-        std::printf("  %s: %llu values identical\n", staticMethodName(method), (unsigned long long)compared);
-        destroyBuffer(d, in);
-        destroyBuffer(d, out);
-    }
+            std::printf("  %s %s: %llu values identical\n", kind ? "directional" : "spot",
+                        staticMethodName(method), (unsigned long long)compared);
+            destroyBuffer(d, in);
+            destroyBuffer(d, out);
+        }
     destroyProgram(d, program);
     destroyShader(d, shader);
     EXPECT_EQ(validationErrors(), 0u);

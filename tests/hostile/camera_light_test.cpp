@@ -96,7 +96,7 @@ TEST(HostileLight, SpotAnglesAndRangeRefused) {
         }
 }
 
-// The command line: one line, exit 2, before any frame is rendered.
+// The command line: one line, exit 1 (a usage error), before any frame is rendered.
 TEST(HostileCli, CameraArgumentRefused) {
     const std::pair<const char*, const char*> cases[] = {
         {"nan,1,2,3,4,5", "not a finite number"},  {"1,inf,2,3,4,5", "not a finite number"},
@@ -109,7 +109,7 @@ TEST(HostileCli, CameraArgumentRefused) {
     for (const auto& [camera, needle] : cases) {
         auto r = hostile::runCli(std::string("demo --frames 1 --size 32x32 --lights 4 --out ") + out +
                                  " --camera '" + camera + "'");
-        EXPECT_EQ(r.status, 2) << camera << ": " << r.err;
+        EXPECT_EQ(r.status, 1) << camera << ": " << r.err;
         EXPECT_NE(r.err.find(needle), std::string::npos) << camera << ": " << r.err;
         EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << camera << ": " << r.err;
     }

@@ -233,6 +233,31 @@ TEST(HostileCli, FolderAndFifoAsBakeFileOrScene) {
     }
 }
 
+// demo on a hostile or malformed file exits 2 like bake, inspect and verify (it used to exit 1), with
+// one line; a usage error exits 1 (README "Exit status").
+TEST(HostileCli, DemoExitsTwoOnHostileFiles) {
+    const std::string gltf = fresh("demo_escape.gltf"), bake = fresh("demo_damaged.mlbk");
+    hostile::writeBytes(gltf, hostile::tetraJson("\"uri\": \"../../../../../../../../etc/passwd\""));
+    hostile::writeBytes(bake, "MLBK this is not a bake file");
+    const std::string out = " --frames 1 --size 32x32 --lights 4 --out " + (tempDir() / "demo_out").string();
+    const std::pair<std::string, int> cases[] = {
+        {"demo --scene " + gltf + out, 2},
+        {"demo --scene " + fresh("demo_missing.glb") + out, 2},
+        {"demo --bake " + bake + out, 2},
+        {"demo --frames 1 --frames 2" + out, 1},
+    };
+    for (const auto& [c, status] : cases) {
+        auto r = hostile::runCli(c, 120);
+        EXPECT_EQ(r.status, status) << c << ": " << r.err;
+        ASSERT_FALSE(r.err.empty()) << c;
+        // The refusal is the last line (the module's device notes may come before it).
+        const size_t last = r.err.rfind('\n', r.err.size() - 2);
+        const std::string line = r.err.substr(last == std::string::npos ? 0 : last + 1);
+        EXPECT_EQ(line.find("manylights demo: "), 0u) << c << ": " << r.err;
+        EXPECT_EQ(line.back(), '\n') << c << ": " << r.err;
+    }
+}
+
 TEST(HostileCli, BakeOutRefusesSymlinkAndDevice) {
     const std::string victim = fresh("cli_victim.txt"), link = fresh("cli_link.mlbk");
     hostile::writeBytes(victim, "precious");
@@ -241,7 +266,7 @@ TEST(HostileCli, BakeOutRefusesSymlinkAndDevice) {
     for (const std::string& out : {link, fifo}) {
         auto r =
             hostile::runCli("bake --method sm --res 16 --lights 0 --renderer cpu --quiet --out " + out, 60);
-        EXPECT_EQ(r.status, 2) << r.err; // refused before the bake starts
+        EXPECT_EQ(r.status, 1) << r.err; // --out refused before the bake starts: a usage error
         EXPECT_NE(r.err.find("refusing to replace it"), std::string::npos) << r.err;
         EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
     }
