@@ -117,6 +117,10 @@ struct VsmSlotHost {
     std::vector<glm::uvec4> runs;          // allocation order: (first rank, map, mip, entries)
     std::vector<uint32_t> rankBase;        // first rank per (map slot, mip) of the active maps (vsm_mark)
     std::vector<gpu::GpuVsmMap> maps;      // per map slot
+    // The CPU work of coverage and stale bits this frame (markCoverageAndStale): box-against-light
+    // sphere tests and box projections into maps. Both follow the dynamic and changed instances and
+    // the lights near them, not the instance count (VsmCpu.WorkFollowsTheMovingInstances).
+    uint64_t sphereTests = 0, projections = 0;
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
 // the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
@@ -214,7 +218,8 @@ class VirtualShadowMaps {
     Result<void> assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
                                 const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
-    void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
+    void markCoverageAndStale(Slot& slot, std::span<const VsmLight> lights,
+                              std::span<const VsmInstance> instances);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
                                        const std::vector<uint8_t>& needs);
     void buildAllocationOrder(Slot& slot);
