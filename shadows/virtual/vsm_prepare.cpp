@@ -116,8 +116,12 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
 void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lights,
                                        const VsmCamera& camera) {
     // Matrices of every map in use; a map whose projection or caster set changed is stale as a whole.
-    std::fill(slot.host.coverage.begin(), slot.host.coverage.end(), 0u);
-    std::fill(slot.host.stale.begin(), slot.host.stale.end(), 0u);
+    // The host copy equals the slot's buffers: only the maps with bits set are cleared.
+    for (uint32_t m : slot.bitMaps) {
+        const auto [first, last] = mapBitWords(m);
+        std::fill(slot.host.coverage.begin() + first, slot.host.coverage.begin() + last, 0u);
+        std::fill(slot.host.stale.begin() + first, slot.host.stale.begin() + last, 0u);
+    }
     for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m] = gpu::GpuVsmMap{};
     for (uint32_t id = 0; id < lights.size(); ++id) {
         const LightState& st = lightState_[id];
@@ -182,6 +186,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     }
     std::sort(local.begin(), local.end(), [](const Sphere& a, const Sphere& b) { return a.x < b.x; });
     std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
+    std::vector<uint32_t> touched;                   // maps given a bit (uploadSlot)
     slot.host.sphereTests = slot.host.projections = 0;
     for (uint32_t b = 0; b < boxes.size(); ++b) {
         for (uint32_t id : directional) hits.emplace_back(id, b);
@@ -209,9 +214,10 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
                 if (box.coverage ? !dynamicOnly : (dynamicOnly && !instances[box.instance].dynamic)) continue;
                 glm::uvec4 rect;
                 ++slot.host.projections;
-                if (vsmProjectBox(g, box.lo, box.hi, s0_, rect))
-                    setRectBits(box.coverage ? slot.host.coverage : slot.host.stale, m, rect, s0_, mips_,
-                                entriesPerMap_);
+                if (!vsmProjectBox(g, box.lo, box.hi, s0_, rect)) continue;
+                setRectBits(box.coverage ? slot.host.coverage : slot.host.stale, m, rect, s0_, mips_,
+                            entriesPerMap_);
+                touched.push_back(m);
             }
         }
         h = end;
@@ -219,6 +225,12 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     if (firstFrame)
         for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
     lastInstances_.assign(instances.begin(), instances.end());
+    // The words to upload: this frame's maps and the slot's previous ones (now cleared).
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    std::swap(slot.bitMaps, touched);
+    slot.bitUploads = std::move(touched);
+    slot.bitUploads.insert(slot.bitUploads.end(), slot.bitMaps.begin(), slot.bitMaps.end());
 }
 
 std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<const uint32_t> visible,
@@ -299,9 +311,17 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     // Upload (this slot's previous frame has completed: the module waited for its fence).
     upload(slot.constants, &c, sizeof(c));
     upload(slot.maps, slot.host.maps.data(), size_t(mapsInUse_) * sizeof(gpu::GpuVsmMap));
-    const size_t usedWords = (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32;
-    upload(slot.coverage, slot.host.coverage.data(), usedWords * 4);
-    upload(slot.stale, slot.host.stale.data(), usedWords * 4);
+    if (slot.bitsFull) { // new buffers: every word once
+        upload(slot.coverage, slot.host.coverage.data(), slot.host.coverage.size() * 4);
+        upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4);
+        slot.bitsFull = false;
+    } else {
+        for (uint32_t m : slot.bitUploads) {
+            const auto [first, last] = mapBitWords(m);
+            upload(slot.coverage, slot.host.coverage.data() + first, (last - first) * 4, first * 4);
+            upload(slot.stale, slot.host.stale.data() + first, (last - first) * 4, first * 4);
+        }
+    }
     if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
