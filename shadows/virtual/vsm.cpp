@@ -100,7 +100,7 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
     pages_.draws =
         createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    pages_.drawInfo = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
+    pages_.drawInfo = createDeviceBuffer(d, draws * 16, kStorageBufferUsage, "vsm_draw_info"); // uvec4
     pages_.drawCounts = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
@@ -305,6 +305,9 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.meshletsAfterTask = c.meshletsAfterTask;
     s.trianglesAfterTask = c.trianglesAfterTask;
     s.trianglesRasterized = c.trianglesRasterized;
+    s.fragmentsDrawn = c.fragmentsDrawn;
+    s.dirtyPageTexels = uint64_t(c.pagesRendered) * settings_.pageSize * settings_.pageSize;
+    s.pageClipOverflow = c.pageClipOverflow;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;
