@@ -85,8 +85,8 @@ ML_STRUCT(VsmCounters) {
     uint taskCulledFrustum;      // task: the meshlet's sphere outside the frustum
     uint taskCulledCone;         // task: every triangle faces away from the light (closed casters only)
     uint taskCulledHpb;          // task: the meshlet's bounds over no dirty page (HPB)
-    uint meshletsAfterTask;      // mesh workgroups launched
-    uint trianglesAfterTask;     // triangles of those meshlets
+    uint meshletsAfterTask;      // meshlets past the task shader (one mesh workgroup per dirty page each)
+    uint trianglesAfterTask;     // triangles of those meshlets, once per page each is clipped to
     uint trianglesRasterized; // triangles the mesh shader emitted (not culled as zero-area or sample-free);
                               // vertex path: triangles of the indexed draws
     // The request list (vsm_mark appends the priority rank of every entry wanted this frame, once):
