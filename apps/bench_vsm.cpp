@@ -5,8 +5,9 @@
 // and timed on its own: honest on lavapipe), means over the frames after the first (first use of
 // pipelines). Writes DIR/bench_vsm.csv (per frame) and DIR/bench_vsm.json; the last stdout line is JSON.
 // With --vsm-raster both (default) every run is made once per page-draw path (mesh: meshlets with task and
-// mesh shaders; vertex: indexed draws), and a second table gives the mesh path's culling stages: the share
-// of the meshlets of (caster, map, dirty mip) each stage removed, summed over the frames after the first.
+// mesh shaders; vertex: indexed draws), fragments drawn beside the dirty pages' texels, and a second table
+// gives the mesh path's culling stages: the share of the meshlets of (caster, map, dirty mip) each stage
+// removed, summed over the frames after the first.
 #include "apps/commands.h"
 #include "apps/json.h"
 #include "apps/vsm_args.h"
@@ -36,6 +37,8 @@ Virtual shadow maps on a camera path: pass times and page counts, cached against
   --kinds LIST    rows to run, comma-separated from static-spot,moving-spot,point,directional (default all)
   --vsm-raster R  page-draw path: mesh, vertex, auto or both (default both: every row once per path)
   --meshlet VxT   meshlet limits: vertices x triangles (default 64x124, at most that; triangles a multiple of 4)
+  --vsm-page-clip on|off  page draws clipped to their dirty page (default on); off: each draw covers its
+                  mip's whole virtual resolution and fragments outside dirty pages are discarded (baseline)
   --out DIR       output folder (default out/bench_vsm)
 Last stdout line: {"cached_draw_ms_mean": ..., "uncached_draw_ms_mean": ..., "pages_allocated_mean": ...,
 "fallbacks_total": ..., ...} (the means over the first path given: mesh with both)
@@ -49,6 +52,9 @@ struct Row {
     VsmRaster raster = VsmRaster::Mesh;
     double markMs = 0, allocMs = 0, hpbMs = 0, cullMs = 0, drawMs = 0, frames = 0;
     double marked = 0, allocated = 0, rendered = 0, draws = 0, triangles = 0;
+    // Page draws: the first frame's draw ms (pipelines' first use; every page new), and per frame after
+    // it the fragment-shader invocations against the texels of the pages rendered.
+    double firstDrawMs = 0, fragments = 0, dirtyTexels = 0;
     // Mesh path, summed over the frames after the first: meshlets at each stage.
     uint64_t total = 0, expFrustum = 0, expHpb = 0, afterExp = 0, taskFrustum = 0, taskCone = 0, taskHpb = 0,
              afterTask = 0, trisAfterTask = 0, trisRaster = 0, overflow = 0;
@@ -93,6 +99,9 @@ Result<Config> parseConfig(const cli::Args& args) {
     if (!meshlet) return fail(meshlet.error());
     c.meshlet = meshlet.value();
     c.out = args.get("--out", "out/bench_vsm");
+    const std::string clip = args.get("--vsm-page-clip", "on");
+    if (clip != "on" && clip != "off") return fail("--vsm-page-clip takes on or off, not '" + clip + "'");
+    c.options.module.vsm.pageClip = clip == "on";
     return c;
 }
 
@@ -134,8 +143,11 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
             << v.pagesRendered << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
             << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
             << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << "," << v.trianglesAfterTask << ","
-            << v.trianglesRasterized << "\n";
+            << v.trianglesRasterized << "," << v.fragmentsDrawn << "," << v.dirtyPageTexels << ","
+            << v.requestOverflow << "," << v.pageClipOverflow << "\n";
         row.fallbacks += v.fallbacks;
+        row.overflow += v.pageClipOverflow;
+        if (f == 0) row.firstDrawMs = ms(Pass::VsmDraw);
         if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
         row.markMs += ms(Pass::VsmMark);
         row.allocMs += ms(Pass::VsmAlloc);
@@ -158,11 +170,14 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
         row.allocated += v.pagesAllocated;
         row.rendered += v.pagesRendered;
         row.draws += v.instancesDrawn;
+        row.fragments += double(v.fragmentsDrawn);
+        row.dirtyTexels += double(v.dirtyPageTexels);
         row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
         row.frames += 1;
     }
-    for (double* x : {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked,
-                      &row.allocated, &row.rendered, &row.draws, &row.triangles})
+    for (double* x :
+         {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked, &row.allocated,
+          &row.rendered, &row.draws, &row.triangles, &row.fragments, &row.dirtyTexels})
         *x /= std::max(row.frames, 1.0);
     std::fprintf(stderr,
                  "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
@@ -182,18 +197,23 @@ json::Object printTables(const Config& c, const std::vector<Row>& rows, double& 
                 cameraPathName(o.path), o.width, o.height, o.module.vsm.resolution, o.module.vsm.pageSize,
                 o.module.vsm.poolPages, c.frames);
     std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
-                "triangles | pages marked | allocated | rendered | draws | fallbacks |\n");
-    std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                "first draw ms | triangles | pages marked | allocated | rendered | draws | fallbacks | "
+                "fragments | dirty texels | fragments / dirty |\n");
+    std::printf(
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     uint64_t overflow = 0;
     for (const Row& r : rows) {
-        std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | %.1f | "
-                    "%.1f | %llu |\n",
+        std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | "
+                    "%.1f | %.1f | %llu | %.0f | %.0f | %.2f |\n",
                     r.kind.c_str(), r.cached ? "cached" : "uncached", rasterName(r.raster), r.lightsWithPages,
-                    r.markMs, r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.triangles, r.marked, r.allocated,
-                    r.rendered, r.draws, (unsigned long long)r.fallbacks);
+                    r.markMs, r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.firstDrawMs, r.triangles, r.marked,
+                    r.allocated, r.rendered, r.draws, (unsigned long long)r.fallbacks, r.fragments,
+                    r.dirtyTexels, r.dirtyTexels > 0 ? r.fragments / r.dirtyTexels : 0.0);
         overflow += r.overflow;
         const std::string name = r.kind + (r.cached ? "_cached_" : "_uncached_") + rasterName(r.raster);
         json.real(name + "_draw_ms", r.drawMs).real(name + "_triangles", r.triangles);
+        json.real(name + "_first_draw_ms", r.firstDrawMs).real(name + "_fragments", r.fragments);
+        json.real(name + "_dirty_texels", r.dirtyTexels);
         if (r.raster != rows.front().raster) continue;
         (r.cached ? cachedDraw : uncachedDraw) += r.drawMs;
         allocated += r.cached ? r.allocated : 0.0;
@@ -242,7 +262,7 @@ void printMeshTable(const std::vector<Row>& rows, json::Object& json) {
 } // namespace
 
 // The flags of `bench vsm` beside its option groups.
-const cli::Flags kBenchVsmFlags{{"--kinds", "--out", "--vsm-raster", "--meshlet"}, {}};
+const cli::Flags kBenchVsmFlags{{"--kinds", "--out", "--vsm-raster", "--meshlet", "--vsm-page-clip"}, {}};
 
 int runBenchVsm(int argc, char** argv) {
     int status = 0;
@@ -257,7 +277,7 @@ int runBenchVsm(int argc, char** argv) {
     csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
            "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
            "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
-           "rasterized\n";
+           "rasterized,fragments_drawn,dirty_page_texels,request_overflow,page_clip_overflow\n";
     std::vector<Row> rows;
     for (const std::string& kind : c.kinds)
         for (bool cached : {false, true})

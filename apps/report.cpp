@@ -32,6 +32,8 @@ std::string vsmJson(const VsmStats& v) {
     o.integer("meshlets_after_task", v.meshletsAfterTask)
         .integer("triangles_after_task", v.trianglesAfterTask);
     o.integer("triangles_rasterized", v.trianglesRasterized).integer("meshlet_overflow", v.meshletOverflow);
+    o.integer("fragments_drawn", v.fragmentsDrawn).integer("dirty_page_texels", v.dirtyPageTexels);
+    o.integer("page_clip_overflow", v.pageClipOverflow).integer("request_overflow", v.requestOverflow);
     return o.str();
 }
 } // namespace

@@ -10,7 +10,7 @@
 //   features: shaderBufferInt64Atomics shaderSharedInt64Atomics hostQueryReset scalarBlockLayout
 //   features: storageBuffer8BitAccess shaderInt64 multiDrawIndirect fragmentStoresAndAtomics
 //   features: drawIndirectFirstInstance drawIndirectCount
-//   features: meshShader taskShader
+//   features: meshShader taskShader shaderClipDistance
 //   extensions: VK_EXT_mesh_shader VK_KHR_push_descriptor
 // A device that lacks one is refused with one line naming every missing item.
 //

@@ -75,6 +75,7 @@ step need            table        docs/accuracy.md          -    "section 8: res
 step vsm-drive       image        docs/virtual-shadow-maps.md -  "drive path frame 39 and its page view -> docs/vsm-drive.png, docs/vsm-drive-pages.png"
 step vsm             table        docs/virtual-shadow-maps.md -  "bench vsm (no bake, bake, 128^2 pages), memory from demo stats, check vsm"
 step vsm-meshlets    table        docs/virtual-shadow-maps.md -  "mesh against vertex page draws, night city and fzk-haus, two runs each"
+step vsm-pageclip    table        docs/virtual-shadow-maps.md -  "page draws clipped to dirty pages against whole-mip draws, night city moon and indoor"
 step fuzz            table        docs/reliability.md       slow "tools/fuzz.sh 660 (bake files and glTF)"
 step sanitize        table        docs/reliability.md       slow "tools/sanitize.sh -j2 (ASan + UBSan build in build-asan/, whole ctest)"
 
@@ -299,6 +300,13 @@ step_vsm-meshlets() {
     for i in 1 2; do
         run "$ML" bench vsm --frames 10 --kinds static-spot,moving-spot,directional --out "$D/city_$i"
         run "$ML" bench vsm --scene "$FZK" --path orbit --frames 4 --size 320x180 --kinds static-spot --out "$D/fzk_$i"
+    done
+}
+step_vsm-pageclip() {
+    local m
+    for m in on off; do
+        run "$ML" bench vsm --kinds directional --frames 4 --vsm-raster both --vsm-page-clip $m --out "$D/city_clip_$m"
+        run "$ML" bench vsm --scene indoor --frames 4 --vsm-raster both --vsm-page-clip $m --out "$D/indoor_clip_$m"
     done
 }
 step_fuzz() {

@@ -135,6 +135,12 @@
 #define ML_VSM_TASK_GROUP 32
 // Mesh shader workgroup: one thread per output vertex (and two triangles per thread).
 #define ML_VSM_MESH_GROUP 64
+// Mesh path: a task workgroup launches one mesh workgroup per (surviving meshlet, dirty page under its
+// bounds), each clipped to its page; the payload lists at most this many (4 bytes each: 8 KiB of the
+// 16 KiB every device must give a payload). 32 meshlets x 64 pages: a meshlet of the night city's ground
+// over a whole 8x8-page dirty block per survivor. A meshlet that does not fit is drawn unclipped
+// (counted: VsmCounters.pageClipOverflow).
+#define ML_VSM_TASK_PAGES 2048
 // Each receiver also marks the page ML_VSM_FALLBACK_MIPS mips (or clip levels) coarser than the one it
 // wants: allocation serves coarse mips first, so when the pool runs out the lookup still finds that
 // page. 3 mips up, a fallback page covers 8x8 wanted pages, so it costs 1/64 of the marked pages (and

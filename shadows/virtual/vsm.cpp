@@ -103,7 +103,8 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
     ML_TRY(createDeviceBuffer(d, pages_.draws, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage,
                               "vsm_draws"));
-    ML_TRY(createDeviceBuffer(d, pages_.drawInfo, draws * 8, kStorageBufferUsage, "vsm_draw_info"));
+    ML_TRY(createDeviceBuffer(d, pages_.drawInfo, draws * 16, kStorageBufferUsage,
+                              "vsm_draw_info")); // uvec4 (instance, map, page, 0) per draw
     ML_TRY(createDeviceBuffer(d, pages_.drawCounts, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts"));
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
@@ -340,6 +341,9 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.meshletsAfterTask = c.meshletsAfterTask;
     s.trianglesAfterTask = c.trianglesAfterTask;
     s.trianglesRasterized = c.trianglesRasterized;
+    s.fragmentsDrawn = c.fragmentsDrawn;
+    s.dirtyPageTexels = uint64_t(c.pagesRendered) * settings_.pageSize * settings_.pageSize;
+    s.pageClipOverflow = c.pageClipOverflow;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;

@@ -4,7 +4,8 @@
 // a dirty page) (x, y; indirect: vsm_assign lists the maps, so cached maps launch no threads). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
-// static bake take dynamic casters only. Draws go to one list per mip (one indirect-count draw each).
+// static bake take dynamic casters only. Draws go to one list per mip (one indirect-count draw each):
+// one draw per dirty page under the projected bounds, clipped to that page (vsm_page_clip.glsl).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
@@ -18,12 +19,13 @@ layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every lev
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
 layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawIndexedIndirectCommand
-layout(binding = 8, std430) writeonly buffer DrawInfo { uvec2 drawInfo[]; }; // (instance, map)
+layout(binding = 8, std430) writeonly buffer DrawInfo { uvec4 drawInfo[]; }; // (instance, map, page, 0)
 layout(binding = 9, std430) buffer DrawCounts { uint drawCounts[]; };      // per mip
 layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: draws per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"
+#include "shadows/virtual/vsm_page_clip.glsl"
 
 void main() {
     uint instance = gl_GlobalInvocationID.x;
@@ -50,19 +52,37 @@ void main() {
             atomicAdd(vsmCounters.instancesCulledHpb, 1u);
             continue;
         }
-        uint slot = atomicAdd(drawCounts[mip], 1u);
-        if (slot >= push.capacity) {
-            atomicAdd(vsmCounters.drawOverflow, 1u);
-            continue;
-        }
-        uint d = mip * push.capacity + slot;
-        draws[d * 5u + 0u] = c.draw.x; // index count
-        draws[d * 5u + 1u] = 1u;       // instance count
-        draws[d * 5u + 2u] = c.draw.y; // first index
-        draws[d * 5u + 3u] = c.draw.z; // vertex offset
-        draws[d * 5u + 4u] = d;        // first instance: this draw's drawInfo
-        drawInfo[d] = uvec2(instance, map);
+        // The dirty pages under the bounds (at least one unless the HPB cell's dirty page lies beside
+        // them): count, reserve that many draws at once, then write them.
+        ivec2 p0, p1;
+        vsmPageRect(mip, lo, hi, p0, p1);
+        bool clip = vsm.camera.y != 0.0;
+        if (!clip) p1 = p0; // one unclipped draw over the whole mip (VsmSettings::pageClip off)
+        uint n = clip ? 0u : 1u;
+        for (int y = p0.y; y <= p1.y; ++y)
+            for (int x = p0.x; x <= p1.x; ++x)
+                if (clip && vsmPageDirty(map, mip, x, y)) ++n;
+        // Counted per (instance, map, mip) as vsm_expand counts the mesh path's, whatever the pages.
         atomicAdd(vsmCounters.instancesDrawn, 1u);
-        atomicAdd(vsmCounters.trianglesRasterized, c.draw.x / 3u); // submitted: the vertex path culls none
+        if (n == 0u) continue;
+        uint slot = atomicAdd(drawCounts[mip], n);
+        if (slot + n > push.capacity) atomicAdd(vsmCounters.drawOverflow, slot + n - max(slot, push.capacity));
+        uint written = 0u;
+        for (int y = p0.y; y <= p1.y; ++y)
+            for (int x = p0.x; x <= p1.x; ++x) {
+                if (clip && !vsmPageDirty(map, mip, x, y)) continue;
+                if (slot >= push.capacity) break;
+                uint d = mip * push.capacity + slot;
+                draws[d * 5u + 0u] = c.draw.x; // index count
+                draws[d * 5u + 1u] = 1u;       // instance count
+                draws[d * 5u + 2u] = c.draw.y; // first index
+                draws[d * 5u + 3u] = c.draw.z; // vertex offset
+                draws[d * 5u + 4u] = d;        // first instance: this draw's drawInfo
+                drawInfo[d] = uvec4(instance, map, clip ? vsmPackPage(x, y) : ML_VSM_PAGE_NONE, 0u);
+                ++slot;
+                ++written;
+            }
+        if (written == 0u) continue;
+        atomicAdd(vsmCounters.trianglesRasterized, written * (c.draw.x / 3u)); // submitted: none culled
     }
 }

@@ -55,10 +55,21 @@ bool vsmDirtyCell(uint map, uint mip, uint level, uint x, uint y) {
 
 // HPB test: any dirty page of `mip` under the NDC rectangle, read at the level where the rectangle spans
 // at most 2x2 cells (so at most four reads).
-bool vsmHpbAny(uint map, uint mip, vec2 lo, vec2 hi) {
+// The pages of `mip` under an NDC rectangle, clamped to the map (inclusive corners p0, p1).
+void vsmPageRect(uint mip, vec2 lo, vec2 hi, out ivec2 p0, out ivec2 p1) {
     int side = int(vsm.page.z >> mip);
-    ivec2 p0 = clamp(ivec2(floor((lo * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
-    ivec2 p1 = clamp(ivec2(floor((hi * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+    p0 = clamp(ivec2(floor((lo * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+    p1 = clamp(ivec2(floor((hi * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+}
+
+// Whether page (x, y) of `mip` is rendered this frame (DIRTY).
+bool vsmPageDirty(uint map, uint mip, int x, int y) {
+    return (vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, map, mip, uint(x), uint(y))] & ML_VSM_DIRTY) != 0u;
+}
+
+bool vsmHpbAny(uint map, uint mip, vec2 lo, vec2 hi) {
+    ivec2 p0, p1;
+    vsmPageRect(mip, lo, hi, p0, p1);
     uint level = 0u;
     while ((p1.x >> level) - (p0.x >> level) > 1 || (p1.y >> level) - (p0.y >> level) > 1) ++level;
     for (int y = p0.y >> level; y <= (p1.y >> level); ++y)

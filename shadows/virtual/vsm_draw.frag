@@ -1,8 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 // vsm_draw: attachment-less raster; each fragment of a page rendered this frame (DIRTY) takes the
 // atomic minimum of its quantised linear depth into the page's physical texel (as the static dual-depth
-// bake does: order-independent, so the result does not depend on draw order).
+// bake does: order-independent, so the result does not depend on draw order). Draws are clipped to one
+// dirty page (vsm_page_clip.glsl); the DIRTY test stays for the mesh path's unclipped overflow draws.
+// Every invocation is counted (VsmCounters.fragmentsDrawn: one atomic per subgroup, helpers excluded,
+// since a helper's atomic has no effect).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
@@ -10,12 +14,16 @@ layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 5, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 6, std430) buffer PagePool { uint vsmPool[]; };
+layout(binding = 7, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(push_constant) uniform Push { VsmDrawPush push; };
 
 layout(location = 0) in float inDepth;
 layout(location = 1) flat in uint inMap;
 
 void main() {
+    uvec4 real = subgroupBallot(!gl_HelperInvocation);
+    if (gl_SubgroupInvocationID == subgroupBallotFindLSB(real))
+        atomicAdd(vsmCounters.fragmentsDrawn, subgroupBallotBitCount(real));
     uvec2 t = uvec2(gl_FragCoord.xy);
     uint shift = vsm.page.y, size = vsm.page.x;
     uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, inMap, push.mip, t.x >> shift, t.y >> shift)];

@@ -1,26 +1,40 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_draw: casters into the pages of one mip (viewport = the mip's virtual resolution), one
-// indirect-count draw per mip. The draw's firstInstance indexes drawInfo (instance, map). The world
-// position is computed with vsmPoint, the same operation order as the CPU reference's casters, so both
-// rasterise the same vertices.
+// vsm_draw: a caster into one dirty page of one mip (viewport = the mip's virtual resolution, the
+// triangles clipped to the page: vsm_page_clip.glsl), one indirect-count draw list per mip. The draw's
+// firstInstance indexes drawInfo (instance, map, page). The world position is computed with vsmPoint,
+// the same operation order as the CPU reference's casters, so both rasterise the same vertices.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
 layout(binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };
 layout(binding = 1, std430) readonly buffer Instances { GpuInstance instances[]; };
-layout(binding = 2, std430) readonly buffer DrawInfo { uvec2 drawInfo[]; };
+layout(binding = 2, std430) readonly buffer DrawInfo { uvec4 drawInfo[]; };
 layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
+layout(push_constant) uniform Push { VsmDrawPush push; };
+
+#include "shadows/virtual/vsm_page_clip.glsl"
 
 layout(location = 0) out float outDepth;
 layout(location = 1) flat out uint outMap;
+out gl_PerVertex {
+    vec4 gl_Position;
+    float gl_ClipDistance[4];
+};
 
 void main() {
     GpuVertex v = vertices[gl_VertexIndex];
-    uvec2 info = drawInfo[gl_InstanceIndex];
+    uvec4 info = drawInfo[gl_InstanceIndex];
     GpuVsmMap m = vsmMaps[info.y];
     vec3 world = vsmPoint(instances[info.x].model, vec3(v.px, v.py, v.pz));
     outDepth = -vsmPoint(m.view, world).z;
     outMap = info.y;
-    gl_Position = m.viewProj * vec4(world, 1.0);
+    vec4 p = m.viewProj * vec4(world, 1.0);
+    gl_Position = p;
+    vec4 d = vsmPageClip(p, info.z, push.mip);
+    gl_ClipDistance[0] = d.x;
+    gl_ClipDistance[1] = d.y;
+    gl_ClipDistance[2] = d.z;
+    gl_ClipDistance[3] = d.w;
 }

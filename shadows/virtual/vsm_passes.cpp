@@ -158,13 +158,13 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
             // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
             bindProgram(d, c, programs_.mesh, push,
                         {*in.vertices, *in.instances, pg.meshletList, slot.maps, slot.constants, pg.table,
-                         pg.pool, *in.meshlets, *in.meshletVertices, *in.meshletTriangles, pg.hpb,
-                         pg.meshTasks, slot.counters});
+                         pg.pool, slot.counters, *in.meshletVertices, *in.meshletTriangles, pg.hpb,
+                         pg.meshTasks, *in.meshlets});
             d.cmdDrawMeshTasksIndirect(c, pg.meshTasks.buffer, VkDeviceSize(m) * 16, 1, 16);
         } else {
-            bindProgram(
-                d, c, programs_.draw, push,
-                {*in.vertices, *in.instances, pg.drawInfo, slot.maps, slot.constants, pg.table, pg.pool});
+            bindProgram(d, c, programs_.draw, push,
+                        {*in.vertices, *in.instances, pg.drawInfo, slot.maps, slot.constants, pg.table,
+                         pg.pool, slot.counters});
             vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
             vkCmdDrawIndexedIndirectCount(
                 c, pg.draws.buffer,

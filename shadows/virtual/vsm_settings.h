@@ -54,6 +54,10 @@ struct VsmSettings {
     // section 7). A power of two in 1/4..8.
     float texelsPerPixel = 1.0f;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
+    // Page draws clipped to one dirty page each (both raster paths). false: one draw per (caster, map, mip)
+    // over the mip's whole virtual resolution, fragments outside dirty pages discarded (the layout before
+    // page clipping, kept as `bench vsm --vsm-page-clip off`'s baseline; the pages come out the same).
+    bool pageClip = true;
     uint32_t maxDrawsPerMip = 16384;
     // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
     // up to a power of two >= 256; 4 B each, twice (the sort's ping-pong). Wanted pages past it get no
@@ -84,6 +88,11 @@ struct VsmStats {
     uint32_t meshletsTotal = 0, meshletsCulledFrustum = 0, meshletsCulledHpb = 0, meshletsAfterExpansion = 0,
              meshletOverflow = 0, taskCulledFrustum = 0, taskCulledCone = 0, taskCulledHpb = 0,
              meshletsAfterTask = 0, trianglesAfterTask = 0, trianglesRasterized = 0;
+    // Page draws, both paths: fragment-shader invocations, and the texels of the pages rendered
+    // (pagesRendered x pageSize^2): draws clipped to their page keep the first near the second (times
+    // the casters' depth complexity); pageClipOverflow counts mesh-path meshlets drawn unclipped.
+    uint64_t fragmentsDrawn = 0, dirtyPageTexels = 0;
+    uint32_t pageClipOverflow = 0;
 };
 
 } // namespace ml

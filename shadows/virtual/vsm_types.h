@@ -54,7 +54,8 @@ ML_STRUCT(VsmConstants) {
     uvec4 sizes;   // x entries per map, y maps in use (slots 0..y-1 are scanned), z pool pages, w frame
     uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution,
                    // w first word of the fallback marks (they follow the lookup marks in one buffer)
-    vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), yzw unused
+    vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), y 1 when page draws
+                   // are clipped to their page (VsmSettings::pageClip), else 0; zw unused
     uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, z capacity
                    // of the request list (a power of two >= ML_VSM_BLOCK), w HPB words per map slot
 };
@@ -84,8 +85,8 @@ ML_STRUCT(VsmCounters) {
     uint taskCulledFrustum;      // task: the meshlet's sphere outside the frustum
     uint taskCulledCone;         // task: every triangle faces away from the light (closed casters only)
     uint taskCulledHpb;          // task: the meshlet's bounds over no dirty page (HPB)
-    uint meshletsAfterTask;      // mesh workgroups launched
-    uint trianglesAfterTask;     // triangles of those meshlets
+    uint meshletsAfterTask;      // meshlets past the task shader (one mesh workgroup per dirty page each)
+    uint trianglesAfterTask;     // triangles of those meshlets, once per page each is clipped to
     uint trianglesRasterized; // triangles the mesh shader emitted (not culled as zero-area or sample-free);
                               // vertex path: triangles of the indexed draws
     // The request list (vsm_mark appends the priority rank of every entry wanted this frame, once):
@@ -94,7 +95,14 @@ ML_STRUCT(VsmCounters) {
     uint listGroupsX, listGroupsY, listGroupsZ; // the list passes' indirect dispatch: ML_VSM_BLOCK per group
     // vsm_cull / vsm_expand's indirect dispatch: x caster groups (the CPU), y maps with a dirty page
     // (vsm_assign appends each to the dirty-map list), z 1.
-    uint cullGroupsX, cullGroupsY, cullGroupsZ, pad7;
+    uint cullGroupsX, cullGroupsY, cullGroupsZ;
+    // Page draws (vsm_draw.frag): fragment-shader invocations, helpers excluded. Each draw is clipped to
+    // one dirty page (both raster paths), so this follows the dirty pages' texels times the casters'
+    // depth complexity there, not the mips' virtual resolution.
+    uint fragmentsDrawn;
+    uint pageClipOverflow; // mesh path: meshlets drawn unclipped (whole mip, fragments outside dirty pages
+                           // discarded) because their task group's page list was full (ML_VSM_TASK_PAGES)
+    uint pad8, pad9, pad10;
 };
 
 // A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.
@@ -156,7 +164,8 @@ static_assert(sizeof(GpuVsmMap) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 144);
+static_assert(sizeof(VsmCounters) == 160);
+static_assert(offsetof(VsmCounters, fragmentsDrawn) == 140);
 static_assert(offsetof(VsmCounters, cullGroupsX) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
 static_assert(sizeof(GpuCaster) == 64);

@@ -51,6 +51,7 @@ struct HostDevice {
         f2.features.shaderInt64 = f2.features.multiDrawIndirect = f2.features.fragmentStoresAndAtomics =
             VK_TRUE;
         f2.features.drawIndirectFirstInstance = f12.drawIndirectCount = VK_TRUE;
+        f2.features.shaderClipDistance = VK_TRUE;
         VkBool32* named[] = {&f13.dynamicRendering,
                              &f13.synchronization2,
                              &f13.maintenance4,
@@ -65,7 +66,8 @@ struct HostDevice {
                              &f2.features.drawIndirectFirstInstance,
                              &f12.drawIndirectCount,
                              &mesh.meshShader,
-                             &mesh.taskShader};
+                             &mesh.taskShader,
+                             &f2.features.shaderClipDistance};
         auto names = requiredDeviceFeatures(); // same order as `named` (checked by the test above)
         for (size_t i = 0; i < names.size() && i < std::size(named); ++i)
             if (names[i] == without) *named[i] = VK_FALSE;

@@ -83,6 +83,12 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
                   s.taskCulledFrustum + s.taskCulledCone + s.taskCulledHpb + s.meshletsAfterTask);
         EXPECT_LE(s.trianglesRasterized, s.trianglesAfterTask);
         EXPECT_EQ(s.instancesDrawn, rv->stats.vsm.instancesDrawn) << "frame " << f;
+        // Both paths clip each triangle to the same dirty pages (vsm_page_clip.glsl), and the mesh path
+        // drops only triangles without a sample there and back-facing meshlets of closed meshes (whose
+        // fragments never win the minimum): the same fragments run where the cone test culled nothing.
+        EXPECT_LE(s.fragmentsDrawn, rv->stats.vsm.fragmentsDrawn) << "frame " << f;
+        if (s.taskCulledCone == 0) EXPECT_EQ(s.fragmentsDrawn, rv->stats.vsm.fragmentsDrawn) << "frame " << f;
+        EXPECT_EQ(s.pageClipOverflow, 0u);
         if (f + 1 == frames)
             std::printf(
                 "frame %u: meshlets total %u, culled expansion frustum %u hpb %u, after expansion %u, task "
