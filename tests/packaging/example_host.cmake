@@ -81,6 +81,11 @@ if(MODE STREQUAL "install")
       message(FATAL_ERROR "cmake --install installed the internal header ${f}")
     endif()
   endforeach()
+  # The host-shader include, installed: compiles on its own with -I<prefix>/include only.
+  find_program(GLSLANG glslangValidator REQUIRED)
+  run(${CMAKE_COMMAND} -DINCLUDE=${OUT}/prefix/include -DGLSLANG=${GLSLANG} -DOUT=${OUT}/host_shaders
+      -P ${SOURCE}/tests/packaging/host_shader_include.cmake)
+  message("${last_output}")
   file(GLOB_RECURSE installed RELATIVE ${OUT}/prefix/include/manylights ${OUT}/prefix/include/manylights/*.h)
   list(LENGTH installed count)
   message("installed headers compiled on their own: ${count}")
