@@ -1,11 +1,13 @@
-// The module's lights and shadows from a host's own shader (issue 19): a host forward pass written only
-// against the installed GLSL include and Module::hostShaderBindings (tests/host_shader/host_forward.comp,
-// compiled against the staged install tree) reproduces the evaluation pass's HDR image on the night
-// city at 320x180 with static bakes and virtual shadow maps, recorded in the module's own command
-// buffer after record(), under synchronization validation with 0 messages.
+// The module's lights and shadows from a host's own shaders (issue 19): a host pass written only against
+// the installed GLSL include and Module::hostShaderBindings (tests/host_shader/, compiled against the
+// staged install tree), as a compute shader and as a fragment shader, reproduces the evaluation pass's
+// HDR image on the night city at 320x180 with static bakes and virtual shadow maps, recorded in the same
+// command buffer after record(), under synchronization validation with 0 messages.
 #include "gpu_test_util.h"
 
 #include "host_forward.comp.spv.h"
+#include "host_forward.frag.spv.h"
+#include "host_fullscreen.vert.spv.h"
 
 #include <cmath>
 
@@ -14,28 +16,38 @@ namespace {
 
 constexpr uint32_t kW = 320, kH = 180;
 
-// What a host engine does with the contract: its own set layout, pool, set and pipeline; the module's
-// buffers in set 1 from hostShaderLayout / hostShaderBindings, its G-buffer and outputs in set 0.
+// What a host engine does with the contract: its own set layouts, pool, sets and pipeline; the module's
+// buffers in set 1 from hostShaderLayout / hostShaderBindings, its G-buffer and outputs in set 0
+// (binding 3, the storage output, for the compute pass only: the fragment pass writes an attachment).
 struct HostPass {
     VkDevice dev = VK_NULL_HANDLE;
+    bool fragment = false;
     VkDescriptorSetLayout layouts[2] = {};
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    VkShaderModule shader = VK_NULL_HANDLE;
+    VkShaderModule shaders[2] = {};
     VkPipeline pipeline = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet sets[2] = {};
 
-    explicit HostPass(VkDevice d) : dev(d) {
-        VkDescriptorSetLayoutBinding own[5] = {
-            {0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {1, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {2, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-            {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-        const auto module = hostShaderLayout(0, VK_SHADER_STAGE_COMPUTE_BIT);
+    VkShaderModule shader(const uint32_t* code, size_t bytes) {
+        VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, nullptr, 0, bytes, code};
+        VkShaderModule m = VK_NULL_HANDLE;
+        EXPECT_EQ(vkCreateShaderModule(dev, &si, nullptr, &m), VK_SUCCESS);
+        return m;
+    }
+
+    HostPass(VkDevice d, bool frag) : dev(d), fragment(frag) {
+        const VkShaderStageFlags stage = frag ? VK_SHADER_STAGE_FRAGMENT_BIT : VK_SHADER_STAGE_COMPUTE_BIT;
+        std::vector<VkDescriptorSetLayoutBinding> own = {
+            {0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, stage, nullptr},
+            {1, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, stage, nullptr},
+            {2, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, stage, nullptr},
+            {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stage, nullptr}};
+        if (!frag) own.push_back({3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, stage, nullptr});
+        const auto module = hostShaderLayout(0, stage);
         VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        li.bindingCount = 5;
-        li.pBindings = own;
+        li.bindingCount = uint32_t(own.size());
+        li.pBindings = own.data();
         EXPECT_EQ(vkCreateDescriptorSetLayout(dev, &li, nullptr, &layouts[0]), VK_SUCCESS);
         li.bindingCount = uint32_t(module.size());
         li.pBindings = module.data();
@@ -44,19 +56,10 @@ struct HostPass {
         pli.setLayoutCount = 2;
         pli.pSetLayouts = layouts;
         EXPECT_EQ(vkCreatePipelineLayout(dev, &pli, nullptr, &layout), VK_SUCCESS);
-        VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, nullptr, 0,
-                                    sizeof(spv_host_forward_comp), spv_host_forward_comp};
-        EXPECT_EQ(vkCreateShaderModule(dev, &si, nullptr, &shader), VK_SUCCESS);
-        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-                    nullptr,
-                    0,
-                    VK_SHADER_STAGE_COMPUTE_BIT,
-                    shader,
-                    "main",
-                    nullptr};
-        ci.layout = layout;
-        EXPECT_EQ(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline), VK_SUCCESS);
+        if (frag)
+            makeGraphics();
+        else
+            makeCompute();
         VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 3},
                                          {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1},
                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 11},
@@ -68,10 +71,68 @@ struct HostPass {
                                        layouts};
         EXPECT_EQ(vkAllocateDescriptorSets(dev, &ai, sets), VK_SUCCESS);
     }
+    void makeCompute() {
+        shaders[0] = shader(spv_host_forward_comp, sizeof(spv_host_forward_comp));
+        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                    nullptr,
+                    0,
+                    VK_SHADER_STAGE_COMPUTE_BIT,
+                    shaders[0],
+                    "main",
+                    nullptr};
+        ci.layout = layout;
+        EXPECT_EQ(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline), VK_SUCCESS);
+    }
+    // A full-screen triangle into one RGBA16F attachment (dynamic rendering), no depth, no blending.
+    void makeGraphics() {
+        shaders[0] = shader(spv_host_fullscreen_vert, sizeof(spv_host_fullscreen_vert));
+        shaders[1] = shader(spv_host_forward_frag, sizeof(spv_host_forward_frag));
+        VkPipelineShaderStageCreateInfo stages[2] = {
+            {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT,
+             shaders[0], "main", nullptr},
+            {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT,
+             shaders[1], "main", nullptr}};
+        VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+        VkPipelineInputAssemblyStateCreateInfo ia{
+            VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+        ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        VkViewport viewport{0, 0, float(kW), float(kH), 0, 1};
+        VkRect2D scissor{{0, 0}, {kW, kH}};
+        VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+        vp.viewportCount = vp.scissorCount = 1;
+        vp.pViewports = &viewport;
+        vp.pScissors = &scissor;
+        VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+        rs.cullMode = VK_CULL_MODE_NONE;
+        rs.lineWidth = 1.0f;
+        VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+        ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+        VkPipelineColorBlendAttachmentState blend{};
+        blend.colorWriteMask = 0xF;
+        VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+        cb.attachmentCount = 1;
+        cb.pAttachments = &blend;
+        const VkFormat format = VK_FORMAT_R16G16B16A16_SFLOAT;
+        VkPipelineRenderingCreateInfo rci{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+        rci.colorAttachmentCount = 1;
+        rci.pColorAttachmentFormats = &format;
+        VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rci};
+        gci.stageCount = 2;
+        gci.pStages = stages;
+        gci.pVertexInputState = &vi;
+        gci.pInputAssemblyState = &ia;
+        gci.pViewportState = &vp;
+        gci.pRasterizationState = &rs;
+        gci.pMultisampleState = &ms;
+        gci.pColorBlendState = &cb;
+        gci.layout = layout;
+        EXPECT_EQ(vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline), VK_SUCCESS);
+    }
     ~HostPass() {
         vkDestroyDescriptorPool(dev, pool, nullptr);
         vkDestroyPipeline(dev, pipeline, nullptr);
-        vkDestroyShaderModule(dev, shader, nullptr);
+        for (VkShaderModule m : shaders) vkDestroyShaderModule(dev, m, nullptr);
         vkDestroyPipelineLayout(dev, layout, nullptr);
         for (VkDescriptorSetLayout l : layouts) vkDestroyDescriptorSetLayout(dev, l, nullptr);
     }
@@ -97,35 +158,58 @@ struct HostPass {
     }
     void writeOwnSet(VkImageView depth, VkImageView normal, VkImageView albedo, VkImageView out,
                      VkBuffer counts) {
-        VkDescriptorImageInfo images[4] = {{VK_NULL_HANDLE, depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-                                           {VK_NULL_HANDLE, normal, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-                                           {VK_NULL_HANDLE, albedo, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+        const VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+        VkDescriptorImageInfo images[4] = {{VK_NULL_HANDLE, depth, ro},
+                                           {VK_NULL_HANDLE, normal, ro},
+                                           {VK_NULL_HANDLE, albedo, ro},
                                            {VK_NULL_HANDLE, out, VK_IMAGE_LAYOUT_GENERAL}};
         VkDescriptorBufferInfo buffer{counts, 0, VK_WHOLE_SIZE};
-        VkWriteDescriptorSet w[5];
-        for (uint32_t i = 0; i < 4; ++i)
-            w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-                    nullptr,
-                    sets[0],
-                    i,
-                    0,
-                    1,
-                    i < 3 ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                    &images[i],
-                    nullptr,
-                    nullptr};
-        w[4] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[0], 4,      0, 1,
-                VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,      nullptr, &buffer, nullptr};
-        vkUpdateDescriptorSets(dev, 5, w, 0, nullptr);
+        std::vector<VkWriteDescriptorSet> w;
+        for (uint32_t i = 0; i < (fragment ? 3u : 4u); ++i)
+            w.push_back({VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[0], i, 0, 1,
+                         i < 3 ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                         &images[i], nullptr, nullptr});
+        w.push_back({VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[0], 4, 0, 1,
+                     VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nullptr, &buffer, nullptr});
+        vkUpdateDescriptorSets(dev, uint32_t(w.size()), w.data(), 0, nullptr);
     }
-    void record(VkCommandBuffer cmd) const {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 2, sets, 0, nullptr);
-        vkCmdDispatch(cmd, (kW + 7) / 8, (kH + 7) / 8, 1);
+    // The host's pass into `out` (RGBA16F), left in GENERAL.
+    void record(VkCommandBuffer cmd, const Image& out) const {
+        constexpr auto C = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+        constexpr auto A = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+        if (!fragment) {
+            imageBarrier(cmd, out.image, out.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_2_NONE, 0, C, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 2, sets, 0, nullptr);
+            vkCmdDispatch(cmd, (kW + 7) / 8, (kH + 7) / 8, 1);
+            return;
+        }
+        imageBarrier(cmd, out.image, out.aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, A,
+                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+        VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        color.imageView = out.view;
+        color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        ri.renderArea = {{0, 0}, {kW, kH}};
+        ri.layerCount = 1;
+        ri.colorAttachmentCount = 1;
+        ri.pColorAttachments = &color;
+        vkCmdBeginRendering(cmd, &ri);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 2, sets, 0, nullptr);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdEndRendering(cmd);
+        imageBarrier(cmd, out.image, out.aspect, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                     VK_IMAGE_LAYOUT_GENERAL, A, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
     }
 };
 
-TEST(HostShader, BindingsRefusedBeforeTheFirstFrame) {
+TEST(HostShaderBindings, RefusedBeforeTheFirstFrame) {
     auto m = makeModule();
     auto b = m->hostShaderBindings();
     ASSERT_FALSE(b.ok());
@@ -136,10 +220,15 @@ TEST(HostShader, BindingsRefusedBeforeTheFirstFrame) {
         const bool uniform = i == ML_HOST_FRAME || i == ML_HOST_VSM_CONST;
         EXPECT_EQ(layout[i].descriptorType,
                   uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+        EXPECT_EQ(layout[i].stageFlags, VkShaderStageFlags(VK_SHADER_STAGE_FRAGMENT_BIT));
     }
+    EXPECT_EQ(validationErrors(), 0u);
 }
 
-TEST(HostShader, ForwardPassMatchesEvaluation) {
+// The night city at 320x180, 48 lights with DAG-MH bakes, virtual shadow maps, one frame drawn; then the
+// host pass (compute or fragment) recorded after the second frame's record() in the same command buffer,
+// its image compared with the evaluation's HDR image of that frame.
+void hostPassMatchesEvaluation(bool fragment) {
     resetValidationCounters();
     ModuleOptions o;
     o.device.validationSync = true; // the host pass after record() is checked for hazards too
@@ -159,35 +248,34 @@ TEST(HostShader, ForwardPassMatchesEvaluation) {
 
     Device& d = deviceOf(m);
     auto& impl = internals(m);
-    Image radiance =
-        createImage(d, kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT,
-                    VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "host_radiance");
+    const VkImageUsageFlags usage =
+        VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+        (fragment ? VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT : VK_IMAGE_USAGE_STORAGE_BIT);
+    Image radiance = createImage(d, kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT, usage, "host_radiance");
     Buffer counts = createBuffer(d, VkDeviceSize(kW) * kH * 16, kStorageBufferUsage, "host_counts");
-    HostPass pass(d.device);
-    // The host's inputs: here the module-owned G-buffer of the same frame (what the evaluation read).
-    pass.writeOwnSet(impl.targets.depth.view, impl.targets.normal.view, impl.targets.albedo.view,
-                     radiance.view, counts.buffer);
-
-    VkCommandBuffer cmd = d.beginOneTime();
-    ASSERT_TRUE(m.record(cmd).ok());
-    auto bindings = m.hostShaderBindings();
-    ASSERT_TRUE(bindings.ok()) << bindings.error();
-    EXPECT_EQ(bindings->frame, 1u);
-    EXPECT_EQ(bindings->slot, 1u);
-    EXPECT_TRUE(bindings->stages & VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
-    for (const HostShaderBuffer& b : bindings->buffers) {
-        EXPECT_NE(b.buffer, VK_NULL_HANDLE);
-        EXPECT_GT(b.range, 0u);
+    {
+        HostPass pass(d.device, fragment);
+        // The host's inputs: here the module-owned G-buffer of the same frame (what the evaluation read).
+        pass.writeOwnSet(impl.targets.depth.view, impl.targets.normal.view, impl.targets.albedo.view,
+                         radiance.view, counts.buffer);
+        VkCommandBuffer cmd = d.beginOneTime();
+        ASSERT_TRUE(m.record(cmd).ok());
+        auto bindings = m.hostShaderBindings();
+        ASSERT_TRUE(bindings.ok()) << bindings.error();
+        EXPECT_EQ(bindings->frame, 1u);
+        EXPECT_EQ(bindings->slot, 1u);
+        EXPECT_TRUE(bindings->stages & (fragment ? VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT
+                                                 : VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT));
+        for (const HostShaderBuffer& b : bindings->buffers) {
+            EXPECT_NE(b.buffer, VK_NULL_HANDLE);
+            EXPECT_GT(b.range, 0u);
+        }
+        pass.writeModuleSet(bindings.value());
+        pass.record(cmd, radiance);
+        d.endOneTime(cmd);
+        vkQueueWaitIdle(d.queue);
+        m.collect();
     }
-    pass.writeModuleSet(bindings.value());
-    // The host's own output: discarded, then written by its compute pass.
-    imageBarrier(cmd, radiance.image, radiance.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    pass.record(cmd);
-    d.endOneTime(cmd);
-    vkQueueWaitIdle(d.queue);
-    m.collect();
 
     auto hostImage = readImage(m, radiance, 8, VK_IMAGE_LAYOUT_GENERAL);
     auto moduleImage = readImage(m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
@@ -209,10 +297,10 @@ TEST(HostShader, ForwardPassMatchesEvaluation) {
         shadowed += n[i].z > 0;
         virtualMapped += n[i].w > 0;
     }
-    std::printf(
-        "host forward pass vs evaluation: %zu of %u pixels identical, worst relative difference %.3g; "
-        "%zu lit, %zu with a shadowed light, %zu with a virtual-mapped light\n",
-        same, kW * kH, double(worst), lit, shadowed, virtualMapped);
+    std::printf("host %s pass vs evaluation: %zu of %u pixels identical, worst relative difference %.3g; "
+                "%zu lit, %zu with a shadowed light, %zu with a virtual-mapped light\n",
+                fragment ? "fragment" : "compute", same, kW * kH, double(worst), lit, shadowed,
+                virtualMapped);
     // The comparison means something only if lights, static shadows and virtual maps were looked up.
     EXPECT_GT(lit, size_t(kW) * kH / 10);
     EXPECT_GT(shadowed, 500u);
@@ -220,6 +308,14 @@ TEST(HostShader, ForwardPassMatchesEvaluation) {
     destroyImage(d, radiance);
     destroyBuffer(d, counts);
     EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(HostShader, ForwardPassMatchesEvaluation) {
+    hostPassMatchesEvaluation(false);
+}
+
+TEST(HostShader, FragmentPassMatchesEvaluation) {
+    hostPassMatchesEvaluation(true);
 }
 
 } // namespace
