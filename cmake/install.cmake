@@ -64,6 +64,10 @@ foreach(header ${ML_PUBLIC_HEADERS})
 endforeach()
 file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/manylights.h CONTENT
      "// The host's entry point: #include <manylights/manylights.h> (include/ on the path, nothing else).\n#pragma once\n#include <manylights/engine/manylights.h>\n")
+# The folder a host's glslangValidator gets as -I for "manylights/manylights.glsl": with add_subdirectory
+# the staged tree (the same files as installed), after find_package <prefix>/include (the config file).
+set(MANYLIGHTS_GLSL_INCLUDE_DIR ${PROJECT_BINARY_DIR}/installed_include CACHE INTERNAL
+    "glslangValidator -I folder of manylights/manylights.glsl (the host-shader include)")
 file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/manylights.glsl CONTENT
      "// A host shader's entry point: #include \"manylights/manylights.glsl\" (glslangValidator -I<prefix>/include).\n#include \"manylights/lights/manylights_lights.glsl\"\n")
 install(FILES ${ML_STAGED_INCLUDE}/manylights.h ${ML_STAGED_INCLUDE}/manylights.glsl DESTINATION ${ML_INSTALL_INCLUDE}
@@ -73,7 +77,8 @@ install(TARGETS manylights_module manylights_static manylights_io EXPORT manylig
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT manylights)
 install(EXPORT manylightsTargets NAMESPACE manylights:: DESTINATION ${ML_INSTALL_CMAKE} COMPONENT manylights)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/manylights-config.cmake.in
-                              ${PROJECT_BINARY_DIR}/manylights-config.cmake INSTALL_DESTINATION ${ML_INSTALL_CMAKE})
+                              ${PROJECT_BINARY_DIR}/manylights-config.cmake INSTALL_DESTINATION ${ML_INSTALL_CMAKE}
+                              PATH_VARS CMAKE_INSTALL_INCLUDEDIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/manylights-config-version.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/manylights-config.cmake ${PROJECT_BINARY_DIR}/manylights-config-version.cmake

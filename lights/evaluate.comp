@@ -3,6 +3,10 @@
 // The one evaluation pass: per pixel, every light of its cluster: visibility (static bake x dynamic
 // virtual shadow map) x shading, accumulated in HDR, tone-mapped to the output. Per-pixel light counts
 // are a pass of their own (statistics.comp), so this pass times only the frame's work.
+// CPU reference: shaders/shared/shading.h compiled for the CPU over the same cluster lists
+// (GpuEvaluate.SampledPixelsMatchCpuShading, without shadows) and the static and VSM lookups' own CPU
+// twins (shadows/static/static_visibility.cpp, shadows/virtual/vsm_reference.cpp); a host pass built
+// from the same include reproduces this image bit for bit (HostShader.*).
 // The lookups (cluster list, static x dynamic visibility) are lights/manylights_lights.glsl's, the
 // include a host's own shaders use: its 12 buffers take bindings 0-11, the G-buffer and outputs follow.
 #include "lights/manylights_lights.glsl"

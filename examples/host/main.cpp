@@ -11,12 +11,17 @@
 // frame 6 (its slot reused: the old id is refused). Every frame's image is checked: the ground under the
 // spot light lit, the box top lit, the ground outside the cones dark, the second light's ground lit
 // exactly when it exists, the moving box's shadow on the ground where the box is and not where it was.
+// After record(), in the same command buffer, the host runs its own lighting pass (lights.comp: the
+// module's GLSL include, its buffers bound from hostShaderBindings() into a descriptor set per frame in
+// flight): its radiance must equal the module's output in every pixel (HDR frames: the radiance
+// itself; LDR frames: its tone map).
 // Exit 0 when all holds and the host's messenger counted 0 validation messages, 1 with a reason.
 #include <manylights/manylights.h>
 
 #include "host_device.h"
 #include "host_gbuffer_frag.h"
 #include "host_gbuffer_vert.h"
+#include "host_lights_comp.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
@@ -330,6 +335,13 @@ int main(int argc, char** argv) {
     for (uint32_t s = 0; s < kInFlight; ++s)
         pixels[s] =
             makeBuffer(kWidth * kHeight * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT, readback[s], readbackMem[s]);
+    // The host lighting pass's result per slot (lights.comp's HostPixel: radiance, packed tone map).
+    VkBuffer lightsOut[kInFlight];
+    VkDeviceMemory lightsOutMem[kInFlight];
+    const float* hostRadiance[kInFlight];
+    for (uint32_t s = 0; s < kInFlight; ++s)
+        hostRadiance[s] = reinterpret_cast<const float*>(makeBuffer(
+            kWidth * kHeight * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, lightsOut[s], lightsOutMem[s]));
 
     // The host's G-buffer pipeline: dynamic rendering, two colour attachments and depth.
     auto shader = [&](const uint32_t* code, size_t bytes) {
@@ -347,6 +359,62 @@ int main(int argc, char** argv) {
     VkPipelineLayout layout;
     VK_CHECK(vkCreatePipelineLayout(dev, &lci, nullptr, &layout));
     VkPipeline pipeline = makePipeline(dev, vs, fs, layout);
+
+    // The host's lighting pass: set 0 its own (G-buffer, result), set 1 the module's buffers (the
+    // include's layout, ml::hostShaderLayout), one pair of sets per frame in flight.
+    VkDescriptorSetLayoutBinding own[4] = {
+        {0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+    const auto moduleBindings = ml::hostShaderLayout(0, VK_SHADER_STAGE_COMPUTE_BIT);
+    VkDescriptorSetLayout setLayouts[2];
+    VkDescriptorSetLayoutCreateInfo dli{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 4,
+                                        own};
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dli, nullptr, &setLayouts[0]));
+    dli.bindingCount = uint32_t(moduleBindings.size());
+    dli.pBindings = moduleBindings.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &dli, nullptr, &setLayouts[1]));
+    VkPipelineLayoutCreateInfo lightsLci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    lightsLci.setLayoutCount = 2;
+    lightsLci.pSetLayouts = setLayouts;
+    VkPipelineLayout lightsLayout;
+    VK_CHECK(vkCreatePipelineLayout(dev, &lightsLci, nullptr, &lightsLayout));
+    VkShaderModule cs = shader(host_lights_comp, sizeof(host_lights_comp));
+    VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                 nullptr,
+                 0,
+                 VK_SHADER_STAGE_COMPUTE_BIT,
+                 cs,
+                 "main",
+                 nullptr};
+    cpi.layout = lightsLayout;
+    VkPipeline lightsPipeline;
+    VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpi, nullptr, &lightsPipeline));
+    VkDescriptorPoolSize poolSizes[3] = {{VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 3 * kInFlight},
+                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 11 * kInFlight},
+                                         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * kInFlight}};
+    VkDescriptorPoolCreateInfo dpi{
+        VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, 2 * kInFlight, 3, poolSizes};
+    VkDescriptorPool descriptorPool;
+    VK_CHECK(vkCreateDescriptorPool(dev, &dpi, nullptr, &descriptorPool));
+    VkDescriptorSet sets[kInFlight][2];
+    for (uint32_t s = 0; s < kInFlight; ++s) {
+        VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr,
+                                        descriptorPool, 2, setLayouts};
+        VK_CHECK(vkAllocateDescriptorSets(dev, &dai, sets[s]));
+        const VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+        VkDescriptorImageInfo gb[3] = {{VK_NULL_HANDLE, depth.view, ro},
+                                       {VK_NULL_HANDLE, normal.view, ro},
+                                       {VK_NULL_HANDLE, albedo.view, ro}};
+        VkDescriptorBufferInfo result{lightsOut[s], 0, VK_WHOLE_SIZE};
+        VkWriteDescriptorSet w[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[s][0], 0, 0, 3,
+                                      VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, gb, nullptr, nullptr},
+                                     {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[s][0], 3, 0, 1,
+                                      VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nullptr, &result, nullptr}};
+        vkUpdateDescriptorSets(dev, 2, w, 0, nullptr);
+    }
 
     // Two frames in flight: a command buffer, a fence (created signalled) and a readback per slot.
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr,
@@ -393,6 +461,31 @@ int main(int argc, char** argv) {
             s.frame, s.hdr ? "HDR" : "LDR", s.second ? "on" : "off", s.atA ? "A" : "B", lit, boxTop, dark,
             secondGround, shadowA);
         const std::string f = "frame " + std::to_string(s.frame) + ": ";
+        // The host's own lighting pass against the module's output, every pixel: HDR frames hold the
+        // radiance as half floats (rounding <= 2^-11 of the value), LDR frames its exposed tone map as
+        // bytes (the host pass packs the same tone map: one step for the two roundings).
+        const float* host = hostRadiance[uint32_t(s.frame) % kInFlight];
+        size_t differ = 0;
+        for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i) {
+            const glm::vec3 h(host[i * 4], host[i * 4 + 1], host[i * 4 + 2]);
+            if (s.hdr) {
+                uint32_t w[2];
+                std::memcpy(w, px + i * 8, 8);
+                const glm::vec3 e(glm::unpackHalf2x16(w[0]), glm::unpackHalf2x16(w[1]).x);
+                for (int k = 0; k < 3; ++k)
+                    differ += std::abs(h[k] - e[k]) > std::abs(e[k]) / 1024.0f + 1e-6f;
+            } else {
+                uint32_t t;
+                std::memcpy(&t, host + i * 4 + 3, 4);
+                for (int k = 0; k < 3; ++k)
+                    differ += std::abs(int((t >> (8 * k)) & 0xFFu) - int(px[i * 4 + k])) > 1;
+            }
+        }
+        std::printf("host_example: frame %d: the host's lighting pass and the module's output differ in %zu "
+                    "channels of %u pixels\n",
+                    s.frame, differ, kWidth * kHeight);
+        if (differ)
+            problem = f + "the host's lighting pass (the GLSL include) differs from the module's output";
         if (lit < (s.hdr ? 0.02f : 0.25f))
             problem = f + "the ground under the spot light is not lit";
         else if (boxTop < 0.5f * lit)
@@ -504,6 +597,42 @@ int main(int argc, char** argv) {
         barrier(cmd, output.image, kColor, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                 VK_PIPELINE_STAGE_2_COPY_BIT, 0, kRead, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
         if (auto r = module.record(cmd); !r) return fail(r.error());
+        // The host's lighting pass over this frame's lights and shadows: the module's buffers of this
+        // frame into the slot's set (its previous frame is done: the fence above), then a dispatch;
+        // record() left their writes visible to compute reads.
+        auto lightsBuffers = module.hostShaderBindings();
+        if (!lightsBuffers) return fail(lightsBuffers.error());
+        VkDescriptorBufferInfo infos[ML_HOST_BINDING_COUNT];
+        VkWriteDescriptorSet writes[ML_HOST_BINDING_COUNT];
+        for (uint32_t i = 0; i < ML_HOST_BINDING_COUNT; ++i) {
+            const ml::HostShaderBuffer& b = lightsBuffers->buffers[i];
+            infos[i] = {b.buffer, b.offset, b.range};
+            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                         nullptr,
+                         sets[slot][1],
+                         i,
+                         0,
+                         1,
+                         b.type,
+                         nullptr,
+                         &infos[i],
+                         nullptr};
+        }
+        vkUpdateDescriptorSets(dev, ML_HOST_BINDING_COUNT, writes, 0, nullptr);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, lightsPipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, lightsLayout, 0, 2, sets[slot], 0,
+                                nullptr);
+        vkCmdDispatch(cmd, (kWidth + 7) / 8, (kHeight + 7) / 8, 1);
+        VkMemoryBarrier2 toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                                nullptr,
+                                kRead,
+                                VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                                VK_PIPELINE_STAGE_2_HOST_BIT,
+                                VK_ACCESS_2_HOST_READ_BIT};
+        VkDependencyInfo toHostDep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        toHostDep.memoryBarrierCount = 1;
+        toHostDep.pMemoryBarriers = &toHost;
+        vkCmdPipelineBarrier2(cmd, &toHostDep);
         // The host reads the output back into the slot's readback (a real engine would blit or sample it).
         barrier(cmd, output.image, kColor, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                 kRead, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
@@ -539,11 +668,18 @@ int main(int argc, char** argv) {
     vkDestroyPipelineLayout(dev, layout, nullptr);
     vkDestroyShaderModule(dev, vs, nullptr);
     vkDestroyShaderModule(dev, fs, nullptr);
+    vkDestroyDescriptorPool(dev, descriptorPool, nullptr);
+    vkDestroyPipeline(dev, lightsPipeline, nullptr);
+    vkDestroyPipelineLayout(dev, lightsLayout, nullptr);
+    for (VkDescriptorSetLayout l : setLayouts) vkDestroyDescriptorSetLayout(dev, l, nullptr);
+    vkDestroyShaderModule(dev, cs, nullptr);
     vkDestroyBuffer(dev, geo, nullptr);
     vkFreeMemory(dev, geoMem, nullptr);
     for (uint32_t s = 0; s < kInFlight; ++s) {
         vkDestroyBuffer(dev, readback[s], nullptr);
         vkFreeMemory(dev, readbackMem[s], nullptr);
+        vkDestroyBuffer(dev, lightsOut[s], nullptr);
+        vkFreeMemory(dev, lightsOutMem[s], nullptr);
     }
     for (OwnedImage* h : {&depth, &normal, &albedo, &ldr, &hdr}) {
         vkDestroyImageView(dev, h->view, nullptr);
