@@ -48,8 +48,10 @@ void Module::Impl::captureHostBindings(uint32_t slotIndex) {
     }
     // What the evaluation pass's closing barrier makes visible (lights/evaluate_pass.cpp): every
     // compute write of the frame (cluster lists, VSM pages, chained from the page draws' fragment
-    // writes), to fragment and compute shader reads. Host-written buffers (uniforms, lights, records)
-    // need no barrier: the submission makes them visible.
+    // writes), to fragment and compute shader reads. The static words arrive by staged copies that the
+    // frame-begin barrier makes visible to every shader stage the frame uses, fragment and compute
+    // included; host-written buffers (uniforms, lights, records) need no barrier: the submission makes
+    // them visible.
     h.stages = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     h.accesses = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT;
     hostBindings = h;
