@@ -112,6 +112,7 @@ void Module::Impl::endFrame(uint32_t slotIndex) {
     slot.pending = true;
     slot.statistics = statistics;
     lastSlot = slotIndex;
+    captureHostBindings(slotIndex);
     frameIndex++;
 }
 

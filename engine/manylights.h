@@ -25,6 +25,7 @@
 #include "io/result.h"
 #include "lights/light_types.h"
 #include "shaders/shared/enums.h"
+#include "shaders/shared/host_bindings.h"
 #include "shadows/static/static_types.h"
 #include "shadows/virtual/vsm_settings.h"
 
@@ -32,6 +33,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -146,6 +148,38 @@ struct HostTargets {
     std::optional<bool> hdrOutput;
 };
 
+// The module's lights and shadows in the host's own shaders (forward, transparent, decal passes): the
+// GLSL include lights/manylights_lights.glsl (installed: #include "manylights/manylights.glsl" with
+// -I<prefix>/include) declares 12 buffers in descriptor set ML_LIGHTS_SET at bindings ML_LIGHTS_BINDING
+// + offset (offsets and types: shaders/shared/host_bindings.h); the evaluation pass reads the same ones.
+// Contract of Module::hostShaderBindings(), called after record():
+//   - the handles, offsets and ranges are the frame record() just recorded (they change between frames:
+//     the module grows and retires buffers), so the host writes its descriptor set each frame, e.g. one
+//     set per frame in flight, rewritten before the draw or dispatch that reads it;
+//   - the host's reads come after record()'s commands and before the next record()'s in queue order
+//     (typically: in the same command buffer, after record()); record() leaves the buffers' GPU writes
+//     visible to `stages` / `accesses` (fragment and compute shader reads); another stage (vertex, task,
+//     mesh) adds its own barrier from COMPUTE_SHADER | FRAGMENT_SHADER, SHADER_STORAGE_WRITE. The next
+//     record()'s frame-begin barrier orders its rewrites after those reads (vertex to compute stages);
+//   - the handles stay valid while that frame is in flight (the slot contract: the module destroys a
+//     retired buffer only once the host has waited for the frames that used it).
+struct HostShaderBuffer {
+    VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER; // or UNIFORM_BUFFER (offsets 0 and 7)
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceSize offset = 0, range = 0; // bytes; range > 0, within the buffer
+};
+struct HostShaderBindings {
+    uint64_t frame = 0; // the frame they belong to (0 for the first record())
+    uint32_t slot = 0;  // its frame-in-flight slot (frame % framesInFlight)
+    std::array<HostShaderBuffer, ML_HOST_BINDING_COUNT> buffers{}; // index = offset of host_bindings.h
+    VkPipelineStageFlags2 stages = 0;
+    VkAccessFlags2 accesses = 0;
+};
+// The descriptor set layout bindings of the include at bindings first .. first + 11 for `stages` (one
+// descriptor each), for the host's vkCreateDescriptorSetLayout.
+std::array<VkDescriptorSetLayoutBinding, ML_HOST_BINDING_COUNT> hostShaderLayout(uint32_t first,
+                                                                                 VkShaderStageFlags stages);
+
 struct FrameStats {
     uint32_t lightsTotal = 0;
     uint32_t lightsVisible = 0;
@@ -244,6 +278,9 @@ class Module {
 
     // Records the frame's passes into the host's command buffer.
     Result<void> record(VkCommandBuffer cmd);
+    // The buffers behind lights/manylights_lights.glsl for the frame the last record() recorded
+    // (HostShaderBindings has the contract). Refused before the first record().
+    Result<HostShaderBindings> hostShaderBindings() const;
     // Reports of frames whose results have arrived, oldest first; clears them. Call after the host
     // waited for the frames (e.g. vkQueueWaitIdle) to get the newest ones too: collect() reads every
     // slot without waiting.

@@ -139,6 +139,8 @@ struct Module::Impl {
     std::vector<float> lastSliceFar;
     std::vector<gpu::GpuLight> lastLights;
     uint32_t lastSlot = 0;
+    std::optional<HostShaderBindings> hostBindings; // the last frame's (engine/host_shader.cpp)
+    void captureHostBindings(uint32_t slot);        // endFrame
 
     // Out of memory in any of these is an error naming what failed; the state stays destroyable and the
     // dirty flags stay set, so a later call retries.

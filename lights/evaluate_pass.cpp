@@ -33,10 +33,11 @@ void EvaluatePass::destroy(const Device& device) {
 void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
                           EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
     dispatch(d, c, programs_[uint32_t(outputs)], in.width, in.height, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
-              sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
-              *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
-              *s.vsmPool});
+             {// lights/manylights_lights.glsl's 12 (shaders/shared/host_bindings.h), then the images
+              *in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, *s.staticWords, *s.shadowRecords,
+              *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool, sampled(in.depth),
+              sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),
+              Descriptor(Image{.view = output})});
     // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
     // overwrite the output order their writes themselves.
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);

@@ -2,7 +2,8 @@
 #   MODE=install: `cmake --install` into a fresh prefix, find_package(manylights) against it, build and
 #                 run the example; then compile it again from `pkg-config --cflags --libs manylights`.
 #   MODE=subdir:  add_subdirectory(<repo>) from the example's project; the consumer's cache must not
-#                 hold any test-only package (GTest, Embree, TinyGLTF); build and run the example.
+#                 hold any test-only package (GTest, Embree, TinyGLTF); build and run the example with
+#                 synchronization validation (host_example --sync).
 # Arguments: -DMODE= -DSOURCE=<repo> -DBUILD=<this build tree> -DOUT=<scratch dir> [-DLAUNCHER=ccache]
 cmake_minimum_required(VERSION 3.25)
 function(run)
@@ -39,7 +40,14 @@ else()
   message(FATAL_ERROR "MODE must be install or subdir")
 endif()
 run(${CMAKE_COMMAND} --build ${OUT}/build -j2)
-run(${OUT}/build/host_example)
+# The subdirectory build runs the example under synchronization validation too (hazards between the
+# host's commands and the module's, across the two frames in flight); the install build under core
+# validation. Either fails on any message its own messenger counts.
+if(MODE STREQUAL "subdir")
+  run(${OUT}/build/host_example --sync)
+else()
+  run(${OUT}/build/host_example)
+endif()
 message("${last_output}")
 
 # Nothing of the package's own settings leaks into the host's target: no GLM_FORCE_* or
@@ -71,7 +79,8 @@ if(MODE STREQUAL "install")
     message(FATAL_ERROR "pkg-config manylights leaks settings into the host: ${last_output}")
   endif()
   separate_arguments(flags UNIX_COMMAND "${last_output}")
-  run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${flags} -o ${OUT}/host_example_pkgconfig)
+  run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${SOURCE}/examples/host/host_device.cpp ${flags}
+      -o ${OUT}/host_example_pkgconfig)
   # Public headers only: the engine's internals are not installed, and every installed header (the
   # API types, the static shadow library, io/, shaders/shared/) compiles on its own: nothing it needs
   # is missing from the install, and none reaches a folder above it (bake/, scenes/).
@@ -81,6 +90,11 @@ if(MODE STREQUAL "install")
       message(FATAL_ERROR "cmake --install installed the internal header ${f}")
     endif()
   endforeach()
+  # The host-shader include, installed: compiles on its own with -I<prefix>/include only.
+  find_program(GLSLANG glslangValidator REQUIRED)
+  run(${CMAKE_COMMAND} -DINCLUDE=${OUT}/prefix/include -DGLSLANG=${GLSLANG} -DOUT=${OUT}/host_shaders
+      -P ${SOURCE}/tests/packaging/host_shader_include.cmake)
+  message("${last_output}")
   file(GLOB_RECURSE installed RELATIVE ${OUT}/prefix/include/manylights ${OUT}/prefix/include/manylights/*.h)
   list(LENGTH installed count)
   message("installed headers compiled on their own: ${count}")
