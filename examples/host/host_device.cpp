@@ -106,6 +106,7 @@ void createHostDevice(HostDevice& h, bool sync) {
     h.f12.scalarBlockLayout = h.f12.storageBuffer8BitAccess = h.f12.drawIndirectCount = VK_TRUE;
     h.features.features.shaderInt64 = h.features.features.multiDrawIndirect = VK_TRUE;
     h.features.features.fragmentStoresAndAtomics = h.features.features.drawIndirectFirstInstance = VK_TRUE;
+    h.features.features.shaderClipDistance = VK_TRUE;
     const char* deviceExtensions[] = {VK_EXT_MESH_SHADER_EXTENSION_NAME,
                                       VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
     float priority = 1.0f;
