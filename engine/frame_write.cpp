@@ -35,8 +35,10 @@ uint32_t Module::Impl::beginFrame() {
         cull.resize(d, grid, poolOverride);
         cullingMode = mode;
     }
-    evaluate.prepare(d, ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
-                                   : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly));
+    evaluate.prepare(d,
+                     ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
+                                : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
+                     ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE);
     writeFrame(slot, slotIndex, grid, mode);
     return slotIndex;
 }
@@ -85,6 +87,8 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.wideThreads = slot.wideThreads;
     f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
                  f.depth, f.normal, f.albedo, width,        height};
+    f.shading.material =
+        ownTargets ? (ownMaterials ? targets.material.view : VK_NULL_HANDLE) : host.material.view;
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
     f.shadows = {&staticWords,
                  &slot.shadowRecords,
@@ -149,6 +153,8 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
         inst[i].model = id.transform;
         inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
         inst[i].albedo = glm::vec4(id.albedo, 1.0f);
+        inst[i].material =
+            glm::vec4(id.roughness, id.metalness, id.receivesShadows ? 1.0f : ML_NOT_A_RECEIVER, 0);
         const MeshRange& r = meshes[id.mesh];
         VsmInstance& v = casters[i];
         v.lo = glm::vec3(1e30f);
@@ -179,6 +185,8 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
             vl[i].outerAngle = l.outerAngle;
             vl[i].moving = l.dynamic;
             vl[i].castsShadows = lightAlive[i] && l.castsShadows;
+            vl[i].depthBias = l.shadowDepthBias;
+            vl[i].normalBias = l.shadowNormalBias;
             const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
             bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
             for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;

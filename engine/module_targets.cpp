@@ -24,6 +24,10 @@ const char* formatName(VkFormat f) {
         return "R16G16B16A16_SFLOAT";
     case VK_FORMAT_R8G8B8A8_UNORM:
         return "R8G8B8A8_UNORM";
+    case VK_FORMAT_R8G8_UNORM:
+        return "R8G8_UNORM";
+    case VK_FORMAT_R16G16_UNORM:
+        return "R16G16_UNORM";
     case VK_FORMAT_R8G8B8A8_SRGB:
         return "R8G8B8A8_SRGB";
     case VK_FORMAT_B8G8R8A8_UNORM:
@@ -83,6 +87,12 @@ Result<void> checkHostTargets(const HostTargets& t, bool hdr) {
                           : " (LDR mode: tone-mapped sRGB values written by a compute shader; sRGB formats "
                             "have no storage, and RGBA16F wants HDR mode)")})
         if (!reason.empty()) return fail(reason);
+    // Optional: absent (no image and no view) means Lambert + Blinn-Phong shading.
+    if (t.material.image || t.material.view)
+        if (std::string reason = checkTarget("material", t.material, VK_FORMAT_R8G8_UNORM, sampled, "SAMPLED",
+                                             t.width, t.height, " (r perceptual roughness, g metalness)");
+            !reason.empty())
+            return fail(reason);
     return {};
 }
 
@@ -119,7 +129,8 @@ void Module::Impl::releaseRetired(bool all) {
 }
 
 void Module::Impl::destroyTargets() {
-    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &hdr, &output}) retire(*i);
+    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &targets.material, &hdr, &output})
+        retire(*i);
 }
 
 // Module-owned targets: full-size HDR and output images, both kept so that the mode switches freely.
@@ -132,7 +143,7 @@ void Module::Impl::createOutput(bool own) {
     output = createImage(*device, w, h, VK_FORMAT_R8G8B8A8_UNORM, usage, own ? "output" : "output_stub");
 }
 
-Result<void> Module::createTargets(uint32_t width, uint32_t height) {
+Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materials) {
     if (width == 0 || height == 0 || width > 16384 || height > 16384)
         return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is outside 1x1..16384x16384");
@@ -141,6 +152,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
     m.destroyTargets(); // released once the frames in flight that use them are done
     m.targets = m.gbuffer.createTargets(*m.device, width, height);
     m.ownTargets = true;
+    m.ownMaterials = materials;
     m.width = width;
     m.height = height;
     m.createOutput(true);

@@ -5,12 +5,15 @@
 // are a pass of their own (statistics.comp), so this pass times only the frame's work.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
-#include "shaders/shared/shading.h"
+#include "shaders/shared/brdf.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 // 0: HDR and the tone-mapped sRGB output; 1: HDR only (the host tone-maps); 2: tone-mapped only
 // (lights/evaluate_pass.h, EvaluateOutputs).
 layout(constant_id = 0) const uint kSpecOutput = 0;
+// 1: GGX from the material target (binding 17, shaders/shared/brdf.h); 0: Lambert + Blinn-Phong
+// (shading.h), binding 17 unread.
+layout(constant_id = 1) const uint kSpecPbr = 0;
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
@@ -29,6 +32,7 @@ layout(binding = 13, std430) readonly buffer VsmMaps { GpuVsmMap vsmMaps[]; };
 layout(binding = 14, std430) readonly buffer VsmCoverage { uint vsmCoverage[]; };
 layout(binding = 15, std430) readonly buffer VsmTable { uint vsmTable[]; };
 layout(binding = 16, std430) readonly buffer VsmPool { uint vsmPool[]; };
+layout(binding = 17) uniform texture2D materialImage; // r perceptual roughness, g metalness
 #define ML_STATIC_DATA staticWords
 #define CPVS_DATA staticWords
 #include "shaders/static/static_visibility.glsl"
@@ -66,16 +70,20 @@ void main() {
     vec3 hdr = frame.sky.rgb;
     if (hasSurface(d)) {
         vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
-        vec3 Nraw = texelFetch(normalImage, ivec2(px), 0).xyz;
+        vec4 normalTexel = texelFetch(normalImage, ivec2(px), 0);
+        vec3 Nraw = normalTexel.xyz;
         vec3 N = normalize(Nraw);
+        bool receiver = normalTexel.w >= 0.0; // ML_NOT_A_RECEIVER (-1): lit unshadowed
+        vec2 material = kSpecPbr != 0u ? texelFetch(materialImage, ivec2(px), 0).rg : vec2(0.0);
         vec3 albedo = texelFetch(albedoImage, ivec2(px), 0).rgb;
         vec3 V = normalize(frame.cameraPosition.xyz - P);
         hdr = albedo * frame.ambient.rgb;
         uvec2 range = clusterLights(px, d);
         for (uint i = 0; i < range.y; ++i) {
             GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
-            vec3 c = shadeLight(L, P, N, V, albedo);
-            if (c != vec3(0.0)) hdr += c * lightVisibility(L, P, N, Nraw);
+            vec3 c = kSpecPbr != 0u ? shadeLightPbr(L, P, N, V, albedo, material.x, material.y)
+                                    : shadeLight(L, P, N, V, albedo);
+            if (c != vec3(0.0)) hdr += receiver ? c * lightVisibility(L, P, N, Nraw) : c;
         }
     }
     if (kSpecOutput != 2u) imageStore(hdrImage, ivec2(px), vec4(hdr, 1.0));

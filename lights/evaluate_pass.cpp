@@ -17,9 +17,11 @@ void EvaluatePass::create(const Device& device) {
     shader_ = ML_SHADER(device, spv_evaluate_comp);
 }
 
-void EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs) {
-    Program& p = programs_[uint32_t(outputs)];
-    if (!p.pipeline) p = createComputeProgram(device, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}});
+void EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs, bool pbr) {
+    Program& p = programs_[uint32_t(outputs) * 2 + pbr];
+    if (!p.pipeline)
+        p = createComputeProgram(device, shader_,
+                                 {{/*kSpecOutput*/ 0, uint32_t(outputs)}, {/*kSpecPbr*/ 1, uint32_t(pbr)}});
 }
 
 void EvaluatePass::destroy(const Device& device) {
@@ -30,11 +32,13 @@ void EvaluatePass::destroy(const Device& device) {
 
 void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
                           EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
-    dispatch(d, c, programs_[uint32_t(outputs)], in.width, in.height, NoPush{},
+    // Without a material target the albedo fills its binding (a valid sampled image, never read).
+    const bool pbr = in.material != VK_NULL_HANDLE;
+    dispatch(d, c, programs_[uint32_t(outputs) * 2 + pbr], in.width, in.height, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
               sampled(in.albedo), Descriptor(Image{.view = hdr}), Descriptor(Image{.view = output}),
               *s.staticWords, *s.shadowRecords, *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable,
-              *s.vsmPool});
+              *s.vsmPool, sampled(pbr ? in.material : in.albedo)});
     // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
     // overwrite the output order their writes themselves.
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
