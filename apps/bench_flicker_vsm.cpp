@@ -354,8 +354,11 @@ int runBenchFlickerVsm(int argc, char** argv) {
     Run& run = parsed.value();
     if (auto r = cli::checkOutputDirectory("--out", run.out); !r)
         return usageError("bench flicker --vsm", r.error());
-    auto session = VsmSession::create(run.options);
-    if (!session) return runError("bench flicker --vsm", session.error());
+    bool refused = false; // settings past the device's limits: a usage error (README, exit status)
+    auto session = VsmSession::create(run.options, &refused);
+    if (!session)
+        return refused ? usageError("bench flicker --vsm", session.error())
+                       : runError("bench flicker --vsm", session.error());
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(run.moduleRadius); !r)
         return usageError("bench flicker --vsm", r.error());

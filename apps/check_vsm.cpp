@@ -253,8 +253,10 @@ int runCheck(int argc, char** argv) {
                                        "^2 reference map at a time, the module's targets and maps");
         !r)
         return usageError("check vsm", r.error());
-    auto session = VsmSession::create(o);
-    if (!session) return runError("check vsm", session.error());
+    bool refused = false; // settings past the device's limits: a usage error (README, exit status)
+    auto session = VsmSession::create(o, &refused);
+    if (!session)
+        return refused ? usageError("check vsm", session.error()) : runError("check vsm", session.error());
     VsmSession& s = *session.value();
     if (auto r = s.module->setShadowFilter(pcf.value()); !r) return usageError("check vsm", r.error());
     CheckCounts c;

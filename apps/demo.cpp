@@ -363,6 +363,8 @@ int runDemo(int argc, char** argv) {
     RunInfo info{
         scene->name, cullingName(d.module.culling), dev.name, d.view.width, d.view.height, d.view.frames,
         d.scene.seed};
+    info.memoryPlacement = dev.memoryPlacement;
+    std::printf("memory: %s\n", dev.memoryPlacement.c_str()); // where each buffer role lives, once
     const std::string& out = d.out;
     for (auto r :
          {writeProfile(out + "/profile.json", *reports), writeFramesCsv(out + "/frames.csv", *reports),

@@ -114,6 +114,15 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     o.real("frame_gpu_ms_first", reports.front().times.totalMs());
     o.real("frame_gpu_ms_mean", total / double(frameMs.size())).real("frame_gpu_ms_median", median);
     o.raw("vsm", vsmJson(s.vsm)).raw("pass_gpu_ms_mean", passes.str());
+    // Memory of the module's buffers and images by kind (gpu/memory.h roles), at the last frame.
+    json::Object memory;
+    for (uint32_t k = 0; k < kMemoryKindCount; ++k)
+        memory.integer(memoryKindName(MemoryKind(k)), s.memory.bytes[k]);
+    json::Object roles; // gpu/memory.h MemoryRole order
+    const char* const roleNames[] = {"gpu_only", "upload", "readback", "staging"};
+    for (uint32_t r = 0; r < 4; ++r) roles.integer(roleNames[r], s.memory.roleBytes[r]);
+    o.raw("memory_bytes", memory.str()).raw("memory_bytes_by_role", roles.str());
+    o.text("memory_placement", info.memoryPlacement);
     return writeText(path, o.str(json::Style::Lines) + "\n");
 }
 

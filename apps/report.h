@@ -10,6 +10,7 @@ namespace ml {
 struct RunInfo {
     std::string scene, culling, device;
     uint32_t width = 0, height = 0, frames = 0, seed = 0;
+    std::string memoryPlacement; // DeviceInfo::memoryPlacement
 };
 
 Result<void> writeProfile(const std::string& path, const std::vector<FrameReport>& reports);

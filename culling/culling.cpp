@@ -59,22 +59,23 @@ std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
     return std::nullopt;
 }
 
-void LightCulling::create(const Device& device) {
-    boundsShader_ = ML_SHADER(device, spv_cluster_bounds_comp);
-    assignShader_ = ML_SHADER(device, spv_light_assign_comp);
-    footprintShader_ = ML_SHADER(device, spv_light_footprint_comp);
-    allocShader_ = ML_SHADER(device, spv_light_alloc_comp);
-    boundsProgram_ = createComputeProgram(device, boundsShader_);
-    assignProgram_ = createComputeProgram(device, assignShader_);
-    fillShader_ = ML_SHADER(device, spv_light_fill_comp);
-    countProgram_ = createComputeProgram(device, footprintShader_, {{0, 0u}});
-    wideProgram_ = createComputeProgram(device, footprintShader_, {{0, 1u}});
-
-    allocProgram_ = createComputeProgram(device, allocShader_);
-    fillProgram_ = createComputeProgram(device, fillShader_);
-    viewShader_ = ML_SHADER(device, spv_view_lights_comp);
-    for (uint32_t r = 0; r < 2; ++r) viewPrograms_[r] = createComputeProgram(device, viewShader_, {{0, r}});
-    work = createBuffer(device, 8, kStorageBufferUsage, "cull_work");
+Result<void> LightCulling::create(const Device& device) {
+    ML_TRY(ML_LOAD_SHADER(device, boundsShader_, spv_cluster_bounds_comp));
+    ML_TRY(ML_LOAD_SHADER(device, assignShader_, spv_light_assign_comp));
+    ML_TRY(ML_LOAD_SHADER(device, footprintShader_, spv_light_footprint_comp));
+    ML_TRY(ML_LOAD_SHADER(device, allocShader_, spv_light_alloc_comp));
+    ML_TRY(createComputeProgram(device, boundsProgram_, boundsShader_));
+    ML_TRY(createComputeProgram(device, assignProgram_, assignShader_));
+    ML_TRY(ML_LOAD_SHADER(device, fillShader_, spv_light_fill_comp));
+    ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
+    ML_TRY(createComputeProgram(device, wideProgram_, footprintShader_, {{0, 1u}}));
+    ML_TRY(createComputeProgram(device, allocProgram_, allocShader_));
+    ML_TRY(createComputeProgram(device, fillProgram_, fillShader_));
+    ML_TRY(ML_LOAD_SHADER(device, viewShader_, spv_view_lights_comp));
+    for (uint32_t r = 0; r < 2; ++r)
+        ML_TRY(createComputeProgram(device, viewPrograms_[r], viewShader_, {{0, r}}));
+    // The host reads the box-test count (lastBoxTests).
+    return createBuffer(device, work, 8, kStorageBufferUsage, "cull_work", MemoryRole::Readback);
 }
 
 void LightCulling::destroy(const Device& device) {
@@ -96,7 +97,8 @@ void LightCulling::destroy(const Device& device) {
         destroyBuffer(device, *b);
 }
 
-void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
+Result<void> LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t poolEntries) {
+    constexpr MemoryRole kGpu = MemoryRole::GpuOnly;
     grid = g;
     // Sized for the clustered grid in every mode: a tiled list holds what the tile's 64 clusters would
     // (at 4096 lights on the default view a tile's list is ~100 lights, past 16 per grid cluster).
@@ -107,14 +109,28 @@ void LightCulling::resize(const Device& device, const ClusterGrid& g, uint32_t p
                        ? poolEntries
                        : uint32_t(std::min<uint64_t>(
                              uint64_t(g.tilesX) * g.tilesY * ML_CLUSTER_SLICES * ML_POOL_PER_CLUSTER, fit));
-    ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds), kStorageBufferUsage,
-                 "cluster_bounds");
-    ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges");
-    ensureBuffer(device, pool, VkDeviceSize(poolCapacity) * 4, kStorageBufferUsage, "cluster_pool");
-    ensureBuffer(device, tileMasks, VkDeviceSize(g.tilesX) * g.tilesY * 8, kStorageBufferUsage, "tile_masks");
-    ensureBuffer(device, counts, VkDeviceSize(g.count()) * 4, kStorageBufferUsage, "cluster_counts");
+    ML_TRY(ensureBuffer(device, bounds, VkDeviceSize(g.count()) * sizeof(gpu::ClusterBounds),
+                        kStorageBufferUsage, "cluster_bounds", kGpu));
+    ML_TRY(ensureBuffer(device, ranges, VkDeviceSize(g.count()) * 8, kStorageBufferUsage, "cluster_ranges",
+                        kGpu));
+    ML_TRY(ensureBuffer(device, pool, VkDeviceSize(poolCapacity) * 4, kStorageBufferUsage, "cluster_pool",
+                        kGpu));
+    ML_TRY(ensureBuffer(device, tileMasks, VkDeviceSize(g.tilesX) * g.tilesY * 8, kStorageBufferUsage,
+                        "tile_masks", kGpu));
+    ML_TRY(ensureBuffer(device, counts, VkDeviceSize(g.count()) * 4, kStorageBufferUsage, "cluster_counts",
+                        kGpu));
     hitCapacity = std::max(1u, poolCapacity / ML_HITS_PER_POOL_ENTRY_DIV);
-    ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits");
+    ML_TRY(
+        ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits", kGpu));
+    return {};
+}
+
+Result<void> LightCulling::prepareView(const Device& device, uint32_t width, uint32_t height) {
+    VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
+    if (viewCounts.buffer && viewCounts.size >= bytes) return {};
+    vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
+    ML_TRY(ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts", MemoryRole::Readback));
+    return {};
 }
 
 void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const Buffer& frame,
@@ -172,11 +188,7 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
 void LightCulling::recordView(const Device& device, VkCommandBuffer c, bool reaching, const Buffer& frame,
                               const Buffer& slices, const Buffer& lights, VkImageView depth,
                               VkImageView output, uint32_t width, uint32_t height) {
-    VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
-    if (viewCounts.size < bytes) {
-        vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
-        ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts");
-    }
+    // viewCounts was sized by prepareView (Module::Impl::beginFrame).
     // The evaluation's output -> overwritten here (write-after-write).
     memoryBarrier(c, kC, kW, kC, kW);
     dispatch(device, c, viewPrograms_[reaching ? 1 : 0], width, height, NoPush{},

@@ -43,14 +43,17 @@ ClusterGrid clusterGrid(uint32_t width, uint32_t height, CullingMode mode);
 
 class LightCulling {
   public:
-    void create(const Device& device);
+    Result<void> create(const Device& device);
     void destroy(const Device& device);
     // Sizes the cluster buffers for a grid; the pool holds ML_POOL_PER_CLUSTER entries per cluster
-    // unless poolEntries overrides it (tests force overflow with a tiny pool).
-    void resize(const Device& device, const ClusterGrid& grid, uint32_t poolEntries = 0);
+    // unless poolEntries overrides it (tests force overflow with a tiny pool). The cluster buffers are
+    // GPU-only (device-local; tests read them with readBuffer).
+    Result<void> resize(const Device& device, const ClusterGrid& grid, uint32_t poolEntries = 0);
+    // Sizes viewCounts for recordView (a readback buffer); call before recording a light-count view.
+    Result<void> prepareView(const Device& device, uint32_t width, uint32_t height);
     // The two passes of the frame (engine/frame.h times them): cluster bounds from the depth buffer, then
     // light assignment, whose mode and visible-light count are read from the frame constants `frame`
-    // holds (host memory, written by the module just before).
+    // holds (a mapped upload buffer the module wrote just before; read back from it on the CPU).
     void recordBounds(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                       VkImageView depth, const Buffer& counters);
     // wideLights: the frame's wideCount WideLight entries (the lights with params.w = 1), whose

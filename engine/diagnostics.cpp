@@ -12,14 +12,18 @@ namespace ml {
 
 DeviceInfo Module::deviceInfo() const {
     const Device& d = *impl_->device;
-    return {d.instance, d.physicalDevice, d.device, d.queue, d.queueFamily, d.name, d.validationEnabled()};
+    return {d.instance, d.physicalDevice,      d.device,           d.queue, d.queueFamily,
+            d.name,     d.validationEnabled(), d.memoryPlacement()};
 }
 
 Result<void> Module::submitFrame() {
     const Device& d = *impl_->device;
-    VkCommandBuffer cmd = d.beginOneTime();
-    auto r = record(cmd);
-    d.endOneTime(cmd); // submitted even after a refusal: the one-off buffer is then empty
+    auto cmd = d.tryBeginOneTime("submitFrame");
+    if (!cmd) return fail("submitFrame: " + cmd.error());
+    auto r = record(cmd.value());
+    // Submitted even after a refusal: the one-off buffer is then empty.
+    if (auto e = d.tryEndOneTime(cmd.value(), "submitFrame"); !e && r)
+        return fail("submitFrame: " + e.error());
     return r;
 }
 
@@ -53,7 +57,8 @@ Result<void> readGBuffer(Module& module, std::vector<float>& depth, std::vector<
     const Device& d = *m.device;
     ML_VK_CHECK(vkQueueWaitIdle(d.queue));
     const size_t pixels = size_t(m.width) * m.height;
-    Buffer rb = createBuffer(d, pixels * 12, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "diag_gbuffer_readback");
+    Buffer rb = createBuffer(d, pixels * 12, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "diag_gbuffer_readback",
+                             MemoryRole::Readback);
     VkCommandBuffer cmd = d.beginOneTime();
     // Both images are SHADER_READ_ONLY_OPTIMAL after the frame (engine/gbuffer.h); they return there.
     for (const Image* img : {&m.targets.depth, &m.targets.normal}) {

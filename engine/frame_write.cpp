@@ -9,21 +9,23 @@
 
 namespace ml {
 
-uint32_t Module::Impl::beginFrame() {
+Result<uint32_t> Module::Impl::beginFrame() {
     // No device-wide wait here (engine/module_uploads.cpp): shared buffers are replaced and the old ones
-    // retired; the slot's own buffers are rewritten in place, its previous frame being done.
+    // retired; the slot's own buffers are rewritten in place, its previous frame being done. Out of
+    // memory leaves the dirty flags set, so the next record() retries.
     releaseRetired(false);
-    if (meshesDirty) uploadMeshes();
-    uploadShadowWords();
+    if (meshesDirty) ML_TRY(uploadMeshes());
+    ML_TRY(uploadShadowWords());
     const Device& d = *device;
     const uint32_t slotIndex = uint32_t(frameIndex % slots.size());
     Slot& slot = slots[slotIndex];
     if (slot.pending) collectSlot(slotIndex); // the host waited for this slot's previous frame
     const size_t instanceSlots = std::max<size_t>(instances.size(), 1);
-    ensureBuffer(d, slot.instances, instanceSlots * sizeof(GpuInstance), kStorageBufferUsage, "instances");
-    ensureBuffer(d, slot.draws, instanceSlots * sizeof(VkDrawIndexedIndirectCommand),
-                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
-    writeShadowRecords(slot);
+    ML_TRY(ensureBuffer(d, slot.instances, instanceSlots * sizeof(GpuInstance), kStorageBufferUsage,
+                        "instances"));
+    ML_TRY(ensureBuffer(d, slot.draws, instanceSlots * sizeof(VkDrawIndexedIndirectCommand),
+                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws"));
+    ML_TRY(writeShadowRecords(slot));
 
     const CullingMode mode = culling;
     const ClusterGrid grid =
@@ -32,14 +34,16 @@ uint32_t Module::Impl::beginFrame() {
         // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
         for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits})
             retire(*b);
-        cull.resize(d, grid, poolOverride);
+        ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;
     }
-    evaluate.prepare(d,
-                     ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
-                                : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
-                     ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE);
-    writeFrame(slot, slotIndex, grid, mode);
+    if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
+        ML_TRY(cull.prepareView(d, width, height));
+    ML_TRY(evaluate.prepare(d,
+                            ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
+                                       : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
+                            ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE));
+    ML_TRY(writeFrame(slot, slotIndex, grid, mode));
     return slotIndex;
 }
 
@@ -85,6 +89,7 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.wideLights = &slot.wide;
     f.wideCount = slot.wideCount;
     f.wideThreads = slot.wideThreads;
+    f.copies = stagedCopies;
     f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
                  f.depth, f.normal, f.albedo, width,        height};
     f.shading.material =
@@ -115,7 +120,8 @@ void Module::Impl::endFrame(uint32_t slotIndex) {
 
 // Frame constants, visible lights (with their static records and virtual maps), instances: everything
 // the host side writes into the slot's buffers for one frame.
-void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode) {
+Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid,
+                                      CullingMode mode) {
     const CameraDesc& c = camera;
     const CameraMatrices cm = frameCamera(); // reversed Z (engine/camera.h)
     gpu::FrameConstants fc{};
@@ -193,9 +199,10 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
             // A moving light's bake (if any) no longer matches it: its maps take every caster.
             vl[i].staticBake = baked && !l.dynamic;
         }
-        std::vector<uint32_t> firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
-                                                     {c.position, c.fovY, height});
-        for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap[v];
+        auto firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
+                                    {c.position, c.fovY, height});
+        if (!firstMap) return fail(firstMap.error());
+        for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap.value()[v];
     }
 
     fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
@@ -223,6 +230,7 @@ void Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid&
     lastConstants = fc;
     lastSliceFar = sliceFar;
     lastLights.assign(gl, gl + visible);
+    return {};
 }
 
 void Module::Impl::collectSlot(uint32_t index) {
@@ -249,6 +257,7 @@ void Module::Impl::collectSlot(uint32_t index) {
     st.poolCapacity = s.poolCapacity;
     st.surfacePixels = c.surfacePixels;
     st.vsm = vsm.readStats(index);
+    st.memory = device->memoryUsage();
     if (s.statistics && c.surfacePixels) {
         st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);
         st.lightsPerPixelReachingMean = double(c.reachingSum) / double(c.surfacePixels);

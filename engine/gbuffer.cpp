@@ -5,14 +5,14 @@
 
 namespace ml {
 
-void GBufferPass::create(const Device& device) {
-    vs_ = ML_SHADER(device, spv_gbuffer_vert);
-    fs_ = ML_SHADER(device, spv_gbuffer_frag);
+Result<void> GBufferPass::create(const Device& device) {
+    ML_TRY(ML_LOAD_SHADER(device, vs_, spv_gbuffer_vert));
+    ML_TRY(ML_LOAD_SHADER(device, fs_, spv_gbuffer_frag));
     GraphicsState state;
     state.colorFormats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8_UNORM};
     state.depthFormat = VK_FORMAT_D32_SFLOAT;
     state.cull = VK_CULL_MODE_NONE; // open geometry (cards, awnings, fences) is two-sided
-    program_ = createGraphicsProgram(device, {&vs_, &fs_}, state);
+    return createGraphicsProgram(device, program_, {&vs_, &fs_}, state);
 }
 
 void GBufferPass::destroy(const Device& device) {
@@ -21,19 +21,19 @@ void GBufferPass::destroy(const Device& device) {
     destroyShader(device, fs_);
 }
 
-GBufferTargets GBufferPass::createTargets(const Device& device, uint32_t w, uint32_t h) const {
-    GBufferTargets t;
+Result<void> GBufferPass::createTargets(const Device& device, uint32_t w, uint32_t h,
+                                        GBufferTargets& t) const {
     VkImageUsageFlags common = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    t.depth = createImage(device, w, h, VK_FORMAT_D32_SFLOAT,
-                          common | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "gbuffer_depth");
-    t.normal = createImage(device, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
-                           common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_normal");
-    t.albedo = createImage(device, w, h, VK_FORMAT_R8G8B8A8_UNORM,
-                           common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_albedo");
+    ML_TRY(createImage(device, t.depth, w, h, VK_FORMAT_D32_SFLOAT,
+                       common | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, "gbuffer_depth"));
+    ML_TRY(createImage(device, t.normal, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
+                       common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_normal"));
+    ML_TRY(createImage(device, t.albedo, w, h, VK_FORMAT_R8G8B8A8_UNORM,
+                       common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_albedo"));
     // 2 bytes a pixel, written whether or not the evaluation reads it (one pipeline for both shadings).
-    t.material = createImage(device, w, h, VK_FORMAT_R8G8_UNORM, common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
-                             "gbuffer_material");
-    return t;
+    ML_TRY(createImage(device, t.material, w, h, VK_FORMAT_R8G8_UNORM,
+                       common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_material"));
+    return {};
 }
 
 void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& t,

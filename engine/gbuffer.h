@@ -12,9 +12,11 @@ struct GBufferTargets {
 
 class GBufferPass {
   public:
-    void create(const Device& device);
+    Result<void> create(const Device& device);
     void destroy(const Device& device);
-    GBufferTargets createTargets(const Device& device, uint32_t width, uint32_t height) const;
+    // On failure `out` holds what was made (destroy each image).
+    Result<void> createTargets(const Device& device, uint32_t width, uint32_t height,
+                               GBufferTargets& out) const;
     // Leaves depth, normal, albedo and material in SHADER_READ_ONLY_OPTIMAL.
     void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets, const Buffer& frame,
                 const Buffer& vertices, const Buffer& indices, const Buffer& instances, const Buffer& draws,

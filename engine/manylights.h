@@ -165,7 +165,8 @@ struct FrameStats {
     uint64_t surfacePixels = 0;
     double lightsPerPixelEvaluatedMean = 0; // over pixels with geometry
     double lightsPerPixelReachingMean = 0;
-    VsmStats vsm; // virtual shadow maps (zero when disabled)
+    VsmStats vsm;       // virtual shadow maps (zero when disabled)
+    MemoryUsage memory; // the module's live buffer and image bytes per memory kind when collected
 };
 
 struct FrameReport {

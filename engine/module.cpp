@@ -137,29 +137,35 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     impl->vsmSettings = fitted.value();
     impl->hdrOutput = options.hdrOutput;
     impl->slots.resize(options.framesInFlight);
-    impl->init();
-    return std::unique_ptr<Module>(new Module(std::move(impl)));
+    std::unique_ptr<Module> module(new Module(std::move(impl)));
+    // Out of memory: the module's destructor releases what init made (every destroy takes empty handles).
+    if (auto r = module->impl_->init(); !r) return fail("Module::create: " + r.error());
+    return module;
 }
 
-void Module::Impl::init() {
+Result<void> Module::Impl::init() {
     const Device& d = *device;
-    gbuffer.create(d);
-    cull.create(d);
-    vsm.create(d, vsmSettings, uint32_t(slots.size()));
-    if (vsm.enabled()) vsmPasses.create(d, vsm);
-    evaluate.create(d);
-    statisticsPass.create(d);
-    profiler.create(d, uint32_t(slots.size()), passTimerNames());
+    ML_TRY(gbuffer.create(d));
+    ML_TRY(cull.create(d));
+    ML_TRY(vsm.create(d, vsmSettings, uint32_t(slots.size())));
+    if (vsm.enabled()) ML_TRY(vsmPasses.create(d, vsm));
+    ML_TRY(evaluate.create(d));
+    ML_TRY(statisticsPass.create(d));
+    ML_TRY(profiler.create(d, uint32_t(slots.size()), passTimerNames()));
     profiler.fenced = timing == TimingMode::Fenced;
+    // Per slot: uploads the host writes every frame; the counters are the frame's readback.
     for (auto& s : slots) {
-        s.frame = createBuffer(d, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                               "frame_constants");
-        s.lights =
-            createBuffer(d, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "visible_lights");
-        s.counters = createBuffer(d, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters");
-        s.slices = createBuffer(d, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far");
-        s.wide = createBuffer(d, sizeof(gpu::WideLight) * ML_MAX_LIGHTS, kStorageBufferUsage, "wide_lights");
+        ML_TRY(createBuffer(d, s.frame, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            "frame_constants"));
+        ML_TRY(createBuffer(d, s.lights, sizeof(gpu::GpuLight) * ML_MAX_LIGHTS, kStorageBufferUsage,
+                            "visible_lights"));
+        ML_TRY(createBuffer(d, s.counters, sizeof(gpu::FrameCounters), kStorageBufferUsage, "frame_counters",
+                            MemoryRole::Readback));
+        ML_TRY(createBuffer(d, s.slices, sizeof(float) * ML_MAX_SLICES, kStorageBufferUsage, "slice_far"));
+        ML_TRY(createBuffer(d, s.wide, sizeof(gpu::WideLight) * ML_MAX_LIGHTS, kStorageBufferUsage,
+                            "wide_lights"));
     }
+    return {};
 }
 
 void Module::Impl::destroy() {
@@ -185,6 +191,9 @@ void Module::Impl::destroy() {
     for (Buffer* b : {&vertexBuffer, &indexBuffer, &readback, &staticWords, &meshletBuffer,
                       &meshletVertexBuffer, &meshletTriangleBuffer})
         destroyBuffer(d, *b);
+    for (Buffer& b : staging) destroyBuffer(d, b);
+    staging.clear();
+    stagedCopies.clear();
     destroyTargets();
     releaseRetired(true);
 }
@@ -542,7 +551,9 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         return fail("record: Fenced timing with host targets submits the passes before the host's command "
                     "buffer: submit and wait for the G-buffer, then call record(VK_NULL_HANDLE), or use "
                     "TimingChoice::Timestamps");
-    const uint32_t slotIndex = m.beginFrame();
+    auto began = m.beginFrame();
+    if (!began) return fail("record: " + began.error());
+    const uint32_t slotIndex = began.value();
     FrameContext frame = m.frameContext(cmd, slotIndex);
     FramePasses& p = m.passes;
     // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
@@ -567,6 +578,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     };
     runFrame(m.profiler, frame, passes);
     m.endFrame(slotIndex);
+    m.retireStaged(); // the staging buffers this frame copied from: freed once it is done
     return {};
 }
 
@@ -592,8 +604,13 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     const Device& d = *m.device;
     ML_VK_CHECK(vkQueueWaitIdle(d.queue));
     size_t bytes = size_t(m.width) * m.height * 4;
-    ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback");
-    VkCommandBuffer cmd = m.device->beginOneTime();
+    if (auto r = ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback",
+                              MemoryRole::Readback);
+        !r)
+        return fail("readOutput: " + r.error());
+    auto began = m.device->tryBeginOneTime("readOutput");
+    if (!began) return fail("readOutput: " + began.error());
+    VkCommandBuffer cmd = began.value();
     imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_GENERAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
@@ -602,7 +619,7 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     imageBarrier(cmd, m.output.image, m.output.aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-    m.device->endOneTime(cmd);
+    if (auto r = m.device->tryEndOneTime(cmd, "readOutput"); !r) return fail("readOutput: " + r.error());
     rgba.resize(bytes);
     std::memcpy(rgba.data(), m.readback.data, bytes);
     return {};

@@ -99,8 +99,8 @@ struct Module::Impl {
     std::vector<uint32_t> shadowVersion; // per light: bumped by every change of its shadows
     void touchShadow(uint32_t light);
     uint32_t shadowRecordOf(uint32_t light) const; // 6 light, or ML_NO_SHADOW
-    void uploadShadowWords();
-    void writeShadowRecords(Slot& slot);
+    Result<void> uploadShadowWords();
+    Result<void> writeShadowRecords(Slot& slot);
     // The records the last recorded frame read (its slot's copy), for the CPU references.
     const gpu::GpuShadowRecord* lastShadowRecords() const {
         return slots[lastSlot].shadowRecords.as<gpu::GpuShadowRecord>();
@@ -143,11 +143,13 @@ struct Module::Impl {
     std::vector<gpu::GpuLight> lastLights;
     uint32_t lastSlot = 0;
 
-    void init();
+    // Out of memory in any of these is an error naming what failed; the state stays destroyable and the
+    // dirty flags stay set, so a later call retries.
+    Result<void> init();
     void destroy();
     // Targets and output mode (engine/module_targets.cpp).
-    void destroyTargets();       // retires the module's images (host ones are the host's)
-    void createOutput(bool own); // own: full-size HDR and output; host targets: 1x1 stubs
+    void destroyTargets();               // retires the module's images (host ones are the host's)
+    Result<void> createOutput(bool own); // own: full-size HDR and output; host targets: 1x1 stubs
     // Every device-wide wait of the module goes through waitIdle, which counts it (deviceWaits;
     // diag::deviceWaitCount): docs/integration.md lists the calls that still wait.
     uint64_t deviceWaits = 0;
@@ -162,17 +164,25 @@ struct Module::Impl {
     std::vector<Retired> retired;
     void retire(Buffer& buffer);
     void retire(Image& image);
+    // Staged uploads (engine/module_uploads.cpp): load-time data for GPU-only buffers, copied by the
+    // next recorded frame (FrameContext::copies); the staging buffers are retired with that frame.
+    std::vector<Buffer> staging;
+    std::vector<StagedCopy> stagedCopies;
+    // Writes `bytes` into a new staging buffer and queues `copies` from it (their regions' srcOffset
+    // index `bytes`). Nothing is queued on failure.
+    Result<void> stage(const std::vector<uint8_t>& bytes, std::vector<StagedCopy> copies, const char* name);
+    void retireStaged(); // after the frame that recorded the copies
     void releaseRetired(bool all);
-    void uploadMeshes();
+    Result<void> uploadMeshes();
     void collectSlot(uint32_t index);
     Result<uint32_t> lightIndex(LightId id, const char* what) const;
     Result<uint32_t> instanceIndex(InstanceId id, const char* what) const;
     // The host side of Module::record (engine/frame_write.cpp): uploads, the slot's collection and
     // buffers (returns the slot), the passes' context; endFrame marks the slot pending.
-    uint32_t beginFrame();
+    Result<uint32_t> beginFrame();
     FrameContext frameContext(VkCommandBuffer cmd, uint32_t slot) const;
     void endFrame(uint32_t slot);
-    void writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
+    Result<void> writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
 
 // setTargets' checks (HostTargets' table in engine/manylights.h), for an output mode.

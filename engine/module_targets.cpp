@@ -101,12 +101,17 @@ uint64_t Module::Impl::waitIdle() {
     return ++deviceWaits;
 }
 
+// Before the first frame nothing can be in flight: released at once.
 void Module::Impl::retire(Image& image) {
+    if (image.image && frameIndex == 0) destroyImage(*device, image);
     if (image.image) retired.push_back({frameIndex, {}, image});
     image = {};
 }
 
 void Module::Impl::retire(Buffer& buffer) {
+    // A copy still queued into it (a record() that failed after staging) is dropped with it.
+    std::erase_if(stagedCopies, [&](const StagedCopy& c) { return c.destination == buffer.buffer; });
+    if (buffer.buffer && frameIndex == 0) destroyBuffer(*device, buffer);
     if (buffer.buffer) retired.push_back({frameIndex, buffer, {}});
     buffer = {};
 }
@@ -136,11 +141,13 @@ void Module::Impl::destroyTargets() {
 // Module-owned targets: full-size HDR and output images, both kept so that the mode switches freely.
 // Host targets: the host's output takes what the mode writes, and the evaluation's other storage binding
 // gets a 1x1 stub (never written; transitioned each frame like the others, so its layout is valid).
-void Module::Impl::createOutput(bool own) {
+Result<void> Module::Impl::createOutput(bool own) {
     const uint32_t w = own ? width : 1, h = own ? height : 1;
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    hdr = createImage(*device, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, usage, own ? "hdr" : "hdr_stub");
-    output = createImage(*device, w, h, VK_FORMAT_R8G8B8A8_UNORM, usage, own ? "output" : "output_stub");
+    ML_TRY(createImage(*device, hdr, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, usage, own ? "hdr" : "hdr_stub"));
+    ML_TRY(
+        createImage(*device, output, w, h, VK_FORMAT_R8G8B8A8_UNORM, usage, own ? "output" : "output_stub"));
+    return {};
 }
 
 Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materials) {
@@ -150,12 +157,17 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materia
     auto& m = *impl_;
     if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
     m.destroyTargets(); // released once the frames in flight that use them are done
-    m.targets = m.gbuffer.createTargets(*m.device, width, height);
     m.ownTargets = true;
     m.ownMaterials = materials;
     m.width = width;
     m.height = height;
-    m.createOutput(true);
+    auto r = m.gbuffer.createTargets(*m.device, width, height, m.targets);
+    if (r) r = m.createOutput(true);
+    if (!r) { // out of memory: no targets (record() refuses until a later call succeeds)
+        m.destroyTargets();
+        m.width = m.height = 0;
+        return fail("createTargets: " + r.error());
+    }
     return {};
 }
 
@@ -171,7 +183,11 @@ Result<void> Module::setTargets(const HostTargets& t) {
     m.height = t.height;
     m.host = t;
     m.hdrOutput = hdr;
-    m.createOutput(false);
+    if (auto r = m.createOutput(false); !r) {
+        m.destroyTargets();
+        m.width = m.height = 0;
+        return fail("setTargets: " + r.error());
+    }
     return {};
 }
 

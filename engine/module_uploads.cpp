@@ -1,5 +1,6 @@
 // Scene changes reaching the GPU without a device-wide wait (issue 19): meshes into new buffers (the old
-// ones retired until the frames in flight are done), static shadow words appended to one shared arena,
+// ones retired until the frames in flight are done), static shadow words appended to one shared arena
+// (both GPU-only, issue 18: written by copies from staging buffers at the next frame's start),
 // shadow records per frame slot, rewritten in place only for the lights that changed. A slot's buffers
 // are written only in beginFrame of that slot, when the host has waited for the slot's previous frame
 // (the framesInFlight contract, engine/manylights.h), so no frame in flight reads what is written.
@@ -8,30 +9,86 @@
 #include "shadows/static/static_visibility.h"
 
 #include <algorithm>
+#include <cstring>
+#include <iterator>
 #include <tuple>
 
 namespace ml {
 
-void Module::Impl::uploadMeshes() {
+Result<void> Module::Impl::stage(const std::vector<uint8_t>& bytes, std::vector<StagedCopy> copies,
+                                 const char* name) {
+    if (bytes.empty() || copies.empty()) return {};
+    Buffer source;
+    ML_TRY(createBuffer(*device, source, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, name,
+                        MemoryRole::Staging));
+    upload(source, bytes.data(), bytes.size());
+    for (StagedCopy& c : copies) {
+        c.source = source.buffer;
+        stagedCopies.push_back(std::move(c));
+    }
+    staging.push_back(source);
+    return {};
+}
+
+void Module::Impl::retireStaged() {
+    for (Buffer& b : staging) retire(b);
+    staging.clear();
+    stagedCopies.clear();
+}
+
+Result<void> Module::Impl::uploadMeshes() {
+    // Frames in flight may read the old buffers: new GPU-only ones, the old ones retired. Meshes are
+    // load-time data, so the whole set is re-uploaded (once per frame with any addMesh), through one
+    // staging buffer that the frame copies at its start. A failure destroys what was made here and
+    // leaves meshesDirty set, so the next record() tries again.
     const Device& d = *device;
-    for (auto [b, data, bytes, usage, name] :
-         {std::tuple{&vertexBuffer, (const void*)vertices.data(), vertices.size() * sizeof(MeshVertex),
-                     kStorageBufferUsage, "vertices"},
-          std::tuple{&indexBuffer, (const void*)indices.data(), indices.size() * 4,
-                     VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT), "indices"},
-          std::tuple{&meshletBuffer, (const void*)meshlets.meshlets.data(),
-                     meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet), kStorageBufferUsage, "meshlets"},
-          std::tuple{&meshletVertexBuffer, (const void*)meshlets.vertices.data(),
-                     meshlets.vertices.size() * 4, kStorageBufferUsage, "meshlet_vertices"},
-          std::tuple{&meshletTriangleBuffer, (const void*)meshlets.triangles.data(),
-                     meshlets.triangles.size() * 4, kStorageBufferUsage, "meshlet_triangles"}}) {
-        // Frames in flight may read the old buffer: a new one, the old one released later. Meshes are
-        // load-time data, so the whole set is re-uploaded (once per frame with any addMesh).
-        retire(*b);
-        *b = createBuffer(d, std::max<size_t>(bytes, 16), usage, name);
-        if (bytes) upload(*b, data, bytes);
+    struct Part {
+        Buffer* buffer;
+        const void* data;
+        size_t size;
+        VkBufferUsageFlags usage;
+        const char* name;
+    };
+    const Part parts[] = {
+        {&vertexBuffer, vertices.data(), vertices.size() * sizeof(MeshVertex), kStorageBufferUsage,
+         "vertices"},
+        {&indexBuffer, indices.data(), indices.size() * 4,
+         VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT), "indices"},
+        {&meshletBuffer, meshlets.meshlets.data(), meshlets.meshlets.size() * sizeof(gpu::GpuMeshlet),
+         kStorageBufferUsage, "meshlets"},
+        {&meshletVertexBuffer, meshlets.vertices.data(), meshlets.vertices.size() * 4, kStorageBufferUsage,
+         "meshlet_vertices"},
+        {&meshletTriangleBuffer, meshlets.triangles.data(), meshlets.triangles.size() * 4,
+         kStorageBufferUsage, "meshlet_triangles"}};
+    constexpr size_t kParts = std::size(parts);
+    Buffer made[kParts];
+    std::vector<uint8_t> bytes; // every part at a 16-byte aligned offset
+    size_t offset[kParts];
+    for (size_t i = 0; i < kParts; ++i) {
+        offset[i] = bytes.size();
+        bytes.resize(offset[i] + ((parts[i].size + 15) & ~size_t(15)));
+        if (parts[i].size) std::memcpy(bytes.data() + offset[i], parts[i].data, parts[i].size);
+    }
+    auto fresh = [&]() -> Result<void> {
+        std::vector<StagedCopy> copies;
+        for (size_t i = 0; i < kParts; ++i) {
+            ML_TRY(createBuffer(d, made[i], std::max<size_t>(parts[i].size, 16), parts[i].usage,
+                                parts[i].name, MemoryRole::GpuOnly));
+            if (parts[i].size)
+                copies.push_back({VK_NULL_HANDLE, made[i].buffer, {{offset[i], 0, parts[i].size}}});
+        }
+        return stage(bytes, std::move(copies), "mesh_staging");
+    }();
+    if (!fresh) {
+        for (Buffer& b : made) destroyBuffer(d, b);
+        return fresh;
+    }
+    for (size_t i = 0; i < kParts; ++i) {
+        retire(*parts[i].buffer);
+        *parts[i].buffer = made[i];
     }
     meshesDirty = false;
+    return {};
 }
 
 void Module::Impl::touchShadow(uint32_t light) {
@@ -49,8 +106,8 @@ uint32_t Module::Impl::shadowRecordOf(uint32_t light) const {
 // Appends the faces whose words are not resident. When they do not fit, the arena is rebuilt compactly
 // into a new buffer of twice the live words (capped at the storage buffer range, which setStaticShadow
 // keeps the live words under) and every slot rewrites all its records.
-void Module::Impl::uploadShadowWords() {
-    if (!wordsPending && staticWords.buffer) return;
+Result<void> Module::Impl::uploadShadowWords() {
+    if (!wordsPending && staticWords.buffer) return {};
     const Device& d = *device;
     uint64_t pending = 0, live = 0;
     for (const auto& faces : shadows)
@@ -64,33 +121,50 @@ void Module::Impl::uploadShadowWords() {
         retire(staticWords);
         const uint64_t range = d.properties.limits.maxStorageBufferRange / 4;
         const uint64_t words = std::min<uint64_t>(std::max<uint64_t>(2 * live, 4096), range);
-        staticWords = createBuffer(d, words * 4, kStorageBufferUsage, "static_shadow_words");
         wordsUsed = 0;
         for (auto& faces : shadows)
             for (StaticShadow& s : faces) s.resident = false;
         recordsEpoch++;
+        // State first: out of memory leaves no arena and every face pending, so the next frame retries.
+        ML_TRY(createBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words",
+                            MemoryRole::GpuOnly));
     }
+    // The pending faces' words, packed, staged and copied past the cursor at the frame's start (no frame
+    // in flight reads there). Faces become resident only once the copy is queued.
+    std::vector<uint8_t> bytes(size_t(pending) * 4);
+    StagedCopy copy{VK_NULL_HANDLE, staticWords.buffer, {}};
+    uint64_t at = 0;
+    for (const auto& faces : shadows)
+        for (const StaticShadow& s : faces) {
+            if (s.method == StaticMethod::None || s.resident || s.words.empty()) continue;
+            std::memcpy(bytes.data() + at * 4, s.words.data(), s.words.size() * 4);
+            copy.regions.push_back({at * 4, (wordsUsed + at) * 4, s.words.size() * 4});
+            at += s.words.size();
+        }
+    ML_TRY(stage(bytes, {copy}, "static_shadow_staging"));
     for (auto& faces : shadows)
         for (StaticShadow& s : faces) {
             if (s.method == StaticMethod::None || s.resident) continue;
-            // Words past the cursor: no frame in flight reads them.
-            upload(staticWords, s.words.data(), s.words.size() * 4, size_t(wordsUsed) * 4);
             s.base = uint32_t(wordsUsed);
             s.resident = true;
             wordsUsed += s.words.size();
         }
     wordsPending = false;
+    return {};
 }
 
 // The slot's records: light i's six (spots: face 0 only) at 6 i, a face without a bake (or a light
 // removed or not casting) a zero record. Only the lights whose version moved are rewritten, so a change
 // of one light costs six records per slot.
-void Module::Impl::writeShadowRecords(Slot& slot) {
+Result<void> Module::Impl::writeShadowRecords(Slot& slot) {
     const Device& d = *device;
     const size_t n = lights.size();
     bool all = slot.recordsEpoch != recordsEpoch;
-    all |= ensureBuffer(d, slot.shadowRecords, std::max<size_t>(n, 1) * 6 * sizeof(gpu::GpuShadowRecord),
-                        kStorageBufferUsage, "shadow_records");
+    auto grown =
+        ensureBuffer(d, slot.shadowRecords, std::max<size_t>(n, 1) * 6 * sizeof(gpu::GpuShadowRecord),
+                     kStorageBufferUsage, "shadow_records");
+    if (!grown) return fail(grown.error());
+    all |= grown.value();
     if (shadowVersion.size() < n) shadowVersion.resize(n, 0);
     slot.shadowVersion.resize(n, ~0u); // lights new to the slot differ from any version
     auto* records = slot.shadowRecords.as<gpu::GpuShadowRecord>();
@@ -110,6 +184,7 @@ void Module::Impl::writeShadowRecords(Slot& slot) {
         recordsWritten++;
     }
     slot.recordsEpoch = recordsEpoch;
+    return {};
 }
 
 } // namespace ml

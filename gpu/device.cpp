@@ -1,5 +1,7 @@
 #include "gpu/device.h"
 
+#include "gpu/memory.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -194,6 +196,23 @@ std::vector<std::string> requiredDeviceFeatures() {
 std::vector<std::string> requiredDeviceExtensions() {
     return {std::begin(kRequiredExtensions), std::end(kRequiredExtensions)};
 }
+
+namespace faultInjection {
+namespace {
+std::atomic<uint64_t> gFailAt{0}, gPassed{0};
+}
+void failAt(uint64_t n) {
+    gFailAt = n;
+    gPassed = 0;
+}
+uint64_t allocationPoints() {
+    return gPassed.load();
+}
+bool injected() {
+    const uint64_t n = ++gPassed;
+    return gFailAt.load() != 0 && n == gFailAt.load();
+}
+} // namespace faultInjection
 
 uint32_t validationErrors() {
     return gValidationErrors.load();
@@ -454,7 +473,10 @@ Result<void> Device::loadFunctions() {
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = queueFamily;
-    ML_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &setupPool_));
+    if (VkResult r = vkCreateCommandPool(device, &pci, nullptr, &setupPool_); r != VK_SUCCESS) {
+        setupPool_ = VK_NULL_HANDLE;
+        return fail(name + ": vkCreateCommandPool for the setup pool failed: " + vkResultName(r));
+    }
     return {};
 }
 
@@ -494,6 +516,45 @@ void Device::endOneTime(VkCommandBuffer cmd) const {
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
 }
 
+Result<VkCommandBuffer> Device::tryBeginOneTime(const char* what) const {
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = setupPool_;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    if (VkResult r = ML_VK_ALLOC(vkAllocateCommandBuffers(device, &ai, &cmd)); r != VK_SUCCESS)
+        return fail(std::string("vkAllocateCommandBuffers for '") + what + "' failed: " + vkResultName(r));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    ML_VK_CHECK(vkBeginCommandBuffer(cmd, &bi));
+    return cmd;
+}
+
+Result<void> Device::tryEndOneTime(VkCommandBuffer cmd, const char* what) const {
+    VkResult r = vkEndCommandBuffer(cmd);
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    const char* call = "vkEndCommandBuffer";
+    if (r == VK_SUCCESS)
+        call = "vkQueueSubmit", r = ML_VK_ALLOC(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
+    if (r == VK_SUCCESS) call = "vkQueueWaitIdle", r = vkQueueWaitIdle(queue);
+    vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
+    if (r != VK_SUCCESS) return fail(std::string(call) + " for '" + what + "' failed: " + vkResultName(r));
+    return {};
+}
+
+MemoryUsage Device::memoryUsage() const {
+    MemoryUsage u;
+    for (uint32_t k = 0; k < kMemoryKindCount; ++k) u.bytes[k] = memoryBytes_[k].load();
+    for (uint32_t r = 0; r < 4; ++r) u.roleBytes[r] = roleBytes_[r].load();
+    return u;
+}
+
+std::string Device::memoryPlacement() const {
+    return describePlacement(memoryProperties);
+}
+
 void Device::beginLabel(VkCommandBuffer cmd, const char* label) const {
     if (!beginLabel_) return;
     VkDebugUtilsLabelEXT l{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
@@ -510,13 +571,6 @@ void Device::setName(VkObjectType type, uint64_t handle, const char* objName) co
     ni.objectHandle = handle;
     ni.pObjectName = objName;
     setName_(device, &ni);
-}
-
-uint32_t Device::memoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const {
-    for (uint32_t i = 0; i < memoryProperties.memoryTypeCount; ++i)
-        if ((typeBits & (1u << i)) && (memoryProperties.memoryTypes[i].propertyFlags & flags) == flags)
-            return i;
-    return ~0u;
 }
 
 } // namespace ml

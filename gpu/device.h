@@ -44,15 +44,28 @@ class Device {
     float timestampPeriodNs = 1.0f;
 
     // Command helpers for setup work and tests: record into a one-off command buffer, submit, wait.
+    // The try forms are the module's (allocation points: out of memory is an error naming `what`; a
+    // failed end frees the command buffer); the plain forms abort on failure (tests, tools, fenced timing).
     VkCommandBuffer beginOneTime() const;
     void endOneTime(VkCommandBuffer cmd) const;
+    Result<VkCommandBuffer> tryBeginOneTime(const char* what) const;
+    Result<void> tryEndOneTime(VkCommandBuffer cmd, const char* what) const;
+
+    // Bytes of live allocations per memory kind (gpu/resources.cpp counts each allocation and free).
+    void countMemory(MemoryKind kind, uint32_t role, int64_t bytes) const {
+        memoryBytes_[uint32_t(kind)] += uint64_t(bytes);
+        roleBytes_[role] += uint64_t(bytes);
+    }
+    MemoryUsage memoryUsage() const;
+    // Where each buffer role lands on this device (gpu/memory.h), one line; printed once by hosts that
+    // want it (the demo) and written to stats.json.
+    std::string memoryPlacement() const;
 
     // Debug labels (no-ops without VK_EXT_debug_utils).
     void beginLabel(VkCommandBuffer cmd, const char* name) const;
     void endLabel(VkCommandBuffer cmd) const;
     void setName(VkObjectType type, uint64_t handle, const char* name) const;
 
-    uint32_t memoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const;
     bool validationEnabled() const { return validation_; }
     bool synchronizationValidationEnabled() const { return validationSync_; }
 
@@ -64,6 +77,8 @@ class Device {
     Device() = default;
     Result<void> loadFunctions();
     bool owned_ = false;
+    mutable std::atomic<uint64_t> memoryBytes_[kMemoryKindCount] = {};
+    mutable std::atomic<uint64_t> roleBytes_[4] = {};
     bool validation_ = false;
     bool validationSync_ = false;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

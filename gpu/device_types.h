@@ -67,8 +67,24 @@ struct DeviceInfo {
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
     uint32_t queueFamily = 0;
-    std::string name;        // VkPhysicalDeviceProperties::deviceName
-    bool validation = false; // the module's own device was made with the validation layer
+    std::string name;            // VkPhysicalDeviceProperties::deviceName
+    bool validation = false;     // the module's own device was made with the validation layer
+    std::string memoryPlacement; // where each buffer role's memory lands (gpu/memory.h), one line
+};
+
+// Where the module's memory lives (gpu/memory.h chooses a type per buffer role), by memory type flags:
+//   DeviceLocal     DEVICE_LOCAL, not host-visible (GPU-only data on a discrete GPU)
+//   DeviceMappable  DEVICE_LOCAL | HOST_VISIBLE (a BAR or ReBAR heap; all memory of integrated GPUs and
+//                   lavapipe)
+//   Host            HOST_VISIBLE, not device-local, uncached (system memory the GPU reads over the bus)
+//   HostCached      HOST_VISIBLE | HOST_CACHED, not device-local (readbacks)
+enum class MemoryKind : uint8_t { DeviceLocal, DeviceMappable, Host, HostCached };
+constexpr uint32_t kMemoryKindCount = 4;
+const char* memoryKindName(MemoryKind kind); // "device_local", "device_mappable", "host", "host_cached"
+// Bytes of the module's live allocations (buffers and images) per kind (Module::memoryUsage, stats.json).
+struct MemoryUsage {
+    uint64_t bytes[kMemoryKindCount] = {};
+    uint64_t roleBytes[4] = {}; // by role (gpu/memory.h MemoryRole): gpu-only, upload, readback, staging
 };
 
 // Validation message counters, process-wide (the messenger callback has no other home).

@@ -5,7 +5,7 @@
 
 namespace ml {
 
-void Profiler::create(const Device& device, uint32_t slots, std::vector<std::string> timerNames) {
+Result<void> Profiler::create(const Device& device, uint32_t slots, std::vector<std::string> timerNames) {
     device_ = &device;
     slots_ = slots;
     names_ = std::move(timerNames);
@@ -14,17 +14,25 @@ void Profiler::create(const Device& device, uint32_t slots, std::vector<std::str
     VkQueryPoolCreateInfo ci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     ci.queryType = VK_QUERY_TYPE_TIMESTAMP;
     ci.queryCount = slots * timers() * 2;
-    ML_VK_CHECK(vkCreateQueryPool(device.device, &ci, nullptr, &pool_));
+    if (VkResult r = ML_VK_ALLOC(vkCreateQueryPool(device.device, &ci, nullptr, &pool_)); r != VK_SUCCESS) {
+        pool_ = VK_NULL_HANDLE;
+        return fail(std::string("vkCreateQueryPool for 'profiler_queries' failed: ") + vkResultName(r));
+    }
     vkResetQueryPool(device.device, pool_, 0, ci.queryCount);
     done_.assign(slots, VK_NULL_HANDLE);
     results_.assign(slots, {});
     for (uint32_t s = 0; s < slots; ++s) {
         VkEventCreateInfo ei{VK_STRUCTURE_TYPE_EVENT_CREATE_INFO};
-        ML_VK_CHECK(vkCreateEvent(device.device, &ei, nullptr, &done_[s]));
-        // 2 queries per timer, {value, availability} of 8 bytes each.
-        results_[s] = createBuffer(device, VkDeviceSize(timers()) * 2 * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                   "profiler_results");
+        if (VkResult r = ML_VK_ALLOC(vkCreateEvent(device.device, &ei, nullptr, &done_[s]));
+            r != VK_SUCCESS) {
+            done_[s] = VK_NULL_HANDLE;
+            return fail(std::string("vkCreateEvent for 'profiler_done' failed: ") + vkResultName(r));
+        }
+        // 2 queries per timer, {value, availability} of 8 bytes each; the host reads them.
+        ML_TRY(createBuffer(device, results_[s], VkDeviceSize(timers()) * 2 * 16,
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, "profiler_results", MemoryRole::Readback));
     }
+    return {};
 }
 
 void Profiler::destroy(const Device& device) {

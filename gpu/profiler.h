@@ -21,7 +21,9 @@ class Profiler {
     // Fenced: each pass is submitted on its own and timed with the host clock from submit to completion
     // (lavapipe: its timestamps do not bracket compute, engine/pass_times.h TimingMode).
     bool fenced = false;
-    void create(const Device& device, uint32_t frameSlots, std::vector<std::string> timerNames);
+    // Out of memory for the query pool is an error (the profiler is then destroyable, empty). Fenced
+    // runs use the aborting one-off command buffers (a profiling mode, not the module's default path).
+    Result<void> create(const Device& device, uint32_t frameSlots, std::vector<std::string> timerNames);
     void destroy(const Device& device);
     // Resets the slot's queries; call before the first pass of the frame.
     void beginFrame(VkCommandBuffer cmd, uint32_t slot);

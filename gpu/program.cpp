@@ -229,6 +229,10 @@ void reflect(ShaderModule& sm, const uint32_t* code, size_t words) {
     }
 }
 
+Error vkFail(const char* call, const std::string& name, VkResult r) {
+    return fail(std::string(call) + " for '" + name + "' failed: " + vkResultName(r));
+}
+
 struct SpecData {
     std::vector<VkSpecializationMapEntry> entries;
     std::vector<uint32_t> values;
@@ -245,7 +249,8 @@ struct SpecData {
     }
 };
 
-void createLayout(const Device& device, Program& p, std::initializer_list<const ShaderModule*> shaders) {
+Result<void> createLayout(const Device& device, Program& p,
+                          std::initializer_list<const ShaderModule*> shaders) {
     uint32_t mask = 0, pushSize = 0;
     for (const ShaderModule* s : shaders) {
         p.stages |= s->stage;
@@ -275,7 +280,11 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
     sci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     sci.bindingCount = uint32_t(bindings.size());
     sci.pBindings = bindings.data();
-    ML_VK_CHECK(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
+    if (VkResult r = ML_VK_ALLOC(vkCreateDescriptorSetLayout(device.device, &sci, nullptr, &p.setLayout));
+        r != VK_SUCCESS) {
+        p.setLayout = VK_NULL_HANDLE;
+        return vkFail("vkCreateDescriptorSetLayout", p.name, r);
+    }
     if (pushSize > device.properties.limits.maxPushConstantsSize) {
         std::fprintf(stderr, "%s: %u push bytes exceed the device's %u\n", p.name.c_str(), pushSize,
                      device.properties.limits.maxPushConstantsSize);
@@ -287,20 +296,43 @@ void createLayout(const Device& device, Program& p, std::initializer_list<const 
     lci.pSetLayouts = &p.setLayout;
     lci.pushConstantRangeCount = pushSize ? 1 : 0;
     lci.pPushConstantRanges = &range;
-    ML_VK_CHECK(vkCreatePipelineLayout(device.device, &lci, nullptr, &p.layout));
+    if (VkResult r = ML_VK_ALLOC(vkCreatePipelineLayout(device.device, &lci, nullptr, &p.layout));
+        r != VK_SUCCESS) {
+        p.layout = VK_NULL_HANDLE;
+        return vkFail("vkCreatePipelineLayout", p.name, r);
+    }
     p.pushSize = pushSize;
+    return {};
+}
+
+void orAbort(const Result<void>& r) {
+    if (!r) {
+        std::fprintf(stderr, "%s\n", r.error().c_str());
+        std::abort();
+    }
 }
 
 } // namespace
 
-ShaderModule loadShader(const Device& device, const uint32_t* code, size_t bytes, const char* name) {
-    ShaderModule sm;
+Result<void> loadShader(const Device& device, ShaderModule& sm, const uint32_t* code, size_t bytes,
+                        const char* name) {
+    sm = ShaderModule{};
     sm.name = name;
     reflect(sm, code, bytes / 4);
     VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     ci.codeSize = bytes;
     ci.pCode = code;
-    ML_VK_CHECK(vkCreateShaderModule(device.device, &ci, nullptr, &sm.module));
+    if (VkResult r = ML_VK_ALLOC(vkCreateShaderModule(device.device, &ci, nullptr, &sm.module));
+        r != VK_SUCCESS) {
+        sm.module = VK_NULL_HANDLE;
+        return vkFail("vkCreateShaderModule", sm.name, r);
+    }
+    return {};
+}
+
+ShaderModule loadShader(const Device& device, const uint32_t* code, size_t bytes, const char* name) {
+    ShaderModule sm;
+    orAbort(loadShader(device, sm, code, bytes, name));
     return sm;
 }
 
@@ -309,12 +341,15 @@ void destroyShader(const Device& device, ShaderModule& shader) {
     shader.module = VK_NULL_HANDLE;
 }
 
-Program createComputeProgram(const Device& device, const ShaderModule& shader,
-                             std::initializer_list<SpecConstant> spec) {
-    Program p;
+Result<void> createComputeProgram(const Device& device, Program& p, const ShaderModule& shader,
+                                  std::initializer_list<SpecConstant> spec) {
+    p = Program{};
     p.name = shader.name;
     p.bindPoint = VK_PIPELINE_BIND_POINT_COMPUTE;
-    createLayout(device, p, {&shader});
+    if (auto r = createLayout(device, p, {&shader}); !r) {
+        destroyProgram(device, p);
+        return r;
+    }
     for (int i = 0; i < 3; ++i) p.localSize[i] = shader.localSize[i];
     SpecData sd(spec);
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -324,17 +359,35 @@ Program createComputeProgram(const Device& device, const ShaderModule& shader,
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
     ci.layout = p.layout;
-    ML_VK_CHECK(vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    if (VkResult r = ML_VK_ALLOC(
+            vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+        r != VK_SUCCESS) {
+        p.pipeline = VK_NULL_HANDLE;
+        const std::string name = p.name;
+        destroyProgram(device, p);
+        return vkFail("vkCreateComputePipelines", name, r);
+    }
     device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
+    return {};
+}
+
+Program createComputeProgram(const Device& device, const ShaderModule& shader,
+                             std::initializer_list<SpecConstant> spec) {
+    Program p;
+    orAbort(createComputeProgram(device, p, shader, spec));
     return p;
 }
 
-Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
-                              const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
-    Program p;
+Result<void> createGraphicsProgram(const Device& device, Program& p,
+                                   std::initializer_list<const ShaderModule*> shaders,
+                                   const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
+    p = Program{};
     p.name = (*shaders.begin())->name;
     p.bindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    createLayout(device, p, shaders);
+    if (auto r = createLayout(device, p, shaders); !r) {
+        destroyProgram(device, p);
+        return r;
+    }
     SpecData sd(spec);
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     for (const ShaderModule* s : shaders) {
@@ -387,8 +440,22 @@ Program createGraphicsProgram(const Device& device, std::initializer_list<const 
     ci.pColorBlendState = &cb;
     ci.pDynamicState = &dy;
     ci.layout = p.layout;
-    ML_VK_CHECK(vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+    if (VkResult r = ML_VK_ALLOC(
+            vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+        r != VK_SUCCESS) {
+        p.pipeline = VK_NULL_HANDLE;
+        const std::string name = p.name;
+        destroyProgram(device, p);
+        return vkFail("vkCreateGraphicsPipelines", name, r);
+    }
     device.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(p.pipeline), p.name.c_str());
+    return {};
+}
+
+Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
+                              const GraphicsState& state, std::initializer_list<SpecConstant> spec) {
+    Program p;
+    orAbort(createGraphicsProgram(device, p, shaders, state, spec));
     return p;
 }
 

@@ -29,10 +29,15 @@ struct ShaderModule {
     std::string name;
 };
 
-// SPIR-V from the build (shaders/*.spv.h arrays): spv_<file>_<ext>.
+// SPIR-V from the build (shaders/*.spv.h arrays): spv_<file>_<ext>. As with buffers (gpu/resources.h),
+// the Result forms (out-parameter) are the module's: out of memory is an error naming the shader or
+// program, and the out-parameter is left empty; the value forms abort on failure (tests, tools).
+Result<void> loadShader(const Device& device, ShaderModule& out, const uint32_t* code, size_t bytes,
+                        const char* name);
 ShaderModule loadShader(const Device& device, const uint32_t* code, size_t bytes, const char* name);
 void destroyShader(const Device& device, ShaderModule& shader);
 #define ML_SHADER(device, array) ::ml::loadShader(device, array, sizeof(array), #array)
+#define ML_LOAD_SHADER(device, out, array) ::ml::loadShader(device, out, array, sizeof(array), #array)
 
 struct SpecConstant {
     uint32_t id;
@@ -52,6 +57,8 @@ struct Program {
     std::string name;
 };
 
+Result<void> createComputeProgram(const Device& device, Program& out, const ShaderModule& shader,
+                                  std::initializer_list<SpecConstant> spec = {});
 Program createComputeProgram(const Device& device, const ShaderModule& shader,
                              std::initializer_list<SpecConstant> spec = {});
 
@@ -66,6 +73,9 @@ struct GraphicsState {
     VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;
     bool depthClamp = false;
 };
+Result<void> createGraphicsProgram(const Device& device, Program& out,
+                                   std::initializer_list<const ShaderModule*> shaders,
+                                   const GraphicsState& state, std::initializer_list<SpecConstant> spec = {});
 Program createGraphicsProgram(const Device& device, std::initializer_list<const ShaderModule*> shaders,
                               const GraphicsState& state, std::initializer_list<SpecConstant> spec = {});
 void destroyProgram(const Device& device, Program& program);

@@ -1,5 +1,7 @@
 #include "gpu/resources.h"
 
+#include "gpu/memory.h"
+
 #include <algorithm>
 #include <bit>
 #include <cstdio>
@@ -8,75 +10,175 @@
 namespace ml {
 
 namespace {
-// Memory for `req`: of a type with all `flags`; with `fallback`, any type the resource allows when none
-// has them (device-local is a preference: lavapipe's one memory type is host memory).
-VkDeviceMemory allocate(const Device& device, const VkMemoryRequirements& req, VkMemoryPropertyFlags flags,
-                        bool fallback, const char* name) {
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, flags);
-    if (ai.memoryTypeIndex == ~0u && fallback) ai.memoryTypeIndex = device.memoryType(req.memoryTypeBits, 0);
-    if (ai.memoryTypeIndex == ~0u) {
-        std::fprintf(stderr, "%s:%d: no memory type 0x%x for %s\n", __FILE__, __LINE__, flags, name);
-        std::abort();
-    }
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    ML_VK_CHECK(vkAllocateMemory(device.device, &ai, nullptr, &memory));
-    return memory;
+std::string vkError(const char* call, const char* name, VkResult r) {
+    return std::string(call) + " for '" + name + "' failed: " + vkResultName(r);
 }
 
-Buffer makeBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage,
-                  VkMemoryPropertyFlags flags, bool fallback, const char* name) {
-    Buffer b;
+std::string mib(VkDeviceSize bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / (1 << 20));
+    return text;
+}
+
+// Memory for `req` in `role` (gpu/memory.h); its kind and size are counted on the device until freed.
+Result<void> allocate(const Device& device, const VkMemoryRequirements& req, MemoryRole role,
+                      const char* name, VkDeviceMemory& memory, MemoryKind& kind) {
+    const MemoryChoice c = selectMemoryType(device.memoryProperties, req.memoryTypeBits, role, req.size);
+    if (c.type == ~0u)
+        return fail(std::string("no memory type for '") + name + "' (" + memoryRoleName(role) +
+                    ", allowed types 0x" + std::to_string(req.memoryTypeBits) + ")");
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = c.type;
+    if (VkResult r = ML_VK_ALLOC(vkAllocateMemory(device.device, &ai, nullptr, &memory)); r != VK_SUCCESS) {
+        memory = VK_NULL_HANDLE;
+        return fail(vkError("vkAllocateMemory", name, r) + " (" + mib(req.size) + ", " +
+                    memoryKindName(c.kind) + ")");
+    }
+    kind = c.kind;
+    device.countMemory(kind, uint32_t(role), int64_t(req.size));
+    return {};
+}
+
+void freeMemory(const Device& device, VkDeviceMemory& memory, MemoryKind kind, MemoryRole role,
+                VkDeviceSize bytes) {
+    if (!memory) return;
+    vkFreeMemory(device.device, memory, nullptr);
+    device.countMemory(kind, uint32_t(role), -int64_t(bytes));
+    memory = VK_NULL_HANDLE;
+}
+
+// On failure `b` holds whatever was made (destroyBuffer releases it).
+Result<void> makeBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage,
+                        MemoryRole role, const char* name) {
+    b = Buffer{};
     b.size = std::max<VkDeviceSize>((size + 3) / 4 * 4, 16);
     VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     ci.size = b.size;
     ci.usage = usage;
-    ML_VK_CHECK(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer));
+    if (VkResult r = ML_VK_ALLOC(vkCreateBuffer(device.device, &ci, nullptr, &b.buffer)); r != VK_SUCCESS) {
+        b.buffer = VK_NULL_HANDLE;
+        return fail(vkError("vkCreateBuffer", name, r) + " (" + mib(b.size) + ")");
+    }
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device.device, b.buffer, &req);
-    b.memory = allocate(device, req, flags, fallback, name);
-    ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0));
+    ML_TRY(allocate(device, req, role, name, b.memory, b.kind));
+    b.role = role;
+    b.allocated = req.size;
+    ML_VK_CHECK(vkBindBufferMemory(device.device, b.buffer, b.memory, 0)); // fails only on a bug
     device.setName(VK_OBJECT_TYPE_BUFFER, uint64_t(b.buffer), name);
-    return b;
+    if (roleIsMapped(role)) {
+        if (VkResult r = ML_VK_ALLOC(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
+            r != VK_SUCCESS) {
+            b.data = nullptr;
+            return fail(vkError("vkMapMemory", name, r));
+        }
+        std::memset(b.data, 0, b.size);
+    }
+    return {};
+}
+
+template <class T> T orAbort(Result<T> r) {
+    if (!r) {
+        std::fprintf(stderr, "%s\n", r.error().c_str());
+        std::abort();
+    }
+    return std::move(r.value());
+}
+void orAbort(Result<void> r) {
+    if (!r) {
+        std::fprintf(stderr, "%s\n", r.error().c_str());
+        std::abort();
+    }
 }
 } // namespace
 
-Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name) {
-    Buffer b =
-        makeBuffer(device, size, usage,
-                   VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, false, name);
-    ML_VK_CHECK(vkMapMemory(device.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
-    std::memset(b.data, 0, b.size);
+Result<void> createBuffer(const Device& device, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
+                          const char* name, MemoryRole role) {
+    if (!roleIsMapped(role)) return createDeviceBuffer(device, out, size, usage, name);
+    if (auto r = makeBuffer(device, out, size, usage, role, name); !r) {
+        destroyBuffer(device, out);
+        return r;
+    }
+    return {};
+}
+
+Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
+                    MemoryRole role) {
+    Buffer b;
+    orAbort(createBuffer(device, b, size, usage, name, role));
     return b;
 }
 
 void destroyBuffer(const Device& device, Buffer& b) {
     if (b.memory && b.data) vkUnmapMemory(device.device, b.memory);
     if (b.buffer) vkDestroyBuffer(device.device, b.buffer, nullptr);
-    if (b.memory) vkFreeMemory(device.device, b.memory, nullptr);
+    freeMemory(device, b.memory, b.kind, b.role, b.allocated);
     b = Buffer{};
+}
+
+Result<void> createDeviceBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage,
+                                const char* name, uint32_t fill) {
+    auto made = makeBuffer(device, b, size,
+                           usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                           MemoryRole::GpuOnly, name);
+    auto cmd = made ? device.tryBeginOneTime(name) : Result<VkCommandBuffer>(fail(made.error()));
+    if (!cmd) {
+        destroyBuffer(device, b);
+        return fail(cmd.error());
+    }
+    vkCmdFillBuffer(cmd.value(), b.buffer, 0, VK_WHOLE_SIZE, fill);
+    // The fill -> the buffer's first use, whatever it is (read or write in any stage the module uses).
+    memoryBarrier(cmd.value(), kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages,
+                  kBufferReads | kBufferWrites);
+    if (auto r = device.tryEndOneTime(cmd.value(), name); !r) {
+        destroyBuffer(device, b);
+        return r;
+    }
+    return {};
 }
 
 Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
                           uint32_t fill) {
-    Buffer b =
-        makeBuffer(device, size, usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                   VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, name);
-    VkCommandBuffer cmd = device.beginOneTime();
-    vkCmdFillBuffer(cmd, b.buffer, 0, VK_WHOLE_SIZE, fill);
-    // The fill -> the buffer's first use, whatever it is (read or write in any stage the module uses).
-    memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages,
-                  kBufferReads | kBufferWrites);
-    device.endOneTime(cmd);
+    Buffer b;
+    orAbort(createDeviceBuffer(device, b, size, usage, name, fill));
     return b;
+}
+
+Result<void> uploadBuffer(const Device& device, const Buffer& buffer, const void* data, VkDeviceSize bytes,
+                          VkDeviceSize offset, const char* name) {
+    if (!bytes) return {};
+    if (buffer.data) { // mapped (an upload-role buffer): written in place
+        std::memcpy(static_cast<char*>(buffer.data) + offset, data, bytes);
+        return {};
+    }
+    Buffer staging;
+    ML_TRY(createBuffer(device, staging, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, name, MemoryRole::Staging));
+    std::memcpy(staging.data, data, bytes);
+    auto cmd = device.tryBeginOneTime(name);
+    if (!cmd) {
+        destroyBuffer(device, staging);
+        return fail(cmd.error());
+    }
+    // Earlier uses of the range (frames in flight were waited for by the caller; setup reads) -> the copy.
+    memoryBarrier(cmd.value(), kBufferUseStages, kBufferReads | kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferCopy region{0, offset, bytes};
+    vkCmdCopyBuffer(cmd.value(), staging.buffer, buffer.buffer, 1, &region);
+    // The staging copy -> every later use of the buffer.
+    memoryBarrier(cmd.value(), VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages,
+                  kBufferReads | kBufferWrites);
+    auto r = device.tryEndOneTime(cmd.value(), name);
+    destroyBuffer(device, staging);
+    return r;
 }
 
 std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset,
                                 VkDeviceSize bytes) {
     std::vector<uint8_t> out(bytes);
     if (!bytes) return out;
-    Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
+    Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging",
+                                  MemoryRole::Readback);
     VkCommandBuffer cmd = device.beginOneTime();
     // The last writes to the buffer (any shader stage, fill or copy, earlier submissions) -> the copy.
     memoryBarrier(cmd, kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT,
@@ -91,8 +193,8 @@ std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDe
     return out;
 }
 
-bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage,
-                  const char* name) {
+Result<bool> ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage,
+                          const char* name, MemoryRole role) {
     if (b.buffer && b.size >= size) return false;
     destroyBuffer(device, b);
     // Grow by 1.5x so per-frame growth (more lights, more clusters) settles quickly, but a storage buffer
@@ -100,26 +202,27 @@ bool ensureBuffer(const Device& device, Buffer& b, VkDeviceSize size, VkBufferUs
     VkDeviceSize grown = size + size / 2;
     const VkDeviceSize range = device.properties.limits.maxStorageBufferRange;
     if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && size <= range) grown = std::min(grown, range);
-    b = createBuffer(device, grown, usage, name);
+    ML_TRY(
+        createBuffer(device, b, grown, usage, name, role)); // on failure `b` is empty: the next call retries
     return true;
 }
 
 namespace {
-VkImageView makeView(const Device& device, const Image& img, VkImageViewType type, uint32_t mip,
-                     uint32_t mipCount, uint32_t layer, uint32_t layerCount) {
+Result<VkImageView> makeView(const Device& device, const Image& img, VkImageViewType type, uint32_t mip,
+                             uint32_t mipCount, uint32_t layer, uint32_t layerCount, const char* name) {
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = img.image;
     vi.viewType = type;
     vi.format = img.format;
     vi.subresourceRange = {img.aspect, mip, mipCount, layer, layerCount};
     VkImageView view = VK_NULL_HANDLE;
-    ML_VK_CHECK(vkCreateImageView(device.device, &vi, nullptr, &view));
+    if (VkResult r = ML_VK_ALLOC(vkCreateImageView(device.device, &vi, nullptr, &view)); r != VK_SUCCESS)
+        return fail(vkError("vkCreateImageView", name, r));
     return view;
 }
 
-[[noreturn]] void imageError(const char* name, const std::string& why) {
-    std::fprintf(stderr, "createImage %s: %s\n", name, why.c_str());
-    std::abort();
+Error imageError(const char* name, const std::string& why) {
+    return fail(std::string("createImage ") + name + ": " + why);
 }
 } // namespace
 
@@ -149,8 +252,9 @@ uint32_t formatBytes(VkFormat format) {
     }
 }
 
-Image createImage(const Device& device, const ImageDesc& desc) {
-    Image img;
+namespace {
+Result<void> makeImage(const Device& device, Image& img, const ImageDesc& desc) {
+    img = Image{};
     img.format = desc.format;
     img.width = desc.width;
     img.height = desc.height;
@@ -163,14 +267,15 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     const VkPhysicalDeviceLimits& lim = device.properties.limits;
     if (!desc.width || !desc.height || desc.width > lim.maxImageDimension2D ||
         desc.height > lim.maxImageDimension2D)
-        imageError(desc.name, std::to_string(desc.width) + "x" + std::to_string(desc.height) +
-                                  " outside 1.." + std::to_string(lim.maxImageDimension2D));
+        return imageError(desc.name, std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+                                         " outside 1.." + std::to_string(lim.maxImageDimension2D));
     if (!desc.layers || desc.layers > lim.maxImageArrayLayers)
-        imageError(desc.name, std::to_string(desc.layers) + " layers outside 1.." +
-                                  std::to_string(lim.maxImageArrayLayers));
+        return imageError(desc.name, std::to_string(desc.layers) + " layers outside 1.." +
+                                         std::to_string(lim.maxImageArrayLayers));
     if (img.mips > fullChain)
-        imageError(desc.name, std::to_string(img.mips) + " mips, the chain of " + std::to_string(desc.width) +
-                                  "x" + std::to_string(desc.height) + " has " + std::to_string(fullChain));
+        return imageError(desc.name, std::to_string(img.mips) + " mips, the chain of " +
+                                         std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+                                         " has " + std::to_string(fullChain));
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = desc.format;
@@ -184,35 +289,72 @@ Image createImage(const Device& device, const ImageDesc& desc) {
     VkImageFormatProperties fp{};
     if (vkGetPhysicalDeviceImageFormatProperties(device.physicalDevice, ci.format, ci.imageType, ci.tiling,
                                                  ci.usage, 0, &fp) != VK_SUCCESS)
-        imageError(desc.name, "format " + std::to_string(int(desc.format)) + " does not support the usage");
-    ML_VK_CHECK(vkCreateImage(device.device, &ci, nullptr, &img.image));
+        return imageError(desc.name,
+                          "format " + std::to_string(int(desc.format)) + " does not support the usage");
+    if (VkResult r = ML_VK_ALLOC(vkCreateImage(device.device, &ci, nullptr, &img.image)); r != VK_SUCCESS) {
+        img.image = VK_NULL_HANDLE;
+        return fail(vkError("vkCreateImage", desc.name, r) + " (" + std::to_string(desc.width) + "x" +
+                    std::to_string(desc.height) + ", " + std::to_string(img.mips) + " mips, " +
+                    std::to_string(desc.layers) + " layers)");
+    }
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device.device, img.image, &req);
-    img.memory = allocate(device, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, desc.name);
-    ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0));
+    ML_TRY(allocate(device, req, MemoryRole::GpuOnly, desc.name, img.memory, img.kind));
+    img.allocated = req.size;
+    ML_VK_CHECK(vkBindImageMemory(device.device, img.image, img.memory, 0)); // fails only on a bug
     const VkImageViewType type =
         desc.layers > 1 || desc.arrayViews ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
-    img.view = makeView(device, img, type, 0, img.mips, 0, desc.layers);
+    auto view = makeView(device, img, type, 0, img.mips, 0, desc.layers, desc.name);
+    ML_TRY(view);
+    img.view = view.value();
     if (img.mips > 1)
-        for (uint32_t m = 0; m < img.mips; ++m)
-            img.mipViews.push_back(makeView(device, img, type, m, 1, 0, desc.layers));
+        for (uint32_t m = 0; m < img.mips; ++m) {
+            auto v = makeView(device, img, type, m, 1, 0, desc.layers, desc.name);
+            ML_TRY(v);
+            img.mipViews.push_back(v.value());
+        }
     if (desc.layerViews)
         for (uint32_t m = 0; m < img.mips; ++m)
-            for (uint32_t l = 0; l < desc.layers; ++l)
-                img.layerViews.push_back(makeView(device, img, VK_IMAGE_VIEW_TYPE_2D, m, 1, l, 1));
+            for (uint32_t l = 0; l < desc.layers; ++l) {
+                auto v = makeView(device, img, VK_IMAGE_VIEW_TYPE_2D, m, 1, l, 1, desc.name);
+                ML_TRY(v);
+                img.layerViews.push_back(v.value());
+            }
     device.setName(VK_OBJECT_TYPE_IMAGE, uint64_t(img.image), desc.name);
+    return {};
+}
+} // namespace
+
+Result<void> createImage(const Device& device, Image& out, const ImageDesc& desc) {
+    if (auto r = makeImage(device, out, desc); !r) {
+        destroyImage(device, out);
+        return r;
+    }
+    return {};
+}
+
+Image createImage(const Device& device, const ImageDesc& desc) {
+    Image img;
+    orAbort(createImage(device, img, desc));
     return img;
 }
 
-Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format,
-                  VkImageUsageFlags usage, const char* name) {
+Result<void> createImage(const Device& device, Image& out, uint32_t width, uint32_t height, VkFormat format,
+                         VkImageUsageFlags usage, const char* name) {
     ImageDesc desc;
     desc.width = width;
     desc.height = height;
     desc.format = format;
     desc.usage = usage;
     desc.name = name;
-    return createImage(device, desc);
+    return createImage(device, out, desc);
+}
+
+Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format,
+                  VkImageUsageFlags usage, const char* name) {
+    Image img;
+    orAbort(createImage(device, img, width, height, format, usage, name));
+    return img;
 }
 
 void destroyImage(const Device& device, Image& img) {
@@ -220,7 +362,7 @@ void destroyImage(const Device& device, Image& img) {
     for (VkImageView v : img.layerViews) vkDestroyImageView(device.device, v, nullptr);
     if (img.view) vkDestroyImageView(device.device, img.view, nullptr);
     if (img.image) vkDestroyImage(device.device, img.image, nullptr);
-    if (img.memory) vkFreeMemory(device.device, img.memory, nullptr);
+    freeMemory(device, img.memory, img.kind, MemoryRole::GpuOnly, img.allocated);
     img = Image{};
 }
 
@@ -293,7 +435,8 @@ void uploadImage(const Device& device, const Image& image, uint32_t mip, uint32_
                      image.mipWidth(mip), image.mipHeight(mip), formatBytes(image.format));
         std::abort();
     }
-    Buffer staging = createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "upload_staging");
+    Buffer staging =
+        createBuffer(device, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "upload_staging", MemoryRole::Staging);
     std::memcpy(staging.data, data, bytes);
     VkCommandBuffer cmd = device.beginOneTime();
     // Earlier uses of the subresource (write-after-read/write; none when discarded) -> the copy's writes.
@@ -314,7 +457,8 @@ std::vector<uint8_t> readImage(const Device& device, const Image& image, uint32_
                                VkImageLayout layout) {
     checkSubresource(image, mip, layer, "readImage");
     std::vector<uint8_t> out(subresourceBytes(image, mip));
-    Buffer staging = createBuffer(device, out.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging");
+    Buffer staging = createBuffer(device, out.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback_staging",
+                                  MemoryRole::Readback);
     VkCommandBuffer cmd = device.beginOneTime();
     // The last writes of the subresource -> the copy's reads.
     subresourceBarrier(cmd, image, mip, layer, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kImageUseStages,

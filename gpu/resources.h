@@ -1,13 +1,19 @@
-// Buffers and images.
-//   createBuffer        host-visible, persistently mapped: per-frame data the CPU writes (frame constants,
-//                       lights, instances) and small readbacks (counters). On lavapipe all memory is host
-//                       memory; on a discrete GPU this is host-visible device memory or system memory.
-//   createDeviceBuffer  device-local, not mapped: persistent GPU state (shadow page tables and pools,
-//                       cluster lists). The host reaches it only through readBuffer, which records a copy
-//                       through a staging buffer and waits (setup and tests only).
+// Buffers and images. Each buffer has a memory role (gpu/memory.h: where it lives on a discrete GPU, an
+// integrated one or lavapipe); the choice is a pure function of the device's memory types.
+//   createBuffer        mapped roles: Upload (default: per-frame data the CPU writes every frame, one buffer
+//                       per frame in flight: frame constants, lights, instances, VSM maps), Readback (GPU
+//                       writes, CPU reads: counters, probes, readbacks), Staging (copy sources). Persistently
+//                       mapped, zeroed. GpuOnly given here goes to createDeviceBuffer.
+//   createDeviceBuffer  GpuOnly: device-local, not mapped, filled with `fill` words: GPU state (cluster
+//                       lists, VSM page tables and pools) and data the host writes at load time only through
+//                       uploadBuffer (geometry, draws, static bakes: a staging copy, waits). The host reads
+//                       them only through readBuffer (a staging copy, waits: setup and tests).
 //   createImage         device-local 2D image with mips and layers (ImageDesc), a view of the whole image,
 //                       a view per mip and optionally per (mip, layer); uploadImage / readImage move one
 //                       mip of one layer through a staging buffer (setup and tests only).
+// The module's paths use the Result forms (an out-parameter; out of memory is an error naming the
+// resource, and on failure the out-parameter is empty). The value-returning forms abort on failure: for
+// tests and tools only. Bytes per memory kind are counted on the device (Device::memoryUsage).
 //
 // Lifetimes. Every GPU-only resource is one copy shared by the frames in flight: frames on one queue are
 // ordered by the frame-start barrier (module.cpp), so a frame never overlaps the previous one's work on
@@ -20,6 +26,7 @@
 // frame in flight: Module::Impl::Slot, VirtualShadowMaps::Slot), since the CPU cannot wait for the GPU.
 #pragma once
 #include "gpu/device.h"
+#include "gpu/memory.h"
 
 #include <algorithm>
 #include <cstring>
@@ -31,8 +38,11 @@ namespace ml {
 struct Buffer {
     VkBuffer buffer = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    void* data = nullptr;
+    void* data = nullptr; // mapped roles only
     VkDeviceSize size = 0;
+    MemoryKind kind = MemoryKind::Host; // of `memory` (counted on the device, with the role)
+    MemoryRole role = MemoryRole::Upload;
+    VkDeviceSize allocated = 0; // bytes of `memory`
 
     template <class T> T* as() { return static_cast<T*>(data); }
     template <class T> const T* as() const { return static_cast<const T*>(data); }
@@ -44,6 +54,8 @@ struct Image {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE; // every mip and layer (2D, or 2D_ARRAY: layers > 1 or arrayViews)
     VkDeviceMemory memory = VK_NULL_HANDLE;
+    MemoryKind kind = MemoryKind::DeviceLocal; // images are GPU-only
+    VkDeviceSize allocated = 0;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t width = 0, height = 0;
     VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
@@ -74,26 +86,49 @@ constexpr VkBufferUsageFlags kStorageBufferUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
 // size 0 is allowed and becomes a 16-byte buffer, so empty scenes still bind valid descriptors.
-Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name);
+Result<void> createBuffer(const Device& device, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
+                          const char* name, MemoryRole role = MemoryRole::Upload);
+Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
+                    MemoryRole role = MemoryRole::Upload); // aborts on failure (tests, tools)
 // Device-local (falls back to any memory type the buffer allows); contents start as `fill` words.
+Result<void> createDeviceBuffer(const Device& device, Buffer& out, VkDeviceSize size,
+                                VkBufferUsageFlags usage, const char* name, uint32_t fill = 0);
 Buffer createDeviceBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage, const char* name,
-                          uint32_t fill = 0);
+                          uint32_t fill = 0); // aborts on failure (tests, tools)
+// Host data into `buffer` at `offset`: a mapped buffer is written in place; a GPU-only one through a
+// staging buffer and a copy, submitted and waited for (load time only: the caller has waited for the
+// frames in flight that read the buffer).
+Result<void> uploadBuffer(const Device& device, const Buffer& buffer, const void* data, VkDeviceSize bytes,
+                          VkDeviceSize offset, const char* name);
 // Copies `bytes` from `offset` of any buffer to the host through a staging buffer (waits for the queue).
 std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset,
                                 VkDeviceSize bytes);
+// The whole buffer as an array of T (readBuffer: tests and tools read GPU-only buffers this way).
+template <class T> std::vector<T> readBufferAs(const Device& device, const Buffer& buffer) {
+    std::vector<uint8_t> bytes = readBuffer(device, buffer, 0, buffer.size);
+    std::vector<T> out(bytes.size() / sizeof(T));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+    return out;
+}
 void destroyBuffer(const Device& device, Buffer& buffer);
-// Grows (recreates) when smaller than `size`; contents are not kept. Returns true when recreated.
-bool ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage,
-                  const char* name);
+// Grows (recreates) when smaller than `size`; contents are not kept. Returns true when recreated. On
+// failure the buffer is left empty (destroyed), so a later call retries.
+Result<bool> ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage,
+                          const char* name, MemoryRole role = MemoryRole::Upload);
+// Mapped buffers only.
 inline void upload(Buffer& buffer, const void* src, size_t bytes, size_t offset = 0) {
     std::memcpy(static_cast<char*>(buffer.data) + offset, src, bytes);
 }
 
 // One mip, one layer (the simple images: G-buffer, outputs), a PerFrame image.
+Result<void> createImage(const Device& device, Image& out, uint32_t width, uint32_t height, VkFormat format,
+                         VkImageUsageFlags usage, const char* name);
+// Mips and layers. Refused naming the image when the device cannot hold it (dimension, layer limits).
+// Transfer usage is added (uploadImage / readImage). The image starts in UNDEFINED layout.
+Result<void> createImage(const Device& device, Image& out, const ImageDesc& desc);
+// The same, aborting on failure (tests, tools).
 Image createImage(const Device& device, uint32_t width, uint32_t height, VkFormat format,
                   VkImageUsageFlags usage, const char* name);
-// Mips and layers. Aborts naming the image when the device cannot hold it (dimension, layer limits).
-// Transfer usage is added (uploadImage / readImage). The image starts in UNDEFINED layout.
 Image createImage(const Device& device, const ImageDesc& desc);
 void destroyImage(const Device& device, Image& image);
 // Bytes per texel of the formats the module uses (0 for others).

@@ -4,19 +4,27 @@
 
 namespace ml {
 
-Result<std::unique_ptr<VsmSession>> VsmSession::create(const VsmSessionOptions& o) {
+Result<std::unique_ptr<VsmSession>> VsmSession::create(const VsmSessionOptions& o, bool* settingsRefused) {
+    if (settingsRefused) *settingsRefused = false;
     auto s = std::make_unique<VsmSession>();
     s->options = o;
     auto scene = loadScene(o.scene, o.lights, o.seed);
     if (!scene) return fail(scene.error());
     s->scene = std::move(scene.value());
     auto module = Module::create(o.module);
-    if (!module) return fail(module.error());
+    if (!module) {
+        if (settingsRefused) *settingsRefused = module.error().rfind("vsm: ", 0) == 0;
+        return fail(module.error());
+    }
     s->module = std::move(module.value());
     auto binding = bindScene(*s->module, s->scene);
     if (!binding) return fail(binding.error());
     s->binding = binding.value();
-    if (auto r = s->module->createTargets(o.width, o.height); !r) return fail(r.error());
+    if (auto r = s->module->createTargets(o.width, o.height); !r) {
+        // Out of memory is a run failure; a size past the device's limits is the settings'.
+        if (settingsRefused) *settingsRefused = r.error().find("VK_ERROR_OUT_OF") == std::string::npos;
+        return fail(r.error());
+    }
     if (!o.bake.empty()) {
         auto n = attachBakeFile(*s->module, s->binding, o.bake, o.scene, o.lights, o.seed);
         if (!n) return fail(n.error());

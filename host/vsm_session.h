@@ -24,7 +24,11 @@ struct VsmSession {
     std::unique_ptr<Module> module;
     VsmSessionOptions options;
 
-    static Result<std::unique_ptr<VsmSession>> create(const VsmSessionOptions& options);
+    // settingsRefused (optional): set when the module refused the settings against the device's limits
+    // or ranges (its "vsm: ..." and target-size refusals; a usage error for the commands), not for a
+    // device or scene failure.
+    static Result<std::unique_ptr<VsmSession>> create(const VsmSessionOptions& options,
+                                                      bool* settingsRefused = nullptr);
     // Animates the scene to frame f, moves the camera along the path, records and submits the frame and
     // waits for it (reports are collected).
     Result<FrameReport> frame(uint32_t f);

@@ -13,15 +13,16 @@ Descriptor sampled(VkImageView view) {
 }
 } // namespace
 
-void EvaluatePass::create(const Device& device) {
-    shader_ = ML_SHADER(device, spv_evaluate_comp);
+Result<void> EvaluatePass::create(const Device& device) {
+    return ML_LOAD_SHADER(device, shader_, spv_evaluate_comp);
 }
 
-void EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs, bool pbr) {
+Result<void> EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs, bool pbr) {
     Program& p = programs_[uint32_t(outputs) * 2 + pbr];
     if (!p.pipeline)
-        p = createComputeProgram(device, shader_,
-                                 {{/*kSpecOutput*/ 0, uint32_t(outputs)}, {/*kSpecPbr*/ 1, uint32_t(pbr)}});
+        ML_TRY(createComputeProgram(
+            device, p, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}, {/*kSpecPbr*/ 1, uint32_t(pbr)}}));
+    return {};
 }
 
 void EvaluatePass::destroy(const Device& device) {
@@ -44,9 +45,9 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInput
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
 }
 
-void StatisticsPass::create(const Device& device) {
-    shader_ = ML_SHADER(device, spv_statistics_comp);
-    program_ = createComputeProgram(device, shader_);
+Result<void> StatisticsPass::create(const Device& device) {
+    ML_TRY(ML_LOAD_SHADER(device, shader_, spv_statistics_comp));
+    return createComputeProgram(device, program_, shader_);
 }
 
 void StatisticsPass::destroy(const Device& device) {

@@ -40,11 +40,11 @@ constexpr uint32_t kEvaluateOutputModes = 3;
 
 class EvaluatePass {
   public:
-    void create(const Device& device);
+    Result<void> create(const Device& device);
     void destroy(const Device& device);
     // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait);
     // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
-    void prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
+    Result<void> prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
     // Writes `hdr` (RGBA16F storage, GENERAL) and `output` (RGBA8 storage, GENERAL) as `outputs` says;
     // both views must be valid images in GENERAL. prepare(outputs) must have run.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
@@ -58,7 +58,7 @@ class EvaluatePass {
 
 class StatisticsPass {
   public:
-    void create(const Device& device);
+    Result<void> create(const Device& device);
     void destroy(const Device& device);
     // Adds the frame's per-pixel counts to `counters` (FrameCounters) and makes them visible to the host.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,

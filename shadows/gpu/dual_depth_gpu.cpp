@@ -15,8 +15,8 @@ namespace ml {
 
 Result<std::unique_ptr<DualDepthRenderer>> DualDepthRenderer::create(const Device& device) {
     std::unique_ptr<DualDepthRenderer> r(new DualDepthRenderer(device));
-    r->vs_ = ML_SHADER(device, spv_dual_depth_vert);
-    r->fs_ = ML_SHADER(device, spv_dual_depth_frag);
+    ML_TRY(ML_LOAD_SHADER(device, r->vs_, spv_dual_depth_vert));
+    ML_TRY(ML_LOAD_SHADER(device, r->fs_, spv_dual_depth_frag));
     GraphicsState state;
     state.cull = VK_CULL_MODE_NONE; // both faces: front faces enter, back faces exit
     // The light projection has no y flip (map row 0 = NDC y -1 = framebuffer row 0), so a triangle that
@@ -25,7 +25,7 @@ Result<std::unique_ptr<DualDepthRenderer>> DualDepthRenderer::create(const Devic
     state.depthTest = false;
     state.depthWrite = false;
     for (uint32_t pass = 0; pass < 3; ++pass)
-        r->passes_[pass] = createGraphicsProgram(device, {&r->vs_, &r->fs_}, state, {{0, pass}});
+        ML_TRY(createGraphicsProgram(device, r->passes_[pass], {&r->vs_, &r->fs_}, state, {{0, pass}}));
     return r;
 }
 
@@ -52,21 +52,24 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
     for (size_t t = 0; t < casters.triangleCount(); ++t)
         for (int k = 0; k < 3; ++k)
             verts.emplace_back(casters.positions[t * 3 + k], casters.closed[t] ? 1.0f : 0.0f);
-    ensureBuffer(d, vertices_, verts.size() * sizeof(glm::vec4), kStorageBufferUsage, "dual_vertices");
-    if (!verts.empty()) upload(vertices_, verts.data(), verts.size() * sizeof(glm::vec4));
+    // GPU-only, written once per map through a staging copy.
+    ML_TRY(ensureBuffer(d, vertices_, verts.size() * sizeof(glm::vec4), kStorageBufferUsage, "dual_vertices",
+                        MemoryRole::GpuOnly));
+    ML_TRY(uploadBuffer(d, vertices_, verts.data(), verts.size() * sizeof(glm::vec4), 0, "dual_vertices"));
 
     const uint32_t tile = std::min(res, maxTile);
     if (tile != tile_) {
         for (Image* i : {&enter_, &closed_, &exit_}) destroyImage(d, *i);
         VkImageUsageFlags usage =
             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-        enter_ = createImage(d, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_enter");
-        closed_ = createImage(d, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_closed");
-        exit_ = createImage(d, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_exit");
+        tile_ = 0; // until all three exist
+        ML_TRY(createImage(d, enter_, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_enter"));
+        ML_TRY(createImage(d, closed_, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_closed"));
+        ML_TRY(createImage(d, exit_, tile, tile, VK_FORMAT_R32_UINT, usage, "dual_exit"));
         tile_ = tile;
     }
-    ensureBuffer(d, readback_, size_t(tile) * tile * 4 * 3, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                 "dual_readback");
+    ML_TRY(ensureBuffer(d, readback_, size_t(tile) * tile * 4 * 3, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                        "dual_readback", MemoryRole::Readback));
 
     DualDepthMap map;
     map.resolution = res;
@@ -88,7 +91,9 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
             gpu::DualDepthPush push{crop * proj * f.view, f.view,
                                     glm::vec4(f.farPlane, float(x0), float(y0), float(tile))};
 
-            VkCommandBuffer cmd = d.beginOneTime();
+            auto began = d.tryBeginOneTime("dual depth tile");
+            ML_TRY(began);
+            VkCommandBuffer cmd = began.value();
             for (const Image* img : {&enter_, &closed_, &exit_}) {
                 imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
                              VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0,
@@ -127,7 +132,7 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
                 offset += VkDeviceSize(tile) * tile * 4;
             }
             fullBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);
-            d.endOneTime(cmd);
+            ML_TRY(d.tryEndOneTime(cmd, "dual depth tile"));
 
             const uint32_t* enter = readback_.as<uint32_t>();
             const uint32_t* closed = enter + size_t(tile) * tile;

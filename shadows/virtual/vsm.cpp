@@ -64,44 +64,47 @@ bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32
     return true;
 }
 
-void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t framesInFlight) {
+Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t framesInFlight) {
     settings_ = s;
-    if (!s.enabled) return;
+    if (!s.enabled) return {};
     s0_ = s.resolution / s.pageSize;
     mips_ = uint32_t(std::countr_zero(s0_)) + 1;
     entriesPerMap_ = gpu::vsmMipOffset(s0_, mips_);
 
     // Persistent GPU state, device-local: the host reads it only through readBuffer (tests, check vsm).
     // The map-sized buffers (page table, marks, HPB, per-slot maps and bits) are made by resizeMaps.
-    pages_.owners =
-        createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners", ML_VSM_NO_OWNER);
-    pages_.lastUsed = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_last_used");
-    pages_.pool = createDeviceBuffer(d, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
-                                     kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu);
+    ML_TRY(createDeviceBuffer(d, pages_.owners, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_owners",
+                              ML_VSM_NO_OWNER));
+    ML_TRY(createDeviceBuffer(d, pages_.lastUsed, size_t(s.poolPages) * 4, kStorageBufferUsage,
+                              "vsm_last_used"));
+    ML_TRY(createDeviceBuffer(d, pages_.pool, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
+                              kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu));
     // The request list: a power of two, so vsm_sort's merge passes end on one sorted run.
     const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
     settings_.requestCapacity = capacity;
     pages_.mergePasses = uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK));
-    pages_.sortArgs =
-        createDeviceBuffer(d, (4 + 3 * (pages_.mergePasses + 1)) * 4, kIndirectUsage, "vsm_sort_args");
+    ML_TRY(createDeviceBuffer(d, pages_.sortArgs, (4 + 3 * (pages_.mergePasses + 1)) * 4, kIndirectUsage,
+                              "vsm_sort_args"));
     for (uint32_t i = 0; i < 2; ++i)
-        pages_.list[i] = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_request_list");
-    pages_.blockCounts =
-        createDeviceBuffer(d, (capacity / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage, "vsm_block_counts");
+        ML_TRY(createDeviceBuffer(d, pages_.list[i], size_t(capacity) * 4, kStorageBufferUsage,
+                                  "vsm_request_list"));
+    ML_TRY(createDeviceBuffer(d, pages_.blockCounts, (capacity / ML_VSM_BLOCK + 1) * 4, kStorageBufferUsage,
+                              "vsm_block_counts"));
     const uint32_t poolBlocks = (s.poolPages + ML_VSM_BLOCK - 1) / ML_VSM_BLOCK;
-    pages_.classCounts =
-        createDeviceBuffer(d, size_t(poolBlocks) * 9 * 4, kStorageBufferUsage, "vsm_class_counts");
-    pages_.avail = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail");
-    pages_.rendered = createDeviceBuffer(d, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered");
+    ML_TRY(createDeviceBuffer(d, pages_.classCounts, size_t(poolBlocks) * 9 * 4, kStorageBufferUsage,
+                              "vsm_class_counts"));
+    ML_TRY(createDeviceBuffer(d, pages_.avail, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_avail"));
+    ML_TRY(
+        createDeviceBuffer(d, pages_.rendered, size_t(s.poolPages) * 4, kStorageBufferUsage, "vsm_rendered"));
     // HPB levels 1..log2(S_0) as bits, hpbWords_ per map slot (2730 bits at S_0 = 64): a buffer, so map
     // slots are not bounded by maxImageArrayLayers. Cleared for the maps in use at every frame's start.
     hpbLevels_ = mips_ - 1;
     hpbWords_ = std::max(1u, (gpu::vsmHpbLevelOffset(s0_, mips_) + 31) / 32);
     const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
-    pages_.draws =
-        createDeviceBuffer(d, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage, "vsm_draws");
-    pages_.drawInfo = createDeviceBuffer(d, draws * 8, kStorageBufferUsage, "vsm_draw_info");
-    pages_.drawCounts = createDeviceBuffer(d, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts");
+    ML_TRY(createDeviceBuffer(d, pages_.draws, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage,
+                              "vsm_draws"));
+    ML_TRY(createDeviceBuffer(d, pages_.drawInfo, draws * 8, kStorageBufferUsage, "vsm_draw_info"));
+    ML_TRY(createDeviceBuffer(d, pages_.drawCounts, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts"));
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());
@@ -116,60 +119,90 @@ void VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t f
     if (settings_.raster == VsmRaster::Mesh) {
         // One task workgroup per 32 list entries, at most 65535 workgroups per mip's draw.
         settings_.maxMeshletsPerMip = std::clamp(settings_.maxMeshletsPerMip, 1u, 65535u * ML_VSM_TASK_GROUP);
-        pages_.meshletList = createDeviceBuffer(d, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
-                                                kStorageBufferUsage, "vsm_meshlet_list");
-        pages_.meshTasks = createDeviceBuffer(d, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks");
+        ML_TRY(createDeviceBuffer(d, pages_.meshletList, size_t(mips_) * settings_.maxMeshletsPerMip * 12,
+                                  kStorageBufferUsage, "vsm_meshlet_list"));
+        ML_TRY(createDeviceBuffer(d, pages_.meshTasks, size_t(mips_) * 16, kIndirectUsage, "vsm_mesh_tasks"));
     }
 
     slots_.resize(framesInFlight);
     for (Slot& sl : slots_) {
-        sl.constants =
-            createBuffer(d, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "vsm_constants");
-        sl.counters = createBuffer(d, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters");
-        sl.probes = createBuffer(d, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
-                                 kStorageBufferUsage, "vsm_probes");
+        ML_TRY(createBuffer(d, sl.constants, sizeof(gpu::VsmConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            "vsm_constants"));
+        ML_TRY(createBuffer(d, sl.counters, sizeof(gpu::VsmCounters), kIndirectUsage, "vsm_counters",
+                            MemoryRole::Readback));
+        ML_TRY(createBuffer(d, sl.probes, 16 + size_t(s.probeCapacity) * sizeof(gpu::GpuVsmProbe),
+                            kStorageBufferUsage, "vsm_probes", MemoryRole::Readback));
     }
-    resizeMaps(d,
-               std::min({s.maxMaps, std::max(s.initialMaps, 1u), uint32_t(0xFFFFFFFFull / entriesPerMap_)}));
+    return resizeMaps(
+        d, std::min({s.maxMaps, std::max(s.initialMaps, 1u), uint32_t(0xFFFFFFFFull / entriesPerMap_)}));
 }
 
-void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
+Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
     // Map slots come from a pool that grows (doubling, up to settings().maxMaps) when a light needs slots
     // and none are free: the page table keeps its entries (copied), the per-frame buffers are remade
     // (every frame rewrites them), and the new slots join the free list. The device is idle meanwhile.
+    // Every new buffer is made before anything is replaced: out of memory leaves the old slots as they
+    // were (the new ones are destroyed) and is returned.
     const uint32_t old = capacity_;
     const size_t entries = size_t(capacity) * entriesPerMap_;
     const size_t bitWords = (entries + 31) / 32;
-    Buffer table = createDeviceBuffer(d, entries * 4, kStorageBufferUsage, "vsm_page_table");
+    VsmPages next; // the map-sized buffers only
+    std::vector<Slot> nextSlots(slots_.size());
+    auto made = [&]() -> Result<void> {
+        ML_TRY(createDeviceBuffer(d, next.table, entries * 4, kStorageBufferUsage, "vsm_page_table"));
+        // lookup, fallback, then wanted (either) marks
+        ML_TRY(createDeviceBuffer(d, next.marks, 3 * bitWords * 4, kStorageBufferUsage, "vsm_marks"));
+        ML_TRY(createDeviceBuffer(d, next.dirtyMips, size_t(capacity) * 4, kStorageBufferUsage,
+                                  "vsm_dirty_mips"));
+        ML_TRY(createDeviceBuffer(d, next.dirtyMaps, size_t(capacity) * 4, kStorageBufferUsage,
+                                  "vsm_dirty_maps"));
+        ML_TRY(createDeviceBuffer(d, next.hpb, size_t(capacity) * hpbWords_ * 4, kStorageBufferUsage,
+                                  "vsm_hpb"));
+        for (Slot& sl : nextSlots) {
+            ML_TRY(createBuffer(d, sl.maps, size_t(capacity) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage,
+                                "vsm_maps"));
+            ML_TRY(createBuffer(d, sl.coverage, bitWords * 4, kStorageBufferUsage, "vsm_coverage"));
+            ML_TRY(createBuffer(d, sl.stale, bitWords * 4, kStorageBufferUsage, "vsm_stale"));
+            ML_TRY(createBuffer(d, sl.active, size_t(capacity) * 4, kStorageBufferUsage, "vsm_active"));
+            // At most one run per active map and level of detail.
+            ML_TRY(createBuffer(d, sl.runs,
+                                size_t(capacity) * std::max(mips_, settings_.clipLevels) * sizeof(glm::uvec4),
+                                kStorageBufferUsage, "vsm_runs"));
+            ML_TRY(createBuffer(d, sl.rankBase, size_t(capacity) * mips_ * 4, kStorageBufferUsage,
+                                "vsm_rank_base"));
+        }
+        return {};
+    }();
+    auto mapSized = [](VsmPages& p) {
+        return std::array<Buffer*, 5>{&p.table, &p.marks, &p.dirtyMips, &p.dirtyMaps, &p.hpb};
+    };
+    auto slotSized = [](Slot& sl) {
+        return std::array<Buffer*, 6>{&sl.maps, &sl.coverage, &sl.stale, &sl.active, &sl.runs, &sl.rankBase};
+    };
+    if (!made) {
+        for (Buffer* b : mapSized(next)) destroyBuffer(d, *b);
+        for (Slot& sl : nextSlots)
+            for (Buffer* b : slotSized(sl)) destroyBuffer(d, *b);
+        return made;
+    }
     if (old > 0) {
         ML_VK_CHECK(vkDeviceWaitIdle(d.device));
         VkCommandBuffer cmd = d.beginOneTime();
         const VkBufferCopy region{0, 0, VkDeviceSize(old) * entriesPerMap_ * 4};
-        vkCmdCopyBuffer(cmd, pages_.table.buffer, table.buffer, 1, &region);
+        vkCmdCopyBuffer(cmd, pages_.table.buffer, next.table.buffer, 1, &region);
         d.endOneTime(cmd);
-        for (Buffer* b : {&pages_.table, &pages_.marks, &pages_.dirtyMips, &pages_.dirtyMaps, &pages_.hpb})
-            destroyBuffer(d, *b);
-        for (Slot& sl : slots_)
-            for (Buffer* b : {&sl.maps, &sl.coverage, &sl.stale, &sl.active, &sl.runs, &sl.rankBase})
-                destroyBuffer(d, *b);
     }
-    pages_.table = table;
+    for (Buffer* b : mapSized(pages_)) destroyBuffer(d, *b);
+    const auto nextBuffers = mapSized(next);
+    const auto ownBuffers = mapSized(pages_);
+    for (size_t i = 0; i < ownBuffers.size(); ++i) *ownBuffers[i] = *nextBuffers[i];
     markWords_ = bitWords;
-    pages_.marks = createDeviceBuffer(d, 3 * bitWords * 4, kStorageBufferUsage,
-                                      "vsm_marks"); // lookup, fallback, then wanted (either) marks
-    pages_.dirtyMips = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_mips");
-    pages_.dirtyMaps = createDeviceBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_dirty_maps");
-    pages_.hpb = createDeviceBuffer(d, size_t(capacity) * hpbWords_ * 4, kStorageBufferUsage, "vsm_hpb");
-    for (Slot& sl : slots_) {
-        sl.maps = createBuffer(d, size_t(capacity) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage, "vsm_maps");
-        sl.coverage = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_coverage");
-        sl.stale = createBuffer(d, bitWords * 4, kStorageBufferUsage, "vsm_stale");
-        sl.active = createBuffer(d, size_t(capacity) * 4, kStorageBufferUsage, "vsm_active");
-        // At most one run per active map and level of detail.
-        sl.runs =
-            createBuffer(d, size_t(capacity) * std::max(mips_, settings_.clipLevels) * sizeof(glm::uvec4),
-                         kStorageBufferUsage, "vsm_runs");
-        sl.rankBase = createBuffer(d, size_t(capacity) * mips_ * 4, kStorageBufferUsage, "vsm_rank_base");
+    for (size_t k = 0; k < slots_.size(); ++k) {
+        Slot& sl = slots_[k];
+        for (Buffer* b : slotSized(sl)) destroyBuffer(d, *b);
+        const auto from = slotSized(nextSlots[k]);
+        const auto to = slotSized(sl);
+        for (size_t i = 0; i < to.size(); ++i) *to[i] = *from[i];
         sl.host.coverage.resize(bitWords, 0);
         sl.host.stale.resize(bitWords, 0);
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
@@ -180,6 +213,7 @@ void VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
     for (uint32_t i = old; i < capacity; ++i) freeSlots_.push_back(i);
     std::sort(freeSlots_.rbegin(), freeSlots_.rend()); // descending: the back is the lowest
     capacity_ = capacity;
+    return {};
 }
 
 void VirtualShadowMaps::destroy(const Device& d) {
@@ -197,12 +231,12 @@ void VirtualShadowMaps::destroy(const Device& d) {
     slots_.clear();
 }
 
-uint32_t VirtualShadowMaps::allocateSlots(const Device& d, uint32_t count) {
+Result<uint32_t> VirtualShadowMaps::allocateSlots(const Device& d, uint32_t count) {
     // The pool's bound: settings().maxMaps, and entry indices (map x entries per map) below 2^32.
     const uint32_t limit = uint32_t(std::min<uint64_t>(settings_.maxMaps, 0xFFFFFFFFull / entriesPerMap_));
     const uint32_t first = takeSlots(count);
     if (first != ML_VSM_NO_MAP || capacity_ + count > limit) return first;
-    resizeMaps(d, std::min(limit, std::max(2 * capacity_, capacity_ + count)));
+    ML_TRY(resizeMaps(d, std::min(limit, std::max(2 * capacity_, capacity_ + count))));
     return takeSlots(count);
 }
 

@@ -149,7 +149,7 @@ struct VsmSlot {
 // the CPU part of a frame (prepare). Its GPU passes are VsmPasses (vsm_passes.h).
 class VirtualShadowMaps {
   public:
-    void create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
+    Result<void> create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
     void destroy(const Device& device);
     const VsmSettings& settings() const { return settings_; }
     bool enabled() const { return settings_.enabled; }
@@ -160,10 +160,11 @@ class VirtualShadowMaps {
 
     // CPU part of a frame: map slots, matrices, coverage and stale bits, casters. `lights` holds every
     // module light (by id); `visible` the ids in the visible-light buffer's order. Returns the first map
-    // slot per visible light (ML_VSM_NO_MAP: none), to go into GpuLight.info.y.
-    std::vector<uint32_t> prepare(const Device& device, uint32_t slot, uint64_t frame,
-                                  std::span<const VsmLight> lights, std::span<const uint32_t> visible,
-                                  std::span<const VsmInstance> instances, const VsmCamera& camera);
+    // slot per visible light (ML_VSM_NO_MAP: none), to go into GpuLight.info.y. Out of memory (growing
+    // the map slots or the caster buffer) is an error; the state stays valid and the next frame retries.
+    Result<std::vector<uint32_t>> prepare(const Device& device, uint32_t slot, uint64_t frame,
+                                          std::span<const VsmLight> lights, std::span<const uint32_t> visible,
+                                          std::span<const VsmInstance> instances, const VsmCamera& camera);
     // When the passes run (VsmPasses, engine/frame.h): the slot has active maps; the probe pass.
     bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
     bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
@@ -205,22 +206,22 @@ class VirtualShadowMaps {
     };
     // `count` consecutive free map slots (growing the slot pool when none are left), ML_VSM_NO_MAP when
     // settings().maxMaps are all in use.
-    uint32_t allocateSlots(const Device& device, uint32_t count);
+    Result<uint32_t> allocateSlots(const Device& device, uint32_t count);
     uint32_t takeSlots(uint32_t count);
-    void resizeMaps(const Device& device, uint32_t capacity);
+    Result<void> resizeMaps(const Device& device, uint32_t capacity);
     // prepare()'s steps, in order (vsm_prepare.cpp).
     std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
                                            std::span<const uint32_t> visible,
                                            std::span<const VsmInstance> instances) const;
-    void assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
-                        const std::vector<uint8_t>& needs);
+    Result<void> assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
+                                const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
     void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
                                        const std::vector<uint8_t>& needs);
     void buildAllocationOrder(Slot& slot);
-    void uploadSlot(const Device& device, Slot& slot, uint64_t frame, std::span<const VsmInstance> instances,
-                    const VsmCamera& camera);
+    Result<void> uploadSlot(const Device& device, Slot& slot, uint64_t frame,
+                            std::span<const VsmInstance> instances, const VsmCamera& camera);
     void buildMap(uint32_t map, const VsmLight& light, uint32_t face, const VsmCamera& camera, bool& moved);
 
     VsmSettings settings_;

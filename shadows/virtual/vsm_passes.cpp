@@ -19,9 +19,9 @@ Descriptor sampled(VkImageView view) {
 }
 } // namespace
 
-void VsmPasses::create(const Device& device, const VirtualShadowMaps& state) {
+Result<void> VsmPasses::create(const Device& device, const VirtualShadowMaps& state) {
     state_ = &state;
-    programs_.create(device, state.meshPath());
+    return programs_.create(device, state.meshPath());
 }
 
 void VsmPasses::destroy(const Device& device) {

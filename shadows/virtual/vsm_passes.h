@@ -12,7 +12,7 @@ namespace ml {
 class VsmPasses {
   public:
     // Programs for the state's raster path (state.meshPath()); the state outlives the passes.
-    void create(const Device& device, const VirtualShadowMaps& state);
+    Result<void> create(const Device& device, const VirtualShadowMaps& state);
     void destroy(const Device& device);
     void recordReset(VkCommandBuffer cmd) const;
     void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;

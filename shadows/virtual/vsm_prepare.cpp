@@ -33,22 +33,22 @@ bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
 
 } // namespace
 
-std::vector<uint32_t> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex, uint64_t frame,
-                                                 std::span<const VsmLight> lights,
-                                                 std::span<const uint32_t> visible,
-                                                 std::span<const VsmInstance> instances,
-                                                 const VsmCamera& camera) {
+Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex,
+                                                         uint64_t frame, std::span<const VsmLight> lights,
+                                                         std::span<const uint32_t> visible,
+                                                         std::span<const VsmInstance> instances,
+                                                         const VsmCamera& camera) {
     if (!settings_.enabled) return std::vector<uint32_t>(visible.size(), ML_VSM_NO_MAP);
     Slot& slot = slots_[slotIndex];
     if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
     slot.lightsWithPages = slot.lightsWithoutSlot = 0;
     const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
-    assignMapSlots(device, slot, lights, needs);
+    ML_TRY(assignMapSlots(device, slot, lights, needs));
     buildFrameMaps(slot, lights, camera);
     markCoverageAndStale(slot, instances);
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
     buildAllocationOrder(slot);
-    uploadSlot(device, slot, frame, instances, camera);
+    ML_TRY(uploadSlot(device, slot, frame, instances, camera));
     return firstMap;
 }
 
@@ -72,8 +72,9 @@ std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLig
     return needs;
 }
 
-void VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
-                                       const std::vector<uint8_t>& needs) {
+Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
+                                               std::span<const VsmLight> lights,
+                                               const std::vector<uint8_t>& needs) {
     // Slots: assigned on first need, kept while the light keeps its kind (its cached pages stay useful
     // when it comes back into view); a kind change frees them.
     for (uint32_t id = 0; id < lights.size(); ++id) {
@@ -90,7 +91,9 @@ void VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot, std::sp
             st.firstMap = ML_VSM_NO_MAP;
         }
         if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
-            st.firstMap = allocateSlots(device, count);
+            auto first = allocateSlots(device, count);
+            if (!first) return fail(first.error());
+            st.firstMap = first.value();
             if (st.firstMap == ML_VSM_NO_MAP) {
                 ++slot.lightsWithoutSlot;
                 continue;
@@ -103,6 +106,7 @@ void VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot, std::sp
             }
         }
     }
+    return {};
 }
 
 void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lights,
@@ -198,8 +202,8 @@ void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
     slot.orderEntries = rank;
 }
 
-void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t frame,
-                                   std::span<const VsmInstance> instances, const VsmCamera& camera) {
+Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t frame,
+                                           std::span<const VsmInstance> instances, const VsmCamera& camera) {
     // Casters.
     std::vector<gpu::GpuCaster> casters(instances.size());
     for (size_t i = 0; i < instances.size(); ++i) {
@@ -235,8 +239,8 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
     upload(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_ * 4);
-    ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
-                 "vsm_casters");
+    ML_TRY(ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
+                        "vsm_casters"));
     if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
@@ -248,6 +252,7 @@ void VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t fr
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};
         upload(slot.probes, header, sizeof(header));
     }
+    return {};
 }
 
 } // namespace ml

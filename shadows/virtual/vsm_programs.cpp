@@ -21,33 +21,48 @@
 
 namespace ml {
 
-void VsmPrograms::create(const Device& d, bool meshPath) {
-    auto keep = [&](ShaderModule s) -> const ShaderModule& { return shaders_.emplace_back(std::move(s)); };
-    auto compute = [&](ShaderModule s) { return createComputeProgram(d, keep(std::move(s))); };
-    mark = compute(ML_SHADER(d, spv_vsm_mark_comp));
-    list = compute(ML_SHADER(d, spv_vsm_list_comp));
-    sort = compute(ML_SHADER(d, spv_vsm_sort_comp));
-    invalidate = compute(ML_SHADER(d, spv_vsm_invalidate_comp));
-    scan = compute(ML_SHADER(d, spv_vsm_scan_comp));
-    alloc = compute(ML_SHADER(d, spv_vsm_alloc_comp));
-    avail = compute(ML_SHADER(d, spv_vsm_avail_comp));
-    assign = compute(ML_SHADER(d, spv_vsm_assign_comp));
-    hpb = compute(ML_SHADER(d, spv_vsm_hpb_comp));
-    cull = compute(ML_SHADER(d, spv_vsm_cull_comp));
-    clear = compute(ML_SHADER(d, spv_vsm_clear_comp));
-    probe = compute(ML_SHADER(d, spv_vsm_probe_comp));
-    view = compute(ML_SHADER(d, spv_vsm_view_comp));
+Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
+    // Each shader is kept (shaders_, destroyed with the programs) as soon as it exists.
+    auto load = [&](const uint32_t* code, size_t bytes, const char* name) -> Result<const ShaderModule*> {
+        ShaderModule s;
+        if (auto r = loadShader(d, s, code, bytes, name); !r) return fail(r.error());
+        return &shaders_.emplace_back(std::move(s));
+    };
+    auto compute = [&](Program& p, Result<const ShaderModule*> s) -> Result<void> {
+        if (!s) return fail(s.error());
+        return createComputeProgram(d, p, *s.value());
+    };
+#define ML_VSM_SHADER(array) load(array, sizeof(array), #array)
+    ML_TRY(compute(mark, ML_VSM_SHADER(spv_vsm_mark_comp)));
+    ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
+    ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
+    ML_TRY(compute(invalidate, ML_VSM_SHADER(spv_vsm_invalidate_comp)));
+    ML_TRY(compute(scan, ML_VSM_SHADER(spv_vsm_scan_comp)));
+    ML_TRY(compute(alloc, ML_VSM_SHADER(spv_vsm_alloc_comp)));
+    ML_TRY(compute(avail, ML_VSM_SHADER(spv_vsm_avail_comp)));
+    ML_TRY(compute(assign, ML_VSM_SHADER(spv_vsm_assign_comp)));
+    ML_TRY(compute(hpb, ML_VSM_SHADER(spv_vsm_hpb_comp)));
+    ML_TRY(compute(cull, ML_VSM_SHADER(spv_vsm_cull_comp)));
+    ML_TRY(compute(clear, ML_VSM_SHADER(spv_vsm_clear_comp)));
+    ML_TRY(compute(probe, ML_VSM_SHADER(spv_vsm_probe_comp)));
+    ML_TRY(compute(view, ML_VSM_SHADER(spv_vsm_view_comp)));
     GraphicsState gs; // attachment-less: depth goes to the pool with atomics
     gs.cull = VK_CULL_MODE_NONE;
     gs.depthTest = false;
     gs.depthWrite = false;
-    const ShaderModule& frag = keep(ML_SHADER(d, spv_vsm_draw_frag));
-    draw = createGraphicsProgram(d, {&keep(ML_SHADER(d, spv_vsm_draw_vert)), &frag}, gs);
-    if (!meshPath) return;
-    expand = compute(ML_SHADER(d, spv_vsm_expand_comp));
-    const ShaderModule& task = keep(ML_SHADER(d, spv_vsm_draw_task));
-    const ShaderModule& meshShader = keep(ML_SHADER(d, spv_vsm_draw_mesh));
-    mesh = createGraphicsProgram(d, {&task, &meshShader, &frag}, gs);
+    auto frag = ML_VSM_SHADER(spv_vsm_draw_frag);
+    ML_TRY(frag);
+    auto vert = ML_VSM_SHADER(spv_vsm_draw_vert);
+    ML_TRY(vert);
+    ML_TRY(createGraphicsProgram(d, draw, {vert.value(), frag.value()}, gs));
+    if (!meshPath) return {};
+    ML_TRY(compute(expand, ML_VSM_SHADER(spv_vsm_expand_comp)));
+    auto task = ML_VSM_SHADER(spv_vsm_draw_task);
+    ML_TRY(task);
+    auto meshShader = ML_VSM_SHADER(spv_vsm_draw_mesh);
+    ML_TRY(meshShader);
+#undef ML_VSM_SHADER
+    return createGraphicsProgram(d, mesh, {task.value(), meshShader.value(), frag.value()}, gs);
 }
 
 void VsmPrograms::destroy(const Device& d) {

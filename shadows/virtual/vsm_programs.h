@@ -13,7 +13,7 @@ struct VsmPrograms {
     Program draw;   // raster path: vsm_draw.vert + vsm_draw.frag
     Program expand; // mesh path: vsm_expand.comp
     Program mesh;   // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
-    void create(const Device& device, bool meshPath);
+    Result<void> create(const Device& device, bool meshPath);
     void destroy(const Device& device);
 
   private:

@@ -58,7 +58,8 @@ TEST_P(DirectionalBake, ModuleMatchesCpuAndRays) {
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto albedo = readImage(*m, impl.targets.albedo, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
-    const uint32_t* gw = impl.staticWords.as<uint32_t>();
+    std::vector<uint32_t> gwRead = readBufferAs<uint32_t>(*impl.device, impl.staticWords); // GPU-only
+    auto* gw = gwRead.data();
     auto rays = RayReference::build(s, true);
     ASSERT_TRUE(rays.ok()) << rays.error();
     auto rec = makeShadowRecord(method, f, 0, res, 0);

@@ -175,7 +175,8 @@ TEST(Failures, Lights4096OverlappingOneSpot) {
     auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto albedo = readImage(m, impl.targets.albedo, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto hdr = readImage(m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
-    const uint32_t* words = impl.staticWords.as<uint32_t>();
+    std::vector<uint32_t> wordsRead = readBufferAs<uint32_t>(*impl.device, impl.staticWords); // GPU-only
+    auto* words = wordsRead.data();
     uint32_t checked = 0, differ = 0;
     for (size_t i = 37; i < depth.size(); i += 211) {
         if (!gpu::hasSurface(depth[i])) continue;

@@ -42,9 +42,13 @@ void compareWithReference(Module& m, CullingMode mode, uint32_t* wideOut = nullp
     if (mode == CullingMode::Tiled) {
         ASSERT_EQ(grid.slices, 1u);
     }
-    auto* bounds = impl.cull.bounds.as<gpu::ClusterBounds>();
-    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
-    auto* pool = impl.cull.pool.as<uint32_t>();
+    std::vector<gpu::ClusterBounds> boundsRead =
+        readBufferAs<gpu::ClusterBounds>(*impl.device, impl.cull.bounds); // GPU-only
+    auto* bounds = boundsRead.data();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
+    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
+    auto* pool = poolRead.data();
     size_t occupied = 0, entries = 0;
     for (uint32_t c = 0; c < grid.count(); ++c) {
         ASSERT_EQ(0, std::memcmp(&bounds[c], &ref.bounds[c], sizeof(gpu::ClusterBounds))) << "cluster " << c;
@@ -153,8 +157,10 @@ TEST_P(NoLightMissing, AndStatsMatch) {
     auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const auto& fc = impl.lastConstants;
-    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
-    auto* pool = impl.cull.pool.as<uint32_t>();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
+    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
+    auto* pool = poolRead.data();
     uint64_t surface = 0, reaching = 0, evaluated = 0;
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {

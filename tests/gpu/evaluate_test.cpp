@@ -23,8 +23,10 @@ TEST(GpuEvaluate, SampledPixelsMatchCpuShading) {
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto albedo = readImage(*m, impl.targets.albedo, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
-    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
-    auto* pool = impl.cull.pool.as<uint32_t>();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
+    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
+    auto* pool = poolRead.data();
     uint32_t checked = 0, lit = 0;
     for (uint32_t y = 1; y < fc.size.y; y += 5)
         for (uint32_t x = 2; x < fc.size.x; x += 5) {

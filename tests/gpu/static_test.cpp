@@ -143,9 +143,12 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto albedo = readImage(*m, impl.targets.albedo, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     auto hdr = readImage(*m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
-    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
-    auto* pool = impl.cull.pool.as<uint32_t>();
-    const uint32_t* words = impl.staticWords.as<uint32_t>();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
+    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
+    auto* pool = poolRead.data();
+    std::vector<uint32_t> wordsRead = readBufferAs<uint32_t>(*impl.device, impl.staticWords); // GPU-only
+    auto* words = wordsRead.data();
     uint32_t checked = 0, shadowed = 0, differ = 0;
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {

@@ -19,7 +19,8 @@ Counts cpuCounts(Module& m, CullingMode mode) {
     auto& impl = internals(m);
     auto depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const auto& fc = impl.lastConstants;
-    auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
     Counts out;
     size_t n = size_t(fc.size.x) * fc.size.y;
     out.evaluated.assign(n, 0);

@@ -31,9 +31,11 @@ VsmMarkInputs markInputs(Module& m) {
     in.sliceFar = impl.lastSliceFar;
     in.lights = impl.lastLights;
     const size_t clusters = impl.cull.grid.count();
-    const auto* ranges = impl.cull.ranges.as<glm::uvec2>();
+    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
+    auto* ranges = rangesRead.data();
     in.ranges.assign(ranges, ranges + clusters);
-    const auto* pool = impl.cull.pool.as<uint32_t>();
+    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
+    auto* pool = poolRead.data();
     in.pool.assign(pool, pool + impl.cull.poolCapacity);
     in.depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
