@@ -13,10 +13,13 @@
 namespace ml::test {
 namespace {
 
-// The G-buffer and HDR output of the last frame.
+// The G-buffer, HDR output, cluster lists and static words of the last frame (the buffers are GPU-only:
+// read back).
 struct FrameImages {
     std::vector<float> depth;
     std::vector<uint8_t> normal, albedo, material, hdr;
+    std::vector<glm::uvec2> ranges;
+    std::vector<uint32_t> pool, words;
 };
 
 FrameImages readFrame(Module& m) {
@@ -28,6 +31,9 @@ FrameImages readFrame(Module& m) {
     f.albedo = readImage(m, impl.targets.albedo, 4, ro);
     f.material = readImage(m, impl.targets.material, 2, ro);
     f.hdr = readImage(m, impl.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
+    f.ranges = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges);
+    f.pool = readBufferAs<uint32_t>(*impl.device, impl.cull.pool);
+    f.words = readBufferAs<uint32_t>(*impl.device, impl.staticWords);
     return f;
 }
 
@@ -58,9 +64,9 @@ Expected reference(const Module::Impl& impl, const FrameImages& f, uint32_t x, u
     float rough = f.material[i * 2] / 255.0f, metal = f.material[i * 2 + 1] / 255.0f;
     glm::vec3 V = glm::normalize(glm::vec3(fc.cameraPosition) - P);
     e.hdr = a * glm::vec3(fc.ambient);
-    const auto* ranges = impl.cull.ranges.as<glm::uvec2>();
-    const auto* pool = impl.cull.pool.as<uint32_t>();
-    const uint32_t* words = impl.staticWords.as<uint32_t>();
+    const glm::uvec2* ranges = f.ranges.data();
+    const uint32_t* pool = f.pool.data();
+    const uint32_t* words = f.words.data();
     uint32_t s = sliceOf(gpu::linearDepth(f.depth[i], fc.depth), impl.lastSliceFar, fc.cluster.x);
     uint32_t c = ((y / ML_TILE_SIZE) * fc.size.z + x / ML_TILE_SIZE) * fc.cluster.x + s;
     for (uint32_t k = 0; k < ranges[c].y; ++k) {
