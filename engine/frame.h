@@ -86,7 +86,7 @@ class FramePass {
 };
 
 // Records the enabled passes in order, timing each under its Pass (or untimed).
-void runFrame(Profiler& profiler, FrameContext& frame, std::span<FramePass* const> passes);
+Result<void> runFrame(Profiler& profiler, FrameContext& frame, std::span<FramePass* const> passes);
 // The profiler's timer names: one per Pass, in enum order.
 std::vector<std::string> passTimerNames();
 

@@ -15,7 +15,7 @@ std::vector<std::string> passTimerNames() {
     return names;
 }
 
-void runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> passes) {
+Result<void> runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> passes) {
     const VkCommandBuffer frameCmd = f.cmd;
     profiler.beginFrame(frameCmd, f.slot);
     for (FramePass* pass : passes) {
@@ -24,13 +24,15 @@ void runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> p
             f.cmd = c;
             pass->record(f);
         };
-        if (auto timer = pass->timer())
-            profiler.run(frameCmd, uint32_t(*timer), body);
-        else
-            profiler.runUntimed(frameCmd, body);
+        // Only fenced runs can fail (their own command buffer or submission); the frame then stops
+        // there, its later passes unrecorded, and record() returns the error.
+        auto ran = pass->timer() ? profiler.run(frameCmd, uint32_t(*pass->timer()), body)
+                                 : profiler.runUntimed(frameCmd, body);
+        f.cmd = frameCmd;
+        if (!ran) return ran;
     }
-    f.cmd = frameCmd;
     profiler.endFrame(frameCmd); // the frame's completion, readable by the host without waiting
+    return {};
 }
 
 void FrameBeginPass::record(FrameContext& f) {

@@ -576,7 +576,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         &p.debugView,         // --view lights / lights-reaching / vsm
         &p.end,               // counters -> host
     };
-    runFrame(m.profiler, frame, passes);
+    if (auto r = runFrame(m.profiler, frame, passes); !r) return fail("record: " + r.error());
     m.endFrame(slotIndex);
     m.retireStaged(); // the staging buffers this frame copied from: freed once it is done
     return {};

@@ -54,7 +54,8 @@ void Profiler::beginFrame(VkCommandBuffer cmd, uint32_t slot) {
     vkCmdResetQueryPool(cmd, pool_, slot * timers() * 2, timers() * 2);
 }
 
-void Profiler::run(VkCommandBuffer cmd, uint32_t timer, const std::function<void(VkCommandBuffer)>& body) {
+Result<void> Profiler::run(VkCommandBuffer cmd, uint32_t timer,
+                           const std::function<void(VkCommandBuffer)>& body) {
     if (!fenced) {
         const uint32_t query = (current_ * timers() + timer) * 2;
         device_->beginLabel(cmd, names_[timer].c_str());
@@ -63,27 +64,30 @@ void Profiler::run(VkCommandBuffer cmd, uint32_t timer, const std::function<void
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, query + 1);
         recorded_[current_][timer] = true;
         device_->endLabel(cmd);
-        return;
+        return {};
     }
-    VkCommandBuffer own = device_->beginOneTime();
-    device_->beginLabel(own, names_[timer].c_str());
-    body(own);
-    device_->endLabel(own);
+    auto own = device_->tryBeginOneTime(names_[timer].c_str());
+    if (!own) return fail(own.error());
+    device_->beginLabel(own.value(), names_[timer].c_str());
+    body(own.value());
+    device_->endLabel(own.value());
     auto t0 = std::chrono::steady_clock::now();
-    device_->endOneTime(own); // submit and wait
+    ML_TRY(device_->tryEndOneTime(own.value(), names_[timer].c_str())); // submit and wait
     auto t1 = std::chrono::steady_clock::now();
     double start = std::chrono::duration<double, std::milli>(t0.time_since_epoch()).count();
     setFenced(timer, start, std::chrono::duration<double, std::milli>(t1 - t0).count());
+    return {};
 }
 
-void Profiler::runUntimed(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& body) {
+Result<void> Profiler::runUntimed(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& body) {
     if (!fenced) {
         body(cmd);
-        return;
+        return {};
     }
-    VkCommandBuffer own = device_->beginOneTime();
-    body(own);
-    device_->endOneTime(own);
+    auto own = device_->tryBeginOneTime("untimed pass");
+    if (!own) return fail(own.error());
+    body(own.value());
+    return device_->tryEndOneTime(own.value(), "untimed pass");
 }
 
 void Profiler::endFrame(VkCommandBuffer cmd) {

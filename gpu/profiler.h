@@ -21,16 +21,16 @@ class Profiler {
     // Fenced: each pass is submitted on its own and timed with the host clock from submit to completion
     // (lavapipe: its timestamps do not bracket compute, engine/pass_times.h TimingMode).
     bool fenced = false;
-    // Out of memory for the query pool is an error (the profiler is then destroyable, empty). Fenced
-    // runs use the aborting one-off command buffers (a profiling mode, not the module's default path).
+    // Out of memory for the query pool is an error (the profiler is then destroyable, empty); so is
+    // a fenced run's command buffer or submission (run / runUntimed return it, the body not recorded).
     Result<void> create(const Device& device, uint32_t frameSlots, std::vector<std::string> timerNames);
     void destroy(const Device& device);
     // Resets the slot's queries; call before the first pass of the frame.
     void beginFrame(VkCommandBuffer cmd, uint32_t slot);
     // Records `body` as timer `timer`'s pass: into cmd between timestamps, or (fenced) into its own
     // submission, timed. runUntimed does the same for work that must stay in order with the passes.
-    void run(VkCommandBuffer cmd, uint32_t timer, const std::function<void(VkCommandBuffer)>& body);
-    void runUntimed(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& body);
+    Result<void> run(VkCommandBuffer cmd, uint32_t timer, const std::function<void(VkCommandBuffer)>& body);
+    Result<void> runUntimed(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& body);
     // Last command of the frame: copies the slot's timestamps to its results buffer and sets its event
     // (after all of the frame's commands, their writes made visible to the host).
     void endFrame(VkCommandBuffer cmd);

@@ -205,6 +205,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         for (size_t i = 0; i < to.size(); ++i) *to[i] = *from[i];
         sl.host.coverage.resize(bitWords, 0);
         sl.host.stale.resize(bitWords, 0);
+        sl.bitsFull = true; // new buffers: uploaded whole once
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
         sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
     }

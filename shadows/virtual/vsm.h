@@ -119,6 +119,10 @@ struct VsmSlotHost {
     std::vector<glm::uvec4> runs;          // allocation order: (first rank, map, mip, entries)
     std::vector<uint32_t> rankBase;        // first rank per (map slot, mip) of the active maps (vsm_mark)
     std::vector<gpu::GpuVsmMap> maps;      // per map slot
+    // The CPU work of coverage and stale bits this frame (markCoverageAndStale): box-against-light
+    // sphere tests and box projections into maps. Both follow the dynamic and changed instances and
+    // the lights near them, not the instance count (VsmCpu.WorkFollowsTheMovingInstances).
+    uint64_t sphereTests = 0, projections = 0;
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
 // the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
@@ -143,6 +147,12 @@ struct VsmSlot {
     VsmSlotHost host;
     uint32_t orderEntries = 0; // page-table entries of the allocation order
     uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
+    // Coverage and stale bits are sparse (a few maps under moving casters): only the maps whose words
+    // were set are cleared, and only those of this frame and of the slot's previous frame uploaded.
+    // bitsFull: the buffers are new (slot growth), so everything is uploaded once.
+    std::vector<uint32_t> bitMaps;    // maps with a set coverage or stale bit in this slot's buffers
+    std::vector<uint32_t> bitUploads; // this frame's word ranges to upload (maps; repeats allowed)
+    bool bitsFull = true;
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
@@ -209,6 +219,10 @@ class VirtualShadowMaps {
     Result<uint32_t> allocateSlots(const Device& device, uint32_t count);
     uint32_t takeSlots(uint32_t count);
     Result<void> resizeMaps(const Device& device, uint32_t capacity);
+    // The bit words [first, last) that hold map m's page-table entries (shared words at the ends).
+    std::pair<size_t, size_t> mapBitWords(uint32_t m) const {
+        return {size_t(m) * entriesPerMap_ / 32, (size_t(m + 1) * entriesPerMap_ + 31) / 32};
+    }
     // prepare()'s steps, in order (vsm_prepare.cpp).
     std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
                                            std::span<const uint32_t> visible,
@@ -216,7 +230,8 @@ class VirtualShadowMaps {
     Result<void> assignMapSlots(const Device& device, Slot& slot, std::span<const VsmLight> lights,
                                 const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
-    void markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances);
+    void markCoverageAndStale(Slot& slot, std::span<const VsmLight> lights,
+                              std::span<const VsmInstance> instances);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
                                        const std::vector<uint8_t>& needs);
     void buildAllocationOrder(Slot& slot);

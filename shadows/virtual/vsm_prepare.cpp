@@ -45,7 +45,7 @@ Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, u
     const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
     ML_TRY(assignMapSlots(device, slot, lights, needs));
     buildFrameMaps(slot, lights, camera);
-    markCoverageAndStale(slot, instances);
+    markCoverageAndStale(slot, lights, instances);
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
     buildAllocationOrder(slot);
     ML_TRY(uploadSlot(device, slot, frame, instances, camera));
@@ -56,17 +56,21 @@ std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLig
                                                           std::span<const uint32_t> visible,
                                                           std::span<const VsmInstance> instances) const {
     // Which visible lights need maps this frame. A light with a static bake needs them only while a
-    // dynamic caster is inside its range; moving lights and lights without a bake always do.
+    // dynamic caster is inside its range; moving lights and lights without a bake always do. Only the
+    // dynamic casters are tested (a list made once, not lights x every instance).
+    std::vector<uint32_t> dynamicCasters;
+    for (uint32_t i = 0; i < instances.size(); ++i)
+        if (instances[i].dynamic && instances[i].castsShadows) dynamicCasters.push_back(i);
     std::vector<uint8_t> needs(lights.size(), 0);
     for (uint32_t id : visible) {
         const VsmLight& l = lights[id];
         if (!l.castsShadows || !(settings_.kinds & (1u << l.kind))) continue;
         if (l.moving ? !settings_.movingLights : !settings_.staticLights) continue;
         bool need = !l.staticBake;
-        for (size_t i = 0; i < instances.size() && !need; ++i)
-            need = instances[i].dynamic && instances[i].castsShadows &&
-                   (l.kind == ML_LIGHT_DIRECTIONAL ||
-                    boxTouchesSphere(instances[i].lo, instances[i].hi, l.position, l.range));
+        for (size_t k = 0; k < dynamicCasters.size() && !need; ++k) {
+            const VsmInstance& in = instances[dynamicCasters[k]];
+            need = l.kind == ML_LIGHT_DIRECTIONAL || boxTouchesSphere(in.lo, in.hi, l.position, l.range);
+        }
         needs[id] = need ? 1 : 0;
     }
     return needs;
@@ -112,8 +116,12 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
 void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lights,
                                        const VsmCamera& camera) {
     // Matrices of every map in use; a map whose projection or caster set changed is stale as a whole.
-    std::fill(slot.host.coverage.begin(), slot.host.coverage.end(), 0u);
-    std::fill(slot.host.stale.begin(), slot.host.stale.end(), 0u);
+    // The host copy equals the slot's buffers: only the maps with bits set are cleared.
+    for (uint32_t m : slot.bitMaps) {
+        const auto [first, last] = mapBitWords(m);
+        std::fill(slot.host.coverage.begin() + first, slot.host.coverage.begin() + last, 0u);
+        std::fill(slot.host.stale.begin() + first, slot.host.stale.begin() + last, 0u);
+    }
     for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m] = gpu::GpuVsmMap{};
     for (uint32_t id = 0; id < lights.size(); ++id) {
         const LightState& st = lightState_[id];
@@ -127,31 +135,102 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
     }
 }
 
-void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmInstance> instances) {
+void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLight> lights,
+                                             std::span<const VsmInstance> instances) {
     // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
-    // added or removed caster's old or new bounds).
+    // added or removed caster's old or new bounds). Only a few boxes can set a bit: the dynamic casters'
+    // (coverage) and the old and new bounds of the instances that changed (stale; 1 % of 10,000 moving:
+    // 200 boxes). Each is tested once against every light with maps (a flat loop over their spheres),
+    // and projected only into the maps of the lights it touches: the cost is lights x changed boxes
+    // plus the projections, not maps x instances.
     const bool firstFrame = lastInstances_.size() != instances.size();
-    for (uint32_t m = 0; m < mapsInUse_; ++m) {
-        if (!maps_[m].inUse) continue;
-        const gpu::GpuVsmMap& g = slot.host.maps[m];
-        const bool dynamicOnly = (g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0;
-        for (size_t i = 0; i < instances.size(); ++i) {
-            const VsmInstance& in = instances[i];
-            if (dynamicOnly && !in.dynamic) continue;
-            glm::uvec4 rect;
-            if (dynamicOnly && in.castsShadows && vsmProjectBox(g, in.lo, in.hi, s0_, rect))
-                setRectBits(slot.host.coverage, m, rect, s0_, mips_, entriesPerMap_);
-            if (firstFrame) continue;
-            const VsmInstance& old = lastInstances_[i];
-            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
-            for (const VsmInstance* b : {&old, &in})
-                if (vsmProjectBox(g, b->lo, b->hi, s0_, rect))
-                    setRectBits(slot.host.stale, m, rect, s0_, mips_, entriesPerMap_);
+    struct Box {
+        glm::vec3 lo, hi;
+        uint32_t instance;
+        bool coverage; // else stale
+    };
+    std::vector<Box> boxes;
+    for (uint32_t i = 0; i < instances.size(); ++i) {
+        const VsmInstance& in = instances[i];
+        if (in.dynamic && in.castsShadows) boxes.push_back({in.lo, in.hi, i, true});
+        if (firstFrame) continue;
+        const VsmInstance& old = lastInstances_[i];
+        if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
+        boxes.push_back({old.lo, old.hi, i, false});
+        boxes.push_back({in.lo, in.hi, i, false});
+    }
+    // The lights with map slots, as spheres, sorted by centre x: a box tests only the lights whose
+    // centre lies within the largest radius of its x extent (a window over the level, not every light;
+    // directional lights take every box). A box entirely past 1.1 x a local light's range cannot shadow
+    // a point the light reaches: along a texel's ray (and its PCF neighbours, a few texels wide) depth
+    // grows with distance, and lookups happen only within the range (lightReachesPoint) plus a normal
+    // offset of about a texel; 10 % covers both. Its bits would never be read.
+    struct Sphere {
+        float x;
+        glm::vec3 c;
+        float r;
+        uint32_t light;
+    };
+    std::vector<Sphere> local;
+    std::vector<uint32_t> directional;
+    float maxRadius = 0.0f;
+    for (uint32_t id = 0; id < lightState_.size() && id < lights.size(); ++id) {
+        if (lightState_[id].firstMap == ML_VSM_NO_MAP) continue;
+        const VsmLight& l = lights[id];
+        if (l.kind == ML_LIGHT_DIRECTIONAL) {
+            directional.push_back(id);
+            continue;
         }
+        local.push_back({l.position.x, l.position, 1.1f * l.range, id});
+        maxRadius = std::max(maxRadius, 1.1f * l.range);
+    }
+    std::sort(local.begin(), local.end(), [](const Sphere& a, const Sphere& b) { return a.x < b.x; });
+    std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
+    std::vector<uint32_t> touched;                   // maps given a bit (uploadSlot)
+    slot.host.sphereTests = slot.host.projections = 0;
+    for (uint32_t b = 0; b < boxes.size(); ++b) {
+        for (uint32_t id : directional) hits.emplace_back(id, b);
+        auto first = std::lower_bound(local.begin(), local.end(), boxes[b].lo.x - maxRadius,
+                                      [](const Sphere& s, float x) { return s.x < x; });
+        for (auto it = first; it != local.end() && it->x <= boxes[b].hi.x + maxRadius; ++it) {
+            ++slot.host.sphereTests;
+            const glm::vec3 d = glm::max(glm::max(boxes[b].lo - it->c, it->c - boxes[b].hi), glm::vec3(0.0f));
+            if (glm::dot(d, d) <= it->r * it->r) hits.emplace_back(it->light, b);
+        }
+    }
+    std::sort(hits.begin(), hits.end());
+    for (size_t h = 0; h < hits.size();) {
+        const uint32_t k = hits[h].first;
+        const LightState& st = lightState_[k];
+        size_t end = h;
+        while (end < hits.size() && hits[end].first == k) ++end;
+        for (uint32_t m = st.firstMap; m < st.firstMap + st.mapCount; ++m) {
+            if (!maps_[m].inUse) continue;
+            const gpu::GpuVsmMap& g = slot.host.maps[m];
+            const bool dynamicOnly = (g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0;
+            for (size_t j = h; j < end; ++j) {
+                const Box& box = boxes[hits[j].second];
+                // Coverage: dynamic-only maps; stale: every map, dynamic-only ones for dynamic casters.
+                if (box.coverage ? !dynamicOnly : (dynamicOnly && !instances[box.instance].dynamic)) continue;
+                glm::uvec4 rect;
+                ++slot.host.projections;
+                if (!vsmProjectBox(g, box.lo, box.hi, s0_, rect)) continue;
+                setRectBits(box.coverage ? slot.host.coverage : slot.host.stale, m, rect, s0_, mips_,
+                            entriesPerMap_);
+                touched.push_back(m);
+            }
+        }
+        h = end;
     }
     if (firstFrame)
         for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
     lastInstances_.assign(instances.begin(), instances.end());
+    // The words to upload: this frame's maps and the slot's previous ones (now cleared).
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    std::swap(slot.bitMaps, touched);
+    slot.bitUploads = std::move(touched);
+    slot.bitUploads.insert(slot.bitUploads.end(), slot.bitMaps.begin(), slot.bitMaps.end());
 }
 
 std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<const uint32_t> visible,
@@ -232,9 +311,17 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     // Upload (this slot's previous frame has completed: the module waited for its fence).
     upload(slot.constants, &c, sizeof(c));
     upload(slot.maps, slot.host.maps.data(), size_t(mapsInUse_) * sizeof(gpu::GpuVsmMap));
-    const size_t usedWords = (size_t(mapsInUse_) * entriesPerMap_ + 31) / 32;
-    upload(slot.coverage, slot.host.coverage.data(), usedWords * 4);
-    upload(slot.stale, slot.host.stale.data(), usedWords * 4);
+    if (slot.bitsFull) { // new buffers: every word once
+        upload(slot.coverage, slot.host.coverage.data(), slot.host.coverage.size() * 4);
+        upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4);
+        slot.bitsFull = false;
+    } else {
+        for (uint32_t m : slot.bitUploads) {
+            const auto [first, last] = mapBitWords(m);
+            upload(slot.coverage, slot.host.coverage.data() + first, (last - first) * 4, first * 4);
+            upload(slot.stale, slot.host.stale.data() + first, (last - first) * 4, first * 4);
+        }
+    }
     if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));

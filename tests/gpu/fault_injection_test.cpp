@@ -40,7 +40,8 @@ struct Box {
 };
 
 // The demo path at tiny sizes. Virtual shadow maps on (small), so their allocations are covered too.
-Outcome runDemoPath() {
+// fenced: TimingChoice::Fenced, whose passes each get their own command buffer and submission.
+Outcome runDemoPath(bool fenced = false) {
     Outcome out;
     const uint64_t start = faultInjection::allocationPoints();
     auto finish = [&](bool ok, std::string error) {
@@ -60,6 +61,7 @@ Outcome runDemoPath() {
     o.vsm.clipLevels = 2;
     o.vsm.maxDrawsPerMip = 64;
     o.vsm.maxMeshletsPerMip = 256;
+    if (fenced) o.timing = TimingChoice::Fenced;
     auto created = Module::create(o);
     if (!created) return finish(false, created.error());
     std::unique_ptr<Module> m = std::move(created.value());
@@ -100,10 +102,10 @@ Outcome runDemoPath() {
 }
 
 // Runs the path with point `n` failing; checks error, message and leaks.
-void expectCleanFailure(uint64_t n) {
+void expectCleanFailure(uint64_t n, bool fenced = false) {
     resetValidationCounters();
     faultInjection::failAt(n);
-    Outcome o = runDemoPath(); // the module (and its device) is destroyed inside
+    Outcome o = runDemoPath(fenced); // the module (and its device) is destroyed inside
     faultInjection::failAt(0);
     EXPECT_FALSE(o.ok) << "point " << n << ": the failed allocation was not reported";
     EXPECT_NE(o.error.find("failed: VK_ERROR_OUT_OF_DEVICE_MEMORY"), std::string::npos)
@@ -113,15 +115,15 @@ void expectCleanFailure(uint64_t n) {
     EXPECT_EQ(validationErrors(), 0u) << "point " << n << " (" << o.error << "): objects left or misuse";
 }
 
-uint64_t countPoints() {
+uint64_t countPoints(bool fenced = false) {
     resetValidationCounters();
     faultInjection::failAt(0);
-    Outcome o = runDemoPath();
+    Outcome o = runDemoPath(fenced);
     EXPECT_TRUE(o.ok) << o.error;
     EXPECT_EQ(validationErrors(), 0u);
     EXPECT_GT(o.points, 50u) << "the path passed fewer allocation points than it makes objects";
-    std::printf("fault injection: the demo path passes %llu allocation points\n",
-                (unsigned long long)o.points);
+    std::printf("fault injection: the demo path (%s timing) passes %llu allocation points\n",
+                fenced ? "fenced" : "timestamp", (unsigned long long)o.points);
     return o.points;
 }
 
@@ -151,6 +153,18 @@ TEST(FaultInjection, DemoPathStrided) {
     if ((points - 1) % stride) expectCleanFailure(points), ++runs;
     std::printf("fault injection: %llu of %llu points failed in turn (stride %llu)\n",
                 (unsigned long long)runs, (unsigned long long)points, (unsigned long long)stride);
+}
+
+// Fenced timing (a profiling mode): every pass's own command buffer and submission is an allocation
+// point too, so the path passes more points; each fails cleanly.
+TEST(FaultInjection, FencedDemoPathStrided) {
+    const uint64_t points = countPoints(true);
+    EXPECT_GT(points, countPoints(false)) << "fenced passes add no allocation points";
+    uint64_t runs = 0;
+    for (uint64_t n = 1; n <= points; n += 16, ++runs) expectCleanFailure(n, true);
+    if ((points - 1) % 16) expectCleanFailure(points, true), ++runs;
+    std::printf("fault injection (fenced): %llu of %llu points failed in turn\n", (unsigned long long)runs,
+                (unsigned long long)points);
 }
 
 TEST(FaultInjection, DISABLED_DemoPathEveryPoint) {

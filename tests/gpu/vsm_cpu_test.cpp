@@ -1,0 +1,100 @@
+// The CPU part of the virtual shadow maps follows what changed (issue 17, item 4): the coverage and
+// stale bits are computed from the dynamic casters and the instances that moved, each tested against
+// the lights near it, so adding static instances that never move adds no work. Counted, not timed
+// (VsmSlotHost::sphereTests and projections): the same frames with 20 and with 2,000 static boxes do
+// the same tests and projections, and the projections follow the lights the moving box is near.
+#include "gpu_test_util.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstdio>
+
+namespace ml::test {
+namespace {
+
+struct BoxMesh {
+    std::vector<MeshVertex> vertices;
+    std::vector<uint32_t> indices;
+    BoxMesh() {
+        for (int k = 0; k < 8; ++k)
+            vertices.push_back(
+                {{k & 1 ? 0.5f : -0.5f, k & 2 ? 1.0f : 0.0f, k & 4 ? 0.5f : -0.5f}, {0, 1, 0}});
+        indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                   2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+    }
+    MeshDesc desc() const { return {vertices, indices, true, "box"}; }
+};
+
+struct Work {
+    uint64_t sphereTests = 0, projections = 0;
+};
+
+// A row of 16 spot lights 10 m apart along x (range 6), `statics` static boxes scattered in a far
+// field, and one dynamic box that moves each frame under the first lights.
+Work run(uint32_t statics, uint32_t frames) {
+    ModuleOptions o;
+    o.device.validation = true;
+    o.vsm.enabled = true;
+    o.vsm.resolution = 256;
+    o.vsm.maxMaps = 32;
+    auto created = Module::create(o);
+    EXPECT_TRUE(created.ok()) << created.error();
+    if (!created) return {};
+    Module& m = *created.value();
+    const BoxMesh box;
+    auto mesh = m.addMesh(box.desc());
+    EXPECT_TRUE(mesh.ok());
+    auto ground = m.addInstance(mesh.value(), glm::scale(glm::mat4(1.0f), glm::vec3(400, 0.1f, 40)),
+                                glm::vec3(0.5f), false);
+    EXPECT_TRUE(ground.ok());
+    for (uint32_t i = 0; i < statics; ++i) { // far from every light: z 100..140
+        const glm::vec3 at(float(i % 50) * 3.0f, 0.0f, 100.0f + float(i / 50));
+        EXPECT_TRUE(m.addInstance(mesh.value(), glm::translate(glm::mat4(1.0f), at), glm::vec3(0.6f), false));
+    }
+    auto mover = m.addInstance(mesh.value(), glm::mat4(1.0f), glm::vec3(0.6f), true);
+    EXPECT_TRUE(mover.ok());
+    for (uint32_t l = 0; l < 16; ++l) {
+        LightDesc spot;
+        spot.position = {10.0f * float(l), 5.0f, 0.0f};
+        spot.direction = {0, -1, 0};
+        spot.range = 6.0f;
+        EXPECT_TRUE(m.addLight(spot));
+    }
+    EXPECT_TRUE(m.createTargets(64, 36));
+    CameraDesc cam;
+    cam.position = {75, 60, 60};
+    cam.target = {75, 0, 0};
+    EXPECT_TRUE(m.setCamera(cam));
+    Work w;
+    for (uint32_t f = 0; f < frames; ++f) {
+        const glm::vec3 at(2.0f + float(f), 0.0f, 0.0f); // under lights 0 and 1
+        EXPECT_TRUE(m.setInstanceTransform(mover.value(), glm::translate(glm::mat4(1.0f), at)));
+        renderFrame(m);
+        const auto& impl = internals(m);
+        w.sphereTests += impl.vsm.slotHost(impl.lastSlot).sphereTests;
+        w.projections += impl.vsm.slotHost(impl.lastSlot).projections;
+    }
+    EXPECT_EQ(validationErrors(), 0u);
+    return w;
+}
+
+TEST(VsmCpu, WorkFollowsTheMovingInstances) {
+    const Work few = run(20, 4), many = run(2000, 4);
+    std::printf("20 statics: %llu sphere tests, %llu projections; 2000: %llu, %llu\n",
+                (unsigned long long)few.sphereTests, (unsigned long long)few.projections,
+                (unsigned long long)many.sphereTests, (unsigned long long)many.projections);
+    // Frame 0 has no previous bounds (nothing is stale yet); frames 1-3 move one box: its old and new
+    // bounds, tested against the lights whose centre lies within the largest radius of its x extent.
+    EXPECT_GT(few.sphereTests, 0u);
+    EXPECT_GT(few.projections, 0u);
+    EXPECT_EQ(few.sphereTests, many.sphereTests) << "static instances that never move added sphere tests";
+    EXPECT_EQ(few.projections, many.projections) << "static instances that never move added projections";
+    // Projections: the moving box is within reach of lights 0 and 1 only (one map each), twice per
+    // frame (old and new bounds) in frames 1-3: at most 2 x 2 x 3, far below maps x instances.
+    EXPECT_LE(many.projections, 12u);
+    // Sphere tests: a window of the lights near x (3 of the 16 at most per box), not all 16.
+    EXPECT_LE(many.sphereTests, 3u * 2 * 3 + 3u * 4);
+}
+
+} // namespace
+} // namespace ml::test
