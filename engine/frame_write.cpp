@@ -39,9 +39,10 @@ Result<uint32_t> Module::Impl::beginFrame() {
     }
     if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
         ML_TRY(cull.prepareView(d, width, height));
-    ML_TRY(evaluate.prepare(d, ownTargets
-                                   ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
-                                   : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly)));
+    ML_TRY(evaluate.prepare(d,
+                            ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
+                                       : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
+                            ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE));
     ML_TRY(writeFrame(slot, slotIndex, grid, mode));
     return slotIndex;
 }
@@ -91,6 +92,8 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.copies = stagedCopies;
     f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
                  f.depth, f.normal, f.albedo, width,        height};
+    f.shading.material =
+        ownTargets ? (ownMaterials ? targets.material.view : VK_NULL_HANDLE) : host.material.view;
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
     f.shadows = {&staticWords,
                  &slot.shadowRecords,
@@ -157,6 +160,8 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
         inst[i].model = id.transform;
         inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
         inst[i].albedo = glm::vec4(id.albedo, 1.0f);
+        inst[i].material =
+            glm::vec4(id.roughness, id.metalness, id.receivesShadows ? 1.0f : ML_NOT_A_RECEIVER, 0);
         const MeshRange& r = meshes[id.mesh];
         VsmInstance& v = casters[i];
         v.lo = glm::vec3(1e30f);
@@ -187,6 +192,8 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
             vl[i].outerAngle = l.outerAngle;
             vl[i].moving = l.dynamic;
             vl[i].castsShadows = lightAlive[i] && l.castsShadows;
+            vl[i].depthBias = l.shadowDepthBias;
+            vl[i].normalBias = l.shadowNormalBias;
             const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
             bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
             for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;

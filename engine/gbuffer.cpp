@@ -9,7 +9,7 @@ Result<void> GBufferPass::create(const Device& device) {
     ML_TRY(ML_LOAD_SHADER(device, vs_, spv_gbuffer_vert));
     ML_TRY(ML_LOAD_SHADER(device, fs_, spv_gbuffer_frag));
     GraphicsState state;
-    state.colorFormats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM};
+    state.colorFormats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8_UNORM};
     state.depthFormat = VK_FORMAT_D32_SFLOAT;
     state.cull = VK_CULL_MODE_NONE; // open geometry (cards, awnings, fences) is two-sided
     return createGraphicsProgram(device, program_, {&vs_, &fs_}, state);
@@ -30,6 +30,9 @@ Result<void> GBufferPass::createTargets(const Device& device, uint32_t w, uint32
                        common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_normal"));
     ML_TRY(createImage(device, t.albedo, w, h, VK_FORMAT_R8G8B8A8_UNORM,
                        common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_albedo"));
+    // 2 bytes a pixel, written whether or not the evaluation reads it (one pipeline for both shadings).
+    ML_TRY(createImage(device, t.material, w, h, VK_FORMAT_R8G8_UNORM,
+                       common | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, "gbuffer_material"));
     return {};
 }
 
@@ -40,7 +43,7 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
     const auto depthStages =
         VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    for (const Image* img : {&t.normal, &t.albedo})
+    for (const Image* img : {&t.normal, &t.albedo, &t.material})
         imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, compute, 0, color,
                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
@@ -49,10 +52,11 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
                  VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
 
-    VkRenderingAttachmentInfo colors[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+    VkRenderingAttachmentInfo colors[3] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                           {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                            {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-    const Image* colorImages[2] = {&t.normal, &t.albedo};
-    for (int i = 0; i < 2; ++i) {
+    const Image* colorImages[3] = {&t.normal, &t.albedo, &t.material};
+    for (int i = 0; i < 3; ++i) {
         colors[i].imageView = colorImages[i]->view;
         colors[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
         colors[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
@@ -67,7 +71,7 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
     ri.renderArea = {{0, 0}, {t.depth.width, t.depth.height}};
     ri.layerCount = 1;
-    ri.colorAttachmentCount = 2;
+    ri.colorAttachmentCount = 3;
     ri.pColorAttachments = colors;
     ri.pDepthAttachment = &depth;
     vkCmdBeginRendering(cmd, &ri);
@@ -82,7 +86,7 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
     }
     vkCmdEndRendering(cmd);
 
-    for (const Image* img : {&t.normal, &t.albedo})
+    for (const Image* img : {&t.normal, &t.albedo, &t.material})
         imageBarrier(cmd, img->image, img->aspect, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, color, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                      compute, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);

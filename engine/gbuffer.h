@@ -1,4 +1,5 @@
-// G-buffer raster pass (module-owned targets): depth D32, world normal RGBA16F, albedo RGBA8. One
+// G-buffer raster pass (module-owned targets): depth D32, world normal RGBA16F (w: shadow receiver, 1 or
+// ML_NOT_A_RECEIVER), albedo RGBA8, material RG8 (perceptual roughness, metalness). One
 // indexed indirect multi-draw over all instances; vertices are pulled from a storage buffer.
 #pragma once
 #include "gpu/program.h"
@@ -6,7 +7,7 @@
 namespace ml {
 
 struct GBufferTargets {
-    Image depth, normal, albedo;
+    Image depth, normal, albedo, material;
 };
 
 class GBufferPass {
@@ -16,7 +17,7 @@ class GBufferPass {
     // On failure `out` holds what was made (destroy each image).
     Result<void> createTargets(const Device& device, uint32_t width, uint32_t height,
                                GBufferTargets& out) const;
-    // Leaves depth, normal and albedo in SHADER_READ_ONLY_OPTIMAL.
+    // Leaves depth, normal, albedo and material in SHADER_READ_ONLY_OPTIMAL.
     void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets, const Buffer& frame,
                 const Buffer& vertices, const Buffer& indices, const Buffer& instances, const Buffer& draws,
                 uint32_t drawCount) const;

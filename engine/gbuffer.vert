@@ -11,6 +11,7 @@ layout(binding = 2, std430) readonly buffer Instances { GpuInstance instances[];
 
 layout(location = 0) out vec3 outNormal;
 layout(location = 1) out vec3 outAlbedo;
+layout(location = 2) flat out vec3 outMaterial; // roughness, metalness, receiver flag (GpuInstance.material)
 
 void main() {
     GpuVertex v = vertices[gl_VertexIndex];
@@ -18,5 +19,6 @@ void main() {
     vec4 world = inst.model * vec4(v.px, v.py, v.pz, 1.0);
     outNormal = mat3(inst.normalMatrix) * vec3(v.nx, v.ny, v.nz);
     outAlbedo = inst.albedo.rgb;
+    outMaterial = inst.material.xyz;
     gl_Position = frame.viewProj * world;
 }

@@ -49,8 +49,9 @@ uint64_t clustersOf(uint32_t width, uint32_t height) {
 
 uint64_t targetBytes(uint32_t width, uint32_t height, bool ownTargets) {
     const uint64_t px = uint64_t(width) * height, clusters = clustersOf(width, height);
-    // depth 4 + normal 8 + albedo 4 (owned G-buffer), HDR 8, output 4, readback 4 bytes per pixel.
-    const uint64_t images = px * ((ownTargets ? 16 : 0) + 8 + 4 + 4);
+    // depth 4 + normal 8 + albedo 4 + material 2 (owned G-buffer), HDR 8, output 4, readback 4 bytes per
+    // pixel.
+    const uint64_t images = px * ((ownTargets ? 18 : 0) + 8 + 4 + 4);
     // Cluster bounds, ranges, counts; the pool (16 entries per cluster) and its hits (a quarter, 8 B).
     const uint64_t pool = clusters * ML_POOL_PER_CLUSTER;
     const uint64_t culling =

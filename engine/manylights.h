@@ -135,6 +135,11 @@ struct HostImage {
 //   albedo  R8G8B8A8_UNORM, SAMPLED (linear)
 //   output  STORAGE; R8G8B8A8_UNORM (tone-mapped sRGB values) or, in HDR mode, R16G16B16A16_SFLOAT
 //           (linear radiance, exposure not applied)
+//   material optional: R8G8_UNORM, SAMPLED (r perceptual roughness, g metalness: glTF's metallicRoughness
+//           factors or texels). Given, the evaluation shades with GGX (Filament / glTF conventions);
+//           absent, with Lambert + Blinn-Phong. Same layout and visibility rules as the G-buffer below.
+// The normal's w says whether the pixel receives shadows: >= 0 (e.g. 1) yes, ML_NOT_A_RECEIVER (-1) no
+// (lit unshadowed: Module::setInstanceShadowReceiving).
 // Every extent at least width x height. Depth, normal and albedo in SHADER_READ_ONLY_OPTIMAL when the
 // command buffer reaches record()'s commands, their writes made visible to COMPUTE_SHADER sampled reads;
 // the output in GENERAL (its old contents are overwritten). record() leaves the output written by a
@@ -143,6 +148,7 @@ struct HostImage {
 struct HostTargets {
     uint32_t width = 0, height = 0;
     HostImage depth, normal, albedo, output;
+    HostImage material; // optional (image and view VK_NULL_HANDLE: absent)
     // Set: the output mode these targets are for (setHdrOutput's, switched together with the targets);
     // unset: the module's current mode.
     std::optional<bool> hdrOutput;
@@ -235,6 +241,13 @@ class Module {
     Result<void> removeMesh(MeshId id);
     // An instance that casts no shadow (static bakes made afterwards and virtual shadow maps skip it).
     Result<void> setInstanceShadowCasting(InstanceId id, bool castsShadows);
+    // An instance that receives no shadows (Bevy's NotShadowReceiver): its pixels get every light
+    // unshadowed (it may still cast). The module's G-buffer carries the flag in the normal's w.
+    Result<void> setInstanceShadowReceiving(InstanceId id, bool receivesShadows);
+    // The instance's material for GGX shading (module-owned targets made with materials): perceptual
+    // roughness in [0, 1] (clamped to 0.045 when shading) and metalness in [0, 1], glTF's factors.
+    // Default 0.5 and 0. NaN or out of range is refused.
+    Result<void> setInstanceMaterial(InstanceId id, float roughness, float metalness);
     // Linear radiance of the ambient term (times albedo) and of pixels without geometry.
     Result<void> setEnvironment(glm::vec3 ambient, glm::vec3 sky);
     // Refuses non-finite values, near/far/fov out of range, target == position and `up` parallel to the
@@ -264,9 +277,14 @@ class Module {
     void setStatistics(bool enabled);
     void setView(DebugView view);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
+    // Physical exposure for photometric lights (LightDesc::unit): setExposure(exposureFromEV100(ev100)),
+    // e.g. ev100FromCamera(16, 1/125, 100) = 14.97 for a sunny day (lights/light_types.h).
+    Result<void> setExposureEV100(float ev100);
 
-    // Module-owned G-buffer and output at this size (record() then draws the G-buffer too).
-    Result<void> createTargets(uint32_t width, uint32_t height);
+    // Module-owned G-buffer and output at this size (record() then draws the G-buffer too). materials: the
+    // evaluation shades with GGX from the instances' materials (the G-buffer always writes its material
+    // target, R8G8_UNORM); false: Lambert + Blinn-Phong.
+    Result<void> createTargets(uint32_t width, uint32_t height, bool materials = false);
     // Host-owned G-buffer (record() skips the G-buffer pass). Checked against HostTargets' table.
     Result<void> setTargets(const HostTargets& targets);
     // LDR (tone-mapped RGBA8) or HDR (linear RGBA16F) output from the next record() on, without rebuilding

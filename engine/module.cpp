@@ -479,7 +479,9 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
         const LightId id = makeId(i, m.lightGeneration[i], kLightIndexBits);
         for (uint32_t face = 0; face < frustums.size(); ++face) {
             const LightFrustum& f = frustums[face];
-            auto map = renderer.value()->render(casters, f, resolution);
+            // LightDesc::shadowResolution: the light's own hint, else the bake's.
+            auto map =
+                renderer.value()->render(casters, f, l.shadowResolution ? l.shadowResolution : resolution);
             if (!map) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + map.error());
             auto words = encodeStatic(method, map.value(), {f.nearPlane, f.farPlane, {}});
             if (!words) return fail("bakeStaticShadows: light " + std::to_string(id) + ": " + words.error());

@@ -39,6 +39,8 @@ struct Module::Impl {
         bool alive = true;
         bool castsShadows = true;
         uint32_t generation = 0;
+        bool receivesShadows = true;              // setInstanceShadowReceiving
+        float roughness = 0.5f, metalness = 0.0f; // setInstanceMaterial
     };
     // Everything one frame in flight writes from the host.
     struct Slot {
@@ -115,6 +117,7 @@ struct Module::Impl {
 
     uint32_t width = 0, height = 0;
     bool ownTargets = false;
+    bool ownMaterials = false; // createTargets(..., materials): GGX from the module's material target
     GBufferTargets targets;
     HostTargets host;
     Image hdr, output;

@@ -24,6 +24,10 @@ const char* formatName(VkFormat f) {
         return "R16G16B16A16_SFLOAT";
     case VK_FORMAT_R8G8B8A8_UNORM:
         return "R8G8B8A8_UNORM";
+    case VK_FORMAT_R8G8_UNORM:
+        return "R8G8_UNORM";
+    case VK_FORMAT_R16G16_UNORM:
+        return "R16G16_UNORM";
     case VK_FORMAT_R8G8B8A8_SRGB:
         return "R8G8B8A8_SRGB";
     case VK_FORMAT_B8G8R8A8_UNORM:
@@ -83,6 +87,12 @@ Result<void> checkHostTargets(const HostTargets& t, bool hdr) {
                           : " (LDR mode: tone-mapped sRGB values written by a compute shader; sRGB formats "
                             "have no storage, and RGBA16F wants HDR mode)")})
         if (!reason.empty()) return fail(reason);
+    // Optional: absent (no image and no view) means Lambert + Blinn-Phong shading.
+    if (t.material.image || t.material.view)
+        if (std::string reason = checkTarget("material", t.material, VK_FORMAT_R8G8_UNORM, sampled, "SAMPLED",
+                                             t.width, t.height, " (r perceptual roughness, g metalness)");
+            !reason.empty())
+            return fail(reason);
     return {};
 }
 
@@ -124,7 +134,8 @@ void Module::Impl::releaseRetired(bool all) {
 }
 
 void Module::Impl::destroyTargets() {
-    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &hdr, &output}) retire(*i);
+    for (Image* i : {&targets.depth, &targets.normal, &targets.albedo, &targets.material, &hdr, &output})
+        retire(*i);
 }
 
 // Module-owned targets: full-size HDR and output images, both kept so that the mode switches freely.
@@ -139,7 +150,7 @@ Result<void> Module::Impl::createOutput(bool own) {
     return {};
 }
 
-Result<void> Module::createTargets(uint32_t width, uint32_t height) {
+Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materials) {
     if (width == 0 || height == 0 || width > 16384 || height > 16384)
         return fail("size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is outside 1x1..16384x16384");
@@ -147,6 +158,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height) {
     if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
     m.destroyTargets(); // released once the frames in flight that use them are done
     m.ownTargets = true;
+    m.ownMaterials = materials;
     m.width = width;
     m.height = height;
     auto r = m.gbuffer.createTargets(*m.device, width, height, m.targets);

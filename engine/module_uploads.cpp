@@ -177,6 +177,8 @@ Result<void> Module::Impl::writeShadowRecords(Slot& slot) {
                                      ? makeShadowRecord(s.method, s.frustum, s.base,
                                                         staticResolution(s.method, s.words.data()), pcfRadius)
                                      : gpu::GpuShadowRecord{};
+            records[i * 6 + f].bias.x = lights[i].shadowDepthBias; // setLight touches the light's version
+            records[i * 6 + f].bias.y = lights[i].shadowNormalBias;
         }
         slot.shadowVersion[i] = shadowVersion[i];
         recordsWritten++;

@@ -233,6 +233,7 @@ uint32_t formatBytes(VkFormat format) {
         return 1;
     case VK_FORMAT_R16_UINT:
     case VK_FORMAT_R16_SFLOAT:
+    case VK_FORMAT_R8G8_UNORM:
         return 2;
     case VK_FORMAT_R32_UINT:
     case VK_FORMAT_R32_SFLOAT:

@@ -56,6 +56,8 @@ Result<SceneBinding> bindScene(Module& module, const Scene& scene) {
             return fail(scene.name + ": instance " + std::to_string(i) + " has no mesh");
         auto id = module.addInstance(meshIds[inst.mesh], inst.transform, inst.albedo, inst.dynamic);
         if (!id) return fail(scene.name + ": " + id.error());
+        if (auto r = module.setInstanceMaterial(id.value(), inst.roughness, inst.metalness); !r)
+            return fail(scene.name + ": instance " + std::to_string(i) + ": " + r.error());
         b.instances.push_back(id.value());
     }
     for (const Light& l : scene.lights) {

@@ -10,11 +10,15 @@
 // The lookups (cluster list, static x dynamic visibility) are lights/manylights_lights.glsl's, the
 // include a host's own shaders use: its 12 buffers take bindings 0-11, the G-buffer and outputs follow.
 #include "lights/manylights_lights.glsl"
+#include "shaders/shared/brdf.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 // 0: HDR and the tone-mapped sRGB output; 1: HDR only (the host tone-maps); 2: tone-mapped only
 // (lights/evaluate_pass.h, EvaluateOutputs).
 layout(constant_id = 0) const uint kSpecOutput = 0;
+// 1: GGX from the material target (binding ML_HOST_BINDING_COUNT + 5, shaders/shared/brdf.h);
+// 0: Lambert + Blinn-Phong (shading.h), that binding unread.
+layout(constant_id = 1) const uint kSpecPbr = 0;
 
 // The G-buffer (SHADER_READ_ONLY_OPTIMAL): reversed-Z depth (0 = sky), world normal as stored (unit
 // up to half-float rounding; the VSM lookup normalises it itself), linear albedo. The outputs (GENERAL)
@@ -24,6 +28,8 @@ layout(binding = ML_HOST_BINDING_COUNT + 1) uniform texture2D normalImage;
 layout(binding = ML_HOST_BINDING_COUNT + 2) uniform texture2D albedoImage;
 layout(binding = ML_HOST_BINDING_COUNT + 3, rgba16f) uniform writeonly image2D hdrImage;
 layout(binding = ML_HOST_BINDING_COUNT + 4, rgba8) uniform writeonly image2D outputImage;
+// The optional material target: r perceptual roughness, g metalness (read only when kSpecPbr is 1).
+layout(binding = ML_HOST_BINDING_COUNT + 5) uniform texture2D materialImage;
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
@@ -32,8 +38,11 @@ void main() {
     vec3 hdr = frame.sky.rgb;
     if (hasSurface(d)) {
         vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
-        vec3 Nraw = texelFetch(normalImage, ivec2(px), 0).xyz;
+        vec4 normalTexel = texelFetch(normalImage, ivec2(px), 0);
+        vec3 Nraw = normalTexel.xyz;
         vec3 N = normalize(Nraw);
+        bool receiver = normalTexel.w >= 0.0; // ML_NOT_A_RECEIVER (-1): lit unshadowed
+        vec2 material = kSpecPbr != 0u ? texelFetch(materialImage, ivec2(px), 0).rg : vec2(0.0);
         vec3 albedo = texelFetch(albedoImage, ivec2(px), 0).rgb;
         vec3 V = normalize(frame.cameraPosition.xyz - P);
         hdr = albedo * frame.ambient.rgb;
@@ -41,8 +50,9 @@ void main() {
         uvec2 range = mlClusterRange(px, d);
         for (uint i = 0; i < mlRangeCount(range); ++i) {
             GpuLight L = mlRangeLight(range, i);
-            vec3 c = shadeLight(L, P, N, V, albedo);
-            if (c != vec3(0.0)) hdr += c * mlLightVisibility(L, P, Nraw);
+            vec3 c = kSpecPbr != 0u ? shadeLightPbr(L, P, N, V, albedo, material.x, material.y)
+                                    : shadeLight(L, P, N, V, albedo);
+            if (c != vec3(0.0)) hdr += receiver ? c * mlLightVisibility(L, P, Nraw) : c;
         }
     }
     if (kSpecOutput != 2u) imageStore(hdrImage, ivec2(px), vec4(hdr, 1.0));

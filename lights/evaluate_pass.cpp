@@ -17,10 +17,11 @@ Result<void> EvaluatePass::create(const Device& device) {
     return ML_LOAD_SHADER(device, shader_, spv_evaluate_comp);
 }
 
-Result<void> EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs) {
-    Program& p = programs_[uint32_t(outputs)];
+Result<void> EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs, bool pbr) {
+    Program& p = programs_[uint32_t(outputs) * 2 + pbr];
     if (!p.pipeline)
-        ML_TRY(createComputeProgram(device, p, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}}));
+        ML_TRY(createComputeProgram(
+            device, p, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}, {/*kSpecPbr*/ 1, uint32_t(pbr)}}));
     return {};
 }
 
@@ -32,12 +33,14 @@ void EvaluatePass::destroy(const Device& device) {
 
 void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
                           EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
-    dispatch(d, c, programs_[uint32_t(outputs)], in.width, in.height, NoPush{},
+    // Without a material target the albedo fills its binding (a valid sampled image, never read).
+    const bool pbr = in.material != VK_NULL_HANDLE;
+    dispatch(d, c, programs_[uint32_t(outputs) * 2 + pbr], in.width, in.height, NoPush{},
              {// lights/manylights_lights.glsl's 12 (shaders/shared/host_bindings.h), then the images
               *in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, *s.staticWords, *s.shadowRecords,
               *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool, sampled(in.depth),
               sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),
-              Descriptor(Image{.view = output})});
+              Descriptor(Image{.view = output}), sampled(pbr ? in.material : in.albedo)});
     // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
     // overwrite the output order their writes themselves.
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);

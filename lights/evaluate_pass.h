@@ -17,6 +17,9 @@ struct ShadingInputs {
     const Buffer* pool;
     VkImageView depth, normal, albedo; // SHADER_READ_ONLY_OPTIMAL
     uint32_t width = 0, height = 0;
+    // The evaluation's optional material target (RG8: roughness, metalness; SHADER_READ_ONLY_OPTIMAL):
+    // set, it shades with GGX (shaders/shared/brdf.h); VK_NULL_HANDLE, with Lambert + Blinn-Phong.
+    VkImageView material = VK_NULL_HANDLE;
 };
 // Static bakes and virtual shadow maps (vsm_common.glsl's buffers; any valid buffers when VSM is off).
 struct ShadowInputs {
@@ -39,8 +42,9 @@ class EvaluatePass {
   public:
     Result<void> create(const Device& device);
     void destroy(const Device& device);
-    // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait).
-    Result<void> prepare(const Device& device, EvaluateOutputs outputs);
+    // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait);
+    // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
+    Result<void> prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
     // Writes `hdr` (RGBA16F storage, GENERAL) and `output` (RGBA8 storage, GENERAL) as `outputs` says;
     // both views must be valid images in GENERAL. prepare(outputs) must have run.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
@@ -49,7 +53,7 @@ class EvaluatePass {
 
   private:
     ShaderModule shader_;
-    Program programs_[kEvaluateOutputModes];
+    Program programs_[kEvaluateOutputModes * 2]; // [mode * 2 + pbr]
 };
 
 class StatisticsPass {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace ml {
 
@@ -27,6 +28,18 @@ Result<void> validateLight(const LightDesc& l) {
         float len = glm::length(l.direction);
         if (!(len > 1e-6f)) return fail("light direction has zero length");
     }
+    if (uint32_t(l.unit) > uint32_t(LightUnit::Lumen)) return fail("light unit is not candela or lumen");
+    if (l.unit == LightUnit::Lumen && l.kind == LightKind::Directional)
+        return fail(
+            "light unit: a directional light's intensity is illuminance in lux (unit candela), not lumen");
+    for (auto [value, name] :
+         {std::pair{l.shadowDepthBias, "shadowDepthBias"}, std::pair{l.shadowNormalBias, "shadowNormalBias"}})
+        if (!std::isfinite(value) || value < 0 || value > kMaxShadowBias)
+            return fail(std::string("light ") + name + " " + std::to_string(value) + " is not in [0, " +
+                        std::to_string(int(kMaxShadowBias)) + "] texels");
+    if (l.shadowResolution != 0 && (l.shadowResolution < 8 || l.shadowResolution > 16384))
+        return fail("light shadowResolution " + std::to_string(l.shadowResolution) +
+                    " is not 0 (the bake's) or in 8..16384");
     if (l.kind == LightKind::Spot) {
         if (!std::isfinite(l.outerAngle) || l.outerAngle <= 0 || l.outerAngle >= 1.5707963f)
             return fail("spot outer half angle must be in (0, pi/2) radians");
@@ -43,10 +56,24 @@ gpu::GpuLight toGpuLight(const LightDesc& l, uint32_t id) {
     float inner = l.kind == LightKind::Spot ? l.innerAngle : 3.14159265f;
     g.positionRange = glm::vec4(l.position, l.range);
     g.directionCosOuter = glm::vec4(dir, std::cos(outer));
-    g.colorSinOuter = glm::vec4(l.color * l.intensity, std::sin(outer));
+    g.colorSinOuter = glm::vec4(l.color * lightIntensityCandela(l), std::sin(outer));
     g.params = glm::vec4(std::cos(inner), 1.0f / (l.range * l.range), 0, 0);
     g.info = glm::uvec4(uint32_t(l.kind), ML_VSM_NO_MAP, ML_NO_SHADOW, id);
     return g;
+}
+
+float lightIntensityCandela(const LightDesc& l) {
+    if (l.unit != LightUnit::Lumen) return l.intensity; // candela (lux for a directional light): as given
+    const float pi = 3.14159265f;
+    return l.kind == LightKind::Point ? l.intensity / (4.0f * pi) : l.intensity / pi;
+}
+
+float exposureFromEV100(float ev100) {
+    return 1.0f / (1.2f * std::exp2(ev100));
+}
+
+float ev100FromCamera(float aperture, float shutterSeconds, float iso) {
+    return std::log2(aperture * aperture / shutterSeconds * 100.0f / iso);
 }
 
 glm::vec4 lightBoundingSphere(const LightDesc& l) {

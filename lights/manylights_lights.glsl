@@ -13,7 +13,7 @@
 //   for (uint i = 0; i < mlRangeCount(range); ++i) {
 //       GpuLight L = mlRangeLight(range, i);
 //       vec3 c = shadeLight(L, P, N, V, albedo);           // the module's BRDF (shaders/shared/shading.h)
-//       if (c != vec3(0.0)) color += c * mlLightVisibility(L, P, N, Nraw);
+//       if (c != vec3(0.0)) color += c * mlLightVisibility(L, P, Nraw);
 //   }
 // The buffers: shaders/shared/host_bindings.h lists them (offset, type); Module::hostShaderBindings()
 // gives the handles for the frame record() just recorded (engine/manylights.h has the contract).

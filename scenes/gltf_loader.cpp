@@ -443,20 +443,31 @@ class Loader {
         return {};
     }
 
-    Result<void> albedo(int material, glm::vec3& out) const {
-        out = glm::vec3(
-            0.8f); // glTF's default is white; 0.8 keeps the default surface from reflecting all light
+    // baseColorFactor -> albedo, metallicFactor / roughnessFactor -> metalness / roughness (textures are
+    // not read). Without a material: albedo 0.8 (glTF's default is white; 0.8 keeps the default surface
+    // from reflecting all light) and, for the same reason, a rough dielectric (glTF's default is a rough
+    // metal, black under diffuse light).
+    Result<void> material(int material, Instance& inst) const {
+        inst.albedo = glm::vec3(0.8f);
+        inst.roughness = 1.0f;
+        inst.metalness = 0.0f;
         if (material < 0) return {};
         if (size_t(material) >= model_.materials.size())
             return error("material " + std::to_string(material) + " out of range");
-        const auto& f = model_.materials[size_t(material)].pbrMetallicRoughness.baseColorFactor;
+        const auto& pbr = model_.materials[size_t(material)].pbrMetallicRoughness;
+        const auto& f = pbr.baseColorFactor;
         if (f.size() != 4)
             return error("material " + std::to_string(material) + ": baseColorFactor must have 4 values");
         for (int i = 0; i < 3; ++i) {
             if (!std::isfinite(f[size_t(i)]))
                 return error("material " + std::to_string(material) + ": baseColorFactor is not finite");
-            out[i] = float(std::clamp(f[size_t(i)], 0.0, 1.0));
+            inst.albedo[i] = float(std::clamp(f[size_t(i)], 0.0, 1.0));
         }
+        if (!std::isfinite(pbr.metallicFactor) || !std::isfinite(pbr.roughnessFactor))
+            return error("material " + std::to_string(material) +
+                         ": metallicFactor or roughnessFactor is not finite");
+        inst.metalness = float(std::clamp(pbr.metallicFactor, 0.0, 1.0));
+        inst.roughness = float(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
         return {};
     }
 
@@ -502,8 +513,8 @@ class Loader {
             Instance inst;
             inst.mesh = it->second;
             inst.transform = glm::mat4(world);
-            if (auto r = albedo(model_.meshes[size_t(p.mesh)].primitives[size_t(p.primitive)].material,
-                                inst.albedo);
+            if (auto r =
+                    material(model_.meshes[size_t(p.mesh)].primitives[size_t(p.primitive)].material, inst);
                 !r)
                 return r;
             scene_.instances.push_back(inst);

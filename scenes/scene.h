@@ -34,7 +34,8 @@ struct Instance {
     uint32_t mesh = 0;
     glm::mat4 transform{1.0f}; // object -> world
     glm::vec3 albedo{0.5f};
-    bool dynamic = false; // moves every frame; never a static shadow caster
+    float roughness = 0.5f, metalness = 0.0f; // glTF metallicRoughness factors (Module::setInstanceMaterial)
+    bool dynamic = false;                     // moves every frame; never a static shadow caster
 };
 
 // A scene light: its shape (LightShape, shadows/static/static_types.h: kind, position, direction, range,

@@ -91,6 +91,11 @@
 // GpuLight.info.z of a light without a baked static shadow.
 #define ML_NO_SHADOW 0xFFFFFFFFu
 
+// The G-buffer normal's w (GpuInstance.material.z): 1 (any value >= 0) on a shadow receiver, this value on
+// an instance that receives no shadows (Module::setInstanceShadowReceiving, Bevy's NotShadowReceiver): the
+// evaluation lights its pixels unshadowed. A host G-buffer writes it too (HostTargets, normal).
+#define ML_NOT_A_RECEIVER (-1.0)
+
 // Static shadow methods (stored in bake files): ml::StaticMethod takes these values (shaders/shared/enums.h).
 #define ML_STATIC_SM 1
 #define ML_STATIC_MH 2

@@ -44,19 +44,23 @@ ML_STRUCT(GpuVertex) {
     float nx, ny, nz;
 };
 
-// Per-instance data, one per module instance and frame in flight. 144 bytes.
+// Per-instance data, one per module instance and frame in flight. 160 bytes.
 ML_STRUCT(GpuInstance) {
     mat4 model;
     mat4 normalMatrix;
-    vec4 albedo; // rgb linear albedo, w 1
+    vec4 albedo;   // rgb linear albedo, w 1
+    vec4 material; // x perceptual roughness, y metalness (glTF metallicRoughness factors), z the G-buffer
+                   // normal's w: 1 a shadow receiver, ML_NOT_A_RECEIVER not (shadows/unshadowed light), w 0
 };
 
 // A light's baked static shadow (shadows/static/static_method.h): where its words start in the one
-// static-shadow buffer, and the light frustum they were rendered with. 96 bytes.
+// static-shadow buffer, the light frustum they were rendered with, and its bias. 112 bytes.
 ML_STRUCT(GpuShadowRecord) {
     mat4 view;    // world -> light view (the light looks down -Z)
     vec4 frustum; // x tan(fov / 2), y near, z far, w log(far / near)
     uvec4 info;   // x method (StaticMethod), y base word, z resolution, w PCF radius (0 = one tap)
+    vec4 bias;    // the light's shadow bias (LightDesc): x depth bias in texels (default 0.5), y scale on
+                  // the normal offset of (1 + PCF radius) texels (default 1); CPVS ignores both; zw 0
 };
 
 // Per-frame constants (uniform buffer), 240 bytes.
@@ -94,13 +98,15 @@ ML_STRUCT(FrameCounters) {
 #ifdef __cplusplus
 static_assert(sizeof(GpuLight) == 80);
 static_assert(sizeof(GpuVertex) == 24);
-static_assert(sizeof(GpuInstance) == 144);
+static_assert(sizeof(GpuInstance) == 160);
+static_assert(offsetof(GpuInstance, material) == 144);
 static_assert(offsetof(GpuLight, info) == 64);
 static_assert(sizeof(FrameConstants) == 240);
 static_assert(offsetof(FrameConstants, size) == 144);
 static_assert(offsetof(FrameConstants, limits) == 224);
 static_assert(sizeof(ClusterBounds) == 32);
-static_assert(sizeof(GpuShadowRecord) == 96);
+static_assert(sizeof(GpuShadowRecord) == 112);
+static_assert(offsetof(GpuShadowRecord, bias) == 96);
 static_assert(offsetof(GpuShadowRecord, info) == 80);
 static_assert(sizeof(FrameCounters) == 48);
 static_assert(offsetof(FrameCounters, clusterLightsSum) == 16);

@@ -61,12 +61,13 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     // surface at a grazing angle to the light (flat ground under a low point light's side faces) the taps
     // on the light's side of the receiver see the same surface nearer than the receiver unless it is
     // lifted past them (GpuPointShadow.NoAcneOnFlatGroundOrBoxFaces: stripes of self-shadow with PCF).
-    vec3 q = vp + vn * (texelWorld * float(1 + radius));
+    // Per light (GpuShadowRecord.bias): a scale on that offset and the depth bias (defaults 1 and 0.5).
+    vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0;
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
-    uint depth = staticQuantize(max(zq - 0.5 * texelWorld, 0.0), far);
+    uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
     ivec2 lo = clamp(t - radius, ivec2(0), ivec2(int(res) - 1));
     ivec2 hi = clamp(t + radius, ivec2(0), ivec2(int(res) - 1));

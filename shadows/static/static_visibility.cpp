@@ -17,6 +17,7 @@ gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f
     r.frustum = glm::vec4(f.orthographic() ? -f.orthoHalf : std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane,
                           f.orthographic() ? f.farPlane - f.nearPlane : std::log(f.farPlane / f.nearPlane));
     r.info = glm::uvec4(uint32_t(method), base, resolution, std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS));
+    r.bias = glm::vec4(kDefaultShadowDepthBias, kDefaultShadowNormalBias, 0.0f, 0.0f);
     return r;
 }
 
@@ -53,12 +54,12 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     }
     float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
     // Normal offset of (1 + radius) texels, as the shader (its comment says why).
-    glm::vec3 q = vp + vn * (texelWorld * float(1 + radius));
+    glm::vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0f;
     glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
     glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
-    uint32_t depth = staticQuantizeFloat(std::max(zq - 0.5f * texelWorld, 0.0f), farPlane);
+    uint32_t depth = staticQuantizeFloat(std::max(zq - rec.bias.x * texelWorld, 0.0f), farPlane);
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
     glm::ivec2 lo = glm::clamp(t - radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));

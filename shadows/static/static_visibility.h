@@ -7,7 +7,13 @@
 
 namespace ml {
 
-// The record of a light frustum and a bake: method, base word in `data`, resolution, PCF radius.
+// The default per-light bias (LightDesc::shadowDepthBias, shadowNormalBias; GpuShadowRecord.bias): half a
+// texel of depth, and the normal offset of (1 + PCF radius) texels unscaled.
+constexpr float kDefaultShadowDepthBias = 0.5f;
+constexpr float kDefaultShadowNormalBias = 1.0f;
+
+// The record of a light frustum and a bake: method, base word in `data`, resolution, PCF radius, and the
+// default bias (the module writes the light's own).
 gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& frustum, uint32_t base,
                                       uint32_t resolution, uint32_t pcfRadius);
 

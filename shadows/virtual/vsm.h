@@ -60,6 +60,8 @@ struct VsmLight {
     bool castsShadows = true;
     bool moving = false;     // LightDesc::dynamic
     bool staticBake = false; // every face has a static bake: maps hold dynamic casters only
+    // LightDesc::shadowDepthBias / shadowNormalBias: GpuVsmMap.bias (lookups and marking, vsm_math.h).
+    float depthBias = 0.5f, normalBias = 1.0f;
 };
 struct VsmInstance {
     glm::vec3 lo{0.0f}, hi{0.0f}; // world bounds this frame

@@ -13,7 +13,9 @@
 // lookup takes the coarsest level whose texel is no larger than the pixel and which holds the point.
 //
 // Bias (the same as the static methods, shaders/static/static_visibility.glsl): the receiver moves along
-// its normal by one texel of the chosen mip, and compares with a further half texel of depth.
+// its normal by one texel of the chosen mip, and compares with a further half texel of depth; per light
+// (GpuVsmMap.bias, LightDesc::shadowNormalBias / shadowDepthBias) the offset is scaled and the depth
+// bias set (the defaults 1 and 0.5 give these values exactly).
 #ifndef ML_VSM_MATH_H
 #define ML_VSM_MATH_H
 
@@ -134,8 +136,8 @@ ML_FN VsmTap vsmLocate(GpuVsmMap map, uint resolution, uint mip, vec3 P, vec3 N)
     if (!ortho && !(z > map.params.y)) return tap;
     ML_PRECISE float extent = ortho ? map.params.x : z * map.params.x;
     ML_PRECISE float texelWorld = 2.0f * extent / float(res);
-    ML_PRECISE float qx = vp.x + vn.x * texelWorld, qy = vp.y + vn.y * texelWorld,
-                     qz = vp.z + vn.z * texelWorld;
+    ML_PRECISE float offset = texelWorld * map.bias.y;
+    ML_PRECISE float qx = vp.x + vn.x * offset, qy = vp.y + vn.y * offset, qz = vp.z + vn.z * offset;
     ML_PRECISE float zq = -qz;
     if (!ortho && !(zq > map.params.y)) return tap;
     ML_PRECISE float scale = ortho ? map.params.x : zq * map.params.x;
@@ -144,7 +146,7 @@ ML_FN VsmTap vsmLocate(GpuVsmMap map, uint resolution, uint mip, vec3 P, vec3 N)
     // Outside the map (with the light's cone, nothing there is lit by it anyway): lit.
     if (!(fx >= 0.0f && fy >= 0.0f && fx < float(res) && fy < float(res))) return tap;
     tap.texel = ivec2(int(floor(fx)), int(floor(fy)));
-    ML_PRECISE float dz = max(zq - 0.5f * texelWorld, 0.0f);
+    ML_PRECISE float dz = max(zq - map.bias.x * texelWorld, 0.0f);
     tap.depth = vsmQuantize(dz, map.params.z);
     tap.ok = 1u;
     return tap;

@@ -39,13 +39,15 @@
 namespace ml::gpu {
 #endif
 
-// One virtual map, 176 bytes, written by the CPU each frame (shadows/virtual/vsm.cpp).
+// One virtual map, 192 bytes, written by the CPU each frame (shadows/virtual/vsm.cpp).
 ML_STRUCT(GpuVsmMap) {
     mat4 viewProj; // world -> clip of the whole map (NDC [-1,1]^2; viewport of the mip rescales)
     mat4 view;     // world -> light view, looking down -Z
     vec4 params;   // x tan(fov/2) (perspective) or half extent (orthographic), y near, z far, w unused
     uvec4 info;    // x ML_VSM_PERSPECTIVE/ORTHOGRAPHIC, y flags, zw unused
     uvec4 light;   // x module light id, y clip level (directional) or face, z mips, w unused
+    vec4 bias;     // the light's shadow bias (LightDesc): x depth bias in texels of the mip read (default
+                   // 0.5), y scale on the one-texel normal offset (default 1), zw 0
 };
 
 // Frame-wide constants of the VSM passes (uniform), 80 bytes.
@@ -160,7 +162,8 @@ static_assert(sizeof(VsmSortPush) == 8);
 static_assert(offsetof(VsmCounters, listGroupsX) == 116);
 static_assert(sizeof(VsmCullPush) == 8);
 static_assert(sizeof(VsmDrawPush) == 8);
-static_assert(sizeof(GpuVsmMap) == 176);
+static_assert(sizeof(GpuVsmMap) == 192);
+static_assert(offsetof(GpuVsmMap, bias) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);

@@ -5,7 +5,7 @@
 #include "gpu_test_util.h"
 
 #include "engine/manylights_diagnostics.h"
-#include "shaders/shared/shading.h"
+#include "shaders/shared/brdf.h"
 
 namespace ml::test {
 namespace {
@@ -218,6 +218,81 @@ TEST(HostTargets, FencedTimingRefusesAHostCommandBuffer) {
     m->collect();
     EXPECT_EQ(m->takeReports().size(), 2u);
     EXPECT_EQ(validationErrors(), 0u);
+    destroyGBuffer(*m, g);
+}
+
+// The optional material target (issue 19, PBR inputs): checked against its row (R8G8_UNORM, SAMPLED, the
+// claimed size), refused with one line; given, the host's wall is shaded with GGX exactly as the CPU
+// reference (shadeLightPbr) says, and without it as before (Blinn-Phong).
+TEST(HostTargets, MaterialTargetIsCheckedAndShadesGgx) {
+    auto m = makeHostModule(/*hdr*/ true);
+    ASSERT_TRUE(m);
+    HostGBuffer g = makeGBuffer(*m);
+    Device& d = deviceOf(*m);
+    const auto sampled = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    Image material = createImage(d, kW, kH, VK_FORMAT_R8G8_UNORM, sampled, "host_material");
+    Image small = createImage(d, kW / 2, kH, VK_FORMAT_R8G8_UNORM, sampled, "host_material_small");
+    const size_t n = size_t(kW) * kH;
+    std::vector<uint16_t> texels(n, uint16_t(102u | (255u << 8))); // roughness 0.4, metalness 1
+    const VkImageLayout ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    uploadImage(d, material, 0, 0, texels.data(), n * 2, VK_IMAGE_LAYOUT_UNDEFINED, ro);
+    uploadImage(d, small, 0, 0, texels.data(), n, VK_IMAGE_LAYOUT_UNDEFINED, ro);
+    HostTargets good = g.targets(true);
+    good.material = g.host(material, sampled);
+    struct Case {
+        const char* what;
+        std::function<void(HostTargets&)> mutate;
+        const char* message;
+    };
+    const Case cases[] = {
+        {"RGBA8 material", [](HostTargets& t) { t.material.format = VK_FORMAT_R8G8B8A8_UNORM; },
+         "setTargets: material: format R8G8B8A8_UNORM, want R8G8_UNORM"},
+        {"material without SAMPLED", [](HostTargets& t) { t.material.usage = VK_IMAGE_USAGE_STORAGE_BIT; },
+         "setTargets: material: usage lacks SAMPLED"},
+        {"material smaller than the frame", [&](HostTargets& t) { t.material = g.host(small, sampled); },
+         "setTargets: material: the image is 16x18, smaller than the claimed 32x18"},
+        {"material view without its image", [](HostTargets& t) { t.material.image = VK_NULL_HANDLE; },
+         "setTargets: material: the image and its view are both required"},
+    };
+    for (const Case& c : cases) {
+        HostTargets t = good;
+        c.mutate(t);
+        auto r = m->setTargets(t);
+        ASSERT_FALSE(r.ok()) << c.what;
+        EXPECT_EQ(r.error().rfind(c.message, 0), 0u) << c.what << ": " << r.error();
+        EXPECT_EQ(r.error().find('\n'), std::string::npos) << c.what;
+    }
+    auto shade = [&](bool pbr) {
+        HostTargets t = good;
+        if (!pbr) t.material = {};
+        auto r = m->setTargets(t);
+        EXPECT_TRUE(r.ok()) << r.error();
+        renderFrame(*m);
+        return readImage(*m, g.hdr, 8, VK_IMAGE_LAYOUT_GENERAL);
+    };
+    for (bool pbr : {true, false}) {
+        auto hdr = shade(pbr);
+        const auto& fc = internals(*m).lastConstants;
+        const gpu::GpuLight& L = internals(*m).lastLights.at(0);
+        uint32_t differ = 0;
+        for (uint32_t y = 0; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x) {
+                glm::vec3 P = gpu::worldFromPixel(x, y, kDepth, fc.invViewProj, fc.size);
+                glm::vec3 N(0, 0, 1), a(128.0f / 255.0f);
+                glm::vec3 V = glm::normalize(glm::vec3(fc.cameraPosition) - P);
+                glm::vec3 want = a * glm::vec3(fc.ambient) +
+                                 (pbr ? gpu::shadeLightPbr(L, P, N, V, a, 102.0f / 255.0f, 1.0f)
+                                      : gpu::shadeLight(L, P, N, V, a));
+                glm::vec3 got = glm::vec3(half4(hdr, size_t(y) * kW + x));
+                for (int k = 0; k < 3; ++k)
+                    differ += !(std::abs(got[k] - want[k]) <= 2e-3f * want[k] + 2e-4f);
+            }
+        EXPECT_EQ(differ, 0u) << (pbr ? "GGX" : "Blinn-Phong");
+    }
+    EXPECT_EQ(validationErrors(), 0u);
+    vkQueueWaitIdle(d.queue);
+    destroyImage(d, material);
+    destroyImage(d, small);
     destroyGBuffer(*m, g);
 }
 

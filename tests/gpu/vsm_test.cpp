@@ -110,6 +110,41 @@ void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint3
     if (grownTo) *grownTo = vsm.mapCapacity();
 }
 
+// Per-light bias (LightDesc::shadowDepthBias / shadowNormalBias) reaches GpuVsmMap.bias; the marks (which
+// pages a lookup reads, vsmLocate) then still equal the CPU reference, and differ from the default's.
+TEST(GpuVsm, PerLightBiasReachesMapsAndMarksEqualCpu) {
+    resetValidationCounters();
+    auto session = VsmSession::create(smallPath(192, 108));
+    ASSERT_TRUE(session.ok()) << session.error();
+    VsmSession& s = *session.value();
+    Module& m = *s.module;
+    const VirtualShadowMaps& vsm = internals(m).vsm;
+    ASSERT_TRUE(s.frame(0).ok());
+    const std::vector<uint32_t> defaultMarks = vsm.read(deviceOf(m), VsmState::Marks);
+    for (uint32_t i = 0; i < s.scene.lights.size(); ++i) {
+        if (s.scene.lights[i].dynamic) continue; // the session re-sets moving lights every frame
+        LightDesc l = toLightDesc(s.scene.lights[i]);
+        l.shadowDepthBias = 2.0f;
+        l.shadowNormalBias = 6.0f;
+        ASSERT_TRUE(m.setLight(i, l).ok());
+    }
+    ASSERT_TRUE(s.frame(0).ok()); // the same view and animation time
+    std::vector<uint32_t> gpuMarks = vsm.read(deviceOf(m), VsmState::Marks);
+    VsmMarkInputs in = markInputs(m);
+    uint32_t biased = 0;
+    for (const gpu::GpuVsmMap& map : in.maps) biased += map.bias.x == 2.0f && map.bias.y == 6.0f;
+    EXPECT_GT(biased, 0u) << "no map carries the lights' bias";
+    std::vector<uint32_t> cpuMarks = vsmMarkReference(in);
+    size_t differ = 0, changed = 0;
+    for (size_t w = 0; w < gpuMarks.size(); ++w) {
+        differ += gpuMarks[w] != cpuMarks[w];
+        changed += w < defaultMarks.size() && gpuMarks[w] != defaultMarks[w];
+    }
+    EXPECT_EQ(differ, 0u) << "mark words differ from the CPU reference";
+    EXPECT_GT(changed, 0u) << "a six-texel normal offset moved no lookup to another page";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
 TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     marksAndAllocationEqualCpuReference(smallPath(192, 108), 100, nullptr);
 }

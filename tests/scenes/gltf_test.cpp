@@ -155,14 +155,16 @@ struct Tetra {
     std::string extraPrimitive;     // appended to the primitives array
     std::string extensionsRequired; // e.g. R"("extensionsRequired": ["KHR_draco_mesh_compression"],)"
     std::string extraTop;           // more top-level members, each followed by a comma
+    std::string primitiveMember;    // more members of the first primitive, each preceded by a comma
 
     std::string json() const {
         std::string bin(reinterpret_cast<const char*>(positions.data()), positions.size() * 4);
         bin.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 2);
         return R"({"asset": {"version": "2.0"}, )" + extensionsRequired + extraTop +
                R"("scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" + nodes +
-               R"(, "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1})" +
-               extraPrimitive + R"(]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": )" +
+               R"(, "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1)" +
+               primitiveMember + "}" + extraPrimitive +
+               R"(]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": )" +
                std::to_string(positionCount) +
                R"(, "type": "VEC3"}, {"bufferView": 1, "componentType": 5123, "count": )" +
                std::to_string(indices.size()) +
@@ -193,7 +195,29 @@ TEST(ScenesGltf, HandWrittenTetrahedron) {
     EXPECT_NE(r->warnings[0].find("LINES"), std::string::npos) << r->warnings[0];
     EXPECT_EQ(r->lights.size(), 3u);
     test::expectValidLights(*r);
-    EXPECT_NEAR(r->instances[0].albedo.x, 0.8f, 1e-6f); // no material
+    EXPECT_NEAR(r->instances[0].albedo.x, 0.8f, 1e-6f); // no material: a rough dielectric
+    EXPECT_EQ(r->instances[0].roughness, 1.0f);
+    EXPECT_EQ(r->instances[0].metalness, 0.0f);
+}
+
+// metallicRoughness factors reach the instance (Module::setInstanceMaterial through bindScene); absent
+// factors take glTF's defaults (1, 1).
+TEST(ScenesGltf, MaterialFactorsReachTheInstance) {
+    Tetra t;
+    t.primitiveMember = R"(, "material": 0)";
+    t.extraTop = R"("materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 1],)"
+                 R"( "metallicFactor": 0.75, "roughnessFactor": 0.375}}],)";
+    auto r = loadGltf(test::writeFile("tetra_material.gltf", t.json()), 1, 1);
+    ASSERT_TRUE(r.ok()) << r.error();
+    ASSERT_EQ(r->instances.size(), 1u);
+    EXPECT_EQ(r->instances[0].albedo, glm::vec3(0.25f, 0.5f, 0.75f));
+    EXPECT_EQ(r->instances[0].metalness, 0.75f);
+    EXPECT_EQ(r->instances[0].roughness, 0.375f);
+    t.extraTop = R"("materials": [{"pbrMetallicRoughness": {}}],)";
+    r = loadGltf(test::writeFile("tetra_default_material.gltf", t.json()), 1, 1);
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r->instances[0].metalness, 1.0f);
+    EXPECT_EQ(r->instances[0].roughness, 1.0f);
 }
 
 // A mirrored node among proper ones gets a mesh copy with reversed triangles, so it stays closed and
