@@ -9,9 +9,8 @@
 //   V  Smith-GGX height-correlated visibility, 0.5 / (n.l sqrt((n.v)^2 (1 - a^2) + a^2)
 //                                                   + n.v sqrt((n.l)^2 (1 - a^2) + a^2))
 //   F  Schlick, F0 + (1 - F0) (1 - v.h)^5 with F0 = mix(0.04, albedo, metalness)
-// and Lambert diffuse albedo (1 - metalness) / pi. The incident light (range window, cone) is shading.h's,
-// computed the same way; the legacy function there is left untouched so that its images stay
-// byte-identical (GoldenOutputs).
+// and Lambert diffuse albedo (1 - metalness) / pi. The incident light (range window, cone) is shading.h's
+// lightIncidence, shared with the Lambert + Blinn-Phong model.
 #ifndef ML_BRDF_H
 #define ML_BRDF_H
 
@@ -20,35 +19,10 @@
 #ifdef __cplusplus
 namespace ml::gpu {
 using glm::mix;
-#define ML_OUT(T) T&
-#else
-#define ML_OUT(T) out T
 #endif
 
 #define ML_PI 3.14159265f
 #define ML_MIN_PERCEPTUAL_ROUGHNESS 0.045f
-
-// The light's direction from P (unit) and its irradiance scale before n.l: the range window times the
-// inverse square, times the cone's smooth edge for a spot; 1 for a directional light.
-ML_FN float lightIncidence(GpuLight L, vec3 P, ML_OUT(vec3) toLight) {
-    float falloff = 1.0f;
-    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
-        toLight = -vec3(L.directionCosOuter.x, L.directionCosOuter.y, L.directionCosOuter.z);
-    } else {
-        vec3 d = vec3(L.positionRange.x, L.positionRange.y, L.positionRange.z) - P;
-        float dist2 = max(dot(d, d), 1e-4f);
-        toLight = d / sqrt(dist2);
-        float ratio2 = dist2 * L.params.y;
-        float window = clamp(1.0f - ratio2 * ratio2, 0.0f, 1.0f);
-        falloff = window * window / dist2;
-        if (L.info.x == ML_LIGHT_SPOT) {
-            float cosAngle =
-                -dot(toLight, vec3(L.directionCosOuter.x, L.directionCosOuter.y, L.directionCosOuter.z));
-            falloff *= smoothstep(L.directionCosOuter.w, L.params.x, cosAngle);
-        }
-    }
-    return falloff;
-}
 
 ML_FN float ggxDistribution(float nDotH, float a) {
     float a2 = a * a;

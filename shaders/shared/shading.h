@@ -12,14 +12,18 @@ using glm::dot;
 using glm::normalize;
 using glm::smoothstep;
 using std::pow;
+#define ML_OUT(T) T&
+#else
+#define ML_OUT(T) out T
 #endif
 
 // Radiance reflected towards the viewer by one light, before visibility. Lambert diffuse plus a
 // normalised Blinn-Phong lobe (shininess 32, specular albedo 0.04); range falloff is the windowed
 // inverse square ((1 - (d/r)^4)^2 / d^2), zero at the range; the cone has a smooth edge from the
 // inner to the outer half angle.
-ML_FN vec3 shadeLight(GpuLight L, vec3 P, vec3 N, vec3 V, vec3 albedo) {
-    vec3 toLight;
+// The light's direction from P (unit) and its irradiance scale before n.l: the range window times the
+// inverse square, times the cone's smooth edge for a spot; 1 for a directional light.
+ML_FN float lightIncidence(GpuLight L, vec3 P, ML_OUT(vec3) toLight) {
     float falloff = 1.0f;
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         toLight = -vec3(L.directionCosOuter.x, L.directionCosOuter.y, L.directionCosOuter.z);
@@ -36,6 +40,12 @@ ML_FN vec3 shadeLight(GpuLight L, vec3 P, vec3 N, vec3 V, vec3 albedo) {
             falloff *= smoothstep(L.directionCosOuter.w, L.params.x, cosAngle);
         }
     }
+    return falloff;
+}
+
+ML_FN vec3 shadeLight(GpuLight L, vec3 P, vec3 N, vec3 V, vec3 albedo) {
+    vec3 toLight;
+    float falloff = lightIncidence(L, P, toLight);
     float nDotL = dot(N, toLight);
     if (nDotL <= 0.0f || falloff <= 0.0f) return vec3(0.0f);
     vec3 H = normalize(toLight + V);
