@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_mark: per shaded pixel, each light of its cluster that has virtual shadow maps marks the pages
+// vsm_mark: per shaded receiver pixel, each light of its cluster that has virtual shadow maps and that
+// the surface faces (vsmFacesLight: the evaluation looks nothing up for the rest) marks the pages
 // its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) plus the last page of
 // its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame; the
 // first want of an entry appends it to the request list (vsm_common.glsl's vsmWant).
@@ -41,12 +42,14 @@ void main() {
     if (px.x >= frame.size.x || px.y >= frame.size.y) return;
     float d = texelFetch(depthImage, ivec2(px), 0).r;
     if (!hasSurface(d)) return;
+    vec4 stored = texelFetch(normalImage, ivec2(px), 0);
+    if (stored.w < 0.0) return; // ML_NOT_A_RECEIVER: the evaluation looks no shadow up here
     vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
-    vec3 N = vsmNormalize(texelFetch(normalImage, ivec2(px), 0).xyz);
+    vec3 N = vsmNormalize(stored.xyz);
     uvec2 range = clusterLights(px, d);
     for (uint i = 0; i < range.y; ++i) {
         GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
-        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N)) continue;
         vsmMarkReceiver(L, L.info.y, P, N);
     }
 }

@@ -91,6 +91,27 @@ ML_FN float vsmFootprint(vec3 cameraPosition, vec3 P, float perMetre) {
     return f;
 }
 
+// Whether a receiver (unit normal N, or 0 when the stored normal was degenerate) faces light L closely
+// enough that the evaluation may look its shadow up. Both shading models (shading.h, brdf.h) return zero
+// for n.l <= 0 and the evaluation then skips the lookup, so pages wanted only by back-facing receivers
+// are never read: marking skips them (vsm_mark, its CPU twin, the probe). The rule keeps a margin: a
+// receiver is skipped only when n.l < -1e-3 (0.06 degrees past grazing), so the evaluation's own
+// rounding of n.l (not `precise`) never finds an unmarked page; squared to stay exact on both sides.
+ML_FN bool vsmFacesLight(GpuLight L, vec3 P, vec3 N) {
+    ML_PRECISE float dx, dy, dz;
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        dx = -L.directionCosOuter.x, dy = -L.directionCosOuter.y, dz = -L.directionCosOuter.z;
+    } else {
+        dx = L.positionRange.x - P.x, dy = L.positionRange.y - P.y, dz = L.positionRange.z - P.z;
+    }
+    ML_PRECISE float nd = N.x * dx + N.y * dy + N.z * dz;
+    if (nd >= 0.0f) return true;
+    ML_PRECISE float d2 = dx * dx + dy * dy + dz * dz;
+    ML_PRECISE float margin = 1e-6f * d2;
+    ML_PRECISE float nd2 = nd * nd;
+    return nd2 < margin;
+}
+
 // The float quantisation of shaders/static/static_visibility.glsl and vsm_draw.frag: linear depth over
 // [0, far] to 32 bits (4294967040 is the largest float below 2^32).
 ML_FN uint vsmQuantize(float z, float farPlane) {

@@ -37,11 +37,14 @@ void main() {
     float d = texelFetch(depthImage, ivec2(px), 0).r;
     if (!hasSurface(d)) return;
     vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
-    vec3 N = texelFetch(normalImage, ivec2(px), 0).xyz;
+    vec4 stored = texelFetch(normalImage, ivec2(px), 0);
+    if (stored.w < 0.0) return; // not a receiver: no lookup (evaluate.comp), no marks (vsm_mark)
+    vec3 N = stored.xyz;
+    vec3 Nunit = vsmNormalize(N);
     uvec2 range = clusterLights(px, d);
     for (uint i = 0; i < range.y; ++i) {
         GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
-        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+        if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, Nunit)) continue;
         VsmChoice c;
         uint status, depth;
         vsmVisibility(L, L.info.y, P, N, c, status, depth);

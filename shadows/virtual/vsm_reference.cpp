@@ -84,7 +84,9 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
             const float d = in.depth[size_t(y) * width + x];
             if (!gpu::hasSurface(d)) continue;
             glm::vec3 P = worldFromPixel(x, y, d, f.invViewProj, f.size);
-            glm::vec3 N = vsmNormalize(in.normal[size_t(y) * width + x]);
+            const glm::vec4 stored = in.normal[size_t(y) * width + x];
+            if (stored.w < 0.0f) continue; // not a receiver
+            glm::vec3 N = vsmNormalize(glm::vec3(stored));
             // clusterLights (shaders/shared/cluster_list.glsl).
             uint32_t offset = ML_CLUSTER_OVERFLOW, count = f.cluster.z;
             if (f.cluster.w != ML_CULL_NONE) {
@@ -98,7 +100,7 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
             }
             for (uint32_t i = 0; i < count; ++i) {
                 const GpuLight& L = in.lights[offset == ML_CLUSTER_OVERFLOW ? i : in.pool[offset + i]];
-                if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P)) continue;
+                if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N)) continue;
                 Choice c = choose(in, L, L.info.y, P, N);
                 if (!c.tap.ok) continue;
                 markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);

@@ -26,7 +26,7 @@ struct VsmMarkInputs {
     std::vector<glm::uvec2> ranges;    // cluster lists (culling/culling.h)
     std::vector<uint32_t> pool;
     std::vector<float> depth;      // width * height, row-major
-    std::vector<glm::vec3> normal; // G-buffer normals as stored (RGBA16F -> float)
+    std::vector<glm::vec4> normal; // G-buffer normals as stored (RGBA16F -> float; w < 0: not a receiver)
     gpu::VsmConstants constants{};
     std::vector<gpu::GpuVsmMap> maps; // indexed by map slot
     std::vector<uint32_t> coverage;   // one bit per entry

@@ -4,6 +4,8 @@
 // from the previous frame's state; the invariants hold every frame; a pool a quarter of the need counts
 // fallbacks and never leaves a lookup without a page.
 #include "gpu_test_util.h"
+
+#include <bit>
 #include "host/vsm_session.h"
 #include "shadows/virtual/vsm_reference.h"
 
@@ -40,7 +42,7 @@ VsmMarkInputs markInputs(Module& m) {
     in.depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     in.normal.resize(in.depth.size());
-    for (size_t i = 0; i < in.normal.size(); ++i) in.normal[i] = glm::vec3(half4(normal, i));
+    for (size_t i = 0; i < in.normal.size(); ++i) in.normal[i] = half4(normal, i);
     in.constants = vsm.lastConstants();
     in.maps = vsm.slotHost(slot).maps;
     in.coverage = vsm.slotHost(slot).coverage;
@@ -142,6 +144,58 @@ TEST(GpuVsm, PerLightBiasReachesMapsAndMarksEqualCpu) {
     }
     EXPECT_EQ(differ, 0u) << "mark words differ from the CPU reference";
     EXPECT_GT(changed, 0u) << "a six-texel normal offset moved no lookup to another page";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// Marking covers what the evaluation looks up, and no more: a pixel that is not a shadow receiver, or a
+// receiver facing away from the light (the shading is zero, evaluate.comp looks nothing up), marks no
+// page (vsmFacesLight). One light with maps kept; the G-buffer normals turned towards it, then away.
+size_t markedBits(const std::vector<uint32_t>& marks) {
+    size_t n = 0;
+    for (uint32_t w : marks) n += size_t(std::popcount(w));
+    return n;
+}
+
+TEST(GpuVsm, BackFacingAndNonReceiverPixelsMarkNothing) {
+    resetValidationCounters();
+    auto session = VsmSession::create(smallPath(192, 108));
+    ASSERT_TRUE(session.ok()) << session.error();
+    VsmSession& s = *session.value();
+    Module& m = *s.module;
+    ASSERT_TRUE(s.frame(0).ok());
+    VsmMarkInputs in = markInputs(m);
+    const std::vector<uint32_t> all = vsmMarkReference(in);
+    ASSERT_EQ(internals(m).vsm.read(deviceOf(m), VsmState::Marks), all);
+    ASSERT_GT(markedBits(all), 0u);
+    // The spot light whose pages cover most pixels keeps its maps; the others lose them.
+    uint32_t keep = UINT32_MAX;
+    size_t best = 0;
+    for (uint32_t l = 0; l < in.lights.size(); ++l) {
+        if (in.lights[l].info.y == ML_VSM_NO_MAP || in.lights[l].info.x != ML_LIGHT_SPOT) continue;
+        VsmMarkInputs one = in;
+        for (uint32_t k = 0; k < one.lights.size(); ++k)
+            if (k != l) one.lights[k].info.y = ML_VSM_NO_MAP;
+        const size_t n = markedBits(vsmMarkReference(one));
+        if (n > best) best = n, keep = l;
+    }
+    ASSERT_NE(keep, UINT32_MAX) << "no spot light has maps on this path";
+    for (uint32_t k = 0; k < in.lights.size(); ++k)
+        if (k != keep) in.lights[k].info.y = ML_VSM_NO_MAP;
+    const glm::vec3 lightPos(in.lights[keep].positionRange);
+    auto withNormals = [&](float towards, float w) {
+        VsmMarkInputs v = in;
+        for (uint32_t y = 0; y < in.frame.size.y; ++y)
+            for (uint32_t x = 0; x < in.frame.size.x; ++x) {
+                const size_t i = size_t(y) * in.frame.size.x + x;
+                if (!gpu::hasSurface(in.depth[i])) continue;
+                const glm::vec3 P = gpu::worldFromPixel(x, y, in.depth[i], in.frame.invViewProj, in.frame.size);
+                v.normal[i] = glm::vec4(towards * glm::normalize(lightPos - P), w);
+            }
+        return markedBits(vsmMarkReference(v));
+    };
+    EXPECT_GT(withNormals(1.0f, 1.0f), 0u) << "facing the light: its receivers mark pages";
+    EXPECT_EQ(withNormals(-1.0f, 1.0f), 0u) << "facing away: the evaluation reads none of these pages";
+    EXPECT_EQ(withNormals(1.0f, ML_NOT_A_RECEIVER), 0u) << "not receivers: no lookup, no page";
     EXPECT_EQ(validationErrors(), 0u);
 }
 
