@@ -2,7 +2,8 @@
 // (a millisecond or two). The night city with N lights plus small boxes up to M instances in all, a
 // fraction F of them dynamic and moved every frame. Timed per frame on the host clock:
 //   update  the host's calls for the frame (setInstanceTransform of the moving boxes, setCamera);
-//   record  Module::record into a command buffer (uploads, VSM preparation, the passes' commands).
+//   record  Module::record into a command buffer (uploads, VSM preparation, the passes' commands);
+//   vsm     the part of record spent in VirtualShadowMaps::prepare (diag::vsmPrepareMs).
 // The GPU never runs while the clock does: each frame is submitted after its record() is timed and
 // waited for before the next one starts (on lavapipe the "GPU" is this machine's CPU, so overlap would
 // bill its work to the host). --no-submit records every frame without submitting it (the state then
@@ -10,6 +11,7 @@
 // {"record_ms_median": ..., "record_ms_max": ..., "update_ms_median": ..., ...}.
 #include "apps/commands.h"
 #include "apps/options.h"
+#include "engine/manylights_diagnostics.h"
 #include "host/scene_host.h"
 #include "scenes/mesh_utils.h"
 #include "scenes/scenes.h"
@@ -33,32 +35,33 @@ and Module::record. Every flag may be given once; a flag's value cannot be anoth
   --seed S         scene seed (default 1)
   --vsm on|off     virtual shadow maps (default on)
   --no-submit      record without submitting (after the warm-up): the record cost with no GPU work
-Last stdout line: {"record_ms_median": ..., "record_ms_max": ..., "update_ms_median": ..., "lights": ...,
-"instances": ..., "moving": ...}
+The row "vsm" is the part of record spent preparing the virtual shadow maps (0 with --vsm off).
+Last stdout line: {"record_ms_median": ..., "record_ms_max": ..., "update_ms_median": ...,
+"vsm_prepare_ms_median": ..., "lights": ..., "instances": ..., "moving": ...}
 )";
 
 namespace {
 
-double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-}
+    double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    }
 
-double percentile(std::vector<double> v, double q) {
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
+    double percentile(std::vector<double> v, double q) {
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+    }
 
-// Boxes on a grid over the city's ground, 0.5 m, above the ground so they cast on it.
-glm::mat4 boxAt(const Scene& s, uint32_t i, uint32_t count, float phase) {
-    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
-    const glm::vec3 lo = s.boundsMin, hi = s.boundsMax;
-    const float fx = (float(i % side) + 0.5f) / float(side), fz = (float(i / side) + 0.5f) / float(side);
-    glm::vec3 p(lo.x + fx * (hi.x - lo.x), lo.y + 1.0f + 0.25f * std::sin(phase + float(i)),
-                lo.z + fz * (hi.z - lo.z));
-    glm::mat4 m(0.5f);
-    m[3] = glm::vec4(p, 1.0f);
-    return m;
-}
+    // Boxes on a grid over the city's ground, 0.5 m, above the ground so they cast on it.
+    glm::mat4 boxAt(const Scene& s, uint32_t i, uint32_t count, float phase) {
+        const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
+        const glm::vec3 lo = s.boundsMin, hi = s.boundsMax;
+        const float fx = (float(i % side) + 0.5f) / float(side), fz = (float(i / side) + 0.5f) / float(side);
+        glm::vec3 p(lo.x + fx * (hi.x - lo.x), lo.y + 1.0f + 0.25f * std::sin(phase + float(i)),
+                    lo.z + fz * (hi.z - lo.z));
+        glm::mat4 m(0.5f);
+        m[3] = glm::vec4(p, 1.0f);
+        return m;
+    }
 
 } // namespace
 
@@ -122,7 +125,7 @@ int runBenchCpu(int argc, char** argv) {
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     vkAllocateCommandBuffers(info.device, &ai, &cmd);
 
-    std::vector<double> recordMs, updateMs;
+    std::vector<double> recordMs, updateMs, vsmMs;
     const uint32_t warmup = 2;
     int rc = 0;
     for (uint32_t f = 0; f < warmup + view->frames && rc == 0; ++f) {
@@ -149,6 +152,7 @@ int runBenchCpu(int argc, char** argv) {
         if (f >= warmup) {
             updateMs.push_back(msBetween(t0, t1));
             recordMs.push_back(msBetween(t2, t3));
+            vsmMs.push_back(diag::vsmPrepareMs(m));
         }
         if (submit || f < warmup) {
             VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
@@ -166,16 +170,19 @@ int runBenchCpu(int argc, char** argv) {
 
     const double recMed = percentile(recordMs, 0.5), recMax = percentile(recordMs, 1.0);
     const double updMed = percentile(updateMs, 0.5), updMax = percentile(updateMs, 1.0);
+    const double vsmMed = percentile(vsmMs, 0.5), vsmMax = percentile(vsmMs, 1.0);
     std::printf(
         "bench cpu: night-city, %u lights, %u instances (%u moving), %ux%u, vsm %s, %u frames, %s, %s\n",
         lights.value(), instances.value(), movers, view->width, view->height, vsm.c_str(), view->frames,
         submit ? "each submitted and waited for" : "recorded only", info.name.c_str());
     std::printf("| span   | median ms | max ms |\n|--------|----------:|-------:|\n");
     std::printf("| update | %9.3f | %6.3f |\n| record | %9.3f | %6.3f |\n", updMed, updMax, recMed, recMax);
+    std::printf("| vsm    | %9.3f | %6.3f |\n", vsmMed, vsmMax);
     std::printf("{\"record_ms_median\": %.4f, \"record_ms_max\": %.4f, \"update_ms_median\": %.4f, "
-                "\"update_ms_max\": %.4f, \"lights\": %u, \"instances\": %u, \"moving\": %u, \"vsm\": %s, "
+                "\"update_ms_max\": %.4f, \"vsm_prepare_ms_median\": %.4f, \"vsm_prepare_ms_max\": %.4f, "
+                "\"lights\": %u, \"instances\": %u, \"moving\": %u, \"vsm\": %s, "
                 "\"submitted\": %s, \"frames\": %u}\n",
-                recMed, recMax, updMed, updMax, lights.value(), instances.value(), movers,
+                recMed, recMax, updMed, updMax, vsmMed, vsmMax, lights.value(), instances.value(), movers,
                 vsm == "on" ? "true" : "false", submit ? "true" : "false", view->frames);
     return 0;
 }

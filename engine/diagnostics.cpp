@@ -88,6 +88,10 @@ Result<void> readGBuffer(Module& module, std::vector<float>& depth, std::vector<
     return {};
 }
 
+double vsmPrepareMs(const Module& module) {
+    return state(module).vsm.lastPrepareMs();
+}
+
 uint32_t cullingBoxTests(const Module& module) {
     return state(module).cull.lastBoxTests();
 }

@@ -5,7 +5,7 @@
 //   G-buffer      readGBuffer: the module-owned depth and normals of the last frame (receivers for
 //                 ray-traced references).
 //   last frame    lastFrame: the constants the passes used (view-projection, its inverse, eye, size).
-//   counters      cullingBoxTests, sceneCounts.
+//   counters      cullingBoxTests, vsmPrepareMs, sceneCounts.
 //   VSM           vsmMeshPath, vsmMaps, readVsmProbes (the probe pass: VsmSettings::probeCapacity > 0),
 //                 vsmCasterPoint (the page draws' transform, for CPU reference maps), readVsmPageState
 //                 with vsmKernelLit (the lookup's kernel redone on the CPU).
@@ -47,6 +47,8 @@ uint64_t targetBytes(uint32_t width, uint32_t height, bool ownTargets);
 // Light-versus-cluster box tests of the light assignment in the last completed frame (culling
 // statistics; 0 in mode None).
 uint32_t cullingBoxTests(const Module& module);
+// CPU wall time of the virtual shadow maps' preparation in the last record() (0 with them off).
+double vsmPrepareMs(const Module& module);
 
 // Slots in the module's scene tables (removed objects included) and the meshlets built for the VSM mesh
 // path (meshoptimizer, VsmSettings::meshletVertices / meshletTriangles).

@@ -207,6 +207,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         sl.host.coverage.resize(bitWords, 0);
         sl.host.stale.resize(bitWords, 0);
         sl.bitsFull = true; // new buffers: uploaded whole once
+        sl.uploadedMaps.clear();
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
         sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
     }
@@ -310,6 +311,7 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
     }
     moved = !info.inUse || !sameMap(info.gpu, g);
     info.inUse = true;
+    info.builtFrom = l;
     info.face = face;
     info.gpu = g;
 }

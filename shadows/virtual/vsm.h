@@ -101,6 +101,8 @@ struct VsmMapInfo {
     uint32_t face = 0;  // cube face or clip level
     gpu::GpuVsmMap gpu{};
     LightFrustum frustum; // the volume a reference rasteriser uses (clip levels: orthographic)
+    VsmLight builtFrom{}; // the light as gpu was built from it (spot and point maps are rebuilt only
+                          // when it changes: their matrices do not depend on the camera)
 };
 
 // Sizes of the page tables and marks (vsm_types.h's vocabulary).
@@ -153,6 +155,11 @@ struct VsmSlot {
     std::vector<uint32_t> bitMaps;    // maps with a set coverage or stale bit in this slot's buffers
     std::vector<uint32_t> bitUploads; // this frame's word ranges to upload (maps; repeats allowed)
     bool bitsFull = true;
+    // What this slot's maps and casters buffers hold (a mirror): only elements that differ are written,
+    // so a frame where 1 % of the instances moved writes about 1 % of the casters. Cleared when the
+    // buffers are made anew.
+    std::vector<gpu::GpuVsmMap> uploadedMaps;
+    std::vector<gpu::GpuCaster> uploadedCasters;
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
@@ -198,6 +205,8 @@ class VirtualShadowMaps {
     VsmLayout layout() const { return {s0_, mips_, entriesPerMap_, hpbLevels_, markWords_, hpbWords_}; }
     const std::vector<VsmMapInfo>& mapInfo() const { return maps_; }
     const gpu::VsmConstants& lastConstants() const { return lastConstants_; }
+    // Wall time of the last prepare() on the CPU (the virtual shadow maps' share of record(); bench cpu).
+    double lastPrepareMs() const { return lastPrepareMs_; }
     // What the last prepare() of a slot computed on the CPU.
     const VsmSlotHost& slotHost(uint32_t slot) const { return slots_[slot].host; }
     // A host copy of persistent GPU state (the device must be idle): the used part of the buffer.
@@ -250,6 +259,7 @@ class VirtualShadowMaps {
     std::vector<uint8_t> wasActive_;
     std::vector<VsmInstance> lastInstances_;
     gpu::VsmConstants lastConstants_{};
+    double lastPrepareMs_ = 0.0;
 
     VsmPages pages_;
     uint32_t hpbLevels_ = 0, hpbWords_ = 0;

@@ -6,24 +6,130 @@
 #include "shadows/virtual/vsm_math.h"
 
 #include <algorithm>
+#include <chrono>
 #include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace ml {
 
 namespace {
 
-void setBit(std::vector<uint32_t>& bits, uint32_t i) {
-    bits[i >> 5] |= 1u << (i & 31u);
+// Lights (spheres) binned into a uniform x/z grid for box queries (markCoverageAndStale). Cells are
+// twice the median radius, at most 64 x 64 over the lights' extent (a cheap build: 4,097 offsets); a sphere
+// spanning more than 64 cells goes to `wide`, which every query visits.
+struct LightGrid {
+    glm::vec2 origin{0.0f};
+    float cell = 1.0f;
+    int nx = 0, nz = 0;
+    std::vector<uint32_t> start; // per cell + 1: offsets into items
+    std::vector<uint32_t> items; // sphere indices
+    std::vector<uint32_t> wide;
+
+    template <class S> static LightGrid build(const std::vector<S>& spheres) {
+        LightGrid g;
+        if (spheres.empty()) return g;
+        std::vector<float> radii;
+        glm::vec2 lo(spheres[0].c.x, spheres[0].c.z), hi = lo;
+        for (const S& s : spheres) {
+            radii.push_back(s.r);
+            lo = glm::min(lo, glm::vec2(s.c.x, s.c.z));
+            hi = glm::max(hi, glm::vec2(s.c.x, s.c.z));
+        }
+        std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+        const glm::vec2 extent = hi - lo;
+        g.cell = std::max({2.0f * radii[radii.size() / 2], extent.x / 64.0f, extent.y / 64.0f, 1e-3f});
+        g.origin = lo;
+        g.nx = std::min(int(extent.x / g.cell) + 1, 64);
+        g.nz = std::min(int(extent.y / g.cell) + 1, 64);
+        auto span = [&](const S& s, int& x0, int& x1, int& z0, int& z1) {
+            x0 = g.clampX((s.c.x - s.r - g.origin.x) / g.cell),
+            x1 = g.clampX((s.c.x + s.r - g.origin.x) / g.cell);
+            z0 = g.clampZ((s.c.z - s.r - g.origin.y) / g.cell),
+            z1 = g.clampZ((s.c.z + s.r - g.origin.y) / g.cell);
+        };
+        g.start.assign(size_t(g.nx) * g.nz + 1, 0);
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<uint32_t> cursor;
+            if (pass == 1) {
+                for (size_t c = 1; c < g.start.size(); ++c) g.start[c] += g.start[c - 1];
+                g.items.resize(g.start.back());
+                cursor.assign(g.start.begin(), g.start.end() - 1);
+            }
+            for (uint32_t k = 0; k < spheres.size(); ++k) {
+                int x0, x1, z0, z1;
+                span(spheres[k], x0, x1, z0, z1);
+                if ((x1 - x0 + 1) * (z1 - z0 + 1) > 64) {
+                    if (pass == 0) g.wide.push_back(k);
+                    continue;
+                }
+                for (int z = z0; z <= z1; ++z)
+                    for (int x = x0; x <= x1; ++x) {
+                        const size_t c = size_t(z) * g.nx + x;
+                        if (pass == 0)
+                            ++g.start[c + 1];
+                        else
+                            g.items[cursor[c]++] = k;
+                    }
+            }
+        }
+        return g;
+    }
+    int clampX(float v) const { return std::clamp(int(std::floor(v)), 0, nx - 1); }
+    int clampZ(float v) const { return std::clamp(int(std::floor(v)), 0, nz - 1); }
+    // Every sphere that may touch the box [lo, hi] (some twice: callers stamp).
+    template <class F> void forEach(glm::vec3 lo, glm::vec3 hi, F&& f) const {
+        for (uint32_t k : wide) f(k);
+        if (nx == 0) return;
+        const int x0 = clampX((lo.x - origin.x) / cell), x1 = clampX((hi.x - origin.x) / cell);
+        const int z0 = clampZ((lo.z - origin.y) / cell), z1 = clampZ((hi.z - origin.y) / cell);
+        for (int z = z0; z <= z1; ++z)
+            for (int x = x0; x <= x1; ++x) {
+                const size_t c = size_t(z) * nx + x;
+                for (uint32_t i = start[c]; i < start[c + 1]; ++i) f(items[i]);
+            }
+    }
+};
+
+// Sets `count` consecutive bits from `first`: whole words where the run covers them.
+void setBitRun(std::vector<uint32_t>& bits, uint32_t first, uint32_t count) {
+    while (count > 0) {
+        const uint32_t shift = first & 31u, n = std::min(32u - shift, count);
+        bits[first >> 5] |= (n == 32u ? ~0u : ((1u << n) - 1u)) << shift;
+        first += n;
+        count -= n;
+    }
 }
 
-// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive).
+// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive);
+// a row's entries are consecutive (vsmEntry), so each row is one run.
 void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
                  uint32_t entriesPerMap) {
     for (uint32_t m = 0; m < mips; ++m)
         for (uint32_t y = rect.y >> m; y <= (rect.w >> m); ++y)
-            for (uint32_t x = rect.x >> m; x <= (rect.z >> m); ++x)
-                setBit(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, x, y));
+            setBitRun(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, rect.x >> m, y),
+                      (rect.z >> m) - (rect.x >> m) + 1u);
+}
+
+// Writes elements [0, n) of `data` into the mapped buffer where they differ from `mirror` (what the buffer
+// holds), in runs of consecutive changed elements, and updates the mirror.
+template <class T> void uploadChanged(Buffer& buffer, const T* data, size_t n, std::vector<T>& mirror) {
+    if (mirror.size() < n) { // new or grown: all of it
+        upload(buffer, data, n * sizeof(T));
+        mirror.assign(data, data + n);
+        return;
+    }
+    for (size_t i = 0; i < n;) {
+        if (std::memcmp(&mirror[i], &data[i], sizeof(T)) == 0) {
+            ++i;
+            continue;
+        }
+        size_t end = i + 1;
+        while (end < n && std::memcmp(&mirror[end], &data[end], sizeof(T)) != 0) ++end;
+        upload(buffer, data + i, (end - i) * sizeof(T), i * sizeof(T));
+        i = end;
+    }
+    std::memcpy(mirror.data(), data, n * sizeof(T));
 }
 
 bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
@@ -39,6 +145,7 @@ Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, u
                                                          std::span<const VsmInstance> instances,
                                                          const VsmCamera& camera) {
     if (!settings_.enabled) return std::vector<uint32_t>(visible.size(), ML_VSM_NO_MAP);
+    const auto start = std::chrono::steady_clock::now();
     Slot& slot = slots_[slotIndex];
     if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
     slot.lightsWithPages = slot.lightsWithoutSlot = 0;
@@ -49,6 +156,8 @@ Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, u
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
     buildAllocationOrder(slot);
     ML_TRY(uploadSlot(device, slot, frame, instances, camera));
+    lastPrepareMs_ =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return firstMap;
 }
 
@@ -126,9 +235,17 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
     for (uint32_t id = 0; id < lights.size(); ++id) {
         const LightState& st = lightState_[id];
         if (st.firstMap == ML_VSM_NO_MAP) continue;
+        const VsmLight& l = lights[id];
         for (uint32_t f = 0; f < st.mapCount; ++f) {
             bool moved = false;
-            buildMap(st.firstMap + f, lights[id], f, camera, moved);
+            const VsmMapInfo& info = maps_[st.firstMap + f];
+            const VsmLight& b = info.builtFrom;
+            const bool same = info.inUse && info.light == id && info.face == f &&
+                              l.kind != ML_LIGHT_DIRECTIONAL && b.kind == l.kind &&
+                              b.position == l.position && b.direction == l.direction && b.range == l.range &&
+                              b.outerAngle == l.outerAngle && b.staticBake == l.staticBake &&
+                              b.depthBias == l.depthBias && b.normalBias == l.normalBias;
+            if (!same) buildMap(st.firstMap + f, l, f, camera, moved);
             slot.host.maps[st.firstMap + f] = maps_[st.firstMap + f].gpu;
             if (moved) slot.host.maps[st.firstMap + f].info.y |= ML_VSM_MAP_INVALIDATE;
         }
@@ -159,21 +276,20 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         boxes.push_back({old.lo, old.hi, i, false});
         boxes.push_back({in.lo, in.hi, i, false});
     }
-    // The lights with map slots, as spheres, sorted by centre x: a box tests only the lights whose
-    // centre lies within the largest radius of its x extent (a window over the level, not every light;
-    // directional lights take every box). A box entirely past 1.1 x a local light's range cannot shadow
-    // a point the light reaches: along a texel's ray (and its PCF neighbours, a few texels wide) depth
-    // grows with distance, and lookups happen only within the range (lightReachesPoint) plus a normal
-    // offset of about a texel; 10 % covers both. Its bits would never be read.
+    // The lights with map slots, as spheres, in a uniform grid over x and z (cells twice the median
+    // radius: a typical light touches at most 4 cells); a box tests only the lights listed in the cells
+    // its x/z extent overlaps, each light once (a stamp per light). Lights past 64 cells, and directional
+    // lights, take every box. A box entirely past 1.1 x a local light's range cannot shadow a point the
+    // light reaches: along a texel's ray (and its PCF neighbours, a few texels wide) depth grows with
+    // distance, and lookups happen only within the range (lightReachesPoint) plus a normal offset of
+    // about a texel; 10 % covers both. Its bits would never be read.
     struct Sphere {
-        float x;
         glm::vec3 c;
         float r;
         uint32_t light;
     };
     std::vector<Sphere> local;
     std::vector<uint32_t> directional;
-    float maxRadius = 0.0f;
     for (uint32_t id = 0; id < lightState_.size() && id < lights.size(); ++id) {
         if (lightState_[id].firstMap == ML_VSM_NO_MAP) continue;
         const VsmLight& l = lights[id];
@@ -181,22 +297,23 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
             directional.push_back(id);
             continue;
         }
-        local.push_back({l.position.x, l.position, 1.1f * l.range, id});
-        maxRadius = std::max(maxRadius, 1.1f * l.range);
+        local.push_back({l.position, 1.1f * l.range, id});
     }
-    std::sort(local.begin(), local.end(), [](const Sphere& a, const Sphere& b) { return a.x < b.x; });
+    const LightGrid grid = LightGrid::build(local);
     std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
     std::vector<uint32_t> touched;                   // maps given a bit (uploadSlot)
+    std::vector<uint32_t> stamp(local.size(), 0);
     slot.host.sphereTests = slot.host.projections = 0;
     for (uint32_t b = 0; b < boxes.size(); ++b) {
         for (uint32_t id : directional) hits.emplace_back(id, b);
-        auto first = std::lower_bound(local.begin(), local.end(), boxes[b].lo.x - maxRadius,
-                                      [](const Sphere& s, float x) { return s.x < x; });
-        for (auto it = first; it != local.end() && it->x <= boxes[b].hi.x + maxRadius; ++it) {
+        grid.forEach(boxes[b].lo, boxes[b].hi, [&](uint32_t k) {
+            if (stamp[k] == b + 1) return;
+            stamp[k] = b + 1;
             ++slot.host.sphereTests;
-            const glm::vec3 d = glm::max(glm::max(boxes[b].lo - it->c, it->c - boxes[b].hi), glm::vec3(0.0f));
-            if (glm::dot(d, d) <= it->r * it->r) hits.emplace_back(it->light, b);
-        }
+            const Sphere& sp = local[k];
+            const glm::vec3 d = glm::max(glm::max(boxes[b].lo - sp.c, sp.c - boxes[b].hi), glm::vec3(0.0f));
+            if (glm::dot(d, d) <= sp.r * sp.r) hits.emplace_back(sp.light, b);
+        });
     }
     std::sort(hits.begin(), hits.end());
     for (size_t h = 0; h < hits.size();) {
@@ -310,7 +427,7 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
 
     // Upload (this slot's previous frame has completed: the module waited for its fence).
     upload(slot.constants, &c, sizeof(c));
-    upload(slot.maps, slot.host.maps.data(), size_t(mapsInUse_) * sizeof(gpu::GpuVsmMap));
+    uploadChanged(slot.maps, slot.host.maps.data(), mapsInUse_, slot.uploadedMaps);
     if (slot.bitsFull) { // new buffers: every word once
         upload(slot.coverage, slot.host.coverage.data(), slot.host.coverage.size() * 4);
         upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4);
@@ -326,9 +443,11 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     if (!slot.host.runs.empty())
         upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
     upload(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_ * 4);
-    ML_TRY(ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster), kStorageBufferUsage,
-                        "vsm_casters"));
-    if (!casters.empty()) upload(slot.casters, casters.data(), casters.size() * sizeof(gpu::GpuCaster));
+    auto grown = ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster),
+                              kStorageBufferUsage, "vsm_casters");
+    if (!grown) return fail(grown.error());
+    if (grown.value()) slot.uploadedCasters.clear();
+    uploadChanged(slot.casters, casters.data(), casters.size(), slot.uploadedCasters);
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;

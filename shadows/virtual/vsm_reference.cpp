@@ -16,9 +16,6 @@ using namespace gpu;
 bool testBit(const std::vector<uint32_t>& bits, uint32_t i) {
     return (bits[i >> 5] >> (i & 31u)) & 1u;
 }
-void setBit(std::vector<uint32_t>& bits, uint32_t i) {
-    bits[i >> 5] |= 1u << (i & 31u);
-}
 
 struct Choice {
     uint32_t map = 0, mip = 0, last = 0;
@@ -100,7 +97,8 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
             }
             for (uint32_t i = 0; i < count; ++i) {
                 const GpuLight& L = in.lights[offset == ML_CLUSTER_OVERFLOW ? i : in.pool[offset + i]];
-                if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N)) continue;
+                if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N))
+                    continue;
                 Choice c = choose(in, L, L.info.y, P, N);
                 if (!c.tap.ok) continue;
                 markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
