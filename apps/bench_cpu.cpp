@@ -42,26 +42,26 @@ Last stdout line: {"record_ms_median": ..., "record_ms_max": ..., "update_ms_med
 
 namespace {
 
-    double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-        return std::chrono::duration<double, std::milli>(b - a).count();
-    }
+double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
-    double percentile(std::vector<double> v, double q) {
-        std::sort(v.begin(), v.end());
-        return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-    }
+double percentile(std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+}
 
-    // Boxes on a grid over the city's ground, 0.5 m, above the ground so they cast on it.
-    glm::mat4 boxAt(const Scene& s, uint32_t i, uint32_t count, float phase) {
-        const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
-        const glm::vec3 lo = s.boundsMin, hi = s.boundsMax;
-        const float fx = (float(i % side) + 0.5f) / float(side), fz = (float(i / side) + 0.5f) / float(side);
-        glm::vec3 p(lo.x + fx * (hi.x - lo.x), lo.y + 1.0f + 0.25f * std::sin(phase + float(i)),
-                    lo.z + fz * (hi.z - lo.z));
-        glm::mat4 m(0.5f);
-        m[3] = glm::vec4(p, 1.0f);
-        return m;
-    }
+// Boxes on a grid over the city's ground, 0.5 m, above the ground so they cast on it.
+glm::mat4 boxAt(const Scene& s, uint32_t i, uint32_t count, float phase) {
+    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(count))));
+    const glm::vec3 lo = s.boundsMin, hi = s.boundsMax;
+    const float fx = (float(i % side) + 0.5f) / float(side), fz = (float(i / side) + 0.5f) / float(side);
+    glm::vec3 p(lo.x + fx * (hi.x - lo.x), lo.y + 1.0f + 0.25f * std::sin(phase + float(i)),
+                lo.z + fz * (hi.z - lo.z));
+    glm::mat4 m(0.5f);
+    m[3] = glm::vec4(p, 1.0f);
+    return m;
+}
 
 } // namespace
 

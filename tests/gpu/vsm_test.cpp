@@ -188,7 +188,8 @@ TEST(GpuVsm, BackFacingAndNonReceiverPixelsMarkNothing) {
             for (uint32_t x = 0; x < in.frame.size.x; ++x) {
                 const size_t i = size_t(y) * in.frame.size.x + x;
                 if (!gpu::hasSurface(in.depth[i])) continue;
-                const glm::vec3 P = gpu::worldFromPixel(x, y, in.depth[i], in.frame.invViewProj, in.frame.size);
+                const glm::vec3 P =
+                    gpu::worldFromPixel(x, y, in.depth[i], in.frame.invViewProj, in.frame.size);
                 v.normal[i] = glm::vec4(towards * glm::normalize(lightPos - P), w);
             }
         return markedBits(vsmMarkReference(v));
