@@ -208,6 +208,9 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         sl.host.stale.resize(bitWords, 0);
         sl.bitsFull = true; // new buffers: uploaded whole once
         sl.uploadedMaps.clear();
+        sl.uploadedActive.clear();
+        sl.uploadedRankBase.clear();
+        sl.uploadedRuns.clear();
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
         sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
     }

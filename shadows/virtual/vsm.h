@@ -160,6 +160,8 @@ struct VsmSlot {
     // buffers are made anew.
     std::vector<gpu::GpuVsmMap> uploadedMaps;
     std::vector<gpu::GpuCaster> uploadedCasters;
+    std::vector<uint32_t> uploadedActive, uploadedRankBase;
+    std::vector<glm::uvec4> uploadedRuns;
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and

@@ -439,10 +439,11 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
             upload(slot.stale, slot.host.stale.data() + first, (last - first) * 4, first * 4);
         }
     }
-    if (!slot.host.active.empty()) upload(slot.active, slot.host.active.data(), slot.host.active.size() * 4);
-    if (!slot.host.runs.empty())
-        upload(slot.runs, slot.host.runs.data(), slot.host.runs.size() * sizeof(glm::uvec4));
-    upload(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_ * 4);
+    // The active set and the allocation order change only when lights come into or out of view.
+    uploadChanged(slot.active, slot.host.active.data(), slot.host.active.size(), slot.uploadedActive);
+    uploadChanged(slot.runs, slot.host.runs.data(), slot.host.runs.size(), slot.uploadedRuns);
+    uploadChanged(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_,
+                  slot.uploadedRankBase);
     auto grown = ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster),
                               kStorageBufferUsage, "vsm_casters");
     if (!grown) return fail(grown.error());
