@@ -258,6 +258,7 @@ void Module::Impl::collectSlot(uint32_t index) {
     st.poolCapacity = s.poolCapacity;
     st.surfacePixels = c.surfacePixels;
     st.vsm = vsm.readStats(index);
+    vsm.observe(st.vsm, s.frameNumber); // pool pressure: fallback reservations of the frames to come
     st.memory = device->memoryUsage();
     if (s.statistics && c.surfacePixels) {
         st.lightsPerPixelEvaluatedMean = double(c.evaluatedSum) / double(c.surfacePixels);

@@ -319,6 +319,21 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
     info.gpu = g;
 }
 
+void VirtualShadowMaps::observe(const VsmStats& s, uint64_t frame) {
+    if (!settings_.enabled) return;
+    observed_ = true;
+    // Near pressure: half the pool marked, or lookups already short of pages.
+    if (uint64_t(s.pagesMarked) * 2 >= settings_.poolPages || s.fallbacks > 0 || s.requestOverflow > 0) {
+        nearPressure_ = true;
+        nearPressureFrame_ = std::max(nearPressureFrame_, frame);
+    }
+}
+
+bool VirtualShadowMaps::reservesFallbacks(uint64_t frame) const {
+    if (!settings_.fallbacksOnDemand || !observed_) return true;
+    return nearPressure_ && frame <= nearPressureFrame_ + settings_.fallbackHoldFrames;
+}
+
 VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     VsmStats s;
     if (!settings_.enabled) return s;

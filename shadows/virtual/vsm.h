@@ -202,6 +202,10 @@ class VirtualShadowMaps {
 
     // Statistics of the frame last recorded in `slot` (call once its fence has passed).
     VsmStats readStats(uint32_t slot) const;
+    // A completed frame's stats (the module calls it as each frame completes): whether the pool is near
+    // pressure, for the fallback reservations of later frames (VsmSettings::fallbacksOnDemand).
+    void observe(const VsmStats& stats, uint64_t frame);
+    bool reservesFallbacks(uint64_t frame) const;
 
     // --- for tests, `check vsm` and `bench vsm` (engine/manylights_diagnostics.h wraps them) ---
     VsmLayout layout() const { return {s0_, mips_, entriesPerMap_, hpbLevels_, markWords_, hpbWords_}; }
@@ -262,6 +266,9 @@ class VirtualShadowMaps {
     std::vector<VsmInstance> lastInstances_;
     gpu::VsmConstants lastConstants_{};
     double lastPrepareMs_ = 0.0;
+    bool observed_ = false;          // a frame has completed (observe)
+    bool nearPressure_ = false;      // some completed frame was near pool pressure
+    uint64_t nearPressureFrame_ = 0; // the last such frame
 
     VsmPages pages_;
     uint32_t hpbLevels_ = 0, hpbWords_ = 0;

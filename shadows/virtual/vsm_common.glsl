@@ -123,18 +123,20 @@ void vsmMarkReceiver(GpuLight L, uint firstMap, vec3 P, vec3 N) {
     if (c.tap.ok == 0u) return;
     int radius = int(VSM_CONST.options.x);
     vsmMarkKernel(c.map, c.mip, c.tap, radius, 0u);
+    if (VSM_CONST.camera.z == 0.0) return; // no reservations this frame (VsmSettings::fallbacksOnDemand)
     uint fallbackWords = VSM_CONST.options.w;
     uint R = VSM_CONST.options.z;
     // Two fallback pages: a few mips up (the shadow a small pool keeps), and the coarsest place (one page
-    // per map: what even a pool of one page per active map still holds).
+    // per map: what even a pool of one page per active map still holds). Perspective maps take the fine
+    // tap shifted (vsmCoarserTap: no second projection); clip levels are separate maps and project again.
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         uint f = min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
         if (f != c.map) vsmMarkKernel(f, 0u, vsmLocate(VSM_MAPS[f], R, 0u, P, N), radius, fallbackWords);
         if (c.last != f) vsmMarkKernel(c.last, 0u, vsmLocate(VSM_MAPS[c.last], R, 0u, P, N), radius, fallbackWords);
     } else {
         uint f = min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-        if (f != c.mip) vsmMarkKernel(c.map, f, vsmLocate(VSM_MAPS[c.map], R, f, P, N), radius, fallbackWords);
-        if (c.last != f) vsmMarkKernel(c.map, c.last, vsmLocate(VSM_MAPS[c.map], R, c.last, P, N), radius, fallbackWords);
+        if (f != c.mip) vsmMarkKernel(c.map, f, vsmCoarserTap(c.tap, f - c.mip), radius, fallbackWords);
+        if (c.last != f) vsmMarkKernel(c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius, fallbackWords);
     }
 }
 #endif

@@ -173,6 +173,17 @@ ML_FN VsmTap vsmLocate(GpuVsmMap map, uint resolution, uint mip, vec3 P, vec3 N)
     return tap;
 }
 
+// A perspective map's fallback reservation (vsm_common.glsl's vsmMarkReceiver): the tap `levels` mips
+// coarser, as the fine tap's texel shifted, without the coarser mip's own normal offset (no second
+// projection per receiver and light). Where that lands in another page than the coarser lookup reads,
+// the lookup's chain goes on coarser; its last step, the coarsest mip, is one page per map, which every
+// receiver of the map reserves, so a lookup under pressure still finds a shadow.
+ML_FN VsmTap vsmCoarserTap(VsmTap tap, uint levels) {
+    VsmTap t = tap;
+    t.texel = ivec2(int(uint(tap.texel.x) >> levels), int(uint(tap.texel.y) >> levels));
+    return t;
+}
+
 // Directional lights: the clip level a receiver wants (before checking that the level holds it).
 ML_FN uint vsmPickLevel(GpuVsmMap level0, vec3 P, float footprint, uint resolution, uint levels) {
     vec3 vp = vsmPoint(level0.view, P);

@@ -420,7 +420,7 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
     c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
                              settings_.texelsPerPixel,
-                         settings_.pageClip ? 1.0f : 0.0f, 0, 0);
+                         settings_.pageClip ? 1.0f : 0.0f, reservesFallbacks(frame) ? 1.0f : 0.0f, 0);
     c.order =
         glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, settings_.requestCapacity, hpbWords_);
     lastConstants_ = c;

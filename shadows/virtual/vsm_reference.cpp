@@ -102,6 +102,7 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                 Choice c = choose(in, L, L.info.y, P, N);
                 if (!c.tap.ok) continue;
                 markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
+                if (in.constants.camera.z == 0.0f) continue; // no fallback reservations this frame
                 const size_t fw = in.markWords;
                 if (L.info.x == ML_LIGHT_DIRECTIONAL) {
                     uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
@@ -112,10 +113,10 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                 } else {
                     uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
                     if (fb != c.mip)
-                        markKernel(in, marks, c.map, fb, vsmLocate(in.maps[c.map], R, fb, P, N), radius, fw);
+                        markKernel(in, marks, c.map, fb, vsmCoarserTap(c.tap, fb - c.mip), radius, fw);
                     if (c.last != fb)
-                        markKernel(in, marks, c.map, c.last, vsmLocate(in.maps[c.map], R, c.last, P, N),
-                                   radius, fw);
+                        markKernel(in, marks, c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius,
+                                   fw);
                 }
             }
         }

@@ -57,7 +57,8 @@ ML_STRUCT(VsmConstants) {
     uvec4 options; // x PCF radius, y caching (0: every marked page is redrawn), z virtual resolution,
                    // w first word of the fallback marks (they follow the lookup marks in one buffer)
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), y 1 when page draws
-                   // are clipped to their page (VsmSettings::pageClip), else 0; zw unused
+                   // are clipped to their page (VsmSettings::pageClip), else 0; z 1 when receivers reserve
+                   // fallback pages this frame (VsmSettings::fallbacksOnDemand), else 0; w unused
     uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, z capacity
                    // of the request list (a power of two >= ML_VSM_BLOCK), w HPB words per map slot
 };

@@ -200,6 +200,41 @@ TEST(GpuVsm, BackFacingAndNonReceiverPixelsMarkNothing) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
+// Fallback reservations on demand (VsmSettings::fallbacksOnDemand): with a roomy pool, receivers stop
+// reserving once a frame has completed far from pressure; with a pool near pressure, or the policy off,
+// they reserve in every frame. The fallback region of the marks tells (the lookup marks are the same).
+size_t fallbackBits(uint32_t poolPages, bool onDemand, uint32_t frames) {
+    VsmSessionOptions o = smallPath(192, 108);
+    o.module.vsm.poolPages = poolPages;
+    o.module.vsm.fallbacksOnDemand = onDemand;
+    auto session = VsmSession::create(o);
+    EXPECT_TRUE(session.ok()) << session.error();
+    if (!session.ok()) return 0;
+    VsmSession& s = *session.value();
+    Module& m = *s.module;
+    size_t bits = 0;
+    for (uint32_t f = 0; f < frames; ++f) {
+        EXPECT_TRUE(s.frame(f).ok());
+        const std::vector<uint32_t> marks = internals(m).vsm.read(deviceOf(m), VsmState::Marks);
+        const size_t words = internals(m).vsm.layout().markWords;
+        bits = 0; // the last frame's
+        for (size_t w = words; w < 2 * words && w < marks.size(); ++w)
+            bits += size_t(std::popcount(marks[w]));
+        EXPECT_EQ(vsmMarkReference(markInputs(m)),
+                  std::vector<uint32_t>(marks.begin(), marks.begin() + 2 * words))
+            << "frame " << f;
+    }
+    return bits;
+}
+
+TEST(GpuVsm, FallbacksReservedOnlyNearPressure) {
+    resetValidationCounters();
+    EXPECT_EQ(fallbackBits(1024, true, 4), 0u) << "a roomy pool still reserves fallback pages";
+    EXPECT_GT(fallbackBits(1024, false, 4), 0u) << "the policy off: reservations every frame";
+    EXPECT_GT(fallbackBits(48, true, 4), 0u) << "a pool near pressure reserves no fallback pages";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
 TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     marksAndAllocationEqualCpuReference(smallPath(192, 108), 100, nullptr);
 }
