@@ -59,7 +59,7 @@ struct VsmSettings {
     // pressure: until a frame has completed, then for fallbackHoldFrames frames after a completed frame
     // that marked at least half the pool or had fallbacks. A jump from under half the pool to past all
     // of it within the frames in flight then loses shadows for those frames (counted in fallbacks).
-    // false: every frame (the layout before, `check vsm` exercises both).
+    // false: every frame (the behaviour before; GpuVsm.FallbacksReservedOnlyNearPressure runs both).
     bool fallbacksOnDemand = true;
     uint32_t fallbackHoldFrames = 30;
     // Page draws clipped to one dirty page each (both raster paths). false: one draw per (caster, map, mip)
