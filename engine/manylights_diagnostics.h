@@ -48,6 +48,20 @@ uint64_t targetBytes(uint32_t width, uint32_t height, bool ownTargets);
 // statistics; 0 in mode None).
 uint32_t cullingBoxTests(const Module& module);
 
+// Z-binning (culling/zbin.h, Drobot 2017) run on the last frame's depth, lights and cluster tile masks,
+// beside the footprint clusters (`bench culling --compare-zbin`, docs/culling.md): host work
+// (footprints, sort, upload), the mask and bin passes timed fenced (each its own submission, means
+// over `frames` after a warm-up), and the per-pixel sums of the stats pass. depthTest: masks also test
+// the tile's occupied cluster slices (needs cluster_bounds, which the frame ran). The last frame must
+// have used module-owned targets and the clustered mode. Waits for the queue; the evaluation pass
+// does not use the result.
+struct ZBinMeasure {
+    double hostMs = 0, maskMs = 0, binsMs = 0, statsMs = 0;
+    uint32_t sorted = 0, wide = 0; // lights in the sorted list; wide (directional) lights
+    uint64_t evaluated = 0, reaching = 0, surface = 0;
+};
+Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames);
+
 // Slots in the module's scene tables (removed objects included) and the meshlets built for the VSM mesh
 // path (meshoptimizer, VsmSettings::meshletVertices / meshletTriangles).
 struct SceneCounts {
