@@ -8,6 +8,8 @@
 #include "zbin_stats.comp.spv.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 
 namespace ml {
 
@@ -118,16 +120,22 @@ ZBinStats zbinStatsReference(const ZBinFrame& zf, const ZBinReference& ref, cons
             const float d = depth[size_t(y) * frame.size.x + x];
             if (!gpu::hasSurface(d)) continue;
             const glm::vec3 P = gpu::worldFromPixel(x, y, d, frame.invViewProj, frame.size);
-            const uint32_t range =
-                ref.bins[gpu::zbinOf(gpu::linearDepth(d, frame.depth), p.binNear, p.binScale, p.bins)];
+            const uint32_t bin = gpu::zbinOf(gpu::linearDepth(d, frame.depth), p.binNear, p.binScale, p.bins);
+            const uint32_t range = ref.bins[bin];
             const uint32_t lo = range & 0xFFFF, hi = range >> 16;
             const size_t tile = size_t(y / frame.cluster.y) * frame.size.z + x / frame.cluster.y;
             ++s.surface;
             s.evaluated += p.wide;
+            s.tile += p.wide;
+            s.exact += p.wide;
+            for (uint32_t w = 0; w < p.words; ++w)
+                s.tile += uint64_t(std::popcount(ref.masks[tile * p.words + w]));
             for (uint32_t l : zf.wide) s.reaching += gpu::lightReachesPoint(lights[l], P);
             for (uint32_t i = lo; i <= hi && lo <= hi; ++i)
                 if (ref.masks[tile * p.words + i / 32] >> (i % 32) & 1u) {
                     ++s.evaluated;
+                    const uint32_t r = zf.sorted[i].bins;
+                    s.exact += (r & 0xFFFF) <= bin && bin <= (r >> 16);
                     s.reaching += gpu::lightReachesPoint(lights[zf.sorted[i].light], P);
                 }
         }
@@ -141,7 +149,8 @@ Result<void> ZBinning::create(const Device& device) {
     ML_TRY(createComputeProgram(device, maskProgram_, maskShader_));
     ML_TRY(createComputeProgram(device, binProgram_, binShader_));
     ML_TRY(createComputeProgram(device, statsProgram_, statsShader_));
-    ML_TRY(createBuffer(device, statsBuffer, 3 * sizeof(uint64_t), kStorageBufferUsage, "zbin_stats",
+    static_assert(sizeof(ZBinStats) == 5 * sizeof(uint64_t));
+    ML_TRY(createBuffer(device, statsBuffer, sizeof(ZBinStats), kStorageBufferUsage, "zbin_stats",
                         MemoryRole::Readback));
     return createBuffer(device, frame, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                         "zbin_frame");
@@ -204,8 +213,9 @@ void ZBinning::recordStats(const Device& device, VkCommandBuffer c, VkImageView 
 }
 
 ZBinStats ZBinning::stats() const {
-    const uint64_t* s = statsBuffer.as<uint64_t>();
-    return {s[0], s[1], s[2]};
+    ZBinStats s;
+    std::memcpy(&s, statsBuffer.data, sizeof s);
+    return s;
 }
 
 } // namespace ml

@@ -46,9 +46,12 @@ struct ZBinReference {
 ZBinReference zbinReference(const ZBinFrame& zf, const gpu::FrameConstants& frame,
                             const std::vector<glm::uvec2>& tileSlices);
 
-// Sums over the pixels with geometry: lights evaluated, of those the ones reaching the point, pixels.
+// Sums over the pixels with geometry: lights evaluated, of those the ones reaching the point, pixels;
+// the tile's lights at any depth, and the evaluated lights whose own bin range holds the pixel's bin
+// (exact per-light depth ranges: the rest of `evaluated` is the (min, max) range's false positives).
+// The wide lights count in every sum but surface.
 struct ZBinStats {
-    uint64_t evaluated = 0, reaching = 0, surface = 0;
+    uint64_t evaluated = 0, reaching = 0, surface = 0, tile = 0, exact = 0;
 };
 // The stats pass on the CPU from the reference's masks and bins (depth: the D32 values, row-major).
 ZBinStats zbinStatsReference(const ZBinFrame& zf, const ZBinReference& ref, const std::vector<float>& depth,
@@ -73,7 +76,7 @@ class ZBinning {
     gpu::ZBinPush push{};
     Buffer sorted, wide, frame, lights; // mapped uploads
     Buffer masks, bins;                 // GPU-only (tests read them with readBuffer)
-    Buffer statsBuffer;                 // readback: uint64 evaluated, reaching, surface
+    Buffer statsBuffer;                 // readback: ZBinStats as uint64s
     uint32_t tiles = 0;
 
   private:

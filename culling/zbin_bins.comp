@@ -10,16 +10,10 @@
 #include "culling/zbin_types.h"
 
 layout(local_size_x = ML_ZBIN_GROUP) in;
-layout(push_constant) uniform Push {
-    ZBinPush push;
-};
+layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0, std430) readonly buffer Sorted {
-    ZBinLight sorted[];
-};
-layout(binding = 1, std430) writeonly buffer Bins {
-    uint bins[];
-};
+layout(binding = 0, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = 1, std430) writeonly buffer Bins { uint bins[]; };
 
 void main() {
     uint b = gl_GlobalInvocationID.x;

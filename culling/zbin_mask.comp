@@ -11,22 +11,12 @@
 #include "culling/zbin_types.h"
 
 layout(local_size_x = ML_ZBIN_GROUP) in;
-layout(push_constant) uniform Push {
-    ZBinPush push;
-};
+layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0, std430) readonly buffer Sorted {
-    ZBinLight sorted[];
-};
-layout(binding = 1, std430) readonly buffer TileSlices {
-    uvec2 tileSlices[];
-}; // cluster_bounds'
-layout(binding = 2, std430) buffer Masks {
-    uint masks[];
-};
-layout(binding = 3) uniform Frame {
-    FrameConstants frame;
-};
+layout(binding = 0, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = 1, std430) readonly buffer TileSlices { uvec2 tileSlices[]; }; // cluster_bounds'
+layout(binding = 2, std430) buffer Masks { uint masks[]; };
+layout(binding = 3) uniform Frame { FrameConstants frame; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x / ML_ZBIN_LANES, lane = gl_GlobalInvocationID.x % ML_ZBIN_LANES;

@@ -36,17 +36,18 @@ Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames)
     ZBinMeasure out;
     auto run = [&]() -> Result<void> {
         ML_TRY(zb.create(d));
-        auto t0 = std::chrono::steady_clock::now();
-        const ZBinFrame zf = zbinPrepare(m.lastConstants, m.lastSliceFar, m.lastLights, depthTest);
-        ML_TRY(zb.prepare(d, zf, m.lastConstants, m.lastLights));
-        out.hostMs = msSince(t0);
-        out.sorted = zf.push.sorted;
-        out.wide = zf.push.wide;
         const uint32_t n = std::max(1u, frames);
-        for (uint32_t i = 0; i <= n; ++i) { // i = 0: warm-up, not counted
-            double mask = fenced(d, [&](VkCommandBuffer c) { zb.recordMasks(d, c, m.cull.tileMasks); });
-            double bins = fenced(d, [&](VkCommandBuffer c) { zb.recordBins(d, c); });
+        for (uint32_t i = 0; i <= n; ++i) { // i = 0: warm-up (buffers created), not counted
+            auto t0 = std::chrono::steady_clock::now();
+            const ZBinFrame zf = zbinPrepare(m.lastConstants, m.lastSliceFar, m.lastLights, depthTest);
+            ML_TRY(zb.prepare(d, zf, m.lastConstants, m.lastLights));
+            const double host = msSince(t0);
+            const double mask = fenced(d, [&](VkCommandBuffer c) { zb.recordMasks(d, c, m.cull.tileMasks); });
+            const double bins = fenced(d, [&](VkCommandBuffer c) { zb.recordBins(d, c); });
+            out.sorted = zf.push.sorted;
+            out.wide = zf.push.wide;
             if (i == 0) continue;
+            out.hostMs += host / n;
             out.maskMs += mask / n;
             out.binsMs += bins / n;
         }
@@ -55,6 +56,8 @@ Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames)
         out.evaluated = s.evaluated;
         out.reaching = s.reaching;
         out.surface = s.surface;
+        out.tile = s.tile;
+        out.exact = s.exact;
         return {};
     };
     auto r = run();

@@ -81,6 +81,11 @@ TEST_P(ZBinEqualsReference, MasksBinsAndStats) {
     EXPECT_EQ(gpuStats.evaluated, cpuStats.evaluated);
     EXPECT_EQ(gpuStats.reaching, cpuStats.reaching);
     EXPECT_EQ(gpuStats.surface, cpuStats.surface);
+    EXPECT_EQ(gpuStats.tile, cpuStats.tile);
+    EXPECT_EQ(gpuStats.exact, cpuStats.exact);
+    EXPECT_GE(gpuStats.tile, gpuStats.evaluated);
+    EXPECT_GE(gpuStats.evaluated, gpuStats.exact);
+    EXPECT_GE(gpuStats.exact, gpuStats.reaching);
     // Conservative: the reaching lights found among the candidates are all of them (statistics.comp's
     // brute force over every visible light, same frame).
     auto reports = m->takeReports();
@@ -91,9 +96,10 @@ TEST_P(ZBinEqualsReference, MasksBinsAndStats) {
     EXPECT_GE(gpuStats.evaluated, gpuStats.reaching);
     EXPECT_EQ(validationErrors(), 0u);
     std::printf("  %u lights%s: %u sorted, %zu mask bits, %zu bins used; evaluated %.2f, reaching %.2f "
-                "per pixel (clusters: evaluated %.2f)\n",
+                "per pixel (tile alone %.2f, exact depth ranges %.2f; clusters: evaluated %.2f)\n",
                 param.lights, param.depthTest ? " (tile depth test)" : "", zf.push.sorted, bits, usedBins,
                 double(gpuStats.evaluated) / gpuStats.surface, double(gpuStats.reaching) / gpuStats.surface,
+                double(gpuStats.tile) / gpuStats.surface, double(gpuStats.exact) / gpuStats.surface,
                 st.lightsPerPixelEvaluatedMean);
 }
 
