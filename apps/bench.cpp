@@ -132,61 +132,48 @@ struct ZBinRow {
     diag::ZBinMeasure z;
 };
 
-// Evaluation ms per extra candidate light per pixel, from the tiled row of the same light count (same
-// frame and reaching lights, more candidates: the extra ones fail the range test, as Z-binning's extra
-// ones do): (eval tiled - eval clustered) / (evaluated tiled - evaluated clustered); 0 without it.
-double msPerCandidate(const std::vector<Row>& rows, const Row& clustered) {
-    for (const Row& t : rows)
-        if (t.lights == clustered.lights && t.mode == CullingMode::Tiled && t.overflow == 0 &&
-            t.evaluated > clustered.evaluated + 0.5)
-            return (t.evalMs - clustered.evalMs) / (t.evaluated - clustered.evaluated);
-    return 0;
-}
-
 // Footprint clusters and Z-binning side by side, per light count (docs/culling.md). The evaluation pass
-// reads the clusters' lists only, so Z-binning's evaluate ms is projected (msPerCandidate).
+// reads the clusters' lists only, so Z-binning's evaluate ms is projected: the clusters' measured
+// evaluate ms plus what the shading-loop probe (culling/zbin_shade.comp, same loop body over both
+// candidate sets) took longer over the Z-bin candidates.
 void printZBin(const std::vector<Row>& rows, const std::vector<ZBinRow>& zrows) {
     std::printf(
-        "\nZ-binning side by side. assign: clusters bounds + assign, Z-bins mask + bins (+ bounds with "
-        "the tile depth test); host: Z-bins' footprints + sort + upload (CPU). evaluate: measured for "
-        "the clusters, projected for the Z-bins from the tiled row (ms per extra candidate/px).\n");
+        "\nZ-binning side by side. assign: clusters bounds + assign; Z-bins mask + bins (+ bounds with "
+        "the tile depth test). host: Z-bins' footprints + sort + upload (CPU). shade probe: the "
+        "light term over each scheme's candidates (no visibility). evaluate: measured for the "
+        "clusters; Z-bins: clusters' + (probe Z-bins - probe clusters).\n");
     std::printf("| lights | scheme                 | assign ms | parts ms                        | host ms "
-                "| evaluated/px | reaching/px | eval/reach | tile alone/px | exact depth/px | evaluate ms "
-                "| assign+eval ms |\n");
+                "| evaluated/px | reaching/px | eval/reach | tile alone/px | exact depth/px | shade probe ms "
+                "| evaluate ms | assign+eval ms |\n");
     std::printf("|-------:|------------------------|----------:|---------------------------------|--------:"
-                "|-------------:|------------:|-----------:|--------------:|---------------:|------------:"
-                "|---------------:|\n");
+                "|-------------:|------------:|-----------:|--------------:|---------------:|---------------:"
+                "|------------:|---------------:|\n");
     for (const Row& r : rows) {
         if (r.mode != CullingMode::Clustered) continue;
-        const double perCandidate = msPerCandidate(rows, r);
         char parts[64];
         std::snprintf(parts, sizeof parts, "bounds %.2f + assign %.2f", r.boundsMs, r.assignMs);
+        double probe = 0;
+        for (const ZBinRow& z : zrows)
+            if (z.lights == r.lights) probe = z.z.shadeClustersMs;
         std::printf("| %6u | clustered (footprint)  | %9.2f | %-31s |       - | %12.2f | %11.2f | %10.2f "
-                    "|             - |              - | %11.2f | %14.2f |\n",
+                    "|             - |              - | %14.2f | %11.2f | %14.2f |\n",
                     r.lights, r.boundsMs + r.assignMs, parts, r.evaluated, r.reaching,
-                    r.reaching > 0 ? r.evaluated / r.reaching : 0.0, r.evalMs,
+                    r.reaching > 0 ? r.evaluated / r.reaching : 0.0, probe, r.evalMs,
                     r.boundsMs + r.assignMs + r.evalMs);
         for (const ZBinRow& z : zrows) {
             if (z.lights != r.lights) continue;
             const double px = z.z.surface ? double(z.z.surface) : 1.0;
             const double ev = z.z.evaluated / px, re = z.z.reaching / px;
             const double assign = (z.depthTest ? z.boundsMs : 0.0) + z.z.maskMs + z.z.binsMs;
+            const double eval = r.evalMs + z.z.shadeZBinMs - z.z.shadeClustersMs;
             std::snprintf(parts, sizeof parts, "%smask %.2f + bins %.2f", z.depthTest ? "bounds + " : "",
                           z.z.maskMs, z.z.binsMs);
-            char eval[32] = "      -", total[32] = "             -";
-            if (perCandidate > 0) {
-                const double e = r.evalMs + perCandidate * (ev - r.evaluated);
-                std::snprintf(eval, sizeof eval, "~%.2f", e);
-                std::snprintf(total, sizeof total, "~%.2f", assign + e);
-            }
             std::printf("| %6u | %-22s | %9.2f | %-31s | %7.2f | %12.2f | %11.2f | %10.2f | %13.2f | %14.2f "
-                        "| %11s | %14s |\n",
+                        "| %14.2f | ~%10.2f | ~%13.2f |\n",
                         z.lights, z.depthTest ? "zbin (tile depth test)" : "zbin (rectangles)", assign, parts,
-                        z.z.hostMs, ev, re, re > 0 ? ev / re : 0.0, z.z.tile / px, z.z.exact / px, eval,
-                        total);
+                        z.z.hostMs, ev, re, re > 0 ? ev / re : 0.0, z.z.tile / px, z.z.exact / px,
+                        z.z.shadeZBinMs, eval, assign + eval);
         }
-        if (perCandidate > 0)
-            std::printf("(%u lights: %.3f ms per extra candidate/px)\n", r.lights, perCandidate);
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include "zbin_bins.comp.spv.h"
 #include "zbin_mask.comp.spv.h"
+#include "zbin_shade.comp.spv.h"
 #include "zbin_stats.comp.spv.h"
 
 #include <algorithm>
@@ -149,6 +150,9 @@ Result<void> ZBinning::create(const Device& device) {
     ML_TRY(createComputeProgram(device, maskProgram_, maskShader_));
     ML_TRY(createComputeProgram(device, binProgram_, binShader_));
     ML_TRY(createComputeProgram(device, statsProgram_, statsShader_));
+    ML_TRY(ML_LOAD_SHADER(device, shadeShader_, spv_zbin_shade_comp));
+    for (uint32_t z = 0; z < 2; ++z)
+        ML_TRY(createComputeProgram(device, shadePrograms_[z], shadeShader_, {{0, z}}));
     static_assert(sizeof(ZBinStats) == 5 * sizeof(uint64_t));
     ML_TRY(createBuffer(device, statsBuffer, sizeof(ZBinStats), kStorageBufferUsage, "zbin_stats",
                         MemoryRole::Readback));
@@ -157,9 +161,11 @@ Result<void> ZBinning::create(const Device& device) {
 }
 
 void ZBinning::destroy(const Device& device) {
-    for (Program* p : {&maskProgram_, &binProgram_, &statsProgram_}) destroyProgram(device, *p);
-    for (ShaderModule* s : {&maskShader_, &binShader_, &statsShader_}) destroyShader(device, *s);
-    for (Buffer* b : {&sorted, &wide, &frame, &lights, &masks, &bins, &statsBuffer})
+    for (Program* p : {&maskProgram_, &binProgram_, &statsProgram_, &shadePrograms_[0], &shadePrograms_[1]})
+        destroyProgram(device, *p);
+    for (ShaderModule* s : {&maskShader_, &binShader_, &statsShader_, &shadeShader_})
+        destroyShader(device, *s);
+    for (Buffer* b : {&sorted, &wide, &frame, &lights, &slices, &masks, &bins, &statsBuffer, &shaded})
         destroyBuffer(device, *b);
 }
 
@@ -176,6 +182,8 @@ Result<void> ZBinning::prepare(const Device& device, const ZBinFrame& zf, const 
                         "zbin_lights"));
     ML_TRY(ensureBuffer(device, masks, VkDeviceSize(tiles) * ML_ZBIN_WORDS * 4, kStorageBufferUsage,
                         "zbin_masks", MemoryRole::GpuOnly));
+    ML_TRY(ensureBuffer(device, shaded, VkDeviceSize(fc.size.x) * fc.size.y * 16, kStorageBufferUsage,
+                        "zbin_shaded", MemoryRole::GpuOnly));
     ML_TRY(
         ensureBuffer(device, bins, ML_ZBIN_BINS * 4, kStorageBufferUsage, "zbin_bins", MemoryRole::GpuOnly));
     upload(sorted, zf.sorted.data(), zf.sorted.size() * sizeof(gpu::ZBinLight));
@@ -210,6 +218,23 @@ void ZBinning::recordStats(const Device& device, VkCommandBuffer c, VkImageView 
               Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), statsBuffer, wide});
     // Sums -> the host (mapped readback, after the submission's wait).
     memoryBarrier(c, kC, kW, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+}
+
+Result<void> ZBinning::prepareSlices(const Device& device, const std::vector<float>& sliceFar) {
+    ML_TRY(ensureBuffer(device, slices, 4 * ML_MAX_SLICES, kStorageBufferUsage, "zbin_slices"));
+    upload(slices, sliceFar.data(), std::min<size_t>(sliceFar.size(), ML_MAX_SLICES) * 4);
+    return {};
+}
+
+void ZBinning::recordShade(const Device& device, VkCommandBuffer c, bool zbin, VkImageView depth,
+                           VkImageView normal, const Buffer& ranges, const Buffer& pool) {
+    const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
+    const auto layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    memoryBarrier(c, kC, kW | kR, kC, kW); // an earlier probe's output -> this one's
+    dispatch(device, c, shadePrograms_[zbin ? 1 : 0], fc.size.x, fc.size.y, push,
+             {frame, slices, lights, ranges, pool, sorted, masks, bins, wide,
+              Descriptor(Image{.view = depth}, layout), Descriptor(Image{.view = normal}, layout), shaded});
+    memoryBarrier(c, kC, kW, kC, kR); // output -> readers (tests copy it: readBuffer orders its own copy)
 }
 
 ZBinStats ZBinning::stats() const {

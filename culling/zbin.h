@@ -72,16 +72,23 @@ class ZBinning {
     // After both: the per-pixel statistics from the depth image (SHADER_READ_ONLY_OPTIMAL).
     void recordStats(const Device& device, VkCommandBuffer cmd, VkImageView depth);
     ZBinStats stats() const; // the last completed stats pass (mapped readback)
+    // Shading-loop probe (zbin_shade.comp): shadeLight summed over each pixel's candidates, from the
+    // frame's cluster lists (ranges, pool: LightCulling's) or (zbin) from the Z-bins; prepare() must have
+    // had the frame's sliceFar (prepareSlices).
+    void recordShade(const Device& device, VkCommandBuffer cmd, bool zbin, VkImageView depth,
+                     VkImageView normal, const Buffer& ranges, const Buffer& pool);
+    Result<void> prepareSlices(const Device& device, const std::vector<float>& sliceFar);
 
     gpu::ZBinPush push{};
-    Buffer sorted, wide, frame, lights; // mapped uploads
-    Buffer masks, bins;                 // GPU-only (tests read them with readBuffer)
-    Buffer statsBuffer;                 // readback: ZBinStats as uint64s
+    Buffer sorted, wide, frame, lights, slices; // mapped uploads
+    Buffer masks, bins;                         // GPU-only (tests read them with readBuffer)
+    Buffer statsBuffer;                         // readback: ZBinStats as uint64s
+    Buffer shaded;                              // the shading probe's vec4 per pixel (GPU-only)
     uint32_t tiles = 0;
 
   private:
-    ShaderModule maskShader_, binShader_, statsShader_;
-    Program maskProgram_, binProgram_, statsProgram_;
+    ShaderModule maskShader_, binShader_, statsShader_, shadeShader_;
+    Program maskProgram_, binProgram_, statsProgram_, shadePrograms_[2]; // shade: clusters, Z-bins
 };
 
 } // namespace ml

@@ -51,6 +51,16 @@ Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames)
             out.maskMs += mask / n;
             out.binsMs += bins / n;
         }
+        ML_TRY(zb.prepareSlices(d, m.lastSliceFar));
+        const VkImageView depth = m.targets.depth.view, normal = m.targets.normal.view;
+        for (uint32_t i = 0; i <= n; ++i) { // i = 0: warm-up
+            for (bool z : {false, true}) {
+                const double ms = fenced(d, [&](VkCommandBuffer c) {
+                    zb.recordShade(d, c, z, depth, normal, m.cull.ranges, m.cull.pool);
+                });
+                if (i > 0) (z ? out.shadeZBinMs : out.shadeClustersMs) += ms / n;
+            }
+        }
         out.statsMs = fenced(d, [&](VkCommandBuffer c) { zb.recordStats(d, c, m.targets.depth.view); });
         const ZBinStats s = zb.stats();
         out.evaluated = s.evaluated;

@@ -56,8 +56,12 @@ uint32_t cullingBoxTests(const Module& module);
 // the tile's occupied cluster slices (needs cluster_bounds, which the frame ran). The last frame must
 // have used module-owned targets and the clustered mode. Waits for the queue; the evaluation pass
 // does not use the result.
+// shadeClustersMs, shadeZBinMs: the shading-loop probe (culling/zbin_shade.comp: the evaluation's
+// light term, no visibility) over the clusters' lists and over the Z-bin candidates, fenced means: what
+// the candidates cost the evaluation, measured with one loop body.
 struct ZBinMeasure {
     double hostMs = 0, maskMs = 0, binsMs = 0, statsMs = 0;
+    double shadeClustersMs = 0, shadeZBinMs = 0;
     uint32_t sorted = 0, wide = 0; // lights in the sorted list; wide (directional) lights
     uint64_t evaluated = 0, reaching = 0, surface = 0;
     uint64_t tile = 0;  // the tile's lights at any depth (the mask alone)

@@ -5,6 +5,7 @@
 
 #include "culling/zbin.h"
 #include "shaders/shared/light_math.h"
+#include "shaders/shared/shading.h"
 
 namespace ml::test {
 
@@ -65,6 +66,16 @@ TEST_P(ZBinEqualsReference, MasksBinsAndStats) {
     std::vector<uint32_t> bins = readBufferAs<uint32_t>(d, zb.bins);
     bins.resize(ref.bins.size()); // the buffer may be larger than ML_ZBIN_BINS words
     const ZBinStats gpuStats = zb.stats();
+    // The shading probe over both candidate sets (zbin_shade.comp).
+    std::vector<glm::vec4> shaded[2];
+    ASSERT_TRUE(zb.prepareSlices(d, impl.lastSliceFar).ok());
+    for (uint32_t z = 0; z < 2; ++z) {
+        cmd = d.beginOneTime();
+        zb.recordShade(d, cmd, z == 1, impl.targets.depth.view, impl.targets.normal.view, impl.cull.ranges,
+                       impl.cull.pool);
+        d.endOneTime(cmd);
+        shaded[z] = readBufferAs<glm::vec4>(d, zb.shaded);
+    }
     zb.destroy(d);
 
     size_t bits = 0, usedBins = 0;
@@ -94,6 +105,31 @@ TEST_P(ZBinEqualsReference, MasksBinsAndStats) {
     EXPECT_EQ(st.surfacePixels, gpuStats.surface);
     EXPECT_DOUBLE_EQ(st.lightsPerPixelReachingMean, double(gpuStats.reaching) / gpuStats.surface);
     EXPECT_GE(gpuStats.evaluated, gpuStats.reaching);
+    // Both candidate sets shade like every visible light on the CPU (shading.h; non-reaching lights
+    // add zero), within the tolerance of pow and normalize.
+    auto normal = readImage(*m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    size_t lit = 0;
+    for (uint32_t y = 0; y < fc.size.y; ++y)
+        for (uint32_t x = 0; x < fc.size.x; ++x) {
+            const size_t i = size_t(y) * fc.size.x + x;
+            if (!gpu::hasSurface(depth[i])) {
+                ASSERT_EQ(shaded[0][i].w, 0.0f);
+                ASSERT_EQ(shaded[1][i].w, 0.0f);
+                continue;
+            }
+            const glm::vec3 P = gpu::worldFromPixel(x, y, depth[i], fc.invViewProj, fc.size);
+            const glm::vec3 N = glm::normalize(glm::vec3(half4(normal, i)));
+            const glm::vec3 V = glm::normalize(glm::vec3(fc.cameraPosition) - P);
+            glm::vec3 want(0.0f);
+            for (uint32_t l = 0; l < fc.cluster.z; ++l)
+                want += gpu::shadeLight(impl.lastLights[l], P, N, V, glm::vec3(0.5f));
+            lit += want.x + want.y + want.z > 1e-4f;
+            for (uint32_t z = 0; z < 2; ++z)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(shaded[z][i][c], want[c], 1e-3f * std::abs(want[c]) + 1e-5f)
+                        << (z ? "Z-bins" : "clusters") << " pixel " << x << "," << y;
+        }
+    EXPECT_GT(lit, size_t(fc.size.x) * fc.size.y / 10);
     EXPECT_EQ(validationErrors(), 0u);
     std::printf("  %u lights%s: %u sorted, %zu mask bits, %zu bins used; evaluated %.2f, reaching %.2f "
                 "per pixel (tile alone %.2f, exact depth ranges %.2f; clusters: evaluated %.2f)\n",
