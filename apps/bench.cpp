@@ -140,7 +140,8 @@ void printZBin(const std::vector<Row>& rows, const std::vector<ZBinRow>& zrows) 
     std::printf(
         "\nZ-binning side by side. assign: clusters bounds + assign; Z-bins mask + bins (+ bounds with "
         "the tile depth test). host: Z-bins' footprints + sort + upload (CPU). shade probe: the "
-        "light term over each scheme's candidates (no visibility). evaluate: measured for the "
+        "light term over each scheme's candidates (no visibility; Z-bin rows: Z-bins / clusters, run in "
+        "turn). evaluate: measured for the "
         "clusters; Z-bins: clusters' + (probe Z-bins - probe clusters).\n");
     std::printf("| lights | scheme                 | assign ms | parts ms                        | host ms "
                 "| evaluated/px | reaching/px | eval/reach | tile alone/px | exact depth/px | shade probe ms "
@@ -152,9 +153,11 @@ void printZBin(const std::vector<Row>& rows, const std::vector<ZBinRow>& zrows) 
         if (r.mode != CullingMode::Clustered) continue;
         char parts[64];
         std::snprintf(parts, sizeof parts, "bounds %.2f + assign %.2f", r.boundsMs, r.assignMs);
-        double probe = 0;
+        double probe = 0; // the clusters' probe, a mean over the Z-bin runs (each ran it beside its own)
+        uint32_t probes = 0;
         for (const ZBinRow& z : zrows)
-            if (z.lights == r.lights) probe = z.z.shadeClustersMs;
+            if (z.lights == r.lights) probe += z.z.shadeClustersMs, ++probes;
+        probe /= std::max(1u, probes);
         std::printf("| %6u | clustered (footprint)  | %9.2f | %-31s |       - | %12.2f | %11.2f | %10.2f "
                     "|             - |              - | %14.2f | %11.2f | %14.2f |\n",
                     r.lights, r.boundsMs + r.assignMs, parts, r.evaluated, r.reaching,
@@ -169,10 +172,10 @@ void printZBin(const std::vector<Row>& rows, const std::vector<ZBinRow>& zrows) 
             std::snprintf(parts, sizeof parts, "%smask %.2f + bins %.2f", z.depthTest ? "bounds + " : "",
                           z.z.maskMs, z.z.binsMs);
             std::printf("| %6u | %-22s | %9.2f | %-31s | %7.2f | %12.2f | %11.2f | %10.2f | %13.2f | %14.2f "
-                        "| %14.2f | ~%10.2f | ~%13.2f |\n",
+                        "| %6.2f / %6.2f | ~%10.2f | ~%13.2f |\n",
                         z.lights, z.depthTest ? "zbin (tile depth test)" : "zbin (rectangles)", assign, parts,
                         z.z.hostMs, ev, re, re > 0 ? ev / re : 0.0, z.z.tile / px, z.z.exact / px,
-                        z.z.shadeZBinMs, eval, assign + eval);
+                        z.z.shadeZBinMs, z.z.shadeClustersMs, eval, assign + eval);
         }
     }
 }

@@ -131,6 +131,8 @@ TEST_P(ZBinEqualsReference, MasksBinsAndStats) {
         }
     EXPECT_GT(lit, size_t(fc.size.x) * fc.size.y / 10);
     EXPECT_EQ(validationErrors(), 0u);
+    std::printf("  bins over %.3f-%.2f m\n", zf.push.binNear,
+                zf.push.binNear + ML_ZBIN_BINS / zf.push.binScale);
     std::printf("  %u lights%s: %u sorted, %zu mask bits, %zu bins used; evaluated %.2f, reaching %.2f "
                 "per pixel (tile alone %.2f, exact depth ranges %.2f; clusters: evaluated %.2f)\n",
                 param.lights, param.depthTest ? " (tile depth test)" : "", zf.push.sorted, bits, usedBins,
