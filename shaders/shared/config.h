@@ -89,7 +89,7 @@
 // ML_TILE_SIZE^2 tile a bitmask over the depth-sorted lights, ML_MAX_LIGHTS / 32 = 128 words
 // (512 B per tile: 16.6 MB at 1920x1080's 32,400 tiles). On the night city the bins span 0.1-280 m
 // (256 lights) or 0.1-314 m (2048): 0.27-0.31 m each, below the lights' depth extents (metres); the
-// (min, max) ranges add 2-10 % of candidates over exact per-light ranges (docs/culling.md).
+// (min, max) ranges add 5-17 % of candidates over exact per-light ranges (docs/culling.md).
 #define ML_ZBIN_BINS 1024
 #define ML_ZBIN_WORDS (ML_MAX_LIGHTS / 32)
 // Mask pass: ML_ZBIN_LANES threads per sorted light over its tile rectangle (as the footprint pass);
