@@ -11,6 +11,7 @@
 #include "scenes/scenes.h"
 #include "shaders/shared/config.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -30,6 +31,10 @@ Every flag of every command may be given once; a flag's value cannot be another 
   --seed S         scene seed (default 1)
   --directional D  on (default) or off: the night city's moon (a directional light) in or out
   --csv FILE       CSV output (default out/bench_culling.csv)
+  --compare-zbin   also run Z-binning (Drobot 2017; culling/zbin.h) on each light count's clustered
+                   frame, with and without the tiles' depth test, and print it beside the footprint
+                   clusters: assignment ms and evaluated / reaching lights per pixel (needs clustered
+                   in --culling; the evaluation pass keeps the clusters' lists)
 )";
 
 namespace {
@@ -119,8 +124,64 @@ std::string printRows(const std::vector<Row>& rows) {
     return csv.str();
 }
 
+// One Z-binning run beside its light count's clustered row (diag::measureZBin).
+struct ZBinRow {
+    uint32_t lights;
+    bool depthTest;
+    double boundsMs; // the clustered frame's cluster_bounds (the depth test's input)
+    diag::ZBinMeasure z;
+};
+
+// Footprint clusters and Z-binning side by side, per light count (docs/culling.md). The evaluation pass
+// reads the clusters' lists only, so Z-binning's evaluate ms is projected: the clusters' measured
+// evaluate ms plus what the shading-loop probe (culling/zbin_shade.comp, same loop body over both
+// candidate sets) took longer over the Z-bin candidates.
+void printZBin(const std::vector<Row>& rows, const std::vector<ZBinRow>& zrows) {
+    std::printf(
+        "\nZ-binning side by side. assign: clusters bounds + assign; Z-bins mask + bins (+ bounds with "
+        "the tile depth test). host: Z-bins' footprints + sort + upload (CPU). shade probe: the "
+        "light term over each scheme's candidates (no visibility; Z-bin rows: Z-bins / clusters, run in "
+        "turn). evaluate: measured for the "
+        "clusters; Z-bins: clusters' + (probe Z-bins - probe clusters).\n");
+    std::printf("| lights | scheme                 | assign ms | parts ms                        | host ms "
+                "| evaluated/px | reaching/px | eval/reach | tile alone/px | exact depth/px | shade probe ms "
+                "| evaluate ms | assign+eval ms |\n");
+    std::printf("|-------:|------------------------|----------:|---------------------------------|--------:"
+                "|-------------:|------------:|-----------:|--------------:|---------------:|---------------:"
+                "|------------:|---------------:|\n");
+    for (const Row& r : rows) {
+        if (r.mode != CullingMode::Clustered) continue;
+        char parts[64];
+        std::snprintf(parts, sizeof parts, "bounds %.2f + assign %.2f", r.boundsMs, r.assignMs);
+        double probe = 0; // the clusters' probe, a mean over the Z-bin runs (each ran it beside its own)
+        uint32_t probes = 0;
+        for (const ZBinRow& z : zrows)
+            if (z.lights == r.lights) probe += z.z.shadeClustersMs, ++probes;
+        probe /= std::max(1u, probes);
+        std::printf("| %6u | clustered (footprint)  | %9.2f | %-31s |       - | %12.2f | %11.2f | %10.2f "
+                    "|             - |              - | %14.2f | %11.2f | %14.2f |\n",
+                    r.lights, r.boundsMs + r.assignMs, parts, r.evaluated, r.reaching,
+                    r.reaching > 0 ? r.evaluated / r.reaching : 0.0, probe, r.evalMs,
+                    r.boundsMs + r.assignMs + r.evalMs);
+        for (const ZBinRow& z : zrows) {
+            if (z.lights != r.lights) continue;
+            const double px = z.z.surface ? double(z.z.surface) : 1.0;
+            const double ev = z.z.evaluated / px, re = z.z.reaching / px;
+            const double assign = (z.depthTest ? z.boundsMs : 0.0) + z.z.maskMs + z.z.binsMs;
+            const double eval = r.evalMs + z.z.shadeZBinMs - z.z.shadeClustersMs;
+            std::snprintf(parts, sizeof parts, "%smask %.2f + bins %.2f", z.depthTest ? "bounds + " : "",
+                          z.z.maskMs, z.z.binsMs);
+            std::printf("| %6u | %-22s | %9.2f | %-31s | %7.2f | %12.2f | %11.2f | %10.2f | %13.2f | %14.2f "
+                        "| %6.2f / %6.2f | ~%10.2f | ~%13.2f |\n",
+                        z.lights, z.depthTest ? "zbin (tile depth test)" : "zbin (rectangles)", assign, parts,
+                        z.z.hostMs, ev, re, re > 0 ? ev / re : 0.0, z.z.tile / px, z.z.exact / px,
+                        z.z.shadeZBinMs, z.z.shadeClustersMs, eval, assign + eval);
+        }
+    }
+}
+
 // The flags of `bench culling` beside its option groups.
-const cli::Flags kCullingFlags{{"--lights", "--csv", "--culling", "--directional"}, {}};
+const cli::Flags kCullingFlags{{"--lights", "--csv", "--culling", "--directional"}, {"--compare-zbin"}};
 
 int runBenchCulling(int argc, char** argv) {
     int status = 0;
@@ -141,7 +202,11 @@ int runBenchCulling(int argc, char** argv) {
     const std::string directional = args->get("--directional", "on");
     if (directional != "on" && directional != "off")
         return usageError("bench", "--directional must be on or off, got '" + directional + "'");
+    const bool compareZBin = args->has("--compare-zbin");
+    if (compareZBin && std::find(modes->begin(), modes->end(), CullingMode::Clustered) == modes->end())
+        return usageError("bench", "--compare-zbin needs clustered in --culling");
     std::vector<Row> rows;
+    std::vector<ZBinRow> zrows;
     std::string deviceName;
     for (uint32_t lights : list.value()) {
         auto scene = loadScene("night-city", lights, seed.value());
@@ -163,11 +228,21 @@ int runBenchCulling(int argc, char** argv) {
             auto row = measureMode(m, lights, mode, view->frames);
             if (!row) return runError("bench", row.error());
             rows.push_back(row.value());
+            if (!compareZBin || mode != CullingMode::Clustered) continue;
+            // The module's last frame is this mode's last timed one: its depth, lights, tile masks.
+            for (bool depthTest : {false, true}) {
+                auto z = diag::measureZBin(m, depthTest, view->frames);
+                if (!z) return runError("bench", z.error());
+                std::fprintf(stderr, "  %u lights, zbin%s: mask %.2f ms, bins %.2f ms, host %.2f ms\n",
+                             lights, depthTest ? " (tile depth test)" : "", z->maskMs, z->binsMs, z->hostMs);
+                zrows.push_back({lights, depthTest, row->boundsMs, z.value()});
+            }
         }
     }
     std::printf("bench culling: night-city, %ux%u, %u timed frames each, directional light %s, %s\n",
                 view->width, view->height, view->frames, directional.c_str(), deviceName.c_str());
     const std::string csv = printRows(rows);
+    if (compareZBin) printZBin(rows, zrows);
     if (auto w = io::writeFileAtomically(csvPath, csv); !w) return runError("bench", w.error());
     std::printf("wrote %s\n", csvPath.c_str());
     return 0;

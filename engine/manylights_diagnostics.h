@@ -50,6 +50,27 @@ uint32_t cullingBoxTests(const Module& module);
 // CPU wall time of the virtual shadow maps' preparation in the last record() (0 with them off).
 double vsmPrepareMs(const Module& module);
 
+// Z-binning (culling/zbin.h, Drobot 2017) run on the last frame's depth, lights and cluster tile masks,
+// beside the footprint clusters (`bench culling --compare-zbin`, docs/culling.md): host work
+// (footprints, sort, upload), the mask and bin passes timed fenced (each its own submission, means
+// over `frames` after a warm-up; host: footprints + sort + upload, also a mean), and the per-pixel sums
+// of the stats pass (wide lights included in all but surface). depthTest: masks also test
+// the tile's occupied cluster slices (needs cluster_bounds, which the frame ran). The last frame must
+// have used module-owned targets and the clustered mode. Waits for the queue; the evaluation pass
+// does not use the result.
+// shadeClustersMs, shadeZBinMs: the shading-loop probe (culling/zbin_shade.comp: the evaluation's
+// light term, no visibility) over the clusters' lists and over the Z-bin candidates, fenced means: what
+// the candidates cost the evaluation, measured with one loop body.
+struct ZBinMeasure {
+    double hostMs = 0, maskMs = 0, binsMs = 0, statsMs = 0;
+    double shadeClustersMs = 0, shadeZBinMs = 0;
+    uint32_t sorted = 0, wide = 0; // lights in the sorted list; wide (directional) lights
+    uint64_t evaluated = 0, reaching = 0, surface = 0;
+    uint64_t tile = 0;  // the tile's lights at any depth (the mask alone)
+    uint64_t exact = 0; // evaluated lights whose own depth bins hold the pixel's (no (min, max) range)
+};
+Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames);
+
 // Slots in the module's scene tables (removed objects included) and the meshlets built for the VSM mesh
 // path (meshoptimizer, VsmSettings::meshletVertices / meshletTriangles).
 struct SceneCounts {
