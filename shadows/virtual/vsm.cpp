@@ -211,6 +211,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         sl.uploadedActive.clear();
         sl.uploadedRankBase.clear();
         sl.uploadedRuns.clear();
+        sl.orderBuilt = false; // rankBase was resized
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
         sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
     }

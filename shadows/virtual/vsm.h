@@ -48,6 +48,7 @@
 #include <glm/glm.hpp>
 
 #include <span>
+#include <memory>
 #include <vector>
 
 namespace ml {
@@ -162,10 +163,14 @@ struct VsmSlot {
     std::vector<gpu::GpuCaster> uploadedCasters;
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
+    std::vector<glm::uvec4> orderKey; // (map, kind, level, levels) per active map host.runs was built for
+    bool orderBuilt = false;
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
 // the CPU part of a frame (prepare). Its GPU passes are VsmPasses (vsm_passes.h).
+struct VsmLightGrid; // vsm_prepare.cpp
+
 class VirtualShadowMaps {
   public:
     Result<void> create(const Device& device, const VsmSettings& settings, uint32_t framesInFlight);
@@ -264,6 +269,8 @@ class VirtualShadowMaps {
     std::vector<uint32_t> freeSlots_;
     std::vector<uint8_t> wasActive_;
     std::vector<VsmInstance> lastInstances_;
+    // The lights with maps binned for the box tests (vsm_prepare.cpp), rebuilt when they change.
+    std::shared_ptr<VsmLightGrid> grid_;
     gpu::VsmConstants lastConstants_{};
     double lastPrepareMs_ = 0.0;
     bool observed_ = false;          // a frame has completed (observe)

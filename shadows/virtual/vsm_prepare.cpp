@@ -15,82 +15,6 @@ namespace ml {
 
 namespace {
 
-// Lights (spheres) binned into a uniform x/z grid for box queries (markCoverageAndStale). Cells are
-// twice the median radius, at most 64 x 64 over the lights' extent (a cheap build: 4,097 offsets); a sphere
-// spanning more than 64 cells goes to `wide`, which every query visits.
-struct LightGrid {
-    glm::vec2 origin{0.0f};
-    float cell = 1.0f;
-    int nx = 0, nz = 0;
-    std::vector<uint32_t> start; // per cell + 1: offsets into items
-    std::vector<uint32_t> items; // sphere indices
-    std::vector<uint32_t> wide;
-
-    template <class S> static LightGrid build(const std::vector<S>& spheres) {
-        LightGrid g;
-        if (spheres.empty()) return g;
-        std::vector<float> radii;
-        glm::vec2 lo(spheres[0].c.x, spheres[0].c.z), hi = lo;
-        for (const S& s : spheres) {
-            radii.push_back(s.r);
-            lo = glm::min(lo, glm::vec2(s.c.x, s.c.z));
-            hi = glm::max(hi, glm::vec2(s.c.x, s.c.z));
-        }
-        std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
-        const glm::vec2 extent = hi - lo;
-        g.cell = std::max({2.0f * radii[radii.size() / 2], extent.x / 64.0f, extent.y / 64.0f, 1e-3f});
-        g.origin = lo;
-        g.nx = std::min(int(extent.x / g.cell) + 1, 64);
-        g.nz = std::min(int(extent.y / g.cell) + 1, 64);
-        auto span = [&](const S& s, int& x0, int& x1, int& z0, int& z1) {
-            x0 = g.clampX((s.c.x - s.r - g.origin.x) / g.cell),
-            x1 = g.clampX((s.c.x + s.r - g.origin.x) / g.cell);
-            z0 = g.clampZ((s.c.z - s.r - g.origin.y) / g.cell),
-            z1 = g.clampZ((s.c.z + s.r - g.origin.y) / g.cell);
-        };
-        g.start.assign(size_t(g.nx) * g.nz + 1, 0);
-        for (int pass = 0; pass < 2; ++pass) {
-            std::vector<uint32_t> cursor;
-            if (pass == 1) {
-                for (size_t c = 1; c < g.start.size(); ++c) g.start[c] += g.start[c - 1];
-                g.items.resize(g.start.back());
-                cursor.assign(g.start.begin(), g.start.end() - 1);
-            }
-            for (uint32_t k = 0; k < spheres.size(); ++k) {
-                int x0, x1, z0, z1;
-                span(spheres[k], x0, x1, z0, z1);
-                if ((x1 - x0 + 1) * (z1 - z0 + 1) > 64) {
-                    if (pass == 0) g.wide.push_back(k);
-                    continue;
-                }
-                for (int z = z0; z <= z1; ++z)
-                    for (int x = x0; x <= x1; ++x) {
-                        const size_t c = size_t(z) * g.nx + x;
-                        if (pass == 0)
-                            ++g.start[c + 1];
-                        else
-                            g.items[cursor[c]++] = k;
-                    }
-            }
-        }
-        return g;
-    }
-    int clampX(float v) const { return std::clamp(int(std::floor(v)), 0, nx - 1); }
-    int clampZ(float v) const { return std::clamp(int(std::floor(v)), 0, nz - 1); }
-    // Every sphere that may touch the box [lo, hi] (some twice: callers stamp).
-    template <class F> void forEach(glm::vec3 lo, glm::vec3 hi, F&& f) const {
-        for (uint32_t k : wide) f(k);
-        if (nx == 0) return;
-        const int x0 = clampX((lo.x - origin.x) / cell), x1 = clampX((hi.x - origin.x) / cell);
-        const int z0 = clampZ((lo.z - origin.y) / cell), z1 = clampZ((hi.z - origin.y) / cell);
-        for (int z = z0; z <= z1; ++z)
-            for (int x = x0; x <= x1; ++x) {
-                const size_t c = size_t(z) * nx + x;
-                for (uint32_t i = start[c]; i < start[c + 1]; ++i) f(items[i]);
-            }
-    }
-};
-
 // Sets `count` consecutive bits from `first`: whole words where the run covers them.
 void setBitRun(std::vector<uint32_t>& bits, uint32_t first, uint32_t count) {
     while (count > 0) {
@@ -138,6 +62,93 @@ bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
 }
 
 } // namespace
+
+// A light with maps as the box tests see it: centre, 1.1 x range, module light id.
+struct VsmSphere {
+    glm::vec3 c;
+    float r;
+    uint32_t light;
+    bool operator==(const VsmSphere&) const = default;
+};
+
+// Lights (spheres) binned into a uniform x/z grid for box queries (markCoverageAndStale). Cells are
+// twice the median radius, at most 64 x 64 over the lights' extent (a cheap build: 4,097 offsets); a sphere
+// spanning more than 64 cells goes to `wide`, which every query visits.
+struct VsmLightGrid {
+    glm::vec2 origin{0.0f};
+    float cell = 1.0f;
+    int nx = 0, nz = 0;
+    std::vector<uint32_t> start; // per cell + 1: offsets into items
+    std::vector<uint32_t> items; // sphere indices
+    std::vector<uint32_t> wide;
+    std::vector<VsmSphere> spheres; // what it was built from
+
+    static VsmLightGrid build(const std::vector<VsmSphere>& spheres) {
+        using S = VsmSphere;
+        VsmLightGrid g;
+        if (spheres.empty()) return g;
+        std::vector<float> radii;
+        glm::vec2 lo(spheres[0].c.x, spheres[0].c.z), hi = lo;
+        for (const S& s : spheres) {
+            radii.push_back(s.r);
+            lo = glm::min(lo, glm::vec2(s.c.x, s.c.z));
+            hi = glm::max(hi, glm::vec2(s.c.x, s.c.z));
+        }
+        std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+        const glm::vec2 extent = hi - lo;
+        g.cell = std::max({2.0f * radii[radii.size() / 2], extent.x / 64.0f, extent.y / 64.0f, 1e-3f});
+        g.origin = lo;
+        g.nx = std::min(int(extent.x / g.cell) + 1, 64);
+        g.nz = std::min(int(extent.y / g.cell) + 1, 64);
+        auto span = [&](const S& s, int& x0, int& x1, int& z0, int& z1) {
+            x0 = g.clampX((s.c.x - s.r - g.origin.x) / g.cell),
+            x1 = g.clampX((s.c.x + s.r - g.origin.x) / g.cell);
+            z0 = g.clampZ((s.c.z - s.r - g.origin.y) / g.cell),
+            z1 = g.clampZ((s.c.z + s.r - g.origin.y) / g.cell);
+        };
+        g.start.assign(size_t(g.nx) * g.nz + 1, 0);
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<uint32_t> cursor;
+            if (pass == 1) {
+                for (size_t c = 1; c < g.start.size(); ++c) g.start[c] += g.start[c - 1];
+                g.items.resize(g.start.back());
+                cursor.assign(g.start.begin(), g.start.end() - 1);
+            }
+            for (uint32_t k = 0; k < spheres.size(); ++k) {
+                int x0, x1, z0, z1;
+                span(spheres[k], x0, x1, z0, z1);
+                if ((x1 - x0 + 1) * (z1 - z0 + 1) > 64) {
+                    if (pass == 0) g.wide.push_back(k);
+                    continue;
+                }
+                for (int z = z0; z <= z1; ++z)
+                    for (int x = x0; x <= x1; ++x) {
+                        const size_t c = size_t(z) * g.nx + x;
+                        if (pass == 0)
+                            ++g.start[c + 1];
+                        else
+                            g.items[cursor[c]++] = k;
+                    }
+            }
+        }
+        g.spheres = spheres;
+        return g;
+    }
+    int clampX(float v) const { return std::clamp(int(std::floor(v)), 0, nx - 1); }
+    int clampZ(float v) const { return std::clamp(int(std::floor(v)), 0, nz - 1); }
+    // Every sphere that may touch the box [lo, hi] (some twice: callers stamp).
+    template <class F> void forEach(glm::vec3 lo, glm::vec3 hi, F&& f) const {
+        for (uint32_t k : wide) f(k);
+        if (nx == 0) return;
+        const int x0 = clampX((lo.x - origin.x) / cell), x1 = clampX((hi.x - origin.x) / cell);
+        const int z0 = clampZ((lo.z - origin.y) / cell), z1 = clampZ((hi.z - origin.y) / cell);
+        for (int z = z0; z <= z1; ++z)
+            for (int x = x0; x <= x1; ++x) {
+                const size_t c = size_t(z) * nx + x;
+                for (uint32_t i = start[c]; i < start[c + 1]; ++i) f(items[i]);
+            }
+    }
+};
 
 Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, uint32_t slotIndex,
                                                          uint64_t frame, std::span<const VsmLight> lights,
@@ -283,12 +294,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     // light reaches: along a texel's ray (and its PCF neighbours, a few texels wide) depth grows with
     // distance, and lookups happen only within the range (lightReachesPoint) plus a normal offset of
     // about a texel; 10 % covers both. Its bits would never be read.
-    struct Sphere {
-        glm::vec3 c;
-        float r;
-        uint32_t light;
-    };
-    std::vector<Sphere> local;
+    std::vector<VsmSphere> local;
     std::vector<uint32_t> directional;
     for (uint32_t id = 0; id < lightState_.size() && id < lights.size(); ++id) {
         if (lightState_[id].firstMap == ML_VSM_NO_MAP) continue;
@@ -299,7 +305,8 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         }
         local.push_back({l.position, 1.1f * l.range, id});
     }
-    const LightGrid grid = LightGrid::build(local);
+    if (!grid_ || grid_->spheres != local) grid_ = std::make_shared<VsmLightGrid>(VsmLightGrid::build(local));
+    const VsmLightGrid& grid = *grid_;
     std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
     std::vector<uint32_t> touched;                   // maps given a bit (uploadSlot)
     std::vector<uint32_t> stamp(local.size(), 0);
@@ -310,7 +317,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
             if (stamp[k] == b + 1) return;
             stamp[k] = b + 1;
             ++slot.host.sphereTests;
-            const Sphere& sp = local[k];
+            const VsmSphere& sp = local[k];
             const glm::vec3 d = glm::max(glm::max(boxes[b].lo - sp.c, sp.c - boxes[b].hi), glm::vec3(0.0f));
             if (glm::dot(d, d) <= sp.r * sp.r) hits.emplace_back(sp.light, b);
         });
@@ -377,7 +384,16 @@ std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<cons
 void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
     // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
     // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
-    // within a level, active map order.
+    // within a level, active map order. It depends only on the active maps, their kind and their levels:
+    // kept while those are what this slot's order was built for.
+    std::vector<glm::uvec4> key(slot.host.active.size());
+    for (size_t i = 0; i < key.size(); ++i) {
+        const gpu::GpuVsmMap& g = slot.host.maps[slot.host.active[i]];
+        key[i] = glm::uvec4(slot.host.active[i], g.info.x, g.light.y, g.light.z);
+    }
+    if (slot.orderBuilt && slot.orderKey == key) return;
+    slot.orderKey = std::move(key);
+    slot.orderBuilt = true;
     slot.host.runs.clear();
     uint32_t rank = 0;
     const uint32_t steps = std::max(mips_, settings_.clipLevels);
