@@ -8,7 +8,6 @@
 #include "light_assign.comp.spv.h"
 #include "light_fill.comp.spv.h"
 #include "light_footprint.comp.spv.h"
-#include "light_sort.comp.spv.h"
 #include "view_lights.comp.spv.h"
 
 #include <algorithm>
@@ -71,9 +70,8 @@ Result<void> LightCulling::create(const Device& device) {
     ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
     ML_TRY(createComputeProgram(device, wideProgram_, footprintShader_, {{0, 1u}}));
     ML_TRY(createComputeProgram(device, allocProgram_, allocShader_));
-    ML_TRY(createComputeProgram(device, fillProgram_, fillShader_));
-    ML_TRY(ML_LOAD_SHADER(device, sortShader_, spv_light_sort_comp));
-    ML_TRY(createComputeProgram(device, sortProgram_, sortShader_));
+    for (uint32_t step = 0; step < 3; ++step) // scatter, rank, place (light_fill.comp's kSpecStep)
+        ML_TRY(createComputeProgram(device, fillPrograms_[step], fillShader_, {{0, step}}));
     ML_TRY(ML_LOAD_SHADER(device, viewShader_, spv_view_lights_comp));
     for (uint32_t r = 0; r < 2; ++r)
         ML_TRY(createComputeProgram(device, viewPrograms_[r], viewShader_, {{0, r}}));
@@ -87,8 +85,7 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, countProgram_);
     destroyProgram(device, wideProgram_);
 
-    destroyProgram(device, fillProgram_);
-    destroyProgram(device, sortProgram_);
+    for (Program& p : fillPrograms_) destroyProgram(device, p);
     destroyProgram(device, allocProgram_);
     for (Program& p : viewPrograms_) destroyProgram(device, p);
     destroyShader(device, viewShader_);
@@ -97,8 +94,7 @@ void LightCulling::destroy(const Device& device) {
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
     destroyShader(device, fillShader_);
-    destroyShader(device, sortShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &sortTiles, &viewCounts})
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts})
         destroyBuffer(device, *b);
 }
 
@@ -123,10 +119,6 @@ Result<void> LightCulling::resize(const Device& device, const ClusterGrid& g, ui
     ML_TRY(ensureBuffer(device, tileMasks, VkDeviceSize(g.tilesX) * g.tilesY * 8, kStorageBufferUsage,
                         "tile_masks", kGpu));
     ML_TRY(ensureBuffer(device, counts, VkDeviceSize(g.count()) * 4, kStorageBufferUsage, "cluster_counts",
-                        kGpu));
-    // The sort list: its head (the indirect dispatch) and at most every tile.
-    ML_TRY(ensureBuffer(device, sortTiles, sizeof(gpu::SortList) + VkDeviceSize(g.tilesX) * g.tilesY * 4,
-                        kStorageBufferUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "cluster_sort_tiles",
                         kGpu));
     hitCapacity = std::max(1u, poolCapacity / ML_HITS_PER_POOL_ENTRY_DIV);
     ML_TRY(
@@ -160,16 +152,13 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
     vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
-    if (mode == ML_CULL_CLUSTERED) {
-        vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
-        vkCmdFillBuffer(c, sortTiles.buffer, 0, 4, 0); // SortList: no groups yet, y = z = 1
-        vkCmdFillBuffer(c, sortTiles.buffer, 4, 8, 1);
-    }
+    if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
     // Cleared work counters and per-cluster counts -> the atomics of count, alloc, fill and assign.
     memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
     if (mode == ML_CULL_CLUSTERED) {
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
-        // scatter (ML_FILL_GROUPS groups stride over the hits), sort (a group per tile alloc listed).
+        // scatter, rank and place (ML_FILL_GROUPS groups stride over the hits; the lists come out
+        // sorted by light index).
         const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
         if (visible) {
             dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
@@ -183,17 +172,16 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
             memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
         dispatch(device, c, allocProgram_, tiles, 1, push,
-                 {frame, tileMasks, counts, ranges, counters, work, sortTiles});
+                 {frame, tileMasks, counts, ranges, counters, work});
         memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
-        if (visible) {
-            dispatch(device, c, fillProgram_, ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
-                     {hits, ranges, counts, pool, work});
-            // Scattered pool -> the sort's reads and writes; the sort list -> its indirect dispatch.
-            memoryBarrier(c, kC, kW, kC | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                          kR | kW | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-            dispatchIndirect(device, c, sortProgram_, sortTiles, 0, NoPush{},
-                             {frame, tileMasks, ranges, pool, sortTiles});
-        }
+        if (visible)
+            for (uint32_t step = 0; step < 3; ++step) {
+                // Scatter's pool -> rank's reads; rank's slots (in hits) -> place's reads, and rank's
+                // pool reads before place's writes.
+                if (step) memoryBarrier(c, kC, kR | kW, kC, kR | kW);
+                dispatch(device, c, fillPrograms_[step], ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
+                         {hits, ranges, counts, pool, work});
+            }
     } else {
         // One ML_ASSIGN_GROUP group per tile (its threads stride over the lights).
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},

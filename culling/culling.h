@@ -7,7 +7,7 @@
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
-//                   light_fill -> light_sort. Each visible light (8 threads) tests only the occupied
+//                   light_fill (scatter, rank, place). Each visible light (8 threads) tests only the occupied
 //                   clusters inside its footprint (lightFootprint: tile rectangle x depth-slice range), with
 //                   the same exact box test; cost follows the lights' footprints, not lights x clusters. Wide
 //                   lights (directional ones, chosen by the host: wideFootprint) take a thread per tile
@@ -16,8 +16,7 @@
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).
 // Lists come out sorted by light index in every mode, like the CPU reference's (tests compare them in
-// order): light_sort rank-sorts each list of two or more in shared memory (a group per tile that
-// has one, dispatched indirectly from light_alloc's count), light_assign writes its lights in
+// order): light_fill ranks each hit within its cluster's list, light_assign writes its lights in
 // chunks of ML_ASSIGN_GROUP in index order, each chunk's hits placed by prefix counts of a bit mask.
 // Overflowing clusters are flagged and counted in every mode; "none" skips culling.
 // Tight bounds from the actual pixels (rather than the froxel's frustum volume) is what keeps lights
@@ -82,15 +81,13 @@ class LightCulling {
     Buffer counts;    // uint per cluster (footprint mode: list lengths, then the fill cursor)
     Buffer work;      // uint box tests run, uint hits recorded
     Buffer hits;      // uvec2 (cluster, light) per recorded hit (footprint mode)
-    Buffer sortTiles; // SortList, then a uint per tile: the tiles light_sort sorts (footprint mode)
     uint32_t hitCapacity = 0;
     Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
-    ShaderModule sortShader_;
-    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, fillProgram_, allocProgram_,
-        sortProgram_;
+    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
+    Program fillPrograms_[3]; // light_fill.comp's steps: scatter, rank, place
     Program viewPrograms_[2]; // evaluated, reaching
 };
 

@@ -35,18 +35,8 @@ ML_STRUCT(WideLight) {
     uint pad;
 };
 
-// Head of the list of tiles light_sort.comp sorts (LightCulling::sortTiles, then a uint per tile):
-// the indirect dispatch, whose groupsX light_alloc counts up (one group per listed tile). 16 bytes.
-ML_STRUCT(SortList) {
-    uint groupsX;
-    uint groupsY; // 1
-    uint groupsZ; // 1
-    uint pad;
-};
-
 #ifdef __cplusplus
 static_assert(sizeof(CullPush) == 12);
-static_assert(sizeof(SortList) == 16);
 static_assert(sizeof(WideLight) == 48 && offsetof(WideLight, light) == 32);
 } // namespace ml::gpu
 #endif

@@ -6,8 +6,7 @@
 // then test every visible light). Every cluster of the tile gets its (offset, count), empty ones (0, 0),
 // so `ranges` is the same layout the brute-force pass writes. When pass A recorded more hits than
 // `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
-// with a pool far too small for the frame (the hit buffer is sized from the pool). A tile with a list
-// of two or more lights (not overflowed) is appended to the sort list (light_sort.comp, pass D).
+// with a pool far too small for the frame (the hit buffer is sized from the pool).
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 
@@ -19,7 +18,6 @@ layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
 layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
 layout(binding = 5, std430) readonly buffer Work { uint workTests; uint hitCount; };
-layout(binding = 6, std430) buffer SortTiles { SortList sort; uint sortTiles[]; };
 layout(push_constant) uniform Push { CullPush push; };
 
 void main() {
@@ -32,7 +30,6 @@ void main() {
         if ((mask[s >> 5] & (1u << (s & 31u))) != 0u) total += counts[tile * slices + s];
     uint offset = total > 0u ? atomicAdd(counters.poolCursor, total) : 0u;
     uint longest = 0;
-    bool needsSort = false;
     for (uint s = 0; s < slices; ++s) {
         uint c = tile * slices + s;
         uint count = (mask[s >> 5] & (1u << (s & 31u))) != 0u ? counts[c] : 0u;
@@ -43,14 +40,12 @@ void main() {
                 atomicAdd(counters.overflowClusters, 1u);
             } else {
                 r.x = offset;
-                needsSort = needsSort || count > 1u;
             }
             offset += count;
             longest = max(longest, count);
         }
         ranges[c] = r;
     }
-    if (needsSort) sortTiles[atomicAdd(sort.groupsX, 1u)] = tile;
     if (total > 0u) {
         atomicAdd(counters.clusterLightsSum, uint64_t(total));
         atomicMax(counters.maxClusterLights, longest);

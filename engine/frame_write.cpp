@@ -32,8 +32,7 @@ Result<uint32_t> Module::Impl::beginFrame() {
         mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
         // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
-        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits,
-                          &cull.sortTiles})
+        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits})
             retire(*b);
         ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;

@@ -78,9 +78,6 @@
 // Fill pass of the footprint mode: ML_FILL_GROUPS groups of 64 threads stride over the recorded hits.
 #define ML_FILL_GROUP 64
 #define ML_FILL_GROUPS 64
-// Sort pass of the footprint mode (light_sort.comp): one group per tile with a list to sort; its
-// threads rank a list's entries. Lists are ~16 lights on average at 4096 lights, 640x360.
-#define ML_SORT_GROUP 64
 // Hits the footprint count pass records, per pool entry: the pool holds 16 entries per grid cluster
 // and frames use far fewer (0.3 M of 3.7 M at 4096 lights, 640x360), so a quarter of the pool's
 // entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
