@@ -8,8 +8,9 @@
 // li takes light chunk + li), each thread sets bit li of a 64-bit mask per cluster its light touches,
 // and a light's place in a cluster's list is the lights before the chunk plus the set bits below li:
 // deterministic, no atomics on the order, two barriers per chunk (the masks and counts are double
-// buffered by chunk parity, so clearing one overlaps reading the other). A cluster whose list does not fit is marked ML_CLUSTER_OVERFLOW and
-// counted; its pixels then test every visible light, so no light is ever dropped.
+// buffered by chunk parity, so clearing one overlaps reading the other). A cluster whose list does
+// not fit is marked ML_CLUSTER_OVERFLOW and counted; its pixels then test every visible light, so no
+// light is ever dropped.
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
 
@@ -114,7 +115,8 @@ void main() {
                 uint s = w * 32u + uint(findLSB(bits));
                 bits &= bits - 1u;
                 uvec2 m = sMask[p][s];
-                uint rank = word == 0u ? uint(bitCount(m.x & below)) : uint(bitCount(m.x) + bitCount(m.y & below));
+                uint rank = word == 0u ? uint(bitCount(m.x & below))
+                                       : uint(bitCount(m.x) + bitCount(m.y & below));
                 pool[sOffset[s] + sBefore[p][s] + rank] = l;
             }
         }

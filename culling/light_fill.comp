@@ -10,8 +10,8 @@
 //     list smaller than l: that is l's place in the sorted list (the light indices of a cluster are
 //     unique). The pool slot goes into the hit's first word (the cluster is no longer needed);
 //     ML_CLUSTER_OVERFLOW where nothing moves (overflowed cluster, list of one). No private array, no
-//     shared memory: a loop of list-length reads per hit, sum over clusters of length^2 in all
-//     (at 4096 lights, 640x360: 0.27 M entries, lists of 16 on average; culling.md has the cost).
+//     shared memory, no barrier: a loop of list-length reads per hit, the sum over clusters of
+//     length^2 in all (at 4096 lights, 640x360: 0.27 M entries; docs/culling.md has the cost).
 //   2 place: each ranked hit writes its light at its slot. A pass of its own because step 1 reads the
 //     unsorted lists that this one overwrites.
 // The result is the CPU reference's list (cullReference: sorted), independent of the atomics' order.

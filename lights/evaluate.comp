@@ -32,7 +32,7 @@ layout(constant_id = 1) const uint kSpecPbr = 0;
 // Each lane still adds its own lights in list order: the image is bit-identical to the per-lane
 // loop (0; GpuEvaluate.UniformLoopIsBitIdentical).
 #ifdef ML_WAVE_LOOP
-layout(constant_id = 2) const uint kUniformLoop = 1;
+layout(constant_id = 2) const uint kUniformLoop = 0; // the host sets it (EvaluatePass::setUniformLoop)
 #else
 const uint kUniformLoop = 0;
 #endif

@@ -32,7 +32,8 @@ Result<void> EvaluatePass::create(const Device& device) {
                      "evaluate: %s has no subgroup arithmetic in compute shaders: per-lane light loop\n",
                      device.name.c_str());
     const char* env = std::getenv("ML_UNIFORM_LOOP");
-    uniform_ = waveBuild_ && !(env && std::strcmp(env, "0") == 0);
+    // Off by default: at 4096 lights on lavapipe it was no faster (docs/culling.md).
+    uniform_ = waveBuild_ && env && std::strcmp(env, "1") == 0;
     return waveBuild_ ? ML_LOAD_SHADER(device, shader_, spv_evaluate_wave_comp)
                       : ML_LOAD_SHADER(device, shader_, spv_evaluate_comp);
 }

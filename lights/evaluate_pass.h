@@ -41,8 +41,9 @@ constexpr uint32_t kEvaluateOutputModes = 3;
 class EvaluatePass {
   public:
     // Checks the device's subgroup support: with arithmetic subgroup operations in compute it loads the
-    // build with the wave-uniform light loop (evaluate.comp's ML_WAVE_LOOP; kUniformLoop on unless the
-    // environment has ML_UNIFORM_LOOP=0), without them the plain build, with a line on stderr.
+    // build with the wave-uniform light loop (evaluate.comp's ML_WAVE_LOOP; kUniformLoop off unless the
+    // environment has ML_UNIFORM_LOOP=1 or setUniformLoop(true)), without them the plain build, with a
+    // line on stderr.
     Result<void> create(const Device& device);
     // The light loop: wave-uniform (true) or per lane; same image bit for bit. Returns whether the
     // choice took (false: the device has no subgroup arithmetic, the loop stays per lane). prepare()
