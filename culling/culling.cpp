@@ -70,7 +70,8 @@ Result<void> LightCulling::create(const Device& device) {
     ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
     ML_TRY(createComputeProgram(device, wideProgram_, footprintShader_, {{0, 1u}}));
     ML_TRY(createComputeProgram(device, allocProgram_, allocShader_));
-    ML_TRY(createComputeProgram(device, fillProgram_, fillShader_));
+    for (uint32_t step = 0; step < 3; ++step) // scatter, rank, place (light_fill.comp's kSpecStep)
+        ML_TRY(createComputeProgram(device, fillPrograms_[step], fillShader_, {{0, step}}));
     ML_TRY(ML_LOAD_SHADER(device, viewShader_, spv_view_lights_comp));
     for (uint32_t r = 0; r < 2; ++r)
         ML_TRY(createComputeProgram(device, viewPrograms_[r], viewShader_, {{0, r}}));
@@ -84,7 +85,7 @@ void LightCulling::destroy(const Device& device) {
     destroyProgram(device, countProgram_);
     destroyProgram(device, wideProgram_);
 
-    destroyProgram(device, fillProgram_);
+    for (Program& p : fillPrograms_) destroyProgram(device, p);
     destroyProgram(device, allocProgram_);
     for (Program& p : viewPrograms_) destroyProgram(device, p);
     destroyShader(device, viewShader_);
@@ -156,7 +157,8 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
     memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
     if (mode == ML_CULL_CLUSTERED) {
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
-        // scatter (ML_FILL_GROUPS groups stride over the hits).
+        // scatter, rank and place (ML_FILL_GROUPS groups stride over the hits; the lists come out
+        // sorted by light index).
         const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
         if (visible) {
             dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
@@ -173,8 +175,13 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
                  {frame, tileMasks, counts, ranges, counters, work});
         memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
         if (visible)
-            dispatch(device, c, fillProgram_, ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
-                     {hits, ranges, counts, pool, work});
+            for (uint32_t step = 0; step < 3; ++step) {
+                // Scatter's pool -> rank's reads; rank's slots (in hits) -> place's reads, and rank's
+                // pool reads before place's writes.
+                if (step) memoryBarrier(c, kC, kR | kW, kC, kR | kW);
+                dispatch(device, c, fillPrograms_[step], ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
+                         {hits, ranges, counts, pool, work});
+            }
     } else {
         // One ML_ASSIGN_GROUP group per tile (its threads stride over the lights).
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},

@@ -7,15 +7,18 @@
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
-//                   light_fill. Each visible light (8 threads) tests only the occupied clusters inside
-//                   its footprint (lightFootprint: tile rectangle x depth-slice range), with the same
-//                   exact box test; cost follows the lights' footprints, not lights x clusters. Wide
-//                   lights (directional ones, chosen by the host: wideFootprint) take a thread per tile
-//                   instead (light_footprint's wide variant), so the moon is not serial over the screen.
+//                   light_fill (scatter, rank, place). Each visible light (8 threads) tests only the
+//                   occupied clusters inside its footprint (lightFootprint: tile rectangle x depth-slice
+//                   range), with the same exact box test; cost follows the lights' footprints, not
+//                   lights x clusters. Wide lights (directional ones, chosen by the host: wideFootprint)
+//                   take a thread per tile instead (light_footprint's wide variant), so the moon is not
+//                   serial over the screen.
 //   clustered-brute light_assign, one group per tile: every visible light against each occupied
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).
-// Lists come out in the order of the atomics (the CPU reference's are sorted; tests compare sets).
+// Lists come out sorted by light index in every mode, like the CPU reference's (tests compare them in
+// order): light_fill ranks each hit within its cluster's list, light_assign writes its lights in
+// chunks of ML_ASSIGN_GROUP in index order, each chunk's hits placed by prefix counts of a bit mask.
 // Overflowing clusters are flagged and counted in every mode; "none" skips culling.
 // Tight bounds from the actual pixels (rather than the froxel's frustum volume) is what keeps lights
 // evaluated per pixel close to lights that reach it (Olsson et al.'s clustered shading with
@@ -84,7 +87,8 @@ class LightCulling {
 
   private:
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
-    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, fillProgram_, allocProgram_;
+    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
+    Program fillPrograms_[3]; // light_fill.comp's steps: scatter, rank, place
     Program viewPrograms_[2]; // evaluated, reaching
 };
 

@@ -1,5 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#ifdef ML_WAVE_LOOP
+// The build with the wave-uniform loop (evaluate_wave, CMakeLists.txt); the plain build is the
+// fallback for devices without subgroup arithmetic in compute (lights/evaluate_pass.cpp checks).
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 // The one evaluation pass: per pixel, every light of its cluster: visibility (static bake x dynamic
 // virtual shadow map) x shading, accumulated in HDR, tone-mapped to the output. Per-pixel light counts
 // are a pass of their own (statistics.comp), so this pass times only the frame's work.
@@ -19,6 +24,18 @@ layout(constant_id = 0) const uint kSpecOutput = 0;
 // 1: GGX from the material target (binding ML_HOST_BINDING_COUNT + 5, shaders/shared/brdf.h);
 // 0: Lambert + Blinn-Phong (shading.h), that binding unread.
 layout(constant_id = 1) const uint kSpecPbr = 0;
+// 1: the wave-uniform light loop. Cluster lists are sorted by light index (culling/culling.h), so a
+// subgroup walks the union of its lanes' lists in increasing order: next = subgroupMin of each lane's
+// next light (~0 when done); the lanes whose list holds it shade it and advance. The light index is
+// subgroup-uniform, so the lanes shading together shade the same light (its GpuLight, shadow record
+// and map are one address for the subgroup, not a gather).
+// Each lane still adds its own lights in list order: the image is bit-identical to the per-lane
+// loop (0; GpuEvaluate.UniformLoopIsBitIdentical).
+#ifdef ML_WAVE_LOOP
+layout(constant_id = 2) const uint kUniformLoop = 0; // the host sets it (EvaluatePass::setUniformLoop)
+#else
+const uint kUniformLoop = 0;
+#endif
 
 // The G-buffer (SHADER_READ_ONLY_OPTIMAL): reversed-Z depth (0 = sky), world normal as stored (unit
 // up to half-float rounding; the VSM lookup normalises it itself), linear albedo. The outputs (GENERAL)
@@ -30,6 +47,14 @@ layout(binding = ML_HOST_BINDING_COUNT + 3, rgba16f) uniform writeonly image2D h
 layout(binding = ML_HOST_BINDING_COUNT + 4, rgba8) uniform writeonly image2D outputImage;
 // The optional material target: r perceptual roughness, g metalness (read only when kSpecPbr is 1).
 layout(binding = ML_HOST_BINDING_COUNT + 5) uniform texture2D materialImage;
+
+// Light L's contribution at the pixel, added to hdr (the same lines in both loops).
+void addLight(GpuLight L, vec3 P, vec3 N, vec3 Nraw, vec3 V, vec3 albedo, vec2 material, bool receiver,
+              inout vec3 hdr) {
+    vec3 c = kSpecPbr != 0u ? shadeLightPbr(L, P, N, V, albedo, material.x, material.y)
+                            : shadeLight(L, P, N, V, albedo);
+    if (c != vec3(0.0)) hdr += receiver ? c * mlLightVisibility(L, P, Nraw) : c;
+}
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
@@ -46,13 +71,28 @@ void main() {
         vec3 albedo = texelFetch(albedoImage, ivec2(px), 0).rgb;
         vec3 V = normalize(frame.cameraPosition.xyz - P);
         hdr = albedo * frame.ambient.rgb;
-        // The host include's loop (a host forward pass writes the same lines).
         uvec2 range = mlClusterRange(px, d);
-        for (uint i = 0; i < mlRangeCount(range); ++i) {
-            GpuLight L = mlRangeLight(range, i);
-            vec3 c = kSpecPbr != 0u ? shadeLightPbr(L, P, N, V, albedo, material.x, material.y)
-                                    : shadeLight(L, P, N, V, albedo);
-            if (c != vec3(0.0)) hdr += receiver ? c * mlLightVisibility(L, P, Nraw) : c;
+        uint n = mlRangeCount(range);
+#ifdef ML_WAVE_LOOP
+        if (kUniformLoop != 0u) {
+            const uint kDone = 0xFFFFFFFFu; // past every light index (ML_MAX_LIGHTS)
+            uint i = 0;
+            uint mine = n > 0u ? ML_CLUSTER_LIGHT(range, 0u) : kDone;
+            for (;;) {
+                uint next = subgroupMin(mine); // over the lanes with a surface (the others left)
+                if (next == kDone) break;
+                if (mine == next) {
+                    addLight(lights[next], P, N, Nraw, V, albedo, material, receiver, hdr);
+                    ++i;
+                    mine = i < n ? ML_CLUSTER_LIGHT(range, i) : kDone;
+                }
+            }
+        } else
+#endif
+        {
+            // The host include's loop (a host forward pass writes the same lines).
+            for (uint i = 0; i < n; ++i)
+                addLight(mlRangeLight(range, i), P, N, Nraw, V, albedo, material, receiver, hdr);
         }
     }
     if (kSpecOutput != 2u) imageStore(hdrImage, ivec2(px), vec4(hdr, 1.0));

@@ -1,7 +1,12 @@
 #include "lights/evaluate_pass.h"
 
 #include "evaluate.comp.spv.h"
+#include "evaluate_wave.comp.spv.h"
 #include "statistics.comp.spv.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 
 namespace ml {
 
@@ -14,14 +19,38 @@ Descriptor sampled(VkImageView view) {
 } // namespace
 
 Result<void> EvaluatePass::create(const Device& device) {
-    return ML_LOAD_SHADER(device, shader_, spv_evaluate_comp);
+    // The wave loop's subgroupMin: basic + arithmetic operations in compute shaders (a SPIR-V module
+    // declaring GroupNonUniformArithmetic may not be created on a device without them).
+    VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &sub};
+    vkGetPhysicalDeviceProperties2(device.physicalDevice, &props);
+    const VkSubgroupFeatureFlags need = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    waveBuild_ =
+        (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sub.supportedOperations & need) == need;
+    if (!waveBuild_)
+        std::fprintf(stderr,
+                     "evaluate: %s has no subgroup arithmetic in compute shaders: per-lane light loop\n",
+                     device.name.c_str());
+    const char* env = std::getenv("ML_UNIFORM_LOOP");
+    // Off by default: at 4096 lights on lavapipe it was no faster (docs/culling.md).
+    uniform_ = waveBuild_ && env && std::strcmp(env, "1") == 0;
+    return waveBuild_ ? ML_LOAD_SHADER(device, shader_, spv_evaluate_wave_comp)
+                      : ML_LOAD_SHADER(device, shader_, spv_evaluate_comp);
+}
+
+bool EvaluatePass::setUniformLoop(bool on) {
+    uniform_ = on && waveBuild_;
+    return uniform_ == on;
 }
 
 Result<void> EvaluatePass::prepare(const Device& device, EvaluateOutputs outputs, bool pbr) {
-    Program& p = programs_[uint32_t(outputs) * 2 + pbr];
+    Program& p = programs_[programIndex(outputs, pbr)];
+    // kUniformLoop (id 2) is absent from the plain build: an unused map entry is ignored (Vulkan spec).
     if (!p.pipeline)
-        ML_TRY(createComputeProgram(
-            device, p, shader_, {{/*kSpecOutput*/ 0, uint32_t(outputs)}, {/*kSpecPbr*/ 1, uint32_t(pbr)}}));
+        ML_TRY(createComputeProgram(device, p, shader_,
+                                    {{/*kSpecOutput*/ 0, uint32_t(outputs)},
+                                     {/*kSpecPbr*/ 1, uint32_t(pbr)},
+                                     {/*kUniformLoop*/ 2, uint32_t(uniform_)}}));
     return {};
 }
 
@@ -35,7 +64,7 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInput
                           EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
     // Without a material target the albedo fills its binding (a valid sampled image, never read).
     const bool pbr = in.material != VK_NULL_HANDLE;
-    dispatch(d, c, programs_[uint32_t(outputs) * 2 + pbr], in.width, in.height, NoPush{},
+    dispatch(d, c, programs_[programIndex(outputs, pbr)], in.width, in.height, NoPush{},
              {// lights/manylights_lights.glsl's 12 (shaders/shared/host_bindings.h), then the images
               *in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, *s.staticWords, *s.shadowRecords,
               *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool, sampled(in.depth),

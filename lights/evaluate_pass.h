@@ -40,7 +40,17 @@ constexpr uint32_t kEvaluateOutputModes = 3;
 
 class EvaluatePass {
   public:
+    // Checks the device's subgroup support: with arithmetic subgroup operations in compute it loads the
+    // build with the wave-uniform light loop (evaluate.comp's ML_WAVE_LOOP; kUniformLoop off unless the
+    // environment has ML_UNIFORM_LOOP=1 or setUniformLoop(true)), without them the plain build, with a
+    // line on stderr.
     Result<void> create(const Device& device);
+    // The light loop: wave-uniform (true) or per lane; same image bit for bit. Returns whether the
+    // choice took (false: the device has no subgroup arithmetic, the loop stays per lane). prepare()
+    // builds the chosen variant.
+    bool setUniformLoop(bool on);
+    bool uniformLoop() const { return uniform_; }
+    bool uniformLoopSupported() const { return waveBuild_; }
     void destroy(const Device& device);
     // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait);
     // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
@@ -52,8 +62,12 @@ class EvaluatePass {
                 VkImageView output) const;
 
   private:
+    uint32_t programIndex(EvaluateOutputs outputs, bool pbr) const {
+        return (uint32_t(outputs) * 2 + pbr) * 2 + uniform_;
+    }
     ShaderModule shader_;
-    Program programs_[kEvaluateOutputModes * 2]; // [mode * 2 + pbr]
+    bool waveBuild_ = false, uniform_ = false;
+    Program programs_[kEvaluateOutputModes * 2 * 2]; // [(mode * 2 + pbr) * 2 + uniform loop]
 };
 
 class StatisticsPass {
