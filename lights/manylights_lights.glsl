@@ -98,6 +98,10 @@ GpuLight mlRangeLight(uvec2 range, uint i) { return lights[ML_CLUSTER_LIGHT(rang
 
 // (b) Static x dynamic shadow visibility (0 shadowed .. 1 lit) of light L at world position P with
 // normal N (any length: the static lookup uses it normalised, the VSM lookup normalises it itself).
+// The virtual shadow maps hold pages only where the module's evaluation looks them up: G-buffer
+// receivers that face the light (n.l > -1e-3 with the G-buffer normal, vsmFacesLight). A host BRDF that
+// lights back faces (foliage, wrap lighting) gets no dynamic shadow there (the lookup counts it missing,
+// visibility 1).
 float mlLightVisibility(GpuLight L, vec3 P, vec3 N) { return lightVisibility(L, P, normalize(N), N); }
 
 // World position of pixel `px` at reversed-Z depth `depth` in the module's frame (the evaluation pass's

@@ -321,7 +321,9 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
 }
 
 void VirtualShadowMaps::observe(const VsmStats& s, uint64_t frame) {
-    if (!settings_.enabled) return;
+    // A frame with no active map says nothing about the pool (a baked scene before any dynamic caster
+    // comes near a light): it leaves the policy as it was.
+    if (!settings_.enabled || s.mapsActive == 0) return;
     observed_ = true;
     // Near pressure: half the pool marked, or lookups already short of pages.
     if (uint64_t(s.pagesMarked) * 2 >= settings_.poolPages || s.fallbacks > 0 || s.requestOverflow > 0) {

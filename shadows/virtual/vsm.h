@@ -6,9 +6,10 @@
 //     map has a page table (one word per page and mip, vsm_types.h); all share one pool of physical
 //     pages (pageSize^2 uint depths).
 //   each frame, on the GPU, after light culling:
-//     vsm_mark    per pixel, for each light of its cluster list with maps, the pages its lookup reads
-//                 (resolution-matched mip, PCF kernel, bias) and reserves two fallback pages (3 mips
-//                 coarser, and the coarsest), drawn only in frames under pool pressure; the first want of
+//     vsm_mark    per receiver pixel, for each light of its cluster list with maps that it faces, the
+//                 pages its lookup reads (resolution-matched mip, PCF kernel, bias) and, near pool
+//                 pressure (VsmSettings::fallbacksOnDemand), two fallback pages (3 mips coarser, and the
+//                 coarsest), drawn only in frames under pool pressure; the first want of
 //                 an entry appends its priority rank to the request list (stream compaction);
 //     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
 //     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
@@ -32,7 +33,9 @@
 //     vsm_draw    per mip one indirect-count draw at the mip's virtual resolution; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
 //   and the evaluation pass reads pages through the page table (vsm_common.glsl), falling back to a
-//   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently.
+//   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently (a
+//   lookup with no page at all is counted; that happens when pressure arrives within the frames in
+//   flight, before reservations resume).
 //
 // "No more than the scene needs": a light with a static bake (shadows/static/) keeps only pages under
 // some dynamic caster's projected bounds ("coverage" bits, CPU, per frame) and draws dynamic casters

@@ -7,8 +7,9 @@
 // are invalidated whole when they become active again): every light's coarsest level first (a
 // perspective map's last mip, a directional light's last clip level), then one level finer, and so on;
 // within a level the active maps in order, pages row-major. When the pool cannot hold every wanted page,
-// the ones left without a page are the finest, and every lookup still finds a coarser one (each receiver
-// reserves its fallback pages) as long as the pool holds one page per light's coarsest level.
+// the ones left without a page are the finest, and every lookup still finds a coarser one (receivers
+// reserve fallback pages near pressure: VsmSettings::fallbacksOnDemand) as long as the pool holds one
+// page per light's coarsest level.
 // The CPU lays the order out as runs (uvec4: first rank, map, mip, entries), sorted by first rank, and
 // the first rank per (map slot, mip) for vsm_mark; the includer declares vsmRuns[], vsmMarks[] and `vsm`
 // (VsmConstants; order.x runs, order.y entries).

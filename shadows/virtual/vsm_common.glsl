@@ -114,10 +114,12 @@ void vsmMarkKernel(uint map, uint mip, VsmTap tap, int radius, uint region) {
         }
 }
 
-// Marks the pages the lookup of (P, N) will read, and reserves its fallback page ML_VSM_FALLBACK_MIPS
-// mips (or clip levels) coarser, so that a full pool still leaves a coarser shadow: allocation serves
-// coarse mips first, so the fallback page gets memory before the pages it stands in for. A fallback page
-// is drawn only in a frame where some request found no page ("pressure"); otherwise it costs memory only.
+// Marks the pages the lookup of (P, N) will read and, in frames that reserve them (VsmConstants.camera.z:
+// near pool pressure, VsmSettings::fallbacksOnDemand), reserves its fallback pages ML_VSM_FALLBACK_MIPS
+// mips (or clip levels) coarser and at the coarsest, so that a full pool still leaves a coarser shadow:
+// allocation serves coarse mips first, so a fallback page gets memory before the pages it stands in for.
+// A fallback page is drawn only in a frame where some request found no page ("pressure"); otherwise it
+// costs memory only.
 void vsmMarkReceiver(GpuLight L, uint firstMap, vec3 P, vec3 N) {
     VsmChoice c = vsmChoose(L, firstMap, P, N);
     if (c.tap.ok == 0u) return;
@@ -134,9 +136,12 @@ void vsmMarkReceiver(GpuLight L, uint firstMap, vec3 P, vec3 N) {
         if (f != c.map) vsmMarkKernel(f, 0u, vsmLocate(VSM_MAPS[f], R, 0u, P, N), radius, fallbackWords);
         if (c.last != f) vsmMarkKernel(c.last, 0u, vsmLocate(VSM_MAPS[c.last], R, 0u, P, N), radius, fallbackWords);
     } else {
+        // The coarser lookup's own normal offset moves its tap up to bias.y texels of that mip from the
+        // shifted one: the reservation's kernel is that much (and a texel of rounding) wider.
+        int wide = radius + vsmFallbackSlack(VSM_MAPS[c.map]);
         uint f = min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-        if (f != c.mip) vsmMarkKernel(c.map, f, vsmCoarserTap(c.tap, f - c.mip), radius, fallbackWords);
-        if (c.last != f) vsmMarkKernel(c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius, fallbackWords);
+        if (f != c.mip) vsmMarkKernel(c.map, f, vsmCoarserTap(c.tap, f - c.mip), wide, fallbackWords);
+        if (c.last != f) vsmMarkKernel(c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), wide, fallbackWords);
     }
 }
 #endif

@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_mark: per shaded receiver pixel, each light of its cluster that has virtual shadow maps and that
 // the surface faces (vsmFacesLight: the evaluation looks nothing up for the rest) marks the pages
-// its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) plus the last page of
-// its fallback chain. Marks are bits, one per page-table entry, cleared at the start of the frame; the
+// its lookup will read (resolution-matched mip, PCF kernel, normal-offset bias) and, near pool pressure,
+// reserves two pages of its fallback chain (vsm_common.glsl's vsmMarkReceiver). Marks are bits, one per page-table entry, cleared at the start of the frame; the
 // first want of an entry appends it to the request list (vsm_common.glsl's vsmWant).
 // Clustered marking: the seed (RMVSM section 6) marks against every light and names this as future work.
 #include "shaders/shared/glsl_common.glsl"

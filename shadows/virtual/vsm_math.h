@@ -1,9 +1,10 @@
 // Virtual shadow map addressing, one source for GLSL (vsm_mark.comp, the lookup in the evaluation pass,
 // vsm_probe.comp) and the C++ references (shadows/virtual/vsm_reference.cpp): which map, mip and texel
 // a receiver reads, and the depth it compares. Marking and lookup call the same functions, so every page
-// a lookup touches was marked. As in shaders/shared/light_math.h, only +, -, *, /, sqrt, floor, min and
-// max appear, every intermediate is `precise` in GLSL and the C++ build uses -ffp-contract=off, so the
-// CPU reference picks the same pages bit for bit.
+// a lookup touches was marked (fallback reservations excepted: vsmCoarserTap). As in
+// shaders/shared/light_math.h, only +, -, *, /, sqrt, floor, min and max appear, every intermediate is
+// `precise` in GLSL and the C++ build uses -ffp-contract=off, so the CPU reference picks the same pages bit
+// for bit.
 //
 // Resolution matching (RMVSM, Sakmary & Bittner 2025, section 3; clustered marking is its future work):
 // a pixel at distance d from the camera covers footprint = d * 2 tan(fovY/2) / height metres. A
@@ -175,9 +176,14 @@ ML_FN VsmTap vsmLocate(GpuVsmMap map, uint resolution, uint mip, vec3 P, vec3 N)
 
 // A perspective map's fallback reservation (vsm_common.glsl's vsmMarkReceiver): the tap `levels` mips
 // coarser, as the fine tap's texel shifted, without the coarser mip's own normal offset (no second
-// projection per receiver and light). Where that lands in another page than the coarser lookup reads,
-// the lookup's chain goes on coarser; its last step, the coarsest mip, is one page per map, which every
-// receiver of the map reserves, so a lookup under pressure still finds a shadow.
+// projection per receiver and light), with a kernel widened by vsmFallbackSlack so that it holds the
+// coarser lookup's own tap. Should a page still differ, the lookup's chain goes on coarser; its last step,
+// the coarsest mip, is one page per map, which every reserving receiver of the map reserves.
+// Texels the coarser lookup's tap may lie from the shifted one: its normal offset (bias.y texels of
+// that mip) rounded up, plus one for the shifted fine offset and the floor.
+ML_FN int vsmFallbackSlack(GpuVsmMap map) {
+    return int(-floor(-max(map.bias.y, 0.0f))) + 1; // ceil, from the functions listed above
+}
 ML_FN VsmTap vsmCoarserTap(VsmTap tap, uint levels) {
     VsmTap t = tap;
     t.texel = ivec2(int(uint(tap.texel.x) >> levels), int(uint(tap.texel.y) >> levels));

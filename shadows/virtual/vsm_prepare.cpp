@@ -29,6 +29,7 @@ void setBitRun(std::vector<uint32_t>& bits, uint32_t first, uint32_t count) {
 // a row's entries are consecutive (vsmEntry), so each row is one run.
 void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
                  uint32_t entriesPerMap) {
+    if (rect.x > rect.z || rect.y > rect.w) return;
     for (uint32_t m = 0; m < mips; ++m)
         for (uint32_t y = rect.y >> m; y <= (rect.w >> m); ++y)
             setBitRun(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, rect.x >> m, y),
@@ -38,7 +39,7 @@ void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uin
 // Writes elements [0, n) of `data` into the mapped buffer where they differ from `mirror` (what the buffer
 // holds), in runs of consecutive changed elements, and updates the mirror.
 template <class T> void uploadChanged(Buffer& buffer, const T* data, size_t n, std::vector<T>& mirror) {
-    if (mirror.size() < n) { // new or grown: all of it
+    if (mirror.size() < n) { // new or grown: all of it (n > 0 here)
         upload(buffer, data, n * sizeof(T));
         mirror.assign(data, data + n);
         return;
@@ -53,7 +54,7 @@ template <class T> void uploadChanged(Buffer& buffer, const T* data, size_t n, s
         upload(buffer, data + i, (end - i) * sizeof(T), i * sizeof(T));
         i = end;
     }
-    std::memcpy(mirror.data(), data, n * sizeof(T));
+    if (n) std::memcpy(mirror.data(), data, n * sizeof(T));
 }
 
 bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
@@ -134,8 +135,13 @@ struct VsmLightGrid {
         g.spheres = spheres;
         return g;
     }
-    int clampX(float v) const { return std::clamp(int(std::floor(v)), 0, nx - 1); }
-    int clampZ(float v) const { return std::clamp(int(std::floor(v)), 0, nz - 1); }
+    // In float first: a huge or infinite bound (or NaN, taken as the far edge) stays inside the grid.
+    static int clampCell(float v, int n) {
+        const float c = std::floor(v);
+        return !(c > 0.0f) ? (c <= 0.0f ? 0 : n - 1) : c >= float(n - 1) ? n - 1 : int(c);
+    }
+    int clampX(float v) const { return clampCell(v, nx); }
+    int clampZ(float v) const { return clampCell(v, nz); }
     // Every sphere that may touch the box [lo, hi] (some twice: callers stamp).
     template <class F> void forEach(glm::vec3 lo, glm::vec3 hi, F&& f) const {
         for (uint32_t k : wide) f(k);
@@ -268,9 +274,9 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
     // added or removed caster's old or new bounds). Only a few boxes can set a bit: the dynamic casters'
     // (coverage) and the old and new bounds of the instances that changed (stale; 1 % of 10,000 moving:
-    // 200 boxes). Each is tested once against every light with maps (a flat loop over their spheres),
-    // and projected only into the maps of the lights it touches: the cost is lights x changed boxes
-    // plus the projections, not maps x instances.
+    // 200 boxes). Each is tested against the lights with maps in the grid cells it overlaps (VsmLightGrid)
+    // and projected only into the maps of the lights it touches: the cost is the changed boxes times the
+    // lights near them, plus the projections, not maps x instances.
     const bool firstFrame = lastInstances_.size() != instances.size();
     struct Box {
         glm::vec3 lo, hi;

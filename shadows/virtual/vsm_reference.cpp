@@ -111,9 +111,10 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
                     if (c.last != fb)
                         markKernel(in, marks, c.last, 0, vsmLocate(in.maps[c.last], R, 0, P, N), radius, fw);
                 } else {
+                    const int wide = radius + vsmFallbackSlack(in.maps[c.map]);
                     uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
                     if (fb != c.mip)
-                        markKernel(in, marks, c.map, fb, vsmCoarserTap(c.tap, fb - c.mip), radius, fw);
+                        markKernel(in, marks, c.map, fb, vsmCoarserTap(c.tap, fb - c.mip), wide, fw);
                     if (c.last != fb)
                         markKernel(in, marks, c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius,
                                    fw);

@@ -56,10 +56,11 @@ struct VsmSettings {
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     // Fallback reservations (a coarser page per lookup, drawn under pool pressure) cost marking time in
     // every frame: a third of vsm_mark on the night city. On demand, receivers reserve them only near
-    // pressure: until a frame has completed, then for fallbackHoldFrames frames after a completed frame
-    // that marked at least half the pool or had fallbacks. A jump from under half the pool to past all
-    // of it within the frames in flight then loses shadows for those frames (counted in fallbacks).
-    // false: every frame (the behaviour before; GpuVsm.FallbacksReservedOnlyNearPressure runs both).
+    // pressure: until a frame with active maps has completed, then for fallbackHoldFrames frames after a
+    // completed frame that marked at least half the pool, had fallbacks or overflowed the request list. A
+    // jump from under half the pool to past all of it within the frames in flight then loses shadows for
+    // those frames (counted in fallbacks). false: every frame (the behaviour before;
+    // GpuVsm.FallbacksReservedOnlyNearPressure runs both).
     bool fallbacksOnDemand = true;
     uint32_t fallbackHoldFrames = 30;
     // Page draws clipped to one dirty page each (both raster paths). false: one draw per (caster, map, mip)
