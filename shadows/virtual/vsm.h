@@ -274,6 +274,7 @@ class VirtualShadowMaps {
     std::vector<VsmInstance> lastInstances_;
     // The lights with maps binned for the box tests (vsm_prepare.cpp), rebuilt when they change.
     std::shared_ptr<VsmLightGrid> grid_;
+    std::vector<uint8_t> movedMaps_; // buildFrameMaps: maps whose projection changed this frame
     gpu::VsmConstants lastConstants_{};
     double lastPrepareMs_ = 0.0;
     bool observed_ = false;          // a frame has completed (observe)

@@ -52,9 +52,9 @@ template <class T> void uploadChanged(Buffer& buffer, const T* data, size_t n, s
         size_t end = i + 1;
         while (end < n && std::memcmp(&mirror[end], &data[end], sizeof(T)) != 0) ++end;
         upload(buffer, data + i, (end - i) * sizeof(T), i * sizeof(T));
+        std::memcpy(mirror.data() + i, data + i, (end - i) * sizeof(T));
         i = end;
     }
-    if (n) std::memcpy(mirror.data(), data, n * sizeof(T));
 }
 
 bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
@@ -248,7 +248,9 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         std::fill(slot.host.coverage.begin() + first, slot.host.coverage.begin() + last, 0u);
         std::fill(slot.host.stale.begin() + first, slot.host.stale.begin() + last, 0u);
     }
-    for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m] = gpu::GpuVsmMap{};
+    // Then one pass over the maps: a map in use takes its built record (with INVALIDATE when it moved),
+    // a free one zeros.
+    movedMaps_.assign(mapsInUse_, 0);
     for (uint32_t id = 0; id < lights.size(); ++id) {
         const LightState& st = lightState_[id];
         if (st.firstMap == ML_VSM_NO_MAP) continue;
@@ -263,9 +265,12 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
                               b.outerAngle == l.outerAngle && b.staticBake == l.staticBake &&
                               b.depthBias == l.depthBias && b.normalBias == l.normalBias;
             if (!same) buildMap(st.firstMap + f, l, f, camera, moved);
-            slot.host.maps[st.firstMap + f] = maps_[st.firstMap + f].gpu;
-            if (moved) slot.host.maps[st.firstMap + f].info.y |= ML_VSM_MAP_INVALIDATE;
+            if (moved) movedMaps_[st.firstMap + f] = 1;
         }
+    }
+    for (uint32_t m = 0; m < mapsInUse_; ++m) {
+        slot.host.maps[m] = maps_[m].inUse ? maps_[m].gpu : gpu::GpuVsmMap{};
+        if (movedMaps_[m]) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
     }
 }
 
@@ -284,12 +289,14 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         bool coverage; // else stale
     };
     std::vector<Box> boxes;
+    std::vector<uint32_t> changed; // instances whose bounds or casting changed (lastInstances_ below)
     for (uint32_t i = 0; i < instances.size(); ++i) {
         const VsmInstance& in = instances[i];
         if (in.dynamic && in.castsShadows) boxes.push_back({in.lo, in.hi, i, true});
         if (firstFrame) continue;
         const VsmInstance& old = lastInstances_[i];
         if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
+        changed.push_back(i);
         boxes.push_back({old.lo, old.hi, i, false});
         boxes.push_back({in.lo, in.hi, i, false});
     }
@@ -354,7 +361,9 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     }
     if (firstFrame)
         for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
-    lastInstances_.assign(instances.begin(), instances.end());
+    // Only the bounds and the casting flag of lastInstances_ are read: the changed entries are enough.
+    if (firstFrame) lastInstances_.assign(instances.begin(), instances.end());
+    for (uint32_t i : changed) lastInstances_[i] = instances[i];
     // The words to upload: this frame's maps and the slot's previous ones (now cleared).
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
@@ -422,17 +431,7 @@ void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
 
 Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uint64_t frame,
                                            std::span<const VsmInstance> instances, const VsmCamera& camera) {
-    // Casters.
-    std::vector<gpu::GpuCaster> casters(instances.size());
-    for (size_t i = 0; i < instances.size(); ++i) {
-        const VsmInstance& in = instances[i];
-        casters[i].lo = glm::vec4(in.lo, 0.0f);
-        casters[i].hi = glm::vec4(in.hi, 0.0f);
-        casters[i].draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
-                                     in.dynamic ? 1u : 0u);
-        casters[i].meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
-    }
-    slot.casterCount = uint32_t(casters.size());
+    slot.casterCount = uint32_t(instances.size());
 
     gpu::VsmConstants c{};
     c.page = glm::uvec4(settings_.pageSize, uint32_t(std::countr_zero(settings_.pageSize)), s0_, mips_);
@@ -466,11 +465,26 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     uploadChanged(slot.runs, slot.host.runs.data(), slot.host.runs.size(), slot.uploadedRuns);
     uploadChanged(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_,
                   slot.uploadedRankBase);
-    auto grown = ensureBuffer(device, slot.casters, casters.size() * sizeof(gpu::GpuCaster),
+    // Casters, written where they differ from what this slot's buffer holds (its mirror): one pass, no
+    // frame-sized temporary.
+    auto grown = ensureBuffer(device, slot.casters, instances.size() * sizeof(gpu::GpuCaster),
                               kStorageBufferUsage, "vsm_casters");
     if (!grown) return fail(grown.error());
-    if (grown.value()) slot.uploadedCasters.clear();
-    uploadChanged(slot.casters, casters.data(), casters.size(), slot.uploadedCasters);
+    const bool whole = grown.value() || slot.uploadedCasters.size() < instances.size();
+    if (whole) slot.uploadedCasters.assign(instances.size(), gpu::GpuCaster{});
+    auto* mapped = slot.casters.as<gpu::GpuCaster>();
+    for (size_t i = 0; i < instances.size(); ++i) {
+        const VsmInstance& in = instances[i];
+        gpu::GpuCaster c;
+        c.lo = glm::vec4(in.lo, 0.0f);
+        c.hi = glm::vec4(in.hi, 0.0f);
+        c.draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
+                            in.dynamic ? 1u : 0u);
+        c.meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
+        if (!whole && std::memcmp(&slot.uploadedCasters[i], &c, sizeof(c)) == 0) continue;
+        slot.uploadedCasters[i] = c;
+        mapped[i] = c;
+    }
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;
