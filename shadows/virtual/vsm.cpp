@@ -100,12 +100,14 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
     // slots are not bounded by maxImageArrayLayers. Cleared for the maps in use at every frame's start.
     hpbLevels_ = mips_ - 1;
     hpbWords_ = std::max(1u, (gpu::vsmHpbLevelOffset(s0_, mips_) + 31) / 32);
-    const size_t draws = size_t(mips_) * s.maxDrawsPerMip;
+    // Two draw lists per mip (vsm_cull.comp): closed casters (drawn with back faces culled) and open ones.
+    const size_t draws = 2 * size_t(mips_) * s.maxDrawsPerMip;
     ML_TRY(createDeviceBuffer(d, pages_.draws, draws * sizeof(VkDrawIndexedIndirectCommand), kIndirectUsage,
                               "vsm_draws"));
     ML_TRY(createDeviceBuffer(d, pages_.drawInfo, draws * 16, kStorageBufferUsage,
                               "vsm_draw_info")); // uvec4 (instance, map, page, 0) per draw
-    ML_TRY(createDeviceBuffer(d, pages_.drawCounts, ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts"));
+    ML_TRY(
+        createDeviceBuffer(d, pages_.drawCounts, 2 * ML_VSM_MAX_MIPS * 4, kIndirectUsage, "vsm_draw_counts"));
     if (settings_.raster != VsmRaster::Vertex && !d.cmdDrawMeshTasksIndirect) {
         std::fprintf(stderr, "vsm: %s has no mesh shaders: shadow pages are drawn with the vertex path\n",
                      d.name.c_str());

@@ -4,7 +4,8 @@
 // a dirty page) (x, y; indirect: vsm_assign lists the maps, so cached maps launch no threads). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
-// static bake take dynamic casters only. Draws go to one list per mip (one indirect-count draw each):
+// static bake take dynamic casters only. Draws go to two lists per mip, closed and open casters (one
+// indirect-count draw each, the closed list with back faces culled):
 // one draw per dirty page under the projected bounds, clipped to that page (vsm_page_clip.glsl).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
@@ -44,6 +45,7 @@ void main() {
     if (!vsmBoxInFrustum(planes, c.lo.xyz, c.hi.xyz)) return;
     vec2 lo, hi;
     vsmProjectedBounds(m.viewProj, c.lo.xyz, c.hi.xyz, lo, hi);
+    bool closedInFront = vsmClosedInFront(m, c);
 
     for (uint mip = 0u; mip < vsm.page.w; ++mip) {
         if ((mipsDirty & (1u << mip)) == 0u) continue;
@@ -65,14 +67,17 @@ void main() {
         // Counted per (instance, map, mip) as vsm_expand counts the mesh path's, whatever the pages.
         atomicAdd(vsmCounters.instancesDrawn, 1u);
         if (n == 0u) continue;
-        uint slot = atomicAdd(drawCounts[mip], n);
+        // Closed casters in front of the near plane go to list 0, drawn with back faces culled (the
+        // nearest surface along any ray from the light faces it: the same depths); the rest to list 1.
+        uint list = closedInFront ? 0u : 1u;
+        uint slot = atomicAdd(drawCounts[list * ML_VSM_MAX_MIPS + mip], n);
         if (slot + n > push.capacity) atomicAdd(vsmCounters.drawOverflow, slot + n - max(slot, push.capacity));
         uint written = 0u;
         for (int y = p0.y; y <= p1.y; ++y)
             for (int x = p0.x; x <= p1.x; ++x) {
                 if (clip && !vsmPageDirty(map, mip, x, y)) continue;
                 if (slot >= push.capacity) break;
-                uint d = mip * push.capacity + slot;
+                uint d = (list * vsm.page.w + mip) * push.capacity + slot;
                 draws[d * 5u + 0u] = c.draw.x; // index count
                 draws[d * 5u + 1u] = 1u;       // instance count
                 draws[d * 5u + 2u] = c.draw.y; // first index

@@ -12,6 +12,20 @@ void vsmFrustumPlanes(mat4 viewProj, out vec4 planes[6]) {
 }
 
 // A world box against the frustum (the far plane is the light's range): false when it is behind one plane.
+// A closed caster whose box lies wholly in front of the map's near plane: its back faces (seen from the
+// light) may be culled, since the nearest surface along any ray from the light is then a front face
+// (with the box crossing the near plane, a clipped front face could leave a back face nearest).
+bool vsmClosedInFront(GpuVsmMap m, GpuCaster c) {
+    if (c.meshlets.z == 0u) return false;
+    float zmin = 1e30;
+    for (uint k = 0u; k < 8u; ++k) {
+        vec3 p = vec3((k & 1u) != 0u ? c.hi.x : c.lo.x, (k & 2u) != 0u ? c.hi.y : c.lo.y,
+                      (k & 4u) != 0u ? c.hi.z : c.lo.z);
+        zmin = min(zmin, -vsmPoint(m.view, p).z);
+    }
+    return zmin > m.params.y * 1.001 + 1e-4;
+}
+
 bool vsmBoxInFrustum(vec4 planes[6], vec3 lo, vec3 hi) {
     for (uint k = 0u; k < 6u; ++k) {
         vec3 n = planes[k].xyz;

@@ -50,16 +50,7 @@ void main() {
     vec2 lo, hi;
     vsmProjectedBounds(m.viewProj, c.lo.xyz, c.hi.xyz, lo, hi);
 
-    uint cone = 0u;
-    if (c.meshlets.z != 0u) {
-        float zmin = 1e30;
-        for (uint k = 0u; k < 8u; ++k) {
-            vec3 p = vec3((k & 1u) != 0u ? c.hi.x : c.lo.x, (k & 2u) != 0u ? c.hi.y : c.lo.y,
-                          (k & 4u) != 0u ? c.hi.z : c.lo.z);
-            zmin = min(zmin, -vsmPoint(m.view, p).z);
-        }
-        if (zmin > m.params.y * 1.001 + 1e-4) cone = 1u << 31;
-    }
+    uint cone = vsmClosedInFront(m, c) ? 1u << 31 : 0u;
 
     for (uint mip = 0u; mip < vsm.page.w; ++mip) {
         if ((mipsDirty & (1u << mip)) == 0u) continue;

@@ -162,15 +162,19 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
                          pg.meshTasks, *in.meshlets});
             d.cmdDrawMeshTasksIndirect(c, pg.meshTasks.buffer, VkDeviceSize(m) * 16, 1, 16);
         } else {
-            bindProgram(d, c, programs_.draw, push,
-                        {*in.vertices, *in.instances, pg.drawInfo, slot.maps, slot.constants, pg.table,
-                         pg.pool, slot.counters});
-            vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-            vkCmdDrawIndexedIndirectCount(
-                c, pg.draws.buffer,
-                VkDeviceSize(m) * state_->settings().maxDrawsPerMip * sizeof(VkDrawIndexedIndirectCommand),
-                pg.drawCounts.buffer, VkDeviceSize(m) * 4, state_->settings().maxDrawsPerMip,
-                sizeof(VkDrawIndexedIndirectCommand));
+            // Closed casters with back faces culled, then open ones (vsm_cull.comp's two lists).
+            for (uint32_t list = 0; list < 2; ++list) {
+                bindProgram(d, c, list == 0 ? programs_.drawClosed : programs_.draw, push,
+                            {*in.vertices, *in.instances, pg.drawInfo, slot.maps, slot.constants, pg.table,
+                             pg.pool, slot.counters});
+                vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
+                const VkDeviceSize first =
+                    VkDeviceSize(list * state_->layout().mips + m) * state_->settings().maxDrawsPerMip;
+                vkCmdDrawIndexedIndirectCount(
+                    c, pg.draws.buffer, first * sizeof(VkDrawIndexedIndirectCommand), pg.drawCounts.buffer,
+                    VkDeviceSize(list * ML_VSM_MAX_MIPS + m) * 4, state_->settings().maxDrawsPerMip,
+                    sizeof(VkDrawIndexedIndirectCommand));
+            }
         }
         vkCmdEndRendering(c);
     }

@@ -21,6 +21,12 @@
 
 namespace ml {
 
+namespace {
+// Winding of a triangle that faces the light in the page framebuffer (the light's projection, Vulkan's
+// y-down viewport): checked by `check vsm`, whose reference rasteriser draws both faces.
+constexpr VkFrontFace kVsmFrontFace = VK_FRONT_FACE_CLOCKWISE;
+} // namespace
+
 Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     // Each shader is kept (shaders_, destroyed with the programs) as soon as it exists.
     auto load = [&](const uint32_t* code, size_t bytes, const char* name) -> Result<const ShaderModule*> {
@@ -55,6 +61,10 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     auto vert = ML_VSM_SHADER(spv_vsm_draw_vert);
     ML_TRY(vert);
     ML_TRY(createGraphicsProgram(d, draw, {vert.value(), frag.value()}, gs));
+    GraphicsState closed = gs;
+    closed.cull = VK_CULL_MODE_BACK_BIT;
+    closed.frontFace = kVsmFrontFace;
+    ML_TRY(createGraphicsProgram(d, drawClosed, {vert.value(), frag.value()}, closed));
     if (!meshPath) return {};
     ML_TRY(compute(expand, ML_VSM_SHADER(spv_vsm_expand_comp)));
     auto task = ML_VSM_SHADER(spv_vsm_draw_task);
@@ -67,7 +77,7 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 
 void VsmPrograms::destroy(const Device& d) {
     for (Program* p : {&mark, &list, &sort, &invalidate, &scan, &alloc, &avail, &assign, &hpb, &cull, &clear,
-                       &probe, &view, &draw, &expand, &mesh})
+                       &probe, &view, &draw, &drawClosed, &expand, &mesh})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

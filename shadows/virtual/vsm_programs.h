@@ -10,9 +10,10 @@ namespace ml {
 
 struct VsmPrograms {
     Program mark, list, sort, invalidate, scan, alloc, avail, assign, hpb, cull, clear, probe, view;
-    Program draw;   // raster path: vsm_draw.vert + vsm_draw.frag
-    Program expand; // mesh path: vsm_expand.comp
-    Program mesh;   // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
+    Program draw;       // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
+    Program drawClosed; // the same with back faces culled (closed casters)
+    Program expand;     // mesh path: vsm_expand.comp
+    Program mesh;       // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
     Result<void> create(const Device& device, bool meshPath);
     void destroy(const Device& device);
 

@@ -83,11 +83,13 @@ void comparePaths(bool caching, uint32_t frames, bool house = false) {
                   s.taskCulledFrustum + s.taskCulledCone + s.taskCulledHpb + s.meshletsAfterTask);
         EXPECT_LE(s.trianglesRasterized, s.trianglesAfterTask);
         EXPECT_EQ(s.instancesDrawn, rv->stats.vsm.instancesDrawn) << "frame " << f;
-        // Both paths clip each triangle to the same dirty pages (vsm_page_clip.glsl), and the mesh path
-        // drops only triangles without a sample there and back-facing meshlets of closed meshes (whose
-        // fragments never win the minimum): the same fragments run where the cone test culled nothing.
-        EXPECT_LE(s.fragmentsDrawn, rv->stats.vsm.fragmentsDrawn) << "frame " << f;
-        if (s.taskCulledCone == 0) EXPECT_EQ(s.fragmentsDrawn, rv->stats.vsm.fragmentsDrawn) << "frame " << f;
+        // Both paths clip each triangle to the same dirty pages (vsm_page_clip.glsl) and cull the back
+        // faces of closed casters in front of the near plane (whose fragments never win the minimum): the
+        // vertex path in the rasteriser, the mesh path per meshlet (cone) and per triangle, except
+        // triangles under 1/16 texel^2, which it keeps. So the same fragments run, give or take those.
+        const uint64_t vf = rv->stats.vsm.fragmentsDrawn, slack = vf / 1000 + 64;
+        EXPECT_LE(s.fragmentsDrawn, vf + slack) << "frame " << f;
+        EXPECT_GE(s.fragmentsDrawn + slack, vf) << "frame " << f;
         EXPECT_EQ(s.pageClipOverflow, 0u);
         if (f + 1 == frames)
             std::printf(
