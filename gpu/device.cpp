@@ -103,7 +103,7 @@ const FeatureRow kRequiredFeatures[] = {
     ML_FEATURE(f2.features, multiDrawIndirect),         // one indirect multi-draw per G-buffer
     ML_FEATURE(f2.features, fragmentStoresAndAtomics),  // dual depth bake, shadow pages: atomics in fragments
     ML_FEATURE(f2.features, drawIndirectFirstInstance), // shadow-page draws: firstInstance indexes drawInfo
-    ML_FEATURE(f12, drawIndirectCount),                 // one indirect-count draw per shadow-page mip
+    ML_FEATURE(f12, drawIndirectCount),                 // two indirect-count draws per shadow-page mip
     ML_FEATURE(mesh, meshShader),                       // no mesh/task shader yet: the virtual shadow maps'
     ML_FEATURE(mesh, taskShader),                // culling is planned on them (Device::cmdDrawMeshTasks)
     ML_FEATURE(f2.features, shaderClipDistance), // shadow-page draws clipped to their page (both paths)

@@ -24,13 +24,16 @@
 //     vsm_hpb     per listed entry: a DIRTY page sets its hierarchical page buffer cells (bits in a
 //                 buffer, 4.3), so culling tests at most 2x2 cells;
 //   every pass above walks the request list or the physical pool, never every entry of every map;
-//     vsm_cull    per (active map, caster): frustum and HPB tests -> one draw list per mip (4.2);
+//     vsm_cull    per (active map, caster): frustum and HPB tests -> two draw lists per mip (4.2):
+//                 closed casters in front of the near plane (back faces culled) and the rest;
 //                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and
 //                 appends the caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls
 //                 meshlets (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles
-//                 covering no sample; vsm_draw.frag is shared, so both paths write the same depths;
+//                 covering no sample or back-facing on a closed caster; vsm_draw.frag is shared, so both
+//                 paths write the same depths;
 //     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page);
-//     vsm_draw    per mip one indirect-count draw at the mip's virtual resolution; fragments of DIRTY
+//     vsm_draw    per mip two indirect-count draws (the lists above), each draw clipped to its dirty
+//                 page; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
 //   and the evaluation pass reads pages through the page table (vsm_common.glsl), falling back to a
 //   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently (a
@@ -66,6 +69,7 @@ struct VsmLight {
     bool staticBake = false; // every face has a static bake: maps hold dynamic casters only
     // LightDesc::shadowDepthBias / shadowNormalBias: GpuVsmMap.bias (lookups and marking, vsm_math.h).
     float depthBias = 0.5f, normalBias = 1.0f;
+    bool operator==(const VsmLight&) const = default;
 };
 struct VsmInstance {
     glm::vec3 lo{0.0f}, hi{0.0f}; // world bounds this frame

@@ -85,12 +85,11 @@ struct VsmLightGrid {
     std::vector<VsmSphere> spheres; // what it was built from
 
     static VsmLightGrid build(const std::vector<VsmSphere>& spheres) {
-        using S = VsmSphere;
         VsmLightGrid g;
         if (spheres.empty()) return g;
         std::vector<float> radii;
         glm::vec2 lo(spheres[0].c.x, spheres[0].c.z), hi = lo;
-        for (const S& s : spheres) {
+        for (const VsmSphere& s : spheres) {
             radii.push_back(s.r);
             lo = glm::min(lo, glm::vec2(s.c.x, s.c.z));
             hi = glm::max(hi, glm::vec2(s.c.x, s.c.z));
@@ -101,7 +100,7 @@ struct VsmLightGrid {
         g.origin = lo;
         g.nx = std::min(int(extent.x / g.cell) + 1, 64);
         g.nz = std::min(int(extent.y / g.cell) + 1, 64);
-        auto span = [&](const S& s, int& x0, int& x1, int& z0, int& z1) {
+        auto span = [&](const VsmSphere& s, int& x0, int& x1, int& z0, int& z1) {
             x0 = g.clampX((s.c.x - s.r - g.origin.x) / g.cell),
             x1 = g.clampX((s.c.x + s.r - g.origin.x) / g.cell);
             z0 = g.clampZ((s.c.z - s.r - g.origin.y) / g.cell),
@@ -258,12 +257,9 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         for (uint32_t f = 0; f < st.mapCount; ++f) {
             bool moved = false;
             const VsmMapInfo& info = maps_[st.firstMap + f];
-            const VsmLight& b = info.builtFrom;
+            // Clip levels follow the camera; spot and point maps only their light.
             const bool same = info.inUse && info.light == id && info.face == f &&
-                              l.kind != ML_LIGHT_DIRECTIONAL && b.kind == l.kind &&
-                              b.position == l.position && b.direction == l.direction && b.range == l.range &&
-                              b.outerAngle == l.outerAngle && b.staticBake == l.staticBake &&
-                              b.depthBias == l.depthBias && b.normalBias == l.normalBias;
+                              l.kind != ML_LIGHT_DIRECTIONAL && info.builtFrom == l;
             if (!same) buildMap(st.firstMap + f, l, f, camera, moved);
             if (moved) movedMaps_[st.firstMap + f] = 1;
         }
