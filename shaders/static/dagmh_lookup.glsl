@@ -41,7 +41,8 @@ uint dagmhValue(uint base, uint index, uint px, uint py) {
     return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
 }
 
-// The lookup in three steps (twin of dagmhStart / dagmhDescend / dagmhFinish / dagmhPcfPrefix).
+// The lookup in steps (twin of dagmhStart / dagmhDescend / dagmhLocate / dagmhLocatedValue / dagmhFinish /
+// dagmhPcfPrefix).
 struct DagmhState {
     uint kind, depth, dlast, ptr, vcount, vlast;
 };
@@ -90,7 +91,7 @@ DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
     return st;
 }
 
-uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
+DagmhState dagmhLocate(uint base, uint x, uint y, DagmhState st) {
     uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
     st = dagmhDescend(base, x, y, st, L + 1u);
     if (st.kind == 2u) {
@@ -115,8 +116,16 @@ uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
             }
         }
     }
-    uint s = L - st.dlast;
+    return st;
+}
+
+uint dagmhLocatedValue(uint base, uint x, uint y, DagmhState st) {
+    uint s = ML_STATIC_DATA[base + ML_DAG_LEVELS] - st.dlast;
     return dagmhValue(base, st.vlast, (x >> s) << s, (y >> s) << s);
+}
+
+uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
+    return dagmhLocatedValue(base, x, y, dagmhLocate(base, x, y, st));
 }
 
 uint dagmhLookup(uint base, uint x, uint y) {

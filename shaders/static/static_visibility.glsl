@@ -77,13 +77,26 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         prefix = dagmhPcfPrefix(base, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
         usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
     }
+    // DAG-MH taps that land in the node of the previous tap's value (same value index) reuse its decoded
+    // value: MH nodes cover many texels, so a 3x3 kernel mostly decodes one or two values.
+    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint lit = 0u;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
             // Outside the map the light's cone does not reach: count as lit.
             if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
-            uint d = usePrefix ? dagmhFinish(base, uint(x), uint(y), prefix) : staticDepthAt(method, base, uint(x), uint(y));
+            uint d;
+            if (method == ML_STATIC_DAGMH) {
+                DagmhState st = dagmhLocate(base, uint(x), uint(y), usePrefix ? prefix : dagmhStart(base, uint(x), uint(y)));
+                if (st.vlast != memoIndex) {
+                    memoIndex = st.vlast;
+                    memoDepth = dagmhLocatedValue(base, uint(x), uint(y), st);
+                }
+                d = memoDepth;
+            } else {
+                d = staticDepthAt(method, base, uint(x), uint(y));
+            }
             if (depth <= d) lit += 1u;
         }
     return float(lit) / float((2 * radius + 1) * (2 * radius + 1));

@@ -353,7 +353,14 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     if (factors.size() < (bitPos + 31) / 32) factors.resize((bitPos + 31) / 32, 0);
     st.chunks = numChunks;
     // ---- assemble ----
-    const uint32_t S = uint32_t(std::clamp<int32_t>(int32_t(L) - 7, 0, 6));
+    // Skip level: the deepest S <= min(L, 8) whose list (16 B per cell) stays within an eighth of the
+    // rest of the structure. Each level it resolves saves a lookup one dependent node read (flags,
+    // child, count), so dense maps take it as deep as the budget allows; nearly empty maps keep a
+    // short list.
+    const uint64_t restWords = nodeWords.size() + uint64_t(kTreeletWords) * treelets.size() +
+                               uint64_t(kChunkWords) * numChunks + factors.size();
+    uint32_t S = 0;
+    while (S < std::min<uint32_t>(L, 8) && (uint64_t(kSkipWords) << (2 * (S + 1))) * 8 <= restWords) ++S;
     const uint32_t skipEntries = 1u << (2 * S);
     std::vector<uint32_t> out(kHeaderWords, 0);
     out[kMagicWord] = kMagic, out[kVersion] = kVersionNumber, out[kResolution] = tree.resolution,

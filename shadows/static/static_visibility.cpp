@@ -69,6 +69,8 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
         prefix = dagmhPcfPrefix(data, base, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
         usePrefix = prefix.kind != kDagNoPrefix;
     }
+    // DAG-MH taps in the node of the previous tap's value reuse its decoded value (as the shader).
+    uint32_t memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint32_t lit = 0;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
@@ -77,8 +79,19 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
                 ++lit;
                 continue;
             }
-            uint32_t d = usePrefix ? dagmhFinish(data, base, uint32_t(x), uint32_t(y), prefix)
-                                   : lookupStaticDepth(method, data, base, uint32_t(x), uint32_t(y));
+            uint32_t d;
+            if (method == StaticMethod::DAGMH) {
+                const uint32_t ux = uint32_t(x), uy = uint32_t(y);
+                DagmhState st =
+                    dagmhLocate(data, base, ux, uy, usePrefix ? prefix : dagmhStart(data, base, ux, uy));
+                if (st.vlast != memoIndex) {
+                    memoIndex = st.vlast;
+                    memoDepth = dagmhLocatedValue(data, base, ux, uy, st);
+                }
+                d = memoDepth;
+            } else {
+                d = lookupStaticDepth(method, data, base, uint32_t(x), uint32_t(y));
+            }
             if (depth <= d) ++lit;
         }
     return float(lit) / taps;
