@@ -80,6 +80,34 @@ TEST(StaticCodec, NoiseForcesRawDagMhChunks) {
     checkAll(m);
 }
 
+// The skip level follows the structure's size: a dense map starts its lookups deeper than the old rule
+// clamp(L - 7, 0, 6) (here L = 8: 1) within an eighth of the other sections, an empty map keeps a short
+// list; both decode every texel exactly (encodeChecked in checkAll).
+TEST(StaticCodec, SkipLevelFollowsTheBudget) {
+    DualDepthMap noise = emptyMap(256);
+    std::mt19937 rng(5);
+    for (size_t i = 0; i < noise.enter.size(); ++i) noise.enter[i] = noise.exit[i] = rng() % 0xFFFFFFFFu;
+    checkAll(noise);
+    for (bool dense : {true, false}) {
+        SCOPED_TRACE(dense);
+        auto tree = buildMhTree(dense ? noise : emptyMap(256));
+        ASSERT_TRUE(tree.ok());
+        auto enc = encodeDAGMH(*tree, nullptr);
+        ASSERT_TRUE(enc.ok()) << enc.error();
+        const uint32_t* d = enc->data();
+        const uint32_t S = d[dagfmt::kSkipLevel];
+        const uint64_t skipWords = uint64_t(dagfmt::kSkipWords) << (2 * S);
+        const uint64_t rest = d[dagfmt::kTotalWords] - d[dagfmt::kNodeOffset];
+        if (S > 0) EXPECT_LE(skipWords * 8, rest); // level 0 (one entry) is the floor
+        if (dense) {
+            EXPECT_GE(S, 4u);                      // 65,536 distinct values (~0.4 MB): the old rule gave 1
+            EXPECT_GT((skipWords << 2) * 8, rest); // the next level would break the budget
+        } else {
+            EXPECT_EQ(S, 0u);
+        }
+    }
+}
+
 TEST(StaticCodec, WideIntervalsAndExtremes) {
     // Intervals touching 0 and 0xFFFFFFFE, wide closed intervals, and empty texels next to far.
     DualDepthMap m = emptyMap(256);
