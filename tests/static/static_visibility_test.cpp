@@ -116,7 +116,7 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
     auto words = encodeStatic(StaticMethod::DAGMH, map);
     ASSERT_TRUE(words.ok()) << words.error();
     const uint32_t* d = words->data();
-    uint64_t shared = 0, taps = 0;
+    uint64_t shared = 0, taps = 0, memoHits = 0;
     for (int r = 1; r <= 4; ++r)
         for (int cy = 0; cy < int(res); ++cy)
             for (int cx = 0; cx < int(res); ++cx) {
@@ -125,13 +125,25 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
                 DagmhState prefix = dagmhPcfPrefix(d, 0, x0, y0, x1, y1);
                 if (prefix.kind == kDagNoPrefix) continue;
                 ++shared;
+                // The PCF loop's memo (static_visibility.cpp): a tap whose value index equals the
+                // previous tap's reuses that value, so equal indices must mean equal values.
+                uint32_t memoIndex = 0xFFFFFFFFu, memoValue = 0;
                 for (int y = y0; y <= y1; ++y)
-                    for (int x = x0; x <= x1; ++x, ++taps)
-                        ASSERT_EQ(dagmhFinish(d, 0, x, y, prefix), dagmhLookup(d, 0, x, y))
+                    for (int x = x0; x <= x1; ++x, ++taps) {
+                        const uint32_t full = dagmhLookup(d, 0, x, y);
+                        ASSERT_EQ(dagmhFinish(d, 0, x, y, prefix), full)
                             << "block at " << cx << "," << cy << " radius " << r << " tap " << x << "," << y;
+                        DagmhState st = dagmhLocate(d, 0, x, y, prefix);
+                        if (st.vlast == memoIndex) {
+                            ++memoHits;
+                            ASSERT_EQ(memoValue, full) << "tap " << x << "," << y << " radius " << r;
+                        }
+                        memoIndex = st.vlast, memoValue = full;
+                    }
             }
     EXPECT_GT(shared, 100000u);
-    std::printf("  %llu blocks shared a prefix, %llu taps identical\n", (unsigned long long)shared,
-                (unsigned long long)taps);
+    EXPECT_GT(memoHits, taps / 5); // 28 % here (row-major taps: a new row usually starts a new node)
+    std::printf("  %llu blocks shared a prefix, %llu taps identical, %llu reused the previous tap's value\n",
+                (unsigned long long)shared, (unsigned long long)taps, (unsigned long long)memoHits);
 }
 } // namespace ml
