@@ -21,10 +21,14 @@ Result<uint32_t> Module::Impl::beginFrame() {
     Slot& slot = slots[slotIndex];
     if (slot.pending) collectSlot(slotIndex); // the host waited for this slot's previous frame
     const size_t instanceSlots = std::max<size_t>(instances.size(), 1);
-    ML_TRY(ensureBuffer(d, slot.instances, instanceSlots * sizeof(GpuInstance), kStorageBufferUsage,
-                        "instances"));
-    ML_TRY(ensureBuffer(d, slot.draws, instanceSlots * sizeof(VkDrawIndexedIndirectCommand),
-                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws"));
+    auto grownInstances = ensureBuffer(d, slot.instances, instanceSlots * sizeof(GpuInstance),
+                                       kStorageBufferUsage, "instances");
+    if (!grownInstances) return fail(grownInstances.error());
+    auto grownDraws = ensureBuffer(d, slot.draws, instanceSlots * sizeof(VkDrawIndexedIndirectCommand),
+                                   VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, "draws");
+    if (!grownDraws) return fail(grownDraws.error());
+    if (grownInstances.value() || grownDraws.value()) slot.instanceVersion.clear(); // new buffers: all
+
     ML_TRY(writeShadowRecords(slot));
 
     const CullingMode mode = culling;
@@ -45,6 +49,49 @@ Result<uint32_t> Module::Impl::beginFrame() {
                             ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE));
     ML_TRY(writeFrame(slot, slotIndex, grid, mode));
     return slotIndex;
+}
+
+// The per-instance records, recomputed where the instance's inputs differ from those they were made from
+// (meshes are append-only and their ranges never change, so the inputs are the InstanceData alone).
+void Module::Impl::updateInstanceCache() {
+    const size_t n = instances.size();
+    const size_t had = std::min(instanceFrom.size(), n);
+    instanceFrom.resize(n);
+    instanceRecords.resize(n);
+    instanceDraws.resize(n);
+    casters.resize(n);
+    instanceVersion.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const InstanceData& id = instances[i];
+        if (i < had && id.same(instanceFrom[i])) continue;
+        instanceFrom[i] = id;
+        instanceVersion[i] = ++instanceStamp;
+        const MeshRange& r = meshes[id.mesh];
+        instanceDraws[i] = {id.alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex),
+                            uint32_t(i)};
+        GpuInstance& g = instanceRecords[i];
+        g.model = id.transform;
+        g.normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
+        g.albedo = glm::vec4(id.albedo, 1.0f);
+        g.material = glm::vec4(id.roughness, id.metalness, id.receivesShadows ? 1.0f : ML_NOT_A_RECEIVER, 0);
+        VsmInstance& v = casters[i];
+        v.lo = glm::vec3(1e30f);
+        v.hi = glm::vec3(-1e30f);
+        for (uint32_t k = 0; k < 8; ++k) {
+            glm::vec3 p((k & 1) ? r.hi.x : r.lo.x, (k & 2) ? r.hi.y : r.lo.y, (k & 4) ? r.hi.z : r.lo.z);
+            glm::vec3 w = glm::vec3(id.transform * glm::vec4(p, 1.0f));
+            v.lo = glm::min(v.lo, w);
+            v.hi = glm::max(v.hi, w);
+        }
+        v.indexCount = r.indexCount;
+        v.firstIndex = r.firstIndex;
+        v.vertexOffset = r.firstVertex;
+        v.firstMeshlet = r.firstMeshlet;
+        v.meshletCount = r.meshletCount;
+        v.closed = r.coneCull;
+        v.dynamic = id.dynamic;
+        v.castsShadows = id.alive && id.castsShadows;
+    }
 }
 
 FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex) const {
@@ -152,34 +199,13 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     // Instances, and what the virtual shadow maps need of them and of the lights.
     auto* inst = slot.instances.as<GpuInstance>();
     auto* draws = slot.draws.as<VkDrawIndexedIndirectCommand>();
-    std::vector<VsmInstance> casters(instances.size());
+    updateInstanceCache();
+    slot.instanceVersion.resize(instances.size(), ~uint64_t(0));
     for (size_t i = 0; i < instances.size(); ++i) {
-        const InstanceData& id = instances[i];
-        const MeshRange& mr = meshes[id.mesh];
-        draws[i] = {id.alive ? mr.indexCount : 0u, 1, mr.firstIndex, int32_t(mr.firstVertex), uint32_t(i)};
-        inst[i].model = id.transform;
-        inst[i].normalMatrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(id.transform))));
-        inst[i].albedo = glm::vec4(id.albedo, 1.0f);
-        inst[i].material =
-            glm::vec4(id.roughness, id.metalness, id.receivesShadows ? 1.0f : ML_NOT_A_RECEIVER, 0);
-        const MeshRange& r = meshes[id.mesh];
-        VsmInstance& v = casters[i];
-        v.lo = glm::vec3(1e30f);
-        v.hi = glm::vec3(-1e30f);
-        for (uint32_t k = 0; k < 8; ++k) {
-            glm::vec3 p((k & 1) ? r.hi.x : r.lo.x, (k & 2) ? r.hi.y : r.lo.y, (k & 4) ? r.hi.z : r.lo.z);
-            glm::vec3 w = glm::vec3(id.transform * glm::vec4(p, 1.0f));
-            v.lo = glm::min(v.lo, w);
-            v.hi = glm::max(v.hi, w);
-        }
-        v.indexCount = r.indexCount;
-        v.firstIndex = r.firstIndex;
-        v.vertexOffset = r.firstVertex;
-        v.firstMeshlet = r.firstMeshlet;
-        v.meshletCount = r.meshletCount;
-        v.closed = r.coneCull;
-        v.dynamic = id.dynamic;
-        v.castsShadows = id.alive && id.castsShadows;
+        if (slot.instanceVersion[i] == instanceVersion[i]) continue;
+        slot.instanceVersion[i] = instanceVersion[i];
+        draws[i] = instanceDraws[i];
+        inst[i] = instanceRecords[i];
     }
     if (vsm.enabled()) {
         std::vector<VsmLight> vl(lights.size());

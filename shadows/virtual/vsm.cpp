@@ -210,6 +210,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         sl.host.stale.resize(bitWords, 0);
         sl.bitsFull = true; // new buffers: uploaded whole once
         sl.uploadedMaps.clear();
+        sl.mapStamp.clear(); // host.maps rewritten from maps_ in full next frame
         sl.uploadedActive.clear();
         sl.uploadedRankBase.clear();
         sl.uploadedRuns.clear();
@@ -316,6 +317,7 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
         info.frustum = f;
     }
     moved = !info.inUse || !sameMap(info.gpu, g);
+    if (!info.inUse || std::memcmp(&info.gpu, &g, sizeof(g)) != 0) touchMap(map);
     info.inUse = true;
     info.builtFrom = l;
     info.face = face;

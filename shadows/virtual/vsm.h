@@ -167,6 +167,11 @@ struct VsmSlot {
     // so a frame where 1 % of the instances moved writes about 1 % of the casters. Cleared when the
     // buffers are made anew.
     std::vector<gpu::GpuVsmMap> uploadedMaps;
+    // Per map, the mapStamp_ host.maps was last written from (~0: never), the maps given a per-frame
+    // INVALIDATE flag in this slot's last frame (rewritten next time, the flag gone), and this frame's
+    // rewritten or flagged maps: the only ones compared with uploadedMaps (issue 17).
+    std::vector<uint64_t> mapStamp;
+    std::vector<uint32_t> flaggedMaps, mapsWritten;
     std::vector<gpu::GpuCaster> uploadedCasters;
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
@@ -279,6 +284,13 @@ class VirtualShadowMaps {
     // The lights with maps binned for the box tests (vsm_prepare.cpp), rebuilt when they change.
     std::shared_ptr<VsmLightGrid> grid_;
     std::vector<uint8_t> movedMaps_; // buildFrameMaps: maps whose projection changed this frame
+    // Bumped (from mapStampNext_) whenever maps_[m]'s record or use changes: the slots' copies follow it.
+    std::vector<uint64_t> mapStamp_;
+    uint64_t mapStampNext_ = 0;
+    void touchMap(uint32_t m) {
+        if (mapStamp_.size() <= m) mapStamp_.resize(size_t(m) + 1, 0);
+        mapStamp_[m] = ++mapStampNext_;
+    }
     gpu::VsmConstants lastConstants_{};
     double lastPrepareMs_ = 0.0;
     bool observed_ = false;          // a frame has completed (observe)

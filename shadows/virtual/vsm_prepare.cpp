@@ -57,6 +57,26 @@ template <class T> void uploadChanged(Buffer& buffer, const T* data, size_t n, s
     }
 }
 
+// uploadChanged for the listed elements only (sorted, unique): the others are known to equal the mirror.
+template <class T>
+void uploadChangedAt(Buffer& buffer, const T* data, const std::vector<uint32_t>& at, std::vector<T>& mirror) {
+    for (size_t k = 0; k < at.size();) {
+        const uint32_t i = at[k];
+        if (std::memcmp(&mirror[i], &data[i], sizeof(T)) == 0) {
+            ++k;
+            continue;
+        }
+        size_t end = k + 1; // a run of consecutive changed elements: one write
+        while (end < at.size() && at[end] == i + (end - k) &&
+               std::memcmp(&mirror[at[end]], &data[at[end]], sizeof(T)) != 0)
+            ++end;
+        const size_t n = end - k;
+        upload(buffer, data + i, n * sizeof(T), i * sizeof(T));
+        std::memcpy(mirror.data() + i, data + i, n * sizeof(T));
+        k = end;
+    }
+}
+
 bool boxTouchesSphere(glm::vec3 lo, glm::vec3 hi, glm::vec3 c, float r) {
     glm::vec3 d = glm::max(glm::max(lo - c, c - hi), glm::vec3(0.0f));
     return glm::dot(d, d) <= r * r;
@@ -214,6 +234,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
         if (st.firstMap != ML_VSM_NO_MAP && (st.kind != lights[id].kind || st.mapCount != count)) {
             for (uint32_t m = 0; m < st.mapCount; ++m) {
                 maps_[st.firstMap + m].inUse = false;
+                touchMap(st.firstMap + m);
                 freeSlots_.push_back(st.firstMap + m);
             }
             std::sort(freeSlots_.rbegin(), freeSlots_.rend());
@@ -232,6 +253,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
             for (uint32_t m = 0; m < count; ++m) {
                 maps_[st.firstMap + m] = VsmMapInfo{};
                 maps_[st.firstMap + m].light = id;
+                touchMap(st.firstMap + m);
             }
         }
     }
@@ -264,9 +286,23 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
             if (moved) movedMaps_[st.firstMap + f] = 1;
         }
     }
+    // The slot's copy is rewritten only where maps_ changed since (mapStamp_) or a per-frame INVALIDATE
+    // flag of its last frame must go: not every map in use each frame.
+    if (mapStamp_.size() < mapsInUse_) mapStamp_.resize(mapsInUse_, 0);
+    slot.mapStamp.resize(mapsInUse_, ~uint64_t(0));
+    for (uint32_t m : slot.flaggedMaps)
+        if (m < mapsInUse_) slot.mapStamp[m] = ~uint64_t(0);
+    slot.flaggedMaps.clear();
+    slot.mapsWritten.clear();
     for (uint32_t m = 0; m < mapsInUse_; ++m) {
+        if (slot.mapStamp[m] == mapStamp_[m] && !movedMaps_[m]) continue;
+        slot.mapStamp[m] = mapStamp_[m];
+        slot.mapsWritten.push_back(m);
         slot.host.maps[m] = maps_[m].inUse ? maps_[m].gpu : gpu::GpuVsmMap{};
-        if (movedMaps_[m]) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+        if (movedMaps_[m]) {
+            slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+            slot.flaggedMaps.push_back(m);
+        }
     }
 }
 
@@ -356,7 +392,10 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         h = end;
     }
     if (firstFrame)
-        for (uint32_t m = 0; m < mapsInUse_; ++m) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+        for (uint32_t m = 0; m < mapsInUse_; ++m) {
+            slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+            slot.flaggedMaps.push_back(m);
+        }
     // Only the bounds and the casting flag of lastInstances_ are read: the changed entries are enough.
     if (firstFrame) lastInstances_.assign(instances.begin(), instances.end());
     for (uint32_t i : changed) lastInstances_[i] = instances[i];
@@ -384,7 +423,10 @@ std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<cons
             const uint32_t m = st.firstMap + f;
             slot.host.active.push_back(m);
             active[m] = 1;
-            if (!wasActive_[m]) slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+            if (!wasActive_[m]) {
+                slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
+                slot.flaggedMaps.push_back(m);
+            }
         }
     }
     wasActive_ = active;
@@ -444,7 +486,16 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
 
     // Upload (this slot's previous frame has completed: the module waited for its fence).
     upload(slot.constants, &c, sizeof(c));
-    uploadChanged(slot.maps, slot.host.maps.data(), mapsInUse_, slot.uploadedMaps);
+    // Maps: the others equal what this slot's buffer holds (neither was written since its last upload).
+    if (slot.uploadedMaps.size() < mapsInUse_) {
+        uploadChanged(slot.maps, slot.host.maps.data(), mapsInUse_, slot.uploadedMaps);
+    } else {
+        std::vector<uint32_t>& at = slot.mapsWritten;
+        at.insert(at.end(), slot.flaggedMaps.begin(), slot.flaggedMaps.end());
+        std::sort(at.begin(), at.end());
+        at.erase(std::unique(at.begin(), at.end()), at.end());
+        uploadChangedAt(slot.maps, slot.host.maps.data(), at, slot.uploadedMaps);
+    }
     if (slot.bitsFull) { // new buffers: every word once
         upload(slot.coverage, slot.host.coverage.data(), slot.host.coverage.size() * 4);
         upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4);
