@@ -91,6 +91,7 @@ void Module::Impl::updateInstanceCache() {
         v.closed = r.coneCull;
         v.dynamic = id.dynamic;
         v.castsShadows = id.alive && id.castsShadows;
+        v.version = instanceVersion[i];
     }
 }
 

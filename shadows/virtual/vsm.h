@@ -78,6 +78,9 @@ struct VsmInstance {
     bool closed = false;                         // the mesh is closed (meshIsClosed): cone culling allowed
     bool dynamic = false;
     bool castsShadows = true;
+    // The host's stamp of the inputs this record was made from (a new value at every change; 0: none,
+    // then prepare() compares the record field by field): unchanged casters cost a compare of stamps.
+    uint64_t version = 0;
 };
 struct VsmCamera {
     glm::vec3 position{0.0f};
@@ -173,6 +176,8 @@ struct VsmSlot {
     std::vector<uint64_t> mapStamp;
     std::vector<uint32_t> flaggedMaps, mapsWritten;
     std::vector<gpu::GpuCaster> uploadedCasters;
+    std::vector<uint64_t>
+        casterVersion; // per caster, the VsmInstance::version uploadedCasters holds (0: none)
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
     std::vector<glm::uvec4> orderKey; // (map, kind, level, levels) per active map host.runs was built for

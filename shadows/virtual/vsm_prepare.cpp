@@ -519,9 +519,13 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     if (!grown) return fail(grown.error());
     const bool whole = grown.value() || slot.uploadedCasters.size() < instances.size();
     if (whole) slot.uploadedCasters.assign(instances.size(), gpu::GpuCaster{});
+    if (whole || slot.casterVersion.size() < instances.size()) slot.casterVersion.assign(instances.size(), 0);
     auto* mapped = slot.casters.as<gpu::GpuCaster>();
     for (size_t i = 0; i < instances.size(); ++i) {
         const VsmInstance& in = instances[i];
+        // Same stamp, same inputs: the mirror (and so the buffer) already holds this record.
+        if (in.version != 0 && slot.casterVersion[i] == in.version) continue;
+        slot.casterVersion[i] = in.version;
         gpu::GpuCaster c;
         c.lo = glm::vec4(in.lo, 0.0f);
         c.hi = glm::vec4(in.hi, 0.0f);
