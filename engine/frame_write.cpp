@@ -209,7 +209,8 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
         inst[i] = instanceRecords[i];
     }
     if (vsm.enabled()) {
-        std::vector<VsmLight> vl(lights.size());
+        std::vector<VsmLight>& vl = vsmLights; // kept: a frame-sized vector anew each frame costs page faults
+        vl.resize(lights.size());
         for (size_t i = 0; i < lights.size(); ++i) {
             const LightDesc& l = lights[i];
             vl[i].kind = uint32_t(l.kind);

@@ -153,6 +153,7 @@ struct Module::Impl {
     std::vector<VsmInstance> casters;
     std::vector<uint64_t> instanceVersion;
     uint64_t instanceStamp = 0;
+    std::vector<VsmLight> vsmLights; // what the VSM is given of every light, refilled each frame
     void updateInstanceCache();
     Profiler profiler;
     FramePasses passes{gbuffer, cull, vsm, vsmPasses, evaluate, statisticsPass}; // Module::record's list
