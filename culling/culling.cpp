@@ -70,13 +70,13 @@ Result<void> LightCulling::create(const Device& device) {
     ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
     ML_TRY(createComputeProgram(device, wideProgram_, footprintShader_, {{0, 1u}}));
     ML_TRY(createComputeProgram(device, allocProgram_, allocShader_));
-    for (uint32_t step = 0; step < 3; ++step) // scatter, rank, place (light_fill.comp's kSpecStep)
+    for (uint32_t step = 0; step < 2; ++step) // mark, append (light_fill.comp's kSpecStep)
         ML_TRY(createComputeProgram(device, fillPrograms_[step], fillShader_, {{0, step}}));
     ML_TRY(ML_LOAD_SHADER(device, viewShader_, spv_view_lights_comp));
     for (uint32_t r = 0; r < 2; ++r)
         ML_TRY(createComputeProgram(device, viewPrograms_[r], viewShader_, {{0, r}}));
     // The host reads the box-test count (lastBoxTests).
-    return createBuffer(device, work, 8, kStorageBufferUsage, "cull_work", MemoryRole::Readback);
+    return createBuffer(device, work, 12, kStorageBufferUsage, "cull_work", MemoryRole::Readback);
 }
 
 void LightCulling::destroy(const Device& device) {
@@ -94,7 +94,8 @@ void LightCulling::destroy(const Device& device) {
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
     destroyShader(device, fillShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts})
+    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts, &tileBits,
+                      &tilePrefix, &tileRanges, &tileSlices})
         destroyBuffer(device, *b);
 }
 
@@ -123,6 +124,16 @@ Result<void> LightCulling::resize(const Device& device, const ClusterGrid& g, ui
     hitCapacity = std::max(1u, poolCapacity / ML_HITS_PER_POOL_ENTRY_DIV);
     ML_TRY(
         ensureBuffer(device, hits, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage, "cluster_hits", kGpu));
+    // The sorted fill's buffers (config.h, ML_TILE_WORDS): a tile's (tile, light) pairs are at most its
+    // hits, so hitCapacity slice masks hold every frame whose hits fit.
+    const VkDeviceSize tiles = VkDeviceSize(g.tilesX) * g.tilesY;
+    ML_TRY(ensureBuffer(device, tileBits, tiles * ML_TILE_WORDS * 4, kStorageBufferUsage, "tile_light_bits",
+                        kGpu));
+    ML_TRY(ensureBuffer(device, tilePrefix, tiles * ML_TILE_WORDS * 4, kStorageBufferUsage,
+                        "tile_light_prefix", kGpu));
+    ML_TRY(ensureBuffer(device, tileRanges, tiles * 8, kStorageBufferUsage, "tile_light_ranges", kGpu));
+    ML_TRY(ensureBuffer(device, tileSlices, VkDeviceSize(hitCapacity) * 8, kStorageBufferUsage,
+                        "tile_light_slices", kGpu));
     return {};
 }
 
@@ -152,36 +163,41 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
     vkCmdFillBuffer(c, work.buffer, 0, VK_WHOLE_SIZE, 0);
-    if (mode == ML_CULL_CLUSTERED) vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
+    if (mode == ML_CULL_CLUSTERED) {
+        vkCmdFillBuffer(c, counts.buffer, 0, VK_WHOLE_SIZE, 0);
+        vkCmdFillBuffer(c, tileBits.buffer, 0, VK_WHOLE_SIZE, 0);
+    }
     // Cleared work counters and per-cluster counts -> the atomics of count, alloc, fill and assign.
     memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
     if (mode == ML_CULL_CLUSTERED) {
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
-        // scatter, rank and place (ML_FILL_GROUPS groups stride over the hits; the lists come out
-        // sorted by light index).
+        // mark (ML_FILL_GROUPS groups stride over the hits) and append (one thread per tile, walking
+        // its lights in index order: the lists come out sorted, in time linear in the hits).
         const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
         if (visible) {
             dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
-                     {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
+                     {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights, tileBits});
             // The wide lights: a thread per tile of each one's footprint, in rows of ML_WIDE_ROW. Its
             // atomics (counts, hit cursor) commute with the lane pass's: no barrier between the two.
             if (wideThreads)
-                dispatch(device, c, wideProgram_, std::min(wideThreads, uint32_t(ML_WIDE_ROW)),
-                         (wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW, push,
-                         {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights});
+                dispatch(
+                    device, c, wideProgram_, std::min(wideThreads, uint32_t(ML_WIDE_ROW)),
+                    (wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW, push,
+                    {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights, tileBits});
             memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
-        dispatch(device, c, allocProgram_, tiles, 1, push,
-                 {frame, tileMasks, counts, ranges, counters, work});
-        memoryBarrier(c, kC, kW, kC, kR | kW); // ranges -> fill's scatter; counts -> its atomic decrements
-        if (visible)
-            for (uint32_t step = 0; step < 3; ++step) {
-                // Scatter's pool -> rank's reads; rank's slots (in hits) -> place's reads, and rank's
-                // pool reads before place's writes.
-                if (step) memoryBarrier(c, kC, kR | kW, kC, kR | kW);
-                dispatch(device, c, fillPrograms_[step], ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
-                         {hits, ranges, counts, pool, work});
-            }
+        dispatch(
+            device, c, allocProgram_, tiles, 1, push,
+            {frame, tileMasks, counts, ranges, counters, work, tileBits, tilePrefix, tileRanges, tileSlices});
+        // Ranges, prefix counts, tile ranges, cleared slice masks -> mark (reads, atomics).
+        memoryBarrier(c, kC, kW, kC, kR | kW);
+        if (visible) {
+            dispatch(device, c, fillPrograms_[0], ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
+                     {frame, hits, ranges, pool, work, tileBits, tilePrefix, tileRanges, tileSlices});
+            memoryBarrier(c, kC, kW, kC, kR); // slice masks -> append
+            dispatch(device, c, fillPrograms_[1], tiles, 1, push,
+                     {frame, hits, ranges, pool, work, tileBits, tilePrefix, tileRanges, tileSlices});
+        }
     } else {
         // One ML_ASSIGN_GROUP group per tile (its threads stride over the lights).
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},

@@ -75,20 +75,24 @@ class LightCulling {
 
     ClusterGrid grid;
     uint32_t poolCapacity = 0;
-    Buffer bounds;    // ClusterBounds per cluster
-    Buffer ranges;    // uvec2 (offset, count) per cluster
-    Buffer pool;      // uint light indices
-    Buffer tileMasks; // uvec2 per tile: bit s set when slice s holds a pixel
-    Buffer counts;    // uint per cluster (footprint mode: list lengths, then the fill cursor)
-    Buffer work;      // uint box tests run, uint hits recorded
-    Buffer hits;      // uvec2 (cluster, light) per recorded hit (footprint mode)
+    Buffer bounds;     // ClusterBounds per cluster
+    Buffer ranges;     // uvec2 (offset, count) per cluster
+    Buffer pool;       // uint light indices
+    Buffer tileMasks;  // uvec2 per tile: bit s set when slice s holds a pixel
+    Buffer counts;     // uint per cluster (footprint mode: list lengths)
+    Buffer work;       // uint box tests run, uint hits recorded, uint tile-light cursor
+    Buffer hits;       // uvec2 (cluster, light) per recorded hit (footprint mode)
+    Buffer tileBits;   // ML_TILE_WORDS uint per tile: lights with a hit in the tile (footprint mode)
+    Buffer tilePrefix; // ML_TILE_WORDS uint per tile: lights of the tile's earlier words
+    Buffer tileRanges; // uvec2 (offset, count) per tile into tileSlices
+    Buffer tileSlices; // uvec2 slice mask per (tile, light), in light order (hitCapacity entries)
     uint32_t hitCapacity = 0;
     Buffer viewCounts; // uint per pixel, written by recordView
 
   private:
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
     Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
-    Program fillPrograms_[3]; // light_fill.comp's steps: scatter, rank, place
+    Program fillPrograms_[2]; // light_fill.comp's steps: mark, append
     Program viewPrograms_[2]; // evaluated, reaching
 };
 

@@ -7,6 +7,9 @@
 // so `ranges` is the same layout the brute-force pass writes. When pass A recorded more hits than
 // `hits` holds, every non-empty cluster is marked overflowed (and counted): correct, slow, and only
 // with a pool far too small for the frame (the hit buffer is sized from the pool).
+// For the sorted fill (light_fill.comp) the thread also turns the tile's light bitmask (pass A) into
+// per-word prefix counts and allocates the tile's T lights (T = its popcount) a cleared range of
+// tileSlices: T <= the tile's hits, so the ranges fit the hit capacity whenever the hits did.
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 
@@ -17,7 +20,11 @@ layout(binding = 1, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
 layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
 layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
-layout(binding = 5, std430) readonly buffer Work { uint workTests; uint hitCount; };
+layout(binding = 5, std430) buffer Work { uint workTests; uint hitCount; uint tileCursor; };
+layout(binding = 6, std430) readonly buffer TileBits { uint tileBits[]; };
+layout(binding = 7, std430) writeonly buffer TilePrefix { uint tilePrefix[]; };
+layout(binding = 8, std430) writeonly buffer TileRanges { uvec2 tileRanges[]; };
+layout(binding = 9, std430) writeonly buffer TileSlices { uvec2 tileSlices[]; };
 layout(push_constant) uniform Push { CullPush push; };
 
 void main() {
@@ -50,4 +57,15 @@ void main() {
         atomicAdd(counters.clusterLightsSum, uint64_t(total));
         atomicMax(counters.maxClusterLights, longest);
     }
+    // The tile's lights: prefix counts per word, then a range of T slice masks, cleared. Only the
+    // words of visible lights can be set (256 lights: 8 of the 128).
+    uint lightsT = 0, words = (frame.cluster.z + 31u) / 32u;
+    for (uint w = 0; w < words; ++w) {
+        tilePrefix[tile * ML_TILE_WORDS + w] = lightsT;
+        lightsT += uint(bitCount(tileBits[tile * ML_TILE_WORDS + w]));
+    }
+    uint tileOff = lightsT > 0u ? atomicAdd(tileCursor, lightsT) : 0u;
+    if (tileOff + lightsT > push.hitCapacity) lightsT = 0u; // only when the hits overflowed too
+    tileRanges[tile] = uvec2(tileOff, lightsT);
+    for (uint i = 0; i < lightsT; ++i) tileSlices[tileOff + i] = uvec2(0u);
 }

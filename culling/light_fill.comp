@@ -1,20 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Footprint light assignment, pass C: the hits pass A recorded become the pool's lists, sorted by
-// light index. Three steps (kSpecStep), each a fixed number of groups striding over the hits (their
-// count is only known on the GPU), so only non-empty clusters cost anything:
-//   0 scatter: after light_alloc, counts[c] is cluster c's list length; each hit (c, l) writes l at
-//     ranges[c].x + (atomic decrement of counts[c]) - 1, so counts[c] ends at 0 and every slot of the
-//     range is written once, in the atomics' order.
-//   1 rank: each hit (c, l) of a cluster with two or more lights counts the lights of the (unsorted)
-//     list smaller than l: that is l's place in the sorted list (the light indices of a cluster are
-//     unique). The pool slot goes into the hit's first word (the cluster is no longer needed);
-//     ML_CLUSTER_OVERFLOW where nothing moves (overflowed cluster, list of one). No private array, no
-//     shared memory, no barrier: a loop of list-length reads per hit, the sum over clusters of
-//     length^2 in all (at 4096 lights, 640x360: 0.27 M entries; docs/culling.md has the cost).
-//   2 place: each ranked hit writes its light at its slot. A pass of its own because step 1 reads the
-//     unsorted lists that this one overwrites.
-// The result is the CPU reference's list (cullReference: sorted), independent of the atomics' order.
+// light index, in time linear in the hits (the old rank step read the whole unsorted list per hit:
+// the sum over clusters of length^2). Two steps (kSpecStep):
+//   0 mark: each hit (c, l) of a non-overflowed cluster finds l's rank among the tile's lights from
+//     the tile's light bitmask (pass A) and per-word prefix counts (pass B): tilePrefix[w] +
+//     bitCount(tileBits[w] & (bit - 1)); it ORs its slice's bit into tileSlices[tileOff + rank].
+//     A fixed number of groups strides over the hits (their count is only known on the GPU).
+//   1 append: one thread per tile walks the tile's lights in index order (findLSB over the 128
+//     words) and appends each to the lists of the slices its mask names. One thread owns the tile's
+//     clusters, so no atomics, and every list comes out sorted: the CPU reference's (cullReference).
 // Overflowed clusters are skipped (their pixels test every visible light).
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
@@ -22,32 +17,57 @@
 layout(local_size_x = ML_FILL_GROUP) in;
 layout(constant_id = 0) const uint kSpecStep = 0;
 
-layout(binding = 0, std430) buffer Hits { uvec2 hits[]; }; // (cluster, light); after step 1 (slot, light)
-layout(binding = 1, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 2, std430) buffer Counts { uint counts[]; };
-layout(binding = 3, std430) buffer Pool { uint pool[]; };
-layout(binding = 4, std430) readonly buffer Work { uint workTests; uint hitCount; };
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
+layout(binding = 2, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 3, std430) writeonly buffer Pool { uint pool[]; };
+layout(binding = 4, std430) readonly buffer Work { uint workTests; uint hitCount; uint tileCursor; };
+layout(binding = 5, std430) readonly buffer TileBits { uint tileBits[]; };     // ML_TILE_WORDS per tile
+layout(binding = 6, std430) readonly buffer TilePrefix { uint tilePrefix[]; }; // ML_TILE_WORDS per tile
+layout(binding = 7, std430) readonly buffer TileRanges { uvec2 tileRanges[]; }; // (tileOff, T)
+layout(binding = 8, std430) buffer TileSlices { uvec2 tileSlices[]; };         // slice mask per rank
 layout(push_constant) uniform Push { CullPush push; };
 
 void main() {
-    uint n = min(hitCount, push.hitCapacity);
-    for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * ML_FILL_GROUP) {
-        uvec2 h = hits[i];
-        if (kSpecStep == 2u) {
-            if (h.x != ML_CLUSTER_OVERFLOW) pool[h.x] = h.y;
-            continue;
+    uint slices = frame.cluster.x;
+    if (kSpecStep == 0u) {
+        uint n = min(hitCount, push.hitCapacity);
+        for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * ML_FILL_GROUP) {
+            uvec2 h = hits[i];
+            if (ranges[h.x].x == ML_CLUSTER_OVERFLOW) continue;
+            uint tile = h.x / slices, s = h.x % slices;
+            uvec2 tr = tileRanges[tile];
+            if (tr.y == 0u) continue; // only when the hits overflowed (every cluster overflowed)
+            uint w = tile * ML_TILE_WORDS + (h.y >> 5u);
+            uint rank = tilePrefix[w] + uint(bitCount(tileBits[w] & ((1u << (h.y & 31u)) - 1u)));
+            uint slot = tr.x + rank;
+            if (s < 32u) atomicOr(tileSlices[slot].x, 1u << s);
+            else atomicOr(tileSlices[slot].y, 1u << (s - 32u));
         }
-        uvec2 r = ranges[h.x];
-        if (kSpecStep == 0u) {
-            if (r.x != ML_CLUSTER_OVERFLOW) pool[r.x + atomicAdd(counts[h.x], 0xFFFFFFFFu) - 1u] = h.y;
-        } else {
-            uint slot = ML_CLUSTER_OVERFLOW;
-            if (r.x != ML_CLUSTER_OVERFLOW && r.y > 1u) {
-                uint rank = 0;
-                for (uint j = 0; j < r.y; ++j) rank += pool[r.x + j] < h.y ? 1u : 0u;
-                slot = r.x + rank;
+        return;
+    }
+    uint tile = gl_GlobalInvocationID.x;
+    if (tile >= frame.size.z * frame.size.w) return;
+    uvec2 tr = tileRanges[tile];
+    if (tr.y == 0u) return;
+    uint fill[ML_MAX_SLICES];
+    for (uint s = 0; s < slices; ++s) fill[s] = 0u;
+    uint rank = 0, words = (frame.cluster.z + 31u) / 32u; // only visible lights' words can be set
+    for (uint word = 0; word < words; ++word) {
+        uint bits = tileBits[tile * ML_TILE_WORDS + word];
+        while (bits != 0u) {
+            uint l = word * 32u + uint(findLSB(bits));
+            bits &= bits - 1u;
+            uvec2 m = tileSlices[tr.x + rank++];
+            for (uint part = 0; part < 2u; ++part) {
+                uint sb = m[part];
+                while (sb != 0u) {
+                    uint s = part * 32u + uint(findLSB(sb));
+                    sb &= sb - 1u;
+                    uvec2 r = ranges[tile * slices + s];
+                    if (r.x != ML_CLUSTER_OVERFLOW) pool[r.x + fill[s]++] = l;
+                }
             }
-            hits[i].x = slot;
         }
     }
 }

@@ -13,7 +13,8 @@
 // each light's footprint, not every light times every occupied cluster.
 // Per hit (light l touches cluster c): counts[c] += 1, and (c, l) is appended to `hits` (capacity
 // hitCapacity; past it only hitCount grows, and light_alloc then overflows every non-empty cluster, so
-// nothing is lost). Recording the hits spares pass C a second round of box tests.
+// nothing is lost). Recording the hits spares pass C a second round of box tests. Each (tile, light)
+// with a hit also sets the light's bit in the tile's bitmask (tileBits), which sorts the lists.
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 #include "shaders/shared/light_math.h"
@@ -33,6 +34,9 @@ layout(binding = 5, std430) buffer Counts { uint counts[]; };
 layout(binding = 6, std430) writeonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
 layout(binding = 7, std430) buffer Work { uint workTests; uint hitCount; };
 layout(binding = 8, std430) readonly buffer WideLights { WideLight wideLights[]; };
+// Per tile a bitmask over the visible lights with a hit there (ML_TILE_WORDS words): light_alloc and
+// light_fill rank each hit among its tile's lights from it, so the lists come out sorted in linear time.
+layout(binding = 9, std430) buffer TileBits { uint tileBits[]; };
 
 shared uint sTests;
 
@@ -68,6 +72,7 @@ uint testTile(GpuLight L, ConePlanes planes, uint l, uint tile, uvec2 sliceMask,
     uint found = uint(bitCount(hitMask.x) + bitCount(hitMask.y));
     if (found == 0u) return tests;
     uint h = atomicAdd(hitCount, found);
+    atomicOr(tileBits[tile * ML_TILE_WORDS + (l >> 5u)], 1u << (l & 31u)); // one per (tile, light)
     for (uint word = 0; word < 2; ++word) {
         uint bits = hitMask[word];
         while (bits != 0u) {

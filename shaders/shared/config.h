@@ -82,6 +82,12 @@
 // and frames use far fewer (0.3 M of 3.7 M at 4096 lights, 640x360), so a quarter of the pool's
 // entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
 #define ML_HITS_PER_POOL_ENTRY_DIV 4
+// Sorted fill of the footprint mode (light_alloc, light_fill): per tile a bitmask over the visible
+// lights with a hit in the tile and its per-word prefix counts, ML_MAX_LIGHTS / 32 = 128 words each
+// (512 B per tile and buffer: 1.8 MiB at 640x360's 3,600 tiles, 16.6 MiB at 1920x1080's 32,400),
+// plus a tile range (8 B per tile) and a 64-bit slice mask per (tile, light) pair, at most one per
+// recorded hit (hitCapacity x 8 B, as much as the hits).
+#define ML_TILE_WORDS (ML_MAX_LIGHTS / 32)
 
 // Z-binning (culling/zbin.h; Drobot 2017), measured beside the footprint clusters: ML_ZBIN_BINS bins
 // linear in view depth over [near, the farthest light's far depth], each holding the (min, max)
