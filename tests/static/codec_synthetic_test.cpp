@@ -98,9 +98,9 @@ TEST(StaticCodec, SkipLevelFollowsTheBudget) {
         const uint32_t S = d[dagfmt::kSkipLevel];
         const uint64_t skipWords = uint64_t(dagfmt::kSkipWords) << (2 * S);
         const uint64_t rest = d[dagfmt::kTotalWords] - d[dagfmt::kNodeOffset];
-        if (S > 0) {
+        if (S > 0) { // level 0 (one entry) is the floor
             EXPECT_LE(skipWords * 8, rest);
-        } // level 0 (one entry) is the floor
+        }
         if (dense) {
             EXPECT_GE(S, 4u);                      // 65,536 distinct values (~0.4 MB): the old rule gave 1
             EXPECT_GT((skipWords << 2) * 8, rest); // the next level would break the budget
