@@ -143,7 +143,6 @@ struct Module::Impl {
     VirtualShadowMaps vsm; // state: map slots, page tables, pool
     VsmPasses vsmPasses;   // its GPU passes
     VsmSettings vsmSettings;
-    std::vector<InstanceData> lastInstances; // for moved-caster detection (by the VSM)
     // What the frame writes per instance, kept between frames and recomputed only for the instances whose
     // inputs changed (issue 18: 1 % moving of 10,000): the inputs it was made from, the GPU records, the
     // VSM caster (world box: 8 corners transformed), and a version stamped from instanceStamp at each change.

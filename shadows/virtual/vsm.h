@@ -176,8 +176,8 @@ struct VsmSlot {
     std::vector<uint64_t> mapStamp;
     std::vector<uint32_t> flaggedMaps, mapsWritten;
     std::vector<gpu::GpuCaster> uploadedCasters;
-    std::vector<uint64_t>
-        casterVersion; // per caster, the VsmInstance::version uploadedCasters holds (0: none)
+    // Per caster, the VsmInstance::version uploadedCasters holds (0: none).
+    std::vector<uint64_t> casterVersion;
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
     std::vector<glm::uvec4> orderKey; // (map, kind, level, levels) per active map host.runs was built for
