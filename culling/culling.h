@@ -7,12 +7,12 @@
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
-//                   light_fill (scatter, rank, place). Each visible light (8 threads) tests only the
-//                   occupied clusters inside its footprint (lightFootprint: tile rectangle x depth-slice
-//                   range), with the same exact box test; cost follows the lights' footprints, not
-//                   lights x clusters. Wide lights (directional ones, chosen by the host: wideFootprint)
-//                   take a thread per tile instead (light_footprint's wide variant), so the moon is not
-//                   serial over the screen.
+//                   light_fill (mark, append: sorted lists from per-tile light bitmasks, linear in the
+//                   hits). Each visible light (8 threads) tests only the occupied clusters inside its
+//                   footprint (lightFootprint: tile rectangle x depth-slice range), with the same exact box
+//                   test; cost follows the lights' footprints, not lights x clusters. Wide lights
+//                   (directional ones, chosen by the host: wideFootprint) take a thread per tile instead
+//                   (light_footprint's wide variant), so the moon is not serial over the screen.
 //   clustered-brute light_assign, one group per tile: every visible light against each occupied
 //                   cluster (exact range-sphere vs AABB, cone tests), counted, allocated, written.
 //   tiled           light_assign with one slice (the tile's AABB over all its pixels).

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Footprint light assignment (clustered mode), pass A: count and record the hits; light_alloc.comp
-// (B) allocates, light_fill.comp (C) scatters the recorded hits into the pool. Two variants
+// (B) allocates, light_fill.comp (C) turns the recorded hits into sorted lists in the pool. Two variants
 // (kSpecWide): the lane variant walks the footprints of the spot and point lights, the wide variant
 // gives each wide light (GpuLight.params.w = 1: the directional ones, chosen by the host) one thread
 // per tile of its footprint.

@@ -56,8 +56,8 @@ void compareWithReference(Module& m, CullingMode mode, uint32_t* wideOut = nullp
         if (ref.bounds[c].lo.w == 0.0f) continue;
         ++occupied;
         ASSERT_NE(ranges[c].x, ML_CLUSTER_OVERFLOW) << "unexpected overflow in cluster " << c;
-        // In order: the lists are sorted on the GPU (light_fill's rank step, light_assign's chunked
-        // write), not only equal as sets.
+        // In order: the lists are sorted on the GPU (light_fill's per-tile bitmask append, light_assign's
+        // chunked write), not only equal as sets.
         std::vector<uint32_t> gpuList(pool + ranges[c].x, pool + ranges[c].x + ranges[c].y);
         ASSERT_EQ(gpuList, ref.lists[c]) << "cluster " << c;
         entries += gpuList.size();
