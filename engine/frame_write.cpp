@@ -51,8 +51,10 @@ Result<uint32_t> Module::Impl::beginFrame() {
     return slotIndex;
 }
 
-// The per-instance records, recomputed where the instance's inputs differ from those they were made from
-// (meshes are append-only and their ranges never change, so the inputs are the InstanceData alone).
+// The per-instance records, recomputed where a touched instance's inputs differ from those they were
+// made from (meshes are append-only and their ranges never change, so the inputs are the InstanceData
+// alone). Only the touched instances are visited; each change goes to every slot's pending list and to
+// the VSM's.
 void Module::Impl::updateInstanceCache() {
     const size_t n = instances.size();
     const size_t had = std::min(instanceFrom.size(), n);
@@ -61,11 +63,15 @@ void Module::Impl::updateInstanceCache() {
     instanceDraws.resize(n);
     casters.resize(n);
     instanceVersion.resize(n);
-    for (size_t i = 0; i < n; ++i) {
+    instancesVisited += touchedInstances.size();
+    for (uint32_t i : touchedInstances) {
+        instanceTouched[i] = 0;
         const InstanceData& id = instances[i];
-        if (i < had && id.same(instanceFrom[i])) continue;
+        if (i < had && instanceVersion[i] != 0 && id.same(instanceFrom[i])) continue;
         instanceFrom[i] = id;
         instanceVersion[i] = ++instanceStamp;
+        for (Slot& s : slots) s.pendingInstances.push_back(i);
+        vsmChangedInstances.push_back(i);
         const MeshRange& r = meshes[id.mesh];
         instanceDraws[i] = {id.alive ? r.indexCount : 0u, 1, r.firstIndex, int32_t(r.firstVertex),
                             uint32_t(i)};
@@ -92,6 +98,41 @@ void Module::Impl::updateInstanceCache() {
         v.dynamic = id.dynamic;
         v.castsShadows = id.alive && id.castsShadows;
         v.version = instanceVersion[i];
+    }
+    touchedInstances.clear();
+}
+
+// The per-light records, remade where the light's version moved since they were made (touchShadow).
+void Module::Impl::updateLightRecords() {
+    const size_t n = lights.size();
+    lightRecords.resize(n);
+    vsmLights.resize(n);
+    lightVersion.resize(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+        LightRecord& r = lightRecords[i];
+        if (r.version == lightVersion[i] && r.version != 0) continue;
+        const LightDesc& l = lights[i];
+        r.version = lightVersion[i];
+        ++lightRecordsMade;
+        r.gpu = toGpuLight(l, i);
+        r.gpu.info.z = shadowRecordOf(i);
+        r.sphere = lightBoundingSphere(l);
+        VsmLight& v = vsmLights[i];
+        v.kind = uint32_t(l.kind);
+        v.position = l.position;
+        v.direction = l.direction;
+        v.range = l.range;
+        v.outerAngle = l.outerAngle;
+        v.moving = l.dynamic;
+        v.castsShadows = lightAlive[i] && l.castsShadows;
+        v.depthBias = l.shadowDepthBias;
+        v.normalBias = l.shadowNormalBias;
+        const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
+        bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
+        for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
+        // A moving light's bake (if any) no longer matches it: its maps take every caster.
+        v.staticBake = baked && !l.dynamic;
+        v.version = r.version;
     }
 }
 
@@ -183,16 +224,20 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     fc.sky = glm::vec4(sky, 0.0f);
     fc.limits = glm::uvec4(cull.poolCapacity, grid.count(), 0, 0);
 
-    // Visible lights: bounding sphere against the camera frustum.
+    // Visible lights: bounding sphere against the camera frustum. The records are built in host memory
+    // (lastLights) and copied into the slot's buffer once: on a discrete GPU that buffer may be
+    // write-combined device memory, which the host must not read back.
+    updateLightRecords();
     auto planes = frustumPlanes(fc.viewProj);
-    auto* gl = slot.lights.as<gpu::GpuLight>();
-    std::vector<uint32_t> visibleIds;
+    std::vector<gpu::GpuLight>& gl = lastLights;
+    std::vector<uint32_t>& visibleIds = visibleLightIds;
+    gl.clear();
+    visibleIds.clear();
     for (uint32_t i = 0; i < lights.size(); ++i) {
-        const LightDesc& l = lights[i];
         if (!lightAlive[i]) continue;
-        if (l.kind != LightKind::Directional && !sphereInFrustum(planes, lightBoundingSphere(l))) continue;
-        gl[visibleIds.size()] = toGpuLight(l, i);
-        gl[visibleIds.size()].info.z = shadowRecordOf(i);
+        const LightRecord& r = lightRecords[i];
+        if (r.gpu.info.x != ML_LIGHT_DIRECTIONAL && !sphereInFrustum(planes, r.sphere)) continue;
+        gl.push_back(r.gpu);
         visibleIds.push_back(i);
     }
     const uint32_t visible = uint32_t(visibleIds.size());
@@ -201,37 +246,28 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     auto* inst = slot.instances.as<GpuInstance>();
     auto* draws = slot.draws.as<VkDrawIndexedIndirectCommand>();
     updateInstanceCache();
-    slot.instanceVersion.resize(instances.size(), ~uint64_t(0));
-    for (size_t i = 0; i < instances.size(); ++i) {
-        if (slot.instanceVersion[i] == instanceVersion[i]) continue;
+    // The slot rewrites the instances changed since its last frame, or all of them into new buffers.
+    auto write = [&](uint32_t i) {
+        if (slot.instanceVersion[i] == instanceVersion[i]) return; // listed twice, or already written
         slot.instanceVersion[i] = instanceVersion[i];
         draws[i] = instanceDraws[i];
         inst[i] = instanceRecords[i];
-    }
+    };
+    const bool allInstances = slot.instanceVersion.empty();
+    slot.instanceVersion.resize(instances.size(), ~uint64_t(0));
+    if (allInstances)
+        for (uint32_t i = 0; i < instances.size(); ++i) write(i);
+    else
+        for (uint32_t i : slot.pendingInstances) write(i);
+    slot.pendingInstances.clear();
     if (vsm.enabled()) {
-        std::vector<VsmLight>& vl = vsmLights; // kept: a frame-sized vector anew each frame costs page faults
-        vl.resize(lights.size());
-        for (size_t i = 0; i < lights.size(); ++i) {
-            const LightDesc& l = lights[i];
-            vl[i].kind = uint32_t(l.kind);
-            vl[i].position = l.position;
-            vl[i].direction = l.direction;
-            vl[i].range = l.range;
-            vl[i].outerAngle = l.outerAngle;
-            vl[i].moving = l.dynamic;
-            vl[i].castsShadows = lightAlive[i] && l.castsShadows;
-            vl[i].depthBias = l.shadowDepthBias;
-            vl[i].normalBias = l.shadowNormalBias;
-            const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
-            bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
-            for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;
-            // A moving light's bake (if any) no longer matches it: its maps take every caster.
-            vl[i].staticBake = baked && !l.dynamic;
-        }
-        auto firstMap = vsm.prepare(*device, slotIndex, frameIndex, vl, visibleIds, casters,
-                                    {c.position, c.fovY, height});
+        auto firstMap = vsm.prepare(*device, slotIndex, frameIndex, vsmLights, visibleIds, casters,
+                                    vsmChangedInstances, {c.position, c.fovY, height});
         if (!firstMap) return fail(firstMap.error());
+        vsmChangedInstances.clear();
         for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap.value()[v];
+    } else {
+        vsmChangedInstances.clear(); // no VSM (fixed at create): nobody reads the list
     }
 
     fc.cluster = glm::uvec4(grid.slices, ML_TILE_SIZE, visible, uint32_t(mode));
@@ -240,13 +276,14 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     if (mode == CullingMode::Clustered) {
         auto* wide = slot.wide.as<gpu::WideLight>();
         for (uint32_t v = 0; v < visible; ++v)
-            if (auto f = wideFootprint(gl[v], fc)) {
+            if (auto f = gl[v].info.x == ML_LIGHT_DIRECTIONAL ? wideFootprint(gl[v], fc) : std::nullopt) {
                 gl[v].params.w = 1.0f;
                 const uint32_t count = (f->tiles.z - f->tiles.x + 1) * (f->tiles.w - f->tiles.y + 1);
                 wide[slot.wideCount++] = {f->tiles, f->depth, v, slot.wideThreads, count, 0};
                 slot.wideThreads += count;
             }
     }
+    if (!gl.empty()) upload(slot.lights, gl.data(), gl.size() * sizeof(gpu::GpuLight));
     upload(slot.frame, &fc, sizeof(fc));
     std::vector<float> sliceFar = sliceBoundaries(c.nearPlane, c.farPlane, grid.slices);
     upload(slot.slices, sliceFar.data(), sliceFar.size() * 4);
@@ -258,7 +295,6 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     slot.frameNumber = frameIndex;
     lastConstants = fc;
     lastSliceFar = sliceFar;
-    lastLights.assign(gl, gl + visible);
     return {};
 }
 

@@ -277,12 +277,14 @@ Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, 
         m.freeInstances.pop_back();
         data.generation = (m.instances[index].generation + 1) & ((1u << (32 - kInstanceIndexBits)) - 1);
         m.instances[index] = data;
+        m.touchInstance(index);
         return InstanceId(makeId(index, data.generation, kInstanceIndexBits));
     }
     if (m.instances.size() >= (1u << kInstanceIndexBits))
         return fail("addInstance: the module holds at most " + std::to_string(1u << kInstanceIndexBits) +
                     " instances");
     m.instances.push_back(data);
+    m.touchInstance(uint32_t(m.instances.size() - 1));
     return InstanceId(m.instances.size() - 1);
 }
 
@@ -290,6 +292,7 @@ Result<void> Module::removeInstance(InstanceId id) {
     auto index = impl_->instanceIndex(id, "removeInstance");
     if (!index) return fail(index.error());
     impl_->instances[index.value()].alive = false;
+    impl_->touchInstance(index.value());
     impl_->freeInstances.push_back(index.value());
     return {};
 }
@@ -298,6 +301,7 @@ Result<void> Module::setInstanceShadowCasting(InstanceId id, bool castsShadows) 
     auto index = impl_->instanceIndex(id, "setInstanceShadowCasting");
     if (!index) return fail(index.error());
     impl_->instances[index.value()].castsShadows = castsShadows;
+    impl_->touchInstance(index.value());
     return {};
 }
 
@@ -326,6 +330,7 @@ Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transf
         return fail("setInstanceTransform: instance " + std::to_string(id) +
                     ": transform is singular (a zero scale)");
     inst.transform = transform;
+    impl_->touchInstance(index.value());
     return {};
 }
 
@@ -348,6 +353,7 @@ Result<LightId> Module::addLight(const LightDesc& light) {
     m.lightAlive.push_back(1);
     m.lightGeneration.push_back(0);
     m.shadows.emplace_back();
+    m.touchShadow(uint32_t(m.lights.size() - 1));
     return LightId(m.lights.size() - 1);
 }
 

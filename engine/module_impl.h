@@ -65,6 +65,9 @@ struct Module::Impl {
         // Per instance, the instanceVersion its GpuInstance and draw in this slot's buffers were written
         // from (~0: never): only the instances that changed since the slot's last frame are rewritten.
         std::vector<uint64_t> instanceVersion;
+        // Instances changed since this slot's last frame (updateInstanceCache appends to every slot's);
+        // the slot rewrites only these, or every instance when instanceVersion is empty (new buffers).
+        std::vector<uint32_t> pendingInstances;
         uint64_t recordsEpoch = ~uint64_t(0);
         bool pending = false;
         uint64_t frameNumber = 0;
@@ -152,7 +155,37 @@ struct Module::Impl {
     std::vector<VsmInstance> casters;
     std::vector<uint64_t> instanceVersion;
     uint64_t instanceStamp = 0;
-    std::vector<VsmLight> vsmLights; // what the VSM is given of every light, refilled each frame
+    // Instances the host touched since the last frame (touchInstance at every mutation point: add,
+    // remove, transform, casting, receiving, material): only they are compared with their inputs, so a
+    // frame costs the changes, not the instance count. instanceTouched dedups the list.
+    std::vector<uint32_t> touchedInstances;
+    std::vector<uint8_t> instanceTouched;
+    void touchInstance(uint32_t i) {
+        if (instanceTouched.size() <= i) instanceTouched.resize(size_t(i) + 1, 0);
+        if (!instanceTouched[i]) touchedInstances.push_back(i);
+        instanceTouched[i] = 1;
+    }
+    // Instances whose records changed since the VSM's last successful prepare() (it compares their
+    // boxes with the ones its maps saw); kept when prepare() fails, so the next frame still sees them.
+    std::vector<uint32_t> vsmChangedInstances;
+    // Work counters for the tests (cumulative): instances updateInstanceCache visited, light records
+    // updateLightRecords remade. A frame where nothing changed adds 0 to both.
+    uint64_t instancesVisited = 0, lightRecordsMade = 0;
+    // Per light, what a frame writes of it, kept between frames and remade only when the light's version
+    // moved (touchShadow stamps it at every change: addLight, setLight, removeLight, static shadows):
+    // the GPU record with its static record index, the bounding sphere the frustum test takes, and what
+    // the VSM is given (VsmLight::version carries the stamp, so the VSM compares stamps, not lights).
+    struct LightRecord {
+        uint64_t version = 0; // lightVersion it was made from (0: never)
+        gpu::GpuLight gpu{};
+        glm::vec4 sphere{0.0f};
+    };
+    std::vector<LightRecord> lightRecords;
+    std::vector<uint64_t> lightVersion; // per light, from lightStamp (never 0 once the light exists)
+    uint64_t lightStamp = 0;
+    std::vector<VsmLight> vsmLights;       // what the VSM is given of every light (by id)
+    std::vector<uint32_t> visibleLightIds; // this frame's visible lights, in GpuLight order
+    void updateLightRecords();
     void updateInstanceCache();
     Profiler profiler;
     FramePasses passes{gbuffer, cull, vsm, vsmPasses, evaluate, statisticsPass}; // Module::record's list

@@ -13,6 +13,7 @@ Result<void> Module::setInstanceShadowReceiving(InstanceId id, bool receivesShad
     auto index = impl_->instanceIndex(id, "setInstanceShadowReceiving");
     if (!index) return fail(index.error());
     impl_->instances[index.value()].receivesShadows = receivesShadows;
+    impl_->touchInstance(index.value());
     return {};
 }
 
@@ -25,6 +26,7 @@ Result<void> Module::setInstanceMaterial(InstanceId id, float roughness, float m
                         " is not in [0, 1]");
     impl_->instances[index.value()].roughness = roughness;
     impl_->instances[index.value()].metalness = metalness;
+    impl_->touchInstance(index.value());
     return {};
 }
 

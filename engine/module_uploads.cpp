@@ -94,6 +94,8 @@ Result<void> Module::Impl::uploadMeshes() {
 void Module::Impl::touchShadow(uint32_t light) {
     if (shadowVersion.size() <= light) shadowVersion.resize(light + 1, 0);
     shadowVersion[light]++;
+    if (lightVersion.size() <= light) lightVersion.resize(light + 1, 0);
+    lightVersion[light] = ++lightStamp; // the light's cached records (updateLightRecords) are remade
 }
 
 uint32_t Module::Impl::shadowRecordOf(uint32_t light) const {

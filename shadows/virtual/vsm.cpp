@@ -383,8 +383,12 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     const uint64_t mip0 = uint64_t(settings_.resolution) * settings_.resolution * 4;
     uint64_t allMips = 0;
     for (uint32_t m = 0; m < mips_; ++m) allMips += mip0 >> (2 * m);
-    for (uint32_t map : slot.host.active) {
-        const bool ortho = maps_[map].gpu.info.x == ML_VSM_ORTHOGRAPHIC;
+    // The projection kind per active map from the allocation order's key (built from the same active
+    // list, 16 B a map) rather than each map's record.
+    const bool keyed = slot.orderKey.size() == slot.host.active.size();
+    for (size_t i = 0; i < slot.host.active.size(); ++i) {
+        const uint32_t kind = keyed ? slot.orderKey[i].y : maps_[slot.host.active[i]].gpu.info.x;
+        const bool ortho = kind == ML_VSM_ORTHOGRAPHIC;
         s.virtualBytes += ortho ? mip0 : allMips;
         s.atlasBytes += mip0;
     }

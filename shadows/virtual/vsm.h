@@ -69,7 +69,14 @@ struct VsmLight {
     bool staticBake = false; // every face has a static bake: maps hold dynamic casters only
     // LightDesc::shadowDepthBias / shadowNormalBias: GpuVsmMap.bias (lookups and marking, vsm_math.h).
     float depthBias = 0.5f, normalBias = 1.0f;
-    bool operator==(const VsmLight&) const = default;
+    // The host's stamp of the light this was made from (a new value at every change; 0: none, then
+    // prepare() compares the fields). Not part of the comparison: a light set to what it was is the same.
+    uint64_t version = 0;
+    bool operator==(const VsmLight& o) const {
+        return kind == o.kind && position == o.position && direction == o.direction && range == o.range &&
+               outerAngle == o.outerAngle && castsShadows == o.castsShadows && moving == o.moving &&
+               staticBake == o.staticBake && depthBias == o.depthBias && normalBias == o.normalBias;
+    }
 };
 struct VsmInstance {
     glm::vec3 lo{0.0f}, hi{0.0f}; // world bounds this frame
@@ -108,8 +115,9 @@ struct VsmFrameInputs {
 // Per map slot, what the CPU set up this frame (tests and `check vsm` read it).
 struct VsmMapInfo {
     bool inUse = false;
-    uint32_t light = 0; // module light id
-    uint32_t face = 0;  // cube face or clip level
+    uint32_t light = 0;        // module light id
+    uint32_t face = 0;         // cube face or clip level
+    uint64_t builtVersion = 0; // builtFrom's VsmLight::version: an equal stamp skips the comparison
     gpu::GpuVsmMap gpu{};
     LightFrustum frustum; // the volume a reference rasteriser uses (clip levels: orthographic)
     VsmLight builtFrom{}; // the light as gpu was built from it (spot and point maps are rebuilt only
@@ -136,6 +144,9 @@ struct VsmSlotHost {
     // sphere tests and box projections into maps. Both follow the dynamic and changed instances and
     // the lights near them, not the instance count (VsmCpu.WorkFollowsTheMovingInstances).
     uint64_t sphereTests = 0, projections = 0;
+    // Caster records this frame compared or written (uploadSlot): the changes since the slot's last
+    // frame, or every instance when its buffer is new.
+    uint64_t castersVisited = 0;
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
 // the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
@@ -176,12 +187,16 @@ struct VsmSlot {
     std::vector<uint64_t> mapStamp;
     std::vector<uint32_t> flaggedMaps, mapsWritten;
     std::vector<gpu::GpuCaster> uploadedCasters;
-    // Per caster, the VsmInstance::version uploadedCasters holds (0: none).
+    // Per caster, the VsmInstance::version uploadedCasters holds (0: none), and the casters changed
+    // since this slot's last frame (prepare's `changed`, appended to every slot's list): only they are
+    // compared and written, unless the buffer is new.
     std::vector<uint64_t> casterVersion;
+    std::vector<uint32_t> pendingCasters;
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
     std::vector<glm::uvec4> orderKey; // (map, kind, level, levels) per active map host.runs was built for
     bool orderBuilt = false;
+    bool orderChanged = true; // this frame rebuilt runs and rankBase (uploadSlot compares them only then)
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and
@@ -200,12 +215,16 @@ class VirtualShadowMaps {
     void setPcfRadius(uint32_t r) { pcf_ = r; }
 
     // CPU part of a frame: map slots, matrices, coverage and stale bits, casters. `lights` holds every
-    // module light (by id); `visible` the ids in the visible-light buffer's order. Returns the first map
-    // slot per visible light (ML_VSM_NO_MAP: none), to go into GpuLight.info.y. Out of memory (growing
-    // the map slots or the caster buffer) is an error; the state stays valid and the next frame retries.
+    // module light (by id); `visible` the ids in the visible-light buffer's order. `changed` lists every
+    // instance whose record may differ from the one the last successful prepare() saw (repeats allowed;
+    // new instances included): only those are compared, so a frame costs the changes, not the instance
+    // count. Returns the first map slot per visible light (ML_VSM_NO_MAP: none), to go into
+    // GpuLight.info.y. Out of memory (growing the map slots or the caster buffer) is an error; the state
+    // stays valid and the next frame retries (with the same `changed` again).
     Result<std::vector<uint32_t>> prepare(const Device& device, uint32_t slot, uint64_t frame,
                                           std::span<const VsmLight> lights, std::span<const uint32_t> visible,
-                                          std::span<const VsmInstance> instances, const VsmCamera& camera);
+                                          std::span<const VsmInstance> instances,
+                                          std::span<const uint32_t> changed, const VsmCamera& camera);
     // When the passes run (VsmPasses, engine/frame.h): the slot has active maps; the probe pass.
     bool active(uint32_t slot) const { return settings_.enabled && slots_[slot].activeCount > 0; }
     bool probing() const { return settings_.enabled && settings_.probeCapacity && mapsInUse_ > 0; }
@@ -261,6 +280,7 @@ class VirtualShadowMaps {
         return {size_t(m) * entriesPerMap_ / 32, (size_t(m + 1) * entriesPerMap_ + 31) / 32};
     }
     // prepare()'s steps, in order (vsm_prepare.cpp).
+    void noteChanges(std::span<const VsmInstance> instances, std::span<const uint32_t> changed);
     std::vector<uint8_t> lightsNeedingMaps(std::span<const VsmLight> lights,
                                            std::span<const uint32_t> visible,
                                            std::span<const VsmInstance> instances) const;
@@ -268,7 +288,7 @@ class VirtualShadowMaps {
                                 const std::vector<uint8_t>& needs);
     void buildFrameMaps(Slot& slot, std::span<const VsmLight> lights, const VsmCamera& camera);
     void markCoverageAndStale(Slot& slot, std::span<const VsmLight> lights,
-                              std::span<const VsmInstance> instances);
+                              std::span<const VsmInstance> instances, std::span<const uint32_t> changed);
     std::vector<uint32_t> activateMaps(Slot& slot, std::span<const uint32_t> visible,
                                        const std::vector<uint8_t>& needs);
     void buildAllocationOrder(Slot& slot);
@@ -286,9 +306,19 @@ class VirtualShadowMaps {
     std::vector<uint32_t> freeSlots_;
     std::vector<uint8_t> wasActive_;
     std::vector<VsmInstance> lastInstances_;
+    // The instances that are dynamic shadow casters (coverage boxes, lights needing maps), kept from the
+    // changes (noteChanges) instead of a pass over every instance per frame.
+    std::vector<uint8_t> dynamicCaster_;
+    std::vector<uint32_t> dynamicCasters_;
     // The lights with maps binned for the box tests (vsm_prepare.cpp), rebuilt when they change.
     std::shared_ptr<VsmLightGrid> grid_;
-    std::vector<uint8_t> movedMaps_; // buildFrameMaps: maps whose projection changed this frame
+    // Set when the lights with maps (slots, or a light's position, range or bake) may have changed:
+    // only then is the grid's input remade. The directional lights with maps take every box.
+    bool spheresDirty_ = true;
+    std::vector<uint32_t> directionalWithMaps_;
+    std::vector<glm::uvec4> orderScratch_; // buildAllocationOrder's key of this frame (no allocation)
+    bool anyBakedMaps_ = false;            // some light with maps is baked (its maps take coverage boxes)
+    std::vector<uint8_t> movedMaps_;       // buildFrameMaps: maps whose projection changed this frame
     // Bumped (from mapStampNext_) whenever maps_[m]'s record or use changes: the slots' copies follow it.
     std::vector<uint64_t> mapStamp_;
     uint64_t mapStampNext_ = 0;

@@ -89,6 +89,7 @@ struct VsmSphere {
     glm::vec3 c;
     float r;
     uint32_t light;
+    bool bakedOnly; // its maps hold dynamic casters only (ML_VSM_MAP_DYNAMIC_ONLY: VsmLight::staticBake)
     bool operator==(const VsmSphere&) const = default;
 };
 
@@ -179,16 +180,18 @@ Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, u
                                                          uint64_t frame, std::span<const VsmLight> lights,
                                                          std::span<const uint32_t> visible,
                                                          std::span<const VsmInstance> instances,
+                                                         std::span<const uint32_t> changed,
                                                          const VsmCamera& camera) {
     if (!settings_.enabled) return std::vector<uint32_t>(visible.size(), ML_VSM_NO_MAP);
     const auto start = std::chrono::steady_clock::now();
     Slot& slot = slots_[slotIndex];
     if (lightState_.size() < lights.size()) lightState_.resize(lights.size());
     slot.lightsWithPages = slot.lightsWithoutSlot = 0;
+    noteChanges(instances, changed);
     const std::vector<uint8_t> needs = lightsNeedingMaps(lights, visible, instances);
     ML_TRY(assignMapSlots(device, slot, lights, needs));
     buildFrameMaps(slot, lights, camera);
-    markCoverageAndStale(slot, lights, instances);
+    markCoverageAndStale(slot, lights, instances, changed);
     std::vector<uint32_t> firstMap = activateMaps(slot, visible, needs);
     buildAllocationOrder(slot);
     ML_TRY(uploadSlot(device, slot, frame, instances, camera));
@@ -197,15 +200,34 @@ Result<std::vector<uint32_t>> VirtualShadowMaps::prepare(const Device& device, u
     return firstMap;
 }
 
+void VirtualShadowMaps::noteChanges(std::span<const VsmInstance> instances,
+                                    std::span<const uint32_t> changed) {
+    for (Slot& s : slots_) s.pendingCasters.insert(s.pendingCasters.end(), changed.begin(), changed.end());
+    auto casts = [&](uint32_t i) { return uint8_t(instances[i].dynamic && instances[i].castsShadows); };
+    bool rebuild = dynamicCaster_.size() != instances.size();
+    if (rebuild) {
+        dynamicCaster_.resize(instances.size());
+        for (uint32_t i = 0; i < instances.size(); ++i) dynamicCaster_[i] = casts(i);
+    } else {
+        for (uint32_t i : changed) {
+            if (dynamicCaster_[i] == casts(i)) continue;
+            dynamicCaster_[i] = casts(i);
+            rebuild = true;
+        }
+    }
+    if (!rebuild) return;
+    dynamicCasters_.clear(); // in index order, as a pass over the instances would list them
+    for (uint32_t i = 0; i < dynamicCaster_.size(); ++i)
+        if (dynamicCaster_[i]) dynamicCasters_.push_back(i);
+}
+
 std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLight> lights,
                                                           std::span<const uint32_t> visible,
                                                           std::span<const VsmInstance> instances) const {
     // Which visible lights need maps this frame. A light with a static bake needs them only while a
     // dynamic caster is inside its range; moving lights and lights without a bake always do. Only the
-    // dynamic casters are tested (a list made once, not lights x every instance).
-    std::vector<uint32_t> dynamicCasters;
-    for (uint32_t i = 0; i < instances.size(); ++i)
-        if (instances[i].dynamic && instances[i].castsShadows) dynamicCasters.push_back(i);
+    // dynamic casters are tested (kept by noteChanges, not lights x every instance).
+    const std::vector<uint32_t>& dynamicCasters = dynamicCasters_;
     std::vector<uint8_t> needs(lights.size(), 0);
     for (uint32_t id : visible) {
         const VsmLight& l = lights[id];
@@ -239,6 +261,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
             }
             std::sort(freeSlots_.rbegin(), freeSlots_.rend());
             st.firstMap = ML_VSM_NO_MAP;
+            spheresDirty_ = true;
         }
         if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
             auto first = allocateSlots(device, count);
@@ -250,6 +273,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
             }
             st.mapCount = count;
             st.kind = lights[id].kind;
+            spheresDirty_ = true;
             for (uint32_t m = 0; m < count; ++m) {
                 maps_[st.firstMap + m] = VsmMapInfo{};
                 maps_[st.firstMap + m].light = id;
@@ -279,10 +303,19 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         for (uint32_t f = 0; f < st.mapCount; ++f) {
             bool moved = false;
             const VsmMapInfo& info = maps_[st.firstMap + f];
-            // Clip levels follow the camera; spot and point maps only their light.
-            const bool same = info.inUse && info.light == id && info.face == f &&
-                              l.kind != ML_LIGHT_DIRECTIONAL && info.builtFrom == l;
-            if (!same) buildMap(st.firstMap + f, l, f, camera, moved);
+            // Clip levels follow the camera; spot and point maps only their light: an equal stamp is
+            // the same light, else the fields are compared (a light set to what it was is the same).
+            const bool kept =
+                info.inUse && info.light == id && info.face == f && l.kind != ML_LIGHT_DIRECTIONAL;
+            const bool same =
+                kept && ((l.version != 0 && info.builtVersion == l.version) || info.builtFrom == l);
+            if (same) {
+                maps_[st.firstMap + f].builtVersion = l.version;
+                continue;
+            }
+            buildMap(st.firstMap + f, l, f, camera, moved);
+            maps_[st.firstMap + f].builtVersion = l.version;
+            if (l.kind != ML_LIGHT_DIRECTIONAL) spheresDirty_ = true; // position, range or bake may differ
             if (moved) movedMaps_[st.firstMap + f] = 1;
         }
     }
@@ -307,7 +340,8 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
 }
 
 void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLight> lights,
-                                             std::span<const VsmInstance> instances) {
+                                             std::span<const VsmInstance> instances,
+                                             std::span<const uint32_t> changed) {
     // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
     // added or removed caster's old or new bounds). Only a few boxes can set a bit: the dynamic casters'
     // (coverage) and the old and new bounds of the instances that changed (stale; 1 % of 10,000 moving:
@@ -320,18 +354,6 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         uint32_t instance;
         bool coverage; // else stale
     };
-    std::vector<Box> boxes;
-    std::vector<uint32_t> changed; // instances whose bounds or casting changed (lastInstances_ below)
-    for (uint32_t i = 0; i < instances.size(); ++i) {
-        const VsmInstance& in = instances[i];
-        if (in.dynamic && in.castsShadows) boxes.push_back({in.lo, in.hi, i, true});
-        if (firstFrame) continue;
-        const VsmInstance& old = lastInstances_[i];
-        if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
-        changed.push_back(i);
-        boxes.push_back({old.lo, old.hi, i, false});
-        boxes.push_back({in.lo, in.hi, i, false});
-    }
     // The lights with map slots, as spheres, in a uniform grid over x and z (cells twice the median
     // radius: a typical light touches at most 4 cells); a box tests only the lights listed in the cells
     // its x/z extent overlaps, each light once (a stamp per light). Lights past 64 cells, and directional
@@ -339,32 +361,81 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     // light reaches: along a texel's ray (and its PCF neighbours, a few texels wide) depth grows with
     // distance, and lookups happen only within the range (lightReachesPoint) plus a normal offset of
     // about a texel; 10 % covers both. Its bits would never be read.
-    std::vector<VsmSphere> local;
-    std::vector<uint32_t> directional;
-    for (uint32_t id = 0; id < lightState_.size() && id < lights.size(); ++id) {
-        if (lightState_[id].firstMap == ML_VSM_NO_MAP) continue;
-        const VsmLight& l = lights[id];
-        if (l.kind == ML_LIGHT_DIRECTIONAL) {
-            directional.push_back(id);
-            continue;
+    // The spheres are remade only when a slot or a light with maps changed (spheresDirty_).
+    if (spheresDirty_ || !grid_) {
+        std::vector<VsmSphere> local;
+        directionalWithMaps_.clear();
+        anyBakedMaps_ = false;
+        for (uint32_t id = 0; id < lightState_.size() && id < lights.size(); ++id) {
+            if (lightState_[id].firstMap == ML_VSM_NO_MAP) continue;
+            const VsmLight& l = lights[id];
+            anyBakedMaps_ = anyBakedMaps_ || l.staticBake;
+            if (l.kind == ML_LIGHT_DIRECTIONAL) {
+                directionalWithMaps_.push_back(id);
+                continue;
+            }
+            local.push_back({l.position, 1.1f * l.range, id, l.staticBake});
         }
-        local.push_back({l.position, 1.1f * l.range, id});
+        if (!grid_ || grid_->spheres != local)
+            grid_ = std::make_shared<VsmLightGrid>(VsmLightGrid::build(local));
+        spheresDirty_ = false;
     }
-    if (!grid_ || grid_->spheres != local) grid_ = std::make_shared<VsmLightGrid>(VsmLightGrid::build(local));
     const VsmLightGrid& grid = *grid_;
+    const std::vector<VsmSphere>& local = grid.spheres;
+
+    // Queries of the grid: a coverage box alone (only when some light with maps is baked: no other map
+    // takes coverage), a changed instance's old and new bounds together (one walk over the union's
+    // cells, each box tested on its own).
+    std::vector<Box> boxes;
+    std::vector<std::pair<uint32_t, uint32_t>> queries; // (first box, boxes)
+    if (anyBakedMaps_)
+        for (uint32_t i : dynamicCasters_) {
+            queries.emplace_back(uint32_t(boxes.size()), 1u);
+            boxes.push_back({instances[i].lo, instances[i].hi, i, true});
+        }
+    // Stale: the listed instances whose bounds or casting differ from what the maps saw (a repeat in the
+    // list finds lastInstances_ already equal). A new instance count is a first frame: all stale.
+    if (!firstFrame)
+        for (uint32_t i : changed) {
+            const VsmInstance& in = instances[i];
+            VsmInstance& old = lastInstances_[i];
+            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
+            queries.emplace_back(uint32_t(boxes.size()), 2u);
+            boxes.push_back({old.lo, old.hi, i, false});
+            boxes.push_back({in.lo, in.hi, i, false});
+            old = in;
+        }
     std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
     std::vector<uint32_t> touched;                   // maps given a bit (uploadSlot)
     std::vector<uint32_t> stamp(local.size(), 0);
     slot.host.sphereTests = slot.host.projections = 0;
-    for (uint32_t b = 0; b < boxes.size(); ++b) {
-        for (uint32_t id : directional) hits.emplace_back(id, b);
-        grid.forEach(boxes[b].lo, boxes[b].hi, [&](uint32_t k) {
-            if (stamp[k] == b + 1) return;
-            stamp[k] = b + 1;
-            ++slot.host.sphereTests;
+    // A box can set bits only in maps of its kind (the per-map test below): coverage boxes in the maps of
+    // baked lights (dynamic casters only), stale boxes of static casters in the others. Lights of the
+    // other kind are skipped before the sphere test.
+    auto wanted = [&](const Box& box, bool bakedOnly) {
+        return box.coverage ? bakedOnly : !(bakedOnly && !instances[box.instance].dynamic);
+    };
+    for (uint32_t q = 0; q < queries.size(); ++q) {
+        const auto [first, count] = queries[q];
+        glm::vec3 lo = boxes[first].lo, hi = boxes[first].hi;
+        for (uint32_t b = first + 1; b < first + count; ++b) {
+            lo = glm::min(lo, boxes[b].lo);
+            hi = glm::max(hi, boxes[b].hi);
+        }
+        for (uint32_t id : directionalWithMaps_)
+            for (uint32_t b = first; b < first + count; ++b)
+                if (wanted(boxes[b], lights[id].staticBake)) hits.emplace_back(id, b);
+        grid.forEach(lo, hi, [&](uint32_t k) {
+            if (stamp[k] == q + 1) return;
+            stamp[k] = q + 1;
             const VsmSphere& sp = local[k];
-            const glm::vec3 d = glm::max(glm::max(boxes[b].lo - sp.c, sp.c - boxes[b].hi), glm::vec3(0.0f));
-            if (glm::dot(d, d) <= sp.r * sp.r) hits.emplace_back(sp.light, b);
+            for (uint32_t b = first; b < first + count; ++b) {
+                if (!wanted(boxes[b], sp.bakedOnly)) continue;
+                ++slot.host.sphereTests;
+                const glm::vec3 d =
+                    glm::max(glm::max(boxes[b].lo - sp.c, sp.c - boxes[b].hi), glm::vec3(0.0f));
+                if (glm::dot(d, d) <= sp.r * sp.r) hits.emplace_back(sp.light, b);
+            }
         });
     }
     std::sort(hits.begin(), hits.end());
@@ -396,9 +467,9 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
             slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
             slot.flaggedMaps.push_back(m);
         }
-    // Only the bounds and the casting flag of lastInstances_ are read: the changed entries are enough.
+    // Only the bounds and the casting flag of lastInstances_ are read: the changed entries (set above)
+    // are enough.
     if (firstFrame) lastInstances_.assign(instances.begin(), instances.end());
-    for (uint32_t i : changed) lastInstances_[i] = instances[i];
     // The words to upload: this frame's maps and the slot's previous ones (now cleared).
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
@@ -438,26 +509,29 @@ void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
     // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
     // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
     // within a level, active map order. It depends only on the active maps, their kind and their levels:
-    // kept while those are what this slot's order was built for.
-    std::vector<glm::uvec4> key(slot.host.active.size());
+    // kept while those are what this slot's order was built for. Each map record is read once (into the
+    // key); the level loop runs over the key.
+    std::vector<glm::uvec4>& key = orderScratch_;
+    key.resize(slot.host.active.size());
     for (size_t i = 0; i < key.size(); ++i) {
         const gpu::GpuVsmMap& g = slot.host.maps[slot.host.active[i]];
         key[i] = glm::uvec4(slot.host.active[i], g.info.x, g.light.y, g.light.z);
     }
-    if (slot.orderBuilt && slot.orderKey == key) return;
-    slot.orderKey = std::move(key);
+    slot.orderChanged = !slot.orderBuilt || slot.orderKey != key;
+    if (!slot.orderChanged) return;
+    std::swap(slot.orderKey, key);
     slot.orderBuilt = true;
     slot.host.runs.clear();
     uint32_t rank = 0;
     const uint32_t steps = std::max(mips_, settings_.clipLevels);
     for (uint32_t r = 0; r < steps; ++r)
-        for (uint32_t m : slot.host.active) {
-            const gpu::GpuVsmMap& g = slot.host.maps[m];
-            const bool ortho = g.info.x == ML_VSM_ORTHOGRAPHIC;
-            const uint32_t count = ortho ? g.light.z : mips_; // clip levels, or mips
+        for (const glm::uvec4& k : slot.orderKey) {
+            const uint32_t m = k.x;
+            const bool ortho = k.y == ML_VSM_ORTHOGRAPHIC;
+            const uint32_t count = ortho ? k.w : mips_; // clip levels, or mips
             if (r >= count) continue;
             const uint32_t level = count - 1 - r;
-            if (ortho && g.light.y != level) continue;
+            if (ortho && k.z != level) continue;
             const uint32_t mip = ortho ? 0u : level;
             const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
             slot.host.runs.push_back(glm::uvec4(rank, m, mip, n));
@@ -509,9 +583,12 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     }
     // The active set and the allocation order change only when lights come into or out of view.
     uploadChanged(slot.active, slot.host.active.data(), slot.host.active.size(), slot.uploadedActive);
-    uploadChanged(slot.runs, slot.host.runs.data(), slot.host.runs.size(), slot.uploadedRuns);
-    uploadChanged(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_,
-                  slot.uploadedRankBase);
+    // The order's arrays change only when buildAllocationOrder rebuilt them (or the slots grew).
+    if (slot.orderChanged || slot.uploadedRankBase.size() != size_t(mapsInUse_) * mips_) {
+        uploadChanged(slot.runs, slot.host.runs.data(), slot.host.runs.size(), slot.uploadedRuns);
+        uploadChanged(slot.rankBase, slot.host.rankBase.data(), size_t(mapsInUse_) * mips_,
+                      slot.uploadedRankBase);
+    }
     // Casters, written where they differ from what this slot's buffer holds (its mirror): one pass, no
     // frame-sized temporary.
     auto grown = ensureBuffer(device, slot.casters, instances.size() * sizeof(gpu::GpuCaster),
@@ -521,10 +598,12 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     if (whole) slot.uploadedCasters.assign(instances.size(), gpu::GpuCaster{});
     if (whole || slot.casterVersion.size() < instances.size()) slot.casterVersion.assign(instances.size(), 0);
     auto* mapped = slot.casters.as<gpu::GpuCaster>();
-    for (size_t i = 0; i < instances.size(); ++i) {
+    slot.host.castersVisited = 0;
+    auto writeCaster = [&](uint32_t i) {
+        ++slot.host.castersVisited;
         const VsmInstance& in = instances[i];
         // Same stamp, same inputs: the mirror (and so the buffer) already holds this record.
-        if (in.version != 0 && slot.casterVersion[i] == in.version) continue;
+        if (in.version != 0 && slot.casterVersion[i] == in.version) return;
         slot.casterVersion[i] = in.version;
         gpu::GpuCaster c;
         c.lo = glm::vec4(in.lo, 0.0f);
@@ -532,10 +611,15 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
         c.draw = glm::uvec4(in.castsShadows ? in.indexCount : 0u, in.firstIndex, in.vertexOffset,
                             in.dynamic ? 1u : 0u);
         c.meshlets = glm::uvec4(in.firstMeshlet, in.meshletCount, in.closed ? 1u : 0u, 0u);
-        if (!whole && std::memcmp(&slot.uploadedCasters[i], &c, sizeof(c)) == 0) continue;
+        if (!whole && std::memcmp(&slot.uploadedCasters[i], &c, sizeof(c)) == 0) return;
         slot.uploadedCasters[i] = c;
         mapped[i] = c;
-    }
+    };
+    if (whole)
+        for (uint32_t i = 0; i < instances.size(); ++i) writeCaster(i);
+    else
+        for (uint32_t i : slot.pendingCasters) writeCaster(i);
+    slot.pendingCasters.clear();
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;

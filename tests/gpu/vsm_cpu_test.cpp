@@ -2,7 +2,8 @@
 // stale bits are computed from the dynamic casters and the instances that moved, each tested against
 // the lights near it, so adding static instances that never move adds no work. Counted, not timed
 // (VsmSlotHost::sphereTests and projections): the same frames with 20 and with 2,000 static boxes do
-// the same tests and projections, and the projections follow the lights the moving box is near.
+// the same tests and projections, and the projections follow the lights the moving box is near. The
+// module's instance and light records and the VSM's caster upload visit only what the host changed.
 #include "gpu_test_util.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -27,6 +28,10 @@ struct BoxMesh {
 
 struct Work {
     uint64_t sphereTests = 0, projections = 0;
+    // Frames 2 on (frames 0 and 1 write everything into each frame slot's new buffers): instances the
+    // module compared, caster records the VSM visited, light records remade (light 5 is set to a new
+    // colour in frame 2).
+    uint64_t instancesVisited = 0, castersVisited = 0, lightRecordsMade = 0;
 };
 
 // A row of 16 spot lights 10 m apart along x (range 6), `statics` static boxes scattered in a far
@@ -69,10 +74,23 @@ Work run(uint32_t statics, uint32_t frames) {
     for (uint32_t f = 0; f < frames; ++f) {
         const glm::vec3 at(2.0f + float(f), 0.0f, 0.0f); // under lights 0 and 1
         EXPECT_TRUE(m.setInstanceTransform(mover.value(), glm::translate(glm::mat4(1.0f), at)));
-        renderFrame(m);
+        if (f == 2) {
+            LightDesc spot;
+            spot.position = {50.0f, 5.0f, 0.0f};
+            spot.direction = {0, -1, 0};
+            spot.range = 6.0f;
+            spot.color = {1.0f, 0.5f, 0.25f};
+            EXPECT_TRUE(m.setLight(LightId(5), spot));
+        }
         const auto& impl = internals(m);
+        const uint64_t instancesBefore = impl.instancesVisited, lightsBefore = impl.lightRecordsMade;
+        renderFrame(m);
         w.sphereTests += impl.vsm.slotHost(impl.lastSlot).sphereTests;
         w.projections += impl.vsm.slotHost(impl.lastSlot).projections;
+        if (f < 2) continue;
+        w.instancesVisited += impl.instancesVisited - instancesBefore;
+        w.castersVisited += impl.vsm.slotHost(impl.lastSlot).castersVisited;
+        w.lightRecordsMade += impl.lightRecordsMade - lightsBefore;
     }
     EXPECT_EQ(validationErrors(), 0u);
     return w;
@@ -94,6 +112,24 @@ TEST(VsmCpu, WorkFollowsTheMovingInstances) {
     EXPECT_LE(many.projections, 12u);
     // Sphere tests: a window of the lights near x (3 of the 16 at most per box), not all 16.
     EXPECT_LE(many.sphereTests, 3u * 2 * 3 + 3u * 4);
+}
+
+// The module's own per-frame pass over instances and lights follows the host's calls too: in frames 2-3
+// only the moving box is compared (one instance a frame), the VSM's caster upload visits the changes
+// since its slot's last frame (the mover of this frame and of the one before: at most 2 a frame), and a
+// light's records are remade only in the frame after setLight (one light), whatever the instance count.
+TEST(VsmCpu, RecordVisitsOnlyWhatTheHostChanged) {
+    const Work few = run(20, 4), many = run(2000, 4);
+    std::printf("frames 2-3: instances visited %llu / %llu, casters %llu / %llu, light records %llu / %llu\n",
+                (unsigned long long)few.instancesVisited, (unsigned long long)many.instancesVisited,
+                (unsigned long long)few.castersVisited, (unsigned long long)many.castersVisited,
+                (unsigned long long)few.lightRecordsMade, (unsigned long long)many.lightRecordsMade);
+    EXPECT_EQ(many.instancesVisited, 2u) << "one moving instance a frame";
+    EXPECT_EQ(few.castersVisited, many.castersVisited);
+    EXPECT_GE(many.castersVisited, 2u);
+    EXPECT_LE(many.castersVisited, 4u);
+    EXPECT_EQ(many.lightRecordsMade, 1u) << "setLight on one light";
+    EXPECT_EQ(few.lightRecordsMade, 1u);
 }
 
 } // namespace
