@@ -216,6 +216,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         sl.uploadedRuns.clear();
         sl.orderBuilt = false; // rankBase was resized
         sl.host.maps.resize(capacity, gpu::GpuVsmMap{});
+        sl.mapKey.resize(capacity, glm::uvec4(0));
         sl.host.rankBase.resize(size_t(capacity) * mips_, 0);
     }
     maps_.resize(capacity, VsmMapInfo{});
@@ -383,12 +384,9 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     const uint64_t mip0 = uint64_t(settings_.resolution) * settings_.resolution * 4;
     uint64_t allMips = 0;
     for (uint32_t m = 0; m < mips_; ++m) allMips += mip0 >> (2 * m);
-    // The projection kind per active map from the allocation order's key (built from the same active
-    // list, 16 B a map) rather than each map's record.
-    const bool keyed = slot.orderKey.size() == slot.host.active.size();
-    for (size_t i = 0; i < slot.host.active.size(); ++i) {
-        const uint32_t kind = keyed ? slot.orderKey[i].y : maps_[slot.host.active[i]].gpu.info.x;
-        const bool ortho = kind == ML_VSM_ORTHOGRAPHIC;
+    // The projection kind per active map from its key (16 B a map) rather than its record.
+    for (uint32_t map : slot.host.active) {
+        const bool ortho = slot.mapKey[map].x == ML_VSM_ORTHOGRAPHIC;
         s.virtualBytes += ortho ? mip0 : allMips;
         s.atlasBytes += mip0;
     }

@@ -194,7 +194,12 @@ struct VsmSlot {
     std::vector<uint32_t> pendingCasters;
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
-    std::vector<glm::uvec4> orderKey; // (map, kind, level, levels) per active map host.runs was built for
+    // Per map slot, what the allocation order reads of host.maps (x info.x: the projection, y light.y:
+    // face or clip level, z light.z: levels, w the DYNAMIC_ONLY flag), 16 B kept beside the 192 B
+    // records (buildFrameMaps writes both): the order, the coverage test and readStats read this.
+    std::vector<glm::uvec4> mapKey;
+    bool mapKeysChanged = true;        // some map's key changed since the order was built
+    std::vector<uint32_t> orderActive; // the active maps host.runs was built for
     bool orderBuilt = false;
     bool orderChanged = true; // this frame rebuilt runs and rankBase (uploadSlot compares them only then)
 };
@@ -267,8 +272,9 @@ class VirtualShadowMaps {
     using Slot = VsmSlot;
     struct LightState {
         uint32_t firstMap = ML_VSM_NO_MAP, mapCount = 0, kind = 0;
-        VsmLight last;
-        bool seen = false;
+        // VsmLight::version every one of its spot or point maps was last built or checked from (0: not
+        // known; reset when its slots change): an equal stamp skips the light in buildFrameMaps.
+        uint64_t builtVersion = 0;
     };
     // `count` consecutive free map slots (growing the slot pool when none are left), ML_VSM_NO_MAP when
     // settings().maxMaps are all in use.
@@ -316,9 +322,8 @@ class VirtualShadowMaps {
     // only then is the grid's input remade. The directional lights with maps take every box.
     bool spheresDirty_ = true;
     std::vector<uint32_t> directionalWithMaps_;
-    std::vector<glm::uvec4> orderScratch_; // buildAllocationOrder's key of this frame (no allocation)
-    bool anyBakedMaps_ = false;            // some light with maps is baked (its maps take coverage boxes)
-    std::vector<uint8_t> movedMaps_;       // buildFrameMaps: maps whose projection changed this frame
+    bool anyBakedMaps_ = false;      // some light with maps is baked (its maps take coverage boxes)
+    std::vector<uint8_t> movedMaps_; // buildFrameMaps: maps whose projection changed this frame
     // Bumped (from mapStampNext_) whenever maps_[m]'s record or use changes: the slots' copies follow it.
     std::vector<uint64_t> mapStamp_;
     uint64_t mapStampNext_ = 0;

@@ -261,6 +261,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
             }
             std::sort(freeSlots_.rbegin(), freeSlots_.rend());
             st.firstMap = ML_VSM_NO_MAP;
+            st.builtVersion = 0;
             spheresDirty_ = true;
         }
         if (needs[id] && st.firstMap == ML_VSM_NO_MAP) {
@@ -273,6 +274,7 @@ Result<void> VirtualShadowMaps::assignMapSlots(const Device& device, Slot& slot,
             }
             st.mapCount = count;
             st.kind = lights[id].kind;
+            st.builtVersion = 0;
             spheresDirty_ = true;
             for (uint32_t m = 0; m < count; ++m) {
                 maps_[st.firstMap + m] = VsmMapInfo{};
@@ -297,9 +299,11 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
     // a free one zeros.
     movedMaps_.assign(mapsInUse_, 0);
     for (uint32_t id = 0; id < lights.size(); ++id) {
-        const LightState& st = lightState_[id];
+        LightState& st = lightState_[id];
         if (st.firstMap == ML_VSM_NO_MAP) continue;
         const VsmLight& l = lights[id];
+        const bool local = l.kind != ML_LIGHT_DIRECTIONAL;
+        if (local && l.version != 0 && st.builtVersion == l.version) continue; // its maps are as built
         for (uint32_t f = 0; f < st.mapCount; ++f) {
             bool moved = false;
             const VsmMapInfo& info = maps_[st.firstMap + f];
@@ -318,6 +322,7 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
             if (l.kind != ML_LIGHT_DIRECTIONAL) spheresDirty_ = true; // position, range or bake may differ
             if (moved) movedMaps_[st.firstMap + f] = 1;
         }
+        if (local) st.builtVersion = l.version;
     }
     // The slot's copy is rewritten only where maps_ changed since (mapStamp_) or a per-frame INVALIDATE
     // flag of its last frame must go: not every map in use each frame.
@@ -331,7 +336,11 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         if (slot.mapStamp[m] == mapStamp_[m] && !movedMaps_[m]) continue;
         slot.mapStamp[m] = mapStamp_[m];
         slot.mapsWritten.push_back(m);
-        slot.host.maps[m] = maps_[m].inUse ? maps_[m].gpu : gpu::GpuVsmMap{};
+        const gpu::GpuVsmMap& g = slot.host.maps[m] = maps_[m].inUse ? maps_[m].gpu : gpu::GpuVsmMap{};
+        const glm::uvec4 key(g.info.x, g.light.y, g.light.z, g.info.y & ML_VSM_MAP_DYNAMIC_ONLY);
+        if (slot.mapKey.size() <= m) slot.mapKey.resize(size_t(m) + 1, glm::uvec4(0));
+        if (slot.mapKey[m] != key) slot.mapKeysChanged = true;
+        slot.mapKey[m] = key;
         if (movedMaps_[m]) {
             slot.host.maps[m].info.y |= ML_VSM_MAP_INVALIDATE;
             slot.flaggedMaps.push_back(m);
@@ -446,15 +455,14 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         while (end < hits.size() && hits[end].first == k) ++end;
         for (uint32_t m = st.firstMap; m < st.firstMap + st.mapCount; ++m) {
             if (!maps_[m].inUse) continue;
-            const gpu::GpuVsmMap& g = slot.host.maps[m];
-            const bool dynamicOnly = (g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0;
+            const bool dynamicOnly = slot.mapKey[m].w != 0;
             for (size_t j = h; j < end; ++j) {
                 const Box& box = boxes[hits[j].second];
                 // Coverage: dynamic-only maps; stale: every map, dynamic-only ones for dynamic casters.
                 if (box.coverage ? !dynamicOnly : (dynamicOnly && !instances[box.instance].dynamic)) continue;
                 glm::uvec4 rect;
                 ++slot.host.projections;
-                if (!vsmProjectBox(g, box.lo, box.hi, s0_, rect)) continue;
+                if (!vsmProjectBox(slot.host.maps[m], box.lo, box.hi, s0_, rect)) continue;
                 setRectBits(box.coverage ? slot.host.coverage : slot.host.stale, m, rect, s0_, mips_,
                             entriesPerMap_);
                 touched.push_back(m);
@@ -508,30 +516,24 @@ std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<cons
 void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
     // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
     // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
-    // within a level, active map order. It depends only on the active maps, their kind and their levels:
-    // kept while those are what this slot's order was built for. Each map record is read once (into the
-    // key); the level loop runs over the key.
-    std::vector<glm::uvec4>& key = orderScratch_;
-    key.resize(slot.host.active.size());
-    for (size_t i = 0; i < key.size(); ++i) {
-        const gpu::GpuVsmMap& g = slot.host.maps[slot.host.active[i]];
-        key[i] = glm::uvec4(slot.host.active[i], g.info.x, g.light.y, g.light.z);
-    }
-    slot.orderChanged = !slot.orderBuilt || slot.orderKey != key;
+    // within a level, active map order. It depends only on the active maps, their kind and their levels
+    // (slot.mapKey): kept while those are what this slot's order was built for.
+    slot.orderChanged = !slot.orderBuilt || slot.mapKeysChanged || slot.orderActive != slot.host.active;
     if (!slot.orderChanged) return;
-    std::swap(slot.orderKey, key);
+    slot.orderActive = slot.host.active;
     slot.orderBuilt = true;
+    slot.mapKeysChanged = false;
     slot.host.runs.clear();
     uint32_t rank = 0;
     const uint32_t steps = std::max(mips_, settings_.clipLevels);
     for (uint32_t r = 0; r < steps; ++r)
-        for (const glm::uvec4& k : slot.orderKey) {
-            const uint32_t m = k.x;
-            const bool ortho = k.y == ML_VSM_ORTHOGRAPHIC;
-            const uint32_t count = ortho ? k.w : mips_; // clip levels, or mips
+        for (uint32_t m : slot.host.active) {
+            const glm::uvec4& k = slot.mapKey[m];
+            const bool ortho = k.x == ML_VSM_ORTHOGRAPHIC;
+            const uint32_t count = ortho ? k.z : mips_; // clip levels, or mips
             if (r >= count) continue;
             const uint32_t level = count - 1 - r;
-            if (ortho && k.z != level) continue;
+            if (ortho && k.y != level) continue;
             const uint32_t mip = ortho ? 0u : level;
             const uint32_t n = (s0_ >> mip) * (s0_ >> mip);
             slot.host.runs.push_back(glm::uvec4(rank, m, mip, n));
