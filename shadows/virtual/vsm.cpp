@@ -64,6 +64,29 @@ bool vsmProjectBox(const gpu::GpuVsmMap& map, glm::vec3 lo, glm::vec3 hi, uint32
     return true;
 }
 
+VsmCone vsmSpotCone(const VsmLight& l) {
+    VsmCone c;
+    if (l.kind != ML_LIGHT_SPOT) return c;
+    // spotLightFrustum: fov 2 x outer, square, so its corner rays have tangent sqrt(2) tan(outer).
+    const float t = 1.02f * std::sqrt(2.0f) * std::tan(l.outerAngle);
+    if (!(t < 50.0f)) return c; // nearly a half space: no cone
+    c.axis = glm::normalize(l.direction);
+    c.cos = 1.0f / std::sqrt(1.0f + t * t);
+    c.sin = t * c.cos;
+    return c;
+}
+
+bool vsmBoxMayTouchCone(const VsmCone& c, glm::vec3 apex, glm::vec3 lo, glm::vec3 hi) {
+    if (c.cos < -0.5f) return true;
+    // The bounding sphere's distance to the cone's generator lines (a lower bound of its distance to
+    // the cone, also behind the apex) against its radius, with a little slack for rounding.
+    const glm::vec3 v = 0.5f * (lo + hi) - apex;
+    const float r = 0.5f * glm::length(hi - lo);
+    const float a = glm::dot(v, c.axis);
+    const float perp = std::sqrt(std::max(glm::dot(v, v) - a * a, 0.0f));
+    return perp * c.cos - a * c.sin <= r * 1.001f + 1e-3f;
+}
+
 Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, uint32_t framesInFlight) {
     settings_ = s;
     if (!s.enabled) return {};

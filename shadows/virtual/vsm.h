@@ -341,6 +341,21 @@ class VirtualShadowMaps {
     uint32_t hpbLevels_ = 0, hpbWords_ = 0;
 };
 
+// A cone from a spot light's position along its direction that contains its map's square frustum
+// (half-angle tangent sqrt(2) tan(outer), 2 % wider); cos < -0.5: none (point and directional lights).
+struct VsmCone {
+    glm::vec3 axis{0.0f};
+    float cos = -1.0f, sin = 0.0f;
+    bool operator==(const VsmCone&) const = default;
+};
+VsmCone vsmSpotCone(const VsmLight& light);
+// False only when the box lies wholly outside the cone, so outside the map's frustum: drawing it changes
+// no texel of the map (VsmCpu.SpotConeNeverRefusesABoxTheMapTakes). markCoverageAndStale tests it before
+// projecting, which saves the map record's read for boxes beside or behind a spot light; it is tighter
+// than vsmProjectBox's plane test, which takes some boxes beside the frustum's corners (their stale bits
+// were never needed).
+bool vsmBoxMayTouchCone(const VsmCone& cone, glm::vec3 apex, glm::vec3 lo, glm::vec3 hi);
+
 // Projected bounds of a world box in a map, in mip-0 pages (inclusive); false when the box is outside
 // the map's frustum. A box reaching behind the light covers the whole map. Used for coverage and stale
 // bits on the CPU (the GPU culling pass does the same test in vsm_cull.comp).

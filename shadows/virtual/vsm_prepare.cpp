@@ -90,8 +90,13 @@ struct VsmSphere {
     float r;
     uint32_t light;
     bool bakedOnly; // its maps hold dynamic casters only (ML_VSM_MAP_DYNAMIC_ONLY: VsmLight::staticBake)
+    VsmCone cone;   // spot lights: around the map's frustum (vsmSpotCone); none for point lights
     bool operator==(const VsmSphere&) const = default;
 };
+
+static VsmSphere lightSphere(const VsmLight& l, uint32_t id) {
+    return {l.position, 1.1f * l.range, id, l.staticBake, vsmSpotCone(l)};
+}
 
 // Lights (spheres) binned into a uniform x/z grid for box queries (markCoverageAndStale). Cells are
 // twice the median radius, at most 64 x 64 over the lights' extent (a cheap build: 4,097 offsets); a sphere
@@ -383,7 +388,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
                 directionalWithMaps_.push_back(id);
                 continue;
             }
-            local.push_back({l.position, 1.1f * l.range, id, l.staticBake});
+            local.push_back(lightSphere(l, id));
         }
         if (!grid_ || grid_->spheres != local)
             grid_ = std::make_shared<VsmLightGrid>(VsmLightGrid::build(local));
@@ -443,7 +448,9 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
                 ++slot.host.sphereTests;
                 const glm::vec3 d =
                     glm::max(glm::max(boxes[b].lo - sp.c, sp.c - boxes[b].hi), glm::vec3(0.0f));
-                if (glm::dot(d, d) <= sp.r * sp.r) hits.emplace_back(sp.light, b);
+                if (glm::dot(d, d) <= sp.r * sp.r &&
+                    vsmBoxMayTouchCone(sp.cone, sp.c, boxes[b].lo, boxes[b].hi))
+                    hits.emplace_back(sp.light, b);
             }
         });
     }
