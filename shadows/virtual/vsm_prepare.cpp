@@ -488,10 +488,11 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
     // The pixel footprint per metre, divided by the texels wanted per pixel: the mip (or clip level) a
     // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
-    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
-                             settings_.texelsPerPixel,
-                         settings_.pageClip ? 1.0f : 0.0f, reservesFallbacks(frame) ? 1.0f : 0.0f,
-                         settings_.staticLayer ? 1.0f : 0.0f);
+    c.camera = glm::vec4(
+        2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) / settings_.texelsPerPixel,
+        settings_.pageClip ? 1.0f : 0.0f, reservesFallbacks(frame) ? 1.0f : 0.0f,
+        // Without caching every page is redrawn whole each frame: no twin is kept or written.
+        settings_.staticLayer && settings_.caching ? 1.0f : 0.0f);
     c.order =
         glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, settings_.requestCapacity, hpbWords_);
     lastConstants_ = c;

@@ -69,7 +69,7 @@ ML_STRUCT(VsmConstants) {
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), y 1 when page draws
                    // are clipped to their page (VsmSettings::pageClip), else 0; z 1 when receivers reserve
                    // fallback pages this frame (VsmSettings::fallbacksOnDemand), else 0; w 1 with the
-                   // static layer (VsmSettings::staticLayer: the pool's second half), else 0
+                   // static layer (VsmSettings::staticLayer: the pool's second half) and caching, else 0
     uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, z capacity
                    // of the request list (a power of two >= ML_VSM_BLOCK), w HPB words per map slot
 };
