@@ -32,13 +32,14 @@
 //                 meshlets (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles
 //                 covering no sample or back-facing on a closed caster; vsm_draw.frag is shared, so both
 //                 paths write the same depths;
-//     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page), or, for a page
-//                 that only a moving dynamic caster invalidated, to a copy of its static twin (the static
-//                 layer, VsmSettings::staticLayer: the static casters' depths alone, in the pool's second
-//                 half), after which only the dynamic casters are drawn into it;
+//     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page), and their static
+//                 twins (the static layer, VsmSettings::staticLayer: the static casters' depths alone, in
+//                 the pool's second half) unless only a moving dynamic caster invalidated the page;
 //     vsm_draw    per mip two indirect-count draws (the lists above), each draw clipped to its dirty
 //                 page; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
+//     vsm_merge   static layer: the static casters went to the twins, the dynamic ones to the pages; each
+//                 rendered page takes the minimum of both (the value one layer would hold, bit for bit);
 //   and the evaluation pass reads pages through the page table (vsm_common.glsl), falling back to a
 //   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently (a
 //   lookup with no page at all is counted; that happens when pressure arrives within the frames in

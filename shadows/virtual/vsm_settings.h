@@ -69,7 +69,8 @@ struct VsmSettings {
     bool pageClip = true;
     // The static layer: every physical page gets a twin holding the static casters' depths alone (the
     // pool's memory doubles: 128 MiB at the defaults). A page invalidated only by a moving dynamic caster
-    // (a cart) is then redrawn from a copy of its twin plus the dynamic casters, not every caster again.
+    // (a cart) then redraws only the dynamic casters and takes the minimum with its twin (vsm_merge.comp),
+    // not every caster again; static casters go to the twins only (one atomic per fragment either way).
     // Exact: the static casters' depths are unchanged, and the atomic minimum is order-independent.
     bool staticLayer = true;
     uint32_t maxDrawsPerMip = 16384;

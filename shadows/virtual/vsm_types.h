@@ -23,12 +23,12 @@
 // The static layer (VsmSettings::staticLayer): each physical page has a twin in the pool's second half
 // holding the depths of the static casters alone. STATIC_VALID: the twin holds what a fresh render of
 // the static casters would; DIRTY_STATIC: the twin is rendered this frame too. A page that lost VALID
-// to a moving dynamic caster only keeps STATIC_VALID: it is redrawn from a copy of its twin plus the
-// dynamic casters (the static ones are not drawn again).
+// to a moving dynamic caster only keeps STATIC_VALID: only the dynamic casters are drawn again, and
+// vsm_merge takes the minimum of them and the twin (the static ones are not drawn again).
 #define ML_VSM_STATIC_VALID 0x08000000u
 #define ML_VSM_DIRTY_STATIC 0x10000000u
 // vsm_assign's rendered-page list: this bit on the physical page index when its twin is kept (the clear
-// pass copies the twin instead of emptying the page).
+// pass empties the page only, not the twin).
 #define ML_VSM_RENDER_FROM_STATIC 0x80000000u
 #define ML_VSM_NO_OWNER 0xFFFFFFFFu // physical page without a virtual page
 
