@@ -385,7 +385,8 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.mapsActive = slot.activeCount;
     const uint64_t page = uint64_t(settings_.pageSize) * settings_.pageSize * 4;
     s.poolBytes = page * settings_.poolPages * (settings_.staticLayer ? 2 : 1); // with the static twins
-    s.usedBytes = page * c.pagesAllocated;
+    // An allocated page holds its static twin too (only written with caching: it is the pool's memory).
+    s.usedBytes = page * c.pagesAllocated * (settings_.staticLayer ? 2 : 1);
     const uint64_t mip0 = uint64_t(settings_.resolution) * settings_.resolution * 4;
     uint64_t allMips = 0;
     for (uint32_t m = 0; m < mips_; ++m) allMips += mip0 >> (2 * m);
