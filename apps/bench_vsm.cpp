@@ -144,7 +144,8 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
             << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
             << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << "," << v.trianglesAfterTask << ","
             << v.trianglesRasterized << "," << v.fragmentsDrawn << "," << v.dirtyPageTexels << ","
-            << v.requestOverflow << "," << v.pageClipOverflow << "\n";
+            << v.requestOverflow << "," << v.pageClipOverflow << "," << v.pagesNew << ","
+            << v.pagesInvalidatedCaster << "," << v.pagesRenderedDynamic << "\n";
         row.fallbacks += v.fallbacks;
         row.overflow += v.pageClipOverflow;
         if (f == 0) row.firstDrawMs = ms(Pass::VsmDraw);
@@ -277,7 +278,8 @@ int runBenchVsm(int argc, char** argv) {
     csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
            "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
            "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
-           "rasterized,fragments_drawn,dirty_page_texels,request_overflow,page_clip_overflow\n";
+           "rasterized,fragments_drawn,dirty_page_texels,request_overflow,page_clip_overflow,pages_new,"
+           "pages_invalidated_caster,pages_rendered_dynamic\n";
     std::vector<Row> rows;
     for (const std::string& kind : c.kinds)
         for (bool cached : {false, true})

@@ -207,7 +207,8 @@ uint64_t estimatePeak(const VsmSessionOptions& o) {
     const VsmSettings& v = o.module.vsm;
     const uint64_t s0 = v.resolution / v.pageSize;
     const uint64_t entries = uint64_t(v.maxMaps) * (s0 * s0 * 4 / 3 + 1);
-    const uint64_t vsm = entries * 4 * 2 + uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4;
+    const uint64_t vsm =
+        entries * 4 * 2 + uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4 * (v.staticLayer ? 2 : 1);
     const uint64_t probes = uint64_t(v.probeCapacity) * 48 * 2;
     const uint64_t reference = uint64_t(v.resolution) * v.resolution * 8 + (uint64_t(1) << 20) * 64;
     return (uint64_t(512) << 20) + diag::targetBytes(o.width, o.height, true) + vsm + probes + reference;

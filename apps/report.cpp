@@ -34,6 +34,8 @@ std::string vsmJson(const VsmStats& v) {
     o.integer("triangles_rasterized", v.trianglesRasterized).integer("meshlet_overflow", v.meshletOverflow);
     o.integer("fragments_drawn", v.fragmentsDrawn).integer("dirty_page_texels", v.dirtyPageTexels);
     o.integer("page_clip_overflow", v.pageClipOverflow).integer("request_overflow", v.requestOverflow);
+    o.integer("pages_new", v.pagesNew).integer("pages_invalidated_caster", v.pagesInvalidatedCaster);
+    o.integer("pages_rendered_dynamic", v.pagesRenderedDynamic);
     return o.str();
 }
 } // namespace

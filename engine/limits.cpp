@@ -116,11 +116,12 @@ Result<VsmSettings> fitVsmSettings(const DeviceLimitTable& l, const VsmSettings&
         s.maxMaps = uint32_t(maxMaps);
     }
     // The physical pool (4 B per texel) is one binding too.
-    const uint64_t pageBytes = uint64_t(s.pageSize) * s.pageSize * 4;
+    const uint64_t pageBytes = uint64_t(s.pageSize) * s.pageSize * 4 * (s.staticLayer ? 2 : 1); // and twin
     const uint64_t maxPool = std::min<uint64_t>(range / pageBytes, ML_VSM_PHYS_MASK);
     if (s.poolPages > maxPool) {
         notes.push_back("vsm: pool pages " + std::to_string(s.poolPages) + " -> " + std::to_string(maxPool) +
-                        ": " + std::to_string(s.pageSize) + "^2 pages fit the device's " +
+                        ": " + std::to_string(s.pageSize) + "^2 pages" +
+                        (s.staticLayer ? " and their static twins" : "") + " fit the device's " +
                         "maxStorageBufferRange " + mib(range) +
                         " that many times (past them, coarser pages, "
                         "counted as fallbacks)");

@@ -109,9 +109,12 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
         if (v.pageSize > v.resolution) return fail("vsm: page size is larger than the resolution");
         if (v.poolPages < 1 || v.poolPages > ML_VSM_PHYS_MASK)
             return fail("vsm: pool pages " + std::to_string(v.poolPages) + " outside 1..16777215");
-        if (uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4 > (uint64_t(1) << 32) - 4)
+        // With the static layer the pool buffer holds every page twice (the static twins).
+        if (uint64_t(v.poolPages) * v.pageSize * v.pageSize * 4 * (v.staticLayer ? 2 : 1) >
+            (uint64_t(1) << 32) - 4)
             return fail("vsm: a pool of " + std::to_string(v.poolPages) + " pages of " +
-                        std::to_string(v.pageSize) + "^2 exceeds 4 GiB");
+                        std::to_string(v.pageSize) + "^2 exceeds 4 GiB" +
+                        (v.staticLayer ? " with its static twins" : ""));
         if (v.maxMaps < 1 || v.maxMaps > 65536) return fail("vsm: max maps outside 1..65536");
         if (v.clipLevels < 1 || v.clipLevels > 20) return fail("vsm: clip levels outside 1..20");
         if (!(v.clipHalfExtent > 0) || !std::isfinite(v.clipHalfExtent) || !(v.clipDepth > 0) ||

@@ -100,7 +100,9 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
                               ML_VSM_NO_OWNER));
     ML_TRY(createDeviceBuffer(d, pages_.lastUsed, size_t(s.poolPages) * 4, kStorageBufferUsage,
                               "vsm_last_used"));
-    ML_TRY(createDeviceBuffer(d, pages_.pool, size_t(s.poolPages) * s.pageSize * s.pageSize * 4,
+    // With the static layer the second half holds each page's static twin (vsm_types.h).
+    ML_TRY(createDeviceBuffer(d, pages_.pool,
+                              size_t(s.poolPages) * s.pageSize * s.pageSize * 4 * (s.staticLayer ? 2 : 1),
                               kStorageBufferUsage, "vsm_pool", 0xFFFFFFFFu));
     // The request list: a power of two, so vsm_sort's merge passes end on one sorted run.
     const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
@@ -188,7 +190,8 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
             ML_TRY(createBuffer(d, sl.maps, size_t(capacity) * sizeof(gpu::GpuVsmMap), kStorageBufferUsage,
                                 "vsm_maps"));
             ML_TRY(createBuffer(d, sl.coverage, bitWords * 4, kStorageBufferUsage, "vsm_coverage"));
-            ML_TRY(createBuffer(d, sl.stale, bitWords * 4, kStorageBufferUsage, "vsm_stale"));
+            // Two regions: any caster's bounds changed, then a static caster's (the static twins).
+            ML_TRY(createBuffer(d, sl.stale, 2 * bitWords * 4, kStorageBufferUsage, "vsm_stale"));
             ML_TRY(createBuffer(d, sl.active, size_t(capacity) * 4, kStorageBufferUsage, "vsm_active"));
             // At most one run per active map and level of detail.
             ML_TRY(createBuffer(d, sl.runs,
@@ -230,7 +233,7 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         const auto to = slotSized(sl);
         for (size_t i = 0; i < to.size(); ++i) *to[i] = *from[i];
         sl.host.coverage.resize(bitWords, 0);
-        sl.host.stale.resize(bitWords, 0);
+        sl.host.stale.assign(2 * bitWords, 0);
         sl.bitsFull = true; // new buffers: uploaded whole once
         sl.uploadedMaps.clear();
         sl.mapStamp.clear(); // host.maps rewritten from maps_ in full next frame
@@ -396,14 +399,18 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.fragmentsDrawn = c.fragmentsDrawn;
     s.dirtyPageTexels = uint64_t(c.pagesRendered) * settings_.pageSize * settings_.pageSize;
     s.pageClipOverflow = c.pageClipOverflow;
+    s.pagesNew = c.pagesNew;
+    s.pagesInvalidatedCaster = c.pagesInvalidatedCaster;
+    s.pagesRenderedDynamic = c.pagesRenderedDynamic;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;
     s.requestOverflow = c.listOverflow;
     s.mapsActive = slot.activeCount;
     const uint64_t page = uint64_t(settings_.pageSize) * settings_.pageSize * 4;
-    s.poolBytes = page * settings_.poolPages;
-    s.usedBytes = page * c.pagesAllocated;
+    s.poolBytes = page * settings_.poolPages * (settings_.staticLayer ? 2 : 1); // with the static twins
+    // An allocated page holds its static twin too (only written with caching: it is the pool's memory).
+    s.usedBytes = page * c.pagesAllocated * (settings_.staticLayer ? 2 : 1);
     const uint64_t mip0 = uint64_t(settings_.resolution) * settings_.resolution * 4;
     uint64_t allMips = 0;
     for (uint32_t m = 0; m < mips_; ++m) allMips += mip0 >> (2 * m);

@@ -14,7 +14,8 @@
 //     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
 //     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
 //     vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner entry (light
-//                 moved, moved casters' old and new projected bounds: "stale" bits prepared by the CPU),
+//                 moved, moved casters' old and new projected bounds: "stale" bits prepared by the CPU,
+//                 a static caster's also invalidating the page's static twin),
 //                 page classes per block (free, then unwanted least recently used);
 //     vsm_scan    per listed entry: LRU refresh, requests;
 //     vsm_alloc   one workgroup over block counts: request ranks, available-page list bases;
@@ -31,10 +32,14 @@
 //                 meshlets (frustum, back-facing cone of closed casters, HPB), vsm_draw.mesh triangles
 //                 covering no sample or back-facing on a closed caster; vsm_draw.frag is shared, so both
 //                 paths write the same depths;
-//     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page);
+//     vsm_clear   the rendered pages' texels to empty (indirect, one workgroup per page), and their static
+//                 twins (the static layer, VsmSettings::staticLayer: the static casters' depths alone, in
+//                 the pool's second half) unless only a moving dynamic caster invalidated the page;
 //     vsm_draw    per mip two indirect-count draws (the lists above), each draw clipped to its dirty
 //                 page; fragments of DIRTY
 //                 pages take the atomic minimum of their depth in the physical page;
+//     vsm_merge   static layer: the static casters went to the twins, the dynamic ones to the pages; each
+//                 rendered page takes the minimum of both (the value one layer would hold, bit for bit);
 //   and the evaluation pass reads pages through the page table (vsm_common.glsl), falling back to a
 //   coarser mip when the pool had no page, so a full pool never leaves a pixel unshadowed silently (a
 //   lookup with no page at all is counted; that happens when pressure arrives within the frames in

@@ -5,7 +5,9 @@
 // past the list it is a fallback (counted; the lookup reads a coarser page). Every marked entry with a
 // page that is not valid is then rendered this frame (and, under pressure, every reserved fallback page
 // too): DIRTY | VALID, its physical page appended to the clear list (the clear pass's indirect dispatch
-// size), and its map's mip flagged for the draw passes. Only wanted entries are written, and no wanted
+// size), and its map's mip flagged for the draw passes. With the static layer, a page whose static twin
+// is still valid is listed to be redrawn from it (ML_VSM_RENDER_FROM_STATIC), else the twin is rendered
+// too (STATIC_VALID | DIRTY_STATIC). Only wanted entries are written, and no wanted
 // entry is ever evicted, so the writes do not race.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
@@ -59,9 +61,15 @@ void main() {
         }
     }
     if ((pt & ML_VSM_VALID) == 0u && (marked || vsmCounters.pressure != 0u)) {
+        // With the static layer, a page whose twin is still valid is redrawn from it (dynamic casters
+        // only); otherwise both are rendered.
+        bool fromStatic = (pt & ML_VSM_STATIC_VALID) != 0u;
         pt |= ML_VSM_VALID | ML_VSM_DIRTY;
+        if (vsm.camera.w != 0.0 && !fromStatic) pt |= ML_VSM_STATIC_VALID | ML_VSM_DIRTY_STATIC;
         uint slot = atomicAdd(vsmCounters.dispatchX, 1u);
-        vsmRendered[slot] = pt & ML_VSM_PHYS_MASK;
+        vsmRendered[slot] = (pt & ML_VSM_PHYS_MASK) | (fromStatic ? ML_VSM_RENDER_FROM_STATIC : 0u);
+        if (request) atomicAdd(vsmCounters.pagesNew, 1u);
+        if (fromStatic) atomicAdd(vsmCounters.pagesRenderedDynamic, 1u);
         // The first dirty page of a map lists it for the culling passes (their dispatch's y size).
         if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u) vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
         atomicAdd(vsmCounters.pagesRendered, 1u);

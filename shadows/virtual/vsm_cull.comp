@@ -6,7 +6,8 @@
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
 // static bake take dynamic casters only. Draws go to two lists per mip, closed and open casters (one
 // indirect-count draw each, the closed list with back faces culled):
-// one draw per dirty page under the projected bounds, clipped to that page (vsm_page_clip.glsl).
+// one draw per dirty page under the projected bounds, clipped to that page (vsm_page_clip.glsl); a
+// static caster skips pages redrawn from their static twin (vsmPageDrawn).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
 
@@ -46,6 +47,7 @@ void main() {
     vec2 lo, hi;
     vsmProjectedBounds(m.viewProj, c.lo.xyz, c.hi.xyz, lo, hi);
     bool closedInFront = vsmClosedInFront(m, c);
+    bool dynamicCaster = c.draw.w != 0u;
 
     for (uint mip = 0u; mip < vsm.page.w; ++mip) {
         if ((mipsDirty & (1u << mip)) == 0u) continue;
@@ -63,7 +65,7 @@ void main() {
         uint n = clip ? 0u : 1u;
         for (int y = p0.y; y <= p1.y; ++y)
             for (int x = p0.x; x <= p1.x; ++x)
-                if (clip && vsmPageDirty(map, mip, x, y)) ++n;
+                if (clip && vsmPageDrawn(map, mip, x, y, dynamicCaster)) ++n;
         // Counted per (instance, map, mip) as vsm_expand counts the mesh path's, whatever the pages.
         atomicAdd(vsmCounters.instancesDrawn, 1u);
         if (n == 0u) continue;
@@ -75,7 +77,7 @@ void main() {
         uint written = 0u;
         for (int y = p0.y; y <= p1.y; ++y)
             for (int x = p0.x; x <= p1.x; ++x) {
-                if (clip && !vsmPageDirty(map, mip, x, y)) continue;
+                if (clip && !vsmPageDrawn(map, mip, x, y, dynamicCaster)) continue;
                 if (slot >= push.capacity) break;
                 uint d = (list * vsm.page.w + mip) * push.capacity + slot;
                 draws[d * 5u + 0u] = c.draw.x; // index count
@@ -83,7 +85,7 @@ void main() {
                 draws[d * 5u + 2u] = c.draw.y; // first index
                 draws[d * 5u + 3u] = c.draw.z; // vertex offset
                 draws[d * 5u + 4u] = d;        // first instance: this draw's drawInfo
-                drawInfo[d] = uvec4(instance, map, clip ? vsmPackPage(x, y) : ML_VSM_PAGE_NONE, 0u);
+                drawInfo[d] = uvec4(instance, map, clip ? vsmPackPage(x, y) : ML_VSM_PAGE_NONE, c.draw.w);
                 ++slot;
                 ++written;
             }

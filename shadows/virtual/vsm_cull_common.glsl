@@ -76,9 +76,13 @@ void vsmPageRect(uint mip, vec2 lo, vec2 hi, out ivec2 p0, out ivec2 p1) {
     p1 = clamp(ivec2(floor((hi * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
 }
 
-// Whether page (x, y) of `mip` is rendered this frame (DIRTY).
-bool vsmPageDirty(uint map, uint mip, int x, int y) {
-    return (vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, map, mip, uint(x), uint(y))] & ML_VSM_DIRTY) != 0u;
+// Whether a caster is drawn into page (x, y) of `mip`: the page is rendered this frame and, for a static
+// caster, so is its static twin (a page redrawn from its twin takes only the dynamic casters: the
+// static ones' depths are already in the copy).
+bool vsmPageDrawn(uint map, uint mip, int x, int y, bool dynamicCaster) {
+    uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, map, mip, uint(x), uint(y))];
+    return (pt & ML_VSM_DIRTY) != 0u && (dynamicCaster || (pt & ML_VSM_DIRTY_STATIC) != 0u ||
+                                         (pt & ML_VSM_STATIC_VALID) == 0u);
 }
 
 bool vsmHpbAny(uint map, uint mip, vec2 lo, vec2 hi) {

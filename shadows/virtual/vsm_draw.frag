@@ -5,6 +5,9 @@
 // atomic minimum of its quantised linear depth into the page's physical texel (as the static dual-depth
 // bake does: order-independent, so the result does not depend on draw order). Draws are clipped to one
 // dirty page (vsm_page_clip.glsl); the DIRTY test stays for the mesh path's unclipped overflow draws.
+// With the static layer (vsm.camera.w) a static caster's fragment goes to the page's static twin instead
+// (the pool's second half), where that is rendered this frame (DIRTY_STATIC; a kept twin already holds
+// it), and vsm_merge takes the minimum of page and twin: inMap's bit 31 marks dynamic casters.
 // Every invocation is counted (VsmCounters.fragmentsDrawn: one atomic per subgroup, helpers excluded,
 // since a helper's atomic has no effect).
 #include "shaders/shared/glsl_common.glsl"
@@ -26,8 +29,14 @@ void main() {
         atomicAdd(vsmCounters.fragmentsDrawn, subgroupBallotBitCount(real));
     uvec2 t = uvec2(gl_FragCoord.xy);
     uint shift = vsm.page.y, size = vsm.page.x;
-    uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, inMap, push.mip, t.x >> shift, t.y >> shift)];
+    uint map = inMap & 0x7FFFFFFFu;
+    uint pt = vsmTable[vsmEntry(vsm.sizes.x, vsm.page.z, map, push.mip, t.x >> shift, t.y >> shift)];
     if ((pt & ML_VSM_DIRTY) == 0u) return;
     uint texel = (pt & ML_VSM_PHYS_MASK) * size * size + (t.y & (size - 1u)) * size + (t.x & (size - 1u));
-    atomicMin(vsmPool[texel], vsmQuantize(inDepth, vsmMaps[inMap].params.z));
+    uint depth = vsmQuantize(inDepth, vsmMaps[map].params.z);
+    if (vsm.camera.w != 0.0 && (inMap & 0x80000000u) == 0u) {
+        if ((pt & ML_VSM_DIRTY_STATIC) != 0u) atomicMin(vsmPool[vsm.sizes.z * size * size + texel], depth);
+        return;
+    }
+    atomicMin(vsmPool[texel], depth);
 }

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_draw: a caster into one dirty page of one mip (viewport = the mip's virtual resolution, the
 // triangles clipped to the page: vsm_page_clip.glsl), one indirect-count draw list per mip. The draw's
-// firstInstance indexes drawInfo (instance, map, page). The world position is computed with vsmPoint,
+// firstInstance indexes drawInfo (instance, map, page, 1 when the caster is dynamic). The world position is computed with vsmPoint,
 // the same operation order as the CPU reference's casters, so both rasterise the same vertices.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
@@ -29,7 +29,7 @@ void main() {
     GpuVsmMap m = vsmMaps[info.y];
     vec3 world = vsmPoint(instances[info.x].model, vec3(v.px, v.py, v.pz));
     outDepth = -vsmPoint(m.view, world).z;
-    outMap = info.y;
+    outMap = info.y | (info.w << 31u); // the fragment shader's static-layer test
     vec4 p = m.viewProj * vec4(world, 1.0);
     gl_Position = p;
     vec4 d = vsmPageClip(p, info.z, push.mip);

@@ -11,7 +11,8 @@ layout(binding = 7, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(binding = 12, std430) readonly buffer Meshlets { GpuMeshlet meshlets[]; };
 layout(push_constant) uniform Push { VsmDrawPush push; };
 
-// What a task workgroup hands its mesh workgroups: one (instance, map, meshlet, unused) per survivor,
+// What a task workgroup hands its mesh workgroups: one (instance, map, meshlet, flags: bit 0 back faces
+// culled, bit 1 dynamic caster) per survivor,
 // and per mesh workgroup the survivor (bits 24..31) and the page it is clipped to (bits 0..23,
 // vsm_page_clip.glsl; ML_VSM_PAGE_NONE: unclipped).
 struct VsmTaskPayload {

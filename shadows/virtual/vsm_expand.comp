@@ -3,7 +3,8 @@
 // vsm_expand (work expansion of the mesh path, RMVSM section 4 and Fig. 8): one thread per (caster,
 // map with a dirty page) (x, y; indirect, the maps vsm_assign listed). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
 // (frustum, HPB at the level where its projected box spans at most 2x2 cells); a surviving caster's
-// meshlets are appended to the mip's meshlet-instance list (instance, map, meshlet | cone bit << 31),
+// meshlets are appended to the mip's meshlet-instance list (instance, map | dynamic bit << 31,
+// meshlet | cone bit << 31),
 // and the mip's task-workgroup count (one VkDrawMeshTasksIndirectCommandEXT per mip, 32 meshlets per
 // workgroup) is raised to cover them. Directional clip levels use mip 0, so they share the mip-0 list.
 // The cone bit allows the task shader's back-facing test: the mesh is closed and the box lies wholly in
@@ -71,7 +72,7 @@ void main() {
         for (uint i = base; i < end; ++i) {
             uint e = (mip * push.capacity + i) * 3u;
             meshletList[e + 0u] = instance;
-            meshletList[e + 1u] = map;
+            meshletList[e + 1u] = map | (c.draw.w != 0u ? 1u << 31 : 0u); // dynamic: the task's page test
             meshletList[e + 2u] = (c.meshlets.x + i - base) | cone;
         }
     }

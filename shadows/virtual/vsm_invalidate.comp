@@ -5,7 +5,9 @@
 //   - clears last frame's DIRTY bit (only owned entries are ever DIRTY: vsm_assign sets it with a page);
 //   - invalidation: the page loses VALID when its light moved or its map became active (map flag), when
 //     a moved caster's old or new projected bounds overlap it (the CPU's stale bits, one per entry), or
-//     always with caching off.
+//     always with caching off; its static twin (ML_VSM_STATIC_VALID) survives the stale bits of dynamic
+//     casters: it is lost only to the map flag, caching off, or a static caster's bits (the second
+//     region of the stale bits, from word vsm.options.w).
 // Then counts the pages of each class (vsm_alloc_common.glsl) per block of ML_VSM_BLOCK pages, for
 // vsm_alloc's prefix sum of the available-page list.
 #include "shaders/shared/glsl_common.glsl"
@@ -38,15 +40,16 @@ void main() {
         if (entry != ML_VSM_NO_OWNER) {
             uint pt = vsmTable[entry];
             uint before = pt;
-            pt &= ~ML_VSM_DIRTY;
-            if ((pt & ML_VSM_VALID) != 0u) {
-                uint map = entry / vsm.sizes.x;
-                bool stale = vsm.options.y == 0u || (vsmMaps[map].info.y & ML_VSM_MAP_INVALIDATE) != 0u ||
-                             (vsmStale[entry >> 5u] & (1u << (entry & 31u))) != 0u;
-                if (stale) {
-                    pt &= ~ML_VSM_VALID;
-                    atomicAdd(vsmCounters.pagesInvalidated, 1u);
-                }
+            pt &= ~(ML_VSM_DIRTY | ML_VSM_DIRTY_STATIC);
+            uint map = entry / vsm.sizes.x, bit = 1u << (entry & 31u);
+            bool whole = vsm.options.y == 0u || (vsmMaps[map].info.y & ML_VSM_MAP_INVALIDATE) != 0u;
+            bool staticStale = whole || (vsmStale[vsm.options.w + (entry >> 5u)] & bit) != 0u;
+            bool stale = staticStale || (vsmStale[entry >> 5u] & bit) != 0u;
+            if (staticStale) pt &= ~ML_VSM_STATIC_VALID;
+            if ((pt & ML_VSM_VALID) != 0u && stale) {
+                pt &= ~ML_VSM_VALID;
+                atomicAdd(vsmCounters.pagesInvalidated, 1u);
+                if (!whole) atomicAdd(vsmCounters.pagesInvalidatedCaster, 1u);
             }
             if (pt != before) vsmTable[entry] = pt;
         }

@@ -178,6 +178,14 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
         }
         vkCmdEndRendering(c);
     }
+    if (state_->settings().staticLayer && state_->settings().caching) {
+        // Static twins and dynamic casters' depths -> their minimum in the page (vsm_merge.comp).
+        memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R | W);
+        dispatchIndirect(d, c, programs_.merge, slot.counters, offsetof(gpu::VsmCounters, dispatchX),
+                         NoPush{}, {slot.constants, pg.rendered, pg.pool});
+        memoryBarrier(c, C, W, C, R); // merged pages -> the evaluation pass's lookups
+        return;
+    }
     // Physical pages -> the evaluation pass's lookups.
     memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
 }

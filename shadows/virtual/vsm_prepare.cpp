@@ -25,14 +25,15 @@ void setBitRun(std::vector<uint32_t>& bits, uint32_t first, uint32_t count) {
     }
 }
 
-// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive);
+// Sets the bit of every entry (all mips) of `map` whose pages overlap `rect` (mip-0 pages, inclusive),
+// `offset` bits into `bits` (the stale bits' second region);
 // a row's entries are consecutive (vsmEntry), so each row is one run.
 void setRectBits(std::vector<uint32_t>& bits, uint32_t map, glm::uvec4 rect, uint32_t s0, uint32_t mips,
-                 uint32_t entriesPerMap) {
+                 uint32_t entriesPerMap, uint32_t offset) {
     if (rect.x > rect.z || rect.y > rect.w) return;
     for (uint32_t m = 0; m < mips; ++m)
         for (uint32_t y = rect.y >> m; y <= (rect.w >> m); ++y)
-            setBitRun(bits, gpu::vsmEntry(entriesPerMap, s0, map, m, rect.x >> m, y),
+            setBitRun(bits, offset + gpu::vsmEntry(entriesPerMap, s0, map, m, rect.x >> m, y),
                       (rect.z >> m) - (rect.x >> m) + 1u);
 }
 
@@ -299,6 +300,8 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         const auto [first, last] = mapBitWords(m);
         std::fill(slot.host.coverage.begin() + first, slot.host.coverage.begin() + last, 0u);
         std::fill(slot.host.stale.begin() + first, slot.host.stale.begin() + last, 0u);
+        std::fill(slot.host.stale.begin() + markWords_ + first, slot.host.stale.begin() + markWords_ + last,
+                  0u);
     }
     // Then one pass over the maps: a map in use takes its built record (with INVALIDATE when it moved),
     // a free one zeros.
@@ -357,16 +360,18 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
                                              std::span<const VsmInstance> instances,
                                              std::span<const uint32_t> changed) {
     // Coverage (maps of baked lights: pages under dynamic casters) and stale bits (pages under a moved,
-    // added or removed caster's old or new bounds). Only a few boxes can set a bit: the dynamic casters'
-    // (coverage) and the old and new bounds of the instances that changed (stale; 1 % of 10,000 moving:
-    // 200 boxes). Each is tested against the lights with maps in the grid cells it overlaps (VsmLightGrid)
-    // and projected only into the maps of the lights it touches: the cost is the changed boxes times the
-    // lights near them, plus the projections, not maps x instances.
+    // added or removed caster's old or new bounds): a dynamic caster's in the first region, a static
+    // one's in the second (from word markWords_), which also invalidates the pages' static twins. Only a few
+    // boxes can set a bit: the dynamic casters' (coverage) and the old and new bounds of the instances that
+    // changed (stale; 1 % of 10,000 moving: 200 boxes). Each is tested against the lights with maps in the
+    // grid cells it overlaps (VsmLightGrid) and projected only into the maps of the lights it touches: the
+    // cost is the changed boxes times the lights near them, plus the projections, not maps x instances.
     const bool firstFrame = lastInstances_.size() != instances.size();
     struct Box {
         glm::vec3 lo, hi;
         uint32_t instance;
-        bool coverage; // else stale
+        bool coverage;     // else stale
+        bool staticCaster; // stale: the box is (or was) a static caster's, so the static twins change
     };
     // The lights with map slots, as spheres, in a uniform grid over x and z (cells twice the median
     // radius: a typical light touches at most 4 cells); a box tests only the lights listed in the cells
@@ -405,7 +410,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     if (anyBakedMaps_)
         for (uint32_t i : dynamicCasters_) {
             queries.emplace_back(uint32_t(boxes.size()), 1u);
-            boxes.push_back({instances[i].lo, instances[i].hi, i, true});
+            boxes.push_back({instances[i].lo, instances[i].hi, i, true, false});
         }
     // Stale: the listed instances whose bounds or casting differ from what the maps saw (a repeat in the
     // list finds lastInstances_ already equal). A new instance count is a first frame: all stale.
@@ -413,10 +418,14 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         for (uint32_t i : changed) {
             const VsmInstance& in = instances[i];
             VsmInstance& old = lastInstances_[i];
-            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows) continue;
+            if (old.lo == in.lo && old.hi == in.hi && old.castsShadows == in.castsShadows &&
+                old.dynamic == in.dynamic)
+                continue;
+            // A caster that is static in either frame was (or will be) drawn into the static twins.
+            const bool wasStatic = !old.dynamic || !in.dynamic;
             queries.emplace_back(uint32_t(boxes.size()), 2u);
-            boxes.push_back({old.lo, old.hi, i, false});
-            boxes.push_back({in.lo, in.hi, i, false});
+            boxes.push_back({old.lo, old.hi, i, false, wasStatic});
+            boxes.push_back({in.lo, in.hi, i, false, wasStatic});
             old = in;
         }
     std::vector<std::pair<uint32_t, uint32_t>> hits; // (light, box)
@@ -427,7 +436,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
     // baked lights (dynamic casters only), stale boxes of static casters in the others. Lights of the
     // other kind are skipped before the sphere test.
     auto wanted = [&](const Box& box, bool bakedOnly) {
-        return box.coverage ? bakedOnly : !(bakedOnly && !instances[box.instance].dynamic);
+        return box.coverage ? bakedOnly : !(bakedOnly && box.staticCaster);
     };
     for (uint32_t q = 0; q < queries.size(); ++q) {
         const auto [first, count] = queries[q];
@@ -466,12 +475,14 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
             for (size_t j = h; j < end; ++j) {
                 const Box& box = boxes[hits[j].second];
                 // Coverage: dynamic-only maps; stale: every map, dynamic-only ones for dynamic casters.
-                if (box.coverage ? !dynamicOnly : (dynamicOnly && !instances[box.instance].dynamic)) continue;
+                if (box.coverage ? !dynamicOnly : (dynamicOnly && box.staticCaster)) continue;
                 glm::uvec4 rect;
                 ++slot.host.projections;
                 if (!vsmProjectBox(slot.host.maps[m], box.lo, box.hi, s0_, rect)) continue;
+                // Stale bits of static casters go to the second region (entries offset by its start).
+                const uint32_t offset = !box.coverage && box.staticCaster ? uint32_t(markWords_) * 32u : 0u;
                 setRectBits(box.coverage ? slot.host.coverage : slot.host.stale, m, rect, s0_, mips_,
-                            entriesPerMap_);
+                            entriesPerMap_, offset);
                 touched.push_back(m);
             }
         }
@@ -560,9 +571,11 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     c.options = glm::uvec4(pcf_, settings_.caching ? 1u : 0u, settings_.resolution, uint32_t(markWords_));
     // The pixel footprint per metre, divided by the texels wanted per pixel: the mip (or clip level) a
     // lookup picks then has texels that much smaller than the pixel (VsmSettings::texelsPerPixel).
-    c.camera = glm::vec4(2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) /
-                             settings_.texelsPerPixel,
-                         settings_.pageClip ? 1.0f : 0.0f, reservesFallbacks(frame) ? 1.0f : 0.0f, 0);
+    c.camera = glm::vec4(
+        2.0f * std::tan(camera.fovY * 0.5f) / float(std::max(camera.height, 1u)) / settings_.texelsPerPixel,
+        settings_.pageClip ? 1.0f : 0.0f, reservesFallbacks(frame) ? 1.0f : 0.0f,
+        // Without caching every page is redrawn whole each frame: no twin is kept or written.
+        settings_.staticLayer && settings_.caching ? 1.0f : 0.0f);
     c.order =
         glm::uvec4(uint32_t(slot.host.runs.size()), slot.orderEntries, settings_.requestCapacity, hpbWords_);
     lastConstants_ = c;
@@ -581,13 +594,15 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     }
     if (slot.bitsFull) { // new buffers: every word once
         upload(slot.coverage, slot.host.coverage.data(), slot.host.coverage.size() * 4);
-        upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4);
+        upload(slot.stale, slot.host.stale.data(), slot.host.stale.size() * 4); // both regions
         slot.bitsFull = false;
     } else {
         for (uint32_t m : slot.bitUploads) {
             const auto [first, last] = mapBitWords(m);
             upload(slot.coverage, slot.host.coverage.data() + first, (last - first) * 4, first * 4);
             upload(slot.stale, slot.host.stale.data() + first, (last - first) * 4, first * 4);
+            const size_t second = markWords_ + first; // static casters' region
+            upload(slot.stale, slot.host.stale.data() + second, (last - first) * 4, second * 4);
         }
     }
     // The active set and the allocation order change only when lights come into or out of view.

@@ -14,6 +14,7 @@
 #include "vsm_invalidate.comp.spv.h"
 #include "vsm_list.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
+#include "vsm_merge.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
 #include "vsm_scan.comp.spv.h"
 #include "vsm_sort.comp.spv.h"
@@ -50,6 +51,7 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     ML_TRY(compute(hpb, ML_VSM_SHADER(spv_vsm_hpb_comp)));
     ML_TRY(compute(cull, ML_VSM_SHADER(spv_vsm_cull_comp)));
     ML_TRY(compute(clear, ML_VSM_SHADER(spv_vsm_clear_comp)));
+    ML_TRY(compute(merge, ML_VSM_SHADER(spv_vsm_merge_comp)));
     ML_TRY(compute(probe, ML_VSM_SHADER(spv_vsm_probe_comp)));
     ML_TRY(compute(view, ML_VSM_SHADER(spv_vsm_view_comp)));
     GraphicsState gs; // attachment-less: depth goes to the pool with atomics
@@ -77,7 +79,7 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 
 void VsmPrograms::destroy(const Device& d) {
     for (Program* p : {&mark, &list, &sort, &invalidate, &scan, &alloc, &avail, &assign, &hpb, &cull, &clear,
-                       &probe, &view, &draw, &drawClosed, &expand, &mesh})
+                       &merge, &probe, &view, &draw, &drawClosed, &expand, &mesh})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

@@ -146,16 +146,20 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     // vsm_invalidate: per physical page, its owner entry loses last frame's DIRTY bit, and VALID when
     // stale (every owned page, whether or not its map is active: inactive maps are invalidated whole when
     // they become active again anyway).
+    // The static twin (ML_VSM_STATIC_VALID) is lost only to the map flag, caching off, or the stale bits'
+    // second region (static casters, from word k.options.w).
     for (uint32_t p = 0; p < pool; ++p) {
         const uint32_t e = st.owners[p];
         if (e == ML_VSM_NO_OWNER) continue;
-        uint32_t pt = st.table[e] & ~ML_VSM_DIRTY;
-        if (pt & ML_VSM_VALID) {
-            const uint32_t map = e / k.sizes.x;
-            if (k.options.y == 0 || (maps[map].info.y & ML_VSM_MAP_INVALIDATE) || testBit(stale, e)) {
-                pt &= ~ML_VSM_VALID;
-                ++c.pagesInvalidated;
-            }
+        uint32_t pt = st.table[e] & ~(ML_VSM_DIRTY | ML_VSM_DIRTY_STATIC);
+        const uint32_t map = e / k.sizes.x;
+        const bool whole = k.options.y == 0 || (maps[map].info.y & ML_VSM_MAP_INVALIDATE);
+        const bool staticStale = whole || testBit(stale, k.options.w * 32u + e);
+        if (staticStale) pt &= ~ML_VSM_STATIC_VALID;
+        if ((pt & ML_VSM_VALID) && (staticStale || testBit(stale, e))) {
+            pt &= ~ML_VSM_VALID;
+            ++c.pagesInvalidated;
+            c.pagesInvalidatedCaster += whole ? 0 : 1;
         }
         st.table[e] = pt;
     }
@@ -191,7 +195,7 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     c.pagesAllocated = (pool - freePages) + std::min(c.requests, freePages);
     c.pressure = c.requests > c.available ? 1 : 0;
     // vsm_assign.
-    std::vector<uint8_t> failed(st.table.size(), 0);
+    std::vector<uint8_t> failed(st.table.size(), 0), took(st.table.size(), 0);
     for (size_t r = 0; r < requests.size(); ++r) {
         const uint32_t e = requests[r];
         if (r < avail.size()) {
@@ -204,6 +208,7 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
             st.owners[p] = e;
             st.lastUsed[p] = frame;
             st.table[e] = ML_VSM_ALLOCATED | p;
+            took[e] = 1;
         } else {
             ++c.fallbacks;
             failed[e] = 1;
@@ -213,9 +218,13 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         if (!wanted(it.entry) || failed[it.entry]) continue;
         uint32_t& pt = st.table[it.entry];
         if (!(pt & ML_VSM_VALID) && (marked(it.entry) || c.pressure)) {
+            const bool fromStatic = (pt & ML_VSM_STATIC_VALID) != 0;
             pt |= ML_VSM_VALID | ML_VSM_DIRTY;
+            if (k.camera.w != 0.0f && !fromStatic) pt |= ML_VSM_STATIC_VALID | ML_VSM_DIRTY_STATIC;
             ++c.pagesRendered;
             ++c.dispatchX;
+            c.pagesNew += took[it.entry];
+            c.pagesRenderedDynamic += fromStatic ? 1 : 0;
         } else if (marked(it.entry) && (pt & ML_VSM_VALID)) {
             ++c.pagesCached;
         }

@@ -40,7 +40,8 @@ struct VsmAllocState {
     std::vector<uint32_t> lastUsed; // per physical page
 };
 // One frame of allocation. `marks` (lookup marks, then fallback marks from word constants.options.w)
-// and `stale` are bit arrays over entries; `order` the allocation order's runs (first rank, map, mip,
+// and `stale` (dynamic casters' bits, then static casters' from word constants.options.w) are bit
+// arrays over entries; `order` the allocation order's runs (first rank, map, mip,
 // entries: VirtualShadowMaps::allocationOrder); constants as uploaded (sizes.w = frame).
 gpu::VsmCounters vsmAllocateReference(VsmAllocState& state, const std::vector<uint32_t>& marks,
                                       const std::vector<uint32_t>& stale,

@@ -67,6 +67,12 @@ struct VsmSettings {
     // over the mip's whole virtual resolution, fragments outside dirty pages discarded (the layout before
     // page clipping, kept as `bench vsm --vsm-page-clip off`'s baseline; the pages come out the same).
     bool pageClip = true;
+    // The static layer: every physical page gets a twin holding the static casters' depths alone (the
+    // pool's memory doubles: 128 MiB at the defaults). A page invalidated only by a moving dynamic caster
+    // (a cart) then redraws only the dynamic casters and takes the minimum with its twin (vsm_merge.comp),
+    // not every caster again; static casters go to the twins only (one atomic per fragment either way).
+    // Exact: the static casters' depths are unchanged, and the atomic minimum is order-independent.
+    bool staticLayer = true;
     uint32_t maxDrawsPerMip = 16384;
     // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
     // up to a power of two >= 256; 4 B each, twice (the sort's ping-pong). Wanted pages past it get no
@@ -102,6 +108,11 @@ struct VsmStats {
     // the casters' depth complexity); pageClipOverflow counts mesh-path meshlets drawn unclipped.
     uint64_t fragmentsDrawn = 0, dirtyPageTexels = 0;
     uint32_t pageClipOverflow = 0;
+    // Why pages were rendered: pagesNew took a physical page this frame (new to the view, or evicted
+    // before); the other pagesRendered - pagesNew had one that lost VALID. pagesInvalidatedCaster: of
+    // pagesInvalidated, by moved casters' bounds only (not a moved light, a map made active, or caching
+    // off). pagesRenderedDynamic: rendered from their static twin, dynamic casters only (staticLayer).
+    uint32_t pagesNew = 0, pagesInvalidatedCaster = 0, pagesRenderedDynamic = 0;
 };
 
 } // namespace ml

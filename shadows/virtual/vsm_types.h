@@ -20,7 +20,17 @@
 #define ML_VSM_ALLOCATED 0x01000000u // a physical page backs the entry
 #define ML_VSM_VALID 0x02000000u     // the physical page holds what a fresh render would (cached)
 #define ML_VSM_DIRTY 0x04000000u     // rendered this frame (cleared and drawn into)
-#define ML_VSM_NO_OWNER 0xFFFFFFFFu  // physical page without a virtual page
+// The static layer (VsmSettings::staticLayer): each physical page has a twin in the pool's second half
+// holding the depths of the static casters alone. STATIC_VALID: the twin holds what a fresh render of
+// the static casters would; DIRTY_STATIC: the twin is rendered this frame too. A page that lost VALID
+// to a moving dynamic caster only keeps STATIC_VALID: only the dynamic casters are drawn again, and
+// vsm_merge takes the minimum of them and the twin (the static ones are not drawn again).
+#define ML_VSM_STATIC_VALID 0x08000000u
+#define ML_VSM_DIRTY_STATIC 0x10000000u
+// vsm_assign's rendered-page list: this bit on the physical page index when its twin is kept (the clear
+// pass empties the page only, not the twin).
+#define ML_VSM_RENDER_FROM_STATIC 0x80000000u
+#define ML_VSM_NO_OWNER 0xFFFFFFFFu // physical page without a virtual page
 
 // GpuVsmMap.info.x: projection kind.
 #define ML_VSM_PERSPECTIVE 0u
@@ -58,7 +68,8 @@ ML_STRUCT(VsmConstants) {
                    // w first word of the fallback marks (they follow the lookup marks in one buffer)
     vec4 camera;   // x pixel footprint per metre of distance (2 tan(fovY/2) / height), y 1 when page draws
                    // are clipped to their page (VsmSettings::pageClip), else 0; z 1 when receivers reserve
-                   // fallback pages this frame (VsmSettings::fallbacksOnDemand), else 0; w unused
+                   // fallback pages this frame (VsmSettings::fallbacksOnDemand), else 0; w 1 with the
+                   // static layer (VsmSettings::staticLayer: the pool's second half) and caching, else 0
     uvec4 order;   // x runs of the allocation order (vsm_alloc_common.glsl), y entries in them, z capacity
                    // of the request list (a power of two >= ML_VSM_BLOCK), w HPB words per map slot
 };
@@ -105,7 +116,11 @@ ML_STRUCT(VsmCounters) {
     uint fragmentsDrawn;
     uint pageClipOverflow; // mesh path: meshlets drawn unclipped (whole mip, fragments outside dirty pages
                            // discarded) because their task group's page list was full (ML_VSM_TASK_PAGES)
-    uint pad8, pad9, pad10;
+    // Why pages are rendered (cached frames: what caching could not keep):
+    uint pagesNew;               // rendered entries that took a physical page this frame (new to the view,
+                                 // or evicted before); the rest of pagesRendered had a page that lost VALID
+    uint pagesInvalidatedCaster; // of pagesInvalidated: by a moved caster's bounds only (stale bits)
+    uint pagesRenderedDynamic;   // rendered from their static twin: only dynamic casters drawn
 };
 
 // A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.

@@ -89,12 +89,21 @@ TEST(Limits, VsmCapacitiesReducedToFit) {
     EXPECT_EQ(maps->maxMaps, 384u);
     ASSERT_EQ(notes.size(), 1u);
     expectOneLine(notes[0], "vsm: map slots 512 -> 384");
-    // 128^2 pages, 4096 of them: 256 MiB; 2048 fit.
+    // 128^2 pages, 4096 of them: 256 MiB, 512 MiB with the static twins (VsmSettings::staticLayer): 1024
+    // fit, 2048 without the twins.
     notes.clear();
     s.resolution = 4096, s.pageSize = 128;
     auto pool = fitVsmSettings(lavapipe(), s, notes);
     ASSERT_TRUE(pool) << pool.error();
-    EXPECT_EQ(pool->poolPages, 2048u);
+    EXPECT_EQ(pool->poolPages, 1024u);
+    ASSERT_EQ(notes.size(), 1u);
+    expectOneLine(notes[0], "vsm: pool pages 4096 -> 1024");
+    notes.clear();
+    VsmSettings single = s;
+    single.staticLayer = false;
+    auto pool1 = fitVsmSettings(lavapipe(), single, notes);
+    ASSERT_TRUE(pool1) << pool1.error();
+    EXPECT_EQ(pool1->poolPages, 2048u);
     ASSERT_EQ(notes.size(), 1u);
     expectOneLine(notes[0], "vsm: pool pages 4096 -> 2048");
     notes.clear();
