@@ -1,6 +1,8 @@
 // The host side of a frame (Module::record): geometry and shadow uploads, the slot's collection and
 // buffers (frame constants, visible lights with their static records and virtual maps, instances), and
-// the FrameContext the passes read (engine/frame.h).
+// the FrameContext the passes read (engine/frame.h). Per-instance and per-light records are kept and
+// remade only for what the host touched (touchInstance, touchShadow): a frame visits the changes, plus
+// one pass over the lights' compact records for the frustum test.
 #include "culling/culling_push.h"
 #include "engine/module_impl.h"
 #include "lights/lights.h"
