@@ -1,4 +1,5 @@
-// DAG-MH lookup: line-by-line twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h (layout
+// DAG-MH lookup: twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h, the same steps except that
+// the header words are read once into DagmhHeader (the CPU twin reads them where used; same values) (layout
 // documented there and in docs/dagmh-encoding.md).
 #ifndef ML_DAGMH_LOOKUP_GLSL
 #define ML_DAGMH_LOOKUP_GLSL
@@ -16,10 +17,29 @@ const uint ML_DAG_CHUNK_WORDS = 6u;
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
 
+// The header words the lookup needs, read once per lookup (or once per PCF kernel): in the evaluation
+// pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
+// and each tap. Section offsets are absolute (base added).
+struct DagmhHeader {
+    uint L, S, skip, nodes, treelets, chunks, factors;
+};
+
+DagmhHeader dagmhHeader(uint base) {
+    DagmhHeader h;
+    h.L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
+    h.S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+    h.skip = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET];
+    h.nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
+    h.treelets = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET];
+    h.chunks = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET];
+    h.factors = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET];
+    return h;
+}
+
 // Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
 // texel at the top-left corner of the cell of the MH node that holds the value.
-uint dagmhValue(uint base, uint index, uint px, uint py) {
-    uint ch = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET] + ML_DAG_CHUNK_WORDS * (index >> 5u);
+uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
+    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * (index >> 5u);
     uint j = index & 31u;
     uint bm = ML_STATIC_DATA[ch + 1u];
     if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
@@ -29,7 +49,7 @@ uint dagmhValue(uint base, uint index, uint px, uint py) {
     uint f = 0u;
     if (b != 0u) {
         uint pos = (meta >> 6u) * 8u + k * b;
-        uint w = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET] + (pos >> 5u);
+        uint w = h.factors + (pos >> 5u);
         uint sh = pos & 31u;
         f = ML_STATIC_DATA[w] >> sh;
         if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
@@ -47,32 +67,29 @@ struct DagmhState {
     uint kind, depth, dlast, ptr, vcount, vlast;
 };
 
-DagmhState dagmhStart(uint base, uint x, uint y) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
-    uint e = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET] + ML_DAG_SKIP_WORDS * (((y >> (L - S)) << S) + (x >> (L - S)));
+DagmhState dagmhStart(DagmhHeader h, uint x, uint y) {
+    uint e = h.skip + ML_DAG_SKIP_WORDS * (((y >> (h.L - h.S)) << h.S) + (x >> (h.L - h.S)));
+    uint w0 = ML_STATIC_DATA[e];
     DagmhState st;
-    st.kind = ML_STATIC_DATA[e] & 255u;
-    st.depth = (ML_STATIC_DATA[e] >> 8u) & 255u;
-    st.dlast = ML_STATIC_DATA[e] >> 16u; // depth of the node that holds value vlast
+    st.kind = w0 & 255u;
+    st.depth = (w0 >> 8u) & 255u;
+    st.dlast = w0 >> 16u; // depth of the node that holds value vlast
     st.ptr = ML_STATIC_DATA[e + 1u];
     st.vcount = ML_STATIC_DATA[e + 2u];
     st.vlast = ML_STATIC_DATA[e + 3u];
     return st;
 }
 
-DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
+DagmhState dagmhDescend(DagmhHeader h, uint x, uint y, DagmhState st, uint stop) {
     while (st.kind == 1u) {
         if (st.depth >= stop) break;
-        uint flags = ML_STATIC_DATA[nodes + st.ptr];
+        uint flags = ML_STATIC_DATA[h.nodes + st.ptr];
         if ((flags & 256u) != 0u) {
             st.vlast = st.vcount;
             st.dlast = st.depth;
         }
-        if (st.depth >= L) break;
-        uint s = L - st.depth - 1u;
+        if (st.depth >= h.L) break;
+        uint s = h.L - st.depth - 1u;
         uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
         uint t = (flags >> (2u * c)) & 3u;
         if (t == 0u) break;
@@ -82,8 +99,8 @@ DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
             if (i < c) rank += present;
             n += present;
         }
-        uint child = ML_STATIC_DATA[nodes + st.ptr + 1u + rank];
-        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[nodes + st.ptr + n + rank];
+        uint child = ML_STATIC_DATA[h.nodes + st.ptr + 1u + rank];
+        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[h.nodes + st.ptr + n + rank];
         st.ptr = child;
         st.depth += 1u;
         st.kind = t;
@@ -91,25 +108,28 @@ DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
     return st;
 }
 
-DagmhState dagmhLocate(uint base, uint x, uint y, DagmhState st) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    st = dagmhDescend(base, x, y, st, L + 1u);
+DagmhState dagmhLocate(DagmhHeader h, uint x, uint y, DagmhState st) {
+    st = dagmhDescend(h, x, y, st, h.L + 1u);
     if (st.kind == 2u) {
-        uint tb = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET] + ML_DAG_TREELET_WORDS * st.ptr;
+        // The treelet's 3 words read once: the level loop below then tests bits without further reads
+        // (it read a word per level tried, and up to two more for the rank).
+        uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
+        uint t0 = ML_STATIC_DATA[tb], t1 = ML_STATIC_DATA[tb + 1u], t2 = ML_STATIC_DATA[tb + 2u];
         for (uint i = 0u; i < 4u; ++i) {
             uint lvl = 3u - i;
-            if (st.depth + lvl > L) continue;
+            if (st.depth + lvl > h.L) continue;
             uint idx = lvl;
             for (uint j = 1u; j <= lvl; ++j) {
-                uint s = L - st.depth - j;
+                uint s = h.L - st.depth - j;
                 uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
                 idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
             }
             uint wi = idx >> 5u;
-            if (((ML_STATIC_DATA[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
-                uint before = mlPopc(ML_STATIC_DATA[tb + wi] & mlLowMask(idx & 31u));
-                if (wi > 0u) before += mlPopc(ML_STATIC_DATA[tb]);
-                if (wi > 1u) before += mlPopc(ML_STATIC_DATA[tb + 1u]);
+            uint word = wi == 0u ? t0 : (wi == 1u ? t1 : t2);
+            if (((word >> (idx & 31u)) & 1u) != 0u) {
+                uint before = mlPopc(word & mlLowMask(idx & 31u));
+                if (wi > 0u) before += mlPopc(t0);
+                if (wi > 1u) before += mlPopc(t1);
                 st.vlast = st.vcount + before;
                 st.dlast = st.depth + lvl;
                 break;
@@ -119,34 +139,33 @@ DagmhState dagmhLocate(uint base, uint x, uint y, DagmhState st) {
     return st;
 }
 
-uint dagmhLocatedValue(uint base, uint x, uint y, DagmhState st) {
-    uint s = ML_STATIC_DATA[base + ML_DAG_LEVELS] - st.dlast;
-    return dagmhValue(base, st.vlast, (x >> s) << s, (y >> s) << s);
+uint dagmhLocatedValue(DagmhHeader h, uint x, uint y, DagmhState st) {
+    uint s = h.L - st.dlast;
+    return dagmhValue(h, st.vlast, (x >> s) << s, (y >> s) << s);
 }
 
-uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
-    return dagmhLocatedValue(base, x, y, dagmhLocate(base, x, y, st));
+uint dagmhFinish(DagmhHeader h, uint x, uint y, DagmhState st) {
+    return dagmhLocatedValue(h, x, y, dagmhLocate(h, x, y, st));
 }
 
 uint dagmhLookup(uint base, uint x, uint y) {
-    return dagmhFinish(base, x, y, dagmhStart(base, x, y));
+    DagmhHeader h = dagmhHeader(base);
+    return dagmhFinish(h, x, y, dagmhStart(h, x, y));
 }
 
 // kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).
 const uint ML_DAG_NO_PREFIX = 255u;
-DagmhState dagmhPcfPrefix(uint base, uint x0, uint y0, uint x1, uint y1) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+DagmhState dagmhPcfPrefix(DagmhHeader h, uint x0, uint y0, uint x1, uint y1) {
     uint diff = (x0 ^ x1) | (y0 ^ y1);
     uint bits = 0u;
     while ((diff >> bits) != 0u) ++bits;
-    uint sharedLevels = L - bits; // levels above which every tap takes the same children
-    DagmhState st = dagmhStart(base, x0, y0);
-    if (sharedLevels < S) {
+    uint sharedLevels = h.L - bits; // levels above which every tap takes the same children
+    DagmhState st = dagmhStart(h, x0, y0);
+    if (sharedLevels < h.S) {
         st.kind = ML_DAG_NO_PREFIX;
         return st;
     }
-    return dagmhDescend(base, x0, y0, st, sharedLevels);
+    return dagmhDescend(h, x0, y0, st, sharedLevels);
 }
 
 #endif

@@ -73,8 +73,10 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     ivec2 hi = clamp(t + radius, ivec2(0), ivec2(int(res) - 1));
     bool usePrefix = false;
     DagmhState prefix;
+    DagmhHeader dh;
+    if (method == ML_STATIC_DAGMH) dh = dagmhHeader(base); // once for all taps
     if (method == ML_STATIC_DAGMH && radius > 0) {
-        prefix = dagmhPcfPrefix(base, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
+        prefix = dagmhPcfPrefix(dh, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
         usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
     }
     // DAG-MH taps that land in the node of the previous tap's value (same value index) reuse its decoded
@@ -88,10 +90,10 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
             if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
             uint d;
             if (method == ML_STATIC_DAGMH) {
-                DagmhState st = dagmhLocate(base, uint(x), uint(y), usePrefix ? prefix : dagmhStart(base, uint(x), uint(y)));
+                DagmhState st = dagmhLocate(dh, uint(x), uint(y), usePrefix ? prefix : dagmhStart(dh, uint(x), uint(y)));
                 if (st.vlast != memoIndex) {
                     memoIndex = st.vlast;
-                    memoDepth = dagmhLocatedValue(base, uint(x), uint(y), st);
+                    memoDepth = dagmhLocatedValue(dh, uint(x), uint(y), st);
                 }
                 d = memoDepth;
             } else {
