@@ -16,6 +16,7 @@ const uint ML_DAG_FACTOR_OFFSET = 15u;
 const uint ML_DAG_CHUNK_WORDS = 6u;
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
+const uint ML_DAG_HEADER_WORDS = 20u;
 
 // The header words the lookup needs, read once per lookup (or once per PCF kernel): in the evaluation
 // pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
@@ -28,8 +29,10 @@ DagmhHeader dagmhHeader(uint base) {
     DagmhHeader h;
     h.L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
     h.S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
-    h.skip = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET];
-    h.nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
+    // validate() requires the sections to tile the buffer from the header on: the skip list at word 20
+    // and the nodes after its 4^S entries, so those two offsets need no read.
+    h.skip = base + ML_DAG_HEADER_WORDS;
+    h.nodes = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
     h.treelets = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET];
     h.chunks = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET];
     h.factors = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET];
@@ -37,7 +40,8 @@ DagmhHeader dagmhHeader(uint base) {
 }
 
 // Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
-// texel at the top-left corner of the cell of the MH node that holds the value.
+// texel at the top-left corner of the cell of the MH node that holds the value. One lookup reads only
+// the chunk words its slot needs (r, or the plane and factor words).
 uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
     uint ch = h.chunks + ML_DAG_CHUNK_WORDS * (index >> 5u);
     uint j = index & 31u;
@@ -59,6 +63,42 @@ uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
     uint wy = ML_STATIC_DATA[ch + 4u];
     uint by = uint(int(wy) >> 5); // 27-bit signed y slope, arithmetic shift
     return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
+}
+
+// The same decode from a chunk's 6 words read once (PCF: the taps of a kernel mostly fall in one or
+// two chunks, so a kernel keeps the last chunk and reads only factor bits for the other taps).
+struct DagmhChunk {
+    uint r, bm, a, bx, wy, meta;
+};
+
+DagmhChunk dagmhChunk(DagmhHeader h, uint chunk) {
+    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * chunk;
+    DagmhChunk c;
+    c.r = ML_STATIC_DATA[ch];
+    c.bm = ML_STATIC_DATA[ch + 1u];
+    c.a = ML_STATIC_DATA[ch + 2u];
+    c.bx = ML_STATIC_DATA[ch + 3u];
+    c.wy = ML_STATIC_DATA[ch + 4u];
+    c.meta = ML_STATIC_DATA[ch + 5u];
+    return c;
+}
+
+uint dagmhChunkValue(DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
+    if (((c.bm >> j) & 1u) == 0u) return c.r;
+    uint k = mlPopc(c.bm & mlLowMask(j));
+    uint b = c.meta & 63u;
+    uint f = 0u;
+    if (b != 0u) {
+        uint pos = (c.meta >> 6u) * 8u + k * b;
+        uint w = h.factors + (pos >> 5u);
+        uint sh = pos & 31u;
+        f = ML_STATIC_DATA[w] >> sh;
+        if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
+        f &= mlLowMask(b);
+    }
+    if (b == 32u) return f; // raw 32-bit fallback
+    uint by = uint(int(c.wy) >> 5); // 27-bit signed y slope, arithmetic shift
+    return c.a + c.bx * px + by * py + (f << (c.wy & 31u));
 }
 
 // The lookup in steps (twin of dagmhStart / dagmhDescend / dagmhLocate / dagmhLocatedValue / dagmhFinish /
@@ -108,33 +148,37 @@ DagmhState dagmhDescend(DagmhHeader h, uint x, uint y, DagmhState st, uint stop)
     return st;
 }
 
+// The treelet step of the lookup, from the treelet's 3 words (read once by the caller: then the level
+// loop tests bits without further reads, and the taps of a PCF quad share them).
+DagmhState dagmhTreelet(DagmhHeader h, uint x, uint y, DagmhState st, uint t0, uint t1, uint t2) {
+    for (uint i = 0u; i < 4u; ++i) {
+        uint lvl = 3u - i;
+        if (st.depth + lvl > h.L) continue;
+        uint idx = lvl;
+        for (uint j = 1u; j <= lvl; ++j) {
+            uint s = h.L - st.depth - j;
+            uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+            idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
+        }
+        uint wi = idx >> 5u;
+        uint word = wi == 0u ? t0 : (wi == 1u ? t1 : t2);
+        if (((word >> (idx & 31u)) & 1u) != 0u) {
+            uint before = mlPopc(word & mlLowMask(idx & 31u));
+            if (wi > 0u) before += mlPopc(t0);
+            if (wi > 1u) before += mlPopc(t1);
+            st.vlast = st.vcount + before;
+            st.dlast = st.depth + lvl;
+            break;
+        }
+    }
+    return st;
+}
+
 DagmhState dagmhLocate(DagmhHeader h, uint x, uint y, DagmhState st) {
     st = dagmhDescend(h, x, y, st, h.L + 1u);
     if (st.kind == 2u) {
-        // The treelet's 3 words read once: the level loop below then tests bits without further reads
-        // (it read a word per level tried, and up to two more for the rank).
         uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
-        uint t0 = ML_STATIC_DATA[tb], t1 = ML_STATIC_DATA[tb + 1u], t2 = ML_STATIC_DATA[tb + 2u];
-        for (uint i = 0u; i < 4u; ++i) {
-            uint lvl = 3u - i;
-            if (st.depth + lvl > h.L) continue;
-            uint idx = lvl;
-            for (uint j = 1u; j <= lvl; ++j) {
-                uint s = h.L - st.depth - j;
-                uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
-                idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
-            }
-            uint wi = idx >> 5u;
-            uint word = wi == 0u ? t0 : (wi == 1u ? t1 : t2);
-            if (((word >> (idx & 31u)) & 1u) != 0u) {
-                uint before = mlPopc(word & mlLowMask(idx & 31u));
-                if (wi > 0u) before += mlPopc(t0);
-                if (wi > 1u) before += mlPopc(t1);
-                st.vlast = st.vcount + before;
-                st.dlast = st.depth + lvl;
-                break;
-            }
-        }
+        st = dagmhTreelet(h, x, y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u]);
     }
     return st;
 }
@@ -148,9 +192,12 @@ uint dagmhFinish(DagmhHeader h, uint x, uint y, DagmhState st) {
     return dagmhLocatedValue(h, x, y, dagmhLocate(h, x, y, st));
 }
 
-uint dagmhLookup(uint base, uint x, uint y) {
-    DagmhHeader h = dagmhHeader(base);
+uint dagmhLookupH(DagmhHeader h, uint x, uint y) {
     return dagmhFinish(h, x, y, dagmhStart(h, x, y));
+}
+
+uint dagmhLookup(uint base, uint x, uint y) {
+    return dagmhLookupH(dagmhHeader(base), x, y);
 }
 
 // kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).
