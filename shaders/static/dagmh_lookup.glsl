@@ -133,12 +133,11 @@ DagmhState dagmhDescend(DagmhHeader h, uint x, uint y, DagmhState st, uint stop)
         uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
         uint t = (flags >> (2u * c)) & 3u;
         if (t == 0u) break;
-        uint rank = 0u, n = 0u;
-        for (uint i = 0u; i < 4u; ++i) {
-            uint present = ((flags >> (2u * i)) & 3u) != 0u ? 1u : 0u;
-            if (i < c) rank += present;
-            n += present;
-        }
+        // Bit 2i of `present` is set when child i exists (type != 0): rank = present children before c,
+        // n = present children (the CPU twin counts them in a loop; same numbers).
+        uint present = (flags | (flags >> 1u)) & 0x55u;
+        uint rank = mlPopc(present & mlLowMask(2u * c));
+        uint n = mlPopc(present);
         uint child = ML_STATIC_DATA[h.nodes + st.ptr + 1u + rank];
         st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[h.nodes + st.ptr + n + rank];
         st.ptr = child;
