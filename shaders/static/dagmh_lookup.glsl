@@ -1,4 +1,5 @@
-// DAG-MH lookup: line-by-line twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h (layout
+// DAG-MH lookup: twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h, the same steps except that
+// the header words are read once into DagmhHeader (the CPU twin reads them where used; same values) (layout
 // documented there and in docs/dagmh-encoding.md).
 #ifndef ML_DAGMH_LOOKUP_GLSL
 #define ML_DAGMH_LOOKUP_GLSL
@@ -15,11 +16,34 @@ const uint ML_DAG_FACTOR_OFFSET = 15u;
 const uint ML_DAG_CHUNK_WORDS = 6u;
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
+const uint ML_DAG_HEADER_WORDS = 20u;
+
+// The header words the lookup needs, read once per lookup (or once per PCF kernel): in the evaluation
+// pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
+// and each tap. Section offsets are absolute (base added).
+struct DagmhHeader {
+    uint L, S, skip, nodes, treelets, chunks, factors;
+};
+
+DagmhHeader dagmhHeader(uint base) {
+    DagmhHeader h;
+    h.L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
+    h.S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+    // validate() requires the sections to tile the buffer from the header on: the skip list at word 20
+    // and the nodes after its 4^S entries, so those two offsets need no read.
+    h.skip = base + ML_DAG_HEADER_WORDS;
+    h.nodes = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
+    h.treelets = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET];
+    h.chunks = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET];
+    h.factors = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET];
+    return h;
+}
 
 // Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
-// texel at the top-left corner of the cell of the MH node that holds the value.
-uint dagmhValue(uint base, uint index, uint px, uint py) {
-    uint ch = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET] + ML_DAG_CHUNK_WORDS * (index >> 5u);
+// texel at the top-left corner of the cell of the MH node that holds the value. One lookup reads only
+// the chunk words its slot needs (r, or the plane and factor words).
+uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
+    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * (index >> 5u);
     uint j = index & 31u;
     uint bm = ML_STATIC_DATA[ch + 1u];
     if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
@@ -29,7 +53,7 @@ uint dagmhValue(uint base, uint index, uint px, uint py) {
     uint f = 0u;
     if (b != 0u) {
         uint pos = (meta >> 6u) * 8u + k * b;
-        uint w = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET] + (pos >> 5u);
+        uint w = h.factors + (pos >> 5u);
         uint sh = pos & 31u;
         f = ML_STATIC_DATA[w] >> sh;
         if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
@@ -41,49 +65,81 @@ uint dagmhValue(uint base, uint index, uint px, uint py) {
     return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
 }
 
+// The same decode from a chunk's 6 words read once (PCF: the taps of a kernel mostly fall in one or
+// two chunks, so a kernel keeps the last chunk and reads only factor bits for the other taps).
+struct DagmhChunk {
+    uint r, bm, a, bx, wy, meta;
+};
+
+DagmhChunk dagmhChunk(DagmhHeader h, uint chunk) {
+    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * chunk;
+    DagmhChunk c;
+    c.r = ML_STATIC_DATA[ch];
+    c.bm = ML_STATIC_DATA[ch + 1u];
+    c.a = ML_STATIC_DATA[ch + 2u];
+    c.bx = ML_STATIC_DATA[ch + 3u];
+    c.wy = ML_STATIC_DATA[ch + 4u];
+    c.meta = ML_STATIC_DATA[ch + 5u];
+    return c;
+}
+
+uint dagmhChunkValue(DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
+    if (((c.bm >> j) & 1u) == 0u) return c.r;
+    uint k = mlPopc(c.bm & mlLowMask(j));
+    uint b = c.meta & 63u;
+    uint f = 0u;
+    if (b != 0u) {
+        uint pos = (c.meta >> 6u) * 8u + k * b;
+        uint w = h.factors + (pos >> 5u);
+        uint sh = pos & 31u;
+        f = ML_STATIC_DATA[w] >> sh;
+        if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
+        f &= mlLowMask(b);
+    }
+    if (b == 32u) return f; // raw 32-bit fallback
+    uint by = uint(int(c.wy) >> 5); // 27-bit signed y slope, arithmetic shift
+    return c.a + c.bx * px + by * py + (f << (c.wy & 31u));
+}
+
 // The lookup in steps (twin of dagmhStart / dagmhDescend / dagmhLocate / dagmhLocatedValue / dagmhFinish /
 // dagmhPcfPrefix).
 struct DagmhState {
     uint kind, depth, dlast, ptr, vcount, vlast;
 };
 
-DagmhState dagmhStart(uint base, uint x, uint y) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
-    uint e = base + ML_STATIC_DATA[base + ML_DAG_SKIP_OFFSET] + ML_DAG_SKIP_WORDS * (((y >> (L - S)) << S) + (x >> (L - S)));
+DagmhState dagmhStart(DagmhHeader h, uint x, uint y) {
+    uint e = h.skip + ML_DAG_SKIP_WORDS * (((y >> (h.L - h.S)) << h.S) + (x >> (h.L - h.S)));
+    uint w0 = ML_STATIC_DATA[e];
     DagmhState st;
-    st.kind = ML_STATIC_DATA[e] & 255u;
-    st.depth = (ML_STATIC_DATA[e] >> 8u) & 255u;
-    st.dlast = ML_STATIC_DATA[e] >> 16u; // depth of the node that holds value vlast
+    st.kind = w0 & 255u;
+    st.depth = (w0 >> 8u) & 255u;
+    st.dlast = w0 >> 16u; // depth of the node that holds value vlast
     st.ptr = ML_STATIC_DATA[e + 1u];
     st.vcount = ML_STATIC_DATA[e + 2u];
     st.vlast = ML_STATIC_DATA[e + 3u];
     return st;
 }
 
-DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint nodes = base + ML_STATIC_DATA[base + ML_DAG_NODE_OFFSET];
+DagmhState dagmhDescend(DagmhHeader h, uint x, uint y, DagmhState st, uint stop) {
     while (st.kind == 1u) {
         if (st.depth >= stop) break;
-        uint flags = ML_STATIC_DATA[nodes + st.ptr];
+        uint flags = ML_STATIC_DATA[h.nodes + st.ptr];
         if ((flags & 256u) != 0u) {
             st.vlast = st.vcount;
             st.dlast = st.depth;
         }
-        if (st.depth >= L) break;
-        uint s = L - st.depth - 1u;
+        if (st.depth >= h.L) break;
+        uint s = h.L - st.depth - 1u;
         uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
         uint t = (flags >> (2u * c)) & 3u;
         if (t == 0u) break;
-        uint rank = 0u, n = 0u;
-        for (uint i = 0u; i < 4u; ++i) {
-            uint present = ((flags >> (2u * i)) & 3u) != 0u ? 1u : 0u;
-            if (i < c) rank += present;
-            n += present;
-        }
-        uint child = ML_STATIC_DATA[nodes + st.ptr + 1u + rank];
-        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[nodes + st.ptr + n + rank];
+        // Bit 2i of `present` is set when child i exists (type != 0): rank = present children before c,
+        // n = present children (the CPU twin counts them in a loop; same numbers).
+        uint present = (flags | (flags >> 1u)) & 0x55u;
+        uint rank = mlPopc(present & mlLowMask(2u * c));
+        uint n = mlPopc(present);
+        uint child = ML_STATIC_DATA[h.nodes + st.ptr + 1u + rank];
+        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : ML_STATIC_DATA[h.nodes + st.ptr + n + rank];
         st.ptr = child;
         st.depth += 1u;
         st.kind = t;
@@ -91,62 +147,71 @@ DagmhState dagmhDescend(uint base, uint x, uint y, DagmhState st, uint stop) {
     return st;
 }
 
-DagmhState dagmhLocate(uint base, uint x, uint y, DagmhState st) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    st = dagmhDescend(base, x, y, st, L + 1u);
-    if (st.kind == 2u) {
-        uint tb = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET] + ML_DAG_TREELET_WORDS * st.ptr;
-        for (uint i = 0u; i < 4u; ++i) {
-            uint lvl = 3u - i;
-            if (st.depth + lvl > L) continue;
-            uint idx = lvl;
-            for (uint j = 1u; j <= lvl; ++j) {
-                uint s = L - st.depth - j;
-                uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
-                idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
-            }
-            uint wi = idx >> 5u;
-            if (((ML_STATIC_DATA[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
-                uint before = mlPopc(ML_STATIC_DATA[tb + wi] & mlLowMask(idx & 31u));
-                if (wi > 0u) before += mlPopc(ML_STATIC_DATA[tb]);
-                if (wi > 1u) before += mlPopc(ML_STATIC_DATA[tb + 1u]);
-                st.vlast = st.vcount + before;
-                st.dlast = st.depth + lvl;
-                break;
-            }
+// The treelet step of the lookup, from the treelet's 3 words (read once by the caller: then the level
+// loop tests bits without further reads, and the taps of a PCF quad share them).
+DagmhState dagmhTreelet(DagmhHeader h, uint x, uint y, DagmhState st, uint t0, uint t1, uint t2) {
+    for (uint i = 0u; i < 4u; ++i) {
+        uint lvl = 3u - i;
+        if (st.depth + lvl > h.L) continue;
+        uint idx = lvl;
+        for (uint j = 1u; j <= lvl; ++j) {
+            uint s = h.L - st.depth - j;
+            uint c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+            idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
+        }
+        uint wi = idx >> 5u;
+        uint word = wi == 0u ? t0 : (wi == 1u ? t1 : t2);
+        if (((word >> (idx & 31u)) & 1u) != 0u) {
+            uint before = mlPopc(word & mlLowMask(idx & 31u));
+            if (wi > 0u) before += mlPopc(t0);
+            if (wi > 1u) before += mlPopc(t1);
+            st.vlast = st.vcount + before;
+            st.dlast = st.depth + lvl;
+            break;
         }
     }
     return st;
 }
 
-uint dagmhLocatedValue(uint base, uint x, uint y, DagmhState st) {
-    uint s = ML_STATIC_DATA[base + ML_DAG_LEVELS] - st.dlast;
-    return dagmhValue(base, st.vlast, (x >> s) << s, (y >> s) << s);
+DagmhState dagmhLocate(DagmhHeader h, uint x, uint y, DagmhState st) {
+    st = dagmhDescend(h, x, y, st, h.L + 1u);
+    if (st.kind == 2u) {
+        uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
+        st = dagmhTreelet(h, x, y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u]);
+    }
+    return st;
 }
 
-uint dagmhFinish(uint base, uint x, uint y, DagmhState st) {
-    return dagmhLocatedValue(base, x, y, dagmhLocate(base, x, y, st));
+uint dagmhLocatedValue(DagmhHeader h, uint x, uint y, DagmhState st) {
+    uint s = h.L - st.dlast;
+    return dagmhValue(h, st.vlast, (x >> s) << s, (y >> s) << s);
+}
+
+uint dagmhFinish(DagmhHeader h, uint x, uint y, DagmhState st) {
+    return dagmhLocatedValue(h, x, y, dagmhLocate(h, x, y, st));
+}
+
+uint dagmhLookupH(DagmhHeader h, uint x, uint y) {
+    return dagmhFinish(h, x, y, dagmhStart(h, x, y));
 }
 
 uint dagmhLookup(uint base, uint x, uint y) {
-    return dagmhFinish(base, x, y, dagmhStart(base, x, y));
+    return dagmhLookupH(dagmhHeader(base), x, y);
 }
 
 // kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).
 const uint ML_DAG_NO_PREFIX = 255u;
-DagmhState dagmhPcfPrefix(uint base, uint x0, uint y0, uint x1, uint y1) {
-    uint L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    uint S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
+DagmhState dagmhPcfPrefix(DagmhHeader h, uint x0, uint y0, uint x1, uint y1) {
     uint diff = (x0 ^ x1) | (y0 ^ y1);
     uint bits = 0u;
     while ((diff >> bits) != 0u) ++bits;
-    uint sharedLevels = L - bits; // levels above which every tap takes the same children
-    DagmhState st = dagmhStart(base, x0, y0);
-    if (sharedLevels < S) {
+    uint sharedLevels = h.L - bits; // levels above which every tap takes the same children
+    DagmhState st = dagmhStart(h, x0, y0);
+    if (sharedLevels < h.S) {
         st.kind = ML_DAG_NO_PREFIX;
         return st;
     }
-    return dagmhDescend(base, x0, y0, st, sharedLevels);
+    return dagmhDescend(h, x0, y0, st, sharedLevels);
 }
 
 #endif

@@ -1,6 +1,8 @@
 // Static shadow visibility of one receiver for one light with a baked record: the mapping from a world
 // point to the light's texel and quantised depth, the bias, and the PCF loop over the decoders.
-// CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare).
+// CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare), but
+// for DAG-MH PCF (dagmhPcfLit): that walks the in-map taps only and shares more reads between taps; each
+// tap still gets the value the CPU's per-tap loop gets, so the lit count is the same.
 //
 // Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by (1 + PCF radius)
 // texels' world size (normal-offset bias: it grows with the texel footprint, so it holds at grazing
@@ -33,6 +35,47 @@ uint staticDepthAt(uint method, uint base, uint x, uint y) {
     if (method == ML_STATIC_MH) return mhLookup(base, x, y);
     if (method == ML_STATIC_MMH) return mmhLookup(base, x, y);
     return dagmhLookup(base, x, y);
+}
+
+// DAG-MH PCF: the number of lit taps of [t - r, t + r] (taps outside the map count as lit; a tap is lit
+// when depth <= its decoded value). Hierarchical, and exact (each tap gets the value index and node depth
+// that dagmhLookup finds, so the count equals the per-tap loop of the CPU twin):
+// - the kernel's taps share the descent to the node that holds them all (dagmhPcfPrefix); when that
+//   descent ends in a treelet, the taps share its 3 words too (read once, not once per tap);
+// - a tap with the previous tap's value index reuses its value (same MH node), and one in the same
+//   chunk reuses the chunk's 6 words (only its factor bits are read).
+uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
+    uint taps = uint((2 * radius + 1) * (2 * radius + 1));
+    ivec2 lo = max(t - radius, ivec2(0)), hi = min(t + radius, ivec2(res - 1));
+    if (lo.x > hi.x || lo.y > hi.y) return taps;
+    uint lit = taps - uint((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
+    DagmhState prefix = dagmhPcfPrefix(dh, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
+    bool usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
+    bool sharedTreelet = prefix.kind == 2u;
+    uint t0 = 0u, t1 = 0u, t2 = 0u;
+    if (sharedTreelet) {
+        uint tb = dh.treelets + ML_DAG_TREELET_WORDS * prefix.ptr;
+        t0 = ML_STATIC_DATA[tb], t1 = ML_STATIC_DATA[tb + 1u], t2 = ML_STATIC_DATA[tb + 2u];
+    }
+    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u, memoChunk = 0xFFFFFFFFu;
+    DagmhChunk chunk;
+    for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+            DagmhState st;
+            if (sharedTreelet) st = dagmhTreelet(dh, uint(x), uint(y), prefix, t0, t1, t2);
+            else st = dagmhLocate(dh, uint(x), uint(y), usePrefix ? prefix : dagmhStart(dh, uint(x), uint(y)));
+            if (st.vlast != memoIndex) {
+                memoIndex = st.vlast;
+                if ((st.vlast >> 5u) != memoChunk) {
+                    memoChunk = st.vlast >> 5u;
+                    chunk = dagmhChunk(dh, memoChunk);
+                }
+                uint s = dh.L - st.dlast;
+                memoDepth = dagmhChunkValue(dh, chunk, st.vlast & 31u, (uint(x) >> s) << s, (uint(y) >> s) << s);
+            }
+            if (depth <= memoDepth) lit += 1u;
+        }
+    return lit;
 }
 
 float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
@@ -68,36 +111,24 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
     uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
-    // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
-    ivec2 lo = clamp(t - radius, ivec2(0), ivec2(int(res) - 1));
-    ivec2 hi = clamp(t + radius, ivec2(0), ivec2(int(res) - 1));
-    bool usePrefix = false;
-    DagmhState prefix;
-    if (method == ML_STATIC_DAGMH && radius > 0) {
-        prefix = dagmhPcfPrefix(base, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
-        usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
+    if (method == ML_STATIC_DAGMH) {
+        DagmhHeader dh = dagmhHeader(base); // once for all taps
+        uint lit = 0u;
+        if (radius == 0) {
+            bool inside = t.x >= 0 && t.y >= 0 && t.x < int(res) && t.y < int(res);
+            lit = !inside || depth <= dagmhLookupH(dh, uint(t.x), uint(t.y)) ? 1u : 0u;
+        } else {
+            lit = dagmhPcfLit(dh, t, radius, int(res), depth);
+        }
+        return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
-    // DAG-MH taps that land in the node of the previous tap's value (same value index) reuse its decoded
-    // value: MH nodes cover many texels, so a 3x3 kernel mostly decodes one or two values.
-    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint lit = 0u;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
             // Outside the map the light's cone does not reach: count as lit.
             if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
-            uint d;
-            if (method == ML_STATIC_DAGMH) {
-                DagmhState st = dagmhLocate(base, uint(x), uint(y), usePrefix ? prefix : dagmhStart(base, uint(x), uint(y)));
-                if (st.vlast != memoIndex) {
-                    memoIndex = st.vlast;
-                    memoDepth = dagmhLocatedValue(base, uint(x), uint(y), st);
-                }
-                d = memoDepth;
-            } else {
-                d = staticDepthAt(method, base, uint(x), uint(y));
-            }
-            if (depth <= d) lit += 1u;
+            if (depth <= staticDepthAt(method, base, uint(x), uint(y))) lit += 1u;
         }
     return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
 }

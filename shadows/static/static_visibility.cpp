@@ -69,7 +69,8 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
         prefix = dagmhPcfPrefix(data, base, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
         usePrefix = prefix.kind != kDagNoPrefix;
     }
-    // DAG-MH taps in the node of the previous tap's value reuse its decoded value (as the shader).
+    // DAG-MH taps in the node of the previous tap's value reuse its decoded value (the shader, in
+    // dagmhPcfLit, also shares a prefix treelet's words and a chunk's words between taps: same values).
     uint32_t memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint32_t lit = 0;
     for (int dy = -radius; dy <= radius; ++dy)
