@@ -1,0 +1,53 @@
+#!/bin/bash
+# The evaluation pass with DAG-MH static shadows against the unshadowed pass (issue 18's ratios), for one
+# or more builds alternated round by round: per round and build, the minimum `evaluate` time of frames 1-9
+# of `demo --size 640x360 --frames 10 --dynamic off`, unshadowed, one tap (--pcf 0) and 3x3 PCF (--pcf 1),
+# and the two ratios. Fenced timing (the demo's default on CPU devices); alternate builds on a shared
+# machine, since the load moves every figure. docs/culling.md, "Static lookups against the unshadowed pass".
+set -euo pipefail
+usage() {
+    cat <<'USAGE'
+usage: tools/eval-ratio.sh [--rounds N] [--bake FILE] [--out DIR] BIN [BIN ...]
+  BIN          a manylights binary (copy old builds aside: binaries embed their shaders)
+  --rounds N   rounds of alternation (default 3)
+  --bake FILE  the night city's DAG-MH bake (default: made with the first BIN at 1024^2, all lights)
+  --out DIR    where frames and the bake go (default: a new temporary folder)
+Prints one CSV line per round and build: round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x
+USAGE
+}
+rounds=3 bake="" out=""
+bins=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+    --help | -h) usage; exit 0 ;;
+    --rounds) rounds="$2"; shift 2 ;;
+    --bake) bake="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    -*) echo "eval-ratio: unknown option $1 (see --help)" >&2; exit 2 ;;
+    *) bins+=("$1"); shift ;;
+    esac
+done
+[ ${#bins[@]} -gt 0 ] || { usage >&2; exit 2; }
+for b in "${bins[@]}"; do [ -x "$b" ] || { echo "eval-ratio: $b is not an executable" >&2; exit 2; }; done
+out="${out:-$(mktemp -d)}"
+mkdir -p "$out"
+if [ -z "$bake" ]; then
+    bake="$out/night-city-dagmh-1024.mlbk"
+    echo "eval-ratio: baking $bake with ${bins[0]}" >&2
+    "${bins[0]}" bake --scene night-city --method dagmh --res 1024 --lights all --out "$bake" >&2
+fi
+minEvaluate() { # frames.csv: frame,pass,gpu_ms
+    awk -F, '$2 == "evaluate" && $1 >= 1 && $1 <= 9 { if (m == "" || $3 < m) m = $3 } END { printf "%.1f", m }' "$1"
+}
+echo "round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x"
+for r in $(seq 1 "$rounds"); do
+    for i in "${!bins[@]}"; do
+        b="${bins[$i]}" d="$out/r${r}_b${i}"
+        "$b" demo --size 640x360 --frames 10 --dynamic off --out "$d/none" >/dev/null
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "$bake" --pcf 0 --out "$d/tap" >/dev/null
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "$bake" --pcf 1 --out "$d/pcf" >/dev/null
+        u=$(minEvaluate "$d/none/frames.csv") t=$(minEvaluate "$d/tap/frames.csv") p=$(minEvaluate "$d/pcf/frames.csv")
+        awk -v r="$r" -v b="$b" -v u="$u" -v t="$t" -v p="$p" \
+            'BEGIN { printf "%s,%s,%s,%s,%s,%.2f,%.2f\n", r, b, u, t, p, t / u, p / u }'
+    done
+done
