@@ -39,6 +39,19 @@ DagmhHeader dagmhHeader(uint base) {
     return h;
 }
 
+// The k-th factor of a chunk whose meta word is `meta` (bits 0-5 the factor width b, bits 6 on the byte
+// offset of its factors in the stream): b bits, which may straddle two words; 0 when b is 0.
+uint dagmhFactor(DagmhHeader h, uint meta, uint k) {
+    uint b = meta & 63u;
+    if (b == 0u) return 0u;
+    uint pos = (meta >> 6u) * 8u + k * b;
+    uint w = h.factors + (pos >> 5u);
+    uint sh = pos & 31u;
+    uint f = ML_STATIC_DATA[w] >> sh;
+    if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
+    return f & mlLowMask(b);
+}
+
 // Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
 // texel at the top-left corner of the cell of the MH node that holds the value. One lookup reads only
 // the chunk words its slot needs (r, or the plane and factor words).
@@ -49,17 +62,8 @@ uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
     if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
     uint k = mlPopc(bm & mlLowMask(j));
     uint meta = ML_STATIC_DATA[ch + 5u];
-    uint b = meta & 63u;
-    uint f = 0u;
-    if (b != 0u) {
-        uint pos = (meta >> 6u) * 8u + k * b;
-        uint w = h.factors + (pos >> 5u);
-        uint sh = pos & 31u;
-        f = ML_STATIC_DATA[w] >> sh;
-        if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
-        f &= mlLowMask(b);
-    }
-    if (b == 32u) return f; // raw 32-bit fallback
+    uint f = dagmhFactor(h, meta, k);
+    if ((meta & 63u) == 32u) return f; // raw 32-bit fallback
     uint wy = ML_STATIC_DATA[ch + 4u];
     uint by = uint(int(wy) >> 5); // 27-bit signed y slope, arithmetic shift
     return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
@@ -86,17 +90,8 @@ DagmhChunk dagmhChunk(DagmhHeader h, uint chunk) {
 uint dagmhChunkValue(DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
     if (((c.bm >> j) & 1u) == 0u) return c.r;
     uint k = mlPopc(c.bm & mlLowMask(j));
-    uint b = c.meta & 63u;
-    uint f = 0u;
-    if (b != 0u) {
-        uint pos = (c.meta >> 6u) * 8u + k * b;
-        uint w = h.factors + (pos >> 5u);
-        uint sh = pos & 31u;
-        f = ML_STATIC_DATA[w] >> sh;
-        if (sh + b > 32u) f |= ML_STATIC_DATA[w + 1u] << (32u - sh);
-        f &= mlLowMask(b);
-    }
-    if (b == 32u) return f; // raw 32-bit fallback
+    uint f = dagmhFactor(h, c.meta, k);
+    if ((c.meta & 63u) == 32u) return f; // raw 32-bit fallback
     uint by = uint(int(c.wy) >> 5); // 27-bit signed y slope, arithmetic shift
     return c.a + c.bx * px + by * py + (f << (c.wy & 31u));
 }
