@@ -200,11 +200,12 @@ struct VsmSlot {
     std::vector<uint32_t> uploadedActive, uploadedRankBase;
     std::vector<glm::uvec4> uploadedRuns;
     // Per map slot, what the allocation order reads of host.maps (x info.x: the projection, y light.y:
-    // face or clip level, z light.z: levels, w the DYNAMIC_ONLY flag), 16 B kept beside the 192 B
-    // records (buildFrameMaps writes both): the order, the coverage test and readStats read this.
+    // face or clip level, z light.z: levels, w bit 0 the DYNAMIC_ONLY flag, bit 1 in use), 16 B kept
+    // beside the 192 B records (buildFrameMaps writes both): the order, the coverage test and readStats
+    // read this.
     std::vector<glm::uvec4> mapKey;
-    bool mapKeysChanged = true;        // some map's key changed since the order was built
-    std::vector<uint32_t> orderActive; // the active maps host.runs was built for
+    bool mapKeysChanged = true; // some map's key changed since the order was built
+    uint32_t orderMaps = 0;     // the maps in use host.runs was built for
     bool orderBuilt = false;
     bool orderChanged = true; // this frame rebuilt runs and rankBase (uploadSlot compares them only then)
 };

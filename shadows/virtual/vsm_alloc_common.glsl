@@ -3,10 +3,11 @@
 // block prefix sum. The passes walk the request list (the wanted entries, sorted by priority rank) and
 // the physical pool, never every entry of every map.
 //
-// Priority order over the active maps' entries (maps of visible lights; inactive maps get no marks, and
-// are invalidated whole when they become active again): every light's coarsest level first (a
-// perspective map's last mip, a directional light's last clip level), then one level finer, and so on;
-// within a level the active maps in order, pages row-major. When the pool cannot hold every wanted page,
+// Priority order over the entries of the maps in use (only active maps, those of visible lights, get
+// marks; inactive ones keep their ranks as gaps, so a light entering view shifts no rank, and are
+// invalidated whole when they become active again): every light's coarsest level first (a perspective
+// map's last mip, a directional light's last clip level), then one level finer, and so on; within a
+// level the maps in slot order, pages row-major. When the pool cannot hold every wanted page,
 // the ones left without a page are the finest, and every lookup still finds a coarser one (receivers
 // reserve fallback pages near pressure: VsmSettings::fallbacksOnDemand) as long as the pool holds one
 // page per light's coarsest level.

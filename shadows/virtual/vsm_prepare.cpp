@@ -349,7 +349,8 @@ void VirtualShadowMaps::buildFrameMaps(Slot& slot, std::span<const VsmLight> lig
         slot.mapStamp[m] = mapStamp_[m];
         slot.mapsWritten.push_back(m);
         const gpu::GpuVsmMap& g = slot.host.maps[m] = maps_[m].inUse ? maps_[m].gpu : gpu::GpuVsmMap{};
-        const glm::uvec4 key(g.info.x, g.light.y, g.light.z, g.info.y & ML_VSM_MAP_DYNAMIC_ONLY);
+        const uint32_t flags = ((g.info.y & ML_VSM_MAP_DYNAMIC_ONLY) ? 1u : 0u) | (maps_[m].inUse ? 2u : 0u);
+        const glm::uvec4 key(g.info.x, g.light.y, g.light.z, flags);
         if (slot.mapKey.size() <= m) slot.mapKey.resize(size_t(m) + 1, glm::uvec4(0));
         if (slot.mapKey[m] != key) slot.mapKeysChanged = true;
         slot.mapKey[m] = key;
@@ -475,7 +476,7 @@ void VirtualShadowMaps::markCoverageAndStale(Slot& slot, std::span<const VsmLigh
         while (end < hits.size() && hits[end].first == k) ++end;
         for (uint32_t m = st.firstMap; m < st.firstMap + st.mapCount; ++m) {
             if (!maps_[m].inUse) continue;
-            const bool dynamicOnly = slot.mapKey[m].w != 0;
+            const bool dynamicOnly = (slot.mapKey[m].w & 1u) != 0;
             for (size_t j = h; j < end; ++j) {
                 const Box& box = boxes[hits[j].second];
                 // Coverage: dynamic-only maps; stale: every map, dynamic-only ones for dynamic casters.
@@ -538,19 +539,22 @@ std::vector<uint32_t> VirtualShadowMaps::activateMaps(Slot& slot, std::span<cons
 void VirtualShadowMaps::buildAllocationOrder(Slot& slot) {
     // Allocation order (vsm_alloc_common.glsl): every light's coarsest level first (the coarsest mip of a
     // perspective map, the coarsest clip level of a directional light), then one level finer, and so on;
-    // within a level, active map order. It depends only on the active maps, their kind and their levels
-    // (slot.mapKey): kept while those are what this slot's order was built for.
-    slot.orderChanged = !slot.orderBuilt || slot.mapKeysChanged || slot.orderActive != slot.host.active;
+    // within a level, the maps in use in slot order, active or not. An inactive map has no marks, so its
+    // ranks are only a gap; keeping them makes the order independent of which lights are in view, so a
+    // moving camera does not rebuild and re-upload it (one run per map and mip) every frame. It depends
+    // on the maps in use, their kind and their levels (slot.mapKey) and is kept while those stay.
+    slot.orderChanged = !slot.orderBuilt || slot.mapKeysChanged || slot.orderMaps != mapsInUse_;
     if (!slot.orderChanged) return;
-    slot.orderActive = slot.host.active;
+    slot.orderMaps = mapsInUse_;
     slot.orderBuilt = true;
     slot.mapKeysChanged = false;
     slot.host.runs.clear();
     uint32_t rank = 0;
     const uint32_t steps = std::max(mips_, settings_.clipLevels);
     for (uint32_t r = 0; r < steps; ++r)
-        for (uint32_t m : slot.host.active) {
+        for (uint32_t m = 0; m < mapsInUse_; ++m) {
             const glm::uvec4& k = slot.mapKey[m];
+            if (!(k.w & 2u)) continue; // a free slot
             const bool ortho = k.x == ML_VSM_ORTHOGRAPHIC;
             const uint32_t count = ortho ? k.z : mips_; // clip levels, or mips
             if (r >= count) continue;

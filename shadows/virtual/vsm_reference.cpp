@@ -134,7 +134,7 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
     auto wanted = [&](uint32_t e) {
         return marked(e) || ((marks[k.options.w + (e >> 5)] >> (e & 31u)) & 1u);
     };
-    // Entries of the active maps in priority order (vsm_alloc_common.glsl).
+    // Entries of the maps in use in priority order (vsm_alloc_common.glsl; inactive maps have no marks).
     struct Item {
         uint32_t entry, map, mip;
     };
