@@ -52,11 +52,12 @@ uint32_t sliceOf(float z, const std::vector<float>& sliceFar, uint32_t slices) {
 
 std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
                                                  const gpu::FrameConstants& frame) {
+    // Only directional lights are wide: the kind first, so the others cost no footprint.
+    if (light.info.x != ML_LIGHT_DIRECTIONAL) return std::nullopt;
     const gpu::LightFootprint f =
         gpu::lightFootprint(light, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
     if (f.tiles.x > f.tiles.z || f.tiles.y > f.tiles.w) return std::nullopt; // off screen
-    if (light.info.x == ML_LIGHT_DIRECTIONAL) return f;
-    return std::nullopt;
+    return f;
 }
 
 Result<void> LightCulling::create(const Device& device) {

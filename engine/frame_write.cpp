@@ -278,7 +278,7 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     if (mode == CullingMode::Clustered) {
         auto* wide = slot.wide.as<gpu::WideLight>();
         for (uint32_t v = 0; v < visible; ++v)
-            if (auto f = gl[v].info.x == ML_LIGHT_DIRECTIONAL ? wideFootprint(gl[v], fc) : std::nullopt) {
+            if (auto f = wideFootprint(gl[v], fc)) {
                 gl[v].params.w = 1.0f;
                 const uint32_t count = (f->tiles.z - f->tiles.x + 1) * (f->tiles.w - f->tiles.y + 1);
                 wide[slot.wideCount++] = {f->tiles, f->depth, v, slot.wideThreads, count, 0};

@@ -59,9 +59,9 @@ struct Module::Impl {
         uint32_t wideCount = 0, wideThreads = 0;
         Buffer draws; // G-buffer indirect draws, one per instance (rewritten each frame like instances)
         // The slot's copy of the static shadow records (engine/module_uploads.cpp): light i's six at
-        // 6 i; rewritten in place for the lights whose shadowVersion moved since the slot's last frame.
+        // 6 i; rewritten in place for the lights whose lightVersion moved since the slot's last frame.
         Buffer shadowRecords;
-        std::vector<uint32_t> shadowVersion;
+        std::vector<uint64_t> shadowVersion; // per light, the lightVersion its records were written from
         // Per instance, the instanceVersion its GpuInstance and draw in this slot's buffers were written
         // from (~0: never): only the instances that changed since the slot's last frame are rewritten.
         std::vector<uint64_t> instanceVersion;
@@ -109,11 +109,10 @@ struct Module::Impl {
     // removed bakes leave garbage until the arena is rebuilt into a new buffer, the old one retired), and
     // the records live per slot, rewritten for the lights whose version moved.
     Buffer staticWords;
-    uint64_t wordsUsed = 0;              // arena cursor (words)
-    bool wordsPending = false;           // a face has words not yet resident
-    uint64_t recordsEpoch = 0;           // bumped when every record changes (PCF radius, arena rebuilt)
-    std::vector<uint32_t> shadowVersion; // per light: bumped by every change of its shadows
-    void touchShadow(uint32_t light);
+    uint64_t wordsUsed = 0;           // arena cursor (words)
+    bool wordsPending = false;        // a face has words not yet resident
+    uint64_t recordsEpoch = 0;        // bumped when every record changes (PCF radius, arena rebuilt)
+    void touchShadow(uint32_t light); // stamps lightVersion (below): the records and light caches follow
     uint32_t shadowRecordOf(uint32_t light) const; // 6 light, or ML_NO_SHADOW
     Result<void> uploadShadowWords();
     Result<void> writeShadowRecords(Slot& slot);

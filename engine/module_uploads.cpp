@@ -92,8 +92,6 @@ Result<void> Module::Impl::uploadMeshes() {
 }
 
 void Module::Impl::touchShadow(uint32_t light) {
-    if (shadowVersion.size() <= light) shadowVersion.resize(light + 1, 0);
-    shadowVersion[light]++;
     if (lightVersion.size() <= light) lightVersion.resize(light + 1, 0);
     lightVersion[light] = ++lightStamp; // the light's cached records (updateLightRecords) are remade
 }
@@ -167,11 +165,11 @@ Result<void> Module::Impl::writeShadowRecords(Slot& slot) {
                      kStorageBufferUsage, "shadow_records");
     if (!grown) return fail(grown.error());
     all |= grown.value();
-    if (shadowVersion.size() < n) shadowVersion.resize(n, 0);
-    slot.shadowVersion.resize(n, ~0u); // lights new to the slot differ from any version
+    if (lightVersion.size() < n) lightVersion.resize(n, 0);
+    slot.shadowVersion.resize(n, ~uint64_t(0)); // lights new to the slot differ from any version
     auto* records = slot.shadowRecords.as<gpu::GpuShadowRecord>();
     for (uint32_t i = 0; i < n; ++i) {
-        if (!all && slot.shadowVersion[i] == shadowVersion[i]) continue;
+        if (!all && slot.shadowVersion[i] == lightVersion[i]) continue;
         const bool casts = lightAlive[i] && lights[i].castsShadows;
         for (uint32_t f = 0; f < 6; ++f) {
             const StaticShadow& s = shadows[i][f];
@@ -182,7 +180,7 @@ Result<void> Module::Impl::writeShadowRecords(Slot& slot) {
             records[i * 6 + f].bias.x = lights[i].shadowDepthBias; // setLight touches the light's version
             records[i * 6 + f].bias.y = lights[i].shadowNormalBias;
         }
-        slot.shadowVersion[i] = shadowVersion[i];
+        slot.shadowVersion[i] = lightVersion[i];
         recordsWritten++;
     }
     slot.recordsEpoch = recordsEpoch;
