@@ -471,11 +471,12 @@ Result<Inspected> readInspected(const std::string& path) {
     return in;
 }
 
-std::string partsJson(uint64_t headers, uint64_t skipList, uint64_t nodes, uint64_t treelets, uint64_t values,
-                      uint64_t factors) {
+std::string partsJson(uint64_t headers, uint64_t skipList, uint64_t bounds, uint64_t nodes, uint64_t treelets,
+                      uint64_t values, uint64_t factors) {
     return json::Object()
         .integer("headers", headers)
         .integer("skip_list", skipList)
+        .integer("bounds", bounds)
         .integer("nodes", nodes)
         .integer("treelets", treelets)
         .integer("values", values)
@@ -545,7 +546,8 @@ std::string inspectJson(const std::string& path, const Inspected& in) {
     }
     o.breakLine().text("method", staticMethodName(f.method)).integer("resolution", f.resolution);
     o.integer("lights", f.records.size()).integer("bytes_total", b.total());
-    o.breakLine().raw("bytes", partsJson(b.headers, b.skipList, b.nodes, b.treelets, b.values, b.factors));
+    o.breakLine().raw("bytes",
+                      partsJson(b.headers, b.skipList, b.bounds, b.nodes, b.treelets, b.values, b.factors));
     o.breakLine().integer("map_bytes_per_light", uint64_t(f.resolution) * f.resolution * 4);
     std::vector<std::string> records;
     for (size_t i = 0; i < f.records.size(); ++i) {
@@ -558,7 +560,8 @@ std::string inspectJson(const std::string& path, const Inspected& in) {
             .real("fov", r.frustum.fov, "%.9g")
             .real("near", r.frustum.nearPlane, "%.9g")
             .real("far", r.frustum.farPlane, "%.9g")
-            .raw("parts", partsJson(p.header, p.skipList, p.nodes, p.treelets, p.values, p.factors));
+            .raw("parts",
+                 partsJson(p.header, p.skipList, p.bounds, p.nodes, p.treelets, p.values, p.factors));
         if (auto fit = directionalFit(r); fit) rec.raw("directional", directionalJson(fit.value()));
         records.push_back(rec.str());
     }
@@ -608,9 +611,12 @@ void printInspected(const std::string& path, const Inspected& in) {
                 staticMethodName(f.method), f.hasNeed ? "from need, at most " : "", f.resolution,
                 f.records.size(), (unsigned long long)b.total(),
                 f.records.empty() ? 0.0 : 100.0 * double(b.total()) / double(allMapBytes), f.records.size());
-    std::printf("bytes: headers %llu, skip list %llu, nodes %llu, treelets %llu, values %llu, factors %llu\n",
-                (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.nodes,
-                (unsigned long long)b.treelets, (unsigned long long)b.values, (unsigned long long)b.factors);
+    std::printf(
+        "bytes: headers %llu, skip list %llu, value bounds %llu, nodes %llu, treelets %llu, values %llu, "
+        "factors %llu\n",
+        (unsigned long long)b.headers, (unsigned long long)b.skipList, (unsigned long long)b.bounds,
+        (unsigned long long)b.nodes, (unsigned long long)b.treelets, (unsigned long long)b.values,
+        (unsigned long long)b.factors);
     std::printf("%8s %6s %12s %8s %8s %8s\n", "light", "res", "bytes", "of map", "fov", "far");
     for (const BakeRecord& r : f.records)
         std::printf("%8u %6u %12llu %7.2f%% %8.3f %8.2f\n", r.light, r.resolution,

@@ -22,21 +22,42 @@ const uint ML_DAG_HEADER_WORDS = 20u;
 // pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
 // and each tap. Section offsets are absolute (base added).
 struct DagmhHeader {
-    uint L, S, skip, nodes, treelets, chunks, factors;
+    uint L, S, B, base, skip, bounds, nodes, treelets, chunks, factors;
 };
 
-DagmhHeader dagmhHeader(uint base) {
+// In two steps, so that a lookup the value bounds decide reads one header word (S): the levels and the
+// fixed-place sections first (L given: validate() makes it the resolution's ceil(log2), dagmhLevels),
+// the three section offsets a descent needs only when it descends (dagmhSections).
+uint dagmhLevels(uint res) {
+    return res > 1u ? uint(findMSB(res - 1u)) + 1u : 0u;
+}
+
+DagmhHeader dagmhHeaderTop(uint base, uint L) {
     DagmhHeader h;
-    h.L = ML_STATIC_DATA[base + ML_DAG_LEVELS];
-    h.S = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL];
-    // validate() requires the sections to tile the buffer from the header on: the skip list at word 20
-    // and the nodes after its 4^S entries, so those two offsets need no read.
+    h.L = L;
+    uint levels = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL]; // S | B << 8 (dagfmt::skipLevel, boundsLevel)
+    h.S = levels & 255u;
+    h.B = levels >> 8u;
+    // validate() requires the sections to tile the buffer from the header on: the skip list at word 20,
+    // the value bounds after its 4^S entries and the nodes after their 4^B words, so those offsets need
+    // no read.
     h.skip = base + ML_DAG_HEADER_WORDS;
-    h.nodes = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
-    h.treelets = base + ML_STATIC_DATA[base + ML_DAG_TREELET_OFFSET];
-    h.chunks = base + ML_STATIC_DATA[base + ML_DAG_CHUNK_OFFSET];
-    h.factors = base + ML_STATIC_DATA[base + ML_DAG_FACTOR_OFFSET];
+    h.bounds = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
+    h.nodes = h.bounds + (1u << (2u * h.B));
+    h.base = base;
+    h.treelets = 0u, h.chunks = 0u, h.factors = 0u;
     return h;
+}
+
+DagmhHeader dagmhSections(DagmhHeader h) {
+    h.treelets = h.base + ML_STATIC_DATA[h.base + ML_DAG_TREELET_OFFSET];
+    h.chunks = h.base + ML_STATIC_DATA[h.base + ML_DAG_CHUNK_OFFSET];
+    h.factors = h.base + ML_STATIC_DATA[h.base + ML_DAG_FACTOR_OFFSET];
+    return h;
+}
+
+DagmhHeader dagmhHeader(uint base) {
+    return dagmhSections(dagmhHeaderTop(base, ML_STATIC_DATA[base + ML_DAG_LEVELS]));
 }
 
 // The k-th factor of a chunk whose meta word is `meta` (bits 0-5 the factor width b, bits 6 on the byte
@@ -192,6 +213,23 @@ uint dagmhLookupH(DagmhHeader h, uint x, uint y) {
 
 uint dagmhLookup(uint base, uint x, uint y) {
     return dagmhLookupH(dagmhHeader(base), x, y);
+}
+
+// The bounds test (twin of dagmhBoundsClass in dagmh.h): 1 when every texel of [x0, x1] x [y0, y1] is lit
+// at receiver depth `depth` (depth <= its value), 2 when none is, 0 when the value bounds of the cells
+// of level B it covers do not decide. A lit or shadowed answer skips the descent and the value decode:
+// one word per cell (a 3x3 kernel covers 1-4 cells of 4x4 texels or more).
+uint dagmhBoundsClass(DagmhHeader h, uint x0, uint y0, uint x1, uint y1, uint depth) {
+    uint sh = h.L - h.B;
+    uint lo = 0xFFFFFFFFu, hi = 0u;
+    for (uint Y = y0 >> sh; Y <= (y1 >> sh); ++Y)
+        for (uint X = x0 >> sh; X <= (x1 >> sh); ++X) {
+            uint w = ML_STATIC_DATA[h.bounds + (Y << h.B) + X];
+            uint wl = w << 16u, wh = w | 0xFFFFu;
+            lo = wl < lo ? wl : lo;
+            hi = wh > hi ? wh : hi;
+        }
+    return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
 }
 
 // kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).

@@ -1,8 +1,10 @@
 // Static shadow visibility of one receiver for one light with a baked record: the mapping from a world
 // point to the light's texel and quantised depth, the bias, and the PCF loop over the decoders.
 // CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare), but
-// for DAG-MH PCF (dagmhPcfLit): that walks the in-map taps only and shares more reads between taps; each
-// tap still gets the value the CPU's per-tap loop gets, so the lit count is the same.
+// for DAG-MH (dagmhPcfLit, the one tap): that first tests the value bounds of the cells it covers, which decide a
+// tap or a whole kernel when the receiver is nearer or farther than every value there, then walks the
+// in-map taps only and shares more reads between taps; each tap still gets the answer the CPU's per-tap
+// loop gets, so the lit count is the same.
 //
 // Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by (1 + PCF radius)
 // texels' world size (normal-offset bias: it grows with the texel footprint, so it holds at grazing
@@ -43,12 +45,18 @@ uint staticDepthAt(uint method, uint base, uint x, uint y) {
 // - the kernel's taps share the descent to the node that holds them all (dagmhPcfPrefix); when that
 //   descent ends in a treelet, the taps share its 3 words too (read once, not once per tap);
 // - a tap with the previous tap's value index reuses its value (same MH node), and one in the same
-//   chunk reuses the chunk's 6 words (only its factor bits are read).
+//   chunk reuses the chunk's 6 words (only its factor bits are read);
+// - first of all, the value bounds of the cells the kernel covers (dagmhBoundsClass) decide it
+//   whole when the receiver is nearer than every value there (all lit) or farther than every one.
 uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
     uint taps = uint((2 * radius + 1) * (2 * radius + 1));
     ivec2 lo = max(t - radius, ivec2(0)), hi = min(t + radius, ivec2(res - 1));
     if (lo.x > hi.x || lo.y > hi.y) return taps;
     uint lit = taps - uint((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
+    // The value bounds decide most kernels whole: every in-map tap lit, or none.
+    uint k = dagmhBoundsClass(dh, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y), depth);
+    if (k != 0u) return k == 1u ? taps : lit;
+    dh = dagmhSections(dh);
     DagmhState prefix = dagmhPcfPrefix(dh, uint(lo.x), uint(lo.y), uint(hi.x), uint(hi.y));
     bool usePrefix = prefix.kind != ML_DAG_NO_PREFIX;
     bool sharedTreelet = prefix.kind == 2u;
@@ -112,11 +120,12 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
     uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
     if (method == ML_STATIC_DAGMH) {
-        DagmhHeader dh = dagmhHeader(base); // once for all taps
+        DagmhHeader dh = dagmhHeaderTop(base, dagmhLevels(res)); // once for all taps
         uint lit = 0u;
         if (radius == 0) {
             bool inside = t.x >= 0 && t.y >= 0 && t.x < int(res) && t.y < int(res);
-            lit = !inside || depth <= dagmhLookupH(dh, uint(t.x), uint(t.y)) ? 1u : 0u;
+            uint k = inside ? dagmhBoundsClass(dh, uint(t.x), uint(t.y), uint(t.x), uint(t.y), depth) : 1u;
+            lit = k == 1u || (k == 0u && depth <= dagmhLookupH(dagmhSections(dh), uint(t.x), uint(t.y))) ? 1u : 0u;
         } else {
             lit = dagmhPcfLit(dh, t, radius, int(res), depth);
         }

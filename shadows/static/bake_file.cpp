@@ -413,7 +413,7 @@ BakeBytes bakeFileBytes(const BakeFile& file, std::vector<BakeRecordBytes>* perR
     for (const BakeRecord& r : file.records) {
         stat::ByteBreakdown p = breakdownStatic(r.method, r.data.data(), r.data.size());
         b.headers += kRecordWords * 4 + p.header;
-        b.skipList += p.skipList, b.nodes += p.nodes, b.treelets += p.treelets;
+        b.skipList += p.skipList, b.bounds += p.bounds, b.nodes += p.nodes, b.treelets += p.treelets;
         b.values += p.values, b.factors += p.factors;
         if (perRecord) perRecord->push_back({r.light, p, kRecordWords * 4});
     }

@@ -203,8 +203,8 @@ Result<BakeFile> readBakeFile(const std::string& path);
 // Bytes per part. `headers` holds the file header, the record table and each record's format header;
 // the parts add up to the file size.
 struct BakeBytes {
-    uint64_t headers = 0, skipList = 0, nodes = 0, treelets = 0, values = 0, factors = 0;
-    uint64_t total() const { return headers + skipList + nodes + treelets + values + factors; }
+    uint64_t headers = 0, skipList = 0, bounds = 0, nodes = 0, treelets = 0, values = 0, factors = 0;
+    uint64_t total() const { return headers + skipList + bounds + nodes + treelets + values + factors; }
 };
 struct BakeRecordBytes {
     uint32_t light = 0;

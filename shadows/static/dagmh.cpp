@@ -15,7 +15,7 @@ namespace ml {
 namespace dagfmt {
 
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]) {
-    const uint32_t S = data[base + kSkipLevel];
+    const uint32_t S = skipLevel(data, base);
     const uint32_t nodes = base + data[base + kNodeOffset];
     uint32_t kind = data[base + kRootKind], ptr = data[base + kRootPtr], depth = 0, vcount = 0, vlast = 0;
     uint32_t dlast = 0;
@@ -41,6 +41,109 @@ void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_
     }
     if (kind == 0u) ptr = 0u, vcount = 0u, depth = 0u; // resolved: only v_last matters
     out[0] = kind | depth << 8u | dlast << 16u, out[1] = ptr, out[2] = vcount, out[3] = vlast;
+}
+
+namespace {
+
+// The walk behind cellBounds: the lookup's descent (dagmhDescend, the treelet step) taken into every
+// child instead of one, with the lookup's v_last / d_last bookkeeping, so each region of texels that
+// resolves to one value (an absent child, a node at level L, a treelet leaf) adds that value once.
+struct BoundsWalk {
+    const uint32_t* data;
+    uint32_t L, B, X, Y, nodes, treelets; // (X, Y): the cell at level B
+    uint32_t lo = 0xFFFFFFFFu, hi = 0u;
+    uint32_t memoIndex = 0xFFFFFFFFu, memoValue = 0u; // consecutive regions mostly share a value
+
+    // Adds value `vlast`, held by the node at depth `dlast` above the node (nx, ny) at depth `depth`.
+    void take(uint32_t vlast, uint32_t dlast, uint32_t depth, uint32_t nx, uint32_t ny) {
+        if (vlast != memoIndex) {
+            const uint32_t s = depth - dlast;
+            memoIndex = vlast;
+            memoValue = dagmhValue(data, 0, vlast, (nx >> s) << (L - dlast), (ny >> s) << (L - dlast));
+        }
+        lo = std::min(lo, memoValue), hi = std::max(hi, memoValue);
+    }
+    // Above the cell (depth < B) only the child towards (X, Y) is followed.
+    bool onPath(uint32_t depth, uint32_t c) const {
+        if (depth >= B) return true;
+        const uint32_t s = B - depth - 1u;
+        return c == ((((Y >> s) & 1u) << 1u) | ((X >> s) & 1u));
+    }
+    void inner(uint32_t ptr, uint32_t depth, uint32_t nx, uint32_t ny, uint32_t vcount, uint32_t vlast,
+               uint32_t dlast) {
+        const uint32_t flags = data[nodes + ptr];
+        if ((flags & 256u) != 0u) vlast = vcount, dlast = depth;
+        if (depth >= L) return take(vlast, dlast, depth, nx, ny);
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < 4; ++i) n += ((flags >> (2u * i)) & 3u) != 0u;
+        uint32_t rank = 0;
+        for (uint32_t c = 0; c < 4; ++c) {
+            const uint32_t t = (flags >> (2u * c)) & 3u;
+            const uint32_t cx = 2u * nx + (c & 1u), cy = 2u * ny + (c >> 1u);
+            if (t != 0u && onPath(depth, c)) {
+                const uint32_t child = data[nodes + ptr + 1u + rank];
+                const uint32_t vc =
+                    vcount + (rank == 0u ? ((flags >> 8u) & 1u) : data[nodes + ptr + n + rank]);
+                if (t == 1u)
+                    inner(child, depth + 1u, cx, cy, vc, vlast, dlast);
+                else
+                    treelet(child, depth + 1u, cx, cy, vc, vlast, dlast);
+            } else if (t == 0u && onPath(depth, c)) {
+                take(vlast, dlast, depth + 1u, cx, cy); // the child's texels keep v_last
+            }
+            rank += t != 0u;
+        }
+    }
+    void treelet(uint32_t ptr, uint32_t depth, uint32_t nx, uint32_t ny, uint32_t vcount, uint32_t vlast,
+                 uint32_t dlast) {
+        const uint32_t* tw = data + treelets + kTreeletWords * ptr;
+        treeletAt(tw, 0u, 0u, depth, nx, ny, vcount, vlast, dlast);
+    }
+    // Treelet position at level `lvl` with bit index `idx` (lvl + 21 c1 + 5 c2 + c3), node (nx, ny) at
+    // `depth`; vcount is the treelet's (a set bit's value index is vcount + set bits before it).
+    void treeletAt(const uint32_t* tw, uint32_t lvl, uint32_t idx, uint32_t depth, uint32_t nx, uint32_t ny,
+                   uint32_t vcount, uint32_t vlast, uint32_t dlast) {
+        const uint32_t wi = idx >> 5u;
+        if (((tw[wi] >> (idx & 31u)) & 1u) != 0u) {
+            uint32_t before = stat::popc(tw[wi] & stat::lowMask(idx & 31u));
+            if (wi > 0u) before += stat::popc(tw[0]);
+            if (wi > 1u) before += stat::popc(tw[1]);
+            vlast = vcount + before, dlast = depth;
+        }
+        if (lvl == 3u || depth >= L) return take(vlast, dlast, depth, nx, ny);
+        const uint32_t mul = lvl == 0u ? 21u : (lvl == 1u ? 5u : 1u);
+        for (uint32_t c = 0; c < 4; ++c)
+            if (onPath(depth, c))
+                treeletAt(tw, lvl + 1u, idx + 1u + c * mul, depth + 1u, 2u * nx + (c & 1u),
+                          2u * ny + (c >> 1u), vcount, vlast, dlast);
+    }
+};
+
+} // namespace
+
+uint32_t chooseBoundsLevel(uint32_t L, uint32_t S, uint64_t restWords) {
+    const uint64_t budgetBytes = std::max<uint64_t>(restWords * 4 / 16, 4096);
+    uint32_t B = S;
+    while (B < std::min<uint32_t>({L, S + 2u, 9u}) && (uint64_t(4) << (2 * (B + 1))) <= budgetBytes) ++B;
+    return B;
+}
+
+uint32_t cellBounds(const uint32_t* data, uint32_t X, uint32_t Y) {
+    const uint32_t S = skipLevel(data), B = boundsLevel(data);
+    const uint32_t* e = data + data[kSkipOffset] + kSkipWords * (((Y >> (B - S)) << S) + (X >> (B - S)));
+    BoundsWalk w{data, data[kLevels], B, X, Y, data[kNodeOffset], data[kTreeletOffset]};
+    const uint32_t kind = e[0] & 255u, depth = (e[0] >> 8u) & 255u, dlast = e[0] >> 16u;
+    if (kind == 0u) {
+        w.take(e[3], dlast, B, X, Y); // resolved above S: the whole cell has v_last
+    } else {
+        // The entry's node contains the cell: at depth S (inner) or at or above it (a treelet).
+        const uint32_t nx = X >> (B - depth), ny = Y >> (B - depth);
+        if (kind == 1u)
+            w.inner(e[1], depth, nx, ny, e[2], e[3], dlast);
+        else
+            w.treelet(e[1], depth, nx, ny, e[2], e[3], dlast);
+    }
+    return packBounds(w.lo, w.hi);
 }
 
 } // namespace dagfmt
@@ -365,10 +468,12 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     std::vector<uint32_t> out(kHeaderWords, 0);
     out[kMagicWord] = kMagic, out[kVersion] = kVersionNumber, out[kResolution] = tree.resolution,
     out[kLevels] = L;
-    out[kSkipLevel] = S, out[kRootKind] = refKind[0], out[kRootPtr] = refPtr[0];
+    const uint32_t B = chooseBoundsLevel(L, S, restWords);
+    out[kSkipLevel] = S | B << 8, out[kRootKind] = refKind[0], out[kRootPtr] = refPtr[0];
     out[kValues] = numValues, out[kChunks] = numChunks;
     out[kSkipOffset] = kHeaderWords;
-    out[kNodeOffset] = out[kSkipOffset] + skipEntries * kSkipWords;
+    const uint32_t boundsOffset = out[kSkipOffset] + skipEntries * kSkipWords;
+    out[kNodeOffset] = boundsOffset + (1u << (2 * B)); // one bounds word per cell of level B
     out[kNodeWords] = uint32_t(nodeWords.size());
     out[kTreeletOffset] = out[kNodeOffset] + out[kNodeWords];
     out[kTreelets] = uint32_t(treelets.size());
@@ -386,6 +491,9 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     for (uint32_t Y = 0; Y < (1u << S); ++Y)
         for (uint32_t X = 0; X < (1u << S); ++X)
             descendToSkipLevel(out.data(), 0, X, Y, &out[kHeaderWords + kSkipWords * ((Y << S) + X)]);
+    for (uint32_t Y = 0; Y < (1u << B); ++Y) // after the skip entries and values it decodes from
+        for (uint32_t X = 0; X < (1u << B); ++X)
+            out[boundsOffset + (Y << B) + X] = cellBounds(out.data(), X, Y);
     out[kChecksum] = stat::checksumWords(out.data(), out.size(), kChecksum);
     if (statsOut) *statsOut = st;
     return out;
@@ -403,16 +511,20 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (!data || size < kHeaderWords)
         return bad("buffer of " + std::to_string(size) + " words is shorter than its header");
     if (data[kMagicWord] != kMagic) return bad("wrong magic");
-    if (data[kVersion] != kVersionNumber) return bad("unsupported version " + std::to_string(data[kVersion]));
+    if (data[kVersion] != kVersionNumber)
+        return bad("unsupported version " + std::to_string(data[kVersion]) + " (this build reads version " +
+                   std::to_string(kVersionNumber) + ": rebake)");
     if (data[kTotalWords] != size)
         return bad("total words " + std::to_string(data[kTotalWords]) + " != buffer size " +
                    std::to_string(size));
     if (data[kChecksum] != stat::checksumWords(data, size, kChecksum)) return bad("checksum mismatch");
     if (data[kReserved] != 0) return bad("reserved header word is not 0");
-    const uint32_t L = data[kLevels], res = data[kResolution], S = data[kSkipLevel];
+    const uint32_t L = data[kLevels], res = data[kResolution], S = skipLevel(data), B = boundsLevel(data);
     if (L > 16 || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
         return bad("resolution does not match levels");
     if (S > L || S > 8) return bad("skip level " + std::to_string(S) + " out of range");
+    if (B < S || B > std::min<uint32_t>(L, 9) || (data[kSkipLevel] >> 16) != 0)
+        return bad("bounds level " + std::to_string(B) + " out of range");
     const uint64_t numValues = data[kValues], numChunks = data[kChunks];
     if (numValues == 0 || numChunks != (numValues + kChunkValues - 1) / kChunkValues)
         return bad("value/chunk counts disagree");
@@ -423,7 +535,8 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
         pos += words;
         return ok;
     };
-    if (!section(kSkipOffset, uint64_t(kSkipWords) << (2 * S)) || !section(kNodeOffset, data[kNodeWords]) ||
+    if (!section(kSkipOffset, (uint64_t(kSkipWords) << (2 * S)) + (uint64_t(1) << (2 * B))) ||
+        !section(kNodeOffset, data[kNodeWords]) ||
         !section(kTreeletOffset, uint64_t(kTreeletWords) * data[kTreelets]) ||
         !section(kChunkOffset, kChunkWords * numChunks) || !section(kFactorOffset, data[kFactorWords]) ||
         pos != size)
@@ -508,6 +621,14 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
         if (uint64_t(w[5] >> 6) * 8u + uint64_t(stat::popc(w[1])) * b > factorBits)
             return bad("chunk " + std::to_string(c) + " factors past the stream");
     }
+    // Value bounds: must equal the walk from each skip entry (last: it decodes values, so every section it
+    // reads has been checked above).
+    const uint32_t* bounds = data + data[kSkipOffset] + (uint64_t(kSkipWords) << (2 * S));
+    for (uint32_t Y = 0; Y < (1u << B); ++Y)
+        for (uint32_t X = 0; X < (1u << B); ++X)
+            if (bounds[(Y << B) + X] != cellBounds(data, X, Y))
+                return bad("value bounds of cell (" + std::to_string(X) + "," + std::to_string(Y) +
+                           ") differ from its values");
     return {};
 }
 
@@ -529,7 +650,8 @@ stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size) {
     stat::ByteBreakdown b;
     b.header = kHeaderWords * 4u;
     if (size < kHeaderWords) return b;
-    b.skipList = (uint64_t(kSkipWords) << (2 * data[kSkipLevel])) * 4u;
+    b.skipList = (uint64_t(kSkipWords) << (2 * skipLevel(data))) * 4u;
+    b.bounds = (uint64_t(1) << (2 * boundsLevel(data))) * 4u;
     b.nodes = uint64_t(data[kNodeWords]) * 4u;
     b.treelets = uint64_t(data[kTreelets]) * kTreeletWords * 4u;
     b.values = uint64_t(data[kChunks]) * kChunkWords * 4u;

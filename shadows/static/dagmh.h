@@ -16,15 +16,25 @@
 //     eighth of the other sections (the night city's 1024^2 bake: skip lists 0.25 -> 2.48 MB of
 //     44.9 MB, dense lights deeper, near-empty ones unchanged), so a lookup starts that deep; older
 //     bakes used clamp(L - 7, 0, 6) and still read (S is in the header).
+//   - Value bounds (format version 3): per cell of level B (chooseBoundsLevel), the smallest and largest
+//     value any of its texels decodes to, 16 bits each (rounded outwards). A lookup whose receiver depth is
+//     at or below the cell's smallest value is lit, one above its largest is shadowed, without the descent or
+//     the value decode (dagmhBoundsClass; a PCF kernel tests the cells it covers at once). Exact: the bounds
+//     hold every texel's decoded value (validate() recomputes them, the tests check every texel); 1 word per
+//     cell.
 //   - Values: chunks of 32 with a representative value, a 32-bit "has factor" bitmap, and a plane
 //     predictor: value = A + B_x px + B_y py + (k << sh) (uint32 arithmetic), (px, py) the texel at the
 //     top-left corner of the value's node cell, k of the smallest bit width b; b = 32 stores raw values.
 // Layout (words):
-//   header[20]: magic 'DGM1' | version 1 | resolution | levels L | skip level S | root kind (1 inner,
+//   header[20]: magic 'DGM1' | version 3 | resolution | levels L | skip level S | B << 8 | root kind (1
+//   inner,
 //     2 treelet) | root pointer | values | chunks | skip offset | node offset | node words | treelet
 //     offset | treelets | chunk offset | factor offset | factor words | total words | checksum | 0
 //   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8 | d_last << 16
 //     (depth of the node holding v_last), pointer, v_count, v_last; entry index = Y * 2^S + X.
+//   bounds: 4^B words (B in bits 8-15 of the skip level word), index Y * 2^B + X: lo >> 16 | (hi >> 16) << 16
+//   (lo, hi: the
+//     cell's smallest and largest decoded value; the node offset is skip offset + 4 * 4^S + 4^B).
 //   nodes: inner node = flags (2 bits per child c: 0 absent, 1 inner, 2 treelet; bit 8: the node has a
 //     value) | n child pointers (inner: word index into nodes, always smaller than the node's own;
 //     treelet: treelet index) | n - 1 prefix counts (values before child rank r >= 1 in the subtree,
@@ -40,6 +50,7 @@
 #include "shadows/static/format_common.h"
 #include "shadows/static/mh.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -73,9 +84,31 @@ enum : uint32_t {
 constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipWords = 4;
 constexpr uint32_t kMaxFactorBytes = 1u << 26;
 
+// Version 3 added the value bounds; version 2 bakes are refused (rebake them).
+constexpr uint32_t kVersionNumber = 3;
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
-constexpr uint32_t kVersionNumber = 2;
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
+// The bounds word of bounds cell (X, Y) (level B below), computed from its skip entry down (every node and
+// treelet position under the cell, each region's value decoded once): the smallest and largest value a texel
+// of the cell decodes to, packed as in the bounds section. Needs the skip entries and value sections
+// in place (the encoder fills the bounds last; validate() compares).
+uint32_t cellBounds(const uint32_t* data, uint32_t X, uint32_t Y);
+// Word kSkipLevel holds the skip level S (bits 0-7) and the bounds' level B (bits 8-15, S <= B <= min(L,
+// 9)); the rest is 0.
+inline uint32_t skipLevel(const uint32_t* data, uint32_t base = 0) {
+    return data[base + kSkipLevel] & 255u;
+}
+inline uint32_t boundsLevel(const uint32_t* data, uint32_t base = 0) {
+    return (data[base + kSkipLevel] >> 8u) & 255u;
+}
+// The encoder's choice of B: the deepest level <= min(L, S + 2, 9) whose bounds (4 B a cell) stay within
+// a sixteenth of the other sections or 4 KiB, whichever is more, and never below S. The floor serves the
+// many small maps (a lamp over flat ground: 8-32 KiB), whose bounds it makes 32x32-texel cells at
+// 1024^2 for 4 KiB; the sixteenth keeps dense maps at B = S (4096^2: 64 KiB of ~2.4 MB).
+uint32_t chooseBoundsLevel(uint32_t L, uint32_t S, uint64_t restWords);
+inline uint32_t packBounds(uint32_t lo, uint32_t hi) {
+    return (lo >> 16u) | (hi & 0xFFFF0000u);
+}
 } // namespace dagfmt
 
 struct DagMhStats {
@@ -127,7 +160,7 @@ struct DagmhState {
 
 inline DagmhState dagmhStart(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
     uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t S = data[base + dagfmt::kSkipLevel];
+    uint32_t S = dagfmt::skipLevel(data, base);
     uint32_t e = base + data[base + dagfmt::kSkipOffset] +
                  dagfmt::kSkipWords * (((y >> (L - S)) << S) + (x >> (L - S)));
     DagmhState st;
@@ -216,6 +249,25 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
     return dagmhFinish(data, base, x, y, dagmhStart(data, base, x, y));
 }
 
+// The bounds test of the texels [x0, x1] x [y0, y1] (in the map) at receiver depth `depth`: 1 when
+// every one of them is lit (depth <= value), 2 when none is, 0 when the cells' bounds do not decide.
+// GLSL twin dagmhBoundsClass (shaders/static/dagmh_lookup.glsl).
+inline uint32_t dagmhBoundsClass(const uint32_t* data, uint32_t base, uint32_t x0, uint32_t y0, uint32_t x1,
+                                 uint32_t y1, uint32_t depth) {
+    const uint32_t L = data[base + dagfmt::kLevels], S = dagfmt::skipLevel(data, base);
+    const uint32_t B = dagfmt::boundsLevel(data, base);
+    const uint32_t bounds = base + data[base + dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2u * S));
+    const uint32_t sh = L - B;
+    uint32_t lo = 0xFFFFFFFFu, hi = 0u;
+    for (uint32_t Y = y0 >> sh; Y <= y1 >> sh; ++Y)
+        for (uint32_t X = x0 >> sh; X <= x1 >> sh; ++X) {
+            uint32_t w = data[bounds + (Y << B) + X];
+            lo = std::min(lo, w << 16u);
+            hi = std::max(hi, w | 0xFFFFu);
+        }
+    return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
+}
+
 // Hierarchical PCF: the state shared by every texel of the block [x0, x1] x [y0, y1] (in the map),
 // descended once to the deepest level where all of them lie in one node. kind = kNoPrefix when the
 // block straddles skip-list entries (then each tap starts from its own entry).
@@ -223,7 +275,7 @@ constexpr uint32_t kDagNoPrefix = 255u;
 inline DagmhState dagmhPcfPrefix(const uint32_t* data, uint32_t base, uint32_t x0, uint32_t y0, uint32_t x1,
                                  uint32_t y1) {
     uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t S = data[base + dagfmt::kSkipLevel];
+    uint32_t S = dagfmt::skipLevel(data, base);
     uint32_t diff = (x0 ^ x1) | (y0 ^ y1);
     uint32_t bits = 0u;
     while ((diff >> bits) != 0u) ++bits;

@@ -24,8 +24,8 @@ inline uint32_t checksumWords(const uint32_t* data, size_t size, size_t skipInde
 // Bytes per part of an encoded buffer. `values` is every stored depth value (MH/MMH node values, SM
 // texels, DAG-MH chunk infos); `factors` is the DAG-MH bit-packed factor stream.
 struct ByteBreakdown {
-    uint64_t header = 0, skipList = 0, nodes = 0, treelets = 0, values = 0, factors = 0;
-    uint64_t total() const { return header + skipList + nodes + treelets + values + factors; }
+    uint64_t header = 0, skipList = 0, bounds = 0, nodes = 0, treelets = 0, values = 0, factors = 0;
+    uint64_t total() const { return header + skipList + bounds + nodes + treelets + values + factors; }
 };
 
 // GLSL twins: bitCount(x), and reading a `bits`-wide field (0..32) at a bit position of a word array.

@@ -31,7 +31,7 @@ if(NOT method STREQUAL METHOD OR NOT res EQUAL RES OR NOT lights EQUAL 4 OR NOT 
                       "per_light ${perLight}, bytes_total ${total}, file ${size} bytes): ${json}")
 endif()
 set(sum 0)
-foreach(part headers skip_list nodes treelets values factors)
+foreach(part headers skip_list bounds nodes treelets values factors)
   string(JSON b GET "${json}" bytes ${part})
   math(EXPR sum "${sum} + ${b}")
 endforeach()

@@ -95,7 +95,7 @@ TEST(StaticCodec, SkipLevelFollowsTheBudget) {
         auto enc = encodeDAGMH(*tree, nullptr);
         ASSERT_TRUE(enc.ok()) << enc.error();
         const uint32_t* d = enc->data();
-        const uint32_t S = d[dagfmt::kSkipLevel];
+        const uint32_t S = dagfmt::skipLevel(d);
         const uint64_t skipWords = uint64_t(dagfmt::kSkipWords) << (2 * S);
         const uint64_t rest = d[dagfmt::kTotalWords] - d[dagfmt::kNodeOffset];
         if (S > 0) { // level 0 (one entry) is the floor

@@ -12,6 +12,9 @@ static const uint32_t* gStaticData = nullptr;
 inline int bitCount(uint x) {
     return std::popcount(x);
 }
+inline int findMSB(uint x) {
+    return x == 0 ? -1 : 31 - std::countl_zero(x);
+}
 #define ML_STATIC_DATA gStaticData
 #include "shaders/static/dagmh_lookup.glsl"
 #include "shaders/static/mh_lookup.glsl"
@@ -45,6 +48,20 @@ void compareTwins(const DualDepthMap& m) {
                               : method == 1 ? glsl::mmhLookup(0, x, y)
                                             : glsl::dagmhLookup(0, x, y);
                 diff += (g != cpu) + (g0 != cpu);
+                if (method != 2) continue;
+                // The value-bounds test over the 1x1 and 3x3 blocks at this texel, at depths around its
+                // value: the GLSL text answers as dagmhBoundsClass does.
+                glsl::gStaticData = shifted.data();
+                const glsl::DagmhHeader h = glsl::dagmhHeader(base);
+                diff += glsl::dagmhLevels(m.resolution) != enc->data()[dagfmt::kLevels];
+                const uint32_t x0 = x > 0 ? x - 1 : 0, y0 = y > 0 ? y - 1 : 0;
+                const uint32_t x1 = std::min(x + 1, m.resolution - 1), y1 = std::min(y + 1, m.resolution - 1);
+                for (uint32_t depth : {cpu, cpu + 1u, cpu - 70000u, cpu + 70000u}) {
+                    diff += glsl::dagmhBoundsClass(h, x, y, x, y, depth) !=
+                            dagmhBoundsClass(enc->data(), 0, x, y, x, y, depth);
+                    diff += glsl::dagmhBoundsClass(h, x0, y0, x1, y1, depth) !=
+                            dagmhBoundsClass(enc->data(), 0, x0, y0, x1, y1, depth);
+                }
             }
         EXPECT_EQ(diff, 0u);
     }

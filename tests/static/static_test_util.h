@@ -102,6 +102,42 @@ inline uint64_t countLossy(const DualDepthMap& m, const std::vector<uint32_t>& d
     return bad;
 }
 
+// DAG-MH's value bounds, every texel: its bounds cell's word holds its value, and the bounds test never
+// calls a tap lit that is shadowed or the reverse (depths at, around and far from the value). Every
+// cell inside the map is tight: its bounds are its texels' smallest and largest value (rounded to 16
+// bits), so the walk that computes them sees exactly the lookup's values. Returns the failing texels.
+inline uint64_t countDagmhBoundsViolations(const DualDepthMap& m, const std::vector<uint32_t>& data) {
+    const uint32_t* d = data.data();
+    const uint32_t L = d[dagfmt::kLevels], S = dagfmt::skipLevel(d), B = dagfmt::boundsLevel(d), sh = L - B;
+    const uint32_t* bounds = d + d[dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2 * S));
+    std::vector<uint32_t> lo(size_t(1) << (2 * B), 0xFFFFFFFFu), hi(size_t(1) << (2 * B), 0u);
+    uint64_t bad = 0;
+    for (uint32_t y = 0; y < m.resolution; ++y)
+        for (uint32_t x = 0; x < m.resolution; ++x) {
+            const uint32_t v = dagmhLookup(d, x, y), cell = ((y >> sh) << B) + (x >> sh);
+            lo[cell] = std::min(lo[cell], v), hi[cell] = std::max(hi[cell], v);
+            const uint32_t w = bounds[cell];
+            bool ok = (w << 16) <= v && v <= (w | 0xFFFFu);
+            for (uint32_t depth : {v, v + 1u, v - 1u, 0u, 0xFFFFFFFFu, w << 16, (w << 16) + 1u, w | 0xFFFFu,
+                                   (w | 0xFFFFu) + 1u}) {
+                const uint32_t k = dagmhBoundsClass(d, 0, x, y, x, y, depth);
+                ok = ok && (k == 0u || (k == 1u) == (depth <= v));
+            }
+            if (!ok && ++bad <= 5)
+                ADD_FAILURE() << "DAG-MH texel (" << x << "," << y << ") value " << v << " vs bounds word "
+                              << w;
+        }
+    for (uint32_t Y = 0; Y < (1u << B); ++Y)
+        for (uint32_t X = 0; X < (1u << B); ++X) {
+            if (((X + 1) << sh) > m.resolution || ((Y + 1) << sh) > m.resolution) continue; // padded cells
+            const uint32_t cell = (Y << B) + X;
+            if (bounds[cell] != dagfmt::packBounds(lo[cell], hi[cell]) && ++bad <= 5)
+                ADD_FAILURE() << "DAG-MH bounds cell (" << X << "," << Y << ") bounds word " << bounds[cell]
+                              << " is not its texels' " << dagfmt::packBounds(lo[cell], hi[cell]);
+        }
+    return bad;
+}
+
 // Encodes, validates and checks every texel; returns the encoded buffer.
 inline std::vector<uint32_t> encodeChecked(const DualDepthMap& m, const Codec& codec) {
     auto enc = codec.encode(m);
@@ -113,6 +149,9 @@ inline std::vector<uint32_t> encodeChecked(const DualDepthMap& m, const Codec& c
     EXPECT_TRUE(v.ok()) << codec.name << " validate: " << v.error();
     if (!v) return {};
     EXPECT_EQ(countLossy(m, *enc, codec), 0u) << codec.name;
+    if (codec.name == "DAG-MH") {
+        EXPECT_EQ(countDagmhBoundsViolations(m, *enc), 0u);
+    }
     return *enc;
 }
 

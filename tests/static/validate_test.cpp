@@ -125,6 +125,34 @@ TEST(StaticValidate, RejectsTruncatedAndFlippedRaster) {
     damageSuite(m);
 }
 
+// DAG-MH's value bounds decide lookups without reading the values, so a bounds word that does not hold
+// its cell's values would change shadows silently: validate() recomputes every cell. Each cell's word
+// widened, narrowed or swapped (checksum forged back) is refused, naming the cell.
+TEST(StaticValidate, DagmhForgedValueBoundsRejected) {
+    DualDepthMap m = syntheticMap(128, 9);
+    auto enc = encodeDAGMH(m);
+    ASSERT_TRUE(enc.ok()) << enc.error();
+    const uint32_t* d = enc->data();
+    const uint32_t S = dagfmt::skipLevel(d), B = dagfmt::boundsLevel(d);
+    ASSERT_GE(B, 1u);
+    const uint32_t first = d[dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2 * S));
+    uint64_t refused = 0, cells = uint64_t(1) << (2 * B);
+    for (uint32_t c = 0; c < cells; ++c) {
+        const uint32_t w = (*enc)[first + c];
+        for (uint32_t forgedWord : {w ^ 1u, w ^ 0x10000u, (w >> 16) | (w << 16)}) {
+            if (forgedWord == w) continue;
+            std::vector<uint32_t> bad = *enc;
+            bad[first + c] = forgedWord;
+            bad[dagfmt::kChecksum] = stat::checksumWords(bad.data(), bad.size(), dagfmt::kChecksum);
+            auto r = validateDAGMH(bad.data(), bad.size());
+            ASSERT_FALSE(r.ok()) << "cell " << c << " forged " << forgedWord;
+            EXPECT_NE(r.error().find("value bounds of cell"), std::string::npos) << r.error();
+            ++refused;
+        }
+    }
+    EXPECT_GE(refused, 2 * cells);
+}
+
 TEST(StaticValidate, LosslessCheckCatchesAWrongDecoder) {
     // The exhaustive check itself must fail for a decoder that is off by one on non-empty texels.
     DualDepthMap m = syntheticMap(64, 2, false);
