@@ -7,21 +7,25 @@
 set -euo pipefail
 usage() {
     cat <<'USAGE'
-usage: tools/eval-ratio.sh [--rounds N] [--bake FILE] [--out DIR] BIN [BIN ...]
+usage: tools/eval-ratio.sh [--rounds N] [--bake FILE | --bake-each] [--out DIR] BIN [BIN ...]
   BIN          a manylights binary (copy old builds aside: binaries embed their shaders)
   --rounds N   rounds of alternation (default 3)
   --bake FILE  the night city's DAG-MH bake (default: made with the first BIN at 1024^2, all lights)
-  --out DIR    where frames and the bake go (default: a new temporary folder)
-Prints one CSV line per round and build: round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x
+  --bake-each  each BIN bakes its own (builds whose bake formats differ)
+  --out DIR    where frames and the bakes go (default: a new temporary folder)
+Prints one CSV line per round and build: round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x,
+then per build a line with round "median": the median of each time over the rounds and the ratios of
+those medians (the unshadowed pass's noise moves the per-round ratios most).
 USAGE
 }
-rounds=3 bake="" out=""
+rounds=3 bake="" out="" each=0
 bins=()
 while [ $# -gt 0 ]; do
     case "$1" in
     --help | -h) usage; exit 0 ;;
     --rounds) rounds="$2"; shift 2 ;;
     --bake) bake="$2"; shift 2 ;;
+    --bake-each) each=1; shift ;;
     --out) out="$2"; shift 2 ;;
     -*) echo "eval-ratio: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) bins+=("$1"); shift ;;
@@ -31,23 +35,42 @@ done
 for b in "${bins[@]}"; do [ -x "$b" ] || { echo "eval-ratio: $b is not an executable" >&2; exit 2; }; done
 out="${out:-$(mktemp -d)}"
 mkdir -p "$out"
-if [ -z "$bake" ]; then
-    bake="$out/night-city-dagmh-1024.mlbk"
-    echo "eval-ratio: baking $bake with ${bins[0]}" >&2
-    "${bins[0]}" bake --scene night-city --method dagmh --res 1024 --lights all --out "$bake" >&2
-fi
+[ "$each" = 0 ] || [ -z "$bake" ] || { echo "eval-ratio: --bake and --bake-each exclude each other" >&2; exit 2; }
+bakes=()
+for i in "${!bins[@]}"; do
+    if [ -n "$bake" ]; then
+        bakes+=("$bake")
+    elif [ "$each" = 1 ] || [ "$i" = 0 ]; then
+        f="$out/night-city-dagmh-1024-b$i.mlbk"
+        echo "eval-ratio: baking $f with ${bins[$i]}" >&2
+        "${bins[$i]}" bake --scene night-city --method dagmh --res 1024 --lights all --out "$f" >&2
+        bakes+=("$f")
+    else
+        bakes+=("${bakes[0]}")
+    fi
+done
 minEvaluate() { # frames.csv: frame,pass,gpu_ms
     awk -F, '$2 == "evaluate" && $1 >= 1 && $1 <= 9 { if (m == "" || $3 < m) m = $3 } END { printf "%.1f", m }' "$1"
 }
-echo "round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x"
+echo "round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x" | tee "$out/rounds.csv"
 for r in $(seq 1 "$rounds"); do
     for i in "${!bins[@]}"; do
         b="${bins[$i]}" d="$out/r${r}_b${i}"
         "$b" demo --size 640x360 --frames 10 --dynamic off --out "$d/none" >/dev/null
-        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "$bake" --pcf 0 --out "$d/tap" >/dev/null
-        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "$bake" --pcf 1 --out "$d/pcf" >/dev/null
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "${bakes[$i]}" --pcf 0 --out "$d/tap" >/dev/null
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "${bakes[$i]}" --pcf 1 --out "$d/pcf" >/dev/null
         u=$(minEvaluate "$d/none/frames.csv") t=$(minEvaluate "$d/tap/frames.csv") p=$(minEvaluate "$d/pcf/frames.csv")
         awk -v r="$r" -v b="$b" -v u="$u" -v t="$t" -v p="$p" \
-            'BEGIN { printf "%s,%s,%s,%s,%s,%.2f,%.2f\n", r, b, u, t, p, t / u, p / u }'
+            'BEGIN { printf "%s,%s,%s,%s,%s,%.2f,%.2f\n", r, b, u, t, p, t / u, p / u }' | tee -a "$out/rounds.csv"
     done
+done
+# Per build: medians over the rounds, and the ratios of the medians.
+for b in "${bins[@]}"; do
+    awk -F, -v b="$b" 'NR > 1 && $2 == b { u[n] = $3; t[n] = $4; p[n] = $5; n++ }
+        function med(a, n,   i, j, x) {
+            for (i = 1; i < n; i++) { x = a[i]; for (j = i - 1; j >= 0 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
+            return n % 2 ? a[(n - 1) / 2] : (a[n / 2 - 1] + a[n / 2]) / 2
+        }
+        END { mu = med(u, n); mt = med(t, n); mp = med(p, n)
+              printf "median,%s,%.1f,%.1f,%.1f,%.2f,%.2f\n", b, mu, mt, mp, mt / mu, mp / mu }' "$out/rounds.csv"
 done
