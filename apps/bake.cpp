@@ -74,7 +74,7 @@ glTF's, or --light-dir) bake one orthographic map each.
 
 const char* kInspectHelp = R"(usage: manylights inspect FILE [--json]
 Validates a bake file (every offset, count and checksum) and reports method, resolution, lights and
-bytes per part (headers, skip list, nodes, treelets, values, factors), in total and per light.
+bytes per part (headers, skip list, value bounds, nodes, treelets, values, factors), in total and per light.
 A need-based bake (bake --need, version 2) also shows each light's resolution and why (the receiver and
 camera sample that decided, the cap or the minimum, no caster: not baked), and lights per resolution.
 A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.

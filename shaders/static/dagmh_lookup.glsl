@@ -218,7 +218,7 @@ uint dagmhLookup(uint base, uint x, uint y) {
 // The bounds test (twin of dagmhBoundsClass in dagmh.h): 1 when every texel of [x0, x1] x [y0, y1] is lit
 // at receiver depth `depth` (depth <= its value), 2 when none is, 0 when the value bounds of the cells
 // of level B it covers do not decide. A lit or shadowed answer skips the descent and the value decode:
-// one word per cell (a 3x3 kernel covers 1-4 cells of 4x4 texels or more).
+// one word per cell (a 3x3 kernel covers 1-4 cells of 3x3 texels or more, up to 9 of smaller ones).
 uint dagmhBoundsClass(DagmhHeader h, uint x0, uint y0, uint x1, uint y1, uint depth) {
     uint sh = h.L - h.B;
     uint lo = 0xFFFFFFFFu, hi = 0u;

@@ -1,10 +1,10 @@
 // Static shadow visibility of one receiver for one light with a baked record: the mapping from a world
 // point to the light's texel and quantised depth, the bias, and the PCF loop over the decoders.
 // CPU twin: shadows/static/static_visibility.cpp (same operations, same order; the tests compare), but
-// for DAG-MH (dagmhPcfLit, the one tap): that first tests the value bounds of the cells it covers, which decide a
-// tap or a whole kernel when the receiver is nearer or farther than every value there, then walks the
-// in-map taps only and shares more reads between taps; each tap still gets the answer the CPU's per-tap
-// loop gets, so the lit count is the same.
+// for DAG-MH (dagmhPcfLit, the one tap): that first tests the value bounds of the cells it covers,
+// which decide a tap or a whole kernel when the receiver is nearer or farther than every value there,
+// then walks the in-map taps only and shares more reads between taps; each tap still gets the answer
+// the CPU's per-tap loop gets, so the lit count is the same.
 //
 // Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by (1 + PCF radius)
 // texels' world size (normal-offset bias: it grows with the texel footprint, so it holds at grazing
@@ -125,7 +125,8 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         if (radius == 0) {
             bool inside = t.x >= 0 && t.y >= 0 && t.x < int(res) && t.y < int(res);
             uint k = inside ? dagmhBoundsClass(dh, uint(t.x), uint(t.y), uint(t.x), uint(t.y), depth) : 1u;
-            lit = k == 1u || (k == 0u && depth <= dagmhLookupH(dagmhSections(dh), uint(t.x), uint(t.y))) ? 1u : 0u;
+            if (k == 0u) k = depth <= dagmhLookupH(dagmhSections(dh), uint(t.x), uint(t.y)) ? 1u : 2u;
+            lit = k == 1u ? 1u : 0u;
         } else {
             lit = dagmhPcfLit(dh, t, radius, int(res), depth);
         }
