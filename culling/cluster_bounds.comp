@@ -12,6 +12,7 @@ layout(local_size_x = ML_TILE_SIZE, local_size_y = ML_TILE_SIZE) in;
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; }; // slice s ends at sliceFar[s]
+#include "shaders/shared/cluster_slice.glsl"
 layout(binding = 2) uniform texture2D depthImage;
 layout(binding = 3, std430) writeonly buffer Bounds { ClusterBounds bounds[]; };
 layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
@@ -45,13 +46,7 @@ void main() {
         if (hasSurface(d)) {
             vec3 p = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
             float z = linearDepth(d, frame.depth);
-            // The slice is the number of boundaries sliceFar[0..slices-2] at or below z. Start from
-            // the exponential layout's estimate and step to the exact answer (a linear search from
-            // slice 0 cost up to 64 buffer reads per pixel).
-            float lg = log(max(z, frame.depth.x) / frame.depth.x) / log(frame.depth.y / frame.depth.x);
-            uint s = uint(clamp(lg * float(slices), 0.0, float(slices - 1)));
-            while (s > 0 && z < sliceFar[s - 1]) --s;
-            while (s + 1 < slices && z >= sliceFar[s]) ++s;
+            uint s = clusterSlice(z);
             for (int c = 0; c < 3; ++c) {
                 atomicMin(sLo[c][s], toKey(p[c]));
                 atomicMax(sHi[c][s], toKey(p[c]));

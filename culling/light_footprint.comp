@@ -27,6 +27,7 @@ layout(push_constant) uniform Push { CullPush push; };
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+#include "shaders/shared/cluster_slice.glsl"
 layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 3, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
 layout(binding = 4, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
@@ -39,12 +40,6 @@ layout(binding = 8, std430) readonly buffer WideLights { WideLight wideLights[];
 layout(binding = 9, std430) buffer TileBits { uint tileBits[]; };
 
 shared uint sTests;
-
-uint sliceOfDepth(float z, uint slices) {
-    uint s = 0;
-    while (s + 1 < slices && z >= sliceFar[s]) ++s;
-    return s;
-}
 
 // Bits a..b (inclusive) of a 32-bit word; 0 when a > b.
 uint bitsBetween(int a, int b) {
@@ -110,7 +105,7 @@ void main() {
         GpuLight L = lights[min(l, frame.cluster.z - 1u)];
         ConePlanes planes = conePlanes(L);
         LightFootprint f = lightFootprint(L, frame.viewProj, frame.size, frame.cluster.y, frame.depth.x);
-        int s0 = int(sliceOfDepth(f.depth.x, slices)), s1 = int(sliceOfDepth(f.depth.y, slices));
+        int s0 = int(clusterSlice(f.depth.x)), s1 = int(clusterSlice(f.depth.y));
         uvec2 sliceMask = uvec2(bitsBetween(s0, min(s1, 31)), bitsBetween(max(s0, 32) - 32, s1 - 32));
         uint n = 0, w = 0;
         // A wide light (params.w = 1, set by the host) is the wide pass's alone.
@@ -129,7 +124,7 @@ void main() {
             GpuLight L = lights[e.light];
             uint i = t - e.first, w = e.tiles.z - e.tiles.x + 1u;
             uint tile = (e.tiles.y + i / w) * frame.size.z + e.tiles.x + i % w;
-            int s0 = int(sliceOfDepth(e.depth.x, slices)), s1 = int(sliceOfDepth(e.depth.y, slices));
+            int s0 = int(clusterSlice(e.depth.x)), s1 = int(clusterSlice(e.depth.y));
             uvec2 sliceMask = uvec2(bitsBetween(s0, min(s1, 31)), bitsBetween(max(s0, 32) - 32, s1 - 32));
             tests = testTile(L, conePlanes(L), e.light, tile, sliceMask, slices);
         }

@@ -14,6 +14,7 @@ layout(constant_id = 0) const bool kSpecReaching = false;
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+#include "shaders/shared/cluster_slice.glsl"
 layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
 layout(binding = 4) uniform texture2D depthImage;
@@ -31,8 +32,7 @@ void main() {
         if (frame.cluster.w != ML_CULL_NONE) {
             float z = linearDepth(d, frame.depth);
             uint slices = frame.cluster.x;
-            uint s = 0;
-            while (s + 1 < slices && z >= sliceFar[s]) ++s;
+            uint s = clusterSlice(z);
             uvec2 tile = px / frame.cluster.y;
             uvec2 range = ranges[(tile.y * frame.size.z + tile.x) * slices + s];
             if (range.x != ML_CLUSTER_OVERFLOW) evaluated = range.y;

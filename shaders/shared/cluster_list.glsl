@@ -5,15 +5,14 @@
 #define ML_CLUSTER_LIST_GLSL
 
 #include "shaders/shared/light_math.h"
+#include "shaders/shared/cluster_slice.glsl"
 
 // (offset, count) into the light-index pool, or (ML_CLUSTER_OVERFLOW, visible lights) when the pixel
 // must test every visible light: culling off, or its cluster overflowed the pool.
 uvec2 clusterLights(uvec2 px, float d) {
     if (frame.cluster.w == ML_CULL_NONE) return uvec2(ML_CLUSTER_OVERFLOW, frame.cluster.z);
-    float z = linearDepth(d, frame.depth);
     uint slices = frame.cluster.x;
-    uint s = 0;
-    while (s + 1 < slices && z >= sliceFar[s]) ++s;
+    uint s = clusterSlice(linearDepth(d, frame.depth));
     uvec2 tile = px / frame.cluster.y;
     uvec2 range = ranges[(tile.y * frame.size.z + tile.x) * slices + s];
     if (range.x == ML_CLUSTER_OVERFLOW) return uvec2(ML_CLUSTER_OVERFLOW, frame.cluster.z);
