@@ -37,6 +37,7 @@ namespace ml {
 static const char* kHelp = R"(usage: manylights bench static [options]
 Static shadow methods x resolutions on the same lights, in one run: bytes, bake time (render, encode),
 evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, CSV and charts in --out.
+With DAG-MH rows, also the share of lookups its value bounds answer from one word (one tap, 3x3 PCF).
   --scene S        night-city (default) or a .gltf / .glb file
   --methods LIST   comma-separated, default sm,mh,mmh,dagmh,cpvs
   --res LIST       comma-separated resolutions, default 1024,2048,4096,8192
@@ -360,6 +361,15 @@ Disagreement measureAccuracy(const Bench& b, StaticMethod method, uint32_t res,
         for (uint32_t r : set.receivers)
             vis.push_back(staticVisibility(rec, words[k].data(), b.receivers[r].p, b.receivers[r].n));
         total.merge(compareVisibility(vis, set.truth));
+        if (method == StaticMethod::DAGMH) {
+            const auto one = makeShadowRecord(method, set.frustum, 0, res, 0);
+            const auto pcf = makeShadowRecord(method, set.frustum, 0, res, 1);
+            for (uint32_t r : set.receivers) {
+                const Receiver& rc = b.receivers[r];
+                ++row.boundsOneTap[dagmhBoundsDecision(one, words[k].data(), rc.p, rc.n)];
+                ++row.bounds3x3[dagmhBoundsDecision(pcf, words[k].data(), rc.p, rc.n)];
+            }
+        }
         const glm::vec3 lp = b.scene.lights[set.light].position;
         ErrorContext ctx{&b.rays, rec, words[k].data(), lp, b.o.rayBias};
         for (size_t j = 0; j < vis.size(); ++j) {
@@ -493,6 +503,7 @@ int report(const Bench& b, const std::vector<Row>& rows, double noneMs) {
     std::printf("(sm past 512 MiB per light is sized, not loaded: eval and wrong are '-')\n");
     std::printf("evaluation pass without static shadows: %.1f ms\n", noneMs);
     printCpvsSplit(rows);
+    printBoundsTable(rows);
     if (auto r = printClassTables(o.out, rows, o.methods); !r) return runError("bench static", r.error());
     if (!o.lookupRadii.empty())
         if (auto r = printLookupTable(o.out, rows, o.lookupRadii, b.pairs.size(), o.extraLookups); !r)

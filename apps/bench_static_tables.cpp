@@ -222,4 +222,22 @@ Result<void> printLookupTable(const std::string& dir, const std::vector<BenchSta
     return {};
 }
 
+void printBoundsTable(const std::vector<BenchStaticRow>& rows) {
+    bool header = false;
+    for (const BenchStaticRow& r : rows) {
+        const uint64_t one = r.boundsOneTap[0] + r.boundsOneTap[1] + r.boundsOneTap[2];
+        const uint64_t pcf = r.bounds3x3[0] + r.bounds3x3[1] + r.bounds3x3[2];
+        if (r.method != "dagmh" || one == 0 || pcf == 0) continue;
+        if (!header)
+            std::printf(
+                "DAG-MH value bounds: share of in-map lookups answered from one word (lit + shadowed)\n"
+                "  res     one tap: lit  shadowed  undecided     3x3 PCF: lit  shadowed  undecided\n");
+        header = true;
+        auto pct = [](uint64_t a, uint64_t n) { return 100.0 * double(a) / double(n); };
+        std::printf("  %5u   %12.1f%% %8.1f%% %9.1f%%  %12.1f%% %8.1f%% %9.1f%%\n", r.res,
+                    pct(r.boundsOneTap[1], one), pct(r.boundsOneTap[2], one), pct(r.boundsOneTap[0], one),
+                    pct(r.bounds3x3[1], pcf), pct(r.bounds3x3[2], pcf), pct(r.bounds3x3[0], pcf));
+    }
+}
+
 } // namespace ml

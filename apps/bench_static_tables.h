@@ -25,8 +25,13 @@ struct BenchStaticRow {
     std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured
     std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
     ErrorCounts classes{};            // disagreements by cause (bake/reference/error_classes.h)
+    // DAG-MH: how the compared receivers' lookups are answered (dagmhBoundsDecision: [0] undecided,
+    // [1] lit and [2] shadowed by the value bounds alone, [3] off the map), for the one tap and 3x3 PCF.
+    uint64_t boundsOneTap[4]{}, bounds3x3[4]{};
 };
 
+// DAG-MH rows: the share of lookups the value bounds answer from one word (one tap and 3x3 PCF).
+void printBoundsTable(const std::vector<BenchStaticRow>& rows);
 // The main table (bytes, bake split, evaluation time, wrong %) on stdout; returns bench_static.csv's text.
 std::string printMainTable(const std::vector<BenchStaticRow>& rows);
 // CPVS's bake split (the paper's Table 3), when a CPVS row ran.

@@ -8,6 +8,7 @@ set -euo pipefail
 usage() {
     cat <<'USAGE'
 usage: tools/eval-ratio.sh [--rounds N] [--bake FILE | --bake-each] [--out DIR] BIN [BIN ...]
+       tools/eval-ratio.sh --summarize ROUNDS_CSV   (the median lines of an earlier run's rounds.csv)
   BIN          a manylights binary (copy old builds aside: binaries embed their shaders)
   --rounds N   rounds of alternation (default 3)
   --bake FILE  the night city's DAG-MH bake (default: made with the first BIN at 1024^2, all lights)
@@ -18,8 +19,31 @@ then per build a line with round "median": the median of each time over the roun
 those medians (the unshadowed pass's noise moves the per-round ratios most).
 USAGE
 }
+# Per build in rounds.csv ($1): the median of each time over its rounds and the ratios of those medians.
+# (Until 2026-12-03 evening the counter started unset, so round 1 went in as index "" and a 0 took
+# its place in the sort; CliEvalRatioMedian checks the line against known figures.)
+summarize() {
+    awk -F, 'BEGIN { nb = 0 }
+        NR > 1 && $1 != "median" {
+            if (!($2 in n)) { n[$2] = 0; order[nb++] = $2 }
+            k = n[$2]++; u[$2, k] = $3; t[$2, k] = $4; p[$2, k] = $5
+        }
+        function med(a, b, m,   i, j, x, v) {
+            for (i = 0; i < m; i++) v[i] = a[b, i] + 0
+            for (i = 1; i < m; i++) { x = v[i]; for (j = i - 1; j >= 0 && v[j] > x; j--) v[j + 1] = v[j]; v[j + 1] = x }
+            return m % 2 ? v[(m - 1) / 2] : (v[m / 2 - 1] + v[m / 2]) / 2
+        }
+        END {
+            for (i = 0; i < nb; i++) {
+                b = order[i]; m = n[b]
+                mu = med(u, b, m); mt = med(t, b, m); mp = med(p, b, m)
+                printf "median,%s,%.1f,%.1f,%.1f,%.2f,%.2f\n", b, mu, mt, mp, mt / mu, mp / mu
+            }
+        }' "$1"
+}
 rounds=3 bake="" out="" each=0
 bins=()
+[ "${1:-}" = --summarize ] && { [ -f "${2:-}" ] || { echo "eval-ratio: --summarize needs a rounds.csv" >&2; exit 2; }; summarize "$2"; exit 0; }
 while [ $# -gt 0 ]; do
     case "$1" in
     --help | -h) usage; exit 0 ;;
@@ -65,12 +89,4 @@ for r in $(seq 1 "$rounds"); do
     done
 done
 # Per build: medians over the rounds, and the ratios of the medians.
-for b in "${bins[@]}"; do
-    awk -F, -v b="$b" 'NR > 1 && $2 == b { u[n] = $3; t[n] = $4; p[n] = $5; n++ }
-        function med(a, n,   i, j, x) {
-            for (i = 1; i < n; i++) { x = a[i]; for (j = i - 1; j >= 0 && a[j] > x; j--) a[j + 1] = a[j]; a[j + 1] = x }
-            return n % 2 ? a[(n - 1) / 2] : (a[n / 2 - 1] + a[n / 2]) / 2
-        }
-        END { mu = med(u, n); mt = med(t, n); mp = med(p, n)
-              printf "median,%s,%.1f,%.1f,%.1f,%.2f,%.2f\n", b, mu, mt, mp, mt / mu, mp / mu }' "$out/rounds.csv"
-done
+summarize "$out/rounds.csv"

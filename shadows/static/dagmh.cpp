@@ -122,9 +122,9 @@ struct BoundsWalk {
 } // namespace
 
 uint32_t chooseBoundsLevel(uint32_t L, uint32_t S, uint64_t restWords) {
-    const uint64_t budgetBytes = std::max<uint64_t>(restWords * 4 / 16, 16384);
+    const uint64_t budgetBytes = std::max<uint64_t>(restWords * 4 / 16, 65536);
     uint32_t B = S;
-    while (B < std::min<uint32_t>({L, S + 3u, 9u}) && (uint64_t(4) << (2 * (B + 1))) <= budgetBytes) ++B;
+    while (B < std::min<uint32_t>({L, S + 4u, 9u}) && (uint64_t(4) << (2 * (B + 1))) <= budgetBytes) ++B;
     return B;
 }
 

@@ -101,11 +101,12 @@ inline uint32_t skipLevel(const uint32_t* data, uint32_t base = 0) {
 inline uint32_t boundsLevel(const uint32_t* data, uint32_t base = 0) {
     return (data[base + kSkipLevel] >> 8u) & 255u;
 }
-// The encoder's choice of B: the deepest level <= min(L, S + 3, 9) whose bounds (4 B a cell) stay within
-// a sixteenth of the other sections or 16 KiB, whichever is more, and never below S. The floor serves
-// the many small maps (a lamp over flat ground: 8-32 KiB), whose bounds it makes 16x16-texel cells at
-// 1024^2 (the night city's bake: +2.3 MB against a 4 KiB floor, one tap and 3x3 PCF ~6 % faster); the
-// sixteenth keeps dense maps near B = S.
+// The encoder's choice of B: the deepest level <= min(L, S + 4, 9) whose bounds (4 B a cell) stay within
+// a sixteenth of the other sections or 64 KiB, whichever is more, and never below S. The floor serves
+// the many small maps (a lamp over flat ground: 8-32 KiB), whose bounds it makes 8x8-texel cells at
+// 1024^2: a tap the bounds leave undecided lies in a cell that an occluder's edge crosses, so halving
+// the cell's side halves those taps (the night city's bake: 49.3 -> 59.7 MB against a 16 KiB floor
+// and S + 3, the one tap ~11 % faster; docs/culling.md). The sixteenth keeps dense maps near B = S.
 uint32_t chooseBoundsLevel(uint32_t L, uint32_t S, uint64_t restWords);
 inline uint32_t packBounds(uint32_t lo, uint32_t hi) {
     return (lo >> 16u) | (hi & 0xFFFF0000u);

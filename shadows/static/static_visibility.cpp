@@ -26,6 +26,48 @@ uint32_t staticQuantizeFloat(float z, float farPlane) {
     return t >= 1.0f ? 0xFFFFFFFEu : uint32_t(t * 4294967040.0f);
 }
 
+namespace {
+
+// The depth methods' mapping (SM, MH, MMH, DAG-MH): the receiver at view position vp with view normal vn,
+// offset along the normal, to its centre tap t and quantised, biased depth; false when the offset
+// receiver lies before the near plane (lit). The shader's lines, in its order.
+bool depthMapTap(const gpu::GpuShadowRecord& rec, glm::vec3 vp, glm::vec3 vn, glm::ivec2& t,
+                 uint32_t& depth) {
+    const uint32_t res = rec.info.z;
+    const int radius = int(rec.info.w);
+    const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
+    const bool ortho = tanHalf < 0.0f;
+    const float orthoHalf = -tanHalf;
+    const float z = -vp.z;
+    float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
+    // Normal offset of (1 + radius) texels, as the shader (its comment says why).
+    glm::vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
+    float zq = -q.z;
+    if (zq <= rec.frustum.y) return false;
+    glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
+    t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
+    depth = staticQuantizeFloat(std::max(zq - rec.bias.x * texelWorld, 0.0f), farPlane);
+    return true;
+}
+
+} // namespace
+
+uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P,
+                             glm::vec3 N) {
+    if (StaticMethod(rec.info.x) != StaticMethod::DAGMH) return 3;
+    glm::vec3 vp = glm::vec3(rec.view * glm::vec4(P, 1.0f));
+    glm::vec3 vn = glm::mat3(rec.view) * N;
+    if (-vp.z <= rec.frustum.y) return 3;
+    glm::ivec2 t;
+    uint32_t depth;
+    if (!depthMapTap(rec, vp, vn, t, depth)) return 3;
+    const int radius = int(rec.info.w), res = int(rec.info.z);
+    const glm::ivec2 lo = glm::max(t - radius, glm::ivec2(0)), hi = glm::min(t + radius, glm::ivec2(res - 1));
+    if (lo.x > hi.x || lo.y > hi.y) return 3; // every tap outside the map
+    return dagmhBoundsClass(data, rec.info.y, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y),
+                            depth);
+}
+
 float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N) {
     const StaticMethod method = StaticMethod(rec.info.x);
     const uint32_t base = rec.info.y, res = rec.info.z;
@@ -52,14 +94,9 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
             cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
         return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
     }
-    float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
-    // Normal offset of (1 + radius) texels, as the shader (its comment says why).
-    glm::vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
-    float zq = -q.z;
-    if (zq <= rec.frustum.y) return 1.0f;
-    glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
-    glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
-    uint32_t depth = staticQuantizeFloat(std::max(zq - rec.bias.x * texelWorld, 0.0f), farPlane);
+    glm::ivec2 t;
+    uint32_t depth;
+    if (!depthMapTap(rec, vp, vn, t, depth)) return 1.0f;
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
     glm::ivec2 lo = glm::clamp(t - radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));

@@ -23,6 +23,12 @@ uint32_t staticQuantizeFloat(float z, float farPlane);
 // Visibility in [0, 1] (fraction of lit PCF taps). `data` holds the validated words of the record.
 float staticVisibility(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P, glm::vec3 N);
 
+// How a DAG-MH record's lookup at (P, N) is answered (the shader's dagmhBoundsClass over the kernel's
+// in-map taps): 1 lit or 2 shadowed by the value bounds alone (one word), 0 undecided (descent and value
+// decode), 3 before the map or off it, or not DAG-MH. Counts for bench static; staticVisibility's own path.
+uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P,
+                             glm::vec3 N);
+
 // The evaluation pass's static term for a light: its record (a point light's by cube face), or 1.
 float lightStaticVisibility(const gpu::GpuLight& light, const gpu::GpuShadowRecord* records,
                             const uint32_t* data, glm::vec3 P, glm::vec3 N);

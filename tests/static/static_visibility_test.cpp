@@ -100,9 +100,8 @@ INSTANTIATE_TEST_SUITE_P(Elevations, StaticBias, ::testing::Values(30.0f, 10.0f,
 } // namespace ml
 
 namespace ml {
-// Hierarchical PCF: every tap decoded from a shared prefix equals its own full lookup, for every
-// block position and radius 1..4 on a real map.
-TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
+// A spot light looking down at a 1 m box on the ground, its DAG-MH map at `res` (the PCF and bounds tests).
+Result<std::vector<uint32_t>> boxSceneDagmh(uint32_t res, LightFrustum& f) {
     const glm::vec3 lo(-0.5f, 0.0f, 1.5f), hi(0.5f, 1.0f, 2.5f);
     CasterTriangles casters = groundAndBoxForPcf(lo, hi);
     Light light;
@@ -110,10 +109,16 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
     light.direction = glm::normalize(glm::vec3(0.0f, 0.0f, 2.0f) - light.position);
     light.range = 20.0f;
     light.outerAngle = 0.7f;
-    LightFrustum f = spotLightFrustum(light);
+    f = spotLightFrustum(light);
+    return encodeStatic(StaticMethod::DAGMH, rasterizeDual(casters, f, res));
+}
+
+// Hierarchical PCF: every tap decoded from a shared prefix equals its own full lookup, for every
+// block position and radius 1..4 on a real map.
+TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
     const uint32_t res = 256;
-    DualDepthMap map = rasterizeDual(casters, f, res);
-    auto words = encodeStatic(StaticMethod::DAGMH, map);
+    LightFrustum f;
+    auto words = boxSceneDagmh(res, f);
     ASSERT_TRUE(words.ok()) << words.error();
     const uint32_t* d = words->data();
     uint64_t shared = 0, taps = 0, memoHits = 0;
@@ -145,5 +150,41 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
     EXPECT_GT(memoHits, taps / 5); // 28 % here (row-major taps: a new row usually starts a new node)
     std::printf("  %llu blocks shared a prefix, %llu taps identical, %llu reused the previous tap's value\n",
                 (unsigned long long)shared, (unsigned long long)taps, (unsigned long long)memoHits);
+}
+} // namespace ml
+
+namespace ml {
+// bench static's count of lookups the DAG-MH value bounds answer (dagmhBoundsDecision) says what the lookup
+// answers: "lit" receivers are lit and "shadowed" ones shadowed in every in-map tap, over a grid of ground
+// receivers around a box, one tap and 3x3; both kinds of answer and undecided lookups occur.
+TEST(StaticVisibility, DagmhBoundsDecisionAgreesWithTheLookup) {
+    const uint32_t res = 256;
+    LightFrustum f;
+    auto words = boxSceneDagmh(res, f);
+    ASSERT_TRUE(words.ok()) << words.error();
+    for (uint32_t radius : {0u, 1u}) {
+        const auto rec = makeShadowRecord(StaticMethod::DAGMH, f, 0, res, radius);
+        const float taps = float((2 * radius + 1) * (2 * radius + 1));
+        uint64_t count[4] = {};
+        for (float x = -4.0f; x <= 4.0f; x += 0.02f)
+            for (float z = -1.0f; z <= 8.0f; z += 0.02f) {
+                const glm::vec3 p(x, 0.0f, z), n(0, 1, 0);
+                const uint32_t k = dagmhBoundsDecision(rec, words->data(), p, n);
+                ASSERT_LT(k, 4u);
+                ++count[k];
+                const float v = staticVisibility(rec, words->data(), p, n);
+                if (k == 1) ASSERT_EQ(v, 1.0f) << "at " << x << "," << z << " radius " << radius;
+                // Shadowed in every in-map tap: only taps off the map (counted lit) remain.
+                if (k == 2)
+                    ASSERT_LE(v * taps, taps - 1.0f) << "at " << x << "," << z << " radius " << radius;
+                if (k == 2 && radius == 0) ASSERT_EQ(v, 0.0f) << "at " << x << "," << z;
+            }
+        EXPECT_GT(count[1], 1000u) << "radius " << radius;
+        EXPECT_GT(count[2], 100u) << "radius " << radius;
+        EXPECT_GT(count[0], 10u) << "radius " << radius; // the box's shadow edge stays undecided
+        std::printf("  radius %u: %llu lit, %llu shadowed by the bounds, %llu undecided, %llu off the map\n",
+                    radius, (unsigned long long)count[1], (unsigned long long)count[2],
+                    (unsigned long long)count[0], (unsigned long long)count[3]);
+    }
 }
 } // namespace ml
