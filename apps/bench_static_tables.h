@@ -26,7 +26,8 @@ struct BenchStaticRow {
     std::string lookupSkipped;        // why not (e.g. past the device's storage buffer range)
     ErrorCounts classes{};            // disagreements by cause (bake/reference/error_classes.h)
     // DAG-MH: how the compared receivers' lookups are answered (dagmhBoundsDecision: [0] undecided,
-    // [1] lit and [2] shadowed by the value bounds alone, [3] off the map), for the one tap and 3x3 PCF.
+    // [1] lit and [2] shadowed by the value bounds alone, [3] off the map or before its near plane), for the
+    // one tap and 3x3 PCF.
     uint64_t boundsOneTap[4]{}, bounds3x3[4]{};
 };
 

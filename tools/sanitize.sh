@@ -5,7 +5,8 @@
 # --cpu builds only the CPU-side libraries that read untrusted bytes or encode (io/, the bake-file reader
 # and writer and the encoders in shadows/static/, the glTF loader in scenes/, the bake driver) with their
 # gtest areas (static_tests, scenes_tests) and the fuzz targets, in build-asan-cpu/, and runs them:
-# every test, then each fuzz target for FUZZ_SECONDS from seed 1. No Vulkan device is involved.
+# every test (each gtest binary in JOBS shards at once, default 2), then the fuzz targets side by side
+# for FUZZ_SECONDS each from seed 1. No Vulkan device is involved.
 # Any ASan report or UBSan finding fails the test that hit it (-fno-sanitize-recover). Leak checking
 # is off by default: the Vulkan loader and lavapipe keep allocations alive until exit (set
 # ASAN_OPTIONS yourself to turn it on). allocator_may_return_null=1 lets a huge allocation throw

@@ -348,13 +348,17 @@ TEST(Need, BakeAndVerifyLossless) {
         ASSERT_TRUE(back.ok()) << back.error();
         for (const BakeRecord& r : back->records)
             for (const LightNeed& l : bn.lights)
-                if (l.light == r.light) EXPECT_EQ(r.resolution, l.resolution);
+                if (l.light == r.light) {
+                    EXPECT_EQ(r.resolution, l.resolution);
+                }
         auto rep = verifyBakeScene(back.value(), scene.value());
         ASSERT_TRUE(rep.ok()) << rep.error();
         EXPECT_EQ(rep->mismatches, 0u);
         uint64_t texels = 0;
         for (const BakeRecord& r : back->records) texels += uint64_t(r.resolution) * r.resolution;
-        if (m != StaticMethod::CPVS) EXPECT_EQ(rep->checked, texels);
+        if (m != StaticMethod::CPVS) {
+            EXPECT_EQ(rep->checked, texels);
+        }
         EXPECT_GT(rep->checked, 0u);
     }
 }

@@ -173,11 +173,16 @@ TEST(StaticVisibility, DagmhBoundsDecisionAgreesWithTheLookup) {
                 ASSERT_LT(k, 4u);
                 ++count[k];
                 const float v = staticVisibility(rec, words->data(), p, n);
-                if (k == 1) ASSERT_EQ(v, 1.0f) << "at " << x << "," << z << " radius " << radius;
+                if (k == 1) {
+                    ASSERT_EQ(v, 1.0f) << "at " << x << "," << z << " radius " << radius;
+                }
                 // Shadowed in every in-map tap: only taps off the map (counted lit) remain.
-                if (k == 2)
+                if (k == 2) {
                     ASSERT_LE(v * taps, taps - 1.0f) << "at " << x << "," << z << " radius " << radius;
-                if (k == 2 && radius == 0) ASSERT_EQ(v, 0.0f) << "at " << x << "," << z;
+                }
+                if (k == 2 && radius == 0) {
+                    ASSERT_EQ(v, 0.0f) << "at " << x << "," << z;
+                }
             }
         EXPECT_GT(count[1], 1000u) << "radius " << radius;
         EXPECT_GT(count[2], 100u) << "radius " << radius;
