@@ -34,10 +34,10 @@ ErrorClass classifyDisagreement(const ErrorContext& ctx, glm::vec3 p, glm::vec3 
 
     // The texel footprint at the receiver's light-space depth.
     const gpu::GpuShadowRecord& rec = ctx.record;
-    glm::vec3 vp = glm::vec3(rec.view * glm::vec4(p, 1.0f));
+    glm::vec3 vp = gpu::shadowViewPoint(rec, p);
     float z = -vp.z;
-    float texel =
-        (rec.frustum.x < 0.0f ? -2.0f * rec.frustum.x : 2.0f * z * rec.frustum.x) / float(rec.info.z);
+    float texel = (rec.frustum.x < 0.0f ? -2.0f * rec.frustum.x : 2.0f * z * rec.frustum.x) /
+                  float(gpu::shadowRecordResolution(rec));
     float band = 1.5f * texel + ctx.rayBias;
     glm::vec3 start = p + nl * 1e-4f;
     glm::vec3 toLight2 = ctx.lightPos - start;
@@ -48,9 +48,11 @@ ErrorClass classifyDisagreement(const ErrorContext& ctx, glm::vec3 p, glm::vec3 
     }
 
     gpu::GpuShadowRecord one = rec;
-    one.info.w = 0;
-    const glm::vec3 right(rec.view[0][0], rec.view[1][0], rec.view[2][0]);
-    const glm::vec3 up(rec.view[0][1], rec.view[1][1], rec.view[2][1]);
+    one.info.x = gpu::shadowRecordInfo(gpu::shadowRecordMethod(rec), 0, gpu::shadowRecordResolution(rec));
+    // The view's x and y axes in the world: the inverse rotation (the conjugate quaternion) of each.
+    const glm::vec4 inverse(-rec.rotation.x, -rec.rotation.y, -rec.rotation.z, rec.rotation.w);
+    const glm::vec3 right = gpu::quatRotate(inverse, glm::vec3(1, 0, 0));
+    const glm::vec3 up = gpu::quatRotate(inverse, glm::vec3(0, 1, 0));
     const bool centre = staticVisibility(one, ctx.words, p, n) >= 0.5f;
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {

@@ -54,13 +54,20 @@ ML_STRUCT(GpuInstance) {
 };
 
 // A light's baked static shadow (shadows/static/static_method.h): where its words start in the one
-// static-shadow buffer, the light frustum they were rendered with, and its bias. 112 bytes.
+// static-shadow buffer, the light frustum they were rendered with, and its bias. 80 bytes.
+// The evaluation reads a record per lit pixel-light pair, and on a CPU device (lavapipe) every word of
+// it is a gather across the lanes, so the record holds what the lookup reads in few words: the view as
+// a unit quaternion and a translation (7 words, not a 3x4 matrix's 12; a light view is rigid), and
+// method, PCF radius and resolution in one word (shadowRecordMethod and the other accessors below).
+// A DAG-MH one-tap lookup reads 14 words of it (21 with the matrix and four info words).
 ML_STRUCT(GpuShadowRecord) {
-    mat4 view;    // world -> light view (the light looks down -Z)
-    vec4 frustum; // x tan(fov / 2), y near, z far, w log(far / near)
-    uvec4 info;   // x method (StaticMethod), y base word, z resolution, w PCF radius (0 = one tap)
-    vec4 bias;    // the light's shadow bias (LightDesc): x depth bias in texels (default 0.5), y scale on
-                  // the normal offset of (1 + PCF radius) texels (default 1); CPVS ignores both; zw 0
+    vec4 rotation; // world -> light view rotation, a unit quaternion (x, y, z, w) (the light looks down -Z)
+    vec4 translation; // xyz: view(P) = rotate(rotation, P) + translation (shadowViewPoint), w 0
+    vec4 frustum;     // x tan(fov / 2), y near, z far, w log(far / near)
+    uvec4 info;       // x method (StaticMethod, bits 0-7, 0 = none) | PCF radius << 8 (0 = one tap) |
+                      // resolution << 16; y base word; zw 0
+    vec4 bias;        // the light's shadow bias (LightDesc): x depth bias in texels (default 0.5), y scale on
+                      // the normal offset of (1 + PCF radius) texels (default 1); CPVS ignores both; zw 0
 };
 
 // Per-frame constants (uniform buffer), 240 bytes.
@@ -105,9 +112,10 @@ static_assert(sizeof(FrameConstants) == 240);
 static_assert(offsetof(FrameConstants, size) == 144);
 static_assert(offsetof(FrameConstants, limits) == 224);
 static_assert(sizeof(ClusterBounds) == 32);
-static_assert(sizeof(GpuShadowRecord) == 112);
-static_assert(offsetof(GpuShadowRecord, bias) == 96);
-static_assert(offsetof(GpuShadowRecord, info) == 80);
+static_assert(sizeof(GpuShadowRecord) == 80);
+static_assert(offsetof(GpuShadowRecord, translation) == 16);
+static_assert(offsetof(GpuShadowRecord, info) == 48);
+static_assert(offsetof(GpuShadowRecord, bias) == 64);
 static_assert(sizeof(FrameCounters) == 48);
 static_assert(offsetof(FrameCounters, clusterLightsSum) == 16);
 } // namespace ml::gpu

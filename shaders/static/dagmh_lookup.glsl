@@ -219,9 +219,21 @@ uint dagmhLookup(uint base, uint x, uint y) {
 // at receiver depth `depth` (depth <= its value), 2 when none is, 0 when the value bounds of the cells
 // of level B it covers do not decide. A lit or shadowed answer skips the descent and the value decode:
 // one word per cell (a 3x3 kernel covers 1-4 cells of 3x3 texels or more, up to 9 of smaller ones).
+// A kernel within 2x2 cells (every 3x3 kernel on cells of 8x8 texels) reads four words without a loop,
+// a cell twice when it covers one row or column of cells: the same minimum and maximum, without the
+// loop's per-lane masks (lavapipe: 3x3 PCF ~7 % faster).
 uint dagmhBoundsClass(DagmhHeader h, uint x0, uint y0, uint x1, uint y1, uint depth) {
     uint sh = h.L - h.B;
     uint lo = 0xFFFFFFFFu, hi = 0u;
+    uint X0 = x0 >> sh, X1 = x1 >> sh, Y0 = y0 >> sh, Y1 = y1 >> sh;
+    if (X1 - X0 <= 1u && Y1 - Y0 <= 1u) {
+        uint r0 = h.bounds + (Y0 << h.B), r1 = h.bounds + (Y1 << h.B);
+        uint a = ML_STATIC_DATA[r0 + X0], b = ML_STATIC_DATA[r0 + X1];
+        uint c = ML_STATIC_DATA[r1 + X0], d = ML_STATIC_DATA[r1 + X1];
+        lo = min(min(a << 16u, b << 16u), min(c << 16u, d << 16u));
+        hi = max(max(a | 0xFFFFu, b | 0xFFFFu), max(c | 0xFFFFu, d | 0xFFFFu));
+        return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
+    }
     for (uint Y = y0 >> sh; Y <= (y1 >> sh); ++Y)
         for (uint X = x0 >> sh; X <= (x1 >> sh); ++X) {
             uint w = ML_STATIC_DATA[h.bounds + (Y << h.B) + X];
@@ -230,6 +242,14 @@ uint dagmhBoundsClass(DagmhHeader h, uint x0, uint y0, uint x1, uint y1, uint de
             hi = wh > hi ? wh : hi;
         }
     return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
+}
+
+// The same test for one texel (the one-tap lookup): its cell's word alone, without the loops (lavapipe:
+// the one tap ~5 % faster).
+uint dagmhBoundsClass1(DagmhHeader h, uint x, uint y, uint depth) {
+    uint sh = h.L - h.B;
+    uint w = ML_STATIC_DATA[h.bounds + ((y >> sh) << h.B) + (x >> sh)];
+    return depth <= (w << 16u) ? 1u : (depth > (w | 0xFFFFu) ? 2u : 0u);
 }
 
 // kind = ML_DAG_NO_PREFIX when the block straddles skip-list entries (each tap then starts alone).

@@ -15,6 +15,7 @@
 #ifndef ML_STATIC_VISIBILITY_GLSL
 #define ML_STATIC_VISIBILITY_GLSL
 
+#include "shaders/shared/shadow_record.h"
 #include "shaders/static/common_static.glsl"
 #include "shaders/static/mh_lookup.glsl"
 #include "shaders/static/mmh_lookup.glsl"
@@ -87,14 +88,14 @@ uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
 }
 
 float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
-    uint method = rec.info.x, base = rec.info.y, res = rec.info.z;
-    int radius = int(rec.info.w);
+    uint method = shadowRecordMethod(rec), base = rec.info.y, res = shadowRecordResolution(rec);
+    int radius = int(shadowRecordRadius(rec));
     float tanHalf = rec.frustum.x, far = rec.frustum.z;
     // frustum.x < 0: an orthographic map (directional light) of half side -frustum.x.
     bool ortho = tanHalf < 0.0;
     float orthoHalf = -tanHalf;
-    vec3 vp = (rec.view * vec4(P, 1.0)).xyz;
-    vec3 vn = mat3(rec.view) * N;
+    vec3 vp = shadowViewPoint(rec, P);
+    vec3 vn = shadowViewVector(rec, N);
     float z = -vp.z;
     if (z <= rec.frustum.y) return 1.0;
     if (method == ML_STATIC_CPVS) {
@@ -124,7 +125,7 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         uint lit = 0u;
         if (radius == 0) {
             bool inside = t.x >= 0 && t.y >= 0 && t.x < int(res) && t.y < int(res);
-            uint k = inside ? dagmhBoundsClass(dh, uint(t.x), uint(t.y), uint(t.x), uint(t.y), depth) : 1u;
+            uint k = inside ? dagmhBoundsClass1(dh, uint(t.x), uint(t.y), depth) : 1u;
             if (k == 0u) k = depth <= dagmhLookupH(dagmhSections(dh), uint(t.x), uint(t.y)) ? 1u : 2u;
             lit = k == 1u ? 1u : 0u;
         } else {

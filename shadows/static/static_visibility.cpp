@@ -1,6 +1,9 @@
 #include "shadows/static/static_visibility.h"
 
 #include "shaders/shared/light_math.h"
+#include "shaders/shared/shadow_record.h"
+
+#include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,15 +13,35 @@ namespace ml {
 gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f, uint32_t base,
                                       uint32_t resolution, uint32_t pcfRadius) {
     gpu::GpuShadowRecord r{};
-    r.view = f.view;
+    // The lookAt view as a unit quaternion and a translation (GpuShadowRecord; setStaticShadow refuses
+    // views that are not rigid). quat_cast takes the largest of w, x, y, z first, so it is well
+    // conditioned for every rotation.
+    const glm::quat q = glm::normalize(glm::quat_cast(glm::mat3(f.view)));
+    r.rotation = glm::vec4(q.x, q.y, q.z, q.w);
+    r.translation = glm::vec4(glm::vec3(f.view[3]), 0.0f);
     // x: tan(fov / 2) for perspective maps, -orthoHalf for orthographic ones (the sign tells them apart).
     // w: CPVS's depth-slice scale for the voxel normal: far - near for orthographic maps (linear slices),
     // log(far / near) for perspective ones (eq. 1).
     r.frustum = glm::vec4(f.orthographic() ? -f.orthoHalf : std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane,
                           f.orthographic() ? f.farPlane - f.nearPlane : std::log(f.farPlane / f.nearPlane));
-    r.info = glm::uvec4(uint32_t(method), base, resolution, std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS));
+    r.info = glm::uvec4(
+        gpu::shadowRecordInfo(uint32_t(method), std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS), resolution),
+        base, 0u, 0u);
     r.bias = glm::vec4(kDefaultShadowDepthBias, kDefaultShadowNormalBias, 0.0f, 0.0f);
     return r;
+}
+
+bool rigidView(const glm::mat4& view) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(view[c][r])) return false;
+    if (view[0][3] != 0.0f || view[1][3] != 0.0f || view[2][3] != 0.0f || view[3][3] != 1.0f) return false;
+    const glm::mat3 R(view);
+    const glm::mat3 I = glm::transpose(R) * R;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (std::abs(I[c][r] - (c == r ? 1.0f : 0.0f)) > 1e-4f) return false;
+    return glm::determinant(R) > 0.0f;
 }
 
 uint32_t staticQuantizeFloat(float z, float farPlane) {
@@ -33,8 +56,8 @@ namespace {
 // receiver lies before the near plane (lit). The shader's lines, in its order.
 bool depthMapTap(const gpu::GpuShadowRecord& rec, glm::vec3 vp, glm::vec3 vn, glm::ivec2& t,
                  uint32_t& depth) {
-    const uint32_t res = rec.info.z;
-    const int radius = int(rec.info.w);
+    const uint32_t res = gpu::shadowRecordResolution(rec);
+    const int radius = int(gpu::shadowRecordRadius(rec));
     const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
     const bool ortho = tanHalf < 0.0f;
     const float orthoHalf = -tanHalf;
@@ -54,14 +77,14 @@ bool depthMapTap(const gpu::GpuShadowRecord& rec, glm::vec3 vp, glm::vec3 vn, gl
 
 uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P,
                              glm::vec3 N) {
-    if (StaticMethod(rec.info.x) != StaticMethod::DAGMH) return 3;
-    glm::vec3 vp = glm::vec3(rec.view * glm::vec4(P, 1.0f));
-    glm::vec3 vn = glm::mat3(rec.view) * N;
+    if (StaticMethod(gpu::shadowRecordMethod(rec)) != StaticMethod::DAGMH) return 3;
+    glm::vec3 vp = gpu::shadowViewPoint(rec, P);
+    glm::vec3 vn = gpu::shadowViewVector(rec, N);
     if (-vp.z <= rec.frustum.y) return 3;
     glm::ivec2 t;
     uint32_t depth;
     if (!depthMapTap(rec, vp, vn, t, depth)) return 3;
-    const int radius = int(rec.info.w), res = int(rec.info.z);
+    const int radius = int(gpu::shadowRecordRadius(rec)), res = int(gpu::shadowRecordResolution(rec));
     const glm::ivec2 lo = glm::max(t - radius, glm::ivec2(0)), hi = glm::min(t + radius, glm::ivec2(res - 1));
     if (lo.x > hi.x || lo.y > hi.y) return 3; // every tap outside the map
     return dagmhBoundsClass(data, rec.info.y, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y),
@@ -69,14 +92,14 @@ uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* da
 }
 
 float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N) {
-    const StaticMethod method = StaticMethod(rec.info.x);
-    const uint32_t base = rec.info.y, res = rec.info.z;
-    const int radius = int(rec.info.w);
+    const StaticMethod method = StaticMethod(gpu::shadowRecordMethod(rec));
+    const uint32_t base = rec.info.y, res = gpu::shadowRecordResolution(rec);
+    const int radius = int(gpu::shadowRecordRadius(rec));
     const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
     const bool ortho = tanHalf < 0.0f;
     const float orthoHalf = -tanHalf;
-    glm::vec3 vp = glm::vec3(rec.view * glm::vec4(P, 1.0f));
-    glm::vec3 vn = glm::mat3(rec.view) * N;
+    glm::vec3 vp = gpu::shadowViewPoint(rec, P);
+    glm::vec3 vn = gpu::shadowViewVector(rec, N);
     float z = -vp.z;
     if (z <= rec.frustum.y) return 1.0f;
     const float taps = float((2 * radius + 1) * (2 * radius + 1));
@@ -140,7 +163,7 @@ float lightStaticVisibility(const gpu::GpuLight& L, const gpu::GpuShadowRecord* 
     if (L.info.z == ML_NO_SHADOW) return 1.0f;
     uint32_t r = L.info.z;
     if (L.info.x == ML_LIGHT_POINT) r += gpu::pointLightFace(P - glm::vec3(L.positionRange));
-    if (records[r].info.x == 0u) return 1.0f;
+    if (gpu::shadowRecordMethod(records[r]) == 0u) return 1.0f;
     return staticVisibility(records[r], data, P, N);
 }
 

@@ -3,6 +3,7 @@
 // reference and by accuracy measurements that run without a GPU.
 #pragma once
 #include "shaders/shared/gpu_types.h"
+#include "shaders/shared/shadow_record.h"
 #include "shadows/static/static_method.h"
 
 namespace ml {
@@ -13,9 +14,14 @@ constexpr float kDefaultShadowDepthBias = 0.5f;
 constexpr float kDefaultShadowNormalBias = 1.0f;
 
 // The record of a light frustum and a bake: method, base word in `data`, resolution, PCF radius, and the
-// default bias (the module writes the light's own).
+// default bias (the module writes the light's own). The frustum's view must be rigid (rigidView).
 gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& frustum, uint32_t base,
                                       uint32_t resolution, uint32_t pcfRadius);
+
+// True when `view` is a rigid motion (a rotation, det +1, and a finite translation; bottom row 0 0 0 1)
+// within 1e-4 per matrix entry: what GpuShadowRecord's quaternion can hold. Light frustums are lookAt
+// views; a bake file's frustum may be anything.
+bool rigidView(const glm::mat4& view);
 
 // Receiver depth in the light's integer depth space, as the shader quantises it (float arithmetic).
 uint32_t staticQuantizeFloat(float z, float farPlane);

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -44,7 +45,9 @@ uint64_t mismatches(const std::vector<float>& table, float nearPlane, float farP
     glsl::sliceFar = table.data();
     std::vector<float> depths = {0.0f, nearPlane * 0.5f, nearPlane, farPlane, farPlane * 2.0f, 3.0e38f};
     for (float end : table)
-        for (float z : {std::nextafter(end, 0.0f), end, std::nextafter(end, 4.0e38f)}) depths.push_back(z);
+        for (float z :
+             {std::nextafter(end, 0.0f), end, std::nextafter(end, std::numeric_limits<float>::infinity())})
+            depths.push_back(z);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int i = 0; i < 2000; ++i) depths.push_back(nearPlane + (farPlane - nearPlane) * u(rng));
     uint64_t bad = 0;

@@ -244,4 +244,35 @@ TEST(ModuleApi, RefusesStaticShadowsBeyondTheStorageBufferRange) {
     renderFrame(*m);
     EXPECT_EQ(validationErrors(), 0u);
 }
+
+// The shadow record holds a light view as a quaternion and a translation: a bake whose view is not a
+// rigid motion (scaled, mirrored, projective) is refused with the reason, not looked up wrongly.
+TEST(ModuleApi, RefusesStaticShadowsWithANonRigidView) {
+    auto m = makeModule();
+    DualDepthMap map;
+    map.resolution = 16;
+    map.enter.assign(size_t(map.resolution) * map.resolution, kDepthEmpty);
+    map.exit = map.enter;
+    LightFrustum f;
+    f.fov = 1.2f;
+    f.nearPlane = 0.05f;
+    f.farPlane = 10.0f;
+    auto words = encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
+    ASSERT_TRUE(words.ok()) << words.error();
+    LightDesc l;
+    l.position = {0, 3, 0};
+    auto id = m->addLight(l);
+    ASSERT_TRUE(id.ok()) << id.error();
+    ASSERT_TRUE(m->setStaticShadow(id.value(), {StaticMethod::SM, f, words.value(), 0}).ok());
+    for (int k = 0; k < 3; ++k) {
+        LightFrustum g = f;
+        if (k == 0) g.view[0][0] = 2.0f;
+        if (k == 1) g.view[2][2] = -1.0f;
+        if (k == 2) g.view[2][3] = -1.0f;
+        auto r = m->setStaticShadow(id.value(), {StaticMethod::SM, g, words.value(), 0});
+        ASSERT_FALSE(r.ok()) << "case " << k;
+        EXPECT_NE(r.error().find("not a rigid motion"), std::string::npos) << r.error();
+    }
+    EXPECT_EQ(validationErrors(), 0u);
+}
 } // namespace ml::test

@@ -280,8 +280,8 @@ TEST(GpuLightBias, ResolutionHintSetsThatLightsBake) {
     uint32_t others = 0;
     for (uint32_t i = 0; i < scene->lights.size(); ++i) {
         const gpu::GpuShadowRecord& r = internals(*m).lastShadowRecords()[6 * i];
-        if (r.info.x == 0) continue;
-        EXPECT_EQ(r.info.z, i == hinted ? 64u : 128u) << "light " << i;
+        if (gpu::shadowRecordMethod(r) == 0) continue;
+        EXPECT_EQ(gpu::shadowRecordResolution(r), i == hinted ? 64u : 128u) << "light " << i;
         others += i != hinted;
     }
     EXPECT_GT(others, 0u);

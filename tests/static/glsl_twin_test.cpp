@@ -15,6 +15,12 @@ inline int bitCount(uint x) {
 inline int findMSB(uint x) {
     return x == 0 ? -1 : 31 - std::countl_zero(x);
 }
+inline uint min(uint a, uint b) {
+    return a < b ? a : b;
+}
+inline uint max(uint a, uint b) {
+    return a > b ? a : b;
+}
 #define ML_STATIC_DATA gStaticData
 #include "shaders/static/dagmh_lookup.glsl"
 #include "shaders/static/mh_lookup.glsl"
@@ -49,7 +55,8 @@ void compareTwins(const DualDepthMap& m) {
                                             : glsl::dagmhLookup(0, x, y);
                 diff += (g != cpu) + (g0 != cpu);
                 if (method != 2) continue;
-                // The value-bounds test over the 1x1 and 3x3 blocks at this texel, at depths around its
+                // The value-bounds test over the 1x1, 3x3 and 9x9 blocks at this texel (the one-texel
+                // test, the four-word path within 2x2 cells and the loop over more), at depths around its
                 // value: the GLSL text answers as dagmhBoundsClass does.
                 glsl::gStaticData = shifted.data();
                 const glsl::DagmhHeader h = glsl::dagmhHeader(base);
@@ -61,6 +68,13 @@ void compareTwins(const DualDepthMap& m) {
                             dagmhBoundsClass(enc->data(), 0, x, y, x, y, depth);
                     diff += glsl::dagmhBoundsClass(h, x0, y0, x1, y1, depth) !=
                             dagmhBoundsClass(enc->data(), 0, x0, y0, x1, y1, depth);
+                    diff += glsl::dagmhBoundsClass1(h, x, y, depth) !=
+                            dagmhBoundsClass(enc->data(), 0, x, y, x, y, depth);
+                    const uint32_t X0 = x > 4 ? x - 4 : 0, Y0 = y > 4 ? y - 4 : 0;
+                    const uint32_t X1 = std::min(x + 4, m.resolution - 1),
+                                   Y1 = std::min(y + 4, m.resolution - 1);
+                    diff += glsl::dagmhBoundsClass(h, X0, Y0, X1, Y1, depth) !=
+                            dagmhBoundsClass(enc->data(), 0, X0, Y0, X1, Y1, depth);
                 }
             }
         EXPECT_EQ(diff, 0u);

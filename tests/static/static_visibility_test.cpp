@@ -193,3 +193,74 @@ TEST(StaticVisibility, DagmhBoundsDecisionAgreesWithTheLookup) {
     }
 }
 } // namespace ml
+
+namespace ml {
+// GpuShadowRecord keeps the light view as a quaternion and a translation (shaders/shared/shadow_record.h):
+// for spot, point-face and directional frustums in many directions (the cube axes, where lookAt's
+// rotation has zeros and quat_cast takes each branch, and random ones), the record maps world points and
+// normals where the frustum's matrix does, to float rounding; the info word keeps method, radius and
+// resolution; and rigidView tells lookAt views from scaled, sheared, mirrored, projective and NaN ones.
+TEST(StaticVisibility, RecordViewMatchesTheFrustumMatrix) {
+    std::vector<LightFrustum> frustums;
+    std::vector<glm::vec3> dirs = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    uint32_t seed = 12345;
+    auto next = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return float(seed >> 8) / float(1u << 24) * 2.0f - 1.0f;
+    };
+    for (int i = 0; i < 200; ++i) {
+        glm::vec3 d(next(), next(), next());
+        if (glm::length(d) > 0.1f) dirs.push_back(glm::normalize(d));
+    }
+    for (const glm::vec3& d : dirs) {
+        LightShape spot;
+        spot.position = glm::vec3(next(), next(), next()) * 50.0f;
+        spot.direction = d;
+        frustums.push_back(spotLightFrustum(spot));
+        frustums.push_back(directionalLightFrustum(d, glm::vec3(-20, -1, -30), glm::vec3(40, 12, 25)));
+    }
+    LightShape point;
+    point.type = LightKind::Point;
+    point.position = {3, 4, -5};
+    for (uint32_t face = 0; face < 6; ++face) frustums.push_back(pointLightFaceFrustum(point, face));
+    float worst = 0.0f;
+    for (const LightFrustum& f : frustums) {
+        ASSERT_TRUE(rigidView(f.view));
+        const auto rec = makeShadowRecord(StaticMethod::DAGMH, f, 7, 1024, 2);
+        ASSERT_EQ(gpu::shadowRecordMethod(rec), uint32_t(StaticMethod::DAGMH));
+        ASSERT_EQ(gpu::shadowRecordRadius(rec), 2u);
+        ASSERT_EQ(gpu::shadowRecordResolution(rec), 1024u);
+        ASSERT_EQ(rec.info.y, 7u);
+        for (int k = 0; k < 20; ++k) {
+            const glm::vec3 p = glm::vec3(next(), next(), next()) * 60.0f;
+            const glm::vec3 want = glm::vec3(f.view * glm::vec4(p, 1.0f));
+            const glm::vec3 got = gpu::shadowViewPoint(rec, p);
+            // Relative to the point's distance from the light's origin (the translation's size).
+            const float scale = glm::length(p) + glm::length(glm::vec3(f.view[3])) + 1.0f;
+            worst = std::max(worst, glm::length(got - want) / scale);
+            const glm::vec3 n = glm::normalize(glm::vec3(next(), next(), next()) + glm::vec3(0.01f));
+            ASSERT_LT(glm::length(gpu::shadowViewVector(rec, n) - glm::mat3(f.view) * n), 1e-6f);
+        }
+    }
+    EXPECT_LT(worst, 1e-6f);
+    std::printf("  %zu frustums: largest difference %.2e of the distance scale\n", frustums.size(), worst);
+    EXPECT_EQ(gpu::shadowRecordResolution(makeShadowRecord(StaticMethod::SM, frustums[0], 0, 65535, 9)),
+              65535u);
+    EXPECT_EQ(gpu::shadowRecordRadius(makeShadowRecord(StaticMethod::SM, frustums[0], 0, 64, 9)),
+              uint32_t(ML_MAX_PCF_RADIUS));
+
+    const glm::mat4 view = frustums[1].view;
+    EXPECT_FALSE(rigidView(glm::scale(view, glm::vec3(1.01f))));
+    EXPECT_FALSE(rigidView(glm::scale(view, glm::vec3(-1, 1, 1)))); // mirrored: det -1
+    glm::mat4 shear = view;
+    shear[1][0] += 0.01f;
+    EXPECT_FALSE(rigidView(shear));
+    glm::mat4 projective = view;
+    projective[2][3] = -1.0f;
+    EXPECT_FALSE(rigidView(projective));
+    glm::mat4 nan = view;
+    nan[3][1] = NAN;
+    EXPECT_FALSE(rigidView(nan));
+    EXPECT_TRUE(rigidView(glm::mat4(1.0f)));
+}
+} // namespace ml

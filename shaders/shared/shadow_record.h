@@ -1,0 +1,60 @@
+// GpuShadowRecord's accessors and its view transform, one source for GLSL and the C++ twins
+// (shadows/static/static_visibility.cpp, bake/reference/error_classes.cpp).
+//
+// The record keeps the world -> light view transform as a unit quaternion and a translation (a light
+// view is a rigid motion: makeShadowRecord builds it from the frustum's lookAt matrix, setStaticShadow
+// refuses any other). Every intermediate is `precise` and the C++ build uses -ffp-contract=off, so the
+// shader and the CPU twin map a receiver to the same view position bit for bit.
+#ifndef ML_SHADOW_RECORD_H
+#define ML_SHADOW_RECORD_H
+
+#include "shaders/shared/light_math.h"
+
+#ifdef __cplusplus
+namespace ml::gpu {
+#endif
+
+// info.x: method (bits 0-7), PCF radius (bits 8-15), resolution (bits 16-31: at most 65535 texels a
+// side; bakes stop at 16384).
+ML_FN uint shadowRecordMethod(GpuShadowRecord r) {
+    return r.info.x & 255u;
+}
+ML_FN uint shadowRecordRadius(GpuShadowRecord r) {
+    return (r.info.x >> 8u) & 255u;
+}
+ML_FN uint shadowRecordResolution(GpuShadowRecord r) {
+    return r.info.x >> 16u;
+}
+ML_FN uint shadowRecordInfo(uint method, uint radius, uint resolution) {
+    return method | (radius << 8u) | (resolution << 16u);
+}
+
+// v rotated by the unit quaternion q: v + w t + q.xyz x t with t = 2 q.xyz x v (two cross products).
+ML_FN vec3 quatRotate(vec4 q, vec3 v) {
+    ML_PRECISE float tx = 2.0f * (q.y * v.z - q.z * v.y);
+    ML_PRECISE float ty = 2.0f * (q.z * v.x - q.x * v.z);
+    ML_PRECISE float tz = 2.0f * (q.x * v.y - q.y * v.x);
+    ML_PRECISE float rx = v.x + q.w * tx + (q.y * tz - q.z * ty);
+    ML_PRECISE float ry = v.y + q.w * ty + (q.z * tx - q.x * tz);
+    ML_PRECISE float rz = v.z + q.w * tz + (q.x * ty - q.y * tx);
+    return vec3(rx, ry, rz);
+}
+
+// World point P in the light's view (the light looks down -Z).
+ML_FN vec3 shadowViewPoint(GpuShadowRecord r, vec3 P) {
+    vec3 v = quatRotate(r.rotation, P);
+    ML_PRECISE float x = v.x + r.translation.x;
+    ML_PRECISE float y = v.y + r.translation.y;
+    ML_PRECISE float z = v.z + r.translation.z;
+    return vec3(x, y, z);
+}
+
+// World direction N in the light's view.
+ML_FN vec3 shadowViewVector(GpuShadowRecord r, vec3 N) {
+    return quatRotate(r.rotation, N);
+}
+
+#ifdef __cplusplus
+} // namespace ml::gpu
+#endif
+#endif
