@@ -4,7 +4,8 @@
 // for DAG-MH (dagmhPcfLit, the one tap): that first tests the value bounds of the cells it covers,
 // which decide a tap or a whole kernel when the receiver is nearer or farther than every value there,
 // then walks the in-map taps only and shares more reads between taps; each tap still gets the answer
-// the CPU's per-tap loop gets, so the lit count is the same.
+// the CPU's per-tap loop gets, so the lit count is the same. The light view (a quaternion and a
+// translation in the record) is applied by shaders/shared/shadow_record.h, the same text on both sides.
 //
 // Depth methods (SM, MH, MMH, DAG-MH): the receiver is offset along its normal by (1 + PCF radius)
 // texels' world size (normal-offset bias: it grows with the texel footprint, so it holds at grazing

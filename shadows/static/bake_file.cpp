@@ -1,6 +1,7 @@
 #include "shadows/static/bake_file.h"
 
 #include "io/safe_io.h"
+#include "shadows/static/static_visibility.h"
 
 #include <algorithm>
 #include <bit>
@@ -209,6 +210,8 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
         f.orthoHalfY = bitsFloat(rec[kROrthoHalfY]), f.fitMargin = bitsFloat(rec[kRFitMargin]);
         for (int i = 0; i < 16; ++i)
             if (!std::isfinite(m[i])) return badRec("view matrix is not finite");
+        // The module's shadow record keeps the view as a rotation and a translation (GpuShadowRecord).
+        if (!rigidView(f.view)) return badRec("view matrix is not a rigid motion (rotation and translation)");
         if (rec[kROrtho] != 0) {
             if (!(f.orthoHalf > 0.0f && std::isfinite(f.orthoHalf) && f.fov == 0.0f && rec[kRFace] == 0))
                 return badRec("orthographic half side not finite and > 0, or fov/face not 0");

@@ -231,6 +231,10 @@ TEST(BakeFile, InconsistentRecordsRejected) {
     reject(g, "NaN fov");
     g = f, g.records[1].frustum.view[2][1] = INFINITY;
     reject(g, "infinite matrix");
+    g = f, g.records[1].frustum.view[0][0] *= 2.0f;
+    reject(g, "scaled view (not a rigid motion)");
+    g = f, g.records[1].frustum.view[2][3] = -1.0f;
+    reject(g, "projective view");
     g = f, g.records[1].frustum.nearPlane = 20.0f;
     reject(g, "near beyond far");
     g = f, g.records[1].data.clear();
