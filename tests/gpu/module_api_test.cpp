@@ -202,20 +202,31 @@ TEST(ModuleApi, RefusesVsmSettingsTheDeviceCannotHold) {
 #include "shadows/static/static_method.h"
 
 namespace ml::test {
+namespace {
+// A perspective frustum looking down -Z from the origin, and a plain map of `res`^2 empty texels for it.
+LightFrustum plainFrustum() {
+    LightFrustum f;
+    f.fov = 1.2f;
+    f.nearPlane = 0.05f;
+    f.farPlane = 10.0f;
+    return f;
+}
+Result<std::vector<uint32_t>> emptyPlainBake(uint32_t res, const LightFrustum& f) {
+    DualDepthMap map;
+    map.resolution = res;
+    map.enter.assign(size_t(res) * res, kDepthEmpty);
+    map.exit = map.enter;
+    return encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
+}
+} // namespace
+
 // Every light's static words share one storage buffer: a bake that would take it past the device's
 // storage buffer range is refused by setStaticShadow with the sizes, not bound and left to fail.
 TEST(ModuleApi, RefusesStaticShadowsBeyondTheStorageBufferRange) {
     auto m = makeModule();
     const uint64_t range = deviceOf(*m).properties.limits.maxStorageBufferRange;
-    DualDepthMap map;
-    map.resolution = 2048; // a plain map: 16 MiB of words
-    map.enter.assign(size_t(map.resolution) * map.resolution, kDepthEmpty);
-    map.exit = map.enter;
-    LightFrustum f;
-    f.fov = 1.2f;
-    f.nearPlane = 0.05f;
-    f.farPlane = 10.0f;
-    auto words = encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
+    const LightFrustum f = plainFrustum();
+    auto words = emptyPlainBake(2048, f); // 16 MiB of words
     ASSERT_TRUE(words.ok()) << words.error();
     const uint64_t perBake = words->size() * 4;
     const uint32_t fit = uint32_t(range / perBake); // bakes that fit; one more must be refused
@@ -249,15 +260,8 @@ TEST(ModuleApi, RefusesStaticShadowsBeyondTheStorageBufferRange) {
 // rigid motion (scaled, mirrored, projective) is refused with the reason, not looked up wrongly.
 TEST(ModuleApi, RefusesStaticShadowsWithANonRigidView) {
     auto m = makeModule();
-    DualDepthMap map;
-    map.resolution = 16;
-    map.enter.assign(size_t(map.resolution) * map.resolution, kDepthEmpty);
-    map.exit = map.enter;
-    LightFrustum f;
-    f.fov = 1.2f;
-    f.nearPlane = 0.05f;
-    f.farPlane = 10.0f;
-    auto words = encodeStatic(StaticMethod::SM, map, {f.nearPlane, f.farPlane, {}});
+    const LightFrustum f = plainFrustum();
+    auto words = emptyPlainBake(16, f);
     ASSERT_TRUE(words.ok()) << words.error();
     LightDesc l;
     l.position = {0, 3, 0};
