@@ -1,6 +1,7 @@
 #include "engine/camera.h"
 
 #include "lights/lights.h"
+#include "shadows/static/static_visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -54,14 +55,9 @@ CameraMatrices cameraMatrices(const CameraDesc& c, float aspect) {
 Result<CameraDesc> cameraFromMatrices(const glm::mat4& view, const glm::mat4& p) {
     if (!finite(view)) return fail("camera: view matrix is not finite");
     if (!finite(p)) return fail("camera: projection matrix is not finite");
-    // Rigid: orthonormal rotation with determinant +1, last row (0, 0, 0, 1).
-    const glm::mat3 r(view);
-    const glm::mat3 e = glm::transpose(r) * r - glm::mat3(1.0f);
-    float err = 0.0f;
-    for (int c = 0; c < 3; ++c)
-        for (int k = 0; k < 3; ++k) err = std::max(err, std::abs(e[c][k]));
-    if (err > 1e-3f || glm::determinant(r) < 0.0f || view[0][3] != 0.0f || view[1][3] != 0.0f ||
-        view[2][3] != 0.0f || view[3][3] != 1.0f)
+    // Rigid: orthonormal rotation with determinant +1, last row (0, 0, 0, 1), to a host's rounding
+    // (the static bakes' check, with a looser tolerance).
+    if (!rigidView(view, 1e-3f))
         return fail("camera: view matrix is not a rigid transform (rotation and translation only)");
     // A perspective into Vulkan clip space: w = -z_view (right-handed), x and y scaled (off-centre terms
     // [2][0], [2][1] allowed), depth = (A z + B) / -z.

@@ -95,8 +95,9 @@ struct MeshDesc {
 // LightDesc and validateLight: lights/light_types.h.
 
 // A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
-// out of bounds) and the frustum it was rendered with. A bake file (shadows/static/bake_file.h) holds
-// these per light.
+// out of bounds) and the frustum it was rendered with, whose view must be a rigid motion (rotation and
+// translation, as lookAt makes: the shadow record keeps it as a quaternion; rigidView). A bake file
+// (shadows/static/bake_file.h) holds these per light.
 struct StaticShadowDesc {
     StaticMethod method = StaticMethod::None;
     LightFrustum frustum;

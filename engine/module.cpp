@@ -422,9 +422,6 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (!rigidView(f.view))
         return fail("setStaticShadow: light " + std::to_string(id) +
                     ": the frustum's view is not a rigid motion (rotation and translation, as lookAt makes)");
-    if (staticResolution(shadow.method, shadow.words.data()) > 65535u)
-        return fail("setStaticShadow: light " + std::to_string(id) +
-                    ": resolution above 65535 texels a side");
     // Every light's words live in one storage buffer: refuse a bake that would take it past the device's
     // storage buffer range (lavapipe: 128 MiB) instead of binding a range the shaders cannot address.
     uint64_t bytes = uint64_t(shadow.words.size()) * 4;

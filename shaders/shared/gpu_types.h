@@ -64,8 +64,8 @@ ML_STRUCT(GpuShadowRecord) {
     vec4 rotation; // world -> light view rotation, a unit quaternion (x, y, z, w) (the light looks down -Z)
     vec4 translation; // xyz: view(P) = rotate(rotation, P) + translation (shadowViewPoint), w 0
     vec4 frustum;     // x tan(fov / 2), y near, z far, w log(far / near)
-    uvec4 info;       // x method (StaticMethod, bits 0-7, 0 = none) | PCF radius << 8 (0 = one tap) |
-                      // resolution << 16; y base word; zw 0
+    uvec4 info;       // x method (StaticMethod, bits 0-3, 0 = none) | PCF radius << 4 (0 = one tap) |
+                      // resolution << 8; y base word; zw 0
     vec4 bias;        // the light's shadow bias (LightDesc): x depth bias in texels (default 0.5), y scale on
                       // the normal offset of (1 + PCF radius) texels (default 1); CPVS ignores both; zw 0
 };

@@ -14,19 +14,19 @@
 namespace ml::gpu {
 #endif
 
-// info.x: method (bits 0-7), PCF radius (bits 8-15), resolution (bits 16-31: at most 65535 texels a
-// side; bakes stop at 16384).
+// info.x: method (bits 0-3: StaticMethod has six values), PCF radius (bits 4-7: at most
+// ML_MAX_PCF_RADIUS, 4), resolution (bits 8-31: up to 2^24 - 1 texels a side; bake files stop at 65536).
 ML_FN uint shadowRecordMethod(GpuShadowRecord r) {
-    return r.info.x & 255u;
+    return r.info.x & 15u;
 }
 ML_FN uint shadowRecordRadius(GpuShadowRecord r) {
-    return (r.info.x >> 8u) & 255u;
+    return (r.info.x >> 4u) & 15u;
 }
 ML_FN uint shadowRecordResolution(GpuShadowRecord r) {
-    return r.info.x >> 16u;
+    return r.info.x >> 8u;
 }
 ML_FN uint shadowRecordInfo(uint method, uint radius, uint resolution) {
-    return method | (radius << 8u) | (resolution << 16u);
+    return (method & 15u) | ((radius & 15u) << 4u) | (resolution << 8u);
 }
 
 // v rotated by the unit quaternion q: v + w t + q.xyz x t with t = 2 q.xyz x v (two cross products).

@@ -24,6 +24,8 @@ gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f
     // log(far / near) for perspective ones (eq. 1).
     r.frustum = glm::vec4(f.orthographic() ? -f.orthoHalf : std::tan(f.fov * 0.5f), f.nearPlane, f.farPlane,
                           f.orthographic() ? f.farPlane - f.nearPlane : std::log(f.farPlane / f.nearPlane));
+    static_assert(uint32_t(StaticMethod::CPVS) < 16 && ML_MAX_PCF_RADIUS < 16,
+                  "GpuShadowRecord.info.x's fields");
     r.info = glm::uvec4(
         gpu::shadowRecordInfo(uint32_t(method), std::min<uint32_t>(pcfRadius, ML_MAX_PCF_RADIUS), resolution),
         base, 0u, 0u);
@@ -31,7 +33,7 @@ gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& f
     return r;
 }
 
-bool rigidView(const glm::mat4& view) {
+bool rigidView(const glm::mat4& view, float tolerance) {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(view[c][r])) return false;
@@ -40,7 +42,7 @@ bool rigidView(const glm::mat4& view) {
     const glm::mat3 I = glm::transpose(R) * R;
     for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r)
-            if (std::abs(I[c][r] - (c == r ? 1.0f : 0.0f)) > 1e-4f) return false;
+            if (!(std::abs(I[c][r] - (c == r ? 1.0f : 0.0f)) <= tolerance)) return false;
     return glm::determinant(R) > 0.0f;
 }
 

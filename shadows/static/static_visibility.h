@@ -18,10 +18,12 @@ constexpr float kDefaultShadowNormalBias = 1.0f;
 gpu::GpuShadowRecord makeShadowRecord(StaticMethod method, const LightFrustum& frustum, uint32_t base,
                                       uint32_t resolution, uint32_t pcfRadius);
 
-// True when `view` is a rigid motion (a rotation, det +1, and a finite translation; bottom row 0 0 0 1)
-// within 1e-4 per matrix entry: what GpuShadowRecord's quaternion can hold. Light frustums are lookAt
-// views; a bake file's frustum may be anything.
-bool rigidView(const glm::mat4& view);
+// True when `view` is a rigid motion: finite, bottom row 0 0 0 1, and a rotation R (det > 0) with every
+// entry of R^T R within `tolerance` of the identity's. The default, 1e-5, bounds what GpuShadowRecord's
+// quaternion drops: a uniform scale within 5e-6 of 1 (0.04 texel at the edge of a 16384^2 map); lookAt
+// views are orthonormal to ~1e-7. A bake file's frustum may be anything. The camera's check
+// (cameraFromMatrices) takes 1e-3.
+bool rigidView(const glm::mat4& view, float tolerance = 1e-5f);
 
 // Receiver depth in the light's integer depth space, as the shader quantises it (float arithmetic).
 uint32_t staticQuantizeFloat(float z, float farPlane);

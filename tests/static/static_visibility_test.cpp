@@ -244,8 +244,11 @@ TEST(StaticVisibility, RecordViewMatchesTheFrustumMatrix) {
     }
     EXPECT_LT(worst, 1e-6f);
     std::printf("  %zu frustums: largest difference %.2e of the distance scale\n", frustums.size(), worst);
-    EXPECT_EQ(gpu::shadowRecordResolution(makeShadowRecord(StaticMethod::SM, frustums[0], 0, 65535, 9)),
-              65535u);
+    // The bake format's largest maps (65536 texels a side) with the largest method value.
+    const auto big = makeShadowRecord(StaticMethod::CPVS, frustums[0], 0, 65536, 9);
+    EXPECT_EQ(gpu::shadowRecordResolution(big), 65536u);
+    EXPECT_EQ(gpu::shadowRecordMethod(big), uint32_t(StaticMethod::CPVS));
+    EXPECT_EQ(gpu::shadowRecordRadius(big), uint32_t(ML_MAX_PCF_RADIUS));
     EXPECT_EQ(gpu::shadowRecordRadius(makeShadowRecord(StaticMethod::SM, frustums[0], 0, 64, 9)),
               uint32_t(ML_MAX_PCF_RADIUS));
 
