@@ -48,7 +48,7 @@ ErrorClass classifyDisagreement(const ErrorContext& ctx, glm::vec3 p, glm::vec3 
     }
 
     gpu::GpuShadowRecord one = rec;
-    one.info.x = gpu::shadowRecordInfo(gpu::shadowRecordMethod(rec), 0, gpu::shadowRecordResolution(rec));
+    one.info.x = gpu::shadowRecordWithRadius(rec.info.x, 0);
     // The view's x and y axes in the world: the inverse rotation (the conjugate quaternion) of each.
     const glm::vec4 inverse(-rec.rotation.x, -rec.rotation.y, -rec.rotation.z, rec.rotation.w);
     const glm::vec3 right = gpu::quatRotate(inverse, glm::vec3(1, 0, 0));

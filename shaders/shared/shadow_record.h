@@ -28,6 +28,10 @@ ML_FN uint shadowRecordResolution(GpuShadowRecord r) {
 ML_FN uint shadowRecordInfo(uint method, uint radius, uint resolution) {
     return (method & 15u) | ((radius & 15u) << 4u) | (resolution << 8u);
 }
+// The same info word with another PCF radius (the lookup timer and the error classes vary it).
+ML_FN uint shadowRecordWithRadius(uint info, uint radius) {
+    return (info & ~0xF0u) | ((radius & 15u) << 4u);
+}
 
 // v rotated by the unit quaternion q: v + w t + q.xyz x t with t = 2 q.xyz x v (two cross products).
 ML_FN vec3 quatRotate(vec4 q, vec3 v) {

@@ -42,9 +42,10 @@
 // The scene description (name, light count, seed) is what `verify` needs to re-create the scene and
 // re-render each light's dual depth map.
 //
-// Loading trusts nothing: sizes, offsets, counts, float ranges and checksums are checked, then every
-// record's words go through validateStatic, which walks every internal offset. A file readBakeFile
-// accepts can be uploaded and looked up without any read outside its buffers, on the CPU or the GPU.
+// Loading trusts nothing: sizes, offsets, counts, float ranges, rigid record views (rigidView) and
+// checksums are checked, then every record's words go through validateStatic, which walks every
+// internal offset. A file readBakeFile accepts can be uploaded and looked up without any read outside
+// its buffers, on the CPU or the GPU.
 // Writing is deterministic: every word is defined, there are no timestamps.
 #pragma once
 #include "io/result.h"

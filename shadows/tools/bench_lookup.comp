@@ -26,7 +26,7 @@ void main() {
     if (i >= push.count) return;
     vec4 p = items[2u * i], n = items[2u * i + 1u];
     GpuShadowRecord rec = records[floatBitsToUint(n.w)];
-    rec.info.x = shadowRecordInfo(shadowRecordMethod(rec), push.radius, shadowRecordResolution(rec));
+    rec.info.x = shadowRecordWithRadius(rec.info.x, push.radius);
     float acc = 0.0;
     for (uint k = 0u; k < push.lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz);
     sums[i] = acc;

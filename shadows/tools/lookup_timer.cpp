@@ -86,8 +86,7 @@ Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::Gp
         const float* sums = outBuf.as<float>();
         for (uint32_t i = 0; i < count; ++i) {
             gpu::GpuShadowRecord rec = records[pairs[i].record];
-            rec.info.x =
-                gpu::shadowRecordInfo(gpu::shadowRecordMethod(rec), radius, gpu::shadowRecordResolution(rec));
+            rec.info.x = gpu::shadowRecordWithRadius(rec.info.x, radius);
             float cpu = staticVisibility(rec, words.data(), pairs[i].p, pairs[i].n);
             t.cpuMismatches += std::abs(cpu - sums[i]) > 1e-6f;
         }
