@@ -6,6 +6,7 @@
 #include "gpu_test_util.h"
 #include "host/vsm_session.h"
 #include "shadows/virtual/vsm_meshlets.h"
+#include "tests/common/shared_scenes.h"
 
 #include <cstdlib>
 
@@ -19,10 +20,7 @@ VsmSessionOptions smallPath(VsmRaster raster, bool caching, bool house) {
     o.path = CameraPath::Drive;
     if (house) {
         // FZK-Haus: meshes of up to 2,508 triangles (many meshlets each, some closed), static spots.
-        // ../shared beside the checkout (ML_SHARED_DIR overrides it, e.g. from a git worktree elsewhere).
-        const char* shared = std::getenv("ML_SHARED_DIR");
-        o.scene = (shared ? std::string(shared) : std::string(ML_SOURCE_DIR) + "/../shared") +
-                  "/scenes/fzk-haus.glb";
+        o.scene = sharedScenePath("fzk-haus.glb"); // tests/common/shared_scenes.h
         o.path = CameraPath::Orbit;
         o.lights = 12;
         o.width = 160;
@@ -127,9 +125,11 @@ TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesUncached) {
     comparePaths(false, 4);
 }
 TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHaus) {
+    ML_SKIP_WITHOUT_SHARED();
     comparePaths(true, 4, true);
 }
 TEST(GpuVsmMeshlets, MeshPathWritesTheVertexPathsPagesFzkHausUncached) {
+    ML_SKIP_WITHOUT_SHARED();
     comparePaths(false, 3, true);
 }
 

@@ -4,6 +4,7 @@
 #include "bake/reference/raytrace.h"
 
 #include "scenes/scenes.h"
+#include "tests/common/shared_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -467,7 +468,8 @@ TEST(ReferenceBuild, ReportsBadInputInOneLine) {
 // --- the shared house -------------------------------------------------------------------------------------
 
 TEST(ReferenceScene, FzkHausBuildsAndReportsRaysPerSecond) {
-    const std::string path = std::string(ML_SOURCE_DIR) + "/../shared/scenes/fzk-haus.glb";
+    ML_SKIP_WITHOUT_SHARED();
+    const std::string path = test::sharedScenePath("fzk-haus.glb");
     auto loaded = loadScene(path, 16, 1);
     ASSERT_TRUE(loaded.ok()) << loaded.error();
     const Scene& scene = loaded.value();

@@ -53,6 +53,7 @@ void expectLightsOnScene(const Scene& s) {
 }
 
 TEST(ScenesGltf, LoadsSampleBuilding) {
+    ML_SKIP_WITHOUT_SHARED();
     std::string path = test::sharedScene("sample-building.gltf");
     auto r = loadGltf(path, 100, 1);
     ASSERT_TRUE(r.ok()) << r.error();
@@ -77,6 +78,7 @@ TEST(ScenesGltf, LoadsSampleBuilding) {
 }
 
 TEST(ScenesGltf, LoadsFzkHaus) {
+    ML_SKIP_WITHOUT_SHARED();
     std::string path = test::sharedScene("fzk-haus.glb");
     auto r = loadGltf(path, 64, 2);
     ASSERT_TRUE(r.ok()) << r.error();
@@ -105,6 +107,7 @@ TEST(ScenesGltf, LoadsFzkHaus) {
 }
 
 TEST(ScenesGltf, DeterministicLights) {
+    ML_SKIP_WITHOUT_SHARED();
     std::string path = test::sharedScene("fzk-haus.glb");
     auto a = loadGltf(path, 300, 5), b = loadGltf(path, 300, 5), c = loadGltf(path, 300, 6);
     ASSERT_TRUE(a.ok() && b.ok() && c.ok());
@@ -342,6 +345,7 @@ TEST(ScenesGltf, BadReferences) {
 // check passes); and additionally with the BIN chunk length patched to what is left (so tinygltf sees
 // a self-consistent container whose buffer is too short for the accessors).
 TEST(ScenesGltf, TruncatedGlb) {
+    ML_SKIP_WITHOUT_SHARED();
     std::string full = test::readFile(test::sharedScene("fzk-haus.glb"));
     ASSERT_GT(full.size(), 1000u);
     uint32_t jsonLength;
@@ -373,6 +377,7 @@ TEST(ScenesGltf, TruncatedGlb) {
 }
 
 TEST(ScenesGltf, TruncatedGltf) {
+    ML_SKIP_WITHOUT_SHARED();
     std::string full = test::readFile(test::sharedScene("sample-building.gltf"));
     ASSERT_GT(full.size(), 1000u);
     for (int k = 0; k < 16; ++k) {
@@ -439,6 +444,7 @@ TEST(ScenesGltf, NotAGlb) {
 }
 
 TEST(ScenesLoadScene, Dispatch) {
+    ML_SKIP_WITHOUT_SHARED();
     auto city = loadScene("night-city", 32, 1);
     ASSERT_TRUE(city.ok()) << city.error();
     EXPECT_EQ(city->name, "night-city");

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/shared_scenes.h"
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,7 +16,7 @@
 namespace ml::test {
 
 inline std::string sharedScene(const char* name) {
-    return std::string(ML_SOURCE_DIR) + "/../shared/scenes/" + name;
+    return sharedScenePath(name);
 }
 
 // A fresh directory per test process (ctest runs tests in parallel processes), removed at exit.

@@ -4,6 +4,7 @@
 
 #include "bake/scene_casters.h"
 #include "scenes/scenes.h"
+#include "tests/common/shared_scenes.h"
 
 namespace ml::ctest {
 namespace {
@@ -72,7 +73,8 @@ TEST(CpvsScenes, NightCityExhaustive) {
 }
 
 TEST(CpvsScenes, FzkHausExhaustive) {
-    auto scene = loadScene(std::string(ML_SOURCE_DIR) + "/../shared/scenes/fzk-haus.glb", 8, 1);
+    ML_SKIP_WITHOUT_SHARED();
+    auto scene = loadScene(test::sharedScenePath("fzk-haus.glb"), 8, 1);
     ASSERT_TRUE(scene.ok()) << scene.error();
     realScene("fzk-haus", *scene, 2);
 }

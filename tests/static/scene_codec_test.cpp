@@ -86,6 +86,7 @@ void checkAndReport(const MapCase& mc) {
 }
 
 TEST(StaticScenes, SampleBuildingExhaustive1K) {
+    ML_SKIP_WITHOUT_SHARED();
     auto scene = loadScene(sharedScene("sample-building.gltf"), 8, 1);
     ASSERT_TRUE(scene.ok()) << "scene loader failed: " << scene.error();
     auto maps = sceneMaps(*scene, "sample-building", 1024, 2, true);
@@ -105,6 +106,7 @@ TEST(StaticScenes, NightCityExhaustive1Kand2K) {
 // Size ordering on a realistic map (printed; the papers' 0.85x / 0.75x hold at 8K^2 and above, so at
 // 2K^2 only the coarse order is asserted).
 TEST(StaticScenes, SizeOrderingSampleBuilding2K) {
+    ML_SKIP_WITHOUT_SHARED();
     auto scene = loadScene(sharedScene("sample-building.gltf"), 8, 1);
     ASSERT_TRUE(scene.ok()) << "scene loader failed: " << scene.error();
     CasterTriangles casters = castersFromScene(*scene);

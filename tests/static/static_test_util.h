@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/shared_scenes.h"
+
 #include <cstdint>
 #include <functional>
 #include <random>
@@ -18,7 +20,7 @@
 namespace ml::stest {
 
 inline std::string sharedScene(const char* name) {
-    return std::string(ML_SOURCE_DIR) + "/../shared/scenes/" + name;
+    return test::sharedScenePath(name);
 }
 
 inline DualDepthMap emptyMap(uint32_t res) {
