@@ -70,24 +70,68 @@ uint vsmPageClass(uint p) {
 #endif
 #endif // VSM_NO_MARKS
 
+// Block prefix sums in three barriers, not the 17 of a Hillis-Steele scan over 256 (lavapipe runs each
+// barrier as a pass over every invocation of the group, so barriers, not adds, were their cost): the
+// block is a square of ML_VSM_SCAN_ROW rows of ML_VSM_SCAN_ROW entries; one thread per row scans its row
+// in place and stores the row's total, then every thread adds the totals of the rows before its own.
+// Integer sums: the same ranks whatever the scheduling.
+#define ML_VSM_SCAN_ROW 16u
+#if ML_VSM_BLOCK != 256
+#error "the block scans take ML_VSM_BLOCK as ML_VSM_SCAN_ROW x ML_VSM_SCAN_ROW entries"
+#endif
 shared uint sScan[ML_VSM_BLOCK];
+shared uint sScanRows[ML_VSM_SCAN_ROW];
 
-// Exclusive prefix sum of `value` over the workgroup (Hillis-Steele in shared memory); total in `sum`.
-// Deterministic: the same inputs give the same ranks whatever the scheduling.
+// Exclusive prefix sum of `value` over the workgroup; total in `sum`.
 uint vsmBlockScan(uint value, out uint sum) {
     uint i = gl_LocalInvocationIndex;
     sScan[i] = value;
     barrier();
-    for (uint offset = 1u; offset < ML_VSM_BLOCK; offset <<= 1u) {
-        uint add = i >= offset ? sScan[i - offset] : 0u;
-        barrier();
-        sScan[i] += add;
-        barrier();
+    if (i < ML_VSM_SCAN_ROW) {
+        uint acc = 0u;
+        for (uint k = i * ML_VSM_SCAN_ROW; k < (i + 1u) * ML_VSM_SCAN_ROW; ++k) {
+            uint v = sScan[k];
+            sScan[k] = acc;
+            acc += v;
+        }
+        sScanRows[i] = acc;
     }
-    sum = sScan[ML_VSM_BLOCK - 1u];
-    uint inclusive = sScan[i];
     barrier();
-    return inclusive - value;
+    uint row = i / ML_VSM_SCAN_ROW, before = sScan[i];
+    sum = 0u;
+    for (uint r = 0u; r < ML_VSM_SCAN_ROW; ++r) {
+        if (r == row) before += sum;
+        sum += sScanRows[r];
+    }
+    barrier(); // the next scan may overwrite sScan
+    return before;
 }
+
+#ifdef VSM_PAGE_CLASSES
+// The same over three words at once (vsm_avail's nine class counts, three per word).
+shared uvec3 sScan3[ML_VSM_BLOCK];
+shared uvec3 sScanRows3[ML_VSM_SCAN_ROW];
+
+uvec3 vsmBlockScan3(uvec3 value) { // exclusive
+    uint i = gl_LocalInvocationIndex;
+    sScan3[i] = value;
+    barrier();
+    if (i < ML_VSM_SCAN_ROW) {
+        uvec3 acc = uvec3(0u);
+        for (uint k = i * ML_VSM_SCAN_ROW; k < (i + 1u) * ML_VSM_SCAN_ROW; ++k) {
+            uvec3 v = sScan3[k];
+            sScan3[k] = acc;
+            acc += v;
+        }
+        sScanRows3[i] = acc;
+    }
+    barrier();
+    uint row = i / ML_VSM_SCAN_ROW;
+    uvec3 before = sScan3[i];
+    for (uint r = 0u; r < row; ++r) before += sScanRows3[r];
+    barrier();
+    return before;
+}
+#endif
 
 #endif

@@ -3,10 +3,11 @@
 // vsm_sort (allocation 2/7): sorts the request list by priority rank, so that the allocation is the same
 // whatever order the atomics of vsm_mark appended in (and a CPU reference reproduces it bit for bit).
 // Ranks are unique (one per wanted entry). Indirect over the list (vsm_list), ping-ponging two buffers:
-//   width 0: each block of ML_VSM_BLOCK entries is sorted in shared memory (bitonic network);
+//   width 0: each block of ML_VSM_BLOCK entries is sorted in shared memory (rank by counting);
 //   width w: runs of w sorted entries are merged pairwise; an entry's place in the merged run is its
 //            index in its own run plus the number of smaller keys in the sibling run (binary search).
-// log2(capacity / ML_VSM_BLOCK) merge passes follow the block sort: n log^2 n work for n wanted pages.
+// log2(capacity / ML_VSM_BLOCK) merge passes follow the block sort: n ML_VSM_BLOCK + n log^2 n work for
+// n wanted pages.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 
@@ -23,20 +24,16 @@ void main() {
     uint n = vsmCounters.listCount;
     uint i = gl_GlobalInvocationID.x, l = gl_LocalInvocationIndex;
     if (push.width == 0u) {
-        sKeys[l] = i < n ? src[i] : 0xFFFFFFFFu; // padding sorts last (ranks are below 2^32 - 1)
-        for (uint k = 2u; k <= ML_VSM_BLOCK; k <<= 1u)
-            for (uint j = k >> 1u; j > 0u; j >>= 1u) {
-                barrier();
-                uint p = l ^ j;
-                if (p > l) {
-                    uint a = sKeys[l], b = sKeys[p];
-                    bool up = (l & k) == 0u;
-                    if ((a > b) == up) {
-                        sKeys[l] = b;
-                        sKeys[p] = a;
-                    }
-                }
-            }
+        // The block's keys are unique (padding aside, which sorts last and is not written): a key's place
+        // is the number of keys below it. Two barriers where a bitonic network takes 36 (lavapipe runs
+        // each barrier as a pass over the group); 256 shared reads per thread.
+        uint key = i < n ? src[i] : 0xFFFFFFFFu;
+        sKeys[l] = key;
+        barrier();
+        uint place = 0u;
+        for (uint k = 0u; k < ML_VSM_BLOCK; ++k) place += sKeys[k] < key ? 1u : 0u;
+        barrier();
+        if (i < n) sKeys[place] = key;
         barrier();
         if (i < n) dst[i] = sKeys[l];
         return;

@@ -5,6 +5,7 @@
 // fallbacks and never leaves a lookup without a page.
 #include "gpu_test_util.h"
 
+#include <array>
 #include <bit>
 #include "host/vsm_session.h"
 #include "shadows/virtual/vsm_reference.h"
@@ -50,8 +51,15 @@ VsmMarkInputs markInputs(Module& m) {
     return in;
 }
 
+// What the allocation did over the path: the slot pool's final size and, for the pages taken from an
+// owner, how many came from each LRU class (vsm_alloc_common.glsl: 1 is >= 128 frames unused, 8 is one).
+struct AllocationSeen {
+    uint32_t grownTo = 0;
+    std::array<uint32_t, 9> evictedByClass{};
+};
+
 void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint32_t frames,
-                                         uint32_t* grownTo) {
+                                         AllocationSeen* seen = nullptr) {
     resetValidationCounters();
     auto session = VsmSession::create(options);
     ASSERT_TRUE(session.ok()) << session.error();
@@ -78,6 +86,7 @@ void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint3
         }
         // Allocation from the previous frame's state, with this frame's marks.
         std::vector<uint32_t> stale = vsm.slotHost(slot).stale;
+        const std::vector<uint32_t> ownersBefore = cpu.owners, lastUsedBefore = cpu.lastUsed;
         gpu::VsmCounters c = vsmAllocateReference(cpu, gpuMarks, stale, vsm.slotHost(slot).maps,
                                                   vsm.slotHost(slot).runs, vsm.lastConstants());
         std::vector<uint32_t> table = vsm.read(deviceOf(m), VsmState::Table);
@@ -87,6 +96,11 @@ void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint3
         ASSERT_EQ(differ, 0u) << "frame " << f << ": page-table entries differ";
         ASSERT_EQ(vsm.read(deviceOf(m), VsmState::Owners), cpu.owners) << "frame " << f;
         ASSERT_EQ(vsm.read(deviceOf(m), VsmState::LastUsed), cpu.lastUsed) << "frame " << f;
+        for (size_t p = 0; seen && p < cpu.owners.size(); ++p) // the class each evicted page was taken from
+            if (ownersBefore[p] != ML_VSM_NO_OWNER && cpu.owners[p] != ownersBefore[p]) {
+                const uint32_t age = std::max(vsm.lastConstants().sizes.w - lastUsedBefore[p], 1u);
+                ++seen->evictedByClass[8 - std::min(uint32_t(std::bit_width(age) - 1), 7u)];
+            }
         const VsmStats& g = report->stats.vsm;
         EXPECT_EQ(g.pagesMarked, c.pagesMarked) << "frame " << f;
         EXPECT_EQ(g.pagesCached, c.pagesCached) << "frame " << f;
@@ -109,7 +123,7 @@ void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint3
     EXPECT_GT(rendered, 0u);
     EXPECT_GT(invalidated, 0u);
     EXPECT_EQ(validationErrors(), 0u);
-    if (grownTo) *grownTo = vsm.mapCapacity();
+    if (seen) seen->grownTo = vsm.mapCapacity();
 }
 
 // Per-light bias (LightDesc::shadowDepthBias / shadowNormalBias) reaches GpuVsmMap.bias; the marks (which
@@ -236,7 +250,20 @@ TEST(GpuVsm, FallbacksReservedOnlyNearPressure) {
 }
 
 TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
-    marksAndAllocationEqualCpuReference(smallPath(192, 108), 100, nullptr);
+    marksAndAllocationEqualCpuReference(smallPath(192, 108), 100);
+}
+
+// A pool a little larger than a frame's need: once the free pages are gone, requests take cached pages
+// least recently used first, from every age class (vsm_avail places them by class, then index), and
+// the GPU still equals the reference every frame.
+TEST(GpuVsm, EvictionFromEveryAgeClassEqualsCpuReference) {
+    VsmSessionOptions o = smallPath(192, 108);
+    o.module.vsm.poolPages = 224; // EXP
+    AllocationSeen seen;
+    marksAndAllocationEqualCpuReference(o, 100, &seen);
+    std::string classes;
+    for (uint32_t n : seen.evictedByClass) classes += " " + std::to_string(n);
+    fprintf(stderr, "evicted by class:%s\n", classes.c_str());
 }
 
 // The map-slot pool starts at 8 slots and grows (doubling) while lights come into view: the page table
@@ -244,9 +271,9 @@ TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
 TEST(GpuVsm, SlotPoolGrowsAndKeepsThePageTable) {
     VsmSessionOptions o = smallPath(192, 108);
     o.module.vsm.initialMaps = 8;
-    uint32_t grownTo = 0;
-    marksAndAllocationEqualCpuReference(o, 30, &grownTo);
-    EXPECT_GT(grownTo, 8u);
+    AllocationSeen seen;
+    marksAndAllocationEqualCpuReference(o, 30, &seen);
+    EXPECT_GT(seen.grownTo, 8u);
 }
 
 // The guarantee holds while the pool keeps one page per light with receivers (each light's coarsest page
