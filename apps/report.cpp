@@ -36,6 +36,7 @@ std::string vsmJson(const VsmStats& v) {
     o.integer("page_clip_overflow", v.pageClipOverflow).integer("request_overflow", v.requestOverflow);
     o.integer("pages_new", v.pagesNew).integer("pages_invalidated_caster", v.pagesInvalidatedCaster);
     o.integer("pages_rendered_dynamic", v.pagesRenderedDynamic);
+    o.integer("caster_group_tests", v.groupTests).integer("caster_groups_refused", v.groupsRefused);
     return o.str();
 }
 } // namespace

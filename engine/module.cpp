@@ -121,6 +121,9 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
             !std::isfinite(v.clipDepth))
             return fail("vsm: clip extent and depth must be finite and > 0");
         if (v.maxDrawsPerMip < 1) return fail("vsm: max draws per mip must be >= 1");
+        if (v.cullRowWorkgroups < 1 || v.cullRowWorkgroups > 65535)
+            return fail("vsm: cull row workgroups must be 1..65535 (got " +
+                        std::to_string(v.cullRowWorkgroups) + ")");
         if (!validTexelsPerPixel(v.texelsPerPixel))
             return fail("vsm: texels per pixel must be a power of two in 1/4..8");
         if (v.meshletVertices < 3 || v.meshletVertices > ML_MESHLET_VERTICES || v.meshletTriangles < 4 ||

@@ -263,7 +263,7 @@ void VirtualShadowMaps::destroy(const Device& d) {
         destroyBuffer(d, *b);
     for (Slot& s : slots_)
         for (Buffer* b : {&s.constants, &s.maps, &s.coverage, &s.stale, &s.active, &s.runs, &s.rankBase,
-                          &s.casters, &s.counters, &s.probes})
+                          &s.casters, &s.counters, &s.probes, &s.casterGroups, &s.casterOrder, &s.cullPairs})
             destroyBuffer(d, *b);
     slots_.clear();
 }
@@ -402,6 +402,8 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.pagesNew = c.pagesNew;
     s.pagesInvalidatedCaster = c.pagesInvalidatedCaster;
     s.pagesRenderedDynamic = c.pagesRenderedDynamic;
+    s.groupTests = c.groupTests;
+    s.groupsRefused = c.groupsRefused;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;
@@ -459,6 +461,16 @@ std::vector<uint32_t> VirtualShadowMaps::readHpb(const Device& d, uint32_t map, 
         const size_t bit = first + i;
         out[i] = (bits[bit >> 5] >> (bit & 31u)) & 1u;
     }
+    return out;
+}
+std::vector<gpu::GpuCasterGroup> VirtualShadowMaps::readCasterGroups(const Device& d,
+                                                                     uint32_t slotIndex) const {
+    const Slot& slot = slots_[slotIndex];
+    std::vector<gpu::GpuCasterGroup> out((slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP);
+    if (out.empty()) return out;
+    std::vector<uint8_t> bytes =
+        readBuffer(d, slot.casterGroups, 0, out.size() * sizeof(gpu::GpuCasterGroup));
+    std::memcpy(out.data(), bytes.data(), bytes.size());
     return out;
 }
 std::vector<gpu::GpuVsmProbe> VirtualShadowMaps::readProbes(uint32_t slotIndex, uint32_t* overflow) const {

@@ -25,7 +25,9 @@
 //     vsm_hpb     per listed entry: a DIRTY page sets its hierarchical page buffer cells (bits in a
 //                 buffer, 4.3), so culling tests at most 2x2 cells;
 //   every pass above walks the request list or the physical pool, never every entry of every map;
-//     vsm_cull    per (active map, caster): frustum and HPB tests -> two draw lists per mip (4.2):
+//     vsm_groups  per 64 casters of the culling order (static casters in Morton order): their joint box;
+//     vsm_pairs   per (caster group, map with a dirty page): the pairs whose box is inside the frustum;
+//     vsm_cull    per caster of a pair left: frustum and HPB tests -> two draw lists per mip (4.2):
 //                 closed casters in front of the near plane (back faces culled) and the rest;
 //                 mesh path (settings.raster; Auto takes it on GPUs): vsm_expand does the same tests and
 //                 appends the caster's meshlets to a per-mip meshlet-instance list; vsm_draw.task culls
@@ -173,6 +175,10 @@ struct VsmPages {
 // Per frame in flight: what prepare() computes and uploads for the passes.
 struct VsmSlot {
     Buffer constants, maps, coverage, stale, active, runs, rankBase, casters, counters, probes;
+    Buffer casterGroups; // GPU-only: vsm_groups.comp's bounds per ML_VSM_CULL_GROUP casters, every frame
+    Buffer casterOrder;  // the casters in culling order (VirtualShadowMaps::buildCasterOrder)
+    Buffer cullPairs;    // GPU-only: vsm_pairs' (group, map) list, room for every group x map in use
+    uint64_t casterOrderStamp = 0; // the order's stamp casterOrder holds (0: none)
     VsmSlotHost host;
     uint32_t orderEntries = 0; // page-table entries of the allocation order
     uint32_t lightsWithPages = 0, lightsWithoutSlot = 0, activeCount = 0, casterCount = 0;
@@ -270,6 +276,13 @@ class VirtualShadowMaps {
     // A host copy of persistent GPU state (the device must be idle): the used part of the buffer.
     std::vector<uint32_t> read(const Device& device, VsmState state) const;
     std::vector<gpu::GpuVsmProbe> readProbes(uint32_t slot, uint32_t* overflow = nullptr) const;
+    // The culling order (buildCasterOrder) and the caster groups vsm_groups.comp last wrote in `slot`
+    // (the device must be idle), and the casters that slot's buffer holds (its mirror).
+    const std::vector<uint32_t>& casterOrder() const { return casterOrder_; }
+    std::vector<gpu::GpuCasterGroup> readCasterGroups(const Device& device, uint32_t slot) const;
+    const std::vector<gpu::GpuCaster>& slotCasters(uint32_t slot) const {
+        return slots_[slot].uploadedCasters;
+    }
     // HPB level 1..layout().hpbLevels of one map slot as a grid of S_0 >> (level - 1) by S_0 >> level
     // cells, 0 or 1 each (layout in vsm_math.h), valid for the maps active in the frame last recorded.
     std::vector<uint32_t> readHpb(const Device& device, uint32_t map, uint32_t level) const;
@@ -322,6 +335,11 @@ class VirtualShadowMaps {
     // changes (noteChanges) instead of a pass over every instance per frame.
     std::vector<uint8_t> dynamicCaster_;
     std::vector<uint32_t> dynamicCasters_;
+    // The casters in culling order: spatial neighbours in one culling workgroup (buildCasterOrder), made
+    // anew when the instances or the dynamic set change, and a stamp per rebuild (slots upload it then).
+    std::vector<uint32_t> casterOrder_;
+    uint64_t casterOrderStamp_ = 0;
+    void buildCasterOrder(std::span<const VsmInstance> instances);
     // The lights with maps binned for the box tests (vsm_prepare.cpp), rebuilt when they change.
     std::shared_ptr<VsmLightGrid> grid_;
     // Set when the lights with maps (slots, or a light's position, range or bake) may have changed:

@@ -1,7 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_cull (work expansion at the instance level, RMVSM section 4.3): one thread per (caster, map with
-// a dirty page) (x, y; indirect: vsm_assign lists the maps, so cached maps launch no threads). A caster is drawn into mip m of a map when m has dirty pages, its world box is inside the
+// vsm_cull (culling 3/3; work expansion at the instance level, RMVSM section 4.3): one workgroup per
+// (caster group, map with a dirty page) pair that vsm_pairs left, one thread per caster of the group
+// (indirect: cached maps and groups outside a map's frustum launch nothing). A caster is drawn into mip
+// m of a map when m has dirty pages, its world box is inside the
 // map's frustum (range = the far plane), and the hierarchical page buffer has a dirty cell under its
 // projected bounds at the level where those bounds span at most 2x2 cells. Maps of lights with a
 // static bake take dynamic casters only. Draws go to two lists per mip, closed and open casters (one
@@ -15,7 +17,7 @@ layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
+layout(binding = 2, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
@@ -24,17 +26,21 @@ layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawI
 layout(binding = 8, std430) writeonly buffer DrawInfo { uvec4 drawInfo[]; }; // (instance, map, page, 0)
 layout(binding = 9, std430) buffer DrawCounts { uint drawCounts[]; };      // per mip
 layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 11, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
 layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: draws per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"
 #include "shadows/virtual/vsm_page_clip.glsl"
 
 void main() {
-    uint instance = gl_GlobalInvocationID.x;
-    if (instance >= push.casterCount) return;
-    uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
+    // One workgroup per (caster group, map) pair vsm_pairs left (rows of at most 65535 workgroups).
+    uint pair = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (pair >= vsmCounters.pairCount) return;
+    uint position = vsmPairs[pair].x * ML_VSM_CULL_GROUP + gl_LocalInvocationIndex;
+    uint map = vsmPairs[pair].y;
+    if (position >= push.casterCount) return;
+    uint instance = vsmCasterOrder[position];
     uint mipsDirty = vsmDirtyMips[map];
-    if (mipsDirty == 0u) return;
     GpuVsmMap m = vsmMaps[map];
     GpuCaster c = casters[instance];
     if ((m.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0u && c.draw.w == 0u) return;

@@ -1,7 +1,8 @@
 // Culling against a map shared by vsm_cull.comp (instances, vertex path), vsm_expand.comp (instances,
 // mesh path) and vsm_draw.task (meshlets): frustum, projected bounds, and the hierarchical page buffer
 // test (RMVSM section 4.3). The including shader declares `vsm` (VsmConstants), `vsmTable[]` and the HPB
-// bits `vsmHpb[]` (uint[], VsmConstants.order.w words per map slot, layout in vsm_math.h).
+// bits `vsmHpb[]` (uint[], VsmConstants.order.w words per map slot, layout in vsm_math.h), unless it
+// defines VSM_NO_PAGES (vsm_pairs); with VSM_CASTER_GROUPS, the caster-group test (vsmGroupMayDraw).
 #ifndef ML_VSM_CULL_COMMON_GLSL
 #define ML_VSM_CULL_COMMON_GLSL
 
@@ -26,14 +27,42 @@ bool vsmClosedInFront(GpuVsmMap m, GpuCaster c) {
     return zmin > m.params.y * 1.001 + 1e-4;
 }
 
+// `precise` (no contraction): rounded products and sums are monotone, so a box inside another never
+// passes a plane the larger one fails (vsmGroupMayDraw relies on it).
 bool vsmBoxInFrustum(vec4 planes[6], vec3 lo, vec3 hi) {
     for (uint k = 0u; k < 6u; ++k) {
         vec3 n = planes[k].xyz;
         vec3 far = vec3(n.x >= 0.0 ? hi.x : lo.x, n.y >= 0.0 ? hi.y : lo.y, n.z >= 0.0 ? hi.z : lo.z);
-        if (dot(n, far) + planes[k].w < 0.0) return false;
+        precise float x = n.x * far.x, y = n.y * far.y, z = n.z * far.z;
+        precise float d = x + y + z + planes[k].w;
+        if (d < 0.0) return false;
     }
     return true;
 }
+
+#ifdef VSM_CASTER_GROUPS
+// The includer declares vsmMaps[], vsmDirtyMips[], vsmCasterGroups[] (vsm_groups.comp) and vsmCounters
+// (groupTests, groupsRefused). Whether some
+// caster of `group` may be drawn into `map`: the map has a dirty mip, the group has casters the map takes
+// (dynamic ones for a baked light's map) and their box is inside the map's frustum. `refusedMeshlets`:
+// the meshlets x dirty mips the frustum refused (vsm_expand's counters count each caster's).
+bool vsmGroupMayDraw(uint map, uint group, out uint refusedMeshlets) {
+    refusedMeshlets = 0u;
+    uint mipsDirty = vsmDirtyMips[map];
+    if (mipsDirty == 0u) return false;
+    bool dynamicOnly = (vsmMaps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0u;
+    GpuCasterGroup g = vsmCasterGroups[group];
+    if ((dynamicOnly ? g.counts.z : g.counts.x) == 0u) return false;
+    vec4 planes[6];
+    vsmFrustumPlanes(vsmMaps[map].viewProj, planes);
+    atomicAdd(vsmCounters.groupTests, 1u);
+    if (vsmBoxInFrustum(planes, dynamicOnly ? g.dynamicLo.xyz : g.lo.xyz, dynamicOnly ? g.dynamicHi.xyz : g.hi.xyz))
+        return true;
+    atomicAdd(vsmCounters.groupsRefused, 1u);
+    refusedMeshlets = (dynamicOnly ? g.counts.w : g.counts.y) * bitCount(mipsDirty);
+    return false;
+}
+#endif
 
 // A world sphere against the frustum.
 bool vsmSphereInFrustum(vec4 planes[6], vec3 c, float r) {
@@ -60,6 +89,7 @@ void vsmProjectedBounds(mat4 viewProj, vec3 blo, vec3 bhi, out vec2 lo, out vec2
     hi += vec2(2.0 / float(vsm.options.z));
 }
 
+#ifndef VSM_NO_PAGES // vsm_pairs reads neither the page table nor the HPB
 bool vsmDirtyCell(uint map, uint mip, uint level, uint x, uint y) {
     uint s0 = vsm.page.z;
     if (level == 0u) return (vsmTable[vsmEntry(vsm.sizes.x, s0, map, mip, x, y)] & ML_VSM_DIRTY) != 0u;
@@ -95,5 +125,7 @@ bool vsmHpbAny(uint map, uint mip, vec2 lo, vec2 hi) {
             if (vsmDirtyCell(map, mip, level, uint(x), uint(y))) return true;
     return false;
 }
+
+#endif // VSM_NO_PAGES
 
 #endif

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_expand (work expansion of the mesh path, RMVSM section 4 and Fig. 8): one thread per (caster,
-// map with a dirty page) (x, y; indirect, the maps vsm_assign listed). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
+// vsm_expand (culling 3/3 of the mesh path; work expansion, RMVSM section 4 and Fig. 8): one workgroup
+// per (caster group, map with a dirty page) pair that vsm_pairs left, one thread per caster of the group
+// (indirect). For each dirty mip of the map, the caster passes the same tests as in vsm_cull.comp
 // (frustum, HPB at the level where its projected box spans at most 2x2 cells); a surviving caster's
 // meshlets are appended to the mip's meshlet-instance list (instance, map | dynamic bit << 31,
 // meshlet | cone bit << 31),
@@ -16,7 +17,7 @@ layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
+layout(binding = 2, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
 layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
 layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
 layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
@@ -24,16 +25,20 @@ layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
 layout(binding = 8, std430) buffer Tasks { uint meshTasks[]; };            // per mip: x, y, z groups, count
 layout(binding = 9, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 10, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
 layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: meshlet entries per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"
 
 void main() {
-    uint instance = gl_GlobalInvocationID.x;
-    if (instance >= push.casterCount) return;
-    uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
+    // One workgroup per (caster group, map) pair vsm_pairs left (rows of at most 65535 workgroups).
+    uint pair = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (pair >= vsmCounters.pairCount) return;
+    uint position = vsmPairs[pair].x * ML_VSM_CULL_GROUP + gl_LocalInvocationIndex;
+    uint map = vsmPairs[pair].y;
+    if (position >= push.casterCount) return;
+    uint instance = vsmCasterOrder[position];
     uint mipsDirty = vsmDirtyMips[map];
-    if (mipsDirty == 0u) return;
     GpuVsmMap m = vsmMaps[map];
     GpuCaster c = casters[instance];
     if ((m.info.y & ML_VSM_MAP_DYNAMIC_ONLY) != 0u && c.draw.w == 0u) return;

@@ -116,14 +116,37 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     memoryBarrier(c, C, W, C | kTask, R);
 }
 
+void VsmPasses::recordCullPairs(const Device& d, VkCommandBuffer c, const VsmSlot& slot) const {
+    const VsmPages& pg = state_->pages();
+    // Group bounds: one thread per ML_VSM_CULL_GROUP casters of the culling order.
+    const uint32_t groups = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
+    dispatch(d, c, programs_.groups, groups, 1, gpu::VsmCullPush{slot.casterCount, 0},
+             {slot.casters, slot.casterOrder, slot.casterGroups});
+    memoryBarrier(c, C, W, C, R); // group bounds -> the pair tests
+    // (group, dirty map) pairs: x the CPU's group count, y vsm_assign's dirty maps.
+    const uint32_t meshlets = state_->meshPath() ? 1u : 0u;
+    dispatchIndirect(d, c, programs_.pairs, slot.counters, offsetof(gpu::VsmCounters, pairTestX),
+                     gpu::VsmPairsPush{slot.casterCount, meshlets, 0, 0},
+                     {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups,
+                      slot.cullPairs, slot.counters});
+    memoryBarrier(c, C, W, C, R | W); // the pair count (atomics) -> the closing thread
+    dispatch(d, c, programs_.pairs, 1, 1,
+             gpu::VsmPairsPush{slot.casterCount, meshlets, 1, state_->settings().cullRowWorkgroups},
+             {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups, slot.cullPairs,
+              slot.counters});
+    // The culling's dispatch size -> indirect read; the pair list -> the culling's reads.
+    memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+}
+
 void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxDrawsPerMip};
-    // (caster groups, maps with a dirty page): vsm_assign counted the maps into the dispatch size.
-    dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
-                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
-                      pg.draws, pg.drawInfo, pg.drawCounts, slot.counters});
+    recordCullPairs(d, c, slot);
+    // One workgroup per (caster group, map) pair left: vsm_pairs wrote the dispatch size.
+    dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
+                     {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.draws, pg.drawInfo, pg.drawCounts, slot.counters, slot.casterOrder});
     // Draw lists and counts -> indirect draws; draw info -> vertex shader.
     memoryBarrier(c, C, W, kIndirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -133,9 +156,10 @@ void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIn
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxMeshletsPerMip};
-    dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX), push,
-                     {slot.constants, slot.maps, pg.dirtyMaps, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
-                      pg.meshletList, pg.meshTasks, slot.counters});
+    recordCullPairs(d, c, slot);
+    dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
+                     {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
+                      pg.meshletList, pg.meshTasks, slot.counters, slot.casterOrder});
     // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
     // passes) -> task and mesh shaders.
     memoryBarrier(c, C, W, kIndirect | kTask | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,

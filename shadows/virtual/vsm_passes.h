@@ -30,6 +30,9 @@ class VsmPasses {
                     VkImageView output) const;
 
   private:
+    // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
+    // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
+    void recordCullPairs(const Device& device, VkCommandBuffer cmd, const VsmSlot& slot) const;
     const VirtualShadowMaps* state_ = nullptr;
     VsmPrograms programs_;
 };

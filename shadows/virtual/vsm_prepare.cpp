@@ -14,6 +14,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace ml {
 
@@ -229,6 +230,43 @@ void VirtualShadowMaps::noteChanges(std::span<const VsmInstance> instances,
     dynamicCasters_.clear(); // in index order, as a pass over the instances would list them
     for (uint32_t i = 0; i < dynamicCaster_.size(); ++i)
         if (dynamicCaster_[i]) dynamicCasters_.push_back(i);
+    buildCasterOrder(instances);
+}
+
+void VirtualShadowMaps::buildCasterOrder(std::span<const VsmInstance> instances) {
+    // The culling's workgroups take 64 consecutive casters of this order, and a workgroup whose casters'
+    // joint box lies outside a map's frustum stops after one test (vsm_groups.comp). So neighbours in
+    // space should be neighbours here: static casters in Morton order of their box centres (30 bits over
+    // the scene's centres), then the dynamic ones (they move away from their neighbours: kept apart, they
+    // widen only their own groups), then those casting no shadow. Built when instances are added or the
+    // dynamic set changes, not per frame; any permutation is correct, only the culling rate depends on it.
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const VsmInstance& in : instances) {
+        lo = glm::min(lo, (in.lo + in.hi) * 0.5f);
+        hi = glm::max(hi, (in.lo + in.hi) * 0.5f);
+    }
+    auto spread = [](uint32_t v) { // 10 bits -> every third bit of 30
+        uint64_t x = v & 0x3FFu;
+        x = (x | (x << 16)) & 0x030000FFull;
+        x = (x | (x << 8)) & 0x0300F00Full;
+        x = (x | (x << 4)) & 0x030C30C3ull;
+        x = (x | (x << 2)) & 0x09249249ull;
+        return x;
+    };
+    std::vector<uint64_t> keys(instances.size());
+    for (uint32_t i = 0; i < instances.size(); ++i) {
+        const VsmInstance& in = instances[i];
+        const glm::vec3 extent = glm::max(hi - lo, glm::vec3(1e-6f));
+        const glm::vec3 t = glm::clamp(((in.lo + in.hi) * 0.5f - lo) / extent, 0.0f, 1.0f) * 1023.0f;
+        const uint64_t morton =
+            spread(uint32_t(t.x)) | spread(uint32_t(t.y)) << 1 | spread(uint32_t(t.z)) << 2;
+        const uint64_t kind = !in.castsShadows ? 2u : in.dynamic ? 1u : 0u;
+        keys[i] = kind << 62 | morton << 32 | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    casterOrder_.resize(instances.size());
+    for (uint32_t i = 0; i < instances.size(); ++i) casterOrder_[i] = uint32_t(keys[i]);
+    ++casterOrderStamp_;
 }
 
 std::vector<uint8_t> VirtualShadowMaps::lightsNeedingMaps(std::span<const VsmLight> lights,
@@ -626,6 +664,25 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     auto grown = ensureBuffer(device, slot.casters, instances.size() * sizeof(gpu::GpuCaster),
                               kStorageBufferUsage, "vsm_casters");
     if (!grown) return fail(grown.error());
+    const size_t groups = (instances.size() + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
+    if (auto g =
+            ensureBuffer(device, slot.casterGroups, std::max<size_t>(groups, 1) * sizeof(gpu::GpuCasterGroup),
+                         kStorageBufferUsage, "vsm_caster_groups", MemoryRole::GpuOnly);
+        !g)
+        return fail(g.error());
+    // Pairs: at most every group with every map in use (the maps with a dirty page are among them).
+    if (auto g = ensureBuffer(device, slot.cullPairs, std::max<size_t>(groups * mapsInUse_, 1) * 8,
+                              kStorageBufferUsage, "vsm_cull_pairs", MemoryRole::GpuOnly);
+        !g)
+        return fail(g.error());
+    // The casters in culling order (buildCasterOrder): uploaded when it was rebuilt or the buffer is new.
+    auto ordered = ensureBuffer(device, slot.casterOrder, std::max<size_t>(casterOrder_.size(), 1) * 4,
+                                kStorageBufferUsage, "vsm_caster_order");
+    if (!ordered) return fail(ordered.error());
+    if (ordered.value() || slot.casterOrderStamp != casterOrderStamp_) {
+        if (!casterOrder_.empty()) upload(slot.casterOrder, casterOrder_.data(), casterOrder_.size() * 4);
+        slot.casterOrderStamp = casterOrderStamp_;
+    }
     const bool whole = grown.value() || slot.uploadedCasters.size() < instances.size();
     if (whole) slot.uploadedCasters.assign(instances.size(), gpu::GpuCaster{});
     if (whole || slot.casterVersion.size() < instances.size()) slot.casterVersion.assign(instances.size(), 0);
@@ -657,6 +714,8 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     zero.listGroupsY = zero.listGroupsZ = 1;
     zero.cullGroupsX = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
     zero.cullGroupsZ = 1;
+    zero.pairTestX = (uint32_t(groups) + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP; // y: vsm_assign
+    zero.pairTestZ = 1;
     upload(slot.counters, &zero, sizeof(zero));
     if (settings_.probeCapacity) {
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};

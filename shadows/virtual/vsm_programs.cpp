@@ -10,11 +10,13 @@
 #include "vsm_draw.task.spv.h"
 #include "vsm_draw.vert.spv.h"
 #include "vsm_expand.comp.spv.h"
+#include "vsm_groups.comp.spv.h"
 #include "vsm_hpb.comp.spv.h"
 #include "vsm_invalidate.comp.spv.h"
 #include "vsm_list.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
 #include "vsm_merge.comp.spv.h"
+#include "vsm_pairs.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
 #include "vsm_scan.comp.spv.h"
 #include "vsm_sort.comp.spv.h"
@@ -49,6 +51,8 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     ML_TRY(compute(avail, ML_VSM_SHADER(spv_vsm_avail_comp)));
     ML_TRY(compute(assign, ML_VSM_SHADER(spv_vsm_assign_comp)));
     ML_TRY(compute(hpb, ML_VSM_SHADER(spv_vsm_hpb_comp)));
+    ML_TRY(compute(groups, ML_VSM_SHADER(spv_vsm_groups_comp)));
+    ML_TRY(compute(pairs, ML_VSM_SHADER(spv_vsm_pairs_comp)));
     ML_TRY(compute(cull, ML_VSM_SHADER(spv_vsm_cull_comp)));
     ML_TRY(compute(clear, ML_VSM_SHADER(spv_vsm_clear_comp)));
     ML_TRY(compute(merge, ML_VSM_SHADER(spv_vsm_merge_comp)));
@@ -78,8 +82,9 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 }
 
 void VsmPrograms::destroy(const Device& d) {
-    for (Program* p : {&mark, &list, &sort, &invalidate, &scan, &alloc, &avail, &assign, &hpb, &cull, &clear,
-                       &merge, &probe, &view, &draw, &drawClosed, &expand, &mesh})
+    for (Program* p :
+         {&mark,  &list, &sort,  &invalidate, &scan,  &alloc, &avail, &assign,     &hpb,    &groups,
+          &pairs, &cull, &clear, &merge,      &probe, &view,  &draw,  &drawClosed, &expand, &mesh})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

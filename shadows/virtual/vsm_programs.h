@@ -9,7 +9,8 @@
 namespace ml {
 
 struct VsmPrograms {
-    Program mark, list, sort, invalidate, scan, alloc, avail, assign, hpb, cull, clear, merge, probe, view;
+    Program mark, list, sort, invalidate, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge,
+        probe, view;
     Program draw;       // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
     Program drawClosed; // the same with back faces culled (closed casters)
     Program expand;     // mesh path: vsm_expand.comp

@@ -272,4 +272,29 @@ std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32
     return {};
 }
 
+std::vector<gpu::GpuCasterGroup> vsmCasterGroupsReference(const std::vector<gpu::GpuCaster>& casters,
+                                                          const std::vector<uint32_t>& order) {
+    std::vector<gpu::GpuCasterGroup> groups((order.size() + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        gpu::GpuCasterGroup& b = groups[g];
+        b.lo = glm::vec4(1e30f, 1e30f, 1e30f, 0.0f);
+        b.hi = glm::vec4(-1e30f, -1e30f, -1e30f, 0.0f);
+        b.dynamicLo = b.lo;
+        b.dynamicHi = b.hi;
+        b.counts = glm::uvec4(0);
+        for (size_t i = g * ML_VSM_CULL_GROUP; i < std::min(order.size(), (g + 1) * ML_VSM_CULL_GROUP); ++i) {
+            const gpu::GpuCaster& c = casters[order[i]];
+            if (c.draw.x == 0) continue;
+            b.lo = glm::vec4(glm::min(glm::vec3(b.lo), glm::vec3(c.lo)), 0.0f);
+            b.hi = glm::vec4(glm::max(glm::vec3(b.hi), glm::vec3(c.hi)), 0.0f);
+            b.counts += glm::uvec4(1, c.meshlets.y, 0, 0);
+            if (c.draw.w == 0) continue;
+            b.dynamicLo = glm::vec4(glm::min(glm::vec3(b.dynamicLo), glm::vec3(c.lo)), 0.0f);
+            b.dynamicHi = glm::vec4(glm::max(glm::vec3(b.dynamicHi), glm::vec3(c.hi)), 0.0f);
+            b.counts += glm::uvec4(0, 0, 1, c.meshlets.y);
+        }
+    }
+    return groups;
+}
+
 } // namespace ml

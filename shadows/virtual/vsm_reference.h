@@ -6,6 +6,8 @@
 //                         priority order, the ordered list of free and evictable pages, assignment,
 //                         eviction, fallbacks, and which pages render this frame. The page table, the
 //                         owners and the last-use frames it leaves equal the GPU's exactly.
+//   vsmCasterGroupsReference  vsm_groups.comp: per ML_VSM_CULL_GROUP casters of the culling order, the
+//                         union of the drawing (and of the dynamic drawing) casters' boxes, counts, meshlets;
 //   vsmCheckInvariants    what must hold after every frame (no physical page shared, owners and
 //                         table agree, every marked page allocated or counted as a fallback).
 #pragma once
@@ -48,6 +50,9 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& state, const std::vector<ui
                                       const std::vector<gpu::GpuVsmMap>& maps,
                                       const std::vector<glm::uvec4>& order,
                                       const gpu::VsmConstants& constants);
+
+std::vector<gpu::GpuCasterGroup> vsmCasterGroupsReference(const std::vector<gpu::GpuCaster>& casters,
+                                                          const std::vector<uint32_t>& order);
 
 // Empty string when the state is consistent, else the first violation.
 std::string vsmCheckInvariants(const VsmAllocState& state, const std::vector<uint32_t>& marks,

@@ -74,6 +74,10 @@ struct VsmSettings {
     // Exact: the static casters' depths are unchanged, and the atomic minimum is order-independent.
     bool staticLayer = true;
     uint32_t maxDrawsPerMip = 16384;
+    // The culling passes (vsm_cull / vsm_expand) run one workgroup per (caster group, map) pair that
+    // vsm_pairs left, in rows of this many workgroups: 1..65535 (Vulkan's guaranteed
+    // maxComputeWorkGroupCount); tests set it small so that a frame's pairs span several rows.
+    uint32_t cullRowWorkgroups = 65535;
     // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
     // up to a power of two >= 256; 4 B each, twice (the sort's ping-pong). Wanted pages past it get no
     // page that frame and are counted (VsmStats::requestOverflow). 2^18: 64x the default pool.
@@ -113,6 +117,9 @@ struct VsmStats {
     // pagesInvalidated, by moved casters' bounds only (not a moved light, a map made active, or caching
     // off). pagesRenderedDynamic: rendered from their static twin, dynamic casters only (staticLayer).
     uint32_t pagesNew = 0, pagesInvalidatedCaster = 0, pagesRenderedDynamic = 0;
+    // The culling's caster groups (64 casters in the culling order, vsm_groups.comp): (group, map with a
+    // dirty page) frustum tests, and those refused (the group's casters not read at all).
+    uint32_t groupTests = 0, groupsRefused = 0;
 };
 
 } // namespace ml

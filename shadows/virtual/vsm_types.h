@@ -121,6 +121,15 @@ ML_STRUCT(VsmCounters) {
                                  // or evicted before); the rest of pagesRendered had a page that lost VALID
     uint pagesInvalidatedCaster; // of pagesInvalidated: by a moved caster's bounds only (stale bits)
     uint pagesRenderedDynamic;   // rendered from their static twin: only dynamic casters drawn
+    // The culling's caster groups (vsm_groups.comp), per (group, map with a dirty page) workgroup:
+    uint groupTests;    // groups tested against a map's frustum (they had casters the map takes)
+    uint groupsRefused; // of those, outside it: none of the group's casters was read
+    // vsm_pairs: the (group, map) pairs left, one vsm_cull / vsm_expand workgroup each; its test pass's
+    // indirect dispatch (x groups of ML_VSM_CULL_GROUP caster groups: the CPU; y maps with a dirty page:
+    // vsm_assign, as cullGroupsY), and the culling's (x, y: vsm_pairs' closing thread, within the limits).
+    uint pairCount;
+    uint pairTestX, pairTestY, pairTestZ;
+    uint pairGroupsX, pairGroupsY, pairGroupsZ;
 };
 
 // A caster for the draw passes: world bounds and the indexed draw of its mesh. 64 bytes.
@@ -129,6 +138,20 @@ ML_STRUCT(GpuCaster) {
     vec4 hi;        // world AABB max, w unused
     uvec4 draw;     // x index count, y first index, z vertex offset, w 1 when dynamic
     uvec4 meshlets; // x first meshlet, y meshlet count, z 1 when the mesh is closed (cone culling), w unused
+};
+
+// ML_VSM_CULL_GROUP consecutive casters (one vsm_cull / vsm_expand workgroup's), written by vsm_groups.comp
+// every frame: the union of the world boxes of those that draw (index count > 0), and of the dynamic ones
+// among them (a baked light's maps take only those), with their counts and meshlets. vsm_pairs refuses a
+// (group, map) pair whose group box lies outside the map's frustum with one test instead of 64: every
+// caster's box lies inside its group's, so the plane that refuses the group refuses each caster
+// (vsmBoxInFrustum is `precise`: monotone in the box). 80 bytes.
+ML_STRUCT(GpuCasterGroup) {
+    vec4 lo;        // xyz min over the drawing casters' boxes (w unused)
+    vec4 hi;        // xyz max
+    vec4 dynamicLo; // the same over the dynamic drawing casters
+    vec4 dynamicHi;
+    uvec4 counts; // x drawing casters, y their meshlets, z dynamic drawing casters, w their meshlets
 };
 
 // One meshlet (meshoptimizer, built at Module::addMesh; sizes in shaders/shared/config.h), 64 bytes.
@@ -166,6 +189,16 @@ ML_STRUCT(VsmCullPush) {
     uint capacity;
 };
 
+// vsm_pairs: mode 0 tests (caster group, map with a dirty page) pairs; mode 1 (one thread) writes the
+// culling's dispatch size, rows of rowWorkgroups (VsmSettings::cullRowWorkgroups). countMeshlets: the mesh
+// path's meshlet counters take the refused groups'. 16 bytes.
+ML_STRUCT(VsmPairsPush) {
+    uint casterCount;
+    uint countMeshlets;
+    uint mode;
+    uint rowWorkgroups;
+};
+
 // vsm_draw (raster path: .vert / .frag; mesh path: .task / .mesh / .frag): the mip drawn, and the mesh
 // path's meshlet entries per mip (the raster path leaves it unused). 8 bytes.
 ML_STRUCT(VsmDrawPush) {
@@ -178,17 +211,22 @@ static_assert(sizeof(VsmSortPush) == 8);
 static_assert(offsetof(VsmCounters, listGroupsX) == 116);
 static_assert(sizeof(VsmCullPush) == 8);
 static_assert(sizeof(VsmDrawPush) == 8);
+static_assert(sizeof(VsmPairsPush) == 16);
 static_assert(sizeof(GpuVsmMap) == 192);
 static_assert(offsetof(GpuVsmMap, bias) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 160);
+static_assert(sizeof(VsmCounters) == 196);
+static_assert(offsetof(VsmCounters, pairTestX) == 172);
+static_assert(offsetof(VsmCounters, pairGroupsX) == 184);
 static_assert(offsetof(VsmCounters, fragmentsDrawn) == 140);
 static_assert(offsetof(VsmCounters, cullGroupsX) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
 static_assert(sizeof(GpuCaster) == 64);
 static_assert(offsetof(GpuCaster, meshlets) == 48);
+static_assert(sizeof(GpuCasterGroup) == 80);
+static_assert(offsetof(GpuCasterGroup, counts) == 64);
 static_assert(sizeof(GpuMeshlet) == 64);
 static_assert(offsetof(GpuMeshlet, data) == 48);
 static_assert(sizeof(GpuVsmProbe) == 48);

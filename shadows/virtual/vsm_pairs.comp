@@ -1,0 +1,50 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_pairs (culling 2/3): which (caster group, map with a dirty page) pairs the culling visits.
+//   mode 0, one thread per pair (x: group, y: the map's place in vsm_assign's dirty-map list): a pair
+//     survives when the map takes some caster of the group and the group's box (vsm_groups.comp) is
+//     inside the map's frustum (vsmGroupMayDraw); survivors are appended to the pair list. Every caster's
+//     box lies inside its group's, so a refused group holds no caster the frustum would let through.
+//   mode 1, one thread: the culling's indirect dispatch, one workgroup per pair, laid out in rows of
+//     push.rowWorkgroups (at most 65535, the guaranteed maxComputeWorkGroupCount) so that any count fits.
+// Before, vsm_cull / vsm_expand ran one invocation per (caster, dirty map): at 4096 night-city lights
+// most of them read a caster and a map only to find the caster outside the frustum; now those pairs cost
+// one test per 64 casters here, and the culling's workgroups are the pairs left.
+#include "shaders/shared/glsl_common.glsl"
+#include "shadows/virtual/vsm_math.h"
+
+layout(local_size_x = ML_VSM_CULL_GROUP) in;
+
+layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
+layout(binding = 3, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = 4, std430) readonly buffer Groups { GpuCasterGroup vsmCasterGroups[]; }; // vsm_groups
+layout(binding = 5, std430) writeonly buffer Pairs { uvec2 vsmPairs[]; }; // (group, map)
+layout(binding = 6, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(push_constant) uniform Push { VsmPairsPush push; };
+
+#define VSM_NO_PAGES
+#define VSM_CASTER_GROUPS
+#include "shadows/virtual/vsm_cull_common.glsl"
+
+void main() {
+    if (push.mode == 1u) {
+        uint n = vsmCounters.pairCount;
+        uint row = push.rowWorkgroups;
+        vsmCounters.pairGroupsX = min(n, row);
+        vsmCounters.pairGroupsY = (n + row - 1u) / row;
+        vsmCounters.pairGroupsZ = 1u;
+        return;
+    }
+    uint group = gl_GlobalInvocationID.x;
+    if (group * ML_VSM_CULL_GROUP >= push.casterCount) return;
+    uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
+    uint refused;
+    bool draws = vsmGroupMayDraw(map, group, refused);
+    if (refused != 0u && push.countMeshlets != 0u) { // what each caster's own frustum test would count
+        atomicAdd(vsmCounters.meshletsTotal, refused);
+        atomicAdd(vsmCounters.meshletsCulledFrustum, refused);
+    }
+    if (draws) vsmPairs[atomicAdd(vsmCounters.pairCount, 1u)] = uvec2(group, map);
+}
