@@ -282,11 +282,12 @@ void printSummary(const ModuleOptions& mo, const FrameStats& s) {
                 v.lightsWithPages, v.pagesMarked, v.pagesAllocated, double(v.usedBytes) / 1048576.0,
                 double(v.poolBytes) / 1048576.0, v.pagesRendered, v.pagesCached, v.fallbacks,
                 v.instancesDrawn, v.instancesCulledHpb);
-    if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot)
+    if (v.fallbacks || v.drawOverflow || v.lightsWithoutSlot || v.pairOverflow)
         std::fprintf(stderr,
                      "manylights demo: warning: vsm pool full for %u pages (coarser shadows), %u draws "
-                     "over the draw buffer, %u lights without a map slot\n",
-                     v.fallbacks, v.drawOverflow, v.lightsWithoutSlot);
+                     "over the draw buffer, %u lights without a map slot, %u culling pairs over the "
+                     "pair list\n",
+                     v.fallbacks, v.drawOverflow, v.lightsWithoutSlot, v.pairOverflow);
 }
 
 // The module on the scene: created, its targets (a size past the device's limits is a usage error,

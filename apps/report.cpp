@@ -37,6 +37,7 @@ std::string vsmJson(const VsmStats& v) {
     o.integer("pages_new", v.pagesNew).integer("pages_invalidated_caster", v.pagesInvalidatedCaster);
     o.integer("pages_rendered_dynamic", v.pagesRenderedDynamic);
     o.integer("caster_group_tests", v.groupTests).integer("caster_groups_refused", v.groupsRefused);
+    o.integer("cull_pair_overflow", v.pairOverflow);
     return o.str();
 }
 } // namespace

@@ -404,6 +404,7 @@ VsmStats VirtualShadowMaps::readStats(uint32_t slotIndex) const {
     s.pagesRenderedDynamic = c.pagesRenderedDynamic;
     s.groupTests = c.groupTests;
     s.groupsRefused = c.groupsRefused;
+    s.pairOverflow = c.pairOverflow;
     s.poolPages = settings_.poolPages;
     s.lightsWithPages = slot.lightsWithPages;
     s.lightsWithoutSlot = slot.lightsWithoutSlot;

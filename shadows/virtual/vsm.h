@@ -177,7 +177,8 @@ struct VsmSlot {
     Buffer constants, maps, coverage, stale, active, runs, rankBase, casters, counters, probes;
     Buffer casterGroups; // GPU-only: vsm_groups.comp's bounds per ML_VSM_CULL_GROUP casters, every frame
     Buffer casterOrder;  // the casters in culling order (VirtualShadowMaps::buildCasterOrder)
-    Buffer cullPairs;    // GPU-only: vsm_pairs' (group, map) list, room for every group x map in use
+    Buffer cullPairs;    // GPU-only: vsm_pairs' (group, map) list of pairCapacity entries
+    uint32_t pairCapacity = 1;     // every caster group x active map, within the storage-buffer range
     uint64_t casterOrderStamp = 0; // the order's stamp casterOrder holds (0: none)
     VsmSlotHost host;
     uint32_t orderEntries = 0; // page-table entries of the allocation order

@@ -70,7 +70,7 @@ uint vsmPageClass(uint p) {
 #endif
 #endif // VSM_NO_MARKS
 
-// Block prefix sums in three barriers, not the 17 of a Hillis-Steele scan over 256 (lavapipe runs each
+// Block prefix sums in three barriers, not the 18 of a Hillis-Steele scan over 256 (lavapipe runs each
 // barrier as a pass over every invocation of the group, so barriers, not adds, were their cost): the
 // block is a square of ML_VSM_SCAN_ROW rows of ML_VSM_SCAN_ROW entries; one thread per row scans its row
 // in place and stores the row's total, then every thread adds the totals of the rows before its own.

@@ -71,10 +71,7 @@ void main() {
         if (request) atomicAdd(vsmCounters.pagesNew, 1u);
         if (fromStatic) atomicAdd(vsmCounters.pagesRenderedDynamic, 1u);
         // The first dirty page of a map lists it for the culling passes (their dispatch's y size).
-        if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u) {
-            vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
-            atomicAdd(vsmCounters.pairTestY, 1u); // vsm_pairs: one row of caster groups per dirty map
-        }
+        if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u) vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
         atomicAdd(vsmCounters.pagesRendered, 1u);
     } else if (marked && (pt & ML_VSM_VALID) != 0u) {
         atomicAdd(vsmCounters.pagesCached, 1u);

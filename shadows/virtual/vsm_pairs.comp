@@ -6,7 +6,8 @@
 //     inside the map's frustum (vsmGroupMayDraw); survivors are appended to the pair list. Every caster's
 //     box lies inside its group's, so a refused group holds no caster the frustum would let through.
 //   mode 1, one thread: the culling's indirect dispatch, one workgroup per pair, laid out in rows of
-//     push.rowWorkgroups (at most 65535, the guaranteed maxComputeWorkGroupCount) so that any count fits.
+//     push.rowWorkgroups (at most 65535, the guaranteed maxComputeWorkGroupCount), at most 65535 rows;
+//     pairs past the list's capacity or the rows are counted (pairOverflow), never silent.
 // Before, vsm_cull / vsm_expand ran one invocation per (caster, dirty map): at 4096 night-city lights
 // most of them read a caster and a map only to find the caster outside the frustum; now those pairs cost
 // one test per 64 casters here, and the culling's workgroups are the pairs left.
@@ -30,14 +31,20 @@ layout(push_constant) uniform Push { VsmPairsPush push; };
 
 void main() {
     if (push.mode == 1u) {
-        uint n = vsmCounters.pairCount;
-        uint row = push.rowWorkgroups;
-        vsmCounters.pairGroupsX = min(n, row);
-        vsmCounters.pairGroupsY = (n + row - 1u) / row;
+        if (gl_LocalInvocationIndex != 0u) return;
+        // The pairs appended past the capacity were not stored; rows stop at 65535 (the guaranteed
+        // maxComputeWorkGroupCount[1]). The culling reads pairCount as the pairs it may visit.
+        uint n = vsmCounters.pairCount, stored = min(n, push.capacity);
+        uint row = push.rowWorkgroups, rows = min((stored + row - 1u) / row, 65535u);
+        uint fit = min(stored, rows * row);
+        vsmCounters.pairOverflow = n - fit;
+        vsmCounters.pairCount = fit;
+        vsmCounters.pairGroupsX = min(fit, row);
+        vsmCounters.pairGroupsY = rows;
         vsmCounters.pairGroupsZ = 1u;
         return;
     }
-    uint group = gl_GlobalInvocationID.x;
+    uint group = gl_GlobalInvocationID.x; // indirect: cullGroupsX (the CPU), cullGroupsY (vsm_assign)
     if (group * ML_VSM_CULL_GROUP >= push.casterCount) return;
     uint map = vsmDirtyMaps[gl_GlobalInvocationID.y]; // indirect: y < maps with a dirty page
     uint refused;
@@ -46,5 +53,7 @@ void main() {
         atomicAdd(vsmCounters.meshletsTotal, refused);
         atomicAdd(vsmCounters.meshletsCulledFrustum, refused);
     }
-    if (draws) vsmPairs[atomicAdd(vsmCounters.pairCount, 1u)] = uvec2(group, map);
+    if (!draws) return;
+    uint slot = atomicAdd(vsmCounters.pairCount, 1u);
+    if (slot < push.capacity) vsmPairs[slot] = uvec2(group, map); // past it: counted by mode 1
 }

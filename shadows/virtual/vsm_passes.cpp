@@ -123,15 +123,16 @@ void VsmPasses::recordCullPairs(const Device& d, VkCommandBuffer c, const VsmSlo
     dispatch(d, c, programs_.groups, groups, 1, gpu::VsmCullPush{slot.casterCount, 0},
              {slot.casters, slot.casterOrder, slot.casterGroups});
     memoryBarrier(c, C, W, C, R); // group bounds -> the pair tests
-    // (group, dirty map) pairs: x the CPU's group count, y vsm_assign's dirty maps.
+    // (group, dirty map) pairs: x the CPU's group count, y vsm_assign's dirty maps (cullGroups).
     const uint32_t meshlets = state_->meshPath() ? 1u : 0u;
-    dispatchIndirect(d, c, programs_.pairs, slot.counters, offsetof(gpu::VsmCounters, pairTestX),
-                     gpu::VsmPairsPush{slot.casterCount, meshlets, 0, 0},
+    dispatchIndirect(d, c, programs_.pairs, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX),
+                     gpu::VsmPairsPush{slot.casterCount, meshlets, 0, 0, slot.pairCapacity},
                      {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups,
                       slot.cullPairs, slot.counters});
     memoryBarrier(c, C, W, C, R | W); // the pair count (atomics) -> the closing thread
     dispatch(d, c, programs_.pairs, 1, 1,
-             gpu::VsmPairsPush{slot.casterCount, meshlets, 1, state_->settings().cullRowWorkgroups},
+             gpu::VsmPairsPush{slot.casterCount, meshlets, 1, state_->settings().cullRowWorkgroups,
+                               slot.pairCapacity},
              {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups, slot.cullPairs,
               slot.counters});
     // The culling's dispatch size -> indirect read; the pair list -> the culling's reads.

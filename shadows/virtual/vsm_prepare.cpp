@@ -670,9 +670,13 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
                          kStorageBufferUsage, "vsm_caster_groups", MemoryRole::GpuOnly);
         !g)
         return fail(g.error());
-    // Pairs: at most every group with every map in use (the maps with a dirty page are among them).
-    if (auto g = ensureBuffer(device, slot.cullPairs, std::max<size_t>(groups * mapsInUse_, 1) * 8,
-                              kStorageBufferUsage, "vsm_cull_pairs", MemoryRole::GpuOnly);
+    // Pairs: at most every group with every active map (only active maps get marks, so only they get dirty
+    // pages), within the storage-buffer range the shaders bind (past it: counted, VsmStats::pairOverflow).
+    const size_t pairRange = device.properties.limits.maxStorageBufferRange / 8;
+    slot.pairCapacity =
+        uint32_t(std::clamp<size_t>(groups * slot.activeCount, 1, std::min<size_t>(pairRange, 1u << 31)));
+    if (auto g = ensureBuffer(device, slot.cullPairs, size_t(slot.pairCapacity) * 8, kStorageBufferUsage,
+                              "vsm_cull_pairs", MemoryRole::GpuOnly);
         !g)
         return fail(g.error());
     // The casters in culling order (buildCasterOrder): uploaded when it was rebuilt or the buffer is new.
@@ -712,10 +716,9 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;
-    zero.cullGroupsX = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
+    zero.cullGroupsX =
+        (uint32_t(groups) + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP; // vsm_pairs; y: vsm_assign
     zero.cullGroupsZ = 1;
-    zero.pairTestX = (uint32_t(groups) + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP; // y: vsm_assign
-    zero.pairTestZ = 1;
     upload(slot.counters, &zero, sizeof(zero));
     if (settings_.probeCapacity) {
         uint32_t header[4] = {0, settings_.probeCapacity, 0, 0};

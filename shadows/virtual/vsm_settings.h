@@ -119,7 +119,9 @@ struct VsmStats {
     uint32_t pagesNew = 0, pagesInvalidatedCaster = 0, pagesRenderedDynamic = 0;
     // The culling's caster groups (64 casters in the culling order, vsm_groups.comp): (group, map with a
     // dirty page) frustum tests, and those refused (the group's casters not read at all).
-    uint32_t groupTests = 0, groupsRefused = 0;
+    // pairOverflow: pairs past the pair list's capacity (0 unless the device's storage-buffer
+    // range cut it: their casters are not drawn, so shadows can be missing there).
+    uint32_t groupTests = 0, groupsRefused = 0, pairOverflow = 0;
 };
 
 } // namespace ml

@@ -25,7 +25,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x, l = gl_LocalInvocationIndex;
     if (push.width == 0u) {
         // The block's keys are unique (padding aside, which sorts last and is not written): a key's place
-        // is the number of keys below it. Two barriers where a bitonic network takes 36 (lavapipe runs
+        // is the number of keys below it. Three barriers where a bitonic network takes 37 (lavapipe runs
         // each barrier as a pass over the group); 256 shared reads per thread.
         uint key = i < n ? src[i] : 0xFFFFFFFFu;
         sKeys[l] = key;

@@ -107,8 +107,8 @@ ML_STRUCT(VsmCounters) {
     uint listCount;    // entries in the list (vsm_list clamps it to the capacity, VsmConstants.order.z)
     uint listOverflow; // wanted entries that did not fit the list (counted, never silent)
     uint listGroupsX, listGroupsY, listGroupsZ; // the list passes' indirect dispatch: ML_VSM_BLOCK per group
-    // vsm_cull / vsm_expand's indirect dispatch: x caster groups (the CPU), y maps with a dirty page
-    // (vsm_assign appends each to the dirty-map list), z 1.
+    // vsm_pairs' indirect dispatch: x workgroups of ML_VSM_CULL_GROUP caster groups (the CPU), y maps
+    // with a dirty page (vsm_assign appends each to the dirty-map list), z 1.
     uint cullGroupsX, cullGroupsY, cullGroupsZ;
     // Page draws (vsm_draw.frag): fragment-shader invocations, helpers excluded. Each draw is clipped to
     // one dirty page (both raster paths), so this follows the dirty pages' texels times the casters'
@@ -124,11 +124,13 @@ ML_STRUCT(VsmCounters) {
     // The culling's caster groups (vsm_groups.comp), per (group, map with a dirty page) workgroup:
     uint groupTests;    // groups tested against a map's frustum (they had casters the map takes)
     uint groupsRefused; // of those, outside it: none of the group's casters was read
-    // vsm_pairs: the (group, map) pairs left, one vsm_cull / vsm_expand workgroup each; its test pass's
-    // indirect dispatch (x groups of ML_VSM_CULL_GROUP caster groups: the CPU; y maps with a dirty page:
-    // vsm_assign, as cullGroupsY), and the culling's (x, y: vsm_pairs' closing thread, within the limits).
+    // vsm_pairs: the (group, map) pairs left, one vsm_cull / vsm_expand workgroup each, and the culling's
+    // indirect dispatch (x, y: vsm_pairs' closing thread, within the limits). pairOverflow: pairs past
+    // the list's capacity or the dispatch's rows, whose casters were not culled or drawn (counted,
+    // never silent; the capacity holds every group with every active map, so it stays 0 unless the
+    // device's storage-buffer range cut the list).
     uint pairCount;
-    uint pairTestX, pairTestY, pairTestZ;
+    uint pairOverflow;
     uint pairGroupsX, pairGroupsY, pairGroupsZ;
 };
 
@@ -189,14 +191,15 @@ ML_STRUCT(VsmCullPush) {
     uint capacity;
 };
 
-// vsm_pairs: mode 0 tests (caster group, map with a dirty page) pairs; mode 1 (one thread) writes the
-// culling's dispatch size, rows of rowWorkgroups (VsmSettings::cullRowWorkgroups). countMeshlets: the mesh
-// path's meshlet counters take the refused groups'. 16 bytes.
+// vsm_pairs: mode 0 tests (caster group, map with a dirty page) pairs into a list of `capacity`; mode 1
+// (one thread) writes the culling's dispatch size, rows of rowWorkgroups (VsmSettings::cullRowWorkgroups).
+// countMeshlets: the mesh path's meshlet counters take the refused groups'. 20 bytes.
 ML_STRUCT(VsmPairsPush) {
     uint casterCount;
     uint countMeshlets;
     uint mode;
     uint rowWorkgroups;
+    uint capacity;
 };
 
 // vsm_draw (raster path: .vert / .frag; mesh path: .task / .mesh / .frag): the mip drawn, and the mesh
@@ -211,15 +214,14 @@ static_assert(sizeof(VsmSortPush) == 8);
 static_assert(offsetof(VsmCounters, listGroupsX) == 116);
 static_assert(sizeof(VsmCullPush) == 8);
 static_assert(sizeof(VsmDrawPush) == 8);
-static_assert(sizeof(VsmPairsPush) == 16);
+static_assert(sizeof(VsmPairsPush) == 20);
 static_assert(sizeof(GpuVsmMap) == 192);
 static_assert(offsetof(GpuVsmMap, bias) == 176);
 static_assert(offsetof(GpuVsmMap, params) == 128);
 static_assert(offsetof(GpuVsmMap, light) == 160);
 static_assert(sizeof(VsmConstants) == 80);
-static_assert(sizeof(VsmCounters) == 196);
-static_assert(offsetof(VsmCounters, pairTestX) == 172);
-static_assert(offsetof(VsmCounters, pairGroupsX) == 184);
+static_assert(sizeof(VsmCounters) == 188);
+static_assert(offsetof(VsmCounters, pairGroupsX) == 176);
 static_assert(offsetof(VsmCounters, fragmentsDrawn) == 140);
 static_assert(offsetof(VsmCounters, cullGroupsX) == 128);
 static_assert(offsetof(VsmCounters, meshletsTotal) == 64);
