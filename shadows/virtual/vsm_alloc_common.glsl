@@ -79,26 +79,28 @@ uint vsmPageClass(uint p) {
 #if ML_VSM_BLOCK != 256
 #error "the block scans take ML_VSM_BLOCK as ML_VSM_SCAN_ROW x ML_VSM_SCAN_ROW entries"
 #endif
-shared uint sScan[ML_VSM_BLOCK];
-shared uint sScanRows[ML_VSM_SCAN_ROW];
+shared uvec3 sScan[ML_VSM_BLOCK];
+shared uvec3 sScanRows[ML_VSM_SCAN_ROW];
 
-// Exclusive prefix sum of `value` over the workgroup; total in `sum`.
-uint vsmBlockScan(uint value, out uint sum) {
+// Exclusive prefix sum of three words at once over the workgroup (vsm_avail ranks nine class counts,
+// three to a word); total in `sum`.
+uvec3 vsmBlockScan3(uvec3 value, out uvec3 sum) {
     uint i = gl_LocalInvocationIndex;
     sScan[i] = value;
     barrier();
     if (i < ML_VSM_SCAN_ROW) {
-        uint acc = 0u;
+        uvec3 acc = uvec3(0u);
         for (uint k = i * ML_VSM_SCAN_ROW; k < (i + 1u) * ML_VSM_SCAN_ROW; ++k) {
-            uint v = sScan[k];
+            uvec3 v = sScan[k];
             sScan[k] = acc;
             acc += v;
         }
         sScanRows[i] = acc;
     }
     barrier();
-    uint row = i / ML_VSM_SCAN_ROW, before = sScan[i];
-    sum = 0u;
+    uint row = i / ML_VSM_SCAN_ROW;
+    uvec3 before = sScan[i];
+    sum = uvec3(0u);
     for (uint r = 0u; r < ML_VSM_SCAN_ROW; ++r) {
         if (r == row) before += sum;
         sum += sScanRows[r];
@@ -107,31 +109,12 @@ uint vsmBlockScan(uint value, out uint sum) {
     return before;
 }
 
-#ifdef VSM_PAGE_CLASSES
-// The same over three words at once (vsm_avail's nine class counts, three per word).
-shared uvec3 sScan3[ML_VSM_BLOCK];
-shared uvec3 sScanRows3[ML_VSM_SCAN_ROW];
-
-uvec3 vsmBlockScan3(uvec3 value) { // exclusive
-    uint i = gl_LocalInvocationIndex;
-    sScan3[i] = value;
-    barrier();
-    if (i < ML_VSM_SCAN_ROW) {
-        uvec3 acc = uvec3(0u);
-        for (uint k = i * ML_VSM_SCAN_ROW; k < (i + 1u) * ML_VSM_SCAN_ROW; ++k) {
-            uvec3 v = sScan3[k];
-            sScan3[k] = acc;
-            acc += v;
-        }
-        sScanRows3[i] = acc;
-    }
-    barrier();
-    uint row = i / ML_VSM_SCAN_ROW;
-    uvec3 before = sScan3[i];
-    for (uint r = 0u; r < row; ++r) before += sScanRows3[r];
-    barrier();
+// The same for one word (the request and block ranks).
+uint vsmBlockScan(uint value, out uint sum) {
+    uvec3 total;
+    uint before = vsmBlockScan3(uvec3(value, 0u, 0u), total).x;
+    sum = total.x;
     return before;
 }
-#endif
 
 #endif

@@ -34,7 +34,8 @@ void main() {
     uint cls = p < vsm.sizes.z ? vsmPageClass(p) : kVsmClasses + 1u;
     uvec3 one = uvec3(0u);
     if (cls < kVsmClasses) one[cls / 3u] = 1u << (9u * (cls % 3u));
-    uvec3 ranks = vsmBlockScan3(one);
+    uvec3 total;
+    uvec3 ranks = vsmBlockScan3(one, total);
     if (cls < kVsmClasses) {
         uint rank = (ranks[cls / 3u] >> (9u * (cls % 3u))) & 511u;
         vsmAvail[vsmClassBases[gl_WorkGroupID.x * kVsmClasses + cls] + rank] = p;
