@@ -7,7 +7,7 @@
 // against-vertex comparison's (vsm_meshlets_test.cpp) to show: a refused group's casters are each outside
 // the frustum, so the pages match the CPU rasteriser's.
 #include "gpu_test_util.h"
-#include "host/vsm_session.h"
+#include "vsm_test_util.h"
 #include "shadows/virtual/vsm_reference.h"
 
 #include <algorithm>
@@ -16,21 +16,9 @@
 namespace ml::test {
 namespace {
 
-VsmSessionOptions smallPath(VsmRaster raster) {
-    VsmSessionOptions o;
-    o.width = 192;
-    o.height = 108;
-    o.path = CameraPath::Drive;
-    o.module.device.validation = true;
-    o.module.vsm.resolution = 1024;
-    o.module.vsm.poolPages = 1024;
-    o.module.vsm.raster = raster;
-    return o;
-}
-
 void groupsEqualReference(VsmRaster raster) {
     resetValidationCounters();
-    const VsmSessionOptions o = smallPath(raster);
+    const VsmSessionOptions o = vsmSmallDrive(raster);
     auto session = VsmSession::create(o);
     ASSERT_TRUE(session.ok()) << session.error();
     Module& m = *session.value()->module;
@@ -83,9 +71,9 @@ TEST(GpuVsmGroups, EqualCpuReferenceMeshPath) {
 // many rows, and every frame's page table and valid pages equal those of the default layout bit for bit.
 void rowsKeepThePages(VsmRaster raster) {
     resetValidationCounters();
-    VsmSessionOptions rows = smallPath(raster);
+    VsmSessionOptions rows = vsmSmallDrive(raster);
     rows.module.vsm.cullRowWorkgroups = 3;
-    auto a = VsmSession::create(smallPath(raster));
+    auto a = VsmSession::create(vsmSmallDrive(raster));
     auto b = VsmSession::create(rows);
     ASSERT_TRUE(a.ok()) << a.error();
     ASSERT_TRUE(b.ok()) << b.error();

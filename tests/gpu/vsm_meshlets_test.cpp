@@ -4,7 +4,7 @@
 // on how pages are drawn, so the physical pages match). Also: the culling stages' counters add up, and
 // meshIsClosed tells a closed box from an open one.
 #include "gpu_test_util.h"
-#include "host/vsm_session.h"
+#include "vsm_test_util.h"
 #include "shadows/virtual/vsm_meshlets.h"
 #include "tests/common/shared_scenes.h"
 
@@ -14,10 +14,7 @@ namespace ml::test {
 namespace {
 
 VsmSessionOptions smallPath(VsmRaster raster, bool caching, bool house) {
-    VsmSessionOptions o;
-    o.width = 192;
-    o.height = 108;
-    o.path = CameraPath::Drive;
+    VsmSessionOptions o = vsmSmallDrive(raster);
     if (house) {
         // FZK-Haus: meshes of up to 2,508 triangles (many meshlets each, some closed), static spots.
         o.scene = sharedScenePath("fzk-haus.glb"); // tests/common/shared_scenes.h
@@ -26,11 +23,7 @@ VsmSessionOptions smallPath(VsmRaster raster, bool caching, bool house) {
         o.width = 160;
         o.height = 90;
     }
-    o.module.device.validation = true;
-    o.module.vsm.resolution = 1024;
-    o.module.vsm.poolPages = 1024;
     o.module.vsm.caching = caching;
-    o.module.vsm.raster = raster;
     return o;
 }
 

@@ -10,7 +10,7 @@
 // casters' depth complexity there) where the unclipped ones do not. Mesh against vertex path, bit for
 // bit, with clipping: GpuVsmMeshlets.
 #include "gpu_test_util.h"
-#include "host/vsm_session.h"
+#include "vsm_test_util.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -19,15 +19,8 @@ namespace ml::test {
 namespace {
 
 VsmSessionOptions drivePath(VsmRaster raster, bool pageClip) {
-    VsmSessionOptions o;
-    o.width = 192;
-    o.height = 108;
-    o.path = CameraPath::Drive;
-    o.module.device.validation = true;
-    o.module.vsm.resolution = 1024;
-    o.module.vsm.poolPages = 1024;
+    VsmSessionOptions o = vsmSmallDrive(raster);
     o.module.vsm.caching = false; // every marked page drawn every frame: the most draws
-    o.module.vsm.raster = raster;
     o.module.vsm.pageClip = pageClip;
     return o;
 }

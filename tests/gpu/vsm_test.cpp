@@ -7,20 +7,16 @@
 
 #include <array>
 #include <bit>
-#include "host/vsm_session.h"
+#include "vsm_test_util.h"
 #include "shadows/virtual/vsm_reference.h"
 
 namespace ml::test {
 namespace {
 
 VsmSessionOptions smallPath(uint32_t width, uint32_t height) {
-    VsmSessionOptions o;
+    VsmSessionOptions o = vsmSmallDrive();
     o.width = width;
     o.height = height;
-    o.path = CameraPath::Drive;
-    o.module.device.validation = true;
-    o.module.vsm.resolution = 1024;
-    o.module.vsm.poolPages = 1024;
     o.module.vsm.maxMaps = 512; // the CPU reference's table covers every slot: keep it small
     return o;
 }
