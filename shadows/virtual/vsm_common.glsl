@@ -39,7 +39,7 @@ VsmChoice vsmChoose(GpuLight L, uint firstMap, vec3 P, vec3 N) {
     float footprint = vsmFootprint(frame.cameraPosition.xyz, P, VSM_CONST.camera.x);
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         uint levels = VSM_MAPS[firstMap].light.z;
-        uint level = vsmPickLevel(VSM_MAPS[firstMap], P, footprint, R, levels);
+        uint level = vsmPickLevel(VSM_MAPS[firstMap], footprint, R, levels);
         c.last = firstMap + levels - 1u;
         for (uint l = level; l < levels; ++l) {
             c.map = firstMap + l;

@@ -10,6 +10,11 @@
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
+// Profiling only (ML_VSM_MARK_STAGE, vsm_programs.cpp; tools/vsm_mark_stages.py): 0 marks; 1..5 stop
+// early to time the pass's parts, and then mark nothing (the frame's shadows are wrong): 1 returns at
+// once (the dispatch), 2 after the depth read, 3 after the G-buffer, world position and cluster lookup,
+// 4 after the light loop's reach and facing tests, 5 marks local lights only (directional skipped).
+layout(constant_id = 0) const uint kStage = 0;
 
 layout(binding = 0) uniform Frame { FrameConstants frame; };
 layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
@@ -39,17 +44,33 @@ layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
-    if (px.x >= frame.size.x || px.y >= frame.size.y) return;
+    if (px.x >= frame.size.x || px.y >= frame.size.y || kStage == 1u) return;
     float d = texelFetch(depthImage, ivec2(px), 0).r;
+    // The profiling stages keep their last value alive with a test no real frame passes (an all-ones
+    // bit pattern is a NaN, never a stored depth, normal or light count), so the compiler cannot drop it.
+    if (kStage == 2u) {
+        if (floatBitsToUint(d) == 0xFFFFFFFFu) atomicAdd(vsmCounters.listCount, 1u);
+        return;
+    }
     if (!hasSurface(d)) return;
     vec4 stored = texelFetch(normalImage, ivec2(px), 0);
     if (stored.w < 0.0) return; // ML_NOT_A_RECEIVER: the evaluation looks no shadow up here
     vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
     vec3 N = vsmNormalize(stored.xyz);
     uvec2 range = clusterLights(px, d);
+    if (kStage == 3u) {
+        if (floatBitsToUint(P.x + N.x) == 0xFFFFFFFFu || range.y == 0xFFFFFFFFu) atomicAdd(vsmCounters.listCount, 1u);
+        return;
+    }
+    uint facing = 0u;
     for (uint i = 0; i < range.y; ++i) {
         GpuLight L = lights[ML_CLUSTER_LIGHT(range, i)];
         if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N)) continue;
+        if (kStage == 4u || (kStage == 5u && L.info.x == ML_LIGHT_DIRECTIONAL)) {
+            facing += 1u;
+            continue;
+        }
         vsmMarkReceiver(L, L.info.y, P, N);
     }
+    if (facing == 0xFFFFFFFFu) atomicAdd(vsmCounters.listCount, 1u);
 }

@@ -190,10 +190,12 @@ ML_FN VsmTap vsmCoarserTap(VsmTap tap, uint levels) {
     return t;
 }
 
-// Directional lights: the clip level a receiver wants (before checking that the level holds it).
-ML_FN uint vsmPickLevel(GpuVsmMap level0, vec3 P, float footprint, uint resolution, uint levels) {
-    vec3 vp = vsmPoint(level0.view, P);
-    return vsmPickMip(vsmTexel0(level0, vp, resolution), footprint, levels);
+// Directional lights: the clip level a receiver wants (before checking that the level holds it). A clip
+// level is orthographic, so its texel (vsmTexel0's orthographic case, the same operations) is one size
+// over the level: no projection of the receiver.
+ML_FN uint vsmPickLevel(GpuVsmMap level0, float footprint, uint resolution, uint levels) {
+    ML_PRECISE float t = 2.0f * level0.params.x / float(resolution);
+    return vsmPickMip(t, footprint, levels);
 }
 
 #ifdef __cplusplus

@@ -22,9 +22,29 @@
 #include "vsm_sort.comp.spv.h"
 #include "vsm_view.comp.spv.h"
 
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
 namespace ml {
 
 namespace {
+// vsm_mark.comp's profiling stage (its kStage): ML_VSM_MARK_STAGE=1..5 stops the pass early to time its
+// parts (tools/vsm_mark_stages.py); those frames mark nothing. Anything but 0-5 is refused.
+Result<uint32_t> markStage() {
+    const char* env = std::getenv("ML_VSM_MARK_STAGE");
+    if (!env || !*env) return 0u;
+    if (std::strlen(env) != 1 || env[0] < '0' || env[0] > '5')
+        return fail("ML_VSM_MARK_STAGE must be one digit 0-5 (vsm_mark.comp's profiling stages)");
+    const uint32_t stage = uint32_t(env[0] - '0');
+    if (stage != 0)
+        std::fprintf(stderr,
+                     "vsm_mark: profiling stage %u (ML_VSM_MARK_STAGE): no pages are marked, "
+                     "shadows are wrong\n",
+                     stage);
+    return stage;
+}
+
 // Winding of a triangle that faces the light in the page framebuffer (the light's projection, Vulkan's
 // y-down viewport): checked by `check vsm`, whose reference rasteriser draws both faces.
 constexpr VkFrontFace kVsmFrontFace = VK_FRONT_FACE_CLOCKWISE;
@@ -42,7 +62,11 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
         return createComputeProgram(d, p, *s.value());
     };
 #define ML_VSM_SHADER(array) load(array, sizeof(array), #array)
-    ML_TRY(compute(mark, ML_VSM_SHADER(spv_vsm_mark_comp)));
+    auto stage = markStage();
+    if (!stage) return fail(stage.error());
+    auto markShader = ML_VSM_SHADER(spv_vsm_mark_comp);
+    ML_TRY(markShader);
+    ML_TRY(createComputeProgram(d, mark, *markShader.value(), {{/*kStage*/ 0, stage.value()}}));
     ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
     ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
     ML_TRY(compute(invalidate, ML_VSM_SHADER(spv_vsm_invalidate_comp)));

@@ -32,7 +32,7 @@ Choice choose(const VsmMarkInputs& in, const GpuLight& L, uint32_t firstMap, glm
     const float footprint = vsmFootprint(glm::vec3(in.frame.cameraPosition), P, k.camera.x);
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         const uint32_t levels = in.maps[firstMap].light.z;
-        const uint32_t level = vsmPickLevel(in.maps[firstMap], P, footprint, R, levels);
+        const uint32_t level = vsmPickLevel(in.maps[firstMap], footprint, R, levels);
         c.last = firstMap + levels - 1;
         for (uint32_t l = level; l < levels; ++l) {
             c.map = firstMap + l;
