@@ -579,7 +579,7 @@ std::string needJson(const BakeNeed& n) {
     return o.str();
 }
 
-// A fitted directional record's map and box (issue 21): sizes, extents and the shares in the box.
+// A fitted directional record's map and box: sizes, extents and the shares in the box.
 std::string directionalJson(const DirectionalFit& d) {
     return json::Object()
         .integer("width", d.width)

@@ -112,7 +112,7 @@ struct VerifyLight {
     uint32_t light = 0;
     uint64_t checked = 0, mismatches = 0, undefined = 0; // undefined: CPVS voxels inside closed objects
     double renderSeconds = 0, checkSeconds = 0;
-    // A fitted directional record (issue 21): the share of the N equal depth slices of [near, far]
+    // A fitted directional record: the share of the N equal depth slices of [near, far]
     // between the nearest and the deepest caster surface the re-rendered map enters; -1 otherwise.
     double casterSlices = -1.0;
 };

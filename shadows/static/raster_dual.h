@@ -57,7 +57,7 @@ LightFrustum spotLightFrustum(const LightShape& light, float nearPlane = 0.05f);
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
 // ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
 LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float nearPlane = 0.05f);
-// A directional light's orthographic frustum fitted to the box [boundsMin, boundsMax] (issue 21):
+// A directional light's orthographic frustum fitted to the box [boundsMin, boundsMax]:
 // looking along `direction` from beyond the box's bounding sphere, the view turned so that the box's
 // longer light-space extent runs along x. Square texels; the map is res wide and mapRows(res) high
 // (rows past it are outside the light): the box's light-space rectangle plus fitMargin fills it, so at
