@@ -12,8 +12,9 @@
 // and the MH, MMH and DAG-MH words equal the whole-map build's at 256^2-1024^2 with 64^2 tiles.
 //
 // Memory: per worker thread about 30 B a tile texel (the tile's enter/exit, its intervals and its
-// pyramid; T = 2048: 126 MiB) plus the source's own scratch, and the output tree (28 B a node, held
-// once per tile and once assembled; each tile's nodes are freed as they are spliced). Never the map.
+// pyramid; T = 512: 8 MiB) plus the source's own scratch, and the output tree: 12 B a node while the
+// tiles are built (packed, children implicit in preorder), then 28 B a node assembled, each tile's
+// packed nodes freed as it is spliced (at most 40 B a node at once). Never the map.
 #pragma once
 #include "shadows/static/mh.h"
 
