@@ -17,7 +17,10 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace ml {
 
@@ -72,7 +75,9 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
                    Esc closes; per-pass GPU ms in the title. With --frames 0 it runs until closed
                    (no PNGs then)
   --no-stats       skip the per-pixel light counts (a brute-force loop in a statistics pass of its own)
-  --bake FILE      static shadows from a bake file (manylights bake) of this scene, lights and seed
+  --bake FILE[,FILE...]  static shadows from bake files (manylights bake) of this scene, lights and
+                   seed; a light in several files takes the last one's record (each replacement is
+                   printed), e.g. the spot lights at 1024^2 and the moon from a 16384^2 bake
   --static M       bake static shadows in-process (Module::bakeStaticShadows) for every static spot and
                    point light: sm, mh, mmh, dagmh, cpvs
   --static-res N   resolution of those bakes (default 512; only with --static)
@@ -192,13 +197,33 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
     return d;
 }
 
+// --bake's comma-separated files (a path holding a comma cannot be given).
+std::vector<std::string> bakePaths(const std::string& list) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t comma = list.find(',', start);
+        out.push_back(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
 // Static shadows (a bake file or baked now), the shadow filter and the camera: 0, or the exit status
 // (a filter or camera the module refuses is a usage error, a bake that fails is not).
 int setupShadows(const DemoOptions& d, Module& m, Scene& scene, const SceneBinding& binding) {
     if (d.bake) {
-        auto n = attachBakeFile(m, binding, *d.bake, d.scene.name, d.lights, d.scene.seed);
-        if (!n) return inputError("demo", n.error()); // a damaged or hostile bake file, or another scene's
-        std::printf("static shadows of %u lights from %s\n", n.value(), d.bake->c_str());
+        std::map<uint64_t, std::string> attached;
+        for (const std::string& path : bakePaths(*d.bake)) {
+            std::vector<std::string> replaced;
+            auto n =
+                attachBakeFile(m, binding, path, d.scene.name, d.lights, d.scene.seed, &attached, &replaced);
+            if (!n)
+                return inputError("demo", n.error()); // a damaged or hostile bake file, or another scene's
+            std::printf("static shadows of %u lights from %s\n", n.value(), path.c_str());
+            for (const std::string& line : replaced) std::printf("  %s\n", line.c_str());
+        }
     }
     // The filter applies to static and dynamic (VSM) lookups alike: --pcf alone filters the VSM's.
     if (d.bake || d.staticMethod != StaticMethod::None || d.pcf)
@@ -331,8 +356,12 @@ int runDemo(int argc, char** argv) {
     // FIFO is refused now.
     uint64_t bakeBytes = 0;
     if (d.bake)
-        if (auto head = io::readRegularFileHead(*d.bake, 4, &bakeBytes); !head)
-            return inputError("demo", head.error());
+        for (const std::string& path : bakePaths(*d.bake)) {
+            uint64_t bytes = 0;
+            if (auto head = io::readRegularFileHead(path, 4, &bytes); !head)
+                return inputError("demo", head.error());
+            bakeBytes += bytes;
+        }
     auto scene = loadScene(d.scene.name, d.lights, d.scene.seed, {d.scene.allowOutside});
     if (!scene) return inputError("demo", scene.error()); // a missing, malformed or hostile scene file
     for (const auto& w : scene->warnings)

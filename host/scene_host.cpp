@@ -94,7 +94,9 @@ Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const Sce
 }
 
 Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, const std::string& path,
-                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed) {
+                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed,
+                                std::map<uint64_t, std::string>* attached,
+                                std::vector<std::string>* replaced) {
     auto file = readBakeFile(path);
     if (!file) return fail(file.error());
     const SceneSpec& s = file->scene;
@@ -108,6 +110,14 @@ Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, con
         if (auto a = module.setStaticShadow(binding.lights[r.light], {r.method, r.frustum, r.data, r.face});
             !a)
             return fail(path + ": " + a.error());
+        if (attached) {
+            const uint64_t key = uint64_t(r.light) * 8u + r.face;
+            if (auto it = attached->find(key); it != attached->end() && replaced)
+                replaced->push_back("light " + std::to_string(r.light) + " face " + std::to_string(r.face) +
+                                    ": " + path + " (" + std::to_string(r.resolution) + "^2) replaces " +
+                                    it->second);
+            (*attached)[key] = path;
+        }
     }
     return uint32_t(file->records.size());
 }

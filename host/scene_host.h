@@ -4,6 +4,10 @@
 #include "engine/manylights.h"
 #include "scenes/scene.h"
 
+#include <map>
+#include <string>
+#include <vector>
+
 namespace ml {
 
 struct SceneBinding {
@@ -26,8 +30,12 @@ Result<uint32_t> bakeStaticShadows(Module& module, const Scene& scene, const Sce
 
 // Attaches every record of a bake file (shadows/static/bake_file.h) to its light. The file must have
 // been baked from this scene (same name, light count and seed), else a one-line error says what differs.
+// `attached` (optional) maps light * 8 + face to the file that attached it, across calls: a record for a
+// map another file attached replaces it, and `replaced` gets one line saying so.
 Result<uint32_t> attachBakeFile(Module& module, const SceneBinding& binding, const std::string& path,
-                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed);
+                                const std::string& sceneName, uint32_t sceneLights, uint32_t seed,
+                                std::map<uint64_t, std::string>* attached = nullptr,
+                                std::vector<std::string>* replaced = nullptr);
 
 // PNG writing for RGBA8 rows (top row first). One-line error naming the path.
 Result<void> writePng(const std::string& path, uint32_t width, uint32_t height,
