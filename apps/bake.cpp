@@ -34,7 +34,8 @@ namespace {
 
 const char* kBakeHelp = R"(usage: manylights bake --method M --res N --lights SEL --out FILE [options]
 Bakes the static shadows of a scene's static spot and point lights (six cube faces each) into one bake file.
-  --scene S          night-city (default), indoor (rooms and corridors) or a .gltf / .glb file
+  --scene S          night-city (default), night-city-large (40x40 blocks, 520K triangles), indoor
+                     (rooms and corridors) or a .gltf / .glb file
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs

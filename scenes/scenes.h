@@ -41,7 +41,11 @@ struct LoadOptions {
 Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed,
                        const LoadOptions& options = {});
 
-// "night-city", "indoor" or a path ending in .gltf / .glb.
+// The blocks per side of "night-city-large" (6 for "night-city"): 40^2 blocks hold over 500,000
+// triangles (ScenesNightCity.LargeCityHasTheSeedsScale), for benchmarks at the seeds' scale.
+constexpr uint32_t kLargeCityBlocks = 40;
+
+// "night-city", "night-city-large", "indoor" or a path ending in .gltf / .glb.
 Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
                         const LoadOptions& options = {});
 

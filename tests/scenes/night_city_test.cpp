@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace ml {
 namespace {
@@ -290,6 +291,25 @@ TEST(ScenesNightCity, CarsStayOnStreets) {
                     << "car inside a block at t=" << t;
         }
     }
+}
+
+// The large city (loadScene "night-city-large"): the seeds' scale (their CLOSED CITY: 613K triangles),
+// the same lights, a larger box, its own name (bake files record it).
+TEST(ScenesNightCity, LargeCityHasTheSeedsScale) {
+    auto triangles = [](const Scene& s) {
+        uint64_t n = 0;
+        for (const Instance& i : s.instances) n += s.meshes[i.mesh].indices.size() / 3;
+        return n;
+    };
+    auto small = loadScene("night-city", 256, 1);
+    auto large = loadScene("night-city-large", 256, 1);
+    ASSERT_TRUE(small.ok() && large.ok());
+    EXPECT_EQ(large->name, "night-city-large");
+    EXPECT_EQ(large->lights.size(), 256u);
+    EXPECT_GE(triangles(*large), 500000u) << "the default city has " << triangles(*small);
+    EXPECT_GT(large->boundsMax.x - large->boundsMin.x, 3.0f * (small->boundsMax.x - small->boundsMin.x));
+    std::printf("night-city: %llu triangles, night-city-large: %llu\n", (unsigned long long)triangles(*small),
+                (unsigned long long)triangles(*large));
 }
 
 } // namespace
