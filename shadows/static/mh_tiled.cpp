@@ -2,6 +2,7 @@
 #include "shadows/static/mh_tiled.h"
 
 #include <algorithm>
+#include <bit>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -26,20 +27,8 @@ uint32_t log2Ceil(uint32_t v) {
     return l;
 }
 
-// A tile's nodes while the other tiles are built, 12 B instead of MhTree::Node's 28: the interval, and
-// in `bits` the present children (bits 0-3), valued (bit 4) and depth (bits 8-15). Children are implicit
-// in preorder: a node's first present child follows it, the next follows the first's subtree.
-struct PackedNode {
-    uint32_t lo, hi, bits;
-};
-struct PackedTile {
-    uint32_t lo = 0, hi = 0;
-    uint8_t flags = 0;
-    std::vector<PackedNode> nodes;
-};
-
-PackedTile pack(const mhbuild::Subtree& t) {
-    PackedTile p;
+MhTile pack(const mhbuild::Subtree& t) {
+    MhTile p;
     p.lo = t.lo, p.hi = t.hi, p.flags = t.flags;
     p.nodes.resize(t.nodes.size());
     for (size_t i = 0; i < t.nodes.size(); ++i) {
@@ -52,8 +41,8 @@ PackedTile pack(const mhbuild::Subtree& t) {
 }
 
 // Appends the packed subtree from `cursor` in preorder; returns the index of its root in `out`.
-int32_t unpack(const std::vector<PackedNode>& nodes, size_t& cursor, std::vector<MhTree::Node>& out) {
-    const PackedNode q = nodes[cursor++];
+int32_t unpack(const std::vector<MhPackedNode>& nodes, size_t& cursor, std::vector<MhTree::Node>& out) {
+    const MhPackedNode q = nodes[cursor++];
     const int32_t index = int32_t(out.size());
     MhTree::Node n;
     n.lo = q.lo, n.hi = q.hi, n.valued = uint8_t((q.bits >> 4) & 1u), n.depth = uint8_t(q.bits >> 8);
@@ -73,8 +62,8 @@ struct Top {
 };
 
 // Preorder emission of the top levels, splicing each present tile's nodes at its root.
-int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
-             std::vector<PackedTile>& tiles, std::vector<MhTree::Node>& out) {
+int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y, std::vector<MhTile>& tiles,
+             std::vector<MhTree::Node>& out) {
     const uint32_t n = 1u << level;
     const size_t i = size_t(y) * n + x;
     const int32_t index = int32_t(out.size());
@@ -82,7 +71,7 @@ int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
         size_t cursor = 0;
         unpack(tiles[i].nodes, cursor, out);
         out[index].valued = (t.flags[level][i] & 1u) ? 1 : 0; // decided above the tile
-        std::vector<PackedNode>().swap(tiles[i].nodes);       // freed as spliced
+        std::vector<MhPackedNode>().swap(tiles[i].nodes);     // freed as spliced
         return index;
     }
     MhTree::Node node;
@@ -103,30 +92,41 @@ int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
 
 } // namespace
 
-Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, const MhTiledOptions& options,
-                                MhTiledStats* stats) {
+Result<MhTileGrid> mhTileGrid(uint32_t res, uint32_t tile) {
     if (res == 0 || res > (1u << 16))
         return fail("MH: resolution " + std::to_string(res) + " outside 1..65536");
+    if (tile == 0 || (tile & (tile - 1)) != 0)
+        return fail("MH: tile side " + std::to_string(tile) + " is not a power of two");
+    MhTileGrid g;
+    g.resolution = res, g.levels = log2Ceil(res);
+    g.tile = std::min(tile, 1u << g.levels), g.top = g.levels - log2Ceil(g.tile), g.perAxis = 1u << g.top;
+    return g;
+}
+
+Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, const MhTiledOptions& options,
+                          const std::function<bool(uint32_t)>& select, std::vector<MhTile>& tiles,
+                          MhTiledStats* stats) {
     if (!source) return fail("MH: tiled build without a tile source");
-    if (options.tile == 0 || (options.tile & (options.tile - 1)) != 0)
-        return fail("MH: tile side " + std::to_string(options.tile) + " is not a power of two");
-    const uint32_t L = log2Ceil(res), n = 1u << L;
-    const uint32_t T = std::min(options.tile, n), t = log2Ceil(T), top = L - t, m = n / T;
-    const uint32_t count = m * m;
-    std::vector<PackedTile> tiles(count);
+    const uint32_t res = grid.resolution, T = grid.tile, top = grid.top, m = grid.perAxis;
+    const uint32_t count = grid.count();
+    tiles.assign(count, MhTile{});
+    std::vector<uint32_t> mine; // the tiles this call builds
+    for (uint32_t k = 0; k < count; ++k)
+        if (!select || select(k)) mine.push_back(k);
+    const uint32_t todo = uint32_t(mine.size());
     std::atomic<uint32_t> next{0}, done{0};
     std::atomic<uint64_t> nodeCount{0};
     std::atomic<bool> failed{false};
     std::mutex mutex; // guards error, the stats sums and the progress callback
     std::string error;
     MhTiledStats st;
-    st.tiles = count, st.tileSide = T;
 
     auto worker = [&]() {
         std::vector<uint32_t> enter, exit, lo(size_t(T) * T), hi(size_t(T) * T);
         uint64_t covered = 0, closed = 0;
         double render = 0, reduce = 0;
-        for (uint32_t k; !failed && (k = next++) < count;) {
+        for (uint32_t j; !failed && (j = next++) < todo;) {
+            const uint32_t k = mine[j];
             // Row-major tile index = the top pyramid's finest level; emission visits it in preorder.
             const uint32_t tx = k % m, ty = k / m, x0 = tx * T, y0 = ty * T;
             const uint32_t w = x0 < res ? std::min(T, res - x0) : 0, h = y0 < res ? std::min(T, res - y0) : 0;
@@ -168,17 +168,18 @@ Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, cons
                 if (!failed)
                     error = "the tree passed " + std::to_string(held) + " nodes (" +
                             std::to_string((held * sizeof(MhTree::Node)) >> 20) + " MiB) after " +
-                            std::to_string(done + 1) + " of " + std::to_string(count) +
+                            std::to_string(done + 1) + " of " + std::to_string(todo) +
                             " tiles, over its bound of " + std::to_string(options.maxNodes) + " nodes";
                 failed = true;
                 break;
             }
             tiles[k] = pack(sub.value());
+            tiles[k].built = true;
             reduce += secondsSince(tb);
             const uint32_t finished = ++done;
             if (options.progress) {
                 std::lock_guard<std::mutex> lock(mutex);
-                options.progress(double(finished) / count);
+                options.progress(double(finished) / todo);
             }
         }
         std::lock_guard<std::mutex> lock(mutex);
@@ -186,13 +187,25 @@ Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, cons
         st.renderSeconds += render, st.reduceSeconds += reduce;
     };
     uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    threads = std::min(threads, count);
+    threads = std::max(1u, std::min(threads, todo));
     std::vector<std::thread> pool;
     for (uint32_t i = 1; i < threads; ++i) pool.emplace_back(worker);
     worker();
     for (std::thread& th : pool) th.join();
     if (failed) return fail("MH: " + error);
+    st.tiles = todo, st.tileSide = T;
+    st.nodes = nodeCount;
+    if (stats) *stats = st;
+    return {};
+}
 
+Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tiles, MhTiledStats* stats) {
+    const uint32_t top = grid.top, count = grid.count();
+    if (tiles.size() != count)
+        return fail("MH: " + std::to_string(tiles.size()) + " tiles for a grid of " + std::to_string(count));
+    for (uint32_t k = 0; k < count; ++k)
+        if (!tiles[k].built || tiles[k].nodes.empty())
+            return fail("MH: tile " + std::to_string(k) + " of " + std::to_string(count) + " is missing");
     auto ta = Clock::now();
     Top tp;
     tp.lo.resize(top + 1), tp.hi.resize(top + 1), tp.flags.resize(top + 1);
@@ -206,19 +219,63 @@ Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, cons
                              tp.lo[l - 1].data(), tp.hi[l - 1].data(), tp.flags[l - 1].data());
     }
     MhTree tree;
-    tree.resolution = res, tree.levels = L;
+    tree.resolution = grid.resolution, tree.levels = grid.levels;
     size_t total = 0;
     for (const auto& s : tiles) total += s.nodes.size();
     tree.nodes.reserve(total + (size_t(count) * 4) / 3 + 1);
     emit(tp, top, 0, 0, 0, tiles, tree.nodes);
-    std::vector<PackedTile>().swap(tiles);
+    std::vector<MhTile>().swap(tiles);
 #ifdef __GLIBC__
     malloc_trim(0); // the tiles' small blocks back to the system before the encoders allocate theirs
 #endif
-    st.nodes = tree.nodes.size();
-    st.assembleSeconds = secondsSince(ta);
-    if (stats) *stats = st;
+    if (stats) stats->nodes = tree.nodes.size(), stats->assembleSeconds = secondsSince(ta);
     return tree;
+}
+
+Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, const MhTiledOptions& options,
+                                MhTiledStats* stats) {
+    auto grid = mhTileGrid(res, options.tile);
+    if (!grid) return fail(grid.error());
+    std::vector<MhTile> tiles;
+    MhTiledStats st;
+    if (auto r = buildMhTiles(*grid, source, options, {}, tiles, &st); !r) return fail(r.error());
+    auto tree = assembleMhTree(*grid, std::move(tiles), &st);
+    if (tree && stats) *stats = st;
+    return tree;
+}
+
+Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile) {
+    const size_t limit = (size_t(grid.tile) * grid.tile * 4) / 3 + 1; // a full quadtree over the tile
+    if (tile.nodes.empty() || tile.nodes.size() > limit)
+        return fail(std::to_string(tile.nodes.size()) + " nodes, outside 1.." + std::to_string(limit));
+    const MhPackedNode& root = tile.nodes[0];
+    if (root.lo != tile.lo || root.hi != tile.hi) return fail("root interval differs from the tile's");
+    if ((tile.flags & ~3u) != 0 || !(tile.flags & 1u) || ((tile.flags & 2u) != 0) != ((root.bits & 15u) != 0))
+        return fail("root flags " + std::to_string(tile.flags) + " do not match its children");
+    // Preorder: each node's present children follow it, one level deeper, only above the texels.
+    std::vector<uint32_t> remaining; // per node on the path from the root: its children not yet seen
+    for (size_t i = 0; i < tile.nodes.size(); ++i) {
+        const MhPackedNode& q = tile.nodes[i];
+        if (i > 0) {
+            while (!remaining.empty() && remaining.back() == 0) remaining.pop_back();
+            if (remaining.empty()) return fail("node " + std::to_string(i) + " follows a complete subtree");
+            --remaining.back();
+        }
+        const uint32_t depth = grid.top + uint32_t(remaining.size());
+        if ((q.bits >> 8) != depth || (q.bits & 0xE0u) != 0)
+            return fail("node " + std::to_string(i) + ": bits " + std::to_string(q.bits) +
+                        " (expected depth " + std::to_string(depth) + ")");
+        if (q.lo > q.hi) return fail("node " + std::to_string(i) + ": interval lo > hi");
+        const uint32_t children = uint32_t(std::popcount(q.bits & 15u));
+        if (children && depth >= grid.levels)
+            return fail("node " + std::to_string(i) + ": a texel with children");
+        if (!children && !(q.bits & 16u) && i > 0)
+            return fail("node " + std::to_string(i) + ": a leaf without a value");
+        remaining.push_back(children);
+    }
+    while (!remaining.empty() && remaining.back() == 0) remaining.pop_back();
+    if (!remaining.empty()) return fail("the nodes end inside a subtree");
+    return {};
 }
 
 DualTileSource dualTileSourceOf(const DualDepthMap& map) {

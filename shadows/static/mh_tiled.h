@@ -42,6 +42,40 @@ struct MhTiledStats {
     double assembleSeconds = 0;                  // the top pyramid and the splicing
 };
 
+// The tile grid of a resolution x resolution map (1..65536) in tiles of `tile` (a power of two, clamped
+// to the padded map): perAxis^2 tiles, row-major, whose roots are level `top` of the tree.
+struct MhTileGrid {
+    uint32_t resolution = 0, levels = 0, tile = 0, top = 0, perAxis = 0;
+    uint32_t count() const { return perAxis * perAxis; }
+};
+Result<MhTileGrid> mhTileGrid(uint32_t resolution, uint32_t tile);
+
+// A tile's subtree kept between its build and the assembly, 12 B a node: the interval, and in `bits` the
+// present children (bits 0-3), valued (bit 4) and depth (bits 8-15). Children are implicit in preorder:
+// a node's first present child follows it, the next one follows the first one's subtree.
+struct MhPackedNode {
+    uint32_t lo = 0, hi = 0, bits = 0;
+};
+struct MhTile {
+    uint32_t lo = 0, hi = 0; // the root's interval
+    uint8_t flags = 0;       // the root's: bit 0 keeps its value (the levels above may clear it), bit 1 has
+                             // a present descendant
+    bool built = false;
+    std::vector<MhPackedNode> nodes; // preorder, nodes[0] the root
+};
+
+// Builds the tiles `select` accepts (every tile when empty) into tiles[k] (resized to grid.count(); the
+// others stay unbuilt): a shard of one light's tiles. Same failures as buildMhTreeTiled.
+Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, const MhTiledOptions& options,
+                          const std::function<bool(uint32_t)>& select, std::vector<MhTile>& tiles,
+                          MhTiledStats* stats = nullptr);
+// The tree from every tile of the grid (fails naming a missing one); frees the tiles as it splices them.
+Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tiles,
+                              MhTiledStats* stats = nullptr);
+// Checks a tile read from a file: its node count, root, depths, preorder and children (no child below
+// the texels, no leaf without a value), so assembleMhTree can splice it without reading out of bounds.
+Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile);
+
 // The MH tree of a resolution x resolution map (1..65536) read tile by tile from `source`: equal to
 // buildMhTree of the whole map. Fails with the source's first error, on a tile that is not a power of
 // two, or when the tiles' nodes pass options.maxNodes (with the count reached).

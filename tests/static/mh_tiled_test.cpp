@@ -153,5 +153,58 @@ TEST(TiledMh, RefusesBadTilesAndPassesTheSourcesError) {
     EXPECT_FALSE(buildMhTreeTiled(65537, dualTileSourceOf(map), o).ok());
 }
 
+// One light's tiles in shards: three builds of every third tile, put together, assemble to the whole
+// map's tree; every built tile validates, and damaged ones are refused.
+TEST(TiledMh, ShardsOfTilesAssembleToTheWholeTree) {
+    const DualDepthMap map = syntheticMap(300, 11);
+    auto grid = mhTileGrid(300, 64);
+    ASSERT_TRUE(grid.ok());
+    EXPECT_EQ(grid->count(), 64u); // 300 pads to 512: 8 x 8 tiles
+    std::vector<MhTile> all(grid->count());
+    MhTiledOptions o;
+    o.tile = 64, o.threads = 2;
+    for (uint32_t shard = 0; shard < 3; ++shard) {
+        std::vector<MhTile> part;
+        ASSERT_TRUE(buildMhTiles(
+                        *grid, dualTileSourceOf(map), o, [&](uint32_t k) { return k % 3 == shard; }, part)
+                        .ok());
+        for (uint32_t k = 0; k < grid->count(); ++k) {
+            EXPECT_EQ(part[k].built, k % 3 == shard) << k;
+            if (!part[k].built) continue;
+            EXPECT_TRUE(validateMhTile(*grid, part[k]).ok())
+                << k << ": " << validateMhTile(*grid, part[k]).error();
+            all[k] = std::move(part[k]);
+        }
+    }
+    // Damaged tiles: each change alone is refused.
+    const MhTile& good = all[0];
+    ASSERT_GT(good.nodes.size(), 3u);
+    std::vector<std::pair<std::string, std::function<void(MhTile&)>>> damage = {
+        {"truncated", [](MhTile& t) { t.nodes.pop_back(); }},
+        {"extra node", [](MhTile& t) { t.nodes.push_back(t.nodes.back()); }},
+        {"depth", [](MhTile& t) { t.nodes[1].bits += 1u << 8; }},
+        {"lo > hi", [](MhTile& t) { t.nodes[1].lo = 5, t.nodes[1].hi = 4; }},
+        {"root interval", [](MhTile& t) { t.lo ^= 1u; }},
+        {"flags", [](MhTile& t) { t.flags = 0; }},
+        {"stray bits", [](MhTile& t) { t.nodes[2].bits |= 0x40u; }},
+        {"empty", [](MhTile& t) { t.nodes.clear(); }},
+    };
+    for (auto& [name, f] : damage) {
+        MhTile bad = good;
+        f(bad);
+        EXPECT_FALSE(validateMhTile(*grid, bad).ok()) << name;
+    }
+    auto whole = buildMhTree(map);
+    ASSERT_TRUE(whole.ok());
+    std::vector<MhTile> missing = all;
+    missing[7] = MhTile{};
+    auto incomplete = assembleMhTree(*grid, std::move(missing));
+    ASSERT_FALSE(incomplete.ok());
+    EXPECT_NE(incomplete.error().find("tile 7 of 64 is missing"), std::string::npos) << incomplete.error();
+    auto tree = assembleMhTree(*grid, std::move(all));
+    ASSERT_TRUE(tree.ok()) << tree.error();
+    expectSameTree(*whole, *tree, "three shards of tiles");
+}
+
 } // namespace
 } // namespace ml::stest
