@@ -38,7 +38,11 @@ Result<uint32_t> Module::Impl::beginFrame() {
         mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
         // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
-        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits})
+        // All ten (the sorted fill's four too: ensureBuffer would destroy one that must grow while a
+        // frame in flight still reads it; issue 41's 2-in-flight host caught it once record() stopped
+        // draining the queue).
+        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits,
+                          &cull.tileBits, &cull.tilePrefix, &cull.tileRanges, &cull.tileSlices})
             retire(*b);
         ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;

@@ -228,7 +228,11 @@ struct Module::Impl {
     // Writes `bytes` into a new staging buffer and queues `copies` from it (their regions' srcOffset
     // index `bytes`). Nothing is queued on failure.
     Result<void> stage(const std::vector<uint8_t>& bytes, std::vector<StagedCopy> copies, const char* name);
-    void retireStaged(); // after the frame that recorded the copies
+    void retireStaged(); // after the frame that recorded the copies (and the setup's commands, below)
+    // Fills of new GPU-only buffers, copies of grown ones and the buffers they replace, queued while
+    // record() prepares a frame (beginFrame) and recorded by its frame-begin pass instead of one-time
+    // submits (gpu/resources.h; Device::frameSetup points here from init() to destroy()).
+    FrameSetup setup;
     void releaseRetired(bool all);
     Result<void> uploadMeshes();
     void collectSlot(uint32_t index);

@@ -97,7 +97,7 @@ Result<void> checkHostTargets(const HostTargets& t, bool hdr) {
 }
 
 uint64_t Module::Impl::waitIdle() {
-    vkDeviceWaitIdle(device->device);
+    device->waitDevice();
     return ++deviceWaits;
 }
 
