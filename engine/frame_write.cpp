@@ -11,6 +11,25 @@
 
 namespace ml {
 
+EvaluateOutputs Module::Impl::evaluateOutputs(bool hdr) const {
+    if (hdr) return EvaluateOutputs::HdrOnly;
+    return ownTargets ? EvaluateOutputs::Both : EvaluateOutputs::ToneOnly;
+}
+
+bool Module::Impl::evaluatePbr() const {
+    return ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE;
+}
+
+// Every evaluation variant the targets can reach, so that no record() builds a pipeline (issue 41:
+// 130-240 ms of CPU in frame 0 and in the first frame after a switch, on lavapipe). The module's own
+// targets switch between LDR and HDR with setHdrOutput alone: both. A host's output has one format,
+// and setHdrOutput refuses the other mode until setTargets brings a new output: the current mode.
+Result<void> Module::Impl::preparePipelines() {
+    for (bool hdr : {false, true})
+        if (ownTargets || hdr == hdrOutput) ML_TRY(evaluate.prepare(*device, evaluateOutputs(hdr), evaluatePbr()));
+    return {};
+}
+
 Result<uint32_t> Module::Impl::beginFrame() {
     // No device-wide wait here (engine/module_uploads.cpp): shared buffers are replaced and the old ones
     // retired; the slot's own buffers are rewritten in place, its previous frame being done. Out of
@@ -49,10 +68,9 @@ Result<uint32_t> Module::Impl::beginFrame() {
     }
     if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
         ML_TRY(cull.prepareView(d, width, height));
-    ML_TRY(evaluate.prepare(d,
-                            ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
-                                       : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
-                            ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE));
+    // Built by createTargets / setTargets for both output modes (preparePipelines): a no-op here unless
+    // a test switched the evaluation's loop, in which case record() builds (and counts) it.
+    ML_TRY(evaluate.prepare(d, evaluateOutputs(hdrOutput), evaluatePbr()));
     ML_TRY(writeFrame(slot, slotIndex, grid, mode));
     return slotIndex;
 }

@@ -90,6 +90,9 @@ uint64_t deviceWaitCount(const Module& module);
 struct QueueAccessCounts {
     uint64_t submits = 0, waits = 0;             // since create()
     uint64_t recordSubmits = 0, recordWaits = 0; // of those, inside record()
+    // Pipelines built (vkCreateComputePipelines / vkCreateGraphicsPipelines), and inside record(): 0
+    // there, every pipeline a frame can reach being built by create(), createTargets and setTargets.
+    uint64_t pipelines = 0, recordPipelines = 0;
 };
 QueueAccessCounts queueAccessCounts(const Module& module);
 

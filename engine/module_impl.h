@@ -207,6 +207,11 @@ struct Module::Impl {
     // Targets and output mode (engine/module_targets.cpp).
     void destroyTargets();               // retires the module's images (host ones are the host's)
     Result<void> createOutput(bool own); // own: full-size HDR and output; host targets: 1x1 stubs
+    // The evaluation variant for the current targets in an output mode, and the pipelines of both modes
+    // (engine/frame_write.cpp): built by createTargets and setTargets, never by record().
+    EvaluateOutputs evaluateOutputs(bool hdr) const;
+    bool evaluatePbr() const;
+    Result<void> preparePipelines();
     // Every device-wide wait of the module goes through waitIdle, which counts it (deviceWaits;
     // diag::deviceWaitCount): docs/integration.md lists the calls that still wait.
     uint64_t deviceWaits = 0;

@@ -66,6 +66,14 @@ class Device {
     };
     QueueCounts queueCounts() const { return {submits_.load(), waits_.load()}; }
     QueueCounts recordQueueCounts() const { return {recordSubmits_.load(), recordWaits_.load()}; }
+    // Pipelines created (gpu/program.cpp counts each vkCreate*Pipelines), and those inside record():
+    // every pipeline a frame can use is built before it (Module::create, createTargets, setTargets).
+    void countPipelineBuild() const {
+        pipelines_++;
+        if (recordDepth_) recordPipelines_++;
+    }
+    uint64_t pipelineBuilds() const { return pipelines_.load(); }
+    uint64_t recordPipelineBuilds() const { return recordPipelines_.load(); }
     // Open for the whole of Module::record (nested scopes count once).
     class RecordScope {
       public:
@@ -110,6 +118,7 @@ class Device {
     bool owned_ = false;
     void countQueueOp(bool submit) const;
     mutable std::atomic<uint64_t> submits_ = 0, waits_ = 0, recordSubmits_ = 0, recordWaits_ = 0;
+    mutable std::atomic<uint64_t> pipelines_ = 0, recordPipelines_ = 0;
     mutable std::atomic<uint32_t> recordDepth_ = 0;
     mutable std::atomic<uint64_t> memoryBytes_[kMemoryKindCount] = {};
     mutable std::atomic<uint64_t> roleBytes_[4] = {};

@@ -359,6 +359,7 @@ Result<void> createComputeProgram(const Device& device, Program& p, const Shader
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
     ci.layout = p.layout;
+    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
     if (VkResult r = ML_VK_ALLOC(
             vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {
@@ -440,6 +441,7 @@ Result<void> createGraphicsProgram(const Device& device, Program& p,
     ci.pColorBlendState = &cb;
     ci.pDynamicState = &dy;
     ci.layout = p.layout;
+    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
     if (VkResult r = ML_VK_ALLOC(
             vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {
