@@ -108,7 +108,8 @@ uint64_t deviceWaitCount(const Module& module) {
 QueueAccessCounts queueAccessCounts(const Module& module) {
     const Device& d = *state(module).device;
     const Device::QueueCounts all = d.queueCounts(), inRecord = d.recordQueueCounts();
-    return {all.submits, all.waits, inRecord.submits, inRecord.waits, d.pipelineBuilds(), d.recordPipelineBuilds()};
+    return {all.submits,    all.waits,          inRecord.submits,
+            inRecord.waits, d.pipelineBuilds(), d.recordPipelineBuilds()};
 }
 
 bool vsmMeshPath(const Module& module) {

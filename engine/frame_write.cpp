@@ -26,7 +26,8 @@ bool Module::Impl::evaluatePbr() const {
 // and setHdrOutput refuses the other mode until setTargets brings a new output: the current mode.
 Result<void> Module::Impl::preparePipelines() {
     for (bool hdr : {false, true})
-        if (ownTargets || hdr == hdrOutput) ML_TRY(evaluate.prepare(*device, evaluateOutputs(hdr), evaluatePbr()));
+        if (ownTargets || hdr == hdrOutput)
+            ML_TRY(evaluate.prepare(*device, evaluateOutputs(hdr), evaluatePbr()));
     return {};
 }
 

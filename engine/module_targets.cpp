@@ -185,7 +185,7 @@ Result<void> Module::setTargets(const HostTargets& t) {
     m.host = t;
     m.hdrOutput = hdr;
     auto r = m.createOutput(false);
-    if (r) r = m.preparePipelines(); // LDR and HDR: record() builds none
+    if (r) r = m.preparePipelines(); // the output's mode: record() builds none
     if (!r) {
         m.destroyTargets();
         m.width = m.height = 0;

@@ -537,8 +537,7 @@ Result<void> Device::tryEndOneTime(VkCommandBuffer cmd, const char* what) const 
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd;
     const char* call = "vkEndCommandBuffer";
-    if (r == VK_SUCCESS)
-        call = "vkQueueSubmit", r = ML_VK_ALLOC(submit(si, VK_NULL_HANDLE));
+    if (r == VK_SUCCESS) call = "vkQueueSubmit", r = ML_VK_ALLOC(submit(si, VK_NULL_HANDLE));
     if (r == VK_SUCCESS) call = "vkQueueWaitIdle", r = waitQueue();
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
     if (r != VK_SUCCESS) return fail(std::string(call) + " for '" + what + "' failed: " + vkResultName(r));

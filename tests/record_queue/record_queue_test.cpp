@@ -172,7 +172,8 @@ class Host {
         inRecord = true;
         auto r = m_.record(cmd);
         inRecord = false;
-        cpuMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        cpuMs.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         EXPECT_TRUE(r.ok()) << r.error();
         const uint64_t seen = recordSubmits + recordWaits + recordPipelines - before;
         EXPECT_EQ(vkEndCommandBuffer(cmd), VK_SUCCESS);
