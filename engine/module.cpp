@@ -90,9 +90,15 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     if (options.framesInFlight < 1 || options.framesInFlight > 16)
         return fail("framesInFlight must be 1..16, got " + std::to_string(options.framesInFlight));
     auto impl = std::make_unique<Impl>();
+    // A cache belongs to the device it was made on: the host cannot have made one on a device the
+    // module has yet to create.
+    if (options.pipelineCache && !options.borrow)
+        return fail("pipelineCache needs a borrowed device (ModuleOptions::borrow): a cache belongs to the "
+                    "device it was created on");
     auto device = options.borrow ? Device::borrow(*options.borrow) : Device::create(options.device);
     if (!device) return fail(device.error());
     impl->device = std::move(device.value());
+    impl->device->pipelineCache = options.pipelineCache;
     impl->culling = options.culling;
     impl->statistics = options.statistics;
     // Fenced is an explicit profiling mode (manylights.h): by default record() records into the host's

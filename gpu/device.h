@@ -89,6 +89,8 @@ class Device {
     // The module's setup commands for the frame being recorded (gpu/resources.h): while it is set and
     // active, createDeviceBuffer queues its fill there instead of submitting it. Owned by the module.
     FrameSetup* frameSetup = nullptr;
+    // The host's pipeline cache (ModuleOptions::pipelineCache), or none: every pipeline is built with it.
+    VkPipelineCache pipelineCache = VK_NULL_HANDLE;
 
     // Bytes of live allocations per memory kind (gpu/resources.cpp counts each allocation and free).
     void countMemory(MemoryKind kind, uint32_t role, int64_t bytes) const {

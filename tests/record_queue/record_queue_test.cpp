@@ -1,17 +1,19 @@
-// record() never submits to or waits on the host's queue (issue 41). This executable interposes the
-// Vulkan entry points that submit or wait (vkQueueSubmit, vkQueueSubmit2, vkQueueWaitIdle,
-// vkDeviceWaitIdle, vkWaitForFences): the definitions below take precedence over the loader's for every
-// call the test and the statically linked module make, count the calls made while record() runs, and
-// forward to the loader (dlsym RTLD_NEXT). It is an executable of its own so that no other test runs
-// under the interposer.
+// record() never submits to or waits on the host's queue, nor builds a pipeline (issue 41). This
+// executable interposes the Vulkan entry points that submit, wait or build pipelines (vkQueueSubmit,
+// vkQueueSubmit2, vkQueueWaitIdle, vkDeviceWaitIdle, vkWaitForFences, vkCreate*Pipelines): the definitions
+// below take precedence over the loader's for every call the test and the statically linked module make,
+// count the calls made while record() runs, and forward to the loader (dlsym RTLD_NEXT). It is an executable
+// of its own so that no other test runs under the interposer.
 //
 // The host: two frames in flight (a command buffer and a fence per slot; the host's own fence waits
 // happen outside record() and are not counted), virtual shadow maps whose slot pool starts at one map
 // (so it grows inside record()), lights and meshes added and removed, a static bake attached, the
 // targets resized, the LDR/HDR output switched, a debug view whose count buffer grows. Every frame:
-// 0 submits and 0 waits inside record(), by the interposer and by the module's own counters
-// (diag::queueAccessCounts), with 0 validation messages.
+// 0 submits, 0 waits and 0 pipeline builds inside record(), by the interposer and by the module's own
+// counters (diag::queueAccessCounts), with 0 validation messages. And a borrowed device's module builds
+// every pipeline through the host's cache (ModuleOptions::pipelineCache).
 #include "../gpu/gpu_test_util.h"
+#include "../gpu/host_device_util.h"
 
 #include "engine/manylights_diagnostics.h"
 
@@ -30,6 +32,14 @@ namespace {
 // Counted while `inRecord` is set (around Module::record only).
 std::atomic<bool> inRecord{false};
 std::atomic<uint64_t> recordSubmits{0}, recordWaits{0}, recordPipelines{0}, allCalls{0};
+// Pipelines built with the host's cache (`hostCache`) and with any other (or none).
+std::atomic<VkPipelineCache> hostCache{VK_NULL_HANDLE};
+std::atomic<uint64_t> throughHostCache{0}, notThroughHostCache{0};
+void countPipeline(VkPipelineCache cache) {
+    allCalls++;
+    if (inRecord) recordPipelines++;
+    (cache != VK_NULL_HANDLE && cache == hostCache ? throughHostCache : notThroughHostCache)++;
+}
 
 template <class F> F next(const char* name) {
     static_assert(sizeof(F) == sizeof(void*));
@@ -74,8 +84,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkCreateComputePipelines(VkDevice device, VkPipel
                                                         const VkAllocationCallbacks* allocator,
                                                         VkPipeline* pipelines) {
     static const auto real = next<PFN_vkCreateComputePipelines>("vkCreateComputePipelines");
-    allCalls++;
-    if (inRecord) recordPipelines++;
+    countPipeline(cache);
     return real(device, cache, n, infos, allocator, pipelines);
 }
 VKAPI_ATTR VkResult VKAPI_CALL vkCreateGraphicsPipelines(VkDevice device, VkPipelineCache cache, uint32_t n,
@@ -83,8 +92,7 @@ VKAPI_ATTR VkResult VKAPI_CALL vkCreateGraphicsPipelines(VkDevice device, VkPipe
                                                          const VkAllocationCallbacks* allocator,
                                                          VkPipeline* pipelines) {
     static const auto real = next<PFN_vkCreateGraphicsPipelines>("vkCreateGraphicsPipelines");
-    allCalls++;
-    if (inRecord) recordPipelines++;
+    countPipeline(cache);
     return real(device, cache, n, infos, allocator, pipelines);
 }
 VKAPI_ATTR VkResult VKAPI_CALL vkWaitForFences(VkDevice device, uint32_t count_, const VkFence* fences,
@@ -315,6 +323,48 @@ TEST(QueueAccess, CountersSeeASubmitInsideRecord) {
     const diag::QueueAccessCounts counted = diag::queueAccessCounts(m);
     EXPECT_EQ(counted.recordSubmits, 1u);
     EXPECT_EQ(counted.recordWaits, 1u);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// ModuleOptions::pipelineCache: every pipeline the module builds on a borrowed device goes through the
+// host's cache (the interposer sees the handle; lavapipe's cache data stays a bare header, so its size
+// cannot tell), none inside record(), LDR and HDR.
+TEST(QueueAccess, PipelinesGoThroughTheHostsCache) {
+    resetValidationCounters();
+    DeviceOptions own;
+    own.validation = true;
+    auto physical = Device::create(own); // the instance and physical device the host's device is made on
+    ASSERT_TRUE(physical.ok()) << physical.error();
+    {
+        HostDevice host(*physical.value());
+        VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+        VkPipelineCache cache = VK_NULL_HANDLE;
+        ASSERT_EQ(vkCreatePipelineCache(host.device, &ci, nullptr, &cache), VK_SUCCESS);
+        hostCache = cache;
+        throughHostCache = notThroughHostCache = 0;
+        {
+            ModuleOptions o;
+            o.borrow = host.borrow(*physical.value());
+            o.pipelineCache = cache;
+            o.vsm.enabled = true;
+            auto created = Module::create(o);
+            ASSERT_TRUE(created.ok()) << created.error();
+            Module& m = *created.value();
+            ASSERT_TRUE(m.createTargets(32, 18).ok());
+            ASSERT_TRUE(m.setCamera({{0, 4, 6}, {0, 0, 0}}).ok());
+            const uint64_t beforeFrames = throughHostCache + notThroughHostCache;
+            renderFrame(m);
+            ASSERT_TRUE(m.setHdrOutput(true).ok());
+            renderFrame(m);
+            EXPECT_EQ(throughHostCache + notThroughHostCache, beforeFrames) << "record() built a pipeline";
+            EXPECT_EQ(diag::queueAccessCounts(m).pipelines, throughHostCache.load())
+                << "the module's count and the interposer's differ";
+        }
+        vkDestroyPipelineCache(host.device, cache, nullptr);
+        hostCache = VK_NULL_HANDLE;
+    }
+    EXPECT_GT(throughHostCache.load(), 10u) << "the module's pipelines did not reach the host's cache";
+    EXPECT_EQ(notThroughHostCache.load(), 0u) << "pipelines built without the host's cache";
     EXPECT_EQ(validationErrors(), 0u);
 }
 
