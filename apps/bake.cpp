@@ -13,6 +13,7 @@
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "bake/bake.h"
+#include "bake/bake_tiled.h"
 #include "bake/bake_shard.h"
 
 #include <algorithm>
@@ -37,7 +38,14 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs
-  --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384)
+  --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384);
+                     mh, mmh and dagmh up to 65536: past 16384 they bake in tiles (see --tile)
+  --tile T           mh, mmh, dagmh: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
+                     default 512 past --res 16384, whole maps below it). The map is never held whole:
+                     memory is a tile per hardware thread (about 30 B a tile texel plus the
+                     rasteriser's hits) and the output. Tiles render on the CPU rasteriser, so with
+                     --renderer gpu only directional lights may be selected; the words equal a
+                     whole-map bake's. The last line on stderr gives the measured peak memory.
   --lights SEL       scene lights to bake: all, N, A-B, or a comma list (e.g. 0-7,12)
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
@@ -92,6 +100,9 @@ The last line on stdout is {"checked": N, "mismatches": M}.
 Exit status: 0 all agree, 1 usage error, 2 bad input (unreadable or invalid file, scene changed, no
 records: nothing checked is not a pass), 3 mismatches found (or the renderer failed).
   --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
+  --tile T  check sm, mh, mmh, dagmh records tile by tile (T x T texels, a power of two 64..16384) on the
+            CPU rasteriser, in bounded memory; records past 16384^2 always are (tiles of 512). Not for
+            perspective maps the Vulkan renderer made (its depths round differently)
   --quiet   no progress lines on stderr
 )";
 
@@ -103,27 +114,35 @@ BakeProgressFn progressPrinter(const char* command, bool quiet) {
     return [command, lastPrint](const BakeProgress& p) {
         if (p.elapsedSeconds - *lastPrint < 1.0) return;
         *lastPrint = p.elapsedSeconds;
-        std::fprintf(stderr, "manylights %s: [%3.0f%%] light %u (%u/%u) %-6s %8.1f s\n", command,
-                     100.0 * p.fraction, p.light, p.ordinal + 1, p.count, p.phase, p.elapsedSeconds);
+        // Time left: the elapsed time scaled by the fraction left (a guess: a map's tiles and lights differ
+        // in cost), once there is something to scale.
+        char left[48] = "";
+        if (p.fraction >= 0.02 && p.fraction < 1.0)
+            std::snprintf(left, sizeof(left), ", about %.0f s left",
+                          p.elapsedSeconds * (1.0 - p.fraction) / p.fraction);
+        std::fprintf(stderr, "manylights %s: [%3.0f%%] light %u (%u/%u) %-6s %8.1f s%s\n", command,
+                     100.0 * p.fraction, p.light, p.ordinal + 1, p.count, p.phase, p.elapsedSeconds, left);
     };
 }
 
 // The positional FILE of inspect / verify, and the remaining flags.
 Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
-                                                       const std::set<std::string>& switches) {
+                                                       const std::set<std::string>& switches,
+                                                       const std::set<std::string>& valued = {}) {
     std::string file;
     std::vector<char*> rest = {argv[0], argv[1]};
     for (int i = 2; i < argc; ++i) {
         std::string s = argv[i];
         if (!s.empty() && s[0] == '-') {
             rest.push_back(argv[i]);
+            if (valued.count(s) && i + 1 < argc) rest.push_back(argv[++i]);
         } else if (file.empty()) {
             file = s;
         } else {
             return fail("more than one FILE ('" + file + "' and '" + s + "')");
         }
     }
-    auto args = cli::parse(int(rest.size()), rest.data(), 2, {}, switches);
+    auto args = cli::parse(int(rest.size()), rest.data(), 2, valued, switches);
     if (!args) return fail(args.error());
     if (file.empty() && !args->help) return fail("missing FILE (see --help)");
     return std::make_pair(file, args.value());
@@ -222,6 +241,7 @@ struct BakeOptions {
     std::string out;
     BakeRenderer renderer = BakeRenderer::Gpu;
     uint64_t maxMemory = 0; // bytes (--max-memory)
+    uint32_t tile = 0;      // --tile (0: tiles only past kBakeWholeMapMax)
 };
 
 // --need and its region's options: only together, never with --shard; the minimum a power of two at
@@ -281,6 +301,21 @@ Result<BakeOptions> parseBake(const cli::Args& args) {
     auto limit = opts::maxMemory(args);
     if (!limit) return fail(limit.error());
     o.maxMemory = limit.value();
+    if (args.has("--tile")) {
+        auto tile = cli::parseUint("--tile", args.get("--tile", ""), 64, 16384);
+        if (!tile) return fail(tile.error());
+        if (tile.value() & (tile.value() - 1))
+            return fail("--tile: " + args.get("--tile", "") + " is not a power of two");
+        if (!bakeTiled(o.method, o.res, tile.value()))
+            return fail("--tile: " + std::string(staticMethodName(o.method)) +
+                        " bakes whole maps (mh, mmh and dagmh bake in tiles)");
+        o.tile = tile.value();
+    }
+    if (o.res > kBakeWholeMapMax && !bakeTiled(o.method, o.res, o.tile))
+        return fail("--res: " + std::string(staticMethodName(o.method)) + " bakes whole maps, up to " +
+                    std::to_string(kBakeWholeMapMax) + " (mh, mmh and dagmh bake larger maps in tiles)");
+    if (o.shard && bakeTiled(o.method, o.res, o.tile))
+        return fail("--shard: not with a tiled bake (shards split lights, not a light's tiles)");
     return o;
 }
 
@@ -335,14 +370,26 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o, bool
 // they are counted as sm (conservative; --max-memory raises the limit). Base: scene, casters,
 // device and renderer, 400 MiB. Measured peak RSS (/usr/bin/time -v manylights bake --method M
 // --res 2048 --lights 0-7): sm 516 MB, mh 310, dagmh 310, cpvs 257, estimate 752 MiB.
-uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions) {
-    uint64_t words = 0, largest = 0;
+// Tiled maps (bakeTiled) hold no map: a tile per hardware thread (tiledWorkingBytes) and the MH tree,
+// which follows the map's detail, not its size. It is estimated at one node per 64 texels (the night
+// city's moon has 1 per 32 at 4096^2, 1 per 52 at 8192^2, 1 per 75 at 16384^2: the ratio falls as
+// resolution grows), each held twice while tiles are spliced (28 B) plus its output words (8 B);
+// bakeTilesOf turns the limit into a node bound that stops a bake whose tree outgrows it.
+uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMethod method, uint32_t tile) {
+    uint64_t words = 0, largest = 0, tiledLargest = 0;
     for (uint32_t r : faceResolutions) {
         const uint64_t texels = uint64_t(r) * r;
+        if (bakeTiled(method, r, tile)) {
+            tiledLargest = std::max(tiledLargest, texels / 64 * (2 * sizeof(MhTree::Node) + 8));
+            words += texels / 64 * 8;
+            continue;
+        }
         words += texels * 4;
         largest = std::max(largest, texels);
     }
-    const uint64_t working = largest * (8 + 16); // the map, and the encoder's scratch
+    uint64_t working = largest * (8 + 16); // the map, and the encoder's scratch
+    if (tiledLargest)
+        working = std::max(working, tiledLargest + tiledWorkingBytes(tile ? tile : kBakeDefaultTile));
     return (uint64_t(400) << 20) + 2 * words + working;
 }
 
@@ -366,7 +413,17 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                              (need ? std::string("at the need's resolutions")
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
-    return opts::checkMemory("bake", bakePeakBytes(faces), o.maxMemory, what);
+    return opts::checkMemory("bake", bakePeakBytes(faces, o.method, o.tile), o.maxMemory, what);
+}
+
+// --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
+// leaves after the tiles' working memory (a node is held twice while tiles are spliced).
+BakeTiles bakeTilesOf(const BakeOptions& o) {
+    BakeTiles t;
+    t.tile = o.tile;
+    const uint64_t working = tiledWorkingBytes(o.tile ? o.tile : kBakeDefaultTile);
+    t.maxNodes = o.maxMemory > working ? (o.maxMemory - working) / (2 * sizeof(MhTree::Node)) : 1;
+    return t;
 }
 
 // The whole selection into one bake file (by need or at one resolution), and what was baked.
@@ -378,20 +435,25 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
         if (!need) return usageError("bake", need.error());
         if (auto r = checkBakeMemory(o, sel, need.value()); !r) return usageError("bake", r.error());
         baked = bakeSceneNeed(sel.scene, sel.spec, o.method, need.value(), sel.lights,
-                              progressPrinter("bake", o.quiet), render);
+                              progressPrinter("bake", o.quiet), render, bakeTilesOf(o));
     } else {
         baked = bakeScene(sel.scene, sel.spec, o.method, o.res, sel.lights, progressPrinter("bake", o.quiet),
-                          render);
+                          render, bakeTilesOf(o));
     }
     if (!baked) return runError("bake", baked.error());
     baked->file.renderer = o.renderer;
     for (const SkippedLight& s : baked->skipped)
         std::printf("skipped light %u: %s\n", s.light, io::escapeText(s.reason).c_str());
-    for (const LightBakeStats& l : baked->lights)
-        std::printf("light %u: %u^2, render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes\n", l.light,
+    for (const LightBakeStats& l : baked->lights) {
+        std::printf("light %u: %u^2, render %.2f s, encode %.2f s, %.1f%% covered, %llu bytes", l.light,
                     l.resolution, l.renderSeconds, l.encodeSeconds,
                     100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
+        if (l.tiles)
+            std::printf(" (%u tiles; render includes building the %llu-node tree)", l.tiles,
+                        (unsigned long long)l.treeNodes);
+        std::printf("\n");
+    }
     if (auto w = writeBakeFile(o.out, baked->file); !w) return runError("bake", w.error());
     BakeBytes b = bakeFileBytes(baked->file);
     size_t noCaster = 0;
@@ -400,6 +462,8 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
                 "%.2f s, encode %.2f s\n",
                 io::escapeText(o.out).c_str(), baked->file.records.size(), baked->skipped.size(), noCaster,
                 (unsigned long long)b.total(), baked->renderSeconds, baked->encodeSeconds);
+    std::fprintf(stderr, "manylights bake: measured peak memory %llu MiB\n",
+                 (unsigned long long)(peakResidentBytes() >> 20));
     if (validationErrors())
         return runError("bake", std::to_string(validationErrors()) + " Vulkan validation errors");
     return 0;
@@ -409,7 +473,7 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
 
 // The flags of `bake` beside its option groups.
 const cli::Flags kBakeFlags{{"--scene-lights", "--method", "--res", "--lights", "--out", "--renderer",
-                             "--shard", "--light-dir", "--bounds", "--need", "--max-memory"},
+                             "--shard", "--light-dir", "--bounds", "--need", "--max-memory", "--tile"},
                             {"--quiet"}};
 
 int runBake(int argc, char** argv) {
@@ -428,6 +492,15 @@ int runBake(int argc, char** argv) {
     // Memory bounded before any work: the estimate at the selection's resolutions (--need: the cap,
     // refined once the need has chosen them, in bakeWhole).
     if (auto r = checkBakeMemory(o, sel.value(), std::nullopt); !r) return usageError("bake", r.error());
+    if (bakeTiled(o.method, o.res, o.tile) && o.renderer == BakeRenderer::Gpu)
+        for (uint32_t l : sel->lights)
+            if (l < sel->scene.lights.size() && sel->scene.lights[l].type != LightKind::Directional &&
+                bakeSkipReason(sel->scene, sel->scene.lights[l]).empty())
+                return usageError("bake",
+                                  "light " + std::to_string(l) +
+                                      ": tiled bakes render on the CPU rasteriser; a spot or point "
+                                      "light needs --renderer cpu (directional lights are CPU-rendered "
+                                      "with either)");
     auto rendering = makeRendering(o.renderer);
     if (!rendering) return runError("bake", rendering.error());
     std::printf("manylights bake: %s, %s at %s%u^2, %zu of %zu lights selected\n",
@@ -506,7 +579,7 @@ std::string needJson(const BakeNeed& n) {
     return o.str();
 }
 
-// A fitted directional record's map and box (issue 21): sizes, extents and the shares in the box.
+// A fitted directional record's map and box: sizes, extents and the shares in the box.
 std::string directionalJson(const DirectionalFit& d) {
     return json::Object()
         .integer("width", d.width)
@@ -653,12 +726,20 @@ int runInspect(int argc, char** argv) {
 }
 
 int runVerify(int argc, char** argv) {
-    auto fa = fileAndFlags(argc, argv, {"--quiet", "--allow-outside-scene-dir"});
+    auto fa = fileAndFlags(argc, argv, {"--quiet", "--allow-outside-scene-dir"}, {"--tile"});
     if (!fa) return usageError("verify", fa.error());
     auto& [path, args] = fa.value();
     if (args.help) {
         std::fputs(kVerifyHelp, stdout);
         return 0;
+    }
+    uint32_t tile = 0;
+    if (args.has("--tile")) {
+        auto t = cli::parseUint("--tile", args.get("--tile", ""), 64, 16384);
+        if (!t) return usageError("verify", t.error());
+        if (t.value() & (t.value() - 1))
+            return usageError("verify", "--tile: " + args.get("--tile", "") + " is not a power of two");
+        tile = t.value();
     }
     const auto t0 = std::chrono::steady_clock::now();
     auto file = readBakeFile(path);
@@ -677,7 +758,8 @@ int runVerify(int argc, char** argv) {
     // verifyBake, with the trust option: the scene named inside the file is loaded like a --scene.
     auto scene = loadBakeScene(f.scene, {args.has("--allow-outside-scene-dir")});
     if (!scene) return inputError("verify", path + ": cannot re-create the baked scene: " + scene.error());
-    auto rep = verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")));
+    auto rep =
+        verifyBakeScene(f, scene.value(), render, progressPrinter("verify", args.has("--quiet")), tile);
     if (!rep) return inputError("verify", path + ": " + rep.error());
     const char* unit = f.method == StaticMethod::CPVS ? "voxels" : "texels";
     for (const VerifyLight& l : rep->lights) {
@@ -691,6 +773,8 @@ int runVerify(int argc, char** argv) {
     for (const std::string& e : rep->examples) std::printf("mismatch: %s\n", io::escapeText(e).c_str());
     std::printf("total %.2f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    std::fprintf(stderr, "manylights verify: measured peak memory %llu MiB\n",
+                 (unsigned long long)(peakResidentBytes() >> 20));
     std::printf("{\"checked\": %llu, \"mismatches\": %llu}\n", (unsigned long long)rep->checked,
                 (unsigned long long)rep->mismatches);
     if (validationErrors())

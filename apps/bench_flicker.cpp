@@ -1,5 +1,5 @@
 // `manylights bench flicker`: temporal stability of the static shadow methods along a camera path and
-// with moving lights (issue 11, item 6). For each frame of a straight camera path, every pixel's receiver
+// with moving lights. For each frame of a straight camera path, every pixel's receiver
 // is the surface its camera ray hits (Embree, double-precision pixel rays: the same exact receivers as
 // bench static); for each measured spot light, the method's visibility (the CPU twin of the shader's
 // lookup, one tap or PCF) and the rays' visibility are computed per pixel. A pixel "flickers" between two

@@ -1,6 +1,6 @@
 // `manylights bench flicker --vsm`: temporal stability of the virtual shadow maps along a camera path
 // with moving lights (the drive path: the followed car's headlights and the other cars' move every frame,
-// the street lamps stand still), issue 11 item 6. The module runs with VSM on and without a bake, so
+// the street lamps stand still). The module runs with VSM on and without a bake, so
 // every light's maps hold every caster and its dynamic visibility is its whole shadow. Per frame:
 //   - the probe pass (vsm_probe.comp, the one `check vsm` reads) gives, per (shaded pixel, light with
 //     maps), the map, mip and texel the evaluation pass's lookup ended at (after any fallback) and the

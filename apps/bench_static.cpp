@@ -3,7 +3,7 @@
 // maps (Vulkan, tiles of <= 4096^2) and encoding, the one evaluation pass's GPU time with the method
 // (same lights, same view), and the disagreement with ray-traced visibility (Embree) over the pixels the
 // lights reach. Prints a table, writes a CSV and, with gnuplot, charts of accuracy against memory and
-// against time. Also (issue 11): every disagreement's cause (bake/reference/error_classes.h) with
+// against time. Also: every disagreement's cause (bake/reference/error_classes.h) with
 // the resolution class's convergence slope per method, and the isolated cost of one lookup per method,
 // resolution and PCF size (shadows/tools/lookup_timer.h). Receivers are moved onto the traced surface
 // by default (--receivers); since the G-buffer is reversed Z (engine/camera.h) they move by millimetres.

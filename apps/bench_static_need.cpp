@@ -1,4 +1,4 @@
-// `manylights bench static --need REGION`: fixed against need-based resolution (issue 11, item 5).
+// `manylights bench static --need REGION`: fixed against need-based resolution.
 // Views along a camera path (evenly spaced samples of the region's path); every pixel's receiver is the
 // static surface its centre ray hits (Embree, double precision: exact receivers, as bench static and
 // bench flicker). The static spot lights that reach some receiver are baked twice per cap R and method:

@@ -50,7 +50,9 @@ struct Row {
     std::string kind;
     bool cached = true;
     VsmRaster raster = VsmRaster::Mesh;
-    double markMs = 0, allocMs = 0, hpbMs = 0, cullMs = 0, drawMs = 0, frames = 0;
+    // Per-step means (engine/pass_times.h): cull on the vertex path, expand on the mesh path (0 otherwise).
+    double markMs = 0, sortMs = 0, allocMs = 0, hpbMs = 0, groupCullMs = 0, cullMs = 0, expandMs = 0,
+           drawMs = 0, frames = 0;
     double marked = 0, allocated = 0, rendered = 0, draws = 0, triangles = 0;
     // Page draws: the first frame's draw ms (pipelines' first use; every page new), and per frame after
     // it the fragment-shader invocations against the texels of the pages rendered.
@@ -135,25 +137,28 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
         const PassTimes& t = r->times;
         const VsmStats& v = r->stats.vsm;
         auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
-        // Instance culling: vsm_cull (vertex path) or vsm_expand (mesh path).
-        const double cullMs = ms(Pass::VsmCull) + ms(Pass::VsmExpand);
         csv << row.kind << "," << (row.cached ? "cached" : "uncached") << "," << rasterName(row.raster) << ","
-            << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmAlloc) << "," << ms(Pass::VsmHpb) << ","
-            << cullMs << "," << ms(Pass::VsmDraw) << "," << v.pagesMarked << "," << v.pagesAllocated << ","
-            << v.pagesRendered << "," << v.pagesCached << "," << v.fallbacks << "," << v.instancesDrawn << ","
-            << v.instancesCulledHpb << "," << v.lightsWithPages << "," << v.meshletsTotal << ","
-            << v.meshletsAfterExpansion << "," << v.meshletsAfterTask << "," << v.trianglesAfterTask << ","
-            << v.trianglesRasterized << "," << v.fragmentsDrawn << "," << v.dirtyPageTexels << ","
-            << v.requestOverflow << "," << v.pageClipOverflow << "," << v.pagesNew << ","
-            << v.pagesInvalidatedCaster << "," << v.pagesRenderedDynamic << "\n";
+            << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmSort) << "," << ms(Pass::VsmAlloc) << ","
+            << ms(Pass::VsmHpb) << "," << ms(Pass::VsmGroupCull) << "," << ms(Pass::VsmCull) << ","
+            << ms(Pass::VsmExpand) << "," << t.vsmBookkeepingMs() << "," << ms(Pass::VsmDraw) << ","
+            << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered << "," << v.pagesCached
+            << "," << v.fallbacks << "," << v.instancesDrawn << "," << v.instancesCulledHpb << ","
+            << v.lightsWithPages << "," << v.meshletsTotal << "," << v.meshletsAfterExpansion << ","
+            << v.meshletsAfterTask << "," << v.trianglesAfterTask << "," << v.trianglesRasterized << ","
+            << v.fragmentsDrawn << "," << v.dirtyPageTexels << "," << v.requestOverflow << ","
+            << v.pageClipOverflow << "," << v.pagesNew << "," << v.pagesInvalidatedCaster << ","
+            << v.pagesRenderedDynamic << "\n";
         row.fallbacks += v.fallbacks;
         row.overflow += v.pageClipOverflow;
         if (f == 0) row.firstDrawMs = ms(Pass::VsmDraw);
         if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
         row.markMs += ms(Pass::VsmMark);
+        row.sortMs += ms(Pass::VsmSort);
         row.allocMs += ms(Pass::VsmAlloc);
         row.hpbMs += ms(Pass::VsmHpb);
-        row.cullMs += cullMs;
+        row.groupCullMs += ms(Pass::VsmGroupCull);
+        row.cullMs += ms(Pass::VsmCull);
+        row.expandMs += ms(Pass::VsmExpand);
         row.triangles += v.trianglesRasterized;
         row.total += v.meshletsTotal;
         row.expFrustum += v.meshletsCulledFrustum;
@@ -176,9 +181,9 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
         row.lightsWithPages = std::max(row.lightsWithPages, v.lightsWithPages);
         row.frames += 1;
     }
-    for (double* x :
-         {&row.markMs, &row.allocMs, &row.hpbMs, &row.cullMs, &row.drawMs, &row.marked, &row.allocated,
-          &row.rendered, &row.draws, &row.triangles, &row.fragments, &row.dirtyTexels})
+    for (double* x : {&row.markMs, &row.sortMs, &row.allocMs, &row.hpbMs, &row.groupCullMs, &row.cullMs,
+                      &row.expandMs, &row.drawMs, &row.marked, &row.allocated, &row.rendered, &row.draws,
+                      &row.triangles, &row.fragments, &row.dirtyTexels})
         *x /= std::max(row.frames, 1.0);
     std::fprintf(stderr,
                  "  %s %s %s: draw %.2f ms, %.0f pages rendered, %.0f triangles rasterized per frame\n",
@@ -197,24 +202,33 @@ json::Object printTables(const Config& c, const std::vector<Row>& rows, double& 
     std::printf("bench vsm: %s path, %ux%u, virtual %u, pages %u^2, pool %u pages, %u frames per run\n",
                 cameraPathName(o.path), o.width, o.height, o.module.vsm.resolution, o.module.vsm.pageSize,
                 o.module.vsm.poolPages, c.frames);
-    std::printf("| kind | caching | raster | lights | mark ms | alloc ms | hpb ms | cull ms | draw ms | "
-                "first draw ms | triangles | pages marked | allocated | rendered | draws | fallbacks | "
-                "fragments | dirty texels | fragments / dirty |\n");
     std::printf(
-        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        "| kind | caching | raster | lights | mark ms | sort ms | alloc ms | hpb ms | group cull ms | "
+        "cull ms | expand ms | draw ms | first draw ms | triangles | pages marked | allocated | "
+        "rendered | draws | fallbacks | fragments | dirty texels | fragments / dirty |\n");
+    std::printf(
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:"
+        "|---:|---:|\n");
     uint64_t overflow = 0;
     for (const Row& r : rows) {
-        std::printf("| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %.1f | %.1f | "
-                    "%.1f | %.1f | %llu | %.0f | %.0f | %.2f |\n",
-                    r.kind.c_str(), r.cached ? "cached" : "uncached", rasterName(r.raster), r.lightsWithPages,
-                    r.markMs, r.allocMs, r.hpbMs, r.cullMs, r.drawMs, r.firstDrawMs, r.triangles, r.marked,
-                    r.allocated, r.rendered, r.draws, (unsigned long long)r.fallbacks, r.fragments,
-                    r.dirtyTexels, r.dirtyTexels > 0 ? r.fragments / r.dirtyTexels : 0.0);
+        std::printf(
+            "| %s | %s | %s | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f "
+            "| %.1f | %.1f | %.1f | %.1f | %llu | %.0f | %.0f | %.2f |\n",
+            r.kind.c_str(), r.cached ? "cached" : "uncached", rasterName(r.raster), r.lightsWithPages,
+            r.markMs, r.sortMs, r.allocMs, r.hpbMs, r.groupCullMs, r.cullMs, r.expandMs, r.drawMs,
+            r.firstDrawMs, r.triangles, r.marked, r.allocated, r.rendered, r.draws,
+            (unsigned long long)r.fallbacks, r.fragments, r.dirtyTexels,
+            r.dirtyTexels > 0 ? r.fragments / r.dirtyTexels : 0.0);
         overflow += r.overflow;
         const std::string name = r.kind + (r.cached ? "_cached_" : "_uncached_") + rasterName(r.raster);
         json.real(name + "_draw_ms", r.drawMs).real(name + "_triangles", r.triangles);
         json.real(name + "_first_draw_ms", r.firstDrawMs).real(name + "_fragments", r.fragments);
         json.real(name + "_dirty_texels", r.dirtyTexels);
+        // The VSM steps' means (engine/pass_times.h's scopes; cull or expand is 0 by raster path).
+        json.real(name + "_mark_ms", r.markMs).real(name + "_sort_ms", r.sortMs);
+        json.real(name + "_alloc_ms", r.allocMs).real(name + "_hpb_ms", r.hpbMs);
+        json.real(name + "_group_cull_ms", r.groupCullMs).real(name + "_cull_ms", r.cullMs);
+        json.real(name + "_expand_ms", r.expandMs);
         if (r.raster != rows.front().raster) continue;
         (r.cached ? cachedDraw : uncachedDraw) += r.drawMs;
         allocated += r.cached ? r.allocated : 0.0;
@@ -275,7 +289,8 @@ int runBenchVsm(int argc, char** argv) {
     const Config& c = config.value();
     if (auto r = cli::checkOutputDirectory("--out", c.out); !r) return usageError("bench vsm", r.error());
     std::ostringstream csv;
-    csv << "kind,caching,raster,frame,mark_ms,alloc_ms,hpb_ms,cull_ms,draw_ms,pages_marked,pages_allocated,"
+    csv << "kind,caching,raster,frame,mark_ms,sort_ms,alloc_ms,hpb_ms,group_cull_ms,cull_ms,expand_ms,"
+           "bookkeeping_ms,draw_ms,pages_marked,pages_allocated,"
            "pages_rendered,pages_cached,fallbacks,instances_drawn,instances_culled_hpb,lights_with_pages,"
            "meshlets_total,meshlets_after_expansion,meshlets_after_task,triangles_after_task,triangles_"
            "rasterized,fragments_drawn,dirty_page_texels,request_overflow,page_clip_overflow,pages_new,"

@@ -89,12 +89,19 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     std::vector<double> frameMs;
     std::vector<double> passMean(kPassCount, 0.0);
     std::vector<uint32_t> passCount(kPassCount, 0);
+    // The VSM bookkeeping (the steps vsm_mark..vsm_expand, PassTimes::vsmBookkeepingMs): the mean of the
+    // per-frame sums over the frames that ran it, so it equals the sum of the steps' means when each step
+    // ran in those frames.
+    double bookkeeping = 0;
+    uint32_t bookkeepingFrames = 0;
     for (size_t i = from; i < reports.size(); ++i) {
         const auto& r = reports[i];
         total += r.times.totalMs();
         frameMs.push_back(r.times.totalMs());
         for (uint32_t p = 0; p < kPassCount; ++p)
             if (r.times.ran[p]) passMean[p] += r.times.ms[p], passCount[p]++;
+        if (r.times.ran[uint32_t(Pass::VsmMark)])
+            bookkeeping += r.times.vsmBookkeepingMs(), bookkeepingFrames++;
     }
     std::sort(frameMs.begin(), frameMs.end());
     const double median = frameMs.size() % 2
@@ -120,6 +127,7 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     o.real("frame_gpu_ms_first", reports.front().times.totalMs());
     o.real("frame_gpu_ms_mean", total / double(frameMs.size())).real("frame_gpu_ms_median", median);
     o.raw("vsm", vsmJson(s.vsm)).raw("pass_gpu_ms_mean", passes.str());
+    if (bookkeepingFrames) o.real("vsm_bookkeeping_gpu_ms_mean", bookkeeping / bookkeepingFrames);
     // Memory of the module's buffers and images by kind (gpu/memory.h roles), at the last frame.
     json::Object memory;
     for (uint32_t k = 0; k < kMemoryKindCount; ++k)

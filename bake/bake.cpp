@@ -1,4 +1,5 @@
 #include "bake/bake.h"
+#include "bake/bake_tiled.h"
 #include "bake/scene_casters.h"
 
 #include <algorithm>
@@ -94,12 +95,20 @@ namespace {
 Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
                             const std::vector<uint32_t>& lightsIn,
                             const std::function<uint32_t(uint32_t)>& resOf, const BakeProgressFn& progress,
-                            const DualRenderFn& render) {
+                            const DualRenderFn& render, const BakeTiles& tiles) {
     if (!isDepthMethod(method) && method != StaticMethod::CPVS)
         return fail("bake: method '" + std::string(staticMethodName(method)) + "' cannot be baked");
     if (res == 0 || res > kBakeMaxResolution)
         return fail("bake: resolution " + std::to_string(res) + " outside 1.." +
                     std::to_string(kBakeMaxResolution));
+    if (res > kBakeWholeMapMax && !bakeTiled(method, res, tiles.tile))
+        return fail("bake: " + std::string(staticMethodName(method)) + " bakes whole maps, up to " +
+                    std::to_string(kBakeWholeMapMax) + "^2 (mh, mmh and dagmh bake larger maps in tiles)");
+    if (tiles.tile != 0 && (tiles.tile & (tiles.tile - 1)) != 0)
+        return fail("bake: tile side " + std::to_string(tiles.tile) + " is not a power of two");
+    if (tiles.tile != 0 && !bakeTiled(method, res, tiles.tile))
+        return fail("bake: " + std::string(staticMethodName(method)) +
+                    " does not bake in tiles (mh, mmh and dagmh do)");
     std::vector<uint32_t> lights = lightsIn;
     std::sort(lights.begin(), lights.end());
     lights.erase(std::unique(lights.begin(), lights.end()), lights.end());
@@ -151,6 +160,21 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
         LightBakeStats st;
         st.light = li, st.resolution = res;
 
+        if (bakeTiled(method, res, tiles.tile)) {
+            // Tile by tile on the CPU rasteriser: the map is never whole (bake_tiled.h).
+            report("render", 0.0);
+            TiledBakeOptions to;
+            to.tile = tiles.tile ? tiles.tile : kBakeDefaultTile, to.maxNodes = tiles.maxNodes;
+            to.progress = [&](double f) { report("render", 0.8 * f); };
+            auto words = bakeRecordTiled(method, casters, frustum, res, to, st);
+            if (!words) return fail("bake: light " + std::to_string(li) + ": tiled: " + words.error());
+            st.bytes = words->size() * 4;
+            out.renderSeconds += st.renderSeconds, out.encodeSeconds += st.encodeSeconds;
+            out.file.records.push_back({li, face, method, res, frustum, std::move(words.value())});
+            out.lights.push_back(st);
+            report("done", 1.0);
+            continue;
+        }
         // Render: half of a light's share of the progress; encode: the other half.
         report("render", 0.0);
         auto tr = Clock::now();
@@ -192,14 +216,15 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
 
 Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method, uint32_t res,
                              const std::vector<uint32_t>& lights, const BakeProgressFn& progress,
-                             const DualRenderFn& render) {
+                             const DualRenderFn& render, const BakeTiles& tiles) {
     return bakeImpl(
-        scene, spec, method, res, lights, [res](uint32_t) { return res; }, progress, render);
+        scene, spec, method, res, lights, [res](uint32_t) { return res; }, progress, render, tiles);
 }
 
 Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
                                  const BakeNeed& need, const std::vector<uint32_t>& selected,
-                                 const BakeProgressFn& progress, const DualRenderFn& render) {
+                                 const BakeProgressFn& progress, const DualRenderFn& render,
+                                 const BakeTiles& tiles) {
     std::vector<uint32_t> lights = selected;
     for (const LightNeed& n : need.lights) {
         if (n.resolution > need.maxRes || (n.resolution != 0 && n.resolution < need.minRes))
@@ -219,7 +244,7 @@ Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, Stat
             if (n.light == light) return n.resolution;
         return 0u;
     };
-    auto out = bakeImpl(scene, spec, method, need.maxRes, lights, resOf, progress, render);
+    auto out = bakeImpl(scene, spec, method, need.maxRes, lights, resOf, progress, render, tiles);
     if (!out) return out;
     out->file.hasNeed = true;
     out->file.need = need;
@@ -277,7 +302,7 @@ Result<std::vector<uint32_t>> parseLightSelection(const std::string& text, uint3
 }
 
 Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, const DualRenderFn& render,
-                                     const BakeProgressFn& progress) {
+                                     const BakeProgressFn& progress, uint32_t tile) {
     VerifyReport rep;
     const CasterTriangles casters = castersFromScene(scene);
     const auto t0 = Clock::now();
@@ -303,6 +328,22 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
 
         VerifyLight vl;
         vl.light = rec.light;
+        if (isDepthMethod(rec.method) && (tile != 0 || rec.resolution > kBakeWholeMapMax)) {
+            if (file.renderer == BakeRenderer::Gpu && !rec.frustum.orthographic())
+                return fail(where + ": tiled verify renders on the CPU rasteriser, and this perspective map "
+                                    "was rendered by the Vulkan renderer (verify it without --tile)");
+            // Streaming: tile by tile on the CPU rasteriser, bounded memory at any resolution.
+            report("check", 0.0);
+            if (auto r = verifyRecordTiled(
+                    rec, casters, tile ? tile : kBakeDefaultTile, [&](double f) { report("check", f); }, vl,
+                    rep.examples, 8);
+                !r)
+                return fail(where + ": " + r.error());
+            rep.checked += vl.checked, rep.mismatches += vl.mismatches;
+            rep.lights.push_back(vl);
+            report("done", 1.0);
+            continue;
+        }
         report("render", 0.0);
         auto tr = Clock::now();
         Result<DualDepthMap> map =

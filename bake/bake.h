@@ -24,7 +24,20 @@ using DualRenderFn =
 // Row tiles of at most this many texels (4096 x 1024): a tile's hit lists are what the rasteriser holds
 // in memory at once, so the tile bounds the bake's memory beside the map itself.
 constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
-constexpr uint32_t kBakeMaxResolution = 16384;
+// Whole-map bakes hold the dual depth map (8 B a texel) and the encoder's scratch: 16384^2 is 2 GiB of
+// map. MH, MMH and DAG-MH bake past it in tiles (bake_tiled.h) up to the bake file's kMaxResolution,
+// holding a tile per worker and the output; SM and CPVS stop here.
+constexpr uint32_t kBakeWholeMapMax = 16384;
+constexpr uint32_t kBakeMaxResolution = 65536;
+// Tiled bakes' tile side: 512^2 keeps a tile's hit lists in cache (the night city's moon at 8192^2:
+// 5.5 s and 208 MiB peak with 512^2 tiles, 6.9 s and 852 MiB with 2048^2; `bake --tile`).
+constexpr uint32_t kBakeDefaultTile = 512;
+// Whether a bake at `resolution` (with `tile` from --tile, 0: none asked) goes tile by tile.
+inline bool bakeTiled(StaticMethod method, uint32_t resolution, uint32_t tile) {
+    const bool mhFamily =
+        method == StaticMethod::MH || method == StaticMethod::MMH || method == StaticMethod::DAGMH;
+    return mhFamily && (tile != 0 || resolution > kBakeWholeMapMax);
+}
 
 // The CPU rasteriser (DualRasterizer::render in row tiles).
 DualRenderFn cpuDualRenderer(uint64_t tileTexels = kBakeTileTexels);
@@ -49,6 +62,8 @@ struct LightBakeStats {
     double renderSeconds = 0, encodeSeconds = 0;
     uint64_t coveredTexels = 0, closedTexels = 0; // texels with a hit, and with exit > enter
     uint64_t bytes = 0;                           // the record's data
+    uint32_t tiles = 0;                           // tiled bakes: tiles rendered (0: whole map)
+    uint64_t treeNodes = 0;                       // tiled bakes: the MH tree's nodes
 };
 
 struct BakeResult {
@@ -62,9 +77,17 @@ struct BakeResult {
 // come out sorted by light index). `spec` is what re-creates `scene` (stored for verify). Fails when
 // an index is out of range, the resolution is not one the method encodes, or no selected light can be
 // baked. An empty `render` uses the CPU rasteriser, reporting progress per tile.
+// Tiles (bakeTiled): MH, MMH and DAG-MH above kBakeWholeMapMax, or at any resolution when `tiles.tile` is
+// set, render on the CPU rasteriser tile by tile (bake_tiled.h) whatever `render` is; the words equal the
+// whole-map bake's.
+struct BakeTiles {
+    uint32_t tile = 0;     // 0: tiles of kBakeDefaultTile, only above kBakeWholeMapMax
+    uint64_t maxNodes = 0; // per record's MH tree; 0: unbounded
+};
 Result<BakeResult> bakeScene(const Scene& scene, const SceneSpec& spec, StaticMethod method,
                              uint32_t resolution, const std::vector<uint32_t>& lights,
-                             const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
+                             const BakeProgressFn& progress = {}, const DualRenderFn& render = {},
+                             const BakeTiles& tiles = {});
 
 // Why bakeScene would skip this light ("" when it bakes it): the sharded bake's cost estimate needs it.
 std::string bakeSkipReason(const Scene& scene, const Light& light);
@@ -78,7 +101,8 @@ std::vector<LightFrustum> bakeFrustums(const Scene& scene, const Light& light);
 // and reason, and its resolution is need.maxRes.
 Result<BakeResult> bakeSceneNeed(const Scene& scene, const SceneSpec& spec, StaticMethod method,
                                  const BakeNeed& need, const std::vector<uint32_t>& selected,
-                                 const BakeProgressFn& progress = {}, const DualRenderFn& render = {});
+                                 const BakeProgressFn& progress = {}, const DualRenderFn& render = {},
+                                 const BakeTiles& tiles = {});
 
 // "all", "N", "A-B" (inclusive), or a comma-separated list of those; sorted, without duplicates.
 // Errors are one line: malformed items and indices not below lightCount.
@@ -88,7 +112,7 @@ struct VerifyLight {
     uint32_t light = 0;
     uint64_t checked = 0, mismatches = 0, undefined = 0; // undefined: CPVS voxels inside closed objects
     double renderSeconds = 0, checkSeconds = 0;
-    // A fitted directional record (issue 21): the share of the N equal depth slices of [near, far]
+    // A fitted directional record: the share of the N equal depth slices of [near, far]
     // between the nearest and the deepest caster surface the re-rendered map enters; -1 otherwise.
     double casterSlices = -1.0;
 };
@@ -104,8 +128,11 @@ struct VerifyReport {
 // kDepthEmpty; CPVS every voxel against the voxelisation of the maps (verifyCpvs; undefined voxels are
 // counted apart). Fails (rather than counting mismatches) when the scene no longer matches the file:
 // a record's light missing, not a static spot or point light, or with a different frustum.
+// Depth-method records above kBakeWholeMapMax, or any when `tile` is set, are checked tile by tile on the
+// CPU rasteriser (bounded memory at any resolution).
 Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene,
-                                     const DualRenderFn& render = {}, const BakeProgressFn& progress = {});
+                                     const DualRenderFn& render = {}, const BakeProgressFn& progress = {},
+                                     uint32_t tile = 0);
 
 // Scene modifiers: SceneSpec::scene is a scene name or path, optionally followed by what `bake` changed
 // in it, so that verify re-creates the same scene:

@@ -1,4 +1,4 @@
-// Resolution from need (issue 11, item 5): per static light, the bake resolution that the camera can
+// Resolution from need: per static light, the bake resolution that the camera can
 // actually resolve, given where the camera can be.
 //
 // A light's map spans a world width W(p) at a receiver point p (perspective: 2 z tan(fov/2), z the

@@ -205,7 +205,7 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
                  {frame, lights, bounds, ranges, pool, counters, work});
     }
     // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
-    // The counters reach the host through the frame-end barrier (engine/frame.cpp).
+    // The counters reach the host through the frame-end barrier (engine/frame_passes.cpp).
     memoryBarrier(c, kC, kW, kC, kR);
 }
 

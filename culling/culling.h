@@ -64,7 +64,7 @@ class LightCulling {
     void recordAssign(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
                       const Buffer& lights, const Buffer& wideLights, uint32_t wideCount,
                       uint32_t wideThreads, const Buffer& counters);
-    // Light-complexity view (shaders/view_lights.comp), after the evaluation pass: overwrites the
+    // Light-complexity view (lights/view_lights.comp), after the evaluation pass: overwrites the
     // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
     // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
     void recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,

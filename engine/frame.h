@@ -7,8 +7,8 @@
 //
 // Order (each pass's barriers order its hazards; the frame-begin barrier orders the frame after the
 // previous one): frame begin, G-buffer (module targets only), cluster bounds, light assignment (culling on),
-// VSM reset / mark / alloc / HPB / cull or expand / draw, evaluation outputs, evaluation, VSM probe,
-// statistics, debug view, frame end.
+// VSM reset / mark / sort / alloc / HPB / group cull / cull or expand / draw, evaluation outputs, evaluation,
+// VSM probe, statistics, debug view, frame end.
 #pragma once
 #include "culling/culling.h"
 #include "engine/gbuffer.h"
@@ -113,9 +113,10 @@ struct CullingPass final : FramePass {
     LightCulling& cull;
 };
 // One virtual shadow map pass (VsmPasses::record*): Reset (untimed, VSM on), then the timed
-// ones while the slot has active maps; Cull on the raster path, Expand on the mesh path.
+// ones while the slot has active maps, each under its own Pass; Cull on the vertex path, Expand on the
+// mesh path.
 struct VsmPass final : FramePass {
-    enum Kind { Reset, Mark, Alloc, Hpb, Cull, Expand, Draw };
+    enum Kind { Reset, Mark, Sort, Alloc, Hpb, GroupCull, Cull, Expand, Draw };
     VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k);
     bool enabled(const FrameContext& f) const override;
     void record(FrameContext& f) override;
@@ -162,13 +163,15 @@ struct FramePasses {
     FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
                 const EvaluatePass& e, const StatisticsPass& s)
         : gbuffer(g), clusterBounds(c, Pass::ClusterBounds), lightAssign(c, Pass::LightAssign),
-          vsmReset(v, vp, VsmPass::Reset), vsmMark(v, vp, VsmPass::Mark), vsmAlloc(v, vp, VsmPass::Alloc),
-          vsmHpb(v, vp, VsmPass::Hpb), vsmCull(v, vp, VsmPass::Cull), vsmExpand(v, vp, VsmPass::Expand),
-          vsmDraw(v, vp, VsmPass::Draw), evaluate(e), vsmProbe(v, vp), statistics(s), debugView(c, v, vp) {}
+          vsmReset(v, vp, VsmPass::Reset), vsmMark(v, vp, VsmPass::Mark), vsmSort(v, vp, VsmPass::Sort),
+          vsmAlloc(v, vp, VsmPass::Alloc), vsmHpb(v, vp, VsmPass::Hpb),
+          vsmGroupCull(v, vp, VsmPass::GroupCull), vsmCull(v, vp, VsmPass::Cull),
+          vsmExpand(v, vp, VsmPass::Expand), vsmDraw(v, vp, VsmPass::Draw), evaluate(e), vsmProbe(v, vp),
+          statistics(s), debugView(c, v, vp) {}
     FrameBeginPass begin;
     GBufferDrawPass gbuffer;
     CullingPass clusterBounds, lightAssign;
-    VsmPass vsmReset, vsmMark, vsmAlloc, vsmHpb, vsmCull, vsmExpand, vsmDraw;
+    VsmPass vsmReset, vsmMark, vsmSort, vsmAlloc, vsmHpb, vsmGroupCull, vsmCull, vsmExpand, vsmDraw;
     EvaluationOutputsPass evaluationOutputs;
     EvaluationPass evaluate;
     VsmProbePass vsmProbe;

@@ -94,10 +94,14 @@ std::optional<Pass> vsmTimer(VsmPass::Kind k) {
     switch (k) {
     case VsmPass::Mark:
         return Pass::VsmMark;
+    case VsmPass::Sort:
+        return Pass::VsmSort;
     case VsmPass::Alloc:
         return Pass::VsmAlloc;
     case VsmPass::Hpb:
         return Pass::VsmHpb;
+    case VsmPass::GroupCull:
+        return Pass::VsmGroupCull;
     case VsmPass::Cull:
         return Pass::VsmCull;
     case VsmPass::Expand:
@@ -131,11 +135,17 @@ void VsmPass::record(FrameContext& f) {
     case Mark:
         passes.recordMark(d, f.cmd, f.slot, f.vsm);
         break;
+    case Sort:
+        passes.recordSort(d, f.cmd, f.slot);
+        break;
     case Alloc:
         passes.recordAlloc(d, f.cmd, f.slot);
         break;
     case Hpb:
         passes.recordHpb(d, f.cmd, f.slot);
+        break;
+    case GroupCull:
+        passes.recordGroupCull(d, f.cmd, f.slot);
         break;
     case Cull:
         passes.recordCull(d, f.cmd, f.slot);

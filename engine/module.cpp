@@ -598,8 +598,10 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         &p.lightAssign,       //   light lists
         &p.vsmReset,          // virtual shadow maps: per-frame clears,
         &p.vsmMark,           //   then, with active maps, mark,
-        &p.vsmAlloc,          //   scan / allocate / assign,
+        &p.vsmSort,           //   request list closed and sorted,
+        &p.vsmAlloc,          //   invalidate / scan / allocate / assign,
         &p.vsmHpb,            //   hierarchical page buffer,
+        &p.vsmGroupCull,      //   caster groups against the dirty maps,
         &p.vsmCull,           //   instance culling (raster path)
         &p.vsmExpand,         //   or expansion into meshlets (mesh path),
         &p.vsmDraw,           //   clear and draw the dirty pages

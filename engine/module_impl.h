@@ -146,8 +146,9 @@ struct Module::Impl {
     VsmPasses vsmPasses;   // its GPU passes
     VsmSettings vsmSettings;
     // What the frame writes per instance, kept between frames and recomputed only for the instances whose
-    // inputs changed (issue 18: 1 % moving of 10,000): the inputs it was made from, the GPU records, the
-    // VSM caster (world box: 8 corners transformed), and a version stamped from instanceStamp at each change.
+    // inputs changed (so that a frame with 1 % of 10,000 instances moving stays cheap): the inputs it was
+    // made from, the GPU records, the VSM caster (world box: 8 corners transformed), and a version stamped
+    // from instanceStamp at each change.
     std::vector<InstanceData> instanceFrom;
     std::vector<GpuInstance> instanceRecords;
     std::vector<VkDrawIndexedIndirectCommand> instanceDraws;

@@ -1,6 +1,6 @@
-// Scene changes reaching the GPU without a device-wide wait (issue 19): meshes into new buffers (the old
+// Scene changes reaching the GPU without a device-wide wait: meshes into new buffers (the old
 // ones retired until the frames in flight are done), static shadow words appended to one shared arena
-// (both GPU-only, issue 18: written by copies from staging buffers at the next frame's start),
+// (both GPU-only: written by copies from staging buffers at the next frame's start),
 // shadow records per frame slot, rewritten in place only for the lights that changed. A slot's buffers
 // are written only in beginFrame of that slot, when the host has waited for the slot's previous frame
 // (the framesInFlight contract, engine/manylights.h), so no frame in flight reads what is written.

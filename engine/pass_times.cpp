@@ -12,10 +12,14 @@ const char* passName(Pass pass) {
         return "light_assign";
     case Pass::VsmMark:
         return "vsm_mark";
+    case Pass::VsmSort:
+        return "vsm_sort";
     case Pass::VsmAlloc:
         return "vsm_alloc";
     case Pass::VsmHpb:
         return "vsm_hpb";
+    case Pass::VsmGroupCull:
+        return "vsm_group_cull";
     case Pass::VsmCull:
         return "vsm_cull";
     case Pass::VsmExpand:
@@ -36,6 +40,13 @@ double PassTimes::totalMs() const {
     double t = 0;
     for (uint32_t i = 0; i < kPassCount; ++i)
         if (ran[i]) t += ms[i];
+    return t;
+}
+
+double PassTimes::vsmBookkeepingMs() const {
+    double t = 0;
+    for (uint32_t i = 0; i < kPassCount; ++i)
+        if (ran[i] && vsmBookkeeping(Pass(i))) t += ms[i];
     return t;
 }
 

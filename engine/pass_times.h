@@ -13,12 +13,16 @@ enum class Pass : uint32_t {
     GBuffer,
     ClusterBounds,
     LightAssign,
-    VsmMark,   // virtual shadow maps: pages from the depth buffer
-    VsmAlloc,  // scan, allocate, assign (caching, invalidation, LRU)
-    VsmHpb,    // hierarchical page buffer
-    VsmCull,   // instance culling into per-mip draw lists
-    VsmExpand, // mesh path: instance culling and expansion into per-mip meshlet lists
-    VsmDraw,   // clear and draw the dirty pages
+    // Virtual shadow maps, one scope per step (issue 39): VsmMark..VsmExpand are the bookkeeping
+    // (PassTimes::vsmBookkeepingMs), VsmDraw the page draws.
+    VsmMark,      // pages from the depth buffer
+    VsmSort,      // vsm_list, vsm_sort: the request list closed and sorted by priority rank
+    VsmAlloc,     // vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
+    VsmHpb,       // hierarchical page buffer
+    VsmGroupCull, // vsm_groups, vsm_pairs: caster groups' bounds, the (group, dirty map) pairs kept
+    VsmCull,      // vertex path: instance culling of the pairs into per-mip draw lists
+    VsmExpand,    // mesh path: the same culling, expanded into per-mip meshlet lists
+    VsmDraw,      // clear and draw the dirty pages
     Evaluate,
     Statistics, // per-pixel light counts (optional)
     Count
@@ -32,7 +36,14 @@ struct PassTimes {
         startMs{};                      // pass start on the GPU clock (ms; only differences mean anything)
     std::array<bool, kPassCount> ran{}; // the pass was recorded this frame
     double totalMs() const;
+    // The VSM bookkeeping: the steps VsmMark..VsmExpand that ran (the sum tools/vsm_bookkeeping.py
+    // compares with the evaluation pass; the sort and allocation were one vsm_alloc scope before).
+    double vsmBookkeepingMs() const;
 };
+// Whether a pass is one of the VSM bookkeeping steps (VsmMark..VsmExpand).
+constexpr bool vsmBookkeeping(Pass p) {
+    return uint32_t(p) >= uint32_t(Pass::VsmMark) && uint32_t(p) <= uint32_t(Pass::VsmExpand);
+}
 
 // Timestamps: vkCmdWriteTimestamp2 pairs (GPUs). Fenced: each pass is submitted on its own and timed
 // with the host clock from submit to completion. lavapipe needs Fenced: llvmpipe writes timestamps from

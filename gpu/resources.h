@@ -189,7 +189,7 @@ std::vector<uint8_t> readImage(const Device& device, const Image& image, uint32_
 
 // Stage of vkCmdFillBuffer. The specification lists it among the clear commands (CLEAR); validation
 // layers before 1.3.279 (bookworm has 1.3.239) track it at COPY (KhronosGroup/Vulkan-ValidationLayers
-// issue 7406), so a barrier after a fill names both.
+// #7406 on GitHub), so a barrier after a fill names both.
 constexpr VkPipelineStageFlags2 kFillStages = VK_PIPELINE_STAGE_2_CLEAR_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
 // Every use the module makes of a buffer: shader storage/uniform access in each stage it dispatches or
 // draws with, indirect arguments, index fetch, fills and copies. For hand-offs whose other side is not

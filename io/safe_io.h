@@ -1,4 +1,4 @@
-// File input and output for untrusted paths and untrusted bytes (README, "Threat model").
+// File input and output for untrusted paths and untrusted bytes (docs/reliability.md, "Untrusted files").
 //
 // Reading: only regular files. A directory, FIFO, socket or device given as a scene or bake file gets a
 // one-line error instead of a huge allocation (tellg() on a directory), a hang (a FIFO with no writer)

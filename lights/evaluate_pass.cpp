@@ -89,8 +89,8 @@ void StatisticsPass::record(const Device& d, VkCommandBuffer c, const ShadingInp
                             const Buffer& counters) const {
     dispatch(d, c, program_, in.width, in.height, NoPush{},
              {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
-    // Counters (every pass's atomics, and these sums) -> host (engine/frame.cpp's frame end does it
-    // when statistics are off).
+    // Counters (every pass's atomics, and these sums) -> host (engine/frame_passes.cpp's frame end does
+    // it when statistics are off).
     memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 

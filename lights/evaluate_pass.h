@@ -1,5 +1,5 @@
-// The one evaluation pass (shaders/evaluate.comp) and the optional statistics pass
-// (shaders/statistics.comp): per pixel, every light of its cluster list, static bake x virtual shadow
+// The one evaluation pass (lights/evaluate.comp) and the optional statistics pass
+// (lights/statistics.comp): per pixel, every light of its cluster list, static bake x virtual shadow
 // map x shading; and the per-pixel light counts. The module's frame (engine/frame.h) records and times
 // them in this order after culling and the virtual shadow map passes; both read the G-buffer and the
 // cluster lists.

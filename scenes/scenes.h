@@ -29,7 +29,7 @@ struct IndoorOptions {
 // pillars, carts with headlights (scenes/indoor.cpp). The virtual shadow maps' many-light level.
 Result<Scene> makeIndoor(const IndoorOptions& options);
 
-// How far a scene file is trusted (README, "Threat model").
+// How far a scene file is trusted (docs/reliability.md, "Untrusted files").
 struct LoadOptions {
     // false: buffer and image URIs must resolve (realpath) to regular files inside the scene file's
     // folder. true: any readable file (a trusted scene that shares buffers with a sibling folder).

@@ -1,5 +1,5 @@
 // Why a static shadow lookup disagrees with the rays: one class per disagreement, so `bench static`
-// can say which part of its error falls with resolution and which is a floor (issue 11).
+// can say which part of its error falls with resolution and which is a floor.
 //
 // Classes, tested in this order (the first that applies wins):
 //   Inside     the rays' origin (the receiver moved `rayBias` along its normal, turned towards the

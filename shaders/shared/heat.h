@@ -1,5 +1,5 @@
 // The light-complexity heat map's colour ramp (demo --view lights / lights-reaching), one source for
-// shaders/view_lights.comp and the test. Piecewise linear in the count between stops:
+// lights/view_lights.comp and the test. Piecewise linear in the count between stops:
 //   0 black, 1 dark blue, 4 blue, 8 cyan, 16 green, 32 yellow, 64 red, 128 and more white.
 // Only +, -, *, / and comparisons, so both sides agree up to the 8-bit store's rounding.
 #ifndef ML_HEAT_H

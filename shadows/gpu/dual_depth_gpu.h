@@ -4,7 +4,7 @@
 // DualDepthMap (8 bytes per texel) grows with the resolution.
 //
 // Per tile three raster passes over the light's caster triangles write R32_UINT storage images with
-// atomics (shaders/dual_depth.frag): enter (nearest surface), a closed-entry mark, exit (nearest closed
+// atomics (shadows/gpu/dual_depth.frag): enter (nearest surface), a closed-entry mark, exit (nearest closed
 // back face behind enter). Depth is the light-view distance, quantised like quantizeDepth but in float
 // (shaders/static/static_visibility.glsl staticQuantize), so it differs from the CPU reference's double
 // path by a few units of 2^-32 of the range; coverage follows Vulkan's rasterisation rules at texel

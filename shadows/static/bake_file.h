@@ -27,7 +27,7 @@
 //     31 (version 3, directional) the fit margin (float, metres), else 0
 //   data        [H + count * 32, total): each record's words, back to back, no gaps
 //
-// Version 3 (issue 21): the file holds a directional record fitted to its box (LightFrustum::
+// Version 3: the file holds a directional record fitted to its box (LightFrustum::
 // orthoHalfY, fitMargin: a res x mapRows(res) map, the depth range the box's slab, CPVS sliced
 // linearly); the need block is optional there (header word 14 = its words, or 0). Files without a
 // directional record keep version 1 or 2, byte for byte as before. A directional record in a version 1
@@ -61,7 +61,7 @@ namespace bakefmt {
 constexpr uint32_t kMagic = stat::fourcc('M', 'L', 'B', 'K');
 constexpr uint32_t kVersion = 2;       // with a need block, no directional record
 constexpr uint32_t kVersionFixed = 1;  // written when there is no need block (one resolution for all)
-constexpr uint32_t kVersionFitted = 3; // the newest: a directional record fitted to its box (issue 21)
+constexpr uint32_t kVersionFitted = 3; // the newest: a directional record fitted to its box
 // A part of a sharded bake (bake_shard.h) wraps a bake file; the reader names it instead of failing
 // with "wrong magic".
 constexpr uint32_t kPartMagic = stat::fourcc('M', 'L', 'B', 'P');
@@ -176,7 +176,7 @@ inline uint32_t bakeFileVersion(const BakeFile& f) {
     return f.hasNeed ? bakefmt::kVersion : bakefmt::kVersionFixed;
 }
 
-// What a directional record spends where (issue 21; inspect shows it): fractions 0..1.
+// What a directional record spends where (inspect shows it): fractions 0..1.
 struct DirectionalFit {
     uint32_t width = 0, rows = 0;     // the map's texels: width x rows (the rest of the grid is outside)
     double extentX = 0, extentY = 0;  // the box's light-space rectangle, metres

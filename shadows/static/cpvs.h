@@ -7,7 +7,7 @@
 //   s     the log-depth slice: s = k - 1 with k = ceil(N * log(z / near) / log(far / near)), clamped to
 //         [0, N-1]. Slice s holds the linear depths z in (z_s, z_{s+1}], z_s = near * (far/near)^(s/N),
 //         so every voxel has the same height-to-depth ratio.
-// LINEAR SLICING (directional lights, issue 21). An orthographic light has no perspective to
+// LINEAR SLICING (directional lights). An orthographic light has no perspective to
 // compensate, so its N slices are equal: z_s = near + (far - near) s / N, where [near, far] is the box's
 // tight slab along the light plus the fit margin (directionalLightFrustum), and slice s holds
 // (z_s, z_{s+1}]. Spot and point lights keep eq. 1. The header's slicing word says which (version 1:

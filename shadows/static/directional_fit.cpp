@@ -1,4 +1,4 @@
-// What a fitted directional record spends where (bake_file.h, DirectionalFit; issue 21): the share of
+// What a fitted directional record spends where (bake_file.h, DirectionalFit): the share of
 // its texels inside the box's light-space rectangle, of its depth slices inside the box's slab along
 // the light, and of the slices its casters span. Everything is read from the record: the frustum's
 // half sides and margin give the rectangle and the slab (directionalLightFrustum), the data the casters.

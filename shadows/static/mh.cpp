@@ -38,7 +38,8 @@ uint32_t bestSubset(const uint32_t lo[4], const uint32_t hi[4]) {
     return bestMask;
 }
 
-int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y,
+// Preorder nodes of the pyramid's subtree at (level, x, y); node depths are level + depthOffset.
+int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y, uint32_t depthOffset,
                    std::vector<MhTree::Node>& out) {
     uint32_t n = 1u << level;
     size_t i = size_t(y) * n + x;
@@ -46,14 +47,14 @@ int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y,
     MhTree::Node node;
     node.lo = pyr.lo[level][i], node.hi = pyr.hi[level][i];
     node.valued = (pyr.flags[level][i] & 1u) ? 1 : 0;
-    node.depth = uint8_t(level);
+    node.depth = uint8_t(level + depthOffset);
     out.push_back(node);
     if (pyr.flags[level][i] & 2u) {
         uint32_t cn = n * 2;
         for (uint32_t c = 0; c < 4; ++c) {
             uint32_t cx = 2 * x + (c & 1u), cy = 2 * y + (c >> 1);
             if (pyr.flags[level + 1][size_t(cy) * cn + cx] & 3u) {
-                int32_t ci = buildNodes(pyr, level + 1, cx, cy, out);
+                int32_t ci = buildNodes(pyr, level + 1, cx, cy, depthOffset, out);
                 out[index].child[c] = ci;
             }
         }
@@ -61,7 +62,61 @@ int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y,
     return index;
 }
 
+// The bottom-up pass over a pyramid whose finest level L is filled: levels L-1 .. 0.
+void reducePyramid(Pyramid& pyr, uint32_t L) {
+    for (uint32_t l = L; l > 0; --l) {
+        const uint32_t pn = 1u << (l - 1);
+        pyr.lo[l - 1].resize(size_t(pn) * pn), pyr.hi[l - 1].resize(size_t(pn) * pn);
+        pyr.flags[l - 1].assign(size_t(pn) * pn, 1u);
+        mhbuild::reduceLevel(1u << l, pyr.lo[l].data(), pyr.hi[l].data(), pyr.flags[l].data(),
+                             pyr.lo[l - 1].data(), pyr.hi[l - 1].data(), pyr.flags[l - 1].data());
+    }
+}
+
 } // namespace
+
+namespace mhbuild {
+
+void reduceLevel(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* cfl, uint32_t* plo,
+                 uint32_t* phi, uint8_t* pfl) {
+    const uint32_t pn = n / 2;
+    for (uint32_t py = 0; py < pn; ++py)
+        for (uint32_t px = 0; px < pn; ++px) {
+            size_t ci[4];
+            uint32_t lo[4], hi[4];
+            for (uint32_t c = 0; c < 4; ++c) {
+                ci[c] = size_t(2 * py + (c >> 1)) * n + 2 * px + (c & 1u);
+                lo[c] = clo[ci[c]], hi[c] = chi[ci[c]];
+            }
+            uint32_t mask = bestSubset(lo, hi);
+            uint32_t l0 = 0, h0 = 0xFFFFFFFFu;
+            uint8_t below = 0;
+            for (uint32_t c = 0; c < 4; ++c) {
+                if (mask & (1u << c)) l0 = std::max(l0, lo[c]), h0 = std::min(h0, hi[c]), cfl[ci[c]] &= ~1u;
+                if (cfl[ci[c]] & 3u) below = 2;
+            }
+            size_t pi = size_t(py) * pn + px;
+            plo[pi] = l0, phi[pi] = h0;
+            pfl[pi] = uint8_t(1u | below);
+        }
+}
+
+Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* hi, uint32_t depthOffset) {
+    uint32_t L = 0;
+    while ((1u << L) < size) ++L;
+    if ((1u << L) != size) return fail("MH: tile side " + std::to_string(size) + " is not a power of two");
+    Pyramid pyr;
+    pyr.lo.resize(L + 1), pyr.hi.resize(L + 1), pyr.flags.resize(L + 1);
+    pyr.lo[L].assign(lo, lo + size_t(size) * size), pyr.hi[L].assign(hi, hi + size_t(size) * size);
+    pyr.flags[L].assign(size_t(size) * size, 1u);
+    reducePyramid(pyr, L);
+    Subtree t;
+    t.lo = pyr.lo[0][0], t.hi = pyr.hi[0][0], t.flags = pyr.flags[0][0];
+    buildNodes(pyr, 0, 0, 0, depthOffset, t.nodes);
+    return t;
+}
+
+} // namespace mhbuild
 
 Result<MhTree> buildMhTree(const DualDepthMap& map) {
     const uint32_t res = map.resolution;
@@ -87,37 +142,10 @@ Result<MhTree> buildMhTree(const DualDepthMap& map) {
                 hi[size_t(y) * n + x] = std::max(e, f); // a malformed exit < enter keeps just enter
             }
     }
-    for (uint32_t l = L; l > 0; --l) {
-        uint32_t n = 1u << l, pn = n / 2;
-        auto& clo = pyr.lo[l];
-        auto& chi = pyr.hi[l];
-        auto& cfl = pyr.flags[l];
-        pyr.lo[l - 1].resize(size_t(pn) * pn), pyr.hi[l - 1].resize(size_t(pn) * pn);
-        pyr.flags[l - 1].assign(size_t(pn) * pn, 1u);
-        for (uint32_t py = 0; py < pn; ++py)
-            for (uint32_t px = 0; px < pn; ++px) {
-                size_t ci[4];
-                uint32_t lo[4], hi[4];
-                for (uint32_t c = 0; c < 4; ++c) {
-                    ci[c] = size_t(2 * py + (c >> 1)) * n + 2 * px + (c & 1u);
-                    lo[c] = clo[ci[c]], hi[c] = chi[ci[c]];
-                }
-                uint32_t mask = bestSubset(lo, hi);
-                uint32_t l0 = 0, h0 = 0xFFFFFFFFu;
-                uint8_t below = 0;
-                for (uint32_t c = 0; c < 4; ++c) {
-                    if (mask & (1u << c))
-                        l0 = std::max(l0, lo[c]), h0 = std::min(h0, hi[c]), cfl[ci[c]] &= ~1u;
-                    if (cfl[ci[c]] & 3u) below = 2;
-                }
-                size_t pi = size_t(py) * pn + px;
-                pyr.lo[l - 1][pi] = l0, pyr.hi[l - 1][pi] = h0;
-                pyr.flags[l - 1][pi] = uint8_t(1u | below);
-            }
-    }
+    reducePyramid(pyr, L);
     MhTree tree;
     tree.resolution = res, tree.levels = L;
-    buildNodes(pyr, 0, 0, 0, tree.nodes);
+    buildNodes(pyr, 0, 0, 0, 0, tree.nodes);
     return tree;
 }
 

@@ -51,6 +51,23 @@ struct MhTree {
 
 Result<MhTree> buildMhTree(const DualDepthMap& map);
 
+// The construction's steps, shared with the tiled build (mh_tiled.h), so both run the same code.
+namespace mhbuild {
+// One level of the bottom-up pass: n x n children (lo, hi, flags; bit 0 keeps its value, bit 1 has a
+// present descendant) -> n/2 x n/2 parents. Clears bit 0 of the children the parent represents.
+void reduceLevel(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* cfl, uint32_t* plo,
+                 uint32_t* phi, uint8_t* pfl);
+// The subtree of a size x size block of texel intervals (size a power of two), as a tile of a larger
+// map: its root's interval and flags (the root's bit 0 is decided by the levels above the block), and
+// its nodes in preorder, child indices local (nodes[0] is the root), depths from depthOffset.
+struct Subtree {
+    uint32_t lo = 0, hi = 0;
+    uint8_t flags = 0;
+    std::vector<MhTree::Node> nodes;
+};
+Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* hi, uint32_t depthOffset);
+} // namespace mhbuild
+
 namespace mhfmt {
 constexpr uint32_t kMagicMH = stat::fourcc('M', 'H', '0', '1');
 constexpr uint32_t kMagicMMH = stat::fourcc('M', 'M', 'H', '1');

@@ -191,8 +191,14 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
 }
 
 void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const {
-    const uint64_t rowTexels = res_;
-    const uint64_t tileTexels = uint64_t(y1 - y0) * rowTexels;
+    renderRect(0, y0, res_, y1 - y0, enter, exit);
+}
+
+void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
+                                uint32_t* exit) const {
+    const uint32_t y1 = y0 + h;
+    const uint64_t rowTexels = w;
+    const uint64_t tileTexels = uint64_t(h) * rowTexels;
     // Hit key: local texel (30 bits) | depth (32 bits) | kind (2 bits); sorting orders hits per texel
     // by depth, then closed front < open < closed back.
     std::vector<uint64_t> hits;
@@ -201,7 +207,7 @@ void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint3
         if (tr.yMax < int32_t(y0)) continue;
         int64_t xmin = std::min({tr.x[0], tr.x[1], tr.x[2]}), xmax = std::max({tr.x[0], tr.x[1], tr.x[2]});
         int64_t c0 = floorDiv(xmin - kSub / 2 + kSub - 1, kSub), c1 = floorDiv(xmax - kSub / 2, kSub);
-        c0 = std::max<int64_t>(c0, 0), c1 = std::min<int64_t>(c1, int64_t(res_) - 1);
+        c0 = std::max<int64_t>(c0, x0), c1 = std::min<int64_t>(c1, int64_t(x0) + w - 1);
         if (c0 > c1) continue;
         // Edge i is opposite vertex i: from v[i+1] to v[i+2]. E = A (px - ax) + B (py - ay).
         int64_t A[3], B[3], bias[3];
@@ -228,14 +234,36 @@ void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint3
                                    double(e[2]) * tr.invDepth[2]) *
                                   invArea;
                     uint32_t depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
-                    uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x);
+                    uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x - int64_t(x0));
                     hits.push_back(local << 34 | uint64_t(depth) << 2 | tr.kind);
                 }
                 for (int i = 0; i < 3; ++i) e[i] += A[i] * kSub;
             }
         }
     }
-    std::sort(hits.begin(), hits.end());
+    // Hits ordered by key: a counting sort by texel (linear; a comparison sort of the whole list was most
+    // of a large map's render), then each texel's few hits by depth and kind. Equal keys are the same
+    // hit, so the order is the full key's sort.
+    {
+        std::vector<uint32_t> start(tileTexels + 1, 0u);
+        for (uint64_t h : hits) ++start[(h >> 34) + 1];
+        for (uint64_t t = 0; t < tileTexels; ++t) start[t + 1] += start[t];
+        std::vector<uint64_t> sorted(hits.size());
+        for (uint64_t h : hits) sorted[start[h >> 34]++] = h; // start[t] ends at texel t's end
+        hits.swap(sorted);
+        uint32_t begin = 0;
+        for (uint64_t t = 0; t < tileTexels; ++t) {
+            const uint32_t end = start[t];
+            if (end - begin > 32) {
+                std::sort(hits.begin() + begin, hits.begin() + end);
+            } else if (end - begin > 1) {
+                for (uint32_t a = begin + 1; a < end; ++a) // insertion sort: a texel holds a few hits
+                    for (uint32_t b = a; b > begin && hits[b] < hits[b - 1]; --b)
+                        std::swap(hits[b], hits[b - 1]);
+            }
+            begin = end;
+        }
+    }
     std::fill(enter, enter + tileTexels, kDepthEmpty);
     std::fill(exit, exit + tileTexels, kDepthEmpty);
     size_t i = 0;

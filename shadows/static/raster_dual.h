@@ -57,7 +57,7 @@ LightFrustum spotLightFrustum(const LightShape& light, float nearPlane = 0.05f);
 // direction falls in is pointLightFace (shaders/shared/light_math.h's rule: largest |component|,
 // ties to the earlier axis). Near plane as for spots: min(nearPlane, range / 100).
 LightFrustum pointLightFaceFrustum(const LightShape& light, uint32_t face, float nearPlane = 0.05f);
-// A directional light's orthographic frustum fitted to the box [boundsMin, boundsMax] (issue 21):
+// A directional light's orthographic frustum fitted to the box [boundsMin, boundsMax]:
 // looking along `direction` from beyond the box's bounding sphere, the view turned so that the box's
 // longer light-space extent runs along x. Square texels; the map is res wide and mapRows(res) high
 // (rows past it are outside the light): the box's light-space rectangle plus fitMargin fills it, so at
@@ -78,6 +78,9 @@ class DualRasterizer {
 
     // Renders rows [y0, y1) into enter/exit, each (y1 - y0) * resolution words, row-major.
     void renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const;
+    // Renders the w x h block at texel (x0, y0) (inside the map, w * h < 2^30) into enter/exit, w words a
+    // row: the same texels renderRows gives. Safe to call from several threads at once.
+    void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit) const;
     // The whole map, in tiles of at most `tileTexels` texels.
     DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
 

@@ -5,7 +5,7 @@
 // Layout (words): header[6] = magic 'SM01' | version | resolution | total words | checksum | rows,
 // then resolution x rows values, row-major, row 0 at NDC y = -1. Version 1: square, the rows word 0 and
 // resolution^2 values (spot and point maps, unchanged). Version 2: a directional map fitted to its box
-// (DualDepthMap::rows, issue 21), rows in 1..resolution-1; texels in rows >= rows are outside the light
+// (DualDepthMap::rows), rows in 1..resolution-1; texels in rows >= rows are outside the light
 // and read as kDepthEmpty (lit).
 #pragma once
 #include "io/result.h"

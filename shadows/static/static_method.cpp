@@ -43,7 +43,7 @@ Result<std::vector<uint32_t>> encodeStatic(StaticMethod method, const DualDepthM
         p.resolution = map.resolution;
         p.nearPlane = options.nearPlane;
         p.farPlane = options.farPlane;
-        // Directional (orthographic) maps: equal slices over the box's slab (issue 21); others eq. 1.
+        // Directional (orthographic) maps: equal slices over the box's slab; others eq. 1.
         p.slicing = map.orthographic ? CpvsSlicing::Linear : CpvsSlicing::Log;
         p.progress = options.progress;
         auto bake = bakeCpvs(map, p);

@@ -33,7 +33,7 @@ struct LightFrustum {
     // unused. Texel (x, y) then covers view x in [x/res*2-1, ...] * orthoHalf (and y alike: square
     // texels), depth is view -z as for perspective maps.
     float orthoHalf = 0.0f;
-    // A directional map fitted to its box (directionalLightFrustum, issue 21): > 0, at most orthoHalf.
+    // A directional map fitted to its box (directionalLightFrustum): > 0, at most orthoHalf.
     // The box's light-space rectangle (plus fitMargin on every side) is view x in [-orthoHalf,
     // orthoHalf] by view y in [-orthoHalf, -orthoHalf + 2 orthoHalfY]: only the first mapRows(res) rows
     // of the res x res texel grid lie in the light's volume, the rest are outside it (empty, lit). 0: a

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Lookup timing (bench static, apps/lookup_timer.cpp): each invocation takes one (receiver, light)
+// Lookup timing (bench static, shadows/tools/lookup_timer.cpp): each invocation takes one (receiver, light)
 // pair and calls the static lookup `lookups` times with the pass's PCF radius. Each call's receiver
 // depends on the previous result (offset by acc * 1e-30 m, which rounds to nothing but cannot be
 // folded), so the calls are neither merged nor hoisted. Timing the pass at 1 and at 1 + K lookups

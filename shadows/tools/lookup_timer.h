@@ -1,4 +1,4 @@
-// Time per static shadow lookup, isolated from the frame (shaders/bench_lookup.comp): the same
+// Time per static shadow lookup, isolated from the frame (shadows/tools/bench_lookup.comp): the same
 // (receiver, light) pairs, N lookups each, timed at 1 and 1 + K lookups per pair; the difference over
 // K * pairs is the cost of one lookup. K grows (x4) until the difference is >= 40 ms. Used by `bench static`
 // for every method, resolution and PCF size in one run. Owns its Vulkan device (the lookups need no scene

@@ -1,6 +1,7 @@
-// Virtual shadow maps: the CPU side of a frame (map slots, matrices, coverage and stale bits) and the
-// recording of the GPU passes. The algorithm is in vsm.h; the GPU twins of the references are the
-// vsm_*.comp shaders beside this file.
+// Virtual shadow maps: the GPU resources (creation, growth of the map slots, destruction), each map's
+// matrices (buildMap), the box projections the CPU frame uses, and the read-backs of stats and state.
+// The CPU frame is vsm_prepare.cpp, the GPU passes are recorded in vsm_passes.cpp; the algorithm is in
+// vsm.h; the GPU twins of the references are the vsm_*.comp shaders beside this file.
 #include "shadows/virtual/vsm.h"
 
 #include "shaders/shared/light_math.h"

@@ -195,7 +195,7 @@ struct VsmSlot {
     std::vector<gpu::GpuVsmMap> uploadedMaps;
     // Per map, the mapStamp_ host.maps was last written from (~0: never), the maps given a per-frame
     // INVALIDATE flag in this slot's last frame (rewritten next time, the flag gone), and this frame's
-    // rewritten or flagged maps: the only ones compared with uploadedMaps (issue 17).
+    // rewritten or flagged maps: the only ones compared with uploadedMaps.
     std::vector<uint64_t> mapStamp;
     std::vector<uint32_t> flaggedMaps, mapsWritten;
     std::vector<gpu::GpuCaster> uploadedCasters;

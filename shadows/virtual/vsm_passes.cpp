@@ -1,6 +1,6 @@
 // The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; the module's
 // frame (engine/frame.h) orders and times them. Every barrier names the hazard it orders; the frame-begin
-// barrier (engine/frame.cpp) orders this frame's first writes after the previous frame's reads.
+// barrier (engine/frame_passes.cpp) orders this frame's first writes after the previous frame's reads.
 #include "shadows/virtual/vsm_passes.h"
 
 #include <algorithm>
@@ -60,23 +60,23 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
     memoryBarrier(c, C, W, C, R | W); // marks, request list and its count -> the allocation passes
 }
 
-void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
+namespace {
+// Between the sort and allocation passes: each reads or writes the counters (atomics) and the next may
+// take its dispatch size from them, so each barrier orders compute writes before compute reads, writes
+// and indirect reads.
+void nextAllocationPass(VkCommandBuffer c) {
+    memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+}
+} // namespace
+
+void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
-    const uint32_t pool = state_->settings().poolPages;
-    // The list's count and dispatch size; the pool pass (invalidation, class counts) beside it.
-    // Every pass here reads or writes the counters (atomics) and the next may take its dispatch size
-    // from them: each barrier orders compute writes before compute reads, writes and indirect reads.
-    auto next = [&] { memoryBarrier(c, C, W, C | kIndirect, R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT); };
+    // The list's count and the sort's dispatch sizes.
     dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
              {slot.constants, slot.counters, pg.sortArgs});
-    next(); // the list's count -> invalidate's counters, the sort's dispatch sizes
-    dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
-             {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
-              pg.classCounts, slot.counters});
-    next(); // table, class counts, counters -> the list passes
-    // Sort: block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
+    nextAllocationPass(c); // the list's count -> the sort's dispatch sizes and reads
+    // Block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
     // merges past the list's length no groups (an empty dispatch).
     for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
         const uint32_t width = pass == 0 ? 0u : uint32_t(ML_VSM_BLOCK) << (pass - 1);
@@ -84,25 +84,40 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
         const Buffer& dst = pg.list[(pass + 1) % 2];
         dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
                          gpu::VsmSortPush{width, 0}, {slot.counters, src, dst});
-        next(); // this pass's runs -> the next pass
+        // This pass's runs -> the next pass; after the last, the sorted list -> the allocation's scan
+        // and assignment (and its counters' reads -> vsm_invalidate's atomics: write-after-read).
+        nextAllocationPass(c);
     }
+}
+
+void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
+    const VsmSlot& slot = state_->slot(slotIndex);
+    const VsmPages& pg = state_->pages();
+    const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
+    const uint32_t pool = state_->settings().poolPages;
+    // The pool pass (invalidation, class counts): it needs neither the sorted list nor the sort its
+    // results, so it runs after the sort (recordSort), which keeps the sort one timed scope.
+    dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
+             {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
+              pg.classCounts, slot.counters});
+    nextAllocationPass(c); // table, class counts, counters -> the list passes
     dispatchIndirect(d, c, programs_.scan, slot.counters, listArgs, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
                       pg.blockCounts, pg.list[1], pg.sortArgs});
-    next(); // block counts, last use -> alloc, avail
+    nextAllocationPass(c); // block counts, last use -> alloc, avail
     dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
              {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
-    next(); // block ranks, class bases, counters -> avail, assign
+    nextAllocationPass(c); // block ranks, class bases, counters -> avail, assign
     dispatch(d, c, programs_.avail, pool, 1, NoPush{},
              {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail});
-    next(); // the available-page list -> assign
+    nextAllocationPass(c); // the available-page list -> assign
     dispatchIndirect(d, c, programs_.assign, slot.counters, listArgs, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
                       pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.dirtyMaps,
                       pg.list[1], pg.sortArgs});
     // Page table (DIRTY), dirty mips and maps, rendered list, the clear's and the culling's dispatch
-    // sizes -> HPB, cull, clear.
-    next(); // (the culling passes add to the counters too)
+    // sizes -> HPB, group culling, cull, clear.
+    nextAllocationPass(c); // (the culling passes add to the counters too)
 }
 
 void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
@@ -116,7 +131,8 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     memoryBarrier(c, C, W, C | kTask, R);
 }
 
-void VsmPasses::recordCullPairs(const Device& d, VkCommandBuffer c, const VsmSlot& slot) const {
+void VsmPasses::recordGroupCull(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
+    const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // Group bounds: one thread per ML_VSM_CULL_GROUP casters of the culling order.
     const uint32_t groups = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
@@ -143,7 +159,6 @@ void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotInde
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxDrawsPerMip};
-    recordCullPairs(d, c, slot);
     // One workgroup per (caster group, map) pair left: vsm_pairs wrote the dispatch size.
     dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
                      {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
@@ -157,7 +172,6 @@ void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIn
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxMeshletsPerMip};
-    recordCullPairs(d, c, slot);
     dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
                      {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
                       pg.meshletList, pg.meshTasks, slot.counters, slot.casterOrder});

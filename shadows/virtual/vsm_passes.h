@@ -1,8 +1,10 @@
 // The virtual shadow map passes (vsm.h has the algorithm) over the state VirtualShadowMaps keeps: one
 // function per pass, their programs (vsm_programs.h). The module's frame (engine/frame.h) orders and
-// times them: reset (per-frame clears), then, when the slot has active maps (state.active()), mark, alloc
-// (scan, allocate, assign), HPB, cull (raster path) or expand (mesh path), draw (clear and draw the dirty
-// pages); after the evaluation the probe (state.probing()) and the debug view.
+// times them, one timer per step (engine/pass_times.h): reset (per-frame clears, untimed), then, when the
+// slot has active maps (state.active()), mark, sort (close and sort the request list), alloc (invalidate,
+// scan, allocate, assign), HPB, group culling (caster groups against the dirty maps), cull (vertex path)
+// or expand (mesh path), draw (clear and draw the dirty pages); after the evaluation the probe
+// (state.probing()) and the debug view.
 #pragma once
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_programs.h"
@@ -16,8 +18,12 @@ class VsmPasses {
     void destroy(const Device& device);
     void recordReset(VkCommandBuffer cmd) const;
     void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
+    // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
+    void recordGroupCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
@@ -30,9 +36,6 @@ class VsmPasses {
                     VkImageView output) const;
 
   private:
-    // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
-    // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
-    void recordCullPairs(const Device& device, VkCommandBuffer cmd, const VsmSlot& slot) const;
     const VirtualShadowMaps* state_ = nullptr;
     VsmPrograms programs_;
 };

@@ -1,10 +1,10 @@
 // The CPU part of a virtual shadow map frame (VirtualShadowMaps::prepare), in named steps: the host's
 // changed instances noted, which lights need maps, their map slots, the maps' matrices, coverage and
 // stale bits, the active maps, the allocation order, and the slot's uploads. The GPU passes that read
-// them are vsm_record.cpp. Invariant (issue 17's CPU item): a frame costs the changes (moved instances,
-// changed lights: stamps, not field compares) and passes over compact per-light or per-map arrays, never
-// a pass over every instance; at 4096 lights / 10,000 instances / 1 % moving about 0.45 ms on the
-// 2-core development machine (`manylights bench cpu`).
+// them are recorded in vsm_passes.cpp. Invariant: a frame costs the changes (moved instances, changed
+// lights: stamps, not field compares) and passes over compact per-light or per-map arrays, never a pass
+// over every instance, so that the CPU frame stays within its 1 ms budget at thousands of lights and
+// instances (`manylights bench cpu`; figures in docs/architecture.md, "Timing and profiling").
 #include "shadows/virtual/vsm.h"
 
 #include "shadows/virtual/vsm_math.h"

@@ -1,4 +1,4 @@
-// The virtual shadow map passes' programs (vsm.h lists the passes, vsm_record.cpp records them): one per
+// The virtual shadow map passes' programs (vsm.h lists the passes, vsm_passes.cpp records them): one per
 // pass shader, created once for the raster path the settings chose; the mesh path's expand and
 // task/mesh programs only when it is taken. The shader modules live as long as the programs.
 #pragma once

@@ -8,8 +8,9 @@ namespace ml {
 
 // How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
 // indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
-// Auto: the vertex path on CPU devices (lavapipe: measured faster there, README "VSM meshlets") and on
-// devices without mesh shaders, the mesh path otherwise. The choice is logged once at creation.
+// Auto: the vertex path on CPU devices (lavapipe: measured faster there, docs/virtual-shadow-maps.md,
+// "Meshlets") and on devices without mesh shaders, the mesh path otherwise. The choice is logged once at
+// creation.
 enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
 // `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
 inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {
@@ -35,7 +36,8 @@ struct VsmSettings {
     bool enabled = true;
     // Virtual resolution of every map (spot, cube face, clip level): a power of two, 256..16384.
     uint32_t resolution = 4096;
-    // Page side in texels: 32, 64 or 128 (measured on the night city: README, `bench vsm`).
+    // Page side in texels: 32, 64 or 128 (measured on the night city, `bench vsm`:
+    // docs/virtual-shadow-maps.md).
     uint32_t pageSize = 64;
     // Physical pages in the shared pool (4 B per texel: 4096 pages of 64^2 = 64 MiB).
     uint32_t poolPages = 4096;

@@ -67,7 +67,7 @@ TEST(Options, DuplicatesAndMissingValuesAreRefused) {
     auto negative = parseWords({"--out", "-0.25,-1,0"}, {own});
     ASSERT_TRUE(negative) << negative.error();
     EXPECT_EQ(negative->get("--out", ""), "-0.25,-1,0");
-    // A value that is an unknown flag is not taken as the value either (issue 20).
+    // A value that is an unknown flag is not taken as the value either.
     auto unknownFlag = parseWords({"--out", "--bogus"}, {own});
     ASSERT_FALSE(unknownFlag);
     EXPECT_EQ(unknownFlag.error(), "--out: missing value (the next argument, '--bogus', is a flag)");

@@ -1,5 +1,5 @@
-// Directional static bakes (issue 11 item 4) through the module: an orthographic map fitted to the
-// scene bounds (directionalLightFrustum; rectangular, linear CPVS depth since issue 21), every method. The
+// Directional static bakes through the module: an orthographic map fitted to the
+// scene bounds (directionalLightFrustum; rectangular, linear CPVS depth), every method. The
 // evaluation pass's HDR output must match its CPU reference (shading.h + the static lookup's CPU twin) and
 // the lookup must agree with rays cast along the light direction; setStaticShadow refuses mixing orthographic
 // bakes and other kinds.

@@ -1,4 +1,4 @@
-// The failure suite (issue 11): cases where shadow methods are known to fail, each rendered at 160x90
+// The failure suite: cases where shadow methods are known to fail, each rendered at 160x90
 // through the module API, checked for NaN/Inf pixels and measured against the rays (failure_test_util.h).
 // Each case states its expected behaviour beside it; docs/accuracy.md lists the measured figures and
 // docs/failures/<case>.png the images (ML_FAILURE_IMAGES=docs/failures build/failure_tests).

@@ -87,7 +87,7 @@ TEST(GpuEvaluate, UniformLoopIsBitIdentical) {
         for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) n += a[i] != b[i];
         return n;
     };
-    // Fails with lists in the atomics' order (before issue 18): they change from frame to frame.
+    // Fails with lists in the atomics' order (unsorted lists): they change from frame to frame.
     ASSERT_EQ(differing(uniformA, uniformB), 0u) << "frames do not repeat: the comparison would mean nothing";
     EXPECT_EQ(differing(lane, uniformA), 0u) << "bytes of output + HDR that differ between the loops";
     // Lists of several lights, so the union walk had lanes waiting on each other.

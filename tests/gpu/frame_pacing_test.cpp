@@ -1,4 +1,4 @@
-// record() never waits for the GPU (issue 18): a host with two frames in flight, each with its own
+// record() never waits for the GPU: a host with two frames in flight, each with its own
 // command buffer and fence, records frame N while frame N-1 still runs. record() reads the results of
 // the slot's previous frame (already waited for by the host) without touching the frame in flight:
 // before the fix it called vkGetQueryPoolResults, which on lavapipe waits for the device to go idle,

@@ -1,4 +1,4 @@
-// The module's lights and shadows from a host's own shaders (issue 19): a host pass written only against
+// The module's lights and shadows from a host's own shaders: a host pass written only against
 // the installed GLSL include and Module::hostShaderBindings (tests/host_shader/, compiled against the
 // staged install tree), as a compute shader and as a fragment shader, reproduces the evaluation pass's
 // HDR image on the night city at 320x180 with static bakes and virtual shadow maps, recorded in the same

@@ -1,4 +1,4 @@
-// Host targets (issue 19): setTargets checks every target against HostTargets' table and refuses a
+// Host targets: setTargets checks every target against HostTargets' table and refuses a
 // wrong one with one line; HDR output into a host image validates (it used to leave a never-transitioned
 // 1x1 stub bound: InvalidImageLayout every frame) and is switchable per frame without rebuilding the
 // scene; Fenced timing with a host command buffer is refused instead of reading an undrawn G-buffer.
@@ -221,7 +221,7 @@ TEST(HostTargets, FencedTimingRefusesAHostCommandBuffer) {
     destroyGBuffer(*m, g);
 }
 
-// The optional material target (issue 19, PBR inputs): checked against its row (R8G8_UNORM, SAMPLED, the
+// The optional material target: checked against its row (R8G8_UNORM, SAMPLED, the
 // claimed size), refused with one line; given, the host's wall is shaded with GGX exactly as the CPU
 // reference (shadeLightPbr) says, and without it as before (Blinn-Phong).
 TEST(HostTargets, MaterialTargetIsCheckedAndShadesGgx) {

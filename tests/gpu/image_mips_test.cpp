@@ -1,5 +1,5 @@
 // Images with mips and layers (gpu/resources.h): every mip of every layer of a non-power-of-two
-// R32_UINT array image is built on the GPU mip by mip (shaders/mip_reduce.comp through the per-mip
+// R32_UINT array image is built on the GPU mip by mip (gpu/mip_reduce.comp through the per-mip
 // views), read back through the staging path one (mip, layer) at a time and compared with a CPU
 // reference; uploads into one (mip, layer) reach exactly that subresource.
 #include "gpu/device.h"

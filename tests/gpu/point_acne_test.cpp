@@ -1,4 +1,4 @@
-// Point-light shadow acne (issue 19, item 2): a point light low over flat ground (at (-6, 3, 4), range
+// Point-light shadow acne: a point light low over flat ground (at (-6, 3, 4), range
 // 8, as the host integration saw it) and a box beside it, static shadows baked by the module itself
 // (bakeStaticShadows, six cube faces) at 256^2 and 1024^2. Every lit receiver -- the ground and the box
 // faces that see the light -- must read as lit where the exact ray-box answer says so: self-shadowing

@@ -1,4 +1,4 @@
-// Issue 19's second half, the evaluation pass's options against its CPU reference on the night city with
+// Shading options: the evaluation pass's options against its CPU reference on the night city with
 // static bakes (module-baked SM 256^2): GGX shading from the module's material target
 // (shaders/shared/brdf.h), per-instance receiver opt-out (the G-buffer normal's w), per-light shadow bias
 // (GpuShadowRecord.bias), and physical light units (lumen -> candela, EV100 exposure).

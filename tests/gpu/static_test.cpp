@@ -44,7 +44,7 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
     LightFrustum spot;
     DualDepthMap spotMap = cityLightMap(scene.value(), res, &spot);
     ASSERT_EQ(spotMap.resolution, res);
-    // A directional map fitted to a box (issue 21): fewer rows than columns (SM version 2) and linear
+    // A directional map fitted to a box: fewer rows than columns (SM version 2) and linear
     // CPVS slices; the rows past the light's volume must decode as empty on both sides.
     const LightFrustum moon = directionalLightFrustum(glm::normalize(glm::vec3(-0.25f, -1.0f, 0.0f)),
                                                       glm::vec3(-40, 0, -15), glm::vec3(40, 30, 15));

@@ -1,4 +1,4 @@
-// The light-complexity view (demo --view lights / lights-reaching, shaders/view_lights.comp): its
+// The light-complexity view (demo --view lights / lights-reaching, lights/view_lights.comp): its
 // per-pixel counts equal the CPU's (list length of the pixel's cluster, lights whose cone and range
 // hold the point) and its colours are heatColor of the chosen count.
 #include "gpu_test_util.h"

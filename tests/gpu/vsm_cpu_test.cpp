@@ -1,4 +1,4 @@
-// The CPU part of the virtual shadow maps follows what changed (issue 17, item 4): the coverage and
+// The CPU part of the virtual shadow maps follows what changed: the coverage and
 // stale bits are computed from the dynamic casters and the instances that moved, each tested against
 // the lights near it, so adding static instances that never move adds no work. Counted, not timed
 // (VsmSlotHost::sphereTests and projections): the same frames with 20 and with 2,000 static boxes do

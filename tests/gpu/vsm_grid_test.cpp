@@ -1,6 +1,6 @@
-// 16384^2 maps of 64^2 pages at 256 lights (issue 20): once ~86,000 allocation blocks of 256 entries,
+// 16384^2 maps of 64^2 pages at 256 lights: once ~86,000 allocation blocks of 256 entries,
 // past 65,535 workgroups in one dimension (it aborted in dispatchThreads); now the allocation walks the
-// request list of the marked pages (issue 17). The page table, owners and last-use frames after
+// request list of the marked pages. The page table, owners and last-use frames after
 // allocation equal the CPU reference (vsmAllocateReference) on the same marks, two frames (the first
 // allocates, the second keeps what it can).
 #include "gpu_test_util.h"

@@ -1,4 +1,4 @@
-// Hostile cameras and lights (issue 12, item 5): non-finite, huge and degenerate cameras refused by
+// Hostile cameras and lights: non-finite, huge and degenerate cameras refused by
 // validateCamera and by the --camera parser; spot angles and ranges out of range refused by
 // validateLight (not clamped).
 #include "hostile_test_util.h"

@@ -1,4 +1,4 @@
-// Hostile paths (issue 12, items 1, 4 and 7): a folder, a FIFO or a device where a file is expected,
+// Hostile paths: a folder, a FIFO or a device where a file is expected,
 // output targets that are symlinks, devices or folders, a symlink planted at the old predictable
 // temporary name, a failing write (file size limit), and control characters in printed text.
 #include "hostile_test_util.h"

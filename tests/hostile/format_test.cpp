@@ -1,4 +1,4 @@
-// Hostile format fields (issue 12, items 6, 7 and 8): reserved header words and the MH/MMH value count,
+// Hostile format fields: reserved header words and the MH/MMH value count,
 // each forged with a valid checksum so that only the new check can catch it; a scene name with control
 // characters in `inspect` / `verify` output; a bake file with zero records given to `verify`.
 #include "hostile_test_util.h"

@@ -1,4 +1,4 @@
-// Hostile glTF files (issue 12, items 2, 3 and 5): deep JSON nesting, buffer URIs that leave the scene's
+// Hostile glTF files: deep JSON nesting, buffer URIs that leave the scene's
 // folder ('..', absolute paths, symlinks), messages that would echo file bytes or whole data URIs, and
 // KHR_lights_punctual parameters out of range.
 #include "hostile_test_util.h"

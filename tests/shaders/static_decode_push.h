@@ -1,4 +1,4 @@
-// Push block of the static decode test program (test_static_decode.comp, tests/gpu/test_static_gpu.cpp),
+// Push block of the static decode test program (test_static_decode.comp, tests/gpu/static_test.cpp),
 // defined once for C++ and GLSL; layout rules as in shaders/shared/gpu_types.h.
 #ifndef ML_STATIC_DECODE_PUSH_H
 #define ML_STATIC_DECODE_PUSH_H

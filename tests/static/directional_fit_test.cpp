@@ -1,4 +1,4 @@
-// Directional static bakes fitted to their box (issue 21): the frustum holds the box's light-space
+// Directional static bakes fitted to their box: the frustum holds the box's light-space
 // rectangle in rows [0, mapRows) with square texels and its slab along the light as the depth range;
 // CPVS slices that range linearly; every method's bake of a closed and of an open model is lossless on
 // every texel / voxel at small sizes; >= 95 % of the texels and of the depth slices lie in the box; SM
@@ -240,7 +240,7 @@ TEST(DirectionalFit, BakeFileVersion3AndOldDirectionalRecordsRefused) {
     EXPECT_EQ(g.fitMargin, f.fitMargin);
     EXPECT_EQ(g.nearPlane, f.nearPlane);
 
-    // The same record as a version 1 file would carry it before issue 21 (no words 30, 31).
+    // The same record as a version 1 file carries it (not fitted to a box: no words 30, 31).
     std::vector<uint32_t> old = w.value();
     const uint32_t hw = old[bakefmt::kHHeaderWords];
     old[bakefmt::kHVersion] = bakefmt::kVersionFixed;

@@ -1,0 +1,239 @@
+// Tiled MH tree construction (see mh_tiled.h for why it equals the whole-map build).
+#include "shadows/static/mh_tiled.h"
+
+#include <algorithm>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace ml {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+uint32_t log2Ceil(uint32_t v) {
+    uint32_t l = 0;
+    while ((1u << l) < v) ++l;
+    return l;
+}
+
+// A tile's nodes while the other tiles are built, 12 B instead of MhTree::Node's 28: the interval, and
+// in `bits` the present children (bits 0-3), valued (bit 4) and depth (bits 8-15). Children are implicit
+// in preorder: a node's first present child follows it, the next follows the first's subtree.
+struct PackedNode {
+    uint32_t lo, hi, bits;
+};
+struct PackedTile {
+    uint32_t lo = 0, hi = 0;
+    uint8_t flags = 0;
+    std::vector<PackedNode> nodes;
+};
+
+PackedTile pack(const mhbuild::Subtree& t) {
+    PackedTile p;
+    p.lo = t.lo, p.hi = t.hi, p.flags = t.flags;
+    p.nodes.resize(t.nodes.size());
+    for (size_t i = 0; i < t.nodes.size(); ++i) {
+        const MhTree::Node& n = t.nodes[i];
+        uint32_t bits = uint32_t(n.valued) << 4 | uint32_t(n.depth) << 8;
+        for (uint32_t c = 0; c < 4; ++c) bits |= n.child[c] >= 0 ? 1u << c : 0u;
+        p.nodes[i] = {n.lo, n.hi, bits};
+    }
+    return p;
+}
+
+// Appends the packed subtree from `cursor` in preorder; returns the index of its root in `out`.
+int32_t unpack(const std::vector<PackedNode>& nodes, size_t& cursor, std::vector<MhTree::Node>& out) {
+    const PackedNode q = nodes[cursor++];
+    const int32_t index = int32_t(out.size());
+    MhTree::Node n;
+    n.lo = q.lo, n.hi = q.hi, n.valued = uint8_t((q.bits >> 4) & 1u), n.depth = uint8_t(q.bits >> 8);
+    out.push_back(n);
+    for (uint32_t c = 0; c < 4; ++c)
+        if (q.bits & (1u << c)) {
+            const int32_t ci = unpack(nodes, cursor, out);
+            out[index].child[c] = ci;
+        }
+    return index;
+}
+
+// The top pyramid: levels 0..top, level `top` holding the tile roots.
+struct Top {
+    std::vector<std::vector<uint32_t>> lo, hi;
+    std::vector<std::vector<uint8_t>> flags;
+};
+
+// Preorder emission of the top levels, splicing each present tile's nodes at its root.
+int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
+             std::vector<PackedTile>& tiles, std::vector<MhTree::Node>& out) {
+    const uint32_t n = 1u << level;
+    const size_t i = size_t(y) * n + x;
+    const int32_t index = int32_t(out.size());
+    if (level == top) {
+        size_t cursor = 0;
+        unpack(tiles[i].nodes, cursor, out);
+        out[index].valued = (t.flags[level][i] & 1u) ? 1 : 0; // decided above the tile
+        std::vector<PackedNode>().swap(tiles[i].nodes);       // freed as spliced
+        return index;
+    }
+    MhTree::Node node;
+    node.lo = t.lo[level][i], node.hi = t.hi[level][i];
+    node.valued = (t.flags[level][i] & 1u) ? 1 : 0;
+    node.depth = uint8_t(level);
+    out.push_back(node);
+    if (t.flags[level][i] & 2u) {
+        const uint32_t cn = n * 2;
+        for (uint32_t c = 0; c < 4; ++c) {
+            const uint32_t cx = 2 * x + (c & 1u), cy = 2 * y + (c >> 1);
+            if (t.flags[level + 1][size_t(cy) * cn + cx] & 3u)
+                out[index].child[c] = emit(t, top, level + 1, cx, cy, tiles, out);
+        }
+    }
+    return index;
+}
+
+} // namespace
+
+Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, const MhTiledOptions& options,
+                                MhTiledStats* stats) {
+    if (res == 0 || res > (1u << 16))
+        return fail("MH: resolution " + std::to_string(res) + " outside 1..65536");
+    if (!source) return fail("MH: tiled build without a tile source");
+    if (options.tile == 0 || (options.tile & (options.tile - 1)) != 0)
+        return fail("MH: tile side " + std::to_string(options.tile) + " is not a power of two");
+    const uint32_t L = log2Ceil(res), n = 1u << L;
+    const uint32_t T = std::min(options.tile, n), t = log2Ceil(T), top = L - t, m = n / T;
+    const uint32_t count = m * m;
+    std::vector<PackedTile> tiles(count);
+    std::atomic<uint32_t> next{0}, done{0};
+    std::atomic<uint64_t> nodeCount{0};
+    std::atomic<bool> failed{false};
+    std::mutex mutex; // guards error, the stats sums and the progress callback
+    std::string error;
+    MhTiledStats st;
+    st.tiles = count, st.tileSide = T;
+
+    auto worker = [&]() {
+        std::vector<uint32_t> enter, exit, lo(size_t(T) * T), hi(size_t(T) * T);
+        uint64_t covered = 0, closed = 0;
+        double render = 0, reduce = 0;
+        for (uint32_t k; !failed && (k = next++) < count;) {
+            // Row-major tile index = the top pyramid's finest level; emission visits it in preorder.
+            const uint32_t tx = k % m, ty = k / m, x0 = tx * T, y0 = ty * T;
+            const uint32_t w = x0 < res ? std::min(T, res - x0) : 0, h = y0 < res ? std::min(T, res - y0) : 0;
+            auto tr = Clock::now();
+            if (w && h) {
+                enter.resize(size_t(w) * h), exit.resize(size_t(w) * h);
+                if (auto r = source(x0, y0, w, h, enter.data(), exit.data()); !r) {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    if (!failed)
+                        error = "tile (" + std::to_string(x0) + ", " + std::to_string(y0) + "): " + r.error();
+                    failed = true;
+                    break;
+                }
+            }
+            render += secondsSince(tr);
+            auto tb = Clock::now();
+            // Texels past the resolution are "don't care" [0, 2^32-1], as in buildMhTree.
+            for (uint32_t y = 0; y < T; ++y)
+                for (uint32_t x = 0; x < T; ++x) {
+                    const size_t o = size_t(y) * T + x;
+                    if (x < w && y < h) {
+                        const uint32_t e = enter[size_t(y) * w + x], f = exit[size_t(y) * w + x];
+                        lo[o] = e, hi[o] = std::max(e, f); // a malformed exit < enter keeps just enter
+                        covered += e != kDepthEmpty, closed += f > e;
+                    } else {
+                        lo[o] = 0, hi[o] = 0xFFFFFFFFu;
+                    }
+                }
+            auto sub = mhbuild::buildSubtree(T, lo.data(), hi.data(), top);
+            if (!sub) {
+                std::lock_guard<std::mutex> lock(mutex);
+                if (!failed) error = sub.error();
+                failed = true;
+                break;
+            }
+            const uint64_t held = (nodeCount += sub->nodes.size());
+            if (options.maxNodes && held > options.maxNodes) {
+                std::lock_guard<std::mutex> lock(mutex);
+                if (!failed)
+                    error = "the tree passed " + std::to_string(held) + " nodes (" +
+                            std::to_string((held * sizeof(MhTree::Node)) >> 20) + " MiB) after " +
+                            std::to_string(done + 1) + " of " + std::to_string(count) +
+                            " tiles, over its bound of " + std::to_string(options.maxNodes) + " nodes";
+                failed = true;
+                break;
+            }
+            tiles[k] = pack(sub.value());
+            reduce += secondsSince(tb);
+            const uint32_t finished = ++done;
+            if (options.progress) {
+                std::lock_guard<std::mutex> lock(mutex);
+                options.progress(double(finished) / count);
+            }
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        st.coveredTexels += covered, st.closedTexels += closed;
+        st.renderSeconds += render, st.reduceSeconds += reduce;
+    };
+    uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    threads = std::min(threads, count);
+    std::vector<std::thread> pool;
+    for (uint32_t i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& th : pool) th.join();
+    if (failed) return fail("MH: " + error);
+
+    auto ta = Clock::now();
+    Top tp;
+    tp.lo.resize(top + 1), tp.hi.resize(top + 1), tp.flags.resize(top + 1);
+    tp.lo[top].resize(count), tp.hi[top].resize(count), tp.flags[top].resize(count);
+    for (uint32_t k = 0; k < count; ++k)
+        tp.lo[top][k] = tiles[k].lo, tp.hi[top][k] = tiles[k].hi, tp.flags[top][k] = tiles[k].flags;
+    for (uint32_t l = top; l > 0; --l) {
+        const size_t pn = size_t(1) << (l - 1);
+        tp.lo[l - 1].resize(pn * pn), tp.hi[l - 1].resize(pn * pn), tp.flags[l - 1].resize(pn * pn);
+        mhbuild::reduceLevel(1u << l, tp.lo[l].data(), tp.hi[l].data(), tp.flags[l].data(),
+                             tp.lo[l - 1].data(), tp.hi[l - 1].data(), tp.flags[l - 1].data());
+    }
+    MhTree tree;
+    tree.resolution = res, tree.levels = L;
+    size_t total = 0;
+    for (const auto& s : tiles) total += s.nodes.size();
+    tree.nodes.reserve(total + (size_t(count) * 4) / 3 + 1);
+    emit(tp, top, 0, 0, 0, tiles, tree.nodes);
+    std::vector<PackedTile>().swap(tiles);
+#ifdef __GLIBC__
+    malloc_trim(0); // the tiles' small blocks back to the system before the encoders allocate theirs
+#endif
+    st.nodes = tree.nodes.size();
+    st.assembleSeconds = secondsSince(ta);
+    if (stats) *stats = st;
+    return tree;
+}
+
+DualTileSource dualTileSourceOf(const DualDepthMap& map) {
+    return [&map](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
+                  uint32_t* exit) -> Result<void> {
+        const uint32_t r = map.resolution;
+        if (x0 + w > r || y0 + h > r || map.enter.size() != size_t(r) * r ||
+            map.exit.size() != map.enter.size())
+            return fail("tile outside the map");
+        for (uint32_t y = 0; y < h; ++y) {
+            std::copy_n(map.enter.begin() + (size_t(y0 + y) * r + x0), w, enter + size_t(y) * w);
+            std::copy_n(map.exit.begin() + (size_t(y0 + y) * r + x0), w, exit + size_t(y) * w);
+        }
+        return {};
+    };
+}
+
+} // namespace ml
