@@ -2,7 +2,7 @@
 // borrow() checks; a device missing any feature or extension, or handed over with a wrong queue, is
 // refused with a line naming it; a correct borrow renders with no validation message.
 #include "gpu_test_util.h"
-#include "host_device_util.h"
+#include "tests/common/borrowed_device.h"
 
 #include <fstream>
 #include <regex>

@@ -13,7 +13,7 @@
 // counters (diag::queueAccessCounts), with 0 validation messages. And a borrowed device's module builds
 // every pipeline through the host's cache (ModuleOptions::pipelineCache).
 #include "../gpu/gpu_test_util.h"
-#include "../gpu/host_device_util.h"
+#include "tests/common/borrowed_device.h"
 
 #include "engine/manylights_diagnostics.h"
 
