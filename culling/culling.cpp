@@ -141,7 +141,7 @@ Result<void> LightCulling::resize(const Device& device, const ClusterGrid& g, ui
 Result<void> LightCulling::prepareView(const Device& device, uint32_t width, uint32_t height) {
     VkDeviceSize bytes = VkDeviceSize(width) * height * 4;
     if (viewCounts.buffer && viewCounts.size >= bytes) return {};
-    vkDeviceWaitIdle(device.device); // an earlier frame in flight may still write the old one
+    releaseAfterFrame(device, viewCounts); // an earlier frame in flight may still write the old one
     ML_TRY(ensureBuffer(device, viewCounts, bytes, kStorageBufferUsage, "view_counts", MemoryRole::Readback));
     return {};
 }

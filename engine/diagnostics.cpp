@@ -55,7 +55,7 @@ Result<void> readGBuffer(Module& module, std::vector<float>& depth, std::vector<
     if (!m.ownTargets) return fail("readGBuffer: the G-buffer belongs to the host (setTargets)");
     if (m.frameIndex == 0) return fail("readGBuffer: no frame recorded yet");
     const Device& d = *m.device;
-    ML_VK_CHECK(vkQueueWaitIdle(d.queue));
+    ML_VK_CHECK(d.waitQueue());
     const size_t pixels = size_t(m.width) * m.height;
     Buffer rb = createBuffer(d, pixels * 12, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "diag_gbuffer_readback",
                              MemoryRole::Readback);
@@ -103,6 +103,13 @@ SceneCounts sceneCounts(const Module& module) {
 
 uint64_t deviceWaitCount(const Module& module) {
     return state(module).deviceWaits;
+}
+
+QueueAccessCounts queueAccessCounts(const Module& module) {
+    const Device& d = *state(module).device;
+    const Device::QueueCounts all = d.queueCounts(), inRecord = d.recordQueueCounts();
+    return {all.submits,    all.waits,          inRecord.submits,
+            inRecord.waits, d.pipelineBuilds(), d.recordPipelineBuilds()};
 }
 
 bool vsmMeshPath(const Module& module) {

@@ -31,7 +31,7 @@ Result<ZBinMeasure> measureZBin(Module& module, bool depthTest, uint32_t frames)
     if (m.lastConstants.cluster.w != ML_CULL_CLUSTERED)
         return fail("measureZBin: the last frame must use clustered culling (its tile masks)");
     const Device& d = *m.device;
-    ML_VK_CHECK(vkQueueWaitIdle(d.queue));
+    ML_VK_CHECK(d.waitQueue());
     ZBinning zb;
     ZBinMeasure out;
     auto run = [&]() -> Result<void> {

@@ -24,13 +24,10 @@
 namespace ml {
 
 // What the passes of one frame read and write, as named fields (filled by Module::record).
-// A host-to-GPU copy recorded at the frame's start (FrameBeginPass): load-time data (meshes, static
-// shadow words) written into a staging buffer reaches its GPU-only buffer without a host wait, ordered
-// before every pass by the frame barrier. Destinations are new buffers or ranges no frame has read.
-struct StagedCopy {
-    VkBuffer source = VK_NULL_HANDLE, destination = VK_NULL_HANDLE;
-    std::vector<VkBufferCopy> regions;
-};
+// StagedCopy (gpu/resources.h): a host-to-GPU copy recorded at the frame's start (FrameBeginPass):
+// load-time data (meshes, static shadow words) written into a staging buffer reaches its GPU-only buffer
+// without a host wait, ordered before every pass by the frame barrier. Destinations are new buffers or
+// ranges no frame has read.
 
 struct FrameContext {
     const Device* device = nullptr;
@@ -65,6 +62,7 @@ struct FrameContext {
     const Buffer* wideLights = nullptr; // the frame's WideLight entries (light assignment)
     uint32_t wideCount = 0, wideThreads = 0;
     std::span<const StagedCopy> copies; // recorded first, by FrameBeginPass
+    const FrameSetup* setup = nullptr;  // fills and copies queued while the frame was prepared (first too)
 
     // The same, grouped as the passes' bindings want them.
     ShadingInputs shading{};

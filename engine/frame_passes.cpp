@@ -58,10 +58,15 @@ void FrameBeginPass::record(FrameContext& f) {
         frameWrites | VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT |
         VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
-    // Staged uploads first: their destinations are new buffers or unread ranges (no earlier access to
-    // order), and the frame barrier below orders their transfer writes before every pass's reads.
-    for (const StagedCopy& c : f.copies)
-        vkCmdCopyBuffer(f.cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
+    // Setup first: new buffers' fills and grown buffers' copies (FrameSetup::record orders them among
+    // themselves), then the staged uploads, whose destinations are new buffers or unread ranges; the
+    // frame barrier below orders their transfer writes before every pass's reads.
+    if (f.setup) {
+        f.setup->record(f.cmd, f.copies);
+    } else {
+        for (const StagedCopy& c : f.copies)
+            vkCmdCopyBuffer(f.cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
+    }
     memoryBarrier(f.cmd, frameStages, frameWrites, frameStages, frameAccesses);
     vkCmdFillBuffer(f.cmd, f.counters->buffer, 0, VK_WHOLE_SIZE, 0);
     memoryBarrier(f.cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics

@@ -11,6 +11,26 @@
 
 namespace ml {
 
+EvaluateOutputs Module::Impl::evaluateOutputs(bool hdr) const {
+    if (hdr) return EvaluateOutputs::HdrOnly;
+    return ownTargets ? EvaluateOutputs::Both : EvaluateOutputs::ToneOnly;
+}
+
+bool Module::Impl::evaluatePbr() const {
+    return ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE;
+}
+
+// Every evaluation variant the targets can reach, so that no record() builds a pipeline (issue 41:
+// 130-240 ms of CPU in frame 0 and in the first frame after a switch, on lavapipe). The module's own
+// targets switch between LDR and HDR with setHdrOutput alone: both. A host's output has one format,
+// and setHdrOutput refuses the other mode until setTargets brings a new output: the current mode.
+Result<void> Module::Impl::preparePipelines() {
+    for (bool hdr : {false, true})
+        if (ownTargets || hdr == hdrOutput)
+            ML_TRY(evaluate.prepare(*device, evaluateOutputs(hdr), evaluatePbr()));
+    return {};
+}
+
 Result<uint32_t> Module::Impl::beginFrame() {
     // No device-wide wait here (engine/module_uploads.cpp): shared buffers are replaced and the old ones
     // retired; the slot's own buffers are rewritten in place, its previous frame being done. Out of
@@ -38,17 +58,20 @@ Result<uint32_t> Module::Impl::beginFrame() {
         mode == CullingMode::None ? ClusterGrid{1, 1, 1} : clusterGrid(width, height, mode);
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
         // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
-        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits})
+        // All ten (the sorted fill's four too: ensureBuffer would destroy one that must grow while a
+        // frame in flight still reads it; issue 41's 2-in-flight host caught it once record() stopped
+        // draining the queue).
+        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits,
+                          &cull.tileBits, &cull.tilePrefix, &cull.tileRanges, &cull.tileSlices})
             retire(*b);
         ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;
     }
     if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
         ML_TRY(cull.prepareView(d, width, height));
-    ML_TRY(evaluate.prepare(d,
-                            ownTargets ? (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both)
-                                       : (hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly),
-                            ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE));
+    // Built by createTargets / setTargets for both output modes (preparePipelines): a no-op here unless
+    // a test switched the evaluation's loop, in which case record() builds (and counts) it.
+    ML_TRY(evaluate.prepare(d, evaluateOutputs(hdrOutput), evaluatePbr()));
     ML_TRY(writeFrame(slot, slotIndex, grid, mode));
     return slotIndex;
 }

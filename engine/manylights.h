@@ -77,6 +77,12 @@ struct ModuleOptions {
     VsmSettings vsm; // virtual shadow maps for dynamic casters (vsm.enabled)
     uint32_t framesInFlight = 2;
     TimingChoice timing = TimingChoice::Auto;
+    // A pipeline cache the host owns, created on the borrowed device (a module on its own device refuses
+    // one): every pipeline the module builds (create(), createTargets, setTargets; never record()) goes
+    // through it, so the host can save it (vkGetPipelineCacheData) and start the next run from it. It must
+    // outlive the module; the module only reads and adds to it (externally synchronised: the host does
+    // not use it from another thread during those calls).
+    VkPipelineCache pipelineCache = VK_NULL_HANDLE;
 };
 
 struct MeshVertex {

@@ -83,6 +83,19 @@ SceneCounts sceneCounts(const Module& module);
 // are not device waits and are not counted).
 uint64_t deviceWaitCount(const Module& module);
 
+// Every queue submission and every queue, device or fence wait the module made on its device (its own or
+// the borrowed one), counted at the one place they all go through (the module's device layer), and
+// those made inside record(): 0 submits and 0 waits there outside TimingChoice::Fenced (issue 41;
+// QueueAccess.* interpose the Vulkan calls and agree with these).
+struct QueueAccessCounts {
+    uint64_t submits = 0, waits = 0;             // since create()
+    uint64_t recordSubmits = 0, recordWaits = 0; // of those, inside record()
+    // Pipelines built (vkCreateComputePipelines / vkCreateGraphicsPipelines), and inside record(): 0
+    // there, every pipeline a frame can reach being built by create(), createTargets and setTargets.
+    uint64_t pipelines = 0, recordPipelines = 0;
+};
+QueueAccessCounts queueAccessCounts(const Module& module);
+
 // Whether the virtual shadow maps draw pages with task and mesh shaders (VsmRaster::Auto resolved at
 // create()); false when the maps are off or on the vertex path.
 bool vsmMeshPath(const Module& module);

@@ -90,9 +90,15 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
     if (options.framesInFlight < 1 || options.framesInFlight > 16)
         return fail("framesInFlight must be 1..16, got " + std::to_string(options.framesInFlight));
     auto impl = std::make_unique<Impl>();
+    // A cache belongs to the device it was made on: the host cannot have made one on a device the
+    // module has yet to create.
+    if (options.pipelineCache && !options.borrow)
+        return fail("pipelineCache needs a borrowed device (ModuleOptions::borrow): a cache belongs to the "
+                    "device it was created on");
     auto device = options.borrow ? Device::borrow(*options.borrow) : Device::create(options.device);
     if (!device) return fail(device.error());
     impl->device = std::move(device.value());
+    impl->device->pipelineCache = options.pipelineCache;
     impl->culling = options.culling;
     impl->statistics = options.statistics;
     // Fenced is an explicit profiling mode (manylights.h): by default record() records into the host's
@@ -150,6 +156,7 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
 }
 
 Result<void> Module::Impl::init() {
+    device->frameSetup = &setup; // inactive outside record(): setup work before it submits and waits
     const Device& d = *device;
     ML_TRY(gbuffer.create(d));
     ML_TRY(cull.create(d));
@@ -202,6 +209,9 @@ void Module::Impl::destroy() {
     stagedCopies.clear();
     destroyTargets();
     releaseRetired(true);
+    for (Buffer& b : setup.released) destroyBuffer(d, b); // a failed record() left them queued
+    setup = {};
+    device->frameSetup = nullptr;
 }
 
 Result<MeshId> Module::addMesh(const MeshDesc& mesh) {
@@ -566,10 +576,19 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         return fail("record: Fenced timing with host targets submits the passes before the host's command "
                     "buffer: submit and wait for the G-buffer, then call record(VK_NULL_HANDLE), or use "
                     "TimingChoice::Timestamps");
+    // Every submit and wait made from here on is counted as record()'s (Device::recordQueueCounts): there
+    // must be none outside Fenced timing. While the frame is prepared, setup work that used to be a
+    // one-time submit (a new buffer's fill, a grown buffer's copy) is queued for the frame's own command
+    // buffer instead (m.setup); during the passes nothing is queued, so a buffer made there would show up
+    // as a counted submit rather than go unfilled.
+    const Device::RecordScope inRecord(*m.device);
+    m.setup.active = true;
     auto began = m.beginFrame();
+    m.setup.active = false;
     if (!began) return fail("record: " + began.error());
     const uint32_t slotIndex = began.value();
     FrameContext frame = m.frameContext(cmd, slotIndex);
+    frame.setup = &m.setup;
     FramePasses& p = m.passes;
     // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
     FramePass* const passes[] = {
@@ -595,7 +614,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     };
     if (auto r = runFrame(m.profiler, frame, passes); !r) return fail("record: " + r.error());
     m.endFrame(slotIndex);
-    m.retireStaged(); // the staging buffers this frame copied from: freed once it is done
+    m.retireStaged(); // the staging buffers this frame copied from (and replaced): freed once it is done
     return {};
 }
 
@@ -619,7 +638,7 @@ Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     if (!m.ownTargets) return fail("readOutput: the output image belongs to the host (setTargets)");
     if (m.hdrOutput) return fail("readOutput: the module writes HDR only (ModuleOptions::hdrOutput)");
     const Device& d = *m.device;
-    ML_VK_CHECK(vkQueueWaitIdle(d.queue));
+    ML_VK_CHECK(d.waitQueue());
     size_t bytes = size_t(m.width) * m.height * 4;
     if (auto r = ensureBuffer(d, m.readback, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback",
                               MemoryRole::Readback);

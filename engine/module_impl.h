@@ -208,6 +208,11 @@ struct Module::Impl {
     // Targets and output mode (engine/module_targets.cpp).
     void destroyTargets();               // retires the module's images (host ones are the host's)
     Result<void> createOutput(bool own); // own: full-size HDR and output; host targets: 1x1 stubs
+    // The evaluation variant for the current targets in an output mode, and the pipelines of both modes
+    // (engine/frame_write.cpp): built by createTargets and setTargets, never by record().
+    EvaluateOutputs evaluateOutputs(bool hdr) const;
+    bool evaluatePbr() const;
+    Result<void> preparePipelines();
     // Every device-wide wait of the module goes through waitIdle, which counts it (deviceWaits;
     // diag::deviceWaitCount): docs/integration.md lists the calls that still wait.
     uint64_t deviceWaits = 0;
@@ -229,7 +234,11 @@ struct Module::Impl {
     // Writes `bytes` into a new staging buffer and queues `copies` from it (their regions' srcOffset
     // index `bytes`). Nothing is queued on failure.
     Result<void> stage(const std::vector<uint8_t>& bytes, std::vector<StagedCopy> copies, const char* name);
-    void retireStaged(); // after the frame that recorded the copies
+    void retireStaged(); // after the frame that recorded the copies (and the setup's commands, below)
+    // Fills of new GPU-only buffers, copies of grown ones and the buffers they replace, queued while
+    // record() prepares a frame (beginFrame) and recorded by its frame-begin pass instead of one-time
+    // submits (gpu/resources.h; Device::frameSetup points here from init() to destroy()).
+    FrameSetup setup;
     void releaseRetired(bool all);
     Result<void> uploadMeshes();
     void collectSlot(uint32_t index);

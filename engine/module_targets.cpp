@@ -97,7 +97,7 @@ Result<void> checkHostTargets(const HostTargets& t, bool hdr) {
 }
 
 uint64_t Module::Impl::waitIdle() {
-    vkDeviceWaitIdle(device->device);
+    device->waitDevice();
     return ++deviceWaits;
 }
 
@@ -163,6 +163,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materia
     m.height = height;
     auto r = m.gbuffer.createTargets(*m.device, width, height, m.targets);
     if (r) r = m.createOutput(true);
+    if (r) r = m.preparePipelines(); // LDR and HDR: record() builds none
     if (!r) { // out of memory: no targets (record() refuses until a later call succeeds)
         m.destroyTargets();
         m.width = m.height = 0;
@@ -183,7 +184,9 @@ Result<void> Module::setTargets(const HostTargets& t) {
     m.height = t.height;
     m.host = t;
     m.hdrOutput = hdr;
-    if (auto r = m.createOutput(false); !r) {
+    auto r = m.createOutput(false);
+    if (r) r = m.preparePipelines(); // the output's mode: record() builds none
+    if (!r) {
         m.destroyTargets();
         m.width = m.height = 0;
         return fail("setTargets: " + r.error());

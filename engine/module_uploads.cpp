@@ -34,6 +34,10 @@ void Module::Impl::retireStaged() {
     for (Buffer& b : staging) retire(b);
     staging.clear();
     stagedCopies.clear();
+    setup.fills.clear();
+    setup.copies.clear();
+    for (Buffer& b : setup.released) retire(b);
+    setup.released.clear();
 }
 
 Result<void> Module::Impl::uploadMeshes() {

@@ -482,7 +482,7 @@ Result<void> Device::loadFunctions() {
 }
 
 Device::~Device() {
-    if (device) vkDeviceWaitIdle(device);
+    if (device) waitDevice();
     if (setupPool_) vkDestroyCommandPool(device, setupPool_, nullptr);
     if (!owned_) return;
     if (device) vkDestroyDevice(device, nullptr);
@@ -512,8 +512,8 @@ void Device::endOneTime(VkCommandBuffer cmd) const {
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd;
-    ML_VK_CHECK(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    ML_VK_CHECK(vkQueueWaitIdle(queue));
+    ML_VK_CHECK(submit(si, VK_NULL_HANDLE));
+    ML_VK_CHECK(waitQueue());
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
 }
 
@@ -537,12 +537,36 @@ Result<void> Device::tryEndOneTime(VkCommandBuffer cmd, const char* what) const 
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cmd;
     const char* call = "vkEndCommandBuffer";
-    if (r == VK_SUCCESS)
-        call = "vkQueueSubmit", r = ML_VK_ALLOC(vkQueueSubmit(queue, 1, &si, VK_NULL_HANDLE));
-    if (r == VK_SUCCESS) call = "vkQueueWaitIdle", r = vkQueueWaitIdle(queue);
+    if (r == VK_SUCCESS) call = "vkQueueSubmit", r = ML_VK_ALLOC(submit(si, VK_NULL_HANDLE));
+    if (r == VK_SUCCESS) call = "vkQueueWaitIdle", r = waitQueue();
     vkFreeCommandBuffers(device, setupPool_, 1, &cmd);
     if (r != VK_SUCCESS) return fail(std::string(call) + " for '" + what + "' failed: " + vkResultName(r));
     return {};
+}
+
+void Device::countQueueOp(bool isSubmit) const {
+    (isSubmit ? submits_ : waits_)++;
+    if (recordDepth_) (isSubmit ? recordSubmits_ : recordWaits_)++;
+}
+
+VkResult Device::submit(const VkSubmitInfo& info, VkFence fence) const {
+    countQueueOp(true);
+    return vkQueueSubmit(queue, 1, &info, fence);
+}
+
+VkResult Device::waitQueue() const {
+    countQueueOp(false);
+    return vkQueueWaitIdle(queue);
+}
+
+VkResult Device::waitDevice() const {
+    countQueueOp(false);
+    return vkDeviceWaitIdle(device);
+}
+
+VkResult Device::waitFences(uint32_t count, const VkFence* fences) const {
+    countQueueOp(false);
+    return vkWaitForFences(device, count, fences, VK_TRUE, UINT64_MAX);
 }
 
 MemoryUsage Device::memoryUsage() const {

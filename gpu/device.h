@@ -25,6 +25,8 @@ struct GLFWwindow;
 
 namespace ml {
 
+struct FrameSetup; // gpu/resources.h
+
 class Device {
   public:
     static Result<std::unique_ptr<Device>> create(const DeviceOptions& options);
@@ -50,6 +52,45 @@ class Device {
     void endOneTime(VkCommandBuffer cmd) const;
     Result<VkCommandBuffer> tryBeginOneTime(const char* what) const;
     Result<void> tryEndOneTime(VkCommandBuffer cmd, const char* what) const;
+
+    // Queue access (issue 41): every submit and every queue, device or fence wait the module makes goes
+    // through these four, which count it; the ones made while record() runs (a RecordScope is open) are
+    // counted apart, so a hidden submit or wait behind the host's back cannot go unseen. The source check
+    // QueueAccess.OnlyDeviceCallsTheQueue (tests/record_queue) keeps direct calls out of the module.
+    VkResult submit(const VkSubmitInfo& info, VkFence fence) const;
+    VkResult waitQueue() const;
+    VkResult waitDevice() const;
+    VkResult waitFences(uint32_t count, const VkFence* fences) const;
+    struct QueueCounts {
+        uint64_t submits = 0, waits = 0; // vkQueueSubmit; vkQueueWaitIdle, vkDeviceWaitIdle, vkWaitForFences
+    };
+    QueueCounts queueCounts() const { return {submits_.load(), waits_.load()}; }
+    QueueCounts recordQueueCounts() const { return {recordSubmits_.load(), recordWaits_.load()}; }
+    // Pipelines created (gpu/program.cpp counts each vkCreate*Pipelines), and those inside record():
+    // every pipeline a frame can use is built before it (Module::create, createTargets, setTargets).
+    void countPipelineBuild() const {
+        pipelines_++;
+        if (recordDepth_) recordPipelines_++;
+    }
+    uint64_t pipelineBuilds() const { return pipelines_.load(); }
+    uint64_t recordPipelineBuilds() const { return recordPipelines_.load(); }
+    // Open for the whole of Module::record (nested scopes count once).
+    class RecordScope {
+      public:
+        explicit RecordScope(const Device& d) : d_(d) { ++d_.recordDepth_; }
+        ~RecordScope() { --d_.recordDepth_; }
+        RecordScope(const RecordScope&) = delete;
+        RecordScope& operator=(const RecordScope&) = delete;
+
+      private:
+        const Device& d_;
+    };
+
+    // The module's setup commands for the frame being recorded (gpu/resources.h): while it is set and
+    // active, createDeviceBuffer queues its fill there instead of submitting it. Owned by the module.
+    FrameSetup* frameSetup = nullptr;
+    // The host's pipeline cache (ModuleOptions::pipelineCache), or none: every pipeline is built with it.
+    VkPipelineCache pipelineCache = VK_NULL_HANDLE;
 
     // Bytes of live allocations per memory kind (gpu/resources.cpp counts each allocation and free).
     void countMemory(MemoryKind kind, uint32_t role, int64_t bytes) const {
@@ -77,6 +118,10 @@ class Device {
     Device() = default;
     Result<void> loadFunctions();
     bool owned_ = false;
+    void countQueueOp(bool submit) const;
+    mutable std::atomic<uint64_t> submits_ = 0, waits_ = 0, recordSubmits_ = 0, recordWaits_ = 0;
+    mutable std::atomic<uint64_t> pipelines_ = 0, recordPipelines_ = 0;
+    mutable std::atomic<uint32_t> recordDepth_ = 0;
     mutable std::atomic<uint64_t> memoryBytes_[kMemoryKindCount] = {};
     mutable std::atomic<uint64_t> roleBytes_[4] = {};
     bool validation_ = false;

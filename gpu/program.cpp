@@ -359,8 +359,9 @@ Result<void> createComputeProgram(const Device& device, Program& p, const Shader
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
     ci.layout = p.layout;
+    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
     if (VkResult r = ML_VK_ALLOC(
-            vkCreateComputePipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+            vkCreateComputePipelines(device.device, device.pipelineCache, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {
         p.pipeline = VK_NULL_HANDLE;
         const std::string name = p.name;
@@ -440,8 +441,9 @@ Result<void> createGraphicsProgram(const Device& device, Program& p,
     ci.pColorBlendState = &cb;
     ci.pDynamicState = &dy;
     ci.layout = p.layout;
+    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
     if (VkResult r = ML_VK_ALLOC(
-            vkCreateGraphicsPipelines(device.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline));
+            vkCreateGraphicsPipelines(device.device, device.pipelineCache, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {
         p.pipeline = VK_NULL_HANDLE;
         const std::string name = p.name;

@@ -111,6 +111,7 @@ Buffer createBuffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags 
 }
 
 void destroyBuffer(const Device& device, Buffer& b) {
+    if (device.frameSetup && b.buffer) device.frameSetup->forget(b.buffer);
     if (b.memory && b.data) vkUnmapMemory(device.device, b.memory);
     if (b.buffer) vkDestroyBuffer(device.device, b.buffer, nullptr);
     freeMemory(device, b.memory, b.kind, b.role, b.allocated);
@@ -122,6 +123,12 @@ Result<void> createDeviceBuffer(const Device& device, Buffer& b, VkDeviceSize si
     auto made = makeBuffer(device, b, size,
                            usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            MemoryRole::GpuOnly, name);
+    // Inside record() the fill goes into the frame's own command buffer (FrameSetup), ahead of every
+    // pass: a one-time submit here would submit to and wait on the host's queue behind its back.
+    if (FrameSetup* setup = activeSetup(device); setup && made) {
+        setup->fills.push_back({b.buffer, fill});
+        return {};
+    }
     auto cmd = made ? device.tryBeginOneTime(name) : Result<VkCommandBuffer>(fail(made.error()));
     if (!cmd) {
         destroyBuffer(device, b);
@@ -171,6 +178,59 @@ Result<void> uploadBuffer(const Device& device, const Buffer& buffer, const void
     auto r = device.tryEndOneTime(cmd.value(), name);
     destroyBuffer(device, staging);
     return r;
+}
+
+void FrameSetup::forget(VkBuffer buffer) {
+    std::erase_if(fills, [&](const Fill& f) { return f.buffer == buffer; });
+    std::erase_if(copies, [&](const StagedCopy& c) { return c.source == buffer || c.destination == buffer; });
+}
+
+void FrameSetup::record(VkCommandBuffer cmd, std::span<const StagedCopy> more) const {
+    // Earlier frames' accesses to a grown buffer's old contents (any stage, e.g. the VSM passes' page
+    // table writes) -> the copy reading them. Fills and staged copies write new buffers or unread ranges:
+    // nothing earlier to order.
+    if (!copies.empty())
+        memoryBarrier(cmd, kBufferUseStages, kBufferWrites, kFillStages,
+                      VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    for (const Fill& f : fills) vkCmdFillBuffer(cmd, f.buffer, 0, VK_WHOLE_SIZE, f.value);
+    // A new buffer's fill -> a copy into it (write-after-write: the grown page table is filled, then its
+    // old entries are copied over).
+    if (!fills.empty() && (!copies.empty() || !more.empty()))
+        memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kFillStages,
+                      VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    for (const StagedCopy& c : copies)
+        vkCmdCopyBuffer(cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
+    for (const StagedCopy& c : more)
+        vkCmdCopyBuffer(cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
+}
+
+Result<void> copyBufferInFrame(const Device& device, const Buffer& from, const Buffer& to,
+                               const VkBufferCopy& region, const char* name) {
+    if (FrameSetup* setup = activeSetup(device)) {
+        setup->copies.push_back({from.buffer, to.buffer, {region}});
+        return {};
+    }
+    auto cmd = device.tryBeginOneTime(name);
+    if (!cmd) return fail(cmd.error());
+    // Earlier uses of both buffers (the caller waited for the frames in flight) -> the copy; the copy ->
+    // every later use of the destination.
+    memoryBarrier(cmd.value(), kBufferUseStages, kBufferWrites, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdCopyBuffer(cmd.value(), from.buffer, to.buffer, 1, &region);
+    memoryBarrier(cmd.value(), VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, kBufferUseStages,
+                  kBufferReads | kBufferWrites);
+    return device.tryEndOneTime(cmd.value(), name);
+}
+
+void releaseAfterFrame(const Device& device, Buffer& buffer) {
+    if (!buffer.buffer) return;
+    if (FrameSetup* setup = activeSetup(device)) {
+        setup->released.push_back(buffer);
+        buffer = Buffer{};
+        return;
+    }
+    device.waitDevice(); // outside record(): a host call at load time may wait
+    destroyBuffer(device, buffer);
 }
 
 std::vector<uint8_t> readBuffer(const Device& device, const Buffer& buffer, VkDeviceSize offset,

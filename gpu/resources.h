@@ -115,6 +115,51 @@ void destroyBuffer(const Device& device, Buffer& buffer);
 // failure the buffer is left empty (destroyed), so a later call retries.
 Result<bool> ensureBuffer(const Device& device, Buffer& buffer, VkDeviceSize size, VkBufferUsageFlags usage,
                           const char* name, MemoryRole role = MemoryRole::Upload);
+
+// A buffer-to-buffer copy recorded at a frame's start (FrameSetup::record, or the module's staged
+// uploads: engine/frame.h): load-time data or a grown buffer's old contents reach a GPU-only buffer
+// without a host wait.
+struct StagedCopy {
+    VkBuffer source = VK_NULL_HANDLE, destination = VK_NULL_HANDLE;
+    std::vector<VkBufferCopy> regions;
+};
+
+// The setup commands of the frame being recorded (issue 41: record() never submits to or waits on the
+// host's queue). While Module::record prepares a frame (active), a new GPU-only buffer's fill
+// (createDeviceBuffer) and a grown buffer's copy of its old contents (copyBufferInFrame) are queued here
+// instead of a one-time submit and wait, and the frame-begin pass records them at the start of the
+// frame's own command buffer, before every pass. Buffers replaced meanwhile (releaseAfterFrame) are not
+// destroyed but handed to the module, which frees them once the frames in flight that used them (and
+// this frame's copies from them) are done. Owned by the module; Device::frameSetup points at it.
+struct FrameSetup {
+    bool active = false;
+    struct Fill {
+        VkBuffer buffer = VK_NULL_HANDLE;
+        uint32_t value = 0;
+    };
+    std::vector<Fill> fills;
+    std::vector<StagedCopy> copies;
+    std::vector<Buffer> released;
+    bool empty() const { return fills.empty() && copies.empty(); }
+    // destroyBuffer: a queued command naming a destroyed buffer is dropped (a record() that failed after
+    // queueing it made and then freed the buffer).
+    void forget(VkBuffer buffer);
+    // Fills, then copies (these and `more`), with the barriers between them; the caller's frame barrier
+    // orders them before the passes.
+    void record(VkCommandBuffer cmd, std::span<const StagedCopy> more) const;
+};
+// The frame's setup when one is being prepared (Device::frameSetup active), else null.
+inline FrameSetup* activeSetup(const Device& device) {
+    return device.frameSetup && device.frameSetup->active ? device.frameSetup : nullptr;
+}
+// `region` of `from` into `to`: queued into the frame being recorded, or (outside record(): create,
+// tools) submitted and waited for. Out of memory is an error naming `name`.
+Result<void> copyBufferInFrame(const Device& device, const Buffer& from, const Buffer& to,
+                               const VkBufferCopy& region, const char* name);
+// A buffer that frames in flight (or a queued copy) may still read: handed to the frame being recorded
+// (released once it is done), or, outside record(), destroyed after a device wait. Clears `buffer`.
+void releaseAfterFrame(const Device& device, Buffer& buffer);
+
 // Mapped buffers only.
 inline void upload(Buffer& buffer, const void* src, size_t bytes, size_t offset = 0) {
     std::memcpy(static_cast<char*>(buffer.data) + offset, src, bytes);

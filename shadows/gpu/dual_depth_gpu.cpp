@@ -45,7 +45,7 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
         return fail("dual depth: resolution " + std::to_string(res) + " outside 1..65536");
     if (maxTile == 0 || maxTile > 4096) return fail("dual depth: tile size must be 1..4096");
     const Device& d = device_;
-    vkDeviceWaitIdle(d.device);
+    d.waitDevice();
     // Upload the triangles (w marks closed meshes).
     std::vector<glm::vec4> verts;
     verts.reserve(casters.positions.size());

@@ -169,7 +169,8 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
 Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
     // Map slots come from a pool that grows (doubling, up to settings().maxMaps) when a light needs slots
     // and none are free: the page table keeps its entries (copied), the per-frame buffers are remade
-    // (every frame rewrites them), and the new slots join the free list. The device is idle meanwhile.
+    // (every frame rewrites them), and the new slots join the free list. Nothing waits: the copy is
+    // recorded into the frame being prepared and the old buffers are released after it (FrameSetup).
     // Every new buffer is made before anything is replaced: out of memory leaves the old slots as they
     // were (the new ones are destroyed) and is returned.
     const uint32_t old = capacity_;
@@ -216,20 +217,25 @@ Result<void> VirtualShadowMaps::resizeMaps(const Device& d, uint32_t capacity) {
         return made;
     }
     if (old > 0) {
-        ML_VK_CHECK(vkDeviceWaitIdle(d.device));
-        VkCommandBuffer cmd = d.beginOneTime();
+        // The old slots' entries, copied by the frame being recorded (FrameSetup) after the new table's
+        // fill: no submit or wait on the host's queue. Outside record() a one-time copy, waited for.
         const VkBufferCopy region{0, 0, VkDeviceSize(old) * entriesPerMap_ * 4};
-        vkCmdCopyBuffer(cmd, pages_.table.buffer, next.table.buffer, 1, &region);
-        d.endOneTime(cmd);
+        if (auto r = copyBufferInFrame(d, pages_.table, next.table, region, "vsm_page_table_grow"); !r) {
+            for (Buffer* b : mapSized(next)) destroyBuffer(d, *b);
+            for (Slot& sl : nextSlots)
+                for (Buffer* b : slotSized(sl)) destroyBuffer(d, *b);
+            return r;
+        }
     }
-    for (Buffer* b : mapSized(pages_)) destroyBuffer(d, *b);
+    // Frames in flight (and the copy above) may still read the old buffers: released after the frame.
+    for (Buffer* b : mapSized(pages_)) releaseAfterFrame(d, *b);
     const auto nextBuffers = mapSized(next);
     const auto ownBuffers = mapSized(pages_);
     for (size_t i = 0; i < ownBuffers.size(); ++i) *ownBuffers[i] = *nextBuffers[i];
     markWords_ = bitWords;
     for (size_t k = 0; k < slots_.size(); ++k) {
         Slot& sl = slots_[k];
-        for (Buffer* b : slotSized(sl)) destroyBuffer(d, *b);
+        for (Buffer* b : slotSized(sl)) releaseAfterFrame(d, *b);
         const auto from = slotSized(nextSlots[k]);
         const auto to = slotSized(sl);
         for (size_t i = 0; i < to.size(); ++i) *to[i] = *from[i];

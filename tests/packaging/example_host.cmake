@@ -75,12 +75,21 @@ if(MODE STREQUAL "install")
   find_program(PKG_CONFIG pkg-config REQUIRED)
   set(ENV{PKG_CONFIG_PATH} ${OUT}/prefix/lib/pkgconfig)
   run(${PKG_CONFIG} --cflags --libs manylights)
-  if(last_output MATCHES "GLM_|glfw|include/manylights")
+  # Nor the language mode (issue 41): -std= is the host's, on its own compile line.
+  if(last_output MATCHES "GLM_|glfw|include/manylights|-std=")
     message(FATAL_ERROR "pkg-config manylights leaks settings into the host: ${last_output}")
   endif()
   separate_arguments(flags UNIX_COMMAND "${last_output}")
-  run(c++ -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${SOURCE}/examples/host/host_device.cpp ${flags}
-      -o ${OUT}/host_example_pkgconfig)
+  run(c++ -std=c++20 -I${OUT}/build ${SOURCE}/examples/host/main.cpp ${SOURCE}/examples/host/host_device.cpp
+      ${flags} -o ${OUT}/host_example_pkgconfig)
+  # The CMake package carries C++20 as a usage requirement instead (the example sets no standard of
+  # its own): the exported target names cxx_std_20.
+  file(GLOB targets_files ${OUT}/prefix/lib/cmake/manylights/manylightsTargets.cmake)
+  file(READ ${targets_files} exported)
+  string(REGEX MATCH "set_target_properties\\(manylights::manylights PROPERTIES[^)]*\\)" module_props "${exported}")
+  if(NOT module_props MATCHES "INTERFACE_COMPILE_FEATURES \"cxx_std_20\"")
+    message(FATAL_ERROR "the installed manylights::manylights does not require cxx_std_20:\n${module_props}")
+  endif()
   # Public headers only: the engine's internals are not installed, and every installed header (the
   # API types, the static shadow library, io/, shaders/shared/) compiles on its own: nothing it needs
   # is missing from the install, and none reaches a folder above it (bake/, scenes/).
