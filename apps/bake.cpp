@@ -6,6 +6,7 @@
 // Progress goes to stderr, results to stdout; verify's last stdout line is JSON.
 #include "apps/commands.h"
 #include "apps/bake_renderer.h"
+#include "apps/bake_tiles.h"
 #include "apps/json.h"
 #include "apps/need_region.h"
 #include "apps/options.h"
@@ -53,7 +54,9 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
                      the file records it and verify re-renders with the same one
   --shard I/N        bake only shard I (0-based) of N of the selected lights into a part file for
                      `manylights merge` (same flags in every shard; each computes the same split:
-                     lights dealt costliest first, 6 faces for a point light, to the least loaded shard)
+                     lights dealt costliest first, 6 faces for a point light, to the least loaded shard).
+                     A tiled bake (--tile, or --res past 16384) of one light splits its tiles instead:
+                     shard I builds tiles k with k mod N = I into a tile part; merge assembles them
   --light-dir X,Y,Z  also bake a static directional light shining along X,Y,Z (appended after the
                      scene's lights and selected): one orthographic map fitted to the scene bounds
   --bounds X0,Y0,Z0,X1,Y1,Z1  the box directional lights' maps cover (default: the scene's bounds)
@@ -147,17 +150,6 @@ Result<std::pair<std::string, cli::Args>> fileAndFlags(int argc, char** argv,
     if (!args) return fail(args.error());
     if (file.empty() && !args->help) return fail("missing FILE (see --help)");
     return std::make_pair(file, args.value());
-}
-
-// The build id of a part: a hash of this executable's bytes (another build's encoders may differ).
-Result<uint64_t> executableHash() {
-    std::ifstream is("/proc/self/exe", std::ios::binary);
-    if (!is) return fail("cannot read /proc/self/exe to identify this build");
-    uint64_t h = fnv1a64(nullptr, 0);
-    std::vector<char> buf(1 << 20);
-    while (is.read(buf.data(), std::streamsize(buf.size())) || is.gcount() > 0)
-        h = fnv1a64(buf.data(), size_t(is.gcount()), h);
-    return h;
 }
 
 // bake --shard I/N: bakes the shard's lights (maybe none) into a part file for `manylights merge`.
@@ -315,8 +307,6 @@ Result<BakeOptions> parseBake(const cli::Args& args) {
     if (o.res > kBakeWholeMapMax && !bakeTiled(o.method, o.res, o.tile))
         return fail("--res: " + std::string(staticMethodName(o.method)) + " bakes whole maps, up to " +
                     std::to_string(kBakeWholeMapMax) + " (mh, mmh and dagmh bake larger maps in tiles)");
-    if (o.shard && bakeTiled(o.method, o.res, o.tile))
-        return fail("--shard: not with a tiled bake (shards split lights, not a light's tiles)");
     return o;
 }
 
@@ -509,6 +499,9 @@ int runBake(int argc, char** argv) {
                 o.byNeed ? "need-based resolutions up to " : "", o.res, sel->lights.size(),
                 sel->scene.lights.size());
     std::fflush(stdout);
+    if (o.shard && bakeTiled(o.method, o.res, o.tile)) // one light's tiles
+        return bakeTileShard(sel->scene, sel->spec, o.method, o.res, o.tile ? o.tile : kBakeDefaultTile,
+                             sel->lights, o.shard.value(), o.renderer, o.out, o.quiet);
     if (o.shard)
         return bakeShard(sel->scene, sel->spec, o.method, o.res, sel->lights, o.shard.value(), o.out,
                          o.renderer, rendering->render, rendering->gpu.get(), o.quiet);

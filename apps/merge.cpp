@@ -4,6 +4,7 @@
 // resolution, renderer, device, build, selection and N; every selected light in exactly one part).
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "apps/bake_tiles.h"
 #include "bake/bake_shard.h"
 
 #include <cstdio>
@@ -21,6 +22,9 @@ for byte to the bake file of one `manylights bake` of the same lights. Refused, 
 status 2, when a part is damaged, when the parts differ in scene (name, light count, seed or geometry),
 method, resolution, renderer, device or manylights build, or when a selected light is in no part or in
 two. Parts may be given in any order (e.g. a shell glob).
+Tile parts (bake --shard I/N of one light's tiles) merge the same way into the bake file of one tiled
+bake, byte for byte: refused when they differ in scene, geometry, build, method, resolution, light or
+shard count, or when a shard or a tile is missing.
   --out FILE   the bake file to write
   --quiet      no summary line on stdout
 )";
@@ -54,6 +58,7 @@ int runMerge(int argc, char** argv) {
     if (!std::filesystem::is_directory(outDir))
         return usageError("merge", "--out: " + outDir.string() + " is not a directory");
 
+    if (isTilePartFile(paths[0])) return mergeTileShards(paths, out, args->has("--quiet"));
     std::vector<BakePart> parts;
     for (const std::string& p : paths) {
         auto part = readBakePart(p);

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Tiled bakes against whole-map bakes: the night city's moon (light 239 of 256) at 512^2, whole and in
 # 128^2 tiles, must be the same file byte for byte for mh, mmh and dagmh, and the streaming verify in
-# 64^2 tiles must find 0 mismatches. Usage: bake_tiled.sh MANYLIGHTS OUTDIR
+# 64^2 tiles must find 0 mismatches; 4 tile shards merged must equal it too. Usage: bake_tiled.sh MANYLIGHTS OUTDIR
 set -eu
 exe=$1
 out=$2
@@ -15,3 +15,15 @@ for m in mh mmh dagmh; do
     grep -q '"checked": 262144,' "$out/verify_$m.txt" || { echo "$m: tiled verify did not check every texel"; exit 1; }
     echo "$m: tiled bake equals the whole-map bake, verify 0 mismatches"
 done
+# One light's tiles in 4 shards (tile parts), merged: the single bake's file byte for byte; a missing
+# shard is refused.
+for i in 0 1 2 3; do
+    "$exe" bake --method dagmh --res 512 --lights 239 --tile 64 --shard "$i/4" --quiet --out "$out/moon_tiles_$i.mltp" > /dev/null
+done
+"$exe" merge "$out"/moon_tiles_*.mltp --out "$out/moon_merged.mlbk" --quiet
+cmp "$out/moon_whole_dagmh.mlbk" "$out/moon_merged.mlbk"
+if "$exe" merge "$out/moon_tiles_0.mltp" "$out/moon_tiles_1.mltp" "$out/moon_tiles_3.mltp" --out "$out/bad.mlbk" 2> "$out/merge_err.txt"; then
+    echo "a merge without shard 2 was accepted"; exit 1
+fi
+grep -q "shard 2/4 is missing" "$out/merge_err.txt"
+echo "dagmh: 4 tile shards merged equal the whole-map bake; a missing shard is refused"
