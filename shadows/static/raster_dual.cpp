@@ -241,9 +241,9 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
             }
         }
     }
-    // Hits ordered by key: a counting sort by texel (linear; a comparison sort of the whole list was most
-    // of a large map's render), then each texel's few hits by depth and kind. Equal keys are the same
-    // hit, so the order is the full key's sort.
+    // Hits ordered by key: a counting sort by texel (linear in the hits, where sorting the whole list is
+    // n log n), then each texel's few hits by depth and kind. Equal keys are the same hit, so the order
+    // is the full key's sort.
     {
         std::vector<uint32_t> start(tileTexels + 1, 0u);
         for (uint64_t h : hits) ++start[(h >> 34) + 1];
