@@ -29,8 +29,8 @@ constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
 // holding a tile per worker and the output; SM and CPVS stop here.
 constexpr uint32_t kBakeWholeMapMax = 16384;
 constexpr uint32_t kBakeMaxResolution = 65536;
-// Tiled bakes' tile side: 512^2 keeps a tile's hit lists in cache (the night city's moon at 8192^2:
-// 5.5 s and 208 MiB peak with 512^2 tiles, 6.9 s and 852 MiB with 2048^2; `bake --tile`).
+// Tiled bakes' tile side: a 512^2 tile's hit lists and counting-sort table (8 B a hit, 4 B a texel)
+// stay small, once per hardware thread; a 2048^2 tile holds 16x as much (`bake --tile` to choose).
 constexpr uint32_t kBakeDefaultTile = 512;
 // Whether a bake at `resolution` (with `tile` from --tile, 0: none asked) goes tile by tile.
 inline bool bakeTiled(StaticMethod method, uint32_t resolution, uint32_t tile) {
