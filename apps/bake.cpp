@@ -89,7 +89,8 @@ Validates a bake file (every offset, count and checksum) and reports method, res
 bytes per part (headers, skip list, value bounds, nodes, treelets, values, factors), in total and per light.
 A need-based bake (bake --need, version 2) also shows each light's resolution and why (the receiver and
 camera sample that decided, the cap or the minimum, no caster: not baked), and lights per resolution.
-A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records.
+A part of a sharded bake (bake --shard) is reported as its shard, its lights and its records; a tile
+part (one light's tiles) as its shard, light, tiles and tree nodes.
   --json   one JSON object: method, resolution, lights, bytes_total, bytes{...}, per_light[...]
            (and part{shard, shards, selected, own[...], device} for a part; need{region, width,
            height, min, max, samples, lights[{light, resolution, reason, why, ...}]} when need-based)
@@ -710,6 +711,7 @@ int runInspect(int argc, char** argv) {
         std::fputs(kInspectHelp, stdout);
         return 0;
     }
+    if (isTilePartFile(path)) return inspectTilePart(path, args.has("--json"));
     auto in = readInspected(path);
     if (!in) return inputError("inspect", in.error());
     if (args.has("--json"))

@@ -2,6 +2,7 @@
 #include "apps/bake_tiles.h"
 
 #include "apps/commands.h"
+#include "apps/json.h"
 #include "io/safe_io.h"
 
 #include <chrono>
@@ -49,6 +50,35 @@ int bakeTileShard(const Scene& scene, const SceneSpec& spec, StaticMethod method
     std::printf("wrote tile part %s: light %u, shard %u/%u, %zu tiles, %llu tree nodes\n",
                 io::escapeText(out).c_str(), selected[0], id.index, id.count, part->tiles.size(),
                 (unsigned long long)nodes);
+    return 0;
+}
+
+int inspectTilePart(const std::string& path, bool asJson) {
+    auto part = readTilePart(path);
+    if (!part) return inputError("inspect", part.error());
+    const TilePart& p = part.value();
+    uint64_t nodes = 0;
+    for (const auto& [index, t] : p.tiles) nodes += t.nodes.size();
+    auto grid = mhTileGrid(p.resolution, p.tile);
+    const uint32_t total = grid ? grid->count() : 0;
+    if (asJson) {
+        json::Object o;
+        o.text("part", "tiles")
+            .text("method", staticMethodName(p.method))
+            .integer("resolution", p.resolution);
+        o.integer("tile", p.tile).integer("light", p.light).integer("shard", p.shard.index);
+        o.integer("shards", p.shard.count).integer("tiles", p.tiles.size()).integer("tiles_total", total);
+        o.integer("tree_nodes", nodes).text("scene", p.scene.scene).integer("scene_lights", p.scene.lights);
+        o.integer("seed", p.scene.seed);
+        std::printf("%s\n", o.str().c_str());
+        return 0;
+    }
+    std::printf(
+        "%s: tile part %u/%u of light %u (%s at %u^2, %u^2 tiles): %zu of %u tiles, %llu tree nodes; scene "
+        "%s, %u lights, seed %u; `manylights merge` of all %u parts makes the bake file\n",
+        io::escapeText(path).c_str(), p.shard.index, p.shard.count, p.light, staticMethodName(p.method),
+        p.resolution, p.tile, p.tiles.size(), total, (unsigned long long)nodes,
+        io::escapeText(p.scene.scene).c_str(), p.scene.lights, p.scene.seed, p.shard.count);
     return 0;
 }
 

@@ -16,6 +16,10 @@ int bakeTileShard(const Scene& scene, const SceneSpec& spec, StaticMethod method
                   const std::vector<uint32_t>& selected, ShardId id, BakeRenderer renderer,
                   const std::string& out, bool quiet);
 
+// `inspect` of a tile part: its shard, light, tiles and nodes (one line, or one JSON object); the exit
+// status.
+int inspectTilePart(const std::string& path, bool json);
+
 // `merge` of tile parts (every path one): the bake file at `out`; the exit status.
 int mergeTileShards(const std::vector<std::string>& paths, const std::string& out, bool quiet);
 

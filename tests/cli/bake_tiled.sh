@@ -20,6 +20,8 @@ done
 for i in 0 1 2 3; do
     "$exe" bake --method dagmh --res 512 --lights 239 --tile 64 --shard "$i/4" --quiet --out "$out/moon_tiles_$i.mltp" > /dev/null
 done
+"$exe" inspect "$out/moon_tiles_1.mltp" | grep -q "tile part 1/4 of light 239 (dagmh at 512^2, 64^2 tiles): 16 of 64 tiles"
+"$exe" inspect "$out/moon_tiles_1.mltp" --json | grep -q '"part": "tiles", "method": "dagmh", "resolution": 512, "tile": 64, "light": 239, "shard": 1, "shards": 4, "tiles": 16, "tiles_total": 64'
 "$exe" merge "$out"/moon_tiles_*.mltp --out "$out/moon_merged.mlbk" --quiet
 cmp "$out/moon_whole_dagmh.mlbk" "$out/moon_merged.mlbk"
 if "$exe" merge "$out/moon_tiles_0.mltp" "$out/moon_tiles_1.mltp" "$out/moon_tiles_3.mltp" --out "$out/bad.mlbk" 2> "$out/merge_err.txt"; then
