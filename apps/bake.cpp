@@ -367,13 +367,17 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o, bool
 // city's moon has 1 per 32 at 4096^2, 1 per 52 at 8192^2, 1 per 75 at 16384^2: the ratio falls as
 // resolution grows), each held twice while tiles are spliced (28 B) plus its output words (8 B);
 // bakeTilesOf turns the limit into a node bound that stops a bake whose tree outgrows it.
-uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMethod method, uint32_t tile) {
+// A tile shard (one of `shards` > 1) holds only its tiles' packed nodes (12 B), written once more.
+uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMethod method, uint32_t tile,
+                       uint32_t shards) {
     uint64_t words = 0, largest = 0, tiledLargest = 0;
     for (uint32_t r : faceResolutions) {
         const uint64_t texels = uint64_t(r) * r;
         if (bakeTiled(method, r, tile)) {
-            tiledLargest = std::max(tiledLargest, texels / 64 * (2 * sizeof(MhTree::Node) + 8));
-            words += texels / 64 * 8;
+            const uint64_t nodes = texels / 64;
+            tiledLargest = std::max(tiledLargest, shards > 1 ? nodes / shards * 2 * sizeof(MhPackedNode)
+                                                             : nodes * (2 * sizeof(MhTree::Node) + 8));
+            words += shards > 1 ? 0 : nodes * 8;
             continue;
         }
         words += texels * 4;
@@ -405,7 +409,9 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                              (need ? std::string("at the need's resolutions")
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
-    return opts::checkMemory("bake", bakePeakBytes(faces, o.method, o.tile), o.maxMemory, what);
+    const uint32_t shards = o.shard && bakeTiled(o.method, o.res, o.tile) ? o.shard->count : 1;
+    return opts::checkMemory("bake", bakePeakBytes(faces, o.method, o.tile, shards), o.maxMemory,
+                             shards > 1 ? what + ", one tile shard of " + std::to_string(shards) : what);
 }
 
 // --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
