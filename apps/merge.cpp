@@ -2,6 +2,7 @@
 // process would have written for the same lights, byte for byte. Everything is checked before anything
 // is written: each part on its own (checksums, bake_shard.h), then the parts together (one scene, method,
 // resolution, renderer, device, build, selection and N; every selected light in exactly one part).
+// Tile parts of one light (bake/bake_tile_part.h) go to mergeTileShards (apps/bake_tiles.h).
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/bake_tiles.h"

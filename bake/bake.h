@@ -3,7 +3,8 @@
 //
 // Rendering goes through a DualRenderFn: the Vulkan renderer (shadows/gpu/dual_depth_gpu.h) or the CPU
 // rasteriser, which must produce the same maps (raster_dual.h defines them). Spot lights bake one map,
-// point lights six cube faces. Lights that cannot be baked (dynamic and directional lights) are never
+// point lights six cube faces; MH-family maps past kBakeWholeMapMax are built tile by tile
+// (bake_tiled.h). Lights that cannot be baked (dynamic and directional lights) are never
 // dropped silently: they come back in BakeResult::skipped with the reason.
 #pragma once
 #include "io/result.h"

@@ -113,7 +113,7 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
     std::vector<uint32_t> mine; // the tiles this call builds
     for (uint32_t k = 0; k < count; ++k)
         if (!select || select(k)) mine.push_back(k);
-    const uint32_t todo = uint32_t(mine.size());
+    const uint32_t owned = uint32_t(mine.size());
     std::atomic<uint32_t> next{0}, done{0};
     std::atomic<uint64_t> nodeCount{0};
     std::atomic<bool> failed{false};
@@ -125,7 +125,7 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
         std::vector<uint32_t> enter, exit, lo(size_t(T) * T), hi(size_t(T) * T);
         uint64_t covered = 0, closed = 0;
         double render = 0, reduce = 0;
-        for (uint32_t j; !failed && (j = next++) < todo;) {
+        for (uint32_t j; !failed && (j = next++) < owned;) {
             const uint32_t k = mine[j];
             // Row-major tile index = the top pyramid's finest level; emission visits it in preorder.
             const uint32_t tx = k % m, ty = k / m, x0 = tx * T, y0 = ty * T;
@@ -168,7 +168,7 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                 if (!failed)
                     error = "the tree passed " + std::to_string(held) + " nodes (" +
                             std::to_string((held * sizeof(MhTree::Node)) >> 20) + " MiB) after " +
-                            std::to_string(done + 1) + " of " + std::to_string(todo) +
+                            std::to_string(done + 1) + " of " + std::to_string(owned) +
                             " tiles, over its bound of " + std::to_string(options.maxNodes) + " nodes";
                 failed = true;
                 break;
@@ -179,7 +179,7 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
             const uint32_t finished = ++done;
             if (options.progress) {
                 std::lock_guard<std::mutex> lock(mutex);
-                options.progress(double(finished) / todo);
+                options.progress(double(finished) / owned);
             }
         }
         std::lock_guard<std::mutex> lock(mutex);
@@ -187,13 +187,13 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
         st.renderSeconds += render, st.reduceSeconds += reduce;
     };
     uint32_t threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    threads = std::max(1u, std::min(threads, todo));
+    threads = std::max(1u, std::min(threads, owned));
     std::vector<std::thread> pool;
     for (uint32_t i = 1; i < threads; ++i) pool.emplace_back(worker);
     worker();
     for (std::thread& th : pool) th.join();
     if (failed) return fail("MH: " + error);
-    st.tiles = todo, st.tileSide = T;
+    st.tiles = owned, st.tileSide = T;
     st.nodes = nodeCount;
     if (stats) *stats = st;
     return {};

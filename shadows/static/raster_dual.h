@@ -23,7 +23,8 @@
 //      of the first hit where it drops to 0; if it never does (back faces beyond far), exit = far
 //      (0xFFFFFFFE). Otherwise (open face, or a closed back face, e.g. the light inside a mesh)
 //      exit = enter. No hit: enter = exit = kDepthEmpty.
-// Rows are rendered in tiles (renderRows) so that only one tile's hit list is held at a time.
+// Rows are rendered in tiles (renderRows), or any block (renderRect, the tiled bakes), so that only one
+// tile's hit list is held at a time.
 #pragma once
 #include "shadows/static/dual_depth.h"
 #include "shadows/static/static_types.h"
