@@ -162,68 +162,129 @@ uint32_t childFlags(const MhTree& tree, int32_t n) {
 }
 } // namespace
 
-Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<uint32_t>& value,
-                                        const std::vector<int32_t>* redirect,
-                                        const std::vector<uint8_t>* skip, uint32_t magic,
-                                        std::vector<uint32_t>* headerPos, std::vector<uint32_t>* groupPos) {
+namespace {
+// One placement of the node array: groups in preorder of their parent, the groups in `aligned` (by
+// owner node) preceded by zero words up to a multiple of 2^shift (positions count from the record's
+// first word, headerWords before the node array).
+struct Placed {
+    std::vector<uint32_t> nodes, hpos, gpos; // hpos/gpos: node-array positions
+    std::vector<int32_t> pending;            // redirected inner nodes, patched last
+    uint32_t valued = 0, inner = 0, padding = 0;
+};
+
+Placed place(const MhTree& tree, const std::vector<uint32_t>& value, const std::vector<int32_t>* redirect,
+             const std::vector<uint8_t>& aligned, uint32_t headerWords, uint32_t shift) {
     const size_t count = tree.nodes.size();
-    std::vector<uint32_t> hpos(count, 0), gpos(count, 0);
-    std::vector<uint32_t> nodes;
-    std::vector<int32_t> pending; // redirected inner nodes, patched at the end
-    uint32_t valued = 0, inner = 0;
+    Placed p;
+    p.hpos.assign(count, 0), p.gpos.assign(count, 0);
     const MhTree::Node& root = tree.nodes[0];
-    nodes.push_back(value[0]), ++valued;
-    if (root.inner()) hpos[0] = uint32_t(nodes.size()), nodes.push_back(0), ++inner;
+    p.nodes.push_back(value[0]), ++p.valued;
+    if (root.inner()) p.hpos[0] = uint32_t(p.nodes.size()), p.nodes.push_back(0), ++p.inner;
     // Iterative preorder over inner nodes: emit each one's child group, then its inner children.
     std::vector<int32_t> stack;
     if (root.inner()) stack.push_back(0);
+    const uint32_t mask = (1u << shift) - 1u;
     while (!stack.empty()) {
         int32_t n = stack.back();
         stack.pop_back();
-        gpos[n] = uint32_t(nodes.size());
+        if (!aligned.empty() && aligned[n])
+            while ((headerWords + p.nodes.size()) & mask) p.nodes.push_back(0), ++p.padding;
+        p.gpos[n] = uint32_t(p.nodes.size());
         const MhTree::Node& node = tree.nodes[n];
         for (uint32_t c = 0; c < 4; ++c) {
             int32_t ch = node.child[c];
             if (ch < 0) continue;
             const MhTree::Node& cn = tree.nodes[ch];
-            if (cn.valued) nodes.push_back(value[ch]), ++valued;
-            if (cn.inner()) hpos[ch] = uint32_t(nodes.size()), nodes.push_back(0), ++inner;
+            if (cn.valued) p.nodes.push_back(value[ch]), ++p.valued;
+            if (cn.inner()) p.hpos[ch] = uint32_t(p.nodes.size()), p.nodes.push_back(0), ++p.inner;
         }
+        // Skipped nodes (MMH) are never reached: their parents are redirected.
         for (int c = 3; c >= 0; --c) {
             int32_t ch = node.child[c];
             if (ch < 0 || !tree.nodes[ch].inner()) continue;
             if (redirect && (*redirect)[ch] >= 0)
-                pending.push_back(ch);
+                p.pending.push_back(ch);
             else
                 stack.push_back(ch);
         }
-        if (skip) (void)skip; // skipped nodes are never reached: their parents are redirected
     }
-    auto patch = [&](int32_t n, uint32_t target) -> Result<void> {
-        uint32_t h = hpos[n];
-        if (target <= h || target - h > kMaxOffset)
-            return fail("MH: child offset " + std::to_string(int64_t(target) - int64_t(h)) +
-                        " does not fit 24 bits");
-        nodes[h] = childFlags(tree, n) | (target - h) << 8;
-        return {};
+    return p;
+}
+} // namespace
+
+Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<uint32_t>& value,
+                                        const std::vector<int32_t>* redirect,
+                                        const std::vector<uint8_t>* skip, uint32_t magic,
+                                        std::vector<uint32_t>* headerPos, std::vector<uint32_t>* groupPos,
+                                        const Layout& layout) {
+    const size_t count = tree.nodes.size();
+    // Every written inner node with the owner of the group its header reaches.
+    auto eachHeader = [&](const Placed& p, auto&& f) {
+        for (size_t n = 0; n < count; ++n) {
+            if (!tree.nodes[n].inner() || (skip && (*skip)[n])) continue;
+            if (n != 0 && p.hpos[n] == 0) continue; // not reached (inside a redirected subtree)
+            int32_t owner = redirect && (*redirect)[n] >= 0 ? (*redirect)[n] : int32_t(n);
+            if (!f(int32_t(n), owner)) return false;
+        }
+        return true;
     };
+    std::vector<uint8_t> aligned;
+    Placed p = place(tree, value, redirect, aligned, kHeaderWords, 0);
+    uint32_t maxNear = std::min(layout.maxNear, kMaxOffset), shift = 0, headerWords = kHeaderWords;
+    bool fits = eachHeader(p, [&](int32_t n, int32_t g) {
+        return p.gpos[g] > p.hpos[n] && p.gpos[g] - p.hpos[n] <= maxNear;
+    });
+    if (!fits) {
+        // Version 2: the smallest shift whose far positions reach every aligned group. For one shift,
+        // align the groups reached from afar until no more are (padding only lengthens offsets, so the
+        // set only grows and the loop ends).
+        maxNear = std::min(layout.maxNear, kMaxNearOffset), headerWords = kHeaderWordsFar;
+        for (shift = std::max(layout.minFarShift, 1u);; ++shift) {
+            if (shift > kMaxFarShift) return fail("MH: node array too large for far groups");
+            aligned.assign(count, 0);
+            bool grew = true, reach = true;
+            while (grew && reach) {
+                p = place(tree, value, redirect, aligned, headerWords, shift);
+                grew = false;
+                eachHeader(p, [&](int32_t n, int32_t g) {
+                    if (p.gpos[g] <= p.hpos[n])
+                        return reach = false; // a backward redirect: no layout fixes it
+                    if (p.gpos[g] - p.hpos[n] > maxNear && !aligned[g]) aligned[g] = 1, grew = true;
+                    if (aligned[g] && ((uint64_t(headerWords) + p.gpos[g]) >> shift) > kMaxNearOffset)
+                        return reach = false;
+                    return true;
+                });
+            }
+            if (reach) break;
+        }
+    }
     for (size_t n = 0; n < count; ++n) {
         if (!tree.nodes[n].inner() || (skip && (*skip)[n])) continue;
-        if (redirect && (*redirect)[n] >= 0) continue;
-        if (n != 0 && hpos[n] == 0) continue; // not reached (inside a redirected subtree)
-        if (auto r = patch(int32_t(n), gpos[n]); !r) return fail(r.error());
+        if (n != 0 && p.hpos[n] == 0) continue;
+        int32_t g = redirect && (*redirect)[n] >= 0 ? (*redirect)[n] : int32_t(n);
+        uint32_t h = p.hpos[n], target = p.gpos[g];
+        uint32_t field = 0;
+        if (target > h && target - h <= maxNear)
+            field = target - h;
+        else if (shift != 0 && target > h)
+            field = kFarBit | ((headerWords + target) >> shift);
+        else
+            return fail("MH: child offset " + std::to_string(int64_t(target) - int64_t(h)) +
+                        " does not fit 24 bits");
+        p.nodes[h] = childFlags(tree, int32_t(n)) | field << 8;
     }
-    for (int32_t n : pending)
-        if (auto r = patch(n, gpos[(*redirect)[n]]); !r) return fail(r.error());
-    std::vector<uint32_t> out(kHeaderWords, 0u);
-    out[kMagic] = magic, out[kVersion] = 1, out[kResolution] = tree.resolution, out[kLevels] = tree.levels;
-    out[kRootType] = root.inner() ? 2u : 1u, out[kNodeOffset] = kHeaderWords;
-    out[kNodeWords] = uint32_t(nodes.size()), out[kTotalWords] = uint32_t(kHeaderWords + nodes.size());
-    out[kValued] = valued, out[kInnerRecords] = inner;
-    out.insert(out.end(), nodes.begin(), nodes.end());
+    std::vector<uint32_t> out(headerWords, 0u);
+    out[kMagic] = magic, out[kVersion] = shift ? 2 : 1, out[kResolution] = tree.resolution,
+    out[kLevels] = tree.levels;
+    out[kRootType] = tree.nodes[0].inner() ? 2u : 1u, out[kNodeOffset] = headerWords;
+    if (uint64_t(headerWords) + p.nodes.size() > 0xFFFFFFFFu) return fail("MH: record past 2^32 words");
+    out[kNodeWords] = uint32_t(p.nodes.size()), out[kTotalWords] = uint32_t(headerWords + p.nodes.size());
+    out[kValued] = p.valued, out[kInnerRecords] = p.inner;
+    if (shift) out[kFarShift] = shift, out[kPaddingWords] = p.padding;
+    out.insert(out.end(), p.nodes.begin(), p.nodes.end());
     out[kChecksum] = stat::checksumWords(out.data(), out.size(), kChecksum);
-    if (headerPos) *headerPos = std::move(hpos);
-    if (groupPos) *groupPos = std::move(gpos);
+    if (headerPos) *headerPos = std::move(p.hpos);
+    if (groupPos) *groupPos = std::move(p.gpos);
     return out;
 }
 
@@ -231,7 +292,11 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
     if (!data || size < kHeaderWords)
         return fail("MH: buffer of " + std::to_string(size) + " words is shorter than its header");
     if (data[kMagic] != magic) return fail("MH: wrong magic");
-    if (data[kVersion] != 1) return fail("MH: unsupported version " + std::to_string(data[kVersion]));
+    const uint32_t version = data[kVersion];
+    if (version != 1 && version != 2) return fail("MH: unsupported version " + std::to_string(version));
+    const uint32_t headerWords = version == 2 ? kHeaderWordsFar : kHeaderWords;
+    if (size < headerWords)
+        return fail("MH: buffer of " + std::to_string(size) + " words is shorter than its header");
     if (data[kTotalWords] != size)
         return fail("MH: total words " + std::to_string(data[kTotalWords]) + " != buffer size " +
                     std::to_string(size));
@@ -240,16 +305,21 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
     if (L > 16 || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
         return fail("MH: resolution " + std::to_string(res) + " does not match " + std::to_string(L) +
                     " levels");
-    if (data[kNodeOffset] != kHeaderWords || uint64_t(kHeaderWords) + data[kNodeWords] != size)
+    if (data[kNodeOffset] != headerWords || uint64_t(headerWords) + data[kNodeWords] != size)
         return fail("MH: node array does not fill the buffer");
     if (data[kReserved] != 0) return fail("MH: reserved header word is not 0");
-    // Every node word is a value or a child header: the two counts must add up to the node array (the
-    // byte breakdown subtracts one from the other; a forged count must not wrap it).
-    if (data[kValued] == 0 || uint64_t(data[kValued]) + data[kInnerRecords] != data[kNodeWords])
-        return fail("MH: " + std::to_string(data[kValued]) + " values and " +
-                    std::to_string(data[kInnerRecords]) + " child headers do not make the " +
-                    std::to_string(data[kNodeWords]) + " node words");
-    const uint32_t begin = kHeaderWords, end = uint32_t(size);
+    const uint32_t shift = version == 2 ? data[kFarShift] : 0u, padding = version == 2 ? data[kPaddingWords] : 0u;
+    if (version == 2 && (shift == 0 || shift > kMaxFarShift))
+        return fail("MH: far shift " + std::to_string(shift) + " outside 1.." + std::to_string(kMaxFarShift));
+    // Every node word is a value, a child header or padding: the counts must add up to the node array
+    // (the byte breakdown subtracts values from it; a forged count must not wrap it).
+    if (data[kValued] == 0 ||
+        uint64_t(data[kValued]) + data[kInnerRecords] + padding != data[kNodeWords])
+        return fail("MH: " + std::to_string(data[kValued]) + " values, " +
+                    std::to_string(data[kInnerRecords]) + " child headers and " + std::to_string(padding) +
+                    " padding words do not make the " + std::to_string(data[kNodeWords]) + " node words");
+    const uint32_t begin = headerWords, end = uint32_t(size);
+    const uint32_t farBit = shift ? kFarBit : 0u;
     uint32_t rootType = data[kRootType];
     if (rootType != 1 && rootType != 2) return fail("MH: bad root type " + std::to_string(rootType));
     if (begin + rootType > end) return fail("MH: root record past the end");
@@ -265,8 +335,8 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
         uint32_t hp = stack.back();
         stack.pop_back();
         uint32_t hdr = data[hp], off = hdr >> 8;
-        if (off == 0) return fail("MH: zero child offset at word " + std::to_string(hp));
-        uint64_t q = uint64_t(hp) + off, groupSize = 0;
+        uint64_t q = (off & farBit) ? uint64_t(off & (kFarBit - 1u)) << shift : uint64_t(hp) + off, groupSize = 0;
+        if (q <= hp) return fail("MH: child group of word " + std::to_string(hp) + " not after it");
         for (uint32_t c = 0; c < 4; ++c) groupSize += (0x64u >> (2u * ((hdr >> (2u * c)) & 3u))) & 3u;
         if (groupSize == 0) return fail("MH: inner record without children at word " + std::to_string(hp));
         if (q + groupSize > end)
@@ -287,6 +357,7 @@ stat::ByteBreakdown breakdown(const uint32_t* data, size_t size) {
     stat::ByteBreakdown b;
     b.header = kHeaderWords * 4u;
     if (size < kHeaderWords) return b;
+    if (data[kVersion] == 2) b.header = kHeaderWordsFar * 4u; // padding words count as nodes
     b.values = uint64_t(data[kValued]) * 4u;
     b.nodes = uint64_t(data[kNodeWords]) * 4u - b.values;
     return b;
@@ -294,17 +365,17 @@ stat::ByteBreakdown breakdown(const uint32_t* data, size_t size) {
 
 } // namespace mhfmt
 
-Result<std::vector<uint32_t>> encodeMH(const MhTree& tree) {
+Result<std::vector<uint32_t>> encodeMH(const MhTree& tree, const mhfmt::Layout& layout) {
     std::vector<uint32_t> value(tree.nodes.size());
     for (size_t i = 0; i < tree.nodes.size(); ++i)
         value[i] = stat::midpoint(tree.nodes[i].lo, tree.nodes[i].hi);
-    return mhfmt::serialize(tree, value, nullptr, nullptr, mhfmt::kMagicMH);
+    return mhfmt::serialize(tree, value, nullptr, nullptr, mhfmt::kMagicMH, nullptr, nullptr, layout);
 }
 
-Result<std::vector<uint32_t>> encodeMH(const DualDepthMap& map) {
+Result<std::vector<uint32_t>> encodeMH(const DualDepthMap& map, const mhfmt::Layout& layout) {
     auto tree = buildMhTree(map);
     if (!tree) return fail(tree.error());
-    return encodeMH(*tree);
+    return encodeMH(*tree, layout);
 }
 
 Result<void> validateMH(const uint32_t* data, size_t size) {

@@ -21,6 +21,15 @@
 //          child group (> 0, < 2^24). A group holds the present children's records in child order, so a
 //          child's position is the group start plus the record sizes of the present children before it.
 //   Groups are laid out in depth-first (preorder) order of their parent, so offsets are positive.
+// Version 2 (far groups): a node array past 2^24 words (MH from about 65,536^2 on a city) has child
+//   groups more than 2^24 words after their header: a sibling's group follows the whole subtree of the
+//   siblings before it. The header grows to 14 words: word 12 = far shift S (1..9), word 13 = padding
+//   words; the node offset is 14. Offsets then hold 23 bits; bit 23 of the offset field marks a far group,
+//   whose position is (offset & (2^23 - 1)) << S words from the record's first word, the group aligned to
+//   2^S words by zero padding words before it. S is the smallest shift whose positions reach the whole
+//   record (2^23 << S words: 32 Gi words at S = 9). Only groups that some header reaches from afar are
+//   aligned: at 65,536^2 the padding is a few hundred words. A layout that fits 24-bit offsets is
+//   written as version 1, byte for byte as before; a reader of version 1 refuses version 2 by number.
 // Lookup: the value of the deepest valued node on the texel's path (absent child -> current value).
 // Empty texels decode to exactly kDepthEmpty (their interval is the single point).
 #pragma once
@@ -84,9 +93,22 @@ enum : uint32_t {
     kValued,
     kInnerRecords,
     kChecksum,
-    kReserved
+    kReserved,
+    kFarShift,   // version 2 only
+    kPaddingWords // version 2 only
 };
-constexpr uint32_t kMaxOffset = (1u << 24) - 1u;
+constexpr uint32_t kHeaderWordsFar = 14;
+constexpr uint32_t kMaxOffset = (1u << 24) - 1u;     // version 1: 24-bit offsets
+constexpr uint32_t kMaxNearOffset = (1u << 23) - 1u; // version 2: bit 23 marks a far group
+constexpr uint32_t kFarBit = 1u << 23;
+constexpr uint32_t kMaxFarShift = 9; // (2^23 - 1) << 9 still fits a 32-bit word position
+
+// How the serializer places child groups. The defaults give the smallest file; tests lower maxNear to
+// send small trees through the far-group path and raise minFarShift to exercise wider alignments.
+struct Layout {
+    uint32_t maxNear = kMaxOffset; // a larger offset makes the layout version 2 (then kMaxNearOffset)
+    uint32_t minFarShift = 1;
+};
 
 // Shared serializer for MH and MMH. value[n] is the word stored for node n (absolute for MH, relative
 // for MMH). redirect[n] >= 0 makes inner node n point at node redirect[n]'s child group (MMH merge);
@@ -96,14 +118,14 @@ Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<ui
                                         const std::vector<int32_t>* redirect,
                                         const std::vector<uint8_t>* skip, uint32_t magic,
                                         std::vector<uint32_t>* headerPos = nullptr,
-                                        std::vector<uint32_t>* groupPos = nullptr);
+                                        std::vector<uint32_t>* groupPos = nullptr, const Layout& layout = {});
 // Checks the header, checksum and every reachable record and group against the buffer's bounds.
 Result<void> validate(const uint32_t* data, size_t size, uint32_t magic);
 stat::ByteBreakdown breakdown(const uint32_t* data, size_t size);
 } // namespace mhfmt
 
-Result<std::vector<uint32_t>> encodeMH(const DualDepthMap& map);
-Result<std::vector<uint32_t>> encodeMH(const MhTree& tree);
+Result<std::vector<uint32_t>> encodeMH(const DualDepthMap& map, const mhfmt::Layout& layout = {});
+Result<std::vector<uint32_t>> encodeMH(const MhTree& tree, const mhfmt::Layout& layout = {});
 Result<void> validateMH(const uint32_t* data, size_t size);
 // Bytes per part: header, nodes (header words of inner records), values (value words).
 stat::ByteBreakdown breakdownMH(const uint32_t* data, size_t size);
@@ -111,16 +133,21 @@ stat::ByteBreakdown breakdownMH(const uint32_t* data, size_t size);
 // GLSL twin: shaders/static/mh_lookup.glsl. Only valid on a buffer validateMH accepted; x, y < resolution.
 inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
     uint32_t levels = data[base + mhfmt::kLevels];
-    uint32_t p = base + data[base + mhfmt::kNodeOffset];
+    uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
+    uint32_t p = base + nodeOffset;
     uint32_t value = data[p];
     if (data[base + mhfmt::kRootType] == 1u) return value;
+    // Version 1 has no far groups: shift 0 and a far bit of 0 keep its 24-bit offsets.
+    uint32_t shift = nodeOffset > mhfmt::kHeaderWords ? data[base + mhfmt::kFarShift] : 0u;
+    uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
     uint32_t hp = p + 1u;
     uint32_t hdr = data[hp];
     for (uint32_t s = levels; s > 0u; --s) {
         uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
         uint32_t t = (hdr >> (2u * c)) & 3u;
         if (t == 0u) return value;
-        uint32_t q = hp + (hdr >> 8u);
+        uint32_t off = hdr >> 8u;
+        uint32_t q = (off & farBit) != 0u ? base + ((off & (mhfmt::kFarBit - 1u)) << shift) : hp + off;
         // Record sizes by type: absent 0, leaf 1, full 2, empty 1 (2-bit table 0x64).
         for (uint32_t i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
         if (t != 3u) {

@@ -187,7 +187,8 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
         rel[i] = uint32_t(b.val[i]) - uint32_t(above);
     }
     if (statsOut) *statsOut = st;
-    return mhfmt::serialize(tree, rel, &b.redirect, &b.dropped, mhfmt::kMagicMMH);
+    return mhfmt::serialize(tree, rel, &b.redirect, &b.dropped, mhfmt::kMagicMMH, nullptr, nullptr,
+                            options.layout);
 }
 
 Result<std::vector<uint32_t>> encodeMMH(const DualDepthMap& map, const MmhOptions& options) {

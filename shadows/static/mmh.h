@@ -14,7 +14,8 @@
 //     list[i+1 .. i+window]. Early rejection by interval statistics (min/max of the lower and upper
 //     bounds relative to the base); the full test walks both subtrees and compares topology exactly.
 //   - Offset check: the redirected offset is bounded by the distance in the unmerged layout, which
-//     must fit 24 bits.
+//     must fit 24 bits (a redirect never needs a far group; the serializer may still make it far when
+//     the record is version 2 and the offset passes 23 bits).
 //   - Merge: every node X' of the kept subtree gets J(X') := J(X') n (J(X) - a_A + a_B), in int64.
 // Why relative values stay lossless when shared: before the pass of height h, every node of height >= h
 // has its final interval J (only merges of taller subtrees change it), so its value is fixed then as the
@@ -31,6 +32,7 @@ namespace ml {
 
 struct MmhOptions {
     uint32_t window = 1000; // local matching window in each collision list
+    mhfmt::Layout layout;   // child group placement (mh.h); tests force far groups with it
 };
 
 struct MmhStats {
@@ -47,16 +49,20 @@ stat::ByteBreakdown breakdownMMH(const uint32_t* data, size_t size);
 // GLSL twin: shaders/static/mmh_lookup.glsl. Only valid on a buffer validateMMH accepted.
 inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
     uint32_t levels = data[base + mhfmt::kLevels];
-    uint32_t p = base + data[base + mhfmt::kNodeOffset];
+    uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
+    uint32_t p = base + nodeOffset;
     uint32_t value = data[p];
     if (data[base + mhfmt::kRootType] == 1u) return value;
+    uint32_t shift = nodeOffset > mhfmt::kHeaderWords ? data[base + mhfmt::kFarShift] : 0u;
+    uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
     uint32_t hp = p + 1u;
     uint32_t hdr = data[hp];
     for (uint32_t s = levels; s > 0u; --s) {
         uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
         uint32_t t = (hdr >> (2u * c)) & 3u;
         if (t == 0u) return value;
-        uint32_t q = hp + (hdr >> 8u);
+        uint32_t off = hdr >> 8u;
+        uint32_t q = (off & farBit) != 0u ? base + ((off & (mhfmt::kFarBit - 1u)) << shift) : hp + off;
         for (uint32_t i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
         if (t != 3u) {
             value += data[q]; // relative to the nearest valued ancestor, wrapping mod 2^32

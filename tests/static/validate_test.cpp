@@ -61,7 +61,7 @@ void damageSuite(const DualDepthMap& m) {
             EXPECT_FALSE(codec.validate(t.data(), t.size()).ok()) << "truncated to " << cut;
         }
         EXPECT_FALSE(codec.validate(nullptr, 0).ok());
-        uint32_t header = codec.name == "DAG-MH" ? dagfmt::kHeaderWords : mhfmt::kHeaderWords;
+        uint32_t header = codec.name == "DAG-MH" ? dagfmt::kHeaderWords : good[mhfmt::kNodeOffset];
         const uint32_t ck = checksumIndex(codec.name);
         uint64_t flips = 0, forgedAccepted = 0, forgedRejected = 0;
         for (size_t w : damageTargets(good.size(), header)) {
