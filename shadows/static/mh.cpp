@@ -231,9 +231,8 @@ Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<ui
     std::vector<uint8_t> aligned;
     Placed p = place(tree, value, redirect, aligned, kHeaderWords, 0);
     uint32_t maxNear = std::min(layout.maxNear, kMaxOffset), shift = 0, headerWords = kHeaderWords;
-    bool fits = eachHeader(p, [&](int32_t n, int32_t g) {
-        return p.gpos[g] > p.hpos[n] && p.gpos[g] - p.hpos[n] <= maxNear;
-    });
+    bool fits = eachHeader(
+        p, [&](int32_t n, int32_t g) { return p.gpos[g] > p.hpos[n] && p.gpos[g] - p.hpos[n] <= maxNear; });
     if (!fits) {
         // Version 2: the smallest shift whose far positions reach every aligned group. For one shift,
         // align the groups reached from afar until no more are (padding only lengthens offsets, so the
@@ -308,13 +307,13 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
     if (data[kNodeOffset] != headerWords || uint64_t(headerWords) + data[kNodeWords] != size)
         return fail("MH: node array does not fill the buffer");
     if (data[kReserved] != 0) return fail("MH: reserved header word is not 0");
-    const uint32_t shift = version == 2 ? data[kFarShift] : 0u, padding = version == 2 ? data[kPaddingWords] : 0u;
+    const uint32_t shift = version == 2 ? data[kFarShift] : 0u,
+                   padding = version == 2 ? data[kPaddingWords] : 0u;
     if (version == 2 && (shift == 0 || shift > kMaxFarShift))
         return fail("MH: far shift " + std::to_string(shift) + " outside 1.." + std::to_string(kMaxFarShift));
     // Every node word is a value, a child header or padding: the counts must add up to the node array
     // (the byte breakdown subtracts values from it; a forged count must not wrap it).
-    if (data[kValued] == 0 ||
-        uint64_t(data[kValued]) + data[kInnerRecords] + padding != data[kNodeWords])
+    if (data[kValued] == 0 || uint64_t(data[kValued]) + data[kInnerRecords] + padding != data[kNodeWords])
         return fail("MH: " + std::to_string(data[kValued]) + " values, " +
                     std::to_string(data[kInnerRecords]) + " child headers and " + std::to_string(padding) +
                     " padding words do not make the " + std::to_string(data[kNodeWords]) + " node words");
@@ -335,7 +334,8 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
         uint32_t hp = stack.back();
         stack.pop_back();
         uint32_t hdr = data[hp], off = hdr >> 8;
-        uint64_t q = (off & farBit) ? uint64_t(off & (kFarBit - 1u)) << shift : uint64_t(hp) + off, groupSize = 0;
+        uint64_t q = (off & farBit) ? uint64_t(off & (kFarBit - 1u)) << shift : uint64_t(hp) + off,
+                 groupSize = 0;
         if (q <= hp) return fail("MH: child group of word " + std::to_string(hp) + " not after it");
         for (uint32_t c = 0; c < 4; ++c) groupSize += (0x64u >> (2u * ((hdr >> (2u * c)) & 3u))) & 3u;
         if (groupSize == 0) return fail("MH: inner record without children at word " + std::to_string(hp));

@@ -94,7 +94,7 @@ enum : uint32_t {
     kInnerRecords,
     kChecksum,
     kReserved,
-    kFarShift,   // version 2 only
+    kFarShift,    // version 2 only
     kPaddingWords // version 2 only
 };
 constexpr uint32_t kHeaderWordsFar = 14;

@@ -86,15 +86,20 @@ inline std::vector<Codec> codecs() {
          [](const uint32_t* d, uint32_t x, uint32_t y) { return dagmhLookup(d, x, y); }, breakdownDAGMH},
         // MH and MMH with far child groups (version 2, mh.h) on maps of test size: every offset past 16
         // words goes far, at shifts 2 and 5, so most groups are aligned and padded.
-        {"MH far", [](const DualDepthMap& m) { return encodeMH(m, {16, 2}); }, validateMH,
-         [](const uint32_t* d, uint32_t x, uint32_t y) { return mhLookup(d, x, y); }, breakdownMH},
+        {"MH far",
+         [](const DualDepthMap& m) {
+             return encodeMH(m, {16, 2});
+         },
+         validateMH, [](const uint32_t* d, uint32_t x, uint32_t y) { return mhLookup(d, x, y); },
+         breakdownMH},
         {"MMH far",
          [](const DualDepthMap& m) {
              MmhOptions o;
              o.layout = {16, 5};
              return encodeMMH(m, o);
          },
-         validateMMH, [](const uint32_t* d, uint32_t x, uint32_t y) { return mmhLookup(d, x, y); }, breakdownMMH},
+         validateMMH, [](const uint32_t* d, uint32_t x, uint32_t y) { return mmhLookup(d, x, y); },
+         breakdownMMH},
     };
 }
 
