@@ -51,6 +51,8 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --camera-end X,Y,Z,TX,TY,TZ  path end (default: the start moved 2 m sideways)
   --light-move M   metres each measured light moves sideways per frame (default 0: static lights)
   --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
+  --by-level       MH and MMH also filtered by level (the hierarchy level whose texel covers the
+                   pixel: Module::setShadowFilter's byLevel), one more row each
   --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
                    (the rays keep the true light): a deliberately unstable map (default 0)
   --seed S         scene seed, default 1
@@ -94,11 +96,13 @@ glm::vec3 jitterDirection(uint32_t f, uint32_t light) {
 struct Config {
     StaticMethod method;
     uint32_t res, pcf;
+    bool byLevel = false; // filtering by level (MH, MMH; setShadowFilter)
 };
 
 struct Options {
     std::vector<StaticMethod> methods;
     std::vector<uint32_t> res, pcf;
+    bool byLevel = false;
     uint32_t lights = 8;
     opts::View view;
     opts::Scene scene;
@@ -125,6 +129,7 @@ Result<Options> parseOptions(const cli::Args& args) {
     o.view = view.value(), o.scene = scene.value();
     o.move = move.value(), o.turn = turn.value(), o.jitter = jitter.value();
     o.out = args.get("--out", "out/bench_flicker");
+    o.byLevel = args.has("--by-level");
     return o;
 }
 
@@ -153,9 +158,10 @@ Result<Path> parsePath(const cli::Args& args, const Scene& scene) {
 }
 
 // Exact receivers of frame f: the static surface each pixel's centre ray hits (position, normal facing
-// the camera); pixels that see nothing get a zero normal.
+// the camera, the pixel's squared footprint there as the module computes it: gpu::shadowFootprint2);
+// pixels that see nothing get a zero normal.
 void receiversOf(const Options& o, const Path& path, const Scene& scene, const RayReference& rays, uint32_t f,
-                 std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
+                 std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns, std::vector<float>& f2) {
     const uint32_t width = o.view.width, height = o.view.height, F = o.view.frames;
     float t = F > 1 ? float(f) / float(F - 1) : 0.0f;
     glm::dvec3 eye = glm::dvec3(glm::mix(path.eye0, path.eye1, t)),
@@ -165,6 +171,8 @@ void receiversOf(const Options& o, const Path& path, const Scene& scene, const R
     glm::dmat4 inv = glm::inverse(proj * view);
     ps.assign(size_t(width) * height, glm::vec3(0.0f));
     ns.assign(ps.size(), glm::vec3(0.0f));
+    f2.assign(ps.size(), 0.0f);
+    const float pixelAngle = 2.0f * std::tan(scene.camera.fovY * 0.5f) / float(height);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             const glm::dvec3 dir = pixelRayDirection(inv, x, y, width, height, PixelConvention::Standard);
@@ -172,6 +180,7 @@ void receiversOf(const Options& o, const Path& path, const Scene& scene, const R
             if (!h.hit) continue;
             const size_t i = size_t(y) * width + x;
             ps[i] = h.p, ns[i] = h.n;
+            f2[i] = gpu::shadowFootprint2(glm::vec3(eye), ps[i], pixelAngle * pixelAngle);
         }
 }
 
@@ -219,13 +228,14 @@ Result<void> bakeLight(const Options& o, const CasterTriangles& casters, const L
 // The samples of one light's receivers (in the cone, facing it) in this frame, every configuration.
 void sampleLight(const Options& o, const std::vector<Config>& configs, const RayReference& rays,
                  const LightMaps& lm, const std::vector<glm::vec3>& ps, const std::vector<glm::vec3>& ns,
-                 size_t k, size_t lightCount, std::vector<Sample>& cur) {
+                 const std::vector<float>& f2, size_t k, size_t lightCount, std::vector<Sample>& cur) {
     const Light& l = lm.light;
     std::vector<glm::vec3> qp, qn;
     std::vector<size_t> idx;
+    std::vector<float> qf;
     for (size_t i = 0; i < ps.size(); ++i)
         if (ns[i] != glm::vec3(0.0f) && inLightCone(l, ps[i]) && glm::dot(ns[i], l.position - ps[i]) > 0.0f)
-            qp.push_back(ps[i]), qn.push_back(ns[i]), idx.push_back(i);
+            qp.push_back(ps[i]), qn.push_back(ns[i]), qf.push_back(f2[i]), idx.push_back(i);
     std::vector<uint8_t> truth(qp.size());
     rays.visibleBatch(qp.data(), qn.data(), qp.size(), l.position, 0.001f,
                       truth.data()); // 1 mm, as bench static (docs/accuracy.md section 1)
@@ -237,7 +247,8 @@ void sampleLight(const Options& o, const std::vector<Config>& configs, const Ray
             size_t ri = size_t(std::find(o.res.begin(), o.res.end(), c.res) - o.res.begin());
             size_t mi = size_t(std::find(o.methods.begin(), o.methods.end(), c.method) - o.methods.begin());
             auto rec = makeShadowRecord(c.method, lm.frustum, 0, c.res, c.pcf);
-            s.vis.push_back(staticVisibility(rec, lm.words[ri][mi].data(), qp[j], qn[j]));
+            rec.info.z = c.byLevel ? 1u : 0u;
+            s.vis.push_back(staticVisibility(rec, lm.words[ri][mi].data(), qp[j], qn[j], qf[j]));
         }
     }
 }
@@ -269,11 +280,11 @@ void comparePairs(const std::vector<Sample>& prev, const std::vector<Sample>& cu
 // The table and CSV per configuration; the summary line's object.
 Result<json::Object> report(const Options& o, const std::vector<Config>& configs, const Counts& n) {
     std::printf(
-        "| method | res | pcf | pixel-light pairs in consecutive frames | rays flip %% | method flips "
+        "| method | res | filter | pixel-light pairs in consecutive frames | rays flip %% | method flips "
         "where rays do not %% | mean abs delta visibility where rays do not flip %% |\n"
         "|---|---:|---|---:|---:|---:|---:|\n");
     std::ostringstream csv;
-    csv << "method,res,pcf_radius,pairs,truth_flips,flicker,graded_sum\n";
+    csv << "method,res,pcf_radius,by_level,pairs,truth_flips,flicker,graded_sum\n";
     uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
     double worstGraded = 0.0;
     for (size_t c = 0; c < configs.size(); ++c) {
@@ -283,12 +294,12 @@ Result<json::Object> report(const Options& o, const std::vector<Config>& configs
         const double meanDelta = stable ? n.graded[c] / double(stable) : 0.0;
         worstGraded = std::max(worstGraded, meanDelta);
         allPairs += pairs, allTruth += n.truthFlips[c], allFlips += n.flips[c];
-        std::printf("| %s | %u | %ux%u | %llu | %.3f | %.4f | %.4f |\n", staticMethodName(g.method), g.res,
-                    2 * g.pcf + 1, 2 * g.pcf + 1, (unsigned long long)pairs,
+        std::printf("| %s | %u | %ux%u%s | %llu | %.3f | %.4f | %.4f |\n", staticMethodName(g.method), g.res,
+                    2 * g.pcf + 1, 2 * g.pcf + 1, g.byLevel ? " by level" : "", (unsigned long long)pairs,
                     pairs ? 100.0 * double(n.truthFlips[c]) / double(pairs) : 0.0, 100.0 * rate,
                     100.0 * meanDelta);
-        csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << pairs << ","
-            << n.truthFlips[c] << "," << n.flips[c] << "," << n.graded[c] << "\n";
+        csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << int(g.byLevel) << ","
+            << pairs << "," << n.truthFlips[c] << "," << n.flips[c] << "," << n.graded[c] << "\n";
     }
     std::ofstream file(o.out + "/bench_flicker.csv");
     if (!file || !(file << csv.str())) return fail(o.out + "/bench_flicker.csv: cannot write");
@@ -303,20 +314,20 @@ Result<json::Object> report(const Options& o, const std::vector<Config>& configs
 // the pairs against the frame before.
 Result<Counts> measure(const Options& o, const std::vector<Config>& configs, const Path& path,
                        const Scene& scene, const RayReference& rays, const std::vector<uint32_t>& lights,
-                       std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns) {
+                       std::vector<glm::vec3>& ps, std::vector<glm::vec3>& ns, std::vector<float>& f2) {
     const CasterTriangles casters = castersFromScene(scene);
     std::vector<LightMaps> maps(lights.size());
     Counts n(configs.size());
     std::vector<Sample> prev, cur;
     for (uint32_t f = 0; f < o.view.frames; ++f) {
-        if (f) receiversOf(o, path, scene, rays, f, ps, ns);
+        if (f) receiversOf(o, path, scene, rays, f, ps, ns, f2);
         for (size_t k = 0; k < lights.size(); ++k)
             if (f == 0 || o.mapsMove())
                 if (auto r = bakeLight(o, casters, scene.lights[lights[k]], uint32_t(k), f, maps[k]); !r)
                     return fail(r.error());
         cur.assign(ps.size() * lights.size(), {});
         for (size_t k = 0; k < lights.size(); ++k)
-            sampleLight(o, configs, rays, maps[k], ps, ns, k, lights.size(), cur);
+            sampleLight(o, configs, rays, maps[k], ps, ns, f2, k, lights.size(), cur);
         if (f) comparePairs(prev, cur, n);
         std::swap(prev, cur);
     }
@@ -327,7 +338,7 @@ Result<Counts> measure(const Options& o, const std::vector<Config>& configs, con
 // The flags of `bench flicker` beside its option groups.
 const cli::Flags kFlickerFlags{{"--methods", "--res", "--pcf", "--lights", "--camera", "--camera-end",
                                 "--out", "--light-move", "--light-turn", "--map-jitter"},
-                               {}};
+                               {"--by-level"}};
 
 int runBenchFlicker(int argc, char** argv) {
     if (argc > 3 && std::string(argv[3]) == "--vsm") return runBenchFlickerVsm(argc, argv);
@@ -348,18 +359,23 @@ int runBenchFlicker(int argc, char** argv) {
     if (!rays) return runError("bench flicker", rays.error());
 
     std::vector<glm::vec3> ps, ns;
-    receiversOf(o, path.value(), scene.value(), rays.value(), 0, ps, ns);
+    std::vector<float> f2;
+    receiversOf(o, path.value(), scene.value(), rays.value(), 0, ps, ns, f2);
     const std::vector<uint32_t> lights = rankLights(scene.value(), ps, ns, o.lights);
     if (lights.empty())
         return runError("bench flicker", o.scene.name + ": no static spot light reaches the view");
     std::vector<Config> configs;
     for (uint32_t res : o.res)
         for (StaticMethod m : o.methods)
-            for (uint32_t r : o.pcf) configs.push_back({m, res, r});
+            for (uint32_t r : o.pcf) {
+                configs.push_back({m, res, r, false});
+                if (o.byLevel && (m == StaticMethod::MH || m == StaticMethod::MMH))
+                    configs.push_back({m, res, r, true});
+            }
     std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations%s\n",
                  scene->name.c_str(), lights.size(), o.view.frames, o.view.width, o.view.height,
                  configs.size(), o.mapsMove() ? ", maps re-rendered every frame" : "");
-    auto counts = measure(o, configs, path.value(), scene.value(), rays.value(), lights, ps, ns);
+    auto counts = measure(o, configs, path.value(), scene.value(), rays.value(), lights, ps, ns, f2);
     if (!counts) return runError("bench flicker", counts.error());
 
     const Path& p = path.value();

@@ -85,6 +85,8 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --pcf R          shadow filter radius (static and dynamic): 0 one tap (default), 1 = 3x3 ... 4 = 9x9
+  --by-level       MH and MMH static shadows filtered on the hierarchy level whose texel covers the
+                   pixel (setShadowFilter's byLevel); DAG-MH, CPVS and SM stay at their finest level
   --path P         camera path: static (default: the scene's camera or --camera), drive, orbit
   --dynamic M      dynamic shadows: vsm (virtual shadow maps, default) or off
   --vsm-res N      virtual resolution of each shadow map (power of two, 256..16384; default 4096)
@@ -112,6 +114,7 @@ struct DemoOptions {
     std::string out;
     StaticMethod staticMethod = StaticMethod::None;
     uint32_t staticRes = 512, pcf = 0;
+    bool byLevel = false;
     std::optional<std::array<float, 6>> camera;
     CameraPath path = CameraPath::Static;
     DebugView debugView = DebugView::Shaded;
@@ -176,6 +179,8 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
     if (args.has("--pcf") && staticMethod.value() == StaticMethod::None && !args.has("--bake") &&
         args.get("--dynamic", "vsm") == "off")
         return fail("--pcf: does nothing without static shadows (--static, --bake) or --dynamic vsm");
+    if (args.has("--by-level") && staticMethod.value() == StaticMethod::None && !args.has("--bake"))
+        return fail("--by-level: does nothing without static shadows (--static, --bake)");
     // Checked before any device work: a bad camera is a usage error, not a blank frame.
     if (args.has("--camera")) {
         auto v = cli::parseCamera("--camera", args.get("--camera", ""));
@@ -189,6 +194,7 @@ Result<DemoOptions> parseDemo(const cli::Args& args) {
         if (!e->empty()) return fail(*e);
     d.view = view.value(), d.scene = scene.value(), d.lights = lights.value(), d.culling = culling.value();
     d.staticMethod = staticMethod.value(), d.staticRes = staticRes.value(), d.pcf = pcf.value();
+    d.byLevel = args.has("--by-level");
     d.path = path.value(), d.debugView = debugView.value();
     d.out = args.get("--out", "out/demo");
     if (auto r = cli::checkOutputDirectory("--out", d.out); !r) return fail(r.error());
@@ -228,11 +234,11 @@ int setupShadows(const DemoOptions& d, Module& m, Scene& scene, const SceneBindi
     }
     // The filter applies to static and dynamic (VSM) lookups alike: --pcf alone filters the VSM's.
     if (d.bake || d.staticMethod != StaticMethod::None || d.pcf)
-        if (auto r = m.setShadowFilter(d.pcf); !r) return usageError("demo", r.error());
+        if (auto r = m.setShadowFilter(d.pcf, d.byLevel); !r) return usageError("demo", r.error());
     if (d.staticMethod != StaticMethod::None) {
         auto baked = bakeStaticShadows(m, scene, binding, d.staticMethod, d.staticRes);
         if (!baked) return runError("demo", baked.error());
-        if (auto r = m.setShadowFilter(d.pcf); !r) return usageError("demo", r.error());
+        if (auto r = m.setShadowFilter(d.pcf, d.byLevel); !r) return usageError("demo", r.error());
     }
     if (d.camera) {
         const std::array<float, 6>& c = *d.camera;
@@ -340,7 +346,7 @@ Result<std::unique_ptr<Module>> createModule(const DemoOptions& d, Scene& scene,
 const cli::Flags kDemoFlags{{"--lights", "--culling", "--out", "--static", "--static-res", "--pcf",
                              "--camera", "--bake", "--path", "--dynamic", "--timing", "--view",
                              "--vsm-raster"},
-                            {"--window", "--no-stats"}};
+                            {"--window", "--no-stats", "--by-level"}};
 
 int runDemo(int argc, char** argv) {
     int status = 0;

@@ -8,6 +8,7 @@
 #include "lights/lights.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ml {
 
@@ -242,7 +243,9 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     gpu::FrameConstants fc{};
     fc.viewProj = cm.projection * cm.view;
     fc.invViewProj = glm::inverse(fc.viewProj);
-    fc.cameraPosition = glm::vec4(c.position, 1.0f);
+    // w: the squared size of a pixel at unit distance (shadowFootprint2; filtering static shadows by level).
+    const float pixelAngle = 2.0f / (std::abs(cm.projection[1][1]) * float(height));
+    fc.cameraPosition = glm::vec4(c.position, pixelAngle * pixelAngle);
     fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
     fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
     fc.ambient = glm::vec4(ambient, exposure);

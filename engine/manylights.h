@@ -270,10 +270,12 @@ class Module {
     // renders its own G-buffer draws with it). Identity before the camera and targets are set.
     glm::mat4 viewProjection() const;
     // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
-    // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9).
+    // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9). byLevel: MH and MMH bakes take the kernel's taps on
+    // the hierarchy level whose texel covers the receiver's pixel (hierarchical PCF: a distant receiver
+    // does not alias); DAG-MH, CPVS and SM bakes filter at the finest level either way.
     Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);
     void clearStaticShadow(LightId id);
-    Result<void> setShadowFilter(uint32_t pcfRadius);
+    Result<void> setShadowFilter(uint32_t pcfRadius, bool byLevel = false);
     // Bakes and attaches the static shadows of every static, shadow-casting spot and point light (six
     // cube faces) from the module's own static, shadow-casting instances: dual depth maps rendered on this
     // device, encoded with `method` at `resolution`^2. `progress` (may be empty) gets (lights done, total).

@@ -518,11 +518,12 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
     return done;
 }
 
-Result<void> Module::setShadowFilter(uint32_t radius) {
+Result<void> Module::setShadowFilter(uint32_t radius, bool byLevel) {
     if (radius > ML_MAX_PCF_RADIUS)
         return fail("setShadowFilter: PCF radius " + std::to_string(radius) + " > " +
                     std::to_string(ML_MAX_PCF_RADIUS));
     impl_->pcfRadius = radius;
+    impl_->filterByLevel = byLevel;
     impl_->recordsEpoch++; // every record carries the radius
     impl_->vsm.setPcfRadius(radius);
     return {};

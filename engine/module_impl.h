@@ -104,6 +104,7 @@ struct Module::Impl {
     };
     std::vector<std::array<StaticShadow, 6>> shadows; // per light and cube face (spots: face 0)
     uint32_t pcfRadius = 0;
+    bool filterByLevel = false; // GpuShadowRecord.info.z bit 0 (setShadowFilter)
     // Static shadows reach the GPU without a device wait (engine/module_uploads.cpp): the words are
     // appended to one shared arena, staticWords (a frame in flight reads only ranges written before it;
     // removed bakes leave garbage until the arena is rebuilt into a new buffer, the old one retired), and

@@ -183,6 +183,7 @@ Result<void> Module::Impl::writeShadowRecords(Slot& slot) {
                                      : gpu::GpuShadowRecord{};
             records[i * 6 + f].bias.x = lights[i].shadowDepthBias; // setLight touches the light's version
             records[i * 6 + f].bias.y = lights[i].shadowNormalBias;
+            records[i * 6 + f].info.z = s.method != StaticMethod::None && filterByLevel ? 1u : 0u;
         }
         slot.shadowVersion[i] = lightVersion[i];
         recordsWritten++;

@@ -76,7 +76,8 @@ float lightVisibility(GpuLight L, vec3 P, vec3 N, vec3 Nraw) {
         uint r = L.info.z;
         if (L.info.x == ML_LIGHT_POINT) r += pointLightFace(P - L.positionRange.xyz);
         GpuShadowRecord rec = shadowRecords[r];
-        if (shadowRecordMethod(rec) != 0u) v *= staticVisibility(rec, P, N);
+        if (shadowRecordMethod(rec) != 0u)
+            v *= staticVisibility(rec, P, N, shadowFootprint2(frame.cameraPosition.xyz, P, frame.cameraPosition.w));
     }
     if (L.info.y != ML_VSM_NO_MAP && v > 0.0) {
         VsmChoice c;

@@ -65,7 +65,7 @@ ML_STRUCT(GpuShadowRecord) {
     vec4 translation; // xyz: view(P) = rotate(rotation, P) + translation (shadowViewPoint), w 0
     vec4 frustum;     // x tan(fov / 2), y near, z far, w log(far / near)
     uvec4 info;       // x method (StaticMethod, bits 0-3, 0 = none) | PCF radius << 4 (0 = one tap) |
-                      // resolution << 8; y base word; zw 0
+                      // resolution << 8; y base word; z bit 0 filter by level (shadowRecordByLevel); w 0
     vec4 bias;        // the light's shadow bias (LightDesc): x depth bias in texels (default 0.5), y scale on
                       // the normal offset of (1 + PCF radius) texels (default 1); CPVS ignores both; zw 0
 };
@@ -74,7 +74,7 @@ ML_STRUCT(GpuShadowRecord) {
 ML_STRUCT(FrameConstants) {
     mat4 viewProj;
     mat4 invViewProj;
-    vec4 cameraPosition; // xyz, w unused
+    vec4 cameraPosition; // xyz, w (2 tan(fovY / 2) / height)^2: a pixel's squared size at unit distance
     uvec4 size;          // x width, y height, z tiles x, w tiles y
     uvec4 cluster;       // x slices, y tile size, z visible light count, w culling mode
     vec4 depth;          // x near, y far, z near*far, w far-near

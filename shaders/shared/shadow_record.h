@@ -33,6 +33,39 @@ ML_FN uint shadowRecordWithRadius(uint info, uint radius) {
     return (info & ~0xF0u) | ((radius & 15u) << 4u);
 }
 
+// info.z bit 0: filter by level (Module::setShadowFilter): the MH and MMH lookups take the hierarchy
+// level whose texel covers the receiver's pixel (shadowLevelStep); the other methods ignore it.
+ML_FN bool shadowRecordByLevel(GpuShadowRecord r) {
+    return (r.info.z & 1u) != 0u;
+}
+
+// The squared world size of the pixel that sees P: pixelAngle2 (FrameConstants.cameraPosition.w) is the
+// square of a pixel's size at unit distance, (2 tan(fovY / 2) / height)^2. Distance, not view depth: a
+// little larger off the view axis, and the same for every light.
+ML_FN float shadowFootprint2(vec3 cameraPosition, vec3 P, float pixelAngle2) {
+    ML_PRECISE float dx = P.x - cameraPosition.x;
+    ML_PRECISE float dy = P.y - cameraPosition.y;
+    ML_PRECISE float dz = P.z - cameraPosition.z;
+    ML_PRECISE float d2 = dx * dx + dy * dy + dz * dz;
+    ML_PRECISE float f2 = d2 * pixelAngle2;
+    return f2;
+}
+
+// Levels above the finest whose texel first covers the footprint: the smallest k <= maxStep with
+// (texelWorld 2^k)^2 >= footprint2. Doubling is exact and the square is `precise`, so the shader and the
+// CPU twin pick the same level (no log2, whose rounding differs between implementations).
+ML_FN uint shadowLevelStep(float texelWorld, float footprint2, uint maxStep) {
+    uint k = 0u;
+    ML_PRECISE float w = texelWorld;
+    ML_PRECISE float w2 = w * w;
+    while (k < maxStep && w2 < footprint2) {
+        w = w * 2.0f;
+        w2 = w * w;
+        k = k + 1u;
+    }
+    return k;
+}
+
 // v rotated by the unit quaternion q: v + w t + q.xyz x t with t = 2 q.xyz x v (two cross products).
 ML_FN vec3 quatRotate(vec4 q, vec3 v) {
     ML_PRECISE float tx = 2.0f * (q.y * v.z - q.z * v.y);

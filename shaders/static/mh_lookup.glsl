@@ -11,8 +11,7 @@ const uint ML_MH_HEADER_WORDS = 12u; // version 1; version 2 (far groups) has 14
 const uint ML_MH_FAR_SHIFT = 12u;
 const uint ML_MH_FAR_BIT = 0x800000u;
 
-uint mhLookup(uint base, uint x, uint y) {
-    uint levels = ML_STATIC_DATA[base + ML_MH_LEVELS];
+uint mhLookupLevel(uint base, uint x, uint y, uint steps) {
     uint nodeOffset = ML_STATIC_DATA[base + ML_MH_NODE_OFFSET];
     uint p = base + nodeOffset;
     uint value = ML_STATIC_DATA[p];
@@ -21,7 +20,7 @@ uint mhLookup(uint base, uint x, uint y) {
     uint farBit = shift != 0u ? ML_MH_FAR_BIT : 0u;
     uint hp = p + 1u;
     uint hdr = ML_STATIC_DATA[hp];
-    for (uint s = levels; s > 0u; --s) {
+    for (uint s = steps; s > 0u; --s) {
         uint c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
         uint t = (hdr >> (2u * c)) & 3u;
         if (t == 0u) return value;
@@ -39,5 +38,7 @@ uint mhLookup(uint base, uint x, uint y) {
     }
     return value;
 }
+
+uint mhLookup(uint base, uint x, uint y) { return mhLookupLevel(base, x, y, ML_STATIC_DATA[base + ML_MH_LEVELS]); }
 
 #endif

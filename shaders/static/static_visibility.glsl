@@ -41,6 +41,13 @@ uint staticDepthAt(uint method, uint base, uint x, uint y) {
     return dagmhLookup(base, x, y);
 }
 
+// The depth of texel (x, y) of the level `step` above the finest (MH and MMH only; step 0 is the map).
+uint staticDepthAtLevel(uint method, uint base, uint x, uint y, uint step) {
+    if (step == 0u) return staticDepthAt(method, base, x, y);
+    uint steps = ML_STATIC_DATA[base + ML_MH_LEVELS] - step;
+    return method == ML_STATIC_MH ? mhLookupLevel(base, x, y, steps) : mmhLookupLevel(base, x, y, steps);
+}
+
 // DAG-MH PCF: the number of lit taps of [t - r, t + r] (taps outside the map count as lit; a tap is lit
 // when depth <= its decoded value). Hierarchical, and exact (each tap gets the value index and node depth
 // that dagmhLookup finds, so the count equals the per-tap loop of the CPU twin):
@@ -88,7 +95,9 @@ uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
     return lit;
 }
 
-float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
+// footprint2: the squared world size of the receiver's pixel (shadowFootprint2), read only when the record
+// filters by level.
+float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
     uint method = shadowRecordMethod(rec), base = rec.info.y, res = shadowRecordResolution(rec);
     int radius = int(shadowRecordRadius(rec));
     float tanHalf = rec.frustum.x, far = rec.frustum.z;
@@ -110,6 +119,12 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
+    // Filtering by level (MH, MMH): the taps, the normal offset and the depth bias are those of the level
+    // whose texel covers the pixel, so a distant receiver neither aliases nor walks the whole hierarchy.
+    uint step = 0u;
+    if (shadowRecordByLevel(rec) && (method == ML_STATIC_MH || method == ML_STATIC_MMH))
+        step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + ML_MH_LEVELS]);
+    texelWorld = texelWorld * float(1u << step);
     // Normal offset of (1 + radius) texels: the PCF taps reach `radius` texels to the side, and on a
     // surface at a grazing angle to the light (flat ground under a low point light's side faces) the taps
     // on the light's side of the receiver see the same surface nearer than the receiver unless it is
@@ -119,7 +134,7 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
     float zq = -q.z;
     if (zq <= rec.frustum.y) return 1.0;
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
-    ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res)));
+    ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res))) >> int(step);
     uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
     if (method == ML_STATIC_DAGMH) {
         DagmhHeader dh = dagmhHeaderTop(base, dagmhLevels(res)); // once for all taps
@@ -135,12 +150,13 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N) {
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     uint lit = 0u;
+    int levelRes = int((res + (1u << step) - 1u) >> step);
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
             // Outside the map the light's cone does not reach: count as lit.
-            if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) { lit += 1u; continue; }
-            if (depth <= staticDepthAt(method, base, uint(x), uint(y))) lit += 1u;
+            if (x < 0 || y < 0 || x >= levelRes || y >= levelRes) { lit += 1u; continue; }
+            if (depth <= staticDepthAtLevel(method, base, uint(x), uint(y), step)) lit += 1u;
         }
     return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
 }

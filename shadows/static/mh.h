@@ -131,8 +131,11 @@ Result<void> validateMH(const uint32_t* data, size_t size);
 stat::ByteBreakdown breakdownMH(const uint32_t* data, size_t size);
 
 // GLSL twin: shaders/static/mh_lookup.glsl. Only valid on a buffer validateMH accepted; x, y < resolution.
-inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    uint32_t levels = data[base + mhfmt::kLevels];
+// The map at a coarser level: (x, y) a texel of the level `steps` below the root (steps <= levels; a
+// node of that level stands for 2^(levels - steps) texels a side). Its value is the deepest valued node's
+// on the path down to that level: every level of the hierarchy is a complete map (the MMH paper's
+// hierarchical filtering), exact at the finest (steps = levels) and an approximation above.
+inline uint32_t mhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, uint32_t steps) {
     uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
     uint32_t p = base + nodeOffset;
     uint32_t value = data[p];
@@ -142,7 +145,7 @@ inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32
     uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
     uint32_t hp = p + 1u;
     uint32_t hdr = data[hp];
-    for (uint32_t s = levels; s > 0u; --s) {
+    for (uint32_t s = steps; s > 0u; --s) {
         uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
         uint32_t t = (hdr >> (2u * c)) & 3u;
         if (t == 0u) return value;
@@ -159,6 +162,9 @@ inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32
         hdr = data[hp];
     }
     return value;
+}
+inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    return mhLookupLevel(data, base, x, y, data[base + mhfmt::kLevels]);
 }
 inline uint32_t mhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return mhLookup(data, 0u, x, y);

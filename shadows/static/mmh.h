@@ -47,8 +47,11 @@ Result<void> validateMMH(const uint32_t* data, size_t size);
 stat::ByteBreakdown breakdownMMH(const uint32_t* data, size_t size);
 
 // GLSL twin: shaders/static/mmh_lookup.glsl. Only valid on a buffer validateMMH accepted.
-inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    uint32_t levels = data[base + mhfmt::kLevels];
+// The map at a coarser level: (x, y) a texel of the level `steps` below the root (steps <= levels; a
+// node of that level stands for 2^(levels - steps) texels a side). Its value is the deepest valued node's
+// on the path down to that level: every level of the hierarchy is a complete map (the MMH paper's
+// hierarchical filtering), exact at the finest (steps = levels) and an approximation above.
+inline uint32_t mmhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, uint32_t steps) {
     uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
     uint32_t p = base + nodeOffset;
     uint32_t value = data[p];
@@ -57,7 +60,7 @@ inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint3
     uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
     uint32_t hp = p + 1u;
     uint32_t hdr = data[hp];
-    for (uint32_t s = levels; s > 0u; --s) {
+    for (uint32_t s = steps; s > 0u; --s) {
         uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
         uint32_t t = (hdr >> (2u * c)) & 3u;
         if (t == 0u) return value;
@@ -73,6 +76,9 @@ inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint3
         hdr = data[hp];
     }
     return value;
+}
+inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
+    return mmhLookupLevel(data, base, x, y, data[base + mhfmt::kLevels]);
 }
 inline uint32_t mmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return mmhLookup(data, 0u, x, y);

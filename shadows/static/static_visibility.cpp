@@ -2,6 +2,8 @@
 
 #include "shaders/shared/light_math.h"
 #include "shaders/shared/shadow_record.h"
+#include "shadows/static/mh.h"
+#include "shadows/static/mmh.h"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -55,9 +57,12 @@ namespace {
 
 // The depth methods' mapping (SM, MH, MMH, DAG-MH): the receiver at view position vp with view normal vn,
 // offset along the normal, to its centre tap t and quantised, biased depth; false when the offset
-// receiver lies before the near plane (lit). The shader's lines, in its order.
-bool depthMapTap(const gpu::GpuShadowRecord& rec, glm::vec3 vp, glm::vec3 vn, glm::ivec2& t,
-                 uint32_t& depth) {
+// receiver lies before the near plane (lit). With filtering by level (MH, MMH), step is the level above
+// the finest whose texel covers the pixel (footprint2), and t a texel of that level. The shader's lines,
+// in its order.
+bool depthMapTap(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 vp, glm::vec3 vn,
+                 float footprint2, glm::ivec2& t, uint32_t& depth, uint32_t& step) {
+    const StaticMethod method = StaticMethod(gpu::shadowRecordMethod(rec));
     const uint32_t res = gpu::shadowRecordResolution(rec);
     const int radius = int(gpu::shadowRecordRadius(rec));
     const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
@@ -65,12 +70,16 @@ bool depthMapTap(const gpu::GpuShadowRecord& rec, glm::vec3 vp, glm::vec3 vn, gl
     const float orthoHalf = -tanHalf;
     const float z = -vp.z;
     float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
+    step = 0;
+    if (gpu::shadowRecordByLevel(rec) && (method == StaticMethod::MH || method == StaticMethod::MMH))
+        step = gpu::shadowLevelStep(texelWorld, footprint2, data[rec.info.y + mhfmt::kLevels]);
+    texelWorld = texelWorld * float(1u << step);
     // Normal offset of (1 + radius) texels, as the shader (its comment says why).
     glm::vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
     float zq = -q.z;
     if (zq <= rec.frustum.y) return false;
     glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
-    t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res)));
+    t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res))) >> int(step);
     depth = staticQuantizeFloat(std::max(zq - rec.bias.x * texelWorld, 0.0f), farPlane);
     return true;
 }
@@ -84,8 +93,8 @@ uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* da
     glm::vec3 vn = gpu::shadowViewVector(rec, N);
     if (-vp.z <= rec.frustum.y) return 3;
     glm::ivec2 t;
-    uint32_t depth;
-    if (!depthMapTap(rec, vp, vn, t, depth)) return 3;
+    uint32_t depth, step;
+    if (!depthMapTap(rec, data, vp, vn, 0.0f, t, depth, step)) return 3;
     const int radius = int(gpu::shadowRecordRadius(rec)), res = int(gpu::shadowRecordResolution(rec));
     const glm::ivec2 lo = glm::max(t - radius, glm::ivec2(0)), hi = glm::min(t + radius, glm::ivec2(res - 1));
     if (lo.x > hi.x || lo.y > hi.y) return 3; // every tap outside the map
@@ -93,7 +102,8 @@ uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* da
                             depth);
 }
 
-float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N) {
+float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N,
+                       float footprint2) {
     const StaticMethod method = StaticMethod(gpu::shadowRecordMethod(rec));
     const uint32_t base = rec.info.y, res = gpu::shadowRecordResolution(rec);
     const int radius = int(gpu::shadowRecordRadius(rec));
@@ -120,8 +130,27 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
         return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
     }
     glm::ivec2 t;
-    uint32_t depth;
-    if (!depthMapTap(rec, vp, vn, t, depth)) return 1.0f;
+    uint32_t depth, step;
+    if (!depthMapTap(rec, data, vp, vn, footprint2, t, depth, step)) return 1.0f;
+    if (step > 0) {
+        // A level above the finest (MH, MMH): the same taps on that level's map.
+        const int levelRes = int((res + (1u << step) - 1u) >> step);
+        const uint32_t steps = data[base + mhfmt::kLevels] - step;
+        uint32_t lit = 0;
+        for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx) {
+                int x = t.x + dx, y = t.y + dy;
+                if (x < 0 || y < 0 || x >= levelRes || y >= levelRes) {
+                    ++lit;
+                    continue;
+                }
+                uint32_t d = method == StaticMethod::MH
+                                 ? mhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps)
+                                 : mmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps);
+                if (depth <= d) ++lit;
+            }
+        return float(lit) / taps;
+    }
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
     glm::ivec2 lo = glm::clamp(t - radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
@@ -161,12 +190,12 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
 }
 
 float lightStaticVisibility(const gpu::GpuLight& L, const gpu::GpuShadowRecord* records, const uint32_t* data,
-                            glm::vec3 P, glm::vec3 N) {
+                            glm::vec3 P, glm::vec3 N, float footprint2) {
     if (L.info.z == ML_NO_SHADOW) return 1.0f;
     uint32_t r = L.info.z;
     if (L.info.x == ML_LIGHT_POINT) r += gpu::pointLightFace(P - glm::vec3(L.positionRange));
     if (gpu::shadowRecordMethod(records[r]) == 0u) return 1.0f;
-    return staticVisibility(records[r], data, P, N);
+    return staticVisibility(records[r], data, P, N, footprint2);
 }
 
 } // namespace ml

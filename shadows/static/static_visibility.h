@@ -29,7 +29,10 @@ bool rigidView(const glm::mat4& view, float tolerance = 1e-5f);
 uint32_t staticQuantizeFloat(float z, float farPlane);
 
 // Visibility in [0, 1] (fraction of lit PCF taps). `data` holds the validated words of the record.
-float staticVisibility(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P, glm::vec3 N);
+// footprint2: the squared world size of the receiver's pixel (gpu::shadowFootprint2), read only by a
+// record that filters by level (gpu::shadowRecordByLevel); 0 takes the finest level.
+float staticVisibility(const gpu::GpuShadowRecord& record, const uint32_t* data, glm::vec3 P, glm::vec3 N,
+                       float footprint2 = 0.0f);
 
 // How a DAG-MH record's lookup at (P, N) is answered (the shader's dagmhBoundsClass over the kernel's
 // in-map taps): 1 lit or 2 shadowed by the value bounds alone (one word), 0 undecided (descent and value
@@ -39,6 +42,6 @@ uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& record, const uint32_t*
 
 // The evaluation pass's static term for a light: its record (a point light's by cube face), or 1.
 float lightStaticVisibility(const gpu::GpuLight& light, const gpu::GpuShadowRecord* records,
-                            const uint32_t* data, glm::vec3 P, glm::vec3 N);
+                            const uint32_t* data, glm::vec3 P, glm::vec3 N, float footprint2 = 0.0f);
 
 } // namespace ml

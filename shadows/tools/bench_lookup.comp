@@ -28,6 +28,6 @@ void main() {
     GpuShadowRecord rec = records[floatBitsToUint(n.w)];
     rec.info.x = shadowRecordWithRadius(rec.info.x, push.radius);
     float acc = 0.0;
-    for (uint k = 0u; k < push.lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz);
+    for (uint k = 0u; k < push.lookups; ++k) acc += staticVisibility(rec, p.xyz + n.xyz * (acc * 1e-30), n.xyz, 0.0);
     sums[i] = acc;
 }

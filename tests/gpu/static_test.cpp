@@ -106,13 +106,15 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
 
 // Every visible static spot light gets a DAG-MH (or CPVS) bake; the evaluation pass's HDR output is
 // compared with the CPU reference (shading.h + static_visibility.cpp) on sampled pixels.
-void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
+// byLevel: MH and MMH take the level whose texel covers the pixel (setShadowFilter); the CPU twin gets the
+// same footprint, and some pixels must see another visibility than at the finest level.
+void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf, bool byLevel = false) {
     auto m = makeModule();
     auto scene = loadScene("night-city", 64, 2);
     ASSERT_TRUE(scene.ok()) << scene.error();
     ASSERT_TRUE(bindScene(*m, scene.value()).ok());
     ASSERT_TRUE(m->createTargets(256, 144).ok());
-    ASSERT_TRUE(m->setShadowFilter(pcf).ok());
+    ASSERT_TRUE(m->setShadowFilter(pcf, byLevel).ok());
     // Look down at the first street lamp's pool from above, so its bench, bollard and pole shadows
     // fill many pixels.
     for (const Light& l : scene->lights)
@@ -149,7 +151,7 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
     auto* pool = poolRead.data();
     std::vector<uint32_t> wordsRead = readBufferAs<uint32_t>(*impl.device, impl.staticWords); // GPU-only
     auto* words = wordsRead.data();
-    uint32_t checked = 0, shadowed = 0, differ = 0;
+    uint32_t checked = 0, shadowed = 0, differ = 0, levelChanged = 0;
     for (uint32_t y = 0; y < fc.size.y; ++y)
         for (uint32_t x = 0; x < fc.size.x; ++x) {
             size_t i = size_t(y) * fc.size.x + x;
@@ -166,7 +168,9 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
                 const gpu::GpuLight& L = impl.lastLights[pool[ranges[c].x + k]];
                 glm::vec3 col = gpu::shadeLight(L, P, N, V, a);
                 if (col == glm::vec3(0.0f)) continue;
-                float vis = lightStaticVisibility(L, impl.lastShadowRecords(), words, P, N);
+                const float f2 = gpu::shadowFootprint2(glm::vec3(fc.cameraPosition), P, fc.cameraPosition.w);
+                float vis = lightStaticVisibility(L, impl.lastShadowRecords(), words, P, N, f2);
+                levelChanged += vis != lightStaticVisibility(L, impl.lastShadowRecords(), words, P, N, 0.0f);
                 anyShadow |= vis < 1.0f;
                 expected += col * vis;
             }
@@ -178,8 +182,15 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf) {
             differ += !same;
             ++checked;
         }
-    std::printf("  %s pcf %u: %u lights baked, %u samples, %u in some shadow, %u differ\n",
-                staticMethodName(method), pcf, baked, checked, shadowed, differ);
+    std::printf("  %s pcf %u%s: %u lights baked, %u samples, %u in some shadow, %u differ; %u light-pixel "
+                "visibilities other than the finest level's\n",
+                staticMethodName(method), pcf, byLevel ? " by level" : "", baked, checked, shadowed, differ,
+                levelChanged);
+    if (byLevel) {
+        EXPECT_GT(levelChanged, 100u) << "the level filter must reach coarser levels on this view";
+    } else {
+        EXPECT_EQ(levelChanged, 0u);
+    }
     EXPECT_GT(baked, 10u);
     EXPECT_GT(shadowed, 200u) << "too few shadowed samples for the comparison to mean anything";
     // Float rounding of a receiver's texel or slice may flip a tap exactly on a boundary.
@@ -196,6 +207,12 @@ TEST(GpuStatic, EvaluationWithDagMhOneTapMatchesCpu) {
 }
 TEST(GpuStatic, EvaluationWithMhPcf5x5MatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::MH, 2);
+}
+TEST(GpuStatic, EvaluationWithMhByLevel3x3MatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::MH, 1, true);
+}
+TEST(GpuStatic, EvaluationWithMmhByLevelOneTapMatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::MMH, 0, true);
 }
 TEST(GpuStatic, EvaluationWithCpvsPcf3x3MatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::CPVS, 1);
