@@ -27,9 +27,10 @@
 //   words; the node offset is 14. Offsets then hold 23 bits; bit 23 of the offset field marks a far group,
 //   whose position is (offset & (2^23 - 1)) << S words from the record's first word, the group aligned to
 //   2^S words by zero padding words before it. S is the smallest shift whose positions reach the whole
-//   record (2^23 << S words: 32 Gi words at S = 9). Only groups that some header reaches from afar are
-//   aligned: at 65,536^2 the padding is a few hundred words. A layout that fits 24-bit offsets is
-//   written as version 1, byte for byte as before; a reader of version 1 refuses version 2 by number.
+//   record (2^23 << S words: 2^32 at S = 9). Only groups that some header reaches from afar are
+//   aligned, so padding stays small (the moon's MH at 65,536^2: 55.3 M node words, S = 3, 28 padding
+//   words). A layout that fits 24-bit offsets is written as version 1, byte for byte as before; a
+//   reader of version 1 refuses version 2 by its number.
 // Lookup: the value of the deepest valued node on the texel's path (absent child -> current value).
 // Empty texels decode to exactly kDepthEmpty (their interval is the single point).
 #pragma once
