@@ -21,6 +21,7 @@
 #include "apps/options.h"
 #include "scenes/scenes.h"
 #include "bake/reference/raytrace.h"
+#include "shadows/static/bake_file.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
 
@@ -51,6 +52,8 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --camera-end X,Y,Z,TX,TY,TZ  path end (default: the start moved 2 m sideways)
   --light-move M   metres each measured light moves sideways per frame (default 0: static lights)
   --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
+  --bake A[,B...]  instead of baking: the stored records of one light (the first file's first record's
+                   light, e.g. the moon at 4096^2 and at 65536^2), one row per file and PCF radius
   --by-level       MH and MMH also filtered by level (the hierarchy level whose texel covers the
                    pixel: Module::setShadowFilter's byLevel), one more row each
   --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
@@ -103,6 +106,7 @@ struct Options {
     std::vector<StaticMethod> methods;
     std::vector<uint32_t> res, pcf;
     bool byLevel = false;
+    std::vector<std::string> bakes; // --bake: stored records instead of maps baked here
     uint32_t lights = 8;
     opts::View view;
     opts::Scene scene;
@@ -130,6 +134,13 @@ Result<Options> parseOptions(const cli::Args& args) {
     o.move = move.value(), o.turn = turn.value(), o.jitter = jitter.value();
     o.out = args.get("--out", "out/bench_flicker");
     o.byLevel = args.has("--by-level");
+    if (args.has("--bake")) {
+        if (args.has("--methods") || args.has("--res") || args.has("--lights") || o.mapsMove())
+            return fail("--bake: the records' methods, resolutions and light are the files'; drop --methods, "
+                        "--res, --lights and the moving-light options");
+        std::stringstream list(args.get("--bake", ""));
+        for (std::string f; std::getline(list, f, ',');) o.bakes.push_back(f);
+    }
     return o;
 }
 
@@ -333,11 +344,106 @@ Result<Counts> measure(const Options& o, const std::vector<Config>& configs, con
     }
     return n;
 }
+// --bake: one light's stored records (the first file's first record's light, in every file), each file
+// a row per PCF radius (and by level for MH and MMH). Truth: a ray 1,000 m towards a directional light
+// (the night city's box is 455 m wide) or to a spot's position, from 1 mm off the surface.
+struct Baked {
+    uint32_t light = 0;
+    std::vector<BakeRecord> records; // one per file
+};
+
+Result<Baked> loadBaked(const Options& o, const Scene& scene) {
+    Baked b;
+    for (size_t k = 0; k < o.bakes.size(); ++k) {
+        auto f = readBakeFile(o.bakes[k]);
+        if (!f) return fail(f.error());
+        if (f->scene.scene != scene.name || f->scene.lights != scene.lights.size() ||
+            f->scene.seed != o.scene.seed)
+            return fail(o.bakes[k] + ": baked for " + f->scene.scene + " with " +
+                        std::to_string(f->scene.lights) + " lights, seed " + std::to_string(f->scene.seed) +
+                        ", not this scene");
+        if (f->records.empty()) return fail(o.bakes[k] + ": no records");
+        if (k == 0) b.light = f->records[0].light;
+        auto r = std::find_if(f->records.begin(), f->records.end(),
+                              [&](const BakeRecord& x) { return x.light == b.light && x.face == 0; });
+        if (r == f->records.end())
+            return fail(o.bakes[k] + ": no record of light " + std::to_string(b.light) +
+                        " (the first file's)");
+        if (scene.lights[b.light].type == LightKind::Point)
+            return fail(o.bakes[k] + ": light " + std::to_string(b.light) +
+                        " is a point light (six faces): not measured");
+        b.records.push_back(std::move(*r));
+    }
+    return b;
+}
+
+Result<Counts> measureBaked(const Options& o, const Baked& b, const std::vector<Config>& configs,
+                            const std::vector<size_t>& fileOf, const Path& path, const Scene& scene,
+                            const RayReference& rays) {
+    const Light& l = scene.lights[b.light];
+    const bool directional = l.type == LightKind::Directional;
+    Counts n(configs.size());
+    std::vector<Sample> prev, cur;
+    std::vector<glm::vec3> ps, ns;
+    std::vector<float> f2;
+    for (uint32_t f = 0; f < o.view.frames; ++f) {
+        receiversOf(o, path, scene, rays, f, ps, ns, f2);
+        cur.assign(ps.size(), {});
+        for (size_t i = 0; i < ps.size(); ++i) {
+            if (ns[i] == glm::vec3(0.0f)) continue;
+            const glm::vec3 toLight = directional ? -glm::normalize(l.direction) : l.position - ps[i];
+            if (glm::dot(ns[i], toLight) <= 0.0f || (!directional && !inLightCone(l, ps[i]))) continue;
+            Sample& s = cur[i];
+            s.counts = true;
+            const glm::vec3 origin = ps[i] + ns[i] * 0.001f;
+            s.truth = rays.visible(origin, directional ? origin + toLight * 1000.0f : l.position, 0.0f);
+            for (size_t c = 0; c < configs.size(); ++c) {
+                const BakeRecord& r = b.records[fileOf[c]];
+                auto rec = makeShadowRecord(r.method, r.frustum, 0, staticResolution(r.method, r.data.data()),
+                                            configs[c].pcf);
+                rec.info.z = configs[c].byLevel ? 1u : 0u;
+                s.vis.push_back(staticVisibility(rec, r.data.data(), ps[i], ns[i], f2[i]));
+            }
+        }
+        if (f) comparePairs(prev, cur, n);
+        std::swap(prev, cur);
+        std::fprintf(stderr, "bench flicker: frame %u of %u\n", f + 1, o.view.frames);
+    }
+    return n;
+}
+
+int runBaked(const Options& o, const Scene& scene, const Path& path, const RayReference& rays) {
+    auto b = loadBaked(o, scene);
+    if (!b) return inputError("bench flicker", b.error());
+    std::vector<Config> configs;
+    std::vector<size_t> fileOf;
+    for (size_t k = 0; k < b->records.size(); ++k)
+        for (uint32_t r : o.pcf)
+            for (bool level : {false, true}) {
+                const StaticMethod m = b->records[k].method;
+                if (level && !(o.byLevel && (m == StaticMethod::MH || m == StaticMethod::MMH))) continue;
+                configs.push_back({m, b->records[k].resolution, r, level});
+                fileOf.push_back(k);
+            }
+    std::fprintf(stderr,
+                 "bench flicker: %s, light %u from %zu bake files, %u frames %ux%u, %zu configurations\n",
+                 scene.name.c_str(), b->light, o.bakes.size(), o.view.frames, o.view.width, o.view.height,
+                 configs.size());
+    auto counts = measureBaked(o, *b, configs, fileOf, path, scene, rays);
+    if (!counts) return runError("bench flicker", counts.error());
+    std::printf("bench flicker: %s, light %u, %u frames %ux%u from %.1f,%.1f,%.1f to %.1f,%.1f,%.1f\n",
+                scene.name.c_str(), b->light, o.view.frames, o.view.width, o.view.height, path.eye0.x,
+                path.eye0.y, path.eye0.z, path.eye1.x, path.eye1.y, path.eye1.z);
+    auto summary = report(o, configs, *counts);
+    if (!summary) return runError("bench flicker", summary.error());
+    std::printf("%s\n", summary->str().c_str());
+    return 0;
+}
 } // namespace
 
 // The flags of `bench flicker` beside its option groups.
 const cli::Flags kFlickerFlags{{"--methods", "--res", "--pcf", "--lights", "--camera", "--camera-end",
-                                "--out", "--light-move", "--light-turn", "--map-jitter"},
+                                "--out", "--light-move", "--light-turn", "--map-jitter", "--bake"},
                                {"--by-level"}};
 
 int runBenchFlicker(int argc, char** argv) {
@@ -358,6 +464,7 @@ int runBenchFlicker(int argc, char** argv) {
     auto rays = RayReference::build(scene.value(), true);
     if (!rays) return runError("bench flicker", rays.error());
 
+    if (!o.bakes.empty()) return runBaked(o, scene.value(), path.value(), rays.value());
     std::vector<glm::vec3> ps, ns;
     std::vector<float> f2;
     receiversOf(o, path.value(), scene.value(), rays.value(), 0, ps, ns, f2);
