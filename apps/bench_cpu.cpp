@@ -136,8 +136,9 @@ int runBenchCpu(int argc, char** argv) {
             if (!r) rc = runError("bench", r.error());
         }
         CameraDesc cam = toCameraDesc(scene.camera);
-        cam.position += glm::vec3(0.05f * float(f), 0.0f, 0.0f); // a moving camera: marks change
-        cam.target += glm::vec3(0.05f * float(f), 0.0f, 0.0f);
+        cam.position =
+            toGlm(cam.position) + glm::vec3(0.05f * float(f), 0.0f, 0.0f); // a moving camera: marks change
+        cam.target = toGlm(cam.target) + glm::vec3(0.05f * float(f), 0.0f, 0.0f);
         if (auto r = m.setCamera(cam); !r) rc = runError("bench", r.error());
         const auto t1 = std::chrono::steady_clock::now();
         vkResetCommandPool(info.device, pool, 0);

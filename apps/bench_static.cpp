@@ -443,7 +443,7 @@ Result<void> measureResolution(Bench& b, uint32_t res, std::vector<Row>& rows) {
 
 // The scene's module: fenced timing, the scene bound, the view's targets, the camera and the filter.
 // Each pass in its own submission, timed with the host clock: GPU timestamps do not bracket compute
-// work on lavapipe (engine/manylights.h, TimingChoice), so the eval column would be noise.
+// work on lavapipe (manylights/module.h, TimingChoice), so the eval column would be noise.
 int setupModule(const cli::Args& args, const StaticOptions& o, Scene& scene, std::unique_ptr<Module>& module,
                 SceneBinding& binding) {
     ModuleOptions moduleOptions;

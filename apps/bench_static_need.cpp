@@ -10,7 +10,7 @@
 #include "apps/exact_receivers.h"
 #include "apps/need_region.h"
 #include "apps/options.h"
-#include "gpu/device_types.h"
+#include "manylights/device.h"
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "bake/reference/error_classes.h"

@@ -3,7 +3,7 @@
 // cost (bench_lookup.csv).
 #pragma once
 #include "shadows/tools/lookup_timer.h"
-#include "io/result.h"
+#include "manylights/result.h"
 #include "bake/reference/error_classes.h"
 #include "shadows/static/static_method.h"
 

@@ -50,7 +50,8 @@ struct Row {
     std::string kind;
     bool cached = true;
     VsmRaster raster = VsmRaster::Mesh;
-    // Per-step means (engine/pass_times.h): cull on the vertex path, expand on the mesh path (0 otherwise).
+    // Per-step means (manylights/pass_times.h): cull on the vertex path, expand on the mesh path (0
+    // otherwise).
     double markMs = 0, sortMs = 0, allocMs = 0, hpbMs = 0, groupCullMs = 0, cullMs = 0, expandMs = 0,
            drawMs = 0, frames = 0;
     double marked = 0, allocated = 0, rendered = 0, draws = 0, triangles = 0;
@@ -224,7 +225,7 @@ json::Object printTables(const Config& c, const std::vector<Row>& rows, double& 
         json.real(name + "_draw_ms", r.drawMs).real(name + "_triangles", r.triangles);
         json.real(name + "_first_draw_ms", r.firstDrawMs).real(name + "_fragments", r.fragments);
         json.real(name + "_dirty_texels", r.dirtyTexels);
-        // The VSM steps' means (engine/pass_times.h's scopes; cull or expand is 0 by raster path).
+        // The VSM steps' means (manylights/pass_times.h's scopes; cull or expand is 0 by raster path).
         json.real(name + "_mark_ms", r.markMs).real(name + "_sort_ms", r.sortMs);
         json.real(name + "_alloc_ms", r.allocMs).real(name + "_hpb_ms", r.hpbMs);
         json.real(name + "_group_cull_ms", r.groupCullMs).real(name + "_cull_ms", r.cullMs);

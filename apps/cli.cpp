@@ -1,5 +1,5 @@
 #include "apps/cli.h"
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "io/safe_io.h"
 
 #include <cerrno>

@@ -1,7 +1,7 @@
 // Command-line parsing shared by the subcommands: --flag value pairs and bare --switches, with
 // one-line errors naming the flag and the reason.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 
 #include <array>
 #include <cstdint>

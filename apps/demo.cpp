@@ -257,7 +257,7 @@ Result<std::vector<FrameReport>> renderFrames(DemoOptions& d, Module& m, Scene& 
     std::vector<uint8_t> rgba;
     const uint32_t frames = d.view.frames;
     const CameraDesc baseCamera = toCameraDesc(scene.camera);
-    FlyCamera fly = FlyCamera::lookingAt(baseCamera.position, baseCamera.target);
+    FlyCamera fly = FlyCamera::lookingAt(toGlm(baseCamera.position), toGlm(baseCamera.target));
     if (win) printCamera("start", fly.desc(baseCamera));
     auto last = std::chrono::steady_clock::now();
     for (uint32_t f = 0; frames == 0 || f < frames; ++f) {

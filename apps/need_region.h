@@ -5,7 +5,7 @@
 //   box:X0,Y0,Z0,X1,Y1,Z1    a grid of k^3 positions in the box (k = the cube root of `samples`,
 //                            rounded, at least 1), looking anywhere.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 #include "scenes/scene.h"
 #include "bake/need.h"
 

@@ -4,7 +4,7 @@
 // to cli::parse beside its own flags, so every command spells, bounds and words them alike.
 #pragma once
 #include "apps/cli.h"
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "shadows/static/static_types.h"
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // Demo and benchmark outputs: Chrome trace (profile.json), per-pass CSV (frames.csv), stats.json.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 
 #include <string>
 #include <vector>

@@ -3,7 +3,7 @@
 // Input for the interactive camera and key commands comes from poll(): held keys and mouse drags as
 // FlyInput, key presses in order (a press and release between two polls is not lost).
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "host/fly_camera.h"
 
 #include <string>

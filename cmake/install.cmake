@@ -1,77 +1,90 @@
 # Install rules for a host engine: included by the top-level CMakeLists.txt when ML_INSTALL is on.
 #
-#   include/manylights/manylights.h             #include <manylights/manylights.h>: forwards to
-#   include/manylights/engine/manylights.h      the public header: API types only, and the headers it
-#   include/manylights/io/result.h, gpu/device_types.h, engine/pass_times.h   includes
-#   include/manylights/shadows/static/static_types.h, shadows/virtual/vsm_settings.h
-#   include/manylights/engine/manylights_diagnostics.h   read-backs for tools and checks
-#   include/manylights/gpu/vk_check.h        ML_VK_CHECK
-#   include/manylights/shadows/static/*.h       the static shadow library (encoders, bake files), for hosts
-#   include/manylights/shaders/shared/*.h       that make or read bakes, and what it includes
-#   include/manylights/io/*.h
+#   include/manylights/*.h                      the public API: a copy of the source tree's include/manylights/
+#                                               (manylights.h the entry point; its header comment lists them)
+#   include/manylights/manylights.glsl          #include "manylights/manylights.glsl" (glslangValidator
+#                                               -I<prefix>/include): the module's lights and shadows in a
+#                                               host's shaders, one self-contained file (below)
 #   lib/libmanylights_module.a, libmanylights_static.a, libmanylights_io.a
 #   lib/cmake/manylights/manylights-config.cmake (+ version, targets): imported target manylights::manylights
 #                                               (manylights::module: the same, an alias)
-#   include/manylights/manylights.glsl          #include "manylights/manylights.glsl" (glslangValidator
-#   include/manylights/lights/manylights_lights.glsl  -I<prefix>/include): the module's lights and shadows
-#   include/manylights/shaders/{shared,static}/*.glsl, in a host's shaders (engine/manylights.h,
-#   include/manylights/shadows/virtual/vsm_{types,math}.h, vsm_common.glsl   HostShaderBindings)
-# Installed C++ headers include each other as <manylights/...>; a host's include path gets include/ only.
-# Files GLSL reads (shaders/, the include and what it includes) use "manylights/..." instead: glslang
-# resolves quoted includes through -I but has no <...> search, and C++ finds the quoted form the same way.
 #   lib/pkgconfig/manylights.pc
-#
-# The engine's internals (device.h, program.h, resources.h, profiler.h, gbuffer.h, module_impl.h, lights/,
-# culling/, shadows/gpu/, shadows/virtual/ but its settings) are not installed: the ExampleHost_install test
-# checks that they are absent and that every installed engine/ header compiles on its own.
+# Nothing of the module's internal folders is installed (engine/, gpu/, io/, shaders/, shadows/, lights/):
+# the public headers include only each other, which the layer check keeps so (include/ is its lowest
+# layer), and ExampleHost_install checks that every installed header compiles on its own.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(ML_INSTALL_INCLUDE ${CMAKE_INSTALL_INCLUDEDIR}/manylights)
 set(ML_INSTALL_CMAKE ${CMAKE_INSTALL_LIBDIR}/cmake/manylights)
 
-set(ML_PUBLIC_HEADERS engine/manylights.h engine/manylights_diagnostics.h io/result.h gpu/device_types.h
-    engine/pass_times.h gpu/vk_check.h lights/light_types.h shadows/virtual/vsm_settings.h)
-# The libraries of their own that are installed beside the module: whole folders, so a header they start
-# to include is not forgotten.
-file(GLOB ML_LIBRARY_HEADERS RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/shadows/static/*.h ${PROJECT_SOURCE_DIR}/shaders/shared/*.h ${PROJECT_SOURCE_DIR}/io/*.h)
-list(APPEND ML_PUBLIC_HEADERS ${ML_LIBRARY_HEADERS})
-# The host-shader include and every file it includes (the VSM types and lookup are installed for GLSL:
-# a C++ host has no use for them, and none of the VSM's C++ classes is installed).
-file(GLOB ML_GLSL_FILES RELATIVE ${PROJECT_SOURCE_DIR} CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/shaders/shared/*.glsl ${PROJECT_SOURCE_DIR}/shaders/static/*.glsl)
-list(APPEND ML_GLSL_FILES lights/manylights_lights.glsl shadows/virtual/vsm_types.h shadows/virtual/vsm_math.h
-     shadows/virtual/vsm_common.glsl)
-list(APPEND ML_PUBLIC_HEADERS ${ML_GLSL_FILES})
-# Installed copies with their quoted includes of the module's folders rewritten to <manylights/...>:
-# a host has only include/ on its path, so the module's engine/, io/, shaders/ never shadow (or are
-# shadowed by) folders of the host's own. Regenerated whenever a header changes (configure dependency).
+# The staged tree <build>/installed_include/manylights: the files as installed, for hosts built with
+# add_subdirectory (their glslangValidator -I) and the tests that compile against the install layout.
 set(ML_STAGED_INCLUDE ${PROJECT_BINARY_DIR}/installed_include/manylights)
+file(REMOVE_RECURSE ${ML_STAGED_INCLUDE})
+file(GLOB ML_PUBLIC_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/include/manylights/*.h)
 foreach(header ${ML_PUBLIC_HEADERS})
-  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${header})
-  file(READ ${PROJECT_SOURCE_DIR}/${header} text)
-  if(header MATCHES "^shaders/" OR header IN_LIST ML_GLSL_FILES)
-    string(REGEX REPLACE "#include \"((engine|gpu|io|lights|shaders|shadows|culling)/[^\"]+)\""
-                         "#include \"manylights/\\1\"" text "${text}")
-  else()
-    string(REGEX REPLACE "#include \"((engine|gpu|io|lights|shaders|shadows|culling)/[^\"]+)\""
-                         "#include <manylights/\\1>" text "${text}")
-  endif()
-  file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/${header} CONTENT "${text}" @ONLY)
-  get_filename_component(dir ${header} DIRECTORY)
-  install(FILES ${ML_STAGED_INCLUDE}/${header} DESTINATION ${ML_INSTALL_INCLUDE}/${dir} COMPONENT manylights)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${header})
+  file(COPY ${header} DESTINATION ${ML_STAGED_INCLUDE})
 endforeach()
-file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/manylights.h CONTENT
-     "// The host's entry point: #include <manylights/manylights.h> (include/ on the path, nothing else).\n#pragma once\n#include <manylights/engine/manylights.h>\n")
+install(FILES ${ML_PUBLIC_HEADERS} DESTINATION ${ML_INSTALL_INCLUDE} COMPONENT manylights)
+
+# manylights.glsl: lights/manylights_lights.glsl with every quoted include inlined where it first appears
+# (each file once, as its include guard would have it) and the module's own comments removed (they speak
+# of its internal files; the header written below and docs/integration.md document the include), so the
+# install needs none of the module's shader folders and a host's -I<prefix>/include resolves it alone. A quoted include is looked up beside its
+# file, then at the source root, include/ and shaders/ (the module's own glslangValidator -I order).
+set_property(GLOBAL PROPERTY ML_GLSL_SEEN "")
+function(ml_inline_glsl path out)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${path})
+  file(READ ${path} text)
+  get_filename_component(dir ${path} DIRECTORY)
+  set(result "")
+  while(TRUE)
+    string(REGEX MATCH "(^|\n)[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\"[^\n]*" line "${text}")
+    if(NOT line)
+      break()
+    endif()
+    set(name ${CMAKE_MATCH_2})
+    string(FIND "${text}" "${line}" pos)
+    string(LENGTH "${line}" length)
+    string(SUBSTRING "${text}" 0 ${pos} before)
+    math(EXPR rest "${pos} + ${length}")
+    string(SUBSTRING "${text}" ${rest} -1 text)
+    string(APPEND result "${before}\n")
+    set(found "")
+    foreach(base ${dir} ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/shaders)
+      if(EXISTS ${base}/${name})
+        get_filename_component(found ${base}/${name} ABSOLUTE)
+        break()
+      endif()
+    endforeach()
+    if(NOT found)
+      message(FATAL_ERROR "manylights.glsl: ${path} includes \"${name}\", found nowhere")
+    endif()
+    get_property(seen GLOBAL PROPERTY ML_GLSL_SEEN)
+    if(found IN_LIST seen)
+      string(APPEND result "// (${name}: inlined above)")
+    else()
+      set_property(GLOBAL APPEND PROPERTY ML_GLSL_SEEN ${found})
+      ml_inline_glsl(${found} inner)
+      string(APPEND result "// ---- ${name}\n${inner}// ---- end of ${name}")
+    endif()
+  endwhile()
+  string(APPEND result "${text}")
+  set(${out} "${result}" PARENT_SCOPE)
+endfunction()
+ml_inline_glsl(${PROJECT_SOURCE_DIR}/lights/manylights_lights.glsl ML_GLSL_TEXT)
+string(REGEX REPLACE "//[^\n]*" "" ML_GLSL_TEXT "${ML_GLSL_TEXT}")
+string(REGEX REPLACE "[ \t]+\n" "\n" ML_GLSL_TEXT "${ML_GLSL_TEXT}")
+string(REGEX REPLACE "\n\n\n+" "\n\n" ML_GLSL_TEXT "${ML_GLSL_TEXT}")
+file(READ ${PROJECT_SOURCE_DIR}/cmake/manylights_glsl_header.txt ML_GLSL_HEADER)
+file(WRITE ${ML_STAGED_INCLUDE}/manylights.glsl "${ML_GLSL_HEADER}${ML_GLSL_TEXT}")
 # The folder a host's glslangValidator gets as -I for "manylights/manylights.glsl": with add_subdirectory
-# the staged tree (the same files as installed), after find_package <prefix>/include (the config file).
+# the staged tree, after find_package <prefix>/include (the config file).
 set(MANYLIGHTS_GLSL_INCLUDE_DIR ${PROJECT_BINARY_DIR}/installed_include CACHE INTERNAL
     "glslangValidator -I folder of manylights/manylights.glsl (the host-shader include)")
-file(CONFIGURE OUTPUT ${ML_STAGED_INCLUDE}/manylights.glsl CONTENT
-     "// A host shader's entry point: #include \"manylights/manylights.glsl\" (glslangValidator -I<prefix>/include).\n#include \"manylights/lights/manylights_lights.glsl\"\n")
-install(FILES ${ML_STAGED_INCLUDE}/manylights.h ${ML_STAGED_INCLUDE}/manylights.glsl DESTINATION ${ML_INSTALL_INCLUDE}
-        COMPONENT manylights)
+install(FILES ${ML_STAGED_INCLUDE}/manylights.glsl DESTINATION ${ML_INSTALL_INCLUDE} COMPONENT manylights)
 
 install(TARGETS manylights_module manylights_static manylights_io EXPORT manylightsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT manylights)

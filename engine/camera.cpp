@@ -29,13 +29,14 @@ Result<void> validateCamera(const CameraDesc& c) {
     };
     const std::string range =
         " is not finite or beyond +-" + std::to_string(int(kMaxCameraCoordinate)) + " m";
-    if (!bounded(c.position)) return fail("camera: position" + range);
-    if (!bounded(c.target)) return fail("camera: target" + range);
-    if (!finite3(c.up) || !(glm::length(c.up) > 1e-6f)) return fail("camera: up is zero or not finite");
-    const glm::vec3 view = c.target - c.position;
+    const glm::vec3 position = toGlm(c.position), target = toGlm(c.target), up = toGlm(c.up);
+    if (!bounded(position)) return fail("camera: position" + range);
+    if (!bounded(target)) return fail("camera: target" + range);
+    if (!finite3(up) || !(glm::length(up) > 1e-6f)) return fail("camera: up is zero or not finite");
+    const glm::vec3 view = target - position;
     if (!(glm::length(view) > 1e-6f)) return fail("camera: target equals position");
     // sin of the angle between view and up; below ~0.006 degrees the view basis is degenerate.
-    const float sine = glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up)));
+    const float sine = glm::length(glm::cross(glm::normalize(view), glm::normalize(up)));
     if (!(sine > 1e-4f)) return fail("camera: view direction is parallel to up");
     if (!(c.fovY > 0.0f && c.fovY < 3.14159f)) return fail("camera: fovY must be in (0, pi)");
     if (!(c.nearPlane > 0.0f) || !(c.farPlane > c.nearPlane) || !std::isfinite(c.farPlane))
@@ -45,7 +46,7 @@ Result<void> validateCamera(const CameraDesc& c) {
 
 CameraMatrices cameraMatrices(const CameraDesc& c, float aspect) {
     CameraMatrices m;
-    m.view = glm::lookAt(c.position, c.target, c.up);
+    m.view = glm::lookAt(toGlm(c.position), toGlm(c.target), toGlm(c.up));
     // Near and far swapped: depth 1 at the near plane, 0 at the far plane (reversed Z).
     m.projection = glm::perspectiveRH_ZO(c.fovY, aspect, c.farPlane, c.nearPlane);
     m.projection[1][1] *= -1.0f; // Vulkan clip space has +y down
@@ -86,7 +87,7 @@ Result<CameraDesc> cameraFromMatrices(const glm::mat4& view, const glm::mat4& p)
     c.fovY = 2.0f * std::atan(1.0f / -p[1][1]);
     const glm::mat4 inv = glm::inverse(view);
     c.position = glm::vec3(inv[3]);
-    c.target = c.position - glm::vec3(inv[2]); // the camera looks down view-space -Z
+    c.target = glm::vec3(inv[3]) - glm::vec3(inv[2]); // the camera looks down view-space -Z
     c.up = glm::vec3(inv[1]);
     if (auto v = validateCamera(c); !v) return fail("camera (from matrices): " + v.error().substr(8));
     return c;

@@ -7,7 +7,8 @@
 // A host gives the camera either as a CameraDesc (position, target, up, fovY, near, far) or as its own
 // view and projection matrices (Module::setCameraMatrices); both may carry a sub-pixel jitter.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
 
 namespace ml {
 

@@ -12,7 +12,7 @@
 #pragma once
 #include "culling/culling.h"
 #include "engine/gbuffer.h"
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "gpu/profiler.h"
 #include "lights/evaluate_pass.h"
 #include "shadows/virtual/vsm_passes.h"

@@ -137,7 +137,7 @@ void Module::Impl::updateLightRecords() {
     for (uint32_t i = 0; i < n; ++i) {
         LightRecord& r = lightRecords[i];
         if (r.version == lightVersion[i] && r.version != 0) continue;
-        const LightDesc& l = lights[i];
+        const GlmLight l(lights[i]);
         r.version = lightVersion[i];
         ++lightRecordsMade;
         r.gpu = toGpuLight(l, i);
@@ -245,7 +245,7 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     fc.invViewProj = glm::inverse(fc.viewProj);
     // w: the squared size of a pixel at unit distance (shadowFootprint2; filtering static shadows by level).
     const float pixelAngle = 2.0f / (std::abs(cm.projection[1][1]) * float(height));
-    fc.cameraPosition = glm::vec4(c.position, pixelAngle * pixelAngle);
+    fc.cameraPosition = glm::vec4(toGlm(c.position), pixelAngle * pixelAngle);
     fc.size = glm::uvec4(width, height, grid.tilesX, grid.tilesY);
     fc.depth = glm::vec4(c.nearPlane, c.farPlane, c.nearPlane * c.farPlane, c.farPlane - c.nearPlane);
     fc.ambient = glm::vec4(ambient, exposure);
@@ -290,7 +290,7 @@ Result<void> Module::Impl::writeFrame(Slot& slot, uint32_t slotIndex, const Clus
     slot.pendingInstances.clear();
     if (vsm.enabled()) {
         auto firstMap = vsm.prepare(*device, slotIndex, frameIndex, vsmLights, visibleIds, casters,
-                                    vsmChangedInstances, {c.position, c.fovY, height});
+                                    vsmChangedInstances, {toGlm(c.position), c.fovY, height});
         if (!firstMap) return fail(firstMap.error());
         vsmChangedInstances.clear();
         for (uint32_t v = 0; v < visible; ++v) gl[v].info.y = firstMap.value()[v];

@@ -1,4 +1,4 @@
-// The binding contract of lights/manylights_lights.glsl for a host's own shaders (engine/manylights.h,
+// The binding contract of lights/manylights_lights.glsl for a host's own shaders (manylights/module.h,
 // HostShaderBindings): the buffers the evaluation pass bound for the last recorded frame, captured at
 // record()'s end from the same FrameContext the passes read, so the host and the module cannot bind
 // different buffers.
@@ -24,7 +24,7 @@ std::array<VkDescriptorSetLayoutBinding, ML_HOST_BINDING_COUNT> hostShaderLayout
 
 void Module::Impl::captureHostBindings(uint32_t slotIndex) {
     const FrameContext f = frameContext(VK_NULL_HANDLE, slotIndex);
-    // In the include's order (shaders/shared/host_bindings.h), as EvaluatePass::record binds them.
+    // In the include's order (manylights/host_bindings.h), as EvaluatePass::record binds them.
     const Buffer* order[ML_HOST_BINDING_COUNT] = {};
     order[ML_HOST_FRAME] = f.shading.frame;
     order[ML_HOST_SLICES] = f.shading.slices;

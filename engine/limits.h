@@ -6,8 +6,8 @@
 // pool and map slots here; the light-list pool in culling/culling.cpp) is reduced to what the device
 // holds, with a line saying so.
 #pragma once
-#include "io/result.h"
-#include "shadows/virtual/vsm_settings.h"
+#include "manylights/result.h"
+#include "manylights/vsm_settings.h"
 
 #include <cstdint>
 #include <string>

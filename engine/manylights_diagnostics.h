@@ -1,6 +1,7 @@
 // manylights diagnostics: read-backs for tools, benchmarks and checks (`manylights bench`, `check vsm`),
-// through the public API. A host engine renders with engine/manylights.h alone and has no need of these.
-// Installed beside the public header; API types only, like it.
+// through the public API. A host engine renders with manylights/manylights.h alone and has no need of
+// these. Not installed: the project's own tools use them, built with the module's settings (these types
+// are glm's and the static shadow library's, whose layout the includer's definitions may change).
 //
 //   G-buffer      readGBuffer: the module-owned depth and normals of the last frame (receivers for
 //                 ray-traced references).
@@ -14,7 +15,9 @@
 // vkQueueWaitIdle); the read-backs that copy from the GPU wait for the queue themselves: not for a frame
 // loop.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
+#include "shadows/static/static_types.h"
 
 #include <glm/glm.hpp>
 

@@ -1,7 +1,7 @@
-// The module behind the public API (engine/manylights.h): owns the scene buffers, per-slot frame data,
+// The module behind the public API (manylights/module.h): owns the scene buffers, per-slot frame data,
 // the features and the profiler, and records a frame as a list of pass objects (engine/frame.h; the host
 // side of a frame is engine/frame_write.cpp).
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 
 #include "culling/culling.h"
 #include "culling/culling_push.h"
@@ -70,6 +70,19 @@ Result<void> Module::setExposure(float exposure) {
         return fail("setExposure: exposure must be finite and > 0");
     impl_->exposure = exposure;
     return {};
+}
+
+// A host's static shadow frustum in the static shadow library's type (glm matrix), at the API boundary.
+static LightFrustum lightFrustum(const ShadowFrustum& s) {
+    LightFrustum f;
+    f.view = toGlm(s.view);
+    f.fov = s.fov;
+    f.nearPlane = s.nearPlane;
+    f.farPlane = s.farPlane;
+    f.orthoHalf = s.orthoHalf;
+    f.orthoHalfY = s.orthoHalfY;
+    f.fitMargin = s.fitMargin;
+    return f;
 }
 
 static bool finiteMatrix(const glm::mat4& m) {
@@ -277,9 +290,11 @@ Result<uint32_t> Module::Impl::instanceIndex(InstanceId id, const char* what) co
     return index;
 }
 
-Result<InstanceId> Module::addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo,
+Result<InstanceId> Module::addInstance(MeshId mesh, const Float4x4& transformDesc, Float3 albedoDesc,
                                        bool dynamic) {
     auto& m = *impl_;
+    const glm::mat4 transform = toGlm(transformDesc);
+    const glm::vec3 albedo = toGlm(albedoDesc);
     if (mesh >= m.meshes.size() || !m.meshes[mesh].alive)
         return fail("addInstance: mesh id " + std::to_string(mesh) + " does not exist (or was removed)");
     if (!finiteMatrix(transform)) return fail("addInstance: transform is not finite");
@@ -333,7 +348,8 @@ Result<void> Module::removeMesh(MeshId mesh) {
     return {};
 }
 
-Result<void> Module::setInstanceTransform(InstanceId id, const glm::mat4& transform) {
+Result<void> Module::setInstanceTransform(InstanceId id, const Float4x4& transformDesc) {
+    const glm::mat4 transform = toGlm(transformDesc);
     auto index = impl_->instanceIndex(id, "setInstanceTransform");
     if (!index) return fail(index.error());
     auto& inst = impl_->instances[index.value()];
@@ -395,7 +411,8 @@ Result<void> Module::setLight(LightId id, const LightDesc& light) {
     return {};
 }
 
-Result<void> Module::setEnvironment(glm::vec3 ambient, glm::vec3 sky) {
+Result<void> Module::setEnvironment(Float3 ambientDesc, Float3 skyDesc) {
+    const glm::vec3 ambient = toGlm(ambientDesc), sky = toGlm(skyDesc);
     for (const glm::vec3* v : {&ambient, &sky})
         if (!std::isfinite(v->x) || !std::isfinite(v->y) || !std::isfinite(v->z) || v->x < 0 || v->y < 0 ||
             v->z < 0)
@@ -427,7 +444,7 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     }
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
         return fail("setStaticShadow: light " + std::to_string(id) + ": " + v.error());
-    const LightFrustum& f = shadow.frustum;
+    const LightFrustum f = lightFrustum(shadow.frustum);
     if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) ||
         !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.1f))
         return fail("setStaticShadow: light " + std::to_string(id) +
@@ -446,7 +463,7 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
         return fail("setStaticShadow: light " + std::to_string(id) + ": the static shadows would take " +
                     std::to_string(bytes >> 20) + " MiB, beyond the device's storage buffer range of " +
                     std::to_string(range >> 20) + " MiB");
-    m.shadows[id][shadow.face] = {shadow.method, shadow.frustum, {shadow.words.begin(), shadow.words.end()}};
+    m.shadows[id][shadow.face] = {shadow.method, f, {shadow.words.begin(), shadow.words.end()}};
     m.touchShadow(id);
     m.wordsPending = true;
     return {};
@@ -493,7 +510,7 @@ Result<uint32_t> Module::bakeStaticShadows(StaticMethod method, uint32_t resolut
     }
     uint32_t done = 0;
     for (uint32_t i : bakeable) {
-        const LightDesc& l = m.lights[i];
+        const GlmLight l(m.lights[i]);
         LightShape sl;
         sl.type = l.kind == LightKind::Point ? LightKind::Point : LightKind::Spot;
         sl.position = l.position;
@@ -533,17 +550,19 @@ Result<void> Module::setCamera(const CameraDesc& c) {
     // Finite and bounded position, target and up; target != position; up not parallel to the view;
     // 0 < fovY < pi; 0 < near < far < infinity (lights/lights.h).
     if (auto v = validateCamera(c); !v) return v; // its reasons start with "camera: "
-    if (auto v = validateJitter(c.jitter); !v) return v;
+    if (auto v = validateJitter(toGlm(c.jitter)); !v) return v;
     impl_->camera = c;
     impl_->hostCamera.reset();
     impl_->cameraSet = true;
     return {};
 }
 
-Result<void> Module::setCameraMatrices(const glm::mat4& view, const glm::mat4& projection, glm::vec2 jitter) {
+Result<void> Module::setCameraMatrices(const Float4x4& viewDesc, const Float4x4& projectionDesc,
+                                       Float2 jitter) {
+    const glm::mat4 view = toGlm(viewDesc), projection = toGlm(projectionDesc);
     auto c = cameraFromMatrices(view, projection);
     if (!c) return fail(c.error());
-    if (auto v = validateJitter(jitter); !v) return v;
+    if (auto v = validateJitter(toGlm(jitter)); !v) return v;
     impl_->camera = c.value();
     impl_->camera.jitter = jitter;
     impl_->hostCamera = CameraMatrices{view, projection};
@@ -554,19 +573,23 @@ Result<void> Module::setCameraMatrices(const glm::mat4& view, const glm::mat4& p
 CameraMatrices Module::Impl::frameCamera() const {
     const uint32_t w = std::max(width, 1u), h = std::max(height, 1u);
     CameraMatrices m = hostCamera ? *hostCamera : cameraMatrices(camera, float(w) / float(h));
-    m.projection = jittered(m.projection, camera.jitter, w, h);
+    m.projection = jittered(m.projection, toGlm(camera.jitter), w, h);
     return m;
 }
 
-glm::mat4 Module::viewProjection() const {
-    if (!impl_->width) return glm::mat4(1.0f);
+Float4x4 Module::viewProjection() const {
+    if (!impl_->width) return Float4x4{};
     const CameraMatrices m = impl_->frameCamera();
-    return m.projection * m.view;
+    return fromGlm(m.projection * m.view);
 }
 
 Result<void> Module::record(VkCommandBuffer cmd) {
     auto& m = *impl_;
-    if (!m.width) return fail("record: no targets (call createTargets or setTargets first)");
+    if (!m.width)
+        return fail(m.targetsDetached
+                        ? "record: no targets: detachTargets() released them (call setTargets or "
+                          "createTargets with live images first)"
+                        : "record: no targets (call createTargets or setTargets first)");
     // A default camera would render a frame the host never asked for (often empty): refused.
     if (!m.cameraSet) return fail("record: no camera (call setCamera or setCameraMatrices first)");
     if (m.timing == TimingMode::Timestamps && cmd == VK_NULL_HANDLE)

@@ -6,7 +6,10 @@
 #include "engine/camera.h"
 #include "engine/frame.h"
 #include "engine/gbuffer.h"
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
+#include "shaders/shared/enums.h"
+#include "shadows/static/static_types.h"
 #include "gpu/profiler.h"
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_meshlets.h"
@@ -133,7 +136,8 @@ struct Module::Impl {
 
     uint32_t width = 0, height = 0;
     bool ownTargets = false;
-    bool ownMaterials = false; // createTargets(..., materials): GGX from the module's material target
+    bool targetsDetached = false; // detachTargets() was the last call on targets: record() says so
+    bool ownMaterials = false;    // createTargets(..., materials): GGX from the module's material target
     GBufferTargets targets;
     HostTargets host;
     Image hdr, output;
@@ -253,7 +257,7 @@ struct Module::Impl {
     Result<void> writeFrame(Slot& slot, uint32_t slotIndex, const ClusterGrid& grid, CullingMode mode);
 };
 
-// setTargets' checks (HostTargets' table in engine/manylights.h), for an output mode.
+// setTargets' checks (HostTargets' table in manylights/module.h), for an output mode.
 Result<void> checkHostTargets(const HostTargets& targets, bool hdr);
 
 // The module's internal state and device, for tests and engine/diagnostics.cpp (not for apps/ or host/:

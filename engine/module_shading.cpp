@@ -1,4 +1,4 @@
-// Per-instance shading and shadow-receiving settings and the physical exposure (engine/manylights.h):
+// Per-instance shading and shadow-receiving settings and the physical exposure (manylights/module.h):
 // setInstanceShadowReceiving, setInstanceMaterial, setExposureEV100. Each reaches the GPU through the next
 // frame's instance upload or frame constants (engine/frame_write.cpp): no device wait.
 #include "engine/module_impl.h"

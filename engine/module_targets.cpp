@@ -1,4 +1,4 @@
-// The module's targets and output mode (engine/manylights.h: createTargets, setTargets, setHdrOutput):
+// The module's targets and output mode (manylights/module.h: createTargets, setTargets, setHdrOutput):
 // the host targets' checks, the module-owned images, and the deferred release of images and buffers
 // that frames in flight may still use, so that none of these calls waits for the device.
 #include "engine/limits.h"
@@ -158,6 +158,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materia
     if (auto r = checkTargetLimits(deviceLimitTable(*m.device), width, height, true); !r) return r;
     m.destroyTargets(); // released once the frames in flight that use them are done
     m.ownTargets = true;
+    m.targetsDetached = false;
     m.ownMaterials = materials;
     m.width = width;
     m.height = height;
@@ -180,6 +181,7 @@ Result<void> Module::setTargets(const HostTargets& t) {
         return fail("setTargets: " + r.error());
     m.destroyTargets();
     m.ownTargets = false;
+    m.targetsDetached = false;
     m.width = t.width;
     m.height = t.height;
     m.host = t;
@@ -192,6 +194,16 @@ Result<void> Module::setTargets(const HostTargets& t) {
         return fail("setTargets: " + r.error());
     }
     return {};
+}
+
+void Module::detachTargets() {
+    auto& m = *impl_;
+    if (!m.width) return;
+    m.destroyTargets(); // retired: destroyed once the frames in flight that use them are done
+    m.host = {};        // no handle of the host's is kept, so none can be written into a descriptor
+    m.ownTargets = false;
+    m.width = m.height = 0;
+    m.targetsDetached = true;
 }
 
 Result<void> Module::setHdrOutput(bool hdr) {

@@ -3,7 +3,7 @@
 // (both GPU-only: written by copies from staging buffers at the next frame's start),
 // shadow records per frame slot, rewritten in place only for the lights that changed. A slot's buffers
 // are written only in beginFrame of that slot, when the host has waited for the slot's previous frame
-// (the framesInFlight contract, engine/manylights.h), so no frame in flight reads what is written.
+// (the framesInFlight contract, manylights/module.h), so no frame in flight reads what is written.
 #include "engine/module_impl.h"
 #include "shadows/static/static_method.h"
 #include "shadows/static/static_visibility.h"

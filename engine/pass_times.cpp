@@ -1,4 +1,4 @@
-#include "engine/pass_times.h"
+#include "manylights/pass_times.h"
 
 namespace ml {
 

@@ -1,6 +1,6 @@
 // Device: the Vulkan instance, physical device, logical device and one graphics+compute queue (internal:
 // the module's base layer). The API types (DeviceOptions, DeviceBorrow, DeviceInfo, the requirements and
-// the validation counters) are in the public gpu/device_types.h.
+// the validation counters) are in the public manylights/device.h.
 //
 // Headless by default (lavapipe on machines without a GPU). The module either creates these itself or
 // borrows a host engine's handles (DeviceBorrow).
@@ -12,8 +12,8 @@
 // counted as errors) is on with DeviceOptions::validationSync or ML_VALIDATION_SYNC=1; either also
 // turns validation on. It is off by default because it slows every command down.
 #pragma once
-#include "gpu/device_types.h"
-#include "io/result.h"
+#include "manylights/device.h"
+#include "manylights/result.h"
 #include "gpu/vk_check.h"
 
 #include <atomic>

@@ -19,7 +19,7 @@
 // Mapped roles always require HOST_COHERENT: the module never flushes or invalidates ranges. Types with
 // PROTECTED, LAZILY_ALLOCATED or the AMD device-coherent bits are never chosen (slow or special).
 #pragma once
-#include "gpu/device_types.h"
+#include "manylights/device.h"
 
 #include <vulkan/vulkan.h>
 

@@ -19,7 +19,7 @@ namespace ml {
 class Profiler {
   public:
     // Fenced: each pass is submitted on its own and timed with the host clock from submit to completion
-    // (lavapipe: its timestamps do not bracket compute, engine/pass_times.h TimingMode).
+    // (lavapipe: its timestamps do not bracket compute, manylights/pass_times.h TimingMode).
     bool fenced = false;
     // Out of memory for the query pool is an error (the profiler is then destroyable, empty); so is
     // a fenced run's command buffer or submission (run / runUntimed return it, the body not recorded).

@@ -8,7 +8,7 @@
 // n-th point reached from then on return VK_ERROR_OUT_OF_DEVICE_MEMORY instead of calling Vulkan (n = 0:
 // off); allocationPoints() counts the points passed since the last failAt. Process-wide counters.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 
 #include <vulkan/vulkan.h>
 

@@ -3,7 +3,8 @@
 // refuses), keys move it along its own axes. No window code here: the input arrives as numbers, so the
 // tests drive it directly.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
 
 namespace ml {
 

@@ -1,7 +1,7 @@
 // A host of the module API: hands a Scene (scenes/) to ml::Module and keeps dynamic instances and
-// lights moving. Uses only engine/manylights.h, like any host engine would.
+// lights moving. Uses only manylights/module.h, like any host engine would.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "scenes/scene.h"
 
 #include <map>

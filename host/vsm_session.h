@@ -1,7 +1,7 @@
 // A scene bound to a module with virtual shadow maps, driven along a camera path one frame at a time:
 // shared by `check vsm`, `bench vsm` and the VSM tests.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/manylights.h"
 #include "host/scene_host.h"
 #include "scenes/camera_path.h"
 

@@ -17,7 +17,7 @@
 // one-line message: control characters become \n, \t, \xNN (C1 controls \u0080..\u009f too), and long
 // text is cut with a byte count, so a file cannot add lines or terminal escape codes to our output.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 
 #include <cstdint>
 #include <functional>

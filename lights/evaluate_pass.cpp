@@ -65,7 +65,7 @@ void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInput
     // Without a material target the albedo fills its binding (a valid sampled image, never read).
     const bool pbr = in.material != VK_NULL_HANDLE;
     dispatch(d, c, programs_[programIndex(outputs, pbr)], in.width, in.height, NoPush{},
-             {// lights/manylights_lights.glsl's 12 (shaders/shared/host_bindings.h), then the images
+             {// lights/manylights_lights.glsl's 12 (manylights/host_bindings.h), then the images
               *in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, *s.staticWords, *s.shadowRecords,
               *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool, sampled(in.depth),
               sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),

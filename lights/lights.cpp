@@ -12,7 +12,8 @@ bool finite3(glm::vec3 v) {
 }
 } // namespace
 
-Result<void> validateLight(const LightDesc& l) {
+Result<void> validateLight(const LightDesc& desc) {
+    const GlmLight l(desc);
     if (uint32_t(l.kind) > uint32_t(LightKind::Directional))
         return fail("light kind is not spot, point or directional");
     if (!finite3(l.position)) return fail("light position is not finite");
@@ -49,7 +50,8 @@ Result<void> validateLight(const LightDesc& l) {
     return {};
 }
 
-gpu::GpuLight toGpuLight(const LightDesc& l, uint32_t id) {
+gpu::GpuLight toGpuLight(const LightDesc& desc, uint32_t id) {
+    const GlmLight l(desc);
     gpu::GpuLight g{};
     glm::vec3 dir = l.kind == LightKind::Point ? glm::vec3(0, -1, 0) : glm::normalize(l.direction);
     float outer = l.kind == LightKind::Spot ? l.outerAngle : 3.14159265f;
@@ -76,7 +78,8 @@ float ev100FromCamera(float aperture, float shutterSeconds, float iso) {
     return std::log2(aperture * aperture / shutterSeconds * 100.0f / iso);
 }
 
-glm::vec4 lightBoundingSphere(const LightDesc& l) {
+glm::vec4 lightBoundingSphere(const LightDesc& desc) {
+    const GlmLight l(desc);
     if (l.kind == LightKind::Point) return glm::vec4(l.position, l.range);
     glm::vec3 dir = glm::normalize(l.direction);
     float a = l.outerAngle;

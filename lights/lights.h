@@ -2,14 +2,25 @@
 // frustum test that builds the visible-light list (on the CPU: 4096 sphere-plane tests cost
 // microseconds, and the culling passes then work on visible lights only).
 #pragma once
-#include "lights/light_types.h"
+#include "manylights/glm.h"
+#include "manylights/lights.h"
 #include "shaders/shared/gpu_types.h"
 
 #include <array>
 
 namespace ml {
 
-// validateLight is public (lights/light_types.h); validateCamera is engine/camera.cpp.
+// validateLight is public (manylights/lights.h); validateCamera is engine/camera.cpp.
+
+// A host's light with its vectors as glm (the public LightDesc has plain ones): the module's own math
+// converts once, at the API boundary. The members hide LightDesc's of the same name; the rest is read
+// from the LightDesc.
+struct GlmLight : LightDesc {
+    glm::vec3 position, direction, color;
+    explicit GlmLight(const LightDesc& light)
+        : LightDesc(light), position(toGlm(light.position)), direction(toGlm(light.direction)),
+          color(toGlm(light.color)) {}
+};
 
 gpu::GpuLight toGpuLight(const LightDesc& light, uint32_t id);
 

@@ -2,7 +2,8 @@
 // for the module's evaluation pass (lights/evaluate.comp), which includes this file: one lookup, so the
 // host's result and the module's cannot drift (HostShader.ForwardPassMatchesEvaluation compares them).
 //
-// Host use (installed: include/manylights/manylights.glsl forwards here; compile with -I<prefix>/include):
+// Host use (installed: include/manylights/manylights.glsl is this file with its includes inlined,
+// cmake/install.cmake; compile with -I<prefix>/include):
 //   #version 460
 //   #extension GL_GOOGLE_include_directive : require
 //   #define ML_LIGHTS_SET 1        // optional: descriptor set of the module's buffers (default 0)
@@ -15,8 +16,8 @@
 //       vec3 c = shadeLight(L, P, N, V, albedo);           // the module's BRDF (shaders/shared/shading.h)
 //       if (c != vec3(0.0)) color += c * mlLightVisibility(L, P, Nraw);
 //   }
-// The buffers: shaders/shared/host_bindings.h lists them (offset, type); Module::hostShaderBindings()
-// gives the handles for the frame record() just recorded (engine/manylights.h has the contract).
+// The buffers: manylights/host_bindings.h lists them (offset, type); Module::hostShaderBindings()
+// gives the handles for the frame record() just recorded (manylights/module.h has the contract).
 //
 // `pixel` and `depth` are in the module's frame: the pixel of the targets' size and the reversed-Z
 // depth of Module::viewProjection() (a host pass drawn with it has them as gl_FragCoord.xy, .z).
@@ -30,7 +31,7 @@
 #define ML_MANYLIGHTS_LIGHTS_GLSL
 
 #include "shaders/shared/glsl_common.glsl"
-#include "shaders/shared/host_bindings.h"
+#include "manylights/host_bindings.h"
 #include "shadows/virtual/vsm_types.h"
 #include "shaders/shared/shading.h"
 

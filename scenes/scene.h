@@ -1,11 +1,11 @@
 // Scene description shared by the demo (a host of the module API), the tests and the bake tools.
 // A scene is plain data: meshes (triangle lists in object space), instances (mesh + transform, static or
 // dynamic), lights, and a camera. Nothing here touches Vulkan; the host hands it to the module through
-// engine/manylights.h.
+// manylights/module.h.
 //
 // Units: metres, right-handed, +Y up. Angles in radians.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 #include "shadows/static/static_types.h"
 
 #include <glm/glm.hpp>

@@ -5,21 +5,26 @@ over 800 lines. Run by ctest (LayerCheck); `--edges` prints the edge table; Laye
 tests/packaging/layer_fixture, whose shadows/ header includes engine/.
 
 Layers, lowest first (a folder may include its own folder and any folder of a lower layer):
-  0 io, shaders       safe file IO and Result; shaders/shared: GPU definitions only
-  1 gpu               Vulkan base: device, resources, programs + dispatch, profiler; knows no feature
-  2 culling, shadows  features on the base and the shared definitions
-  3 lights            the evaluation pass: reads cluster lists (culling) and shadow decoders (shadows)
-  4 engine            the module facade: manylights.h, the frame as a list of passes
-  5 scenes            scene data, glTF and procedural scenes (consumers of the module API)
-  6 bake, host        the bake driver (scene -> bake file), the shared host code of the commands
-  7 apps, examples    the command line, the example host
-  8 tests             tests and benchmarks
+  0 include           the public API, include/manylights/ (included as "manylights/..."): includes
+                      nothing of the module, so it is installed alone
+  1 io, shaders       safe file IO; shaders/shared: GPU definitions only
+  2 gpu               Vulkan base: device, resources, programs + dispatch, profiler; knows no feature
+  3 culling, shadows  features on the base and the shared definitions
+  4 lights            the evaluation pass: reads cluster lists (culling) and shadow decoders (shadows)
+  5 engine            the module facade: the public API's implementation, the frame as a list of passes
+  6 scenes            scene data, glTF and procedural scenes (consumers of the module API)
+  7 bake, host        the bake driver (scene -> bake file), the shared host code of the commands
+  8 apps, examples    the command line, the example host
+  9 tests             tests and benchmarks
 """
 import os, re, sys
 from collections import defaultdict
 
-LAYERS = {"io": 0, "shaders": 0, "gpu": 1, "culling": 2, "shadows": 2, "lights": 3, "engine": 4,
-          "scenes": 5, "bake": 6, "host": 6, "apps": 7, "examples": 7, "tests": 8}
+LAYERS = {"include": 0, "io": 1, "shaders": 1, "gpu": 2, "culling": 3, "shadows": 3, "lights": 4, "engine": 5,
+          "scenes": 6, "bake": 7, "host": 7, "apps": 8, "examples": 8, "tests": 9}
+# The folder an include's first component names, where it is not the folder itself: the public headers
+# are included as "manylights/..." (include/ is on the include path).
+ALIASES = {"manylights": "include"}
 SOURCE = re.compile(r"\.(h|hpp|cpp|c|glsl|comp|vert|frag|mesh|task)$")
 INCLUDE = re.compile(r'\s*#\s*include\s*"([^"]+)"')
 MAX_LINES = 800
@@ -54,6 +59,7 @@ def main():
                     m = INCLUDE.match(line)
                     if not m: continue
                     target = m.group(1).split("/")[0]
+                    target = ALIASES.get(target, target)
                     if target == top or target not in LAYERS: continue
                     edges[(top, target)].append(f"{rel}:{i}")
                     if LAYERS[target] >= LAYERS[top]:

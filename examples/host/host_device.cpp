@@ -98,7 +98,7 @@ void createHostDevice(HostDevice& h, bool sync) {
     }
     if (!h.physicalDevice) die("no Vulkan 1.3 device with a graphics + compute queue with timestamps");
 
-    // Exactly the module's requirements (gpu/device_types.h), as the host's own device would enable them
+    // Exactly the module's requirements (manylights/device.h), as the host's own device would enable them
     // beside its own needs.
     h.mesh.meshShader = h.mesh.taskShader = VK_TRUE;
     h.f13.dynamicRendering = h.f13.synchronization2 = h.f13.maintenance4 = VK_TRUE;

@@ -1,7 +1,7 @@
 // The example host's own Vulkan instance and device, made the way an engine makes them and then lent to
 // the module (ModuleOptions::borrow): Vulkan 1.3, the validation layer with a message counter of the
 // host's own (the module installs no messenger on a borrowed instance), synchronization validation on
-// request, and a device with exactly the features and extensions gpu/device_types.h lists.
+// request, and a device with exactly the features and extensions manylights/device.h lists.
 #pragma once
 #include <manylights/manylights.h>
 

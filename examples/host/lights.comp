@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // The host's own lighting pass, written against the module's GLSL include and its binding contract
-// only (engine/manylights.h, HostShaderBindings): per pixel of the host's G-buffer, ambient plus every
+// only (manylights/module.h, HostShaderBindings): per pixel of the host's G-buffer, ambient plus every
 // light of the pixel's cluster, shaded with the module's BRDF and multiplied by the module's static x
 // dynamic shadow visibility. Recorded after module.record(cmd) in the same command buffer, into a
 // buffer of the frame's slot: the radiance and its exposed tone map (the module's, from the include),

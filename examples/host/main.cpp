@@ -23,6 +23,7 @@
 #include "host_gbuffer_vert.h"
 #include "host_lights_comp.h"
 
+#include <glm/glm.hpp> // the host's own glm (the module's headers include none)
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
 
@@ -36,7 +37,7 @@
 
 // An engine's own VK_CHECK: the module's header must leave the name free (it uses ML_VK_CHECK).
 #ifdef VK_CHECK
-#error "engine/manylights.h defines VK_CHECK, which clashes with host engines' own"
+#error "manylights/module.h defines VK_CHECK, which clashes with host engines' own"
 #endif
 #define VK_CHECK(call)                                                                                       \
     do {                                                                                                     \

@@ -130,7 +130,7 @@
 #define ML_CLUSTER_OVERFLOW 0xFFFFFFFFu
 
 // Virtual shadow maps (shadows/virtual/). Page size, virtual resolution and pool size are runtime
-// settings (VsmSettings in shadows/virtual/vsm_settings.h); these are the fixed limits and workgroup sizes.
+// settings (VsmSettings in manylights/vsm_settings.h); these are the fixed limits and workgroup sizes.
 // GpuLight.info.y of a light without virtual shadow maps.
 #define ML_VSM_NO_MAP 0xFFFFFFFFu
 // Allocation passes (vsm_scan, vsm_assign) work in blocks of 256 page-table entries, one workgroup

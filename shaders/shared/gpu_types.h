@@ -37,7 +37,7 @@ ML_STRUCT(GpuLight) {
                             // z static shadow record (ML_NO_SHADOW: none), w light id
 };
 
-// A mesh vertex as the module stores it (MeshVertex in engine/manylights.h): pulled from a storage
+// A mesh vertex as the module stores it (MeshVertex in manylights/module.h): pulled from a storage
 // buffer by the G-buffer and shadow-page vertex shaders. 24 bytes, no padding (std430 float members).
 ML_STRUCT(GpuVertex) {
     float px, py, pz;

@@ -1,4 +1,4 @@
-// Static shadow API types of the public header (engine/manylights.h): the encoding methods and the light
+// Static shadow API types of the public header (manylights/module.h): the encoding methods and the light
 // frustum a bake is rendered with. The encoders, decoders and the bake file are this folder's library
 // (manylights_static: static_method.h, dual_depth.h, bake_file.h), which hosts use only to make or read
 // bakes.

@@ -6,7 +6,7 @@
 // GpuDualRenderer: the Vulkan dual depth renderer (shadows/gpu/dual_depth_gpu.h) on a device of its own,
 // for commands that bake without a module (bake) or beside one (bench static).
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 #include "shadows/static/raster_dual.h"
 
 #include <functional>

@@ -5,7 +5,7 @@
 // and no module). Part of shadows/tools/ (see gpu_dual_renderer.h): GPU tools of the static shadow
 // commands, below apps/, which include only their headers.
 #pragma once
-#include "io/result.h"
+#include "manylights/result.h"
 #include "shaders/shared/gpu_types.h"
 
 #include <glm/glm.hpp>

@@ -55,7 +55,7 @@
 #pragma once
 #include "gpu/program.h"
 #include "shadows/static/dual_depth.h"
-#include "shadows/virtual/vsm_settings.h"
+#include "manylights/vsm_settings.h"
 #include "shadows/virtual/vsm_types.h"
 
 #include <glm/glm.hpp>

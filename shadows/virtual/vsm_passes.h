@@ -1,6 +1,6 @@
 // The virtual shadow map passes (vsm.h has the algorithm) over the state VirtualShadowMaps keeps: one
 // function per pass, their programs (vsm_programs.h). The module's frame (engine/frame.h) orders and
-// times them, one timer per step (engine/pass_times.h): reset (per-frame clears, untimed), then, when the
+// times them, one timer per step (manylights/pass_times.h): reset (per-frame clears, untimed), then, when the
 // slot has active maps (state.active()), mark, sort (close and sort the request list), alloc (invalidate,
 // scan, allocate, assign), HPB, group culling (caster groups against the dirty maps), cull (vertex path)
 // or expand (mesh path), draw (clear and draw the dirty pages); after the evaluation the probe

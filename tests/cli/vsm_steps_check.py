@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""CliVsmStepTimers: the demo's outputs report each VSM step as its own scope (engine/pass_times.h).
+"""CliVsmStepTimers: the demo's outputs report each VSM step as its own scope (manylights/pass_times.h).
 Runs `manylights demo` (fenced timing, the default on lavapipe) and checks that
   - stats.json's pass_gpu_ms_mean holds every step (vsm_mark, vsm_sort, vsm_alloc, vsm_hpb,
     vsm_group_cull, vsm_cull or vsm_expand, vsm_draw), each >= 0;

@@ -2,7 +2,7 @@
 // check in tests/record_queue): created on the module's physical device the way a host engine would.
 #pragma once
 #include "gpu/device.h"
-#include "gpu/device_types.h"
+#include "manylights/device.h"
 
 #include <gtest/gtest.h>
 

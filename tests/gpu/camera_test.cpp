@@ -51,7 +51,7 @@ TEST(GpuCamera, ReversedZReceiversStayOnTheSurface) {
     const glm::dmat4 inv = glm::inverse(glm::dmat4(fc.viewProj));
     glm::mat4 fwd = glm::perspectiveRH_ZO(cam.fovY, 320.0f / 180.0f, cam.nearPlane, cam.farPlane);
     fwd[1][1] *= -1.0f;
-    const glm::mat4 fwdViewProj = fwd * glm::lookAt(cam.position, cam.target, cam.up);
+    const glm::mat4 fwdViewProj = fwd * glm::lookAt(toGlm(cam.position), toGlm(cam.target), toGlm(cam.up));
     const glm::mat4 fwdInv = glm::inverse(fwdViewProj);
     // Bins by distance: [20, 100), [100, 250), [250, 1000) m.
     const double edges[4] = {20, 100, 250, 1000};
@@ -67,7 +67,7 @@ TEST(GpuCamera, ReversedZReceiversStayOnTheSurface) {
             const glm::dvec3 dir = glm::normalize(e - o);
             if (!(dir.y < -1e-6)) continue;
             const glm::dvec3 hit = o + dir * (-o.y / dir.y);
-            const double dist = glm::length(hit - glm::dvec3(cam.position));
+            const double dist = glm::length(hit - glm::dvec3(toGlm(cam.position)));
             int bin = dist < edges[1] ? 0 : dist < edges[2] ? 1 : 2;
             if (dist < edges[0] || dist >= edges[3]) continue;
             const glm::vec3 p = gpu::worldFromPixel(x, y, d, fc.invViewProj, fc.size);
@@ -116,10 +116,10 @@ TEST(GpuCamera, HostMatricesEqualTheDescribedCamera) {
             EXPECT_NEAR(got.nearPlane, cam.nearPlane, 1e-4f * cam.nearPlane);
             EXPECT_NEAR(got.farPlane, cam.farPlane, 1e-3f * cam.farPlane);
             EXPECT_NEAR(got.fovY, cam.fovY, 1e-5f);
-            EXPECT_LT(glm::length(got.position - cam.position), 1e-3f);
+            EXPECT_LT(glm::length(toGlm(got.position) - toGlm(cam.position)), 1e-3f);
         }
         renderFrame(*m);
-        const glm::mat4 vp = m->viewProjection();
+        const glm::mat4 vp = toGlm(m->viewProjection());
         EXPECT_EQ(std::memcmp(&vp, &internals(*m).lastConstants.viewProj, sizeof(vp)), 0);
         ASSERT_TRUE(m->readOutput(images[run]).ok());
         EXPECT_EQ(validationErrors(), 0u);

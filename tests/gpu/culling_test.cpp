@@ -239,7 +239,7 @@ TEST(LightFootprint, HoldsEveryReachedPoint) {
         gpu::GpuLight L = toGpuLight(d, 0);
         gpu::LightFootprint f = gpu::lightFootprint(L, vp, size, ML_TILE_SIZE, 0.1f);
         for (int k = 0; k < 300; ++k) {
-            glm::vec3 x = d.position + glm::vec3(u(rng), u(rng), u(rng)) * d.range;
+            glm::vec3 x = toGlm(d.position) + glm::vec3(u(rng), u(rng), u(rng)) * d.range;
             if (!gpu::lightReachesPoint(L, x)) continue;
             glm::vec4 c = vp * glm::vec4(x, 1.0f);
             if (c.w < 0.1f) continue; // behind the near plane: no pixel sees it

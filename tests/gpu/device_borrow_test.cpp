@@ -13,9 +13,9 @@ namespace {
 
 using test::HostDevice;
 
-// The names after "//   features:" / "//   extensions:" in gpu/device_types.h's header comment.
+// The names after "//   features:" / "//   extensions:" in manylights/device.h's header comment.
 std::vector<std::string> documented(const std::string& key) {
-    std::ifstream in(std::string(ML_SOURCE_DIR) + "/gpu/device_types.h");
+    std::ifstream in(std::string(ML_SOURCE_DIR) + "/include/manylights/device.h");
     EXPECT_TRUE(in.good());
     std::vector<std::string> names;
     std::string line;

@@ -17,7 +17,7 @@ TEST(FlyCamera, StartsLookingAtTheTarget) {
     FlyCamera c = FlyCamera::lookingAt({1, 2, 3}, {4, 2, -1});
     expectNear(c.forward(), glm::normalize(glm::vec3(3, 0, -4)));
     CameraDesc d = c.desc({});
-    expectNear(glm::normalize(d.target - d.position), glm::normalize(glm::vec3(3, 0, -4)));
+    expectNear(glm::normalize(toGlm(d.target) - toGlm(d.position)), glm::normalize(glm::vec3(3, 0, -4)));
 }
 
 TEST(FlyCamera, KeysMoveAlongItsAxesAndShiftIsFaster) {

@@ -1,7 +1,8 @@
 // Helpers for the GPU tests: a module on lavapipe with validation on, a scene bound to it, image
 // readback. Every test ends by checking that the validation layer reported no error or warning.
 #pragma once
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
 #include "engine/module_impl.h"
 #include "shadows/static/static_method.h"
 #include "host/scene_host.h"

@@ -221,6 +221,45 @@ TEST(HostTargets, FencedTimingRefusesAHostCommandBuffer) {
     destroyGBuffer(*m, g);
 }
 
+// Teardown: a host that detaches its targets and then destroys them gets a one-line refusal from
+// record(), not a descriptor write of destroyed views (a crash, or validation errors); new targets,
+// the host's or the module's own, render again, the same image as before.
+TEST(HostTargets, DetachedTargetsAreRefusedUntilReplaced) {
+    auto m = makeHostModule(false);
+    ASSERT_TRUE(m);
+    HostGBuffer g = makeGBuffer(*m);
+    ASSERT_TRUE(m->setTargets(g.targets(false)).ok());
+    renderFrame(*m);
+    const std::vector<uint8_t> before = readImage(*m, g.ldr, 4, VK_IMAGE_LAYOUT_GENERAL);
+    m->detachTargets();
+    destroyGBuffer(*m, g); // waits for the frame, then destroys every image and view
+    Device& d = deviceOf(*m);
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        VkCommandBuffer cmd = d.beginOneTime();
+        auto r = m->record(cmd);
+        d.endOneTime(cmd);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().rfind("record: no targets: detachTargets() released them", 0), 0u) << r.error();
+        EXPECT_EQ(r.error().find('\n'), std::string::npos) << r.error();
+        m->detachTargets(); // a second call changes nothing
+    }
+    HostGBuffer again = makeGBuffer(*m);
+    ASSERT_TRUE(m->setTargets(again.targets(false)).ok());
+    renderFrame(*m);
+    EXPECT_EQ(readImage(*m, again.ldr, 4, VK_IMAGE_LAYOUT_GENERAL), before);
+    // The module's own targets detach the same way.
+    ASSERT_TRUE(m->createTargets(kW, kH).ok());
+    renderFrame(*m);
+    m->detachTargets();
+    VkCommandBuffer cmd = d.beginOneTime();
+    EXPECT_FALSE(m->record(cmd).ok());
+    d.endOneTime(cmd);
+    ASSERT_TRUE(m->createTargets(kW, kH).ok());
+    renderFrame(*m);
+    EXPECT_EQ(validationErrors(), 0u);
+    destroyGBuffer(*m, again);
+}
+
 // The optional material target: checked against its row (R8G8_UNORM, SAMPLED, the
 // claimed size), refused with one line; given, the host's wall is shaded with GGX exactly as the CPU
 // reference (shadeLightPbr) says, and without it as before (Blinn-Phong).

@@ -1,4 +1,4 @@
-// The public API's lifecycle and refusals (engine/manylights.h): removal with generation-checked ids,
+// The public API's lifecycle and refusals (manylights/module.h): removal with generation-checked ids,
 // shadow-casting flags, environment, HDR output, and the values a host must not get away with.
 #include "gpu_test_util.h"
 

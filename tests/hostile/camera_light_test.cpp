@@ -3,7 +3,8 @@
 // validateLight (not clamped).
 #include "hostile_test_util.h"
 
-#include "engine/manylights.h"
+#include "manylights/glm.h"
+#include "manylights/manylights.h"
 
 #include <gtest/gtest.h>
 
@@ -39,9 +40,9 @@ TEST(HostileCamera, ValidateCamera) {
     c.target = c.position;
     refused(c, "target equals position");
     c = good;
-    c.target = c.position - glm::vec3(0, 3, 0); // straight down along up
+    c.target = toGlm(c.position) - glm::vec3(0, 3, 0); // straight down along up
     refused(c, "parallel to up");
-    c.target = c.position + glm::vec3(0, 1e-3f, 0);
+    c.target = toGlm(c.position) + glm::vec3(0, 1e-3f, 0);
     refused(c, "parallel to up");
     c = good;
     c.up = {0, 0, 0};
@@ -63,7 +64,7 @@ TEST(HostileCamera, ValidateCamera) {
     refused(c, "near < far");
     // Nearly straight down, but not parallel: a valid view.
     c = good;
-    c.target = c.position + glm::vec3(0.01f, -10.0f, 0);
+    c.target = toGlm(c.position) + glm::vec3(0.01f, -10.0f, 0);
     EXPECT_TRUE(validateCamera(c).ok());
 }
 

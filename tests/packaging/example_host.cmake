@@ -22,7 +22,8 @@ endif()
 
 if(MODE STREQUAL "install")
   run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${OUT}/prefix)
-  foreach(f include/manylights/manylights.h include/manylights/engine/manylights.h
+  foreach(f include/manylights/manylights.h include/manylights/module.h include/manylights/types.h
+            include/manylights/glm.h include/manylights/manylights.glsl
             lib/cmake/manylights/manylights-config.cmake
             lib/cmake/manylights/manylights-config-version.cmake lib/pkgconfig/manylights.pc)
     if(NOT EXISTS ${OUT}/prefix/${f})
@@ -90,15 +91,18 @@ if(MODE STREQUAL "install")
   if(NOT module_props MATCHES "INTERFACE_COMPILE_FEATURES \"cxx_std_20\"")
     message(FATAL_ERROR "the installed manylights::manylights does not require cxx_std_20:\n${module_props}")
   endif()
-  # Public headers only: the engine's internals are not installed, and every installed header (the
-  # API types, the static shadow library, io/, shaders/shared/) compiles on its own: nothing it needs
-  # is missing from the install, and none reaches a folder above it (bake/, scenes/).
-  foreach(f gpu/device.h gpu/program.h gpu/resources.h gpu/profiler.h engine/gbuffer.h bake/bake.h scenes/scene.h
-            engine/module_impl.h shadows/virtual/vsm.h shadows/gpu/dual_depth_gpu.h lights/lights.h)
-    if(EXISTS ${OUT}/prefix/include/manylights/${f})
-      message(FATAL_ERROR "cmake --install installed the internal header ${f}")
-    endif()
-  endforeach()
+  # The public folder only: include/manylights/ holds exactly the source tree's include/manylights/*.h
+  # and the generated manylights.glsl, no folder of the module's internal layout (engine/, gpu/, io/,
+  # shaders/, shadows/); and every installed header compiles on its own: nothing it needs is missing.
+  file(GLOB installed_entries LIST_DIRECTORIES true RELATIVE ${OUT}/prefix/include/manylights
+       ${OUT}/prefix/include/manylights/*)
+  file(GLOB public_headers RELATIVE ${SOURCE}/include/manylights ${SOURCE}/include/manylights/*.h)
+  set(expected ${public_headers} manylights.glsl)
+  list(SORT installed_entries)
+  list(SORT expected)
+  if(NOT installed_entries STREQUAL expected)
+    message(FATAL_ERROR "include/manylights/ is not the public folder:\n  installed: ${installed_entries}\n  expected: ${expected}")
+  endif()
   # The host-shader include, installed: compiles on its own with -I<prefix>/include only.
   find_program(GLSLANG glslangValidator REQUIRED)
   run(${CMAKE_COMMAND} -DINCLUDE=${OUT}/prefix/include -DGLSLANG=${GLSLANG} -DOUT=${OUT}/host_shaders

@@ -1,11 +1,12 @@
-// Light API types of the public header (engine/manylights.h): a light as the host describes it, and the
-// validation the module runs on it. Below the engine so that the evaluation pass (lights/lights.h) can
-// convert it without including the facade. LightKind is shaders/shared/enums.h.
+// A light as the host describes it (Module::addLight, setLight), its units, and the validation the module
+// runs on it. Plain types only (manylights/types.h): the layout is asserted below.
 #pragma once
-#include "io/result.h"
-#include "shaders/shared/enums.h"
+#include "manylights/enums.h"
+#include "manylights/result.h"
+#include "manylights/types.h"
 
-#include <glm/glm.hpp>
+#include <cstddef>
+#include <cstdint>
 
 namespace ml {
 
@@ -20,9 +21,9 @@ enum class LightUnit : uint32_t { Candela, Lumen };
 
 struct LightDesc {
     LightKind kind = LightKind::Spot;
-    glm::vec3 position{0.0f};
-    glm::vec3 direction{0.0f, -1.0f, 0.0f};
-    glm::vec3 color{1.0f};
+    Float3 position{0.0f};
+    Float3 direction{0.0f, -1.0f, 0.0f}; // spot and directional; normalised by the module, not zero
+    Float3 color{1.0f};
     float intensity = 1.0f;
     float range = 10.0f;
     float outerAngle = 0.6f;  // half angle, radians, (0, pi/2) for spots
@@ -40,6 +41,10 @@ struct LightDesc {
     // (8..16384) instead of the call's resolution; 0: the call's. Virtual shadow maps do not read it.
     uint32_t shadowResolution = 0;
 };
+// 76 bytes whatever the includer's compile definitions (bools padded to 4 before `unit`).
+static_assert(sizeof(LightDesc) == 76 && offsetof(LightDesc, position) == 4 &&
+              offsetof(LightDesc, color) == 28 && offsetof(LightDesc, dynamic) == 56 &&
+              offsetof(LightDesc, unit) == 60 && offsetof(LightDesc, shadowResolution) == 72);
 constexpr float kMaxShadowBias = 64.0f; // texels; past that a light's shadows detach from their casters
 
 // The intensity the shading uses (candela, or lux for a directional light) after LightDesc::unit.

@@ -1,6 +1,6 @@
-// The binding contract of lights/manylights_lights.glsl, the include through which a host's own shaders
-// (forward, transparent, decal passes) read the module's lights and shadows, and which the evaluation
-// pass uses itself (lights/evaluate.comp). One definition for GLSL (the include declares its buffers
+// The binding contract of manylights/manylights.glsl, the include through which a host's own shaders
+// (forward, transparent, decal passes) read the module's lights and shadows, and which the module's own
+// evaluation pass uses too. One definition for GLSL (the include declares its buffers
 // at ML_LIGHTS_BINDING + these offsets, in descriptor set ML_LIGHTS_SET) and C++ (Module::
 // hostShaderBindings fills one HostShaderBuffer per offset, in this order).
 //

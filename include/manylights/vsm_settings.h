@@ -1,5 +1,5 @@
-// Settings and per-frame statistics of the virtual shadow maps (shadows/virtual/vsm.h): plain API types,
-// included by the public header engine/manylights.h.
+// Settings and per-frame statistics of the virtual shadow maps (ModuleOptions::vsm, FrameStats::vsm):
+// plain API types of manylights/module.h.
 #pragma once
 #include <cstdint>
 #include <string_view>

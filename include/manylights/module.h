@@ -15,23 +15,22 @@
 // again (the usual fence per frame in flight); record() then reads that frame's results without
 // stalling.
 //
-// This header and the ones it includes hold API types only (no Vulkan wrapper classes, no internal
-// state): gpu/device_types.h, engine/pass_times.h, io/result.h, lights/light_types.h, shaders/shared/enums.h
-// (and config.h), shadows/static/static_types.h, shadows/virtual/vsm_settings.h. Read-backs for tools and
-// checks (G-buffer, last frame's constants, VSM probes, counters) are engine/manylights_diagnostics.h.
+// This header and the ones it includes are the public folder manylights/ and hold API types only (no
+// Vulkan wrapper classes, no internal state, no glm: vectors and matrices are manylights/types.h, whose
+// layout no host compile definition changes; manylights/glm.h converts them).
 #pragma once
-#include "gpu/device_types.h"
-#include "engine/pass_times.h"
-#include "io/result.h"
-#include "lights/light_types.h"
-#include "shaders/shared/enums.h"
-#include "shaders/shared/host_bindings.h"
-#include "shadows/static/static_types.h"
-#include "shadows/virtual/vsm_settings.h"
+#include "manylights/device.h"
+#include "manylights/enums.h"
+#include "manylights/host_bindings.h"
+#include "manylights/lights.h"
+#include "manylights/pass_times.h"
+#include "manylights/result.h"
+#include "manylights/types.h"
+#include "manylights/vsm_settings.h"
 
 #include <vulkan/vulkan.h>
 
-#include <glm/glm.hpp>
+#include <cstddef>
 
 #include <array>
 #include <functional>
@@ -43,20 +42,20 @@
 
 namespace ml {
 
-// CullingMode, LightKind and StaticMethod: shaders/shared/enums.h (one definition for C++ and GLSL).
+// CullingMode, LightKind and StaticMethod: manylights/enums.h.
 const char* cullingName(CullingMode mode);
 Result<CullingMode> parseCulling(const std::string& name);
 
 // What record() leaves in the output: the shaded frame, or the light-complexity heat map of lights
-// evaluated / reaching per pixel (culling/culling.h, recordView; colours in shaders/shared/heat.h).
+// evaluated / reaching per pixel (a colour ramp from blue through green to red as the count grows).
 // Vsm: pixels coloured by the virtual shadow map page their first shadowed light reads (mip, drawn
-// this frame or cached, no caster, fallback; shadows/virtual/vsm_view.comp).
+// this frame or cached, no caster, fallback).
 enum class DebugView : uint32_t { Shaded, LightsEvaluated, LightsReaching, Vsm };
 
-// How per-pass GPU times are measured (engine/pass_times.h).
+// How per-pass GPU times are measured (manylights/pass_times.h).
 //   Auto, Timestamps: record() records every pass into the host's command buffer, after the host's own
-//     commands, with a timestamp pair around each. On lavapipe the timestamps do not bracket compute work
-//     (llvmpipe writes them from its rasteriser bins), so compute passes read near zero there.
+//     commands, with a timestamp pair around each. Auto picks Fenced on a CPU device instead, whose
+//     timestamps need not bracket compute work (compute passes can read near zero there).
 //   Fenced: a profiling mode the host opts into: record() submits each pass in its own command buffer
 //     and waits for it, timing it with the host clock (honest per-pass times on CPU devices); the host's
 //     command buffer receives nothing, so the host must have submitted and waited for its G-buffer work
@@ -98,31 +97,62 @@ struct MeshDesc {
     std::string name;
 };
 
-// LightDesc and validateLight: lights/light_types.h.
+// LightDesc and validateLight: manylights/lights.h.
+
+// The frustum a light's static shadow was rendered with. `view`: world -> light view (looking down -Z), a
+// rigid motion. Perspective (spot, point faces): square, `fov` the full vertical = horizontal angle (< pi),
+// depth range [nearPlane, farPlane]. Orthographic (directional, orthoHalf > 0): the square volume's half
+// side in metres, fov unused; a map fitted to a box (orthoHalfY > 0, at most orthoHalf) covers view y in
+// [-orthoHalf, -orthoHalf + 2 orthoHalfY] only, and fitMargin (metres) is what the fit added on every side.
+// Converts implicitly from any frustum type with these members (the bake files' own frustum type).
+template <class F>
+concept ShadowFrustumLike = requires(const F& f) {
+    Float4x4(f.view);
+    float(f.fov) + float(f.nearPlane) + float(f.farPlane) + float(f.orthoHalf) + float(f.orthoHalfY) +
+        float(f.fitMargin);
+};
+struct ShadowFrustum {
+    Float4x4 view;
+    float fov = 1.0f;
+    float nearPlane = 0.05f;
+    float farPlane = 10.0f;
+    float orthoHalf = 0.0f;
+    float orthoHalfY = 0.0f;
+    float fitMargin = 0.0f;
+    ShadowFrustum() = default;
+    template <ShadowFrustumLike F>
+    ShadowFrustum(const F& f)
+        : view(f.view), fov(f.fov), nearPlane(f.nearPlane), farPlane(f.farPlane), orthoHalf(f.orthoHalf),
+          orthoHalfY(f.orthoHalfY), fitMargin(f.fitMargin) {}
+    bool orthographic() const { return orthoHalf > 0.0f; }
+};
+static_assert(sizeof(ShadowFrustum) == 88 && offsetof(ShadowFrustum, fitMargin) == 84);
 
 // A light's baked static shadow: the encoding (validated by setStaticShadow, so shaders never read
 // out of bounds) and the frustum it was rendered with, whose view must be a rigid motion (rotation and
-// translation, as lookAt makes: the shadow record keeps it as a quaternion; rigidView). A bake file
-// (shadows/static/bake_file.h) holds these per light.
+// translation, as lookAt makes: the shadow record keeps it as a quaternion). A bake file holds these per
+// light.
 struct StaticShadowDesc {
     StaticMethod method = StaticMethod::None;
-    LightFrustum frustum;
+    ShadowFrustum frustum;
     std::span<const uint32_t> words;
-    uint32_t face = 0; // point lights: cube face 0..5 (+X, -X, +Y, -Y, +Z, -Z; pointLightFaceFrustum)
+    uint32_t face = 0; // point lights: cube face 0..5 (+X, -X, +Y, -Y, +Z, -Z)
 };
 
 struct CameraDesc {
-    glm::vec3 position{0.0f};
-    glm::vec3 target{0.0f, 0.0f, -1.0f};
-    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    Float3 position{0.0f};
+    Float3 target{0.0f, 0.0f, -1.0f};
+    Float3 up{0.0f, 1.0f, 0.0f};
     float fovY = 1.0f;
     float nearPlane = 0.1f;
     float farPlane = 500.0f;
     // Sub-pixel offset (pixels, x right, y down, |x|, |y| <= 1) of every projected point: temporal
     // anti-aliasing's per-frame jitter. The module's own G-buffer pass and its reconstruction of world
     // positions both apply it; a host G-buffer must be rendered with viewProjection().
-    glm::vec2 jitter{0.0f};
+    Float2 jitter{0.0f, 0.0f};
 };
+static_assert(sizeof(CameraDesc) == 56 && offsetof(CameraDesc, fovY) == 36 &&
+              offsetof(CameraDesc, jitter) == 48);
 
 // One image the host hands over (setTargets): the image, a 2D view of its first mip and layer, and what the
 // image was created with (VkImageCreateInfo's format, extent and usage), so that setTargets can check them.
@@ -162,9 +192,9 @@ struct HostTargets {
 };
 
 // The module's lights and shadows in the host's own shaders (forward, transparent, decal passes): the
-// GLSL include lights/manylights_lights.glsl (installed: #include "manylights/manylights.glsl" with
-// -I<prefix>/include) declares 12 buffers in descriptor set ML_LIGHTS_SET at bindings ML_LIGHTS_BINDING
-// + offset (offsets and types: shaders/shared/host_bindings.h); the evaluation pass reads the same ones.
+// GLSL include #include "manylights/manylights.glsl" (glslangValidator -I<prefix>/include) declares 12
+// buffers in descriptor set ML_LIGHTS_SET at bindings ML_LIGHTS_BINDING + offset (offsets and types:
+// manylights/host_bindings.h); the evaluation pass reads the same ones.
 // Contract of Module::hostShaderBindings(), called after record():
 //   - the handles, offsets and ranges are the frame record() just recorded (they change between frames:
 //     the module grows and retires buffers), so the host writes its descriptor set each frame, e.g. one
@@ -217,7 +247,7 @@ struct FrameReport {
 };
 
 // Validation a host (or a command line) can run before handing values over (validateLight:
-// lights/light_types.h); setCamera calls it. validateCamera: a one-line reason ("camera: ...") when a camera
+// manylights/lights.h); setCamera calls it. validateCamera: a one-line reason ("camera: ...") when a camera
 // cannot give a picture: a non-finite or huge (|x| > kMaxCameraCoordinate) position, target or up; target at
 // the position; view direction parallel to up (the view matrix would be NaN); fovY outside (0, pi); not 0 <
 // near < far.
@@ -234,10 +264,10 @@ class Module {
     ~Module();
 
     Result<MeshId> addMesh(const MeshDesc& mesh);
-    Result<InstanceId> addInstance(MeshId mesh, const glm::mat4& transform, glm::vec3 albedo, bool dynamic);
+    Result<InstanceId> addInstance(MeshId mesh, const Float4x4& transform, Float3 albedo, bool dynamic);
     // Dynamic instances only: a static instance's baked shadows would go stale, so moving one is refused.
     // A non-finite transform is refused.
-    Result<void> setInstanceTransform(InstanceId instance, const glm::mat4& transform);
+    Result<void> setInstanceTransform(InstanceId instance, const Float4x4& transform);
     Result<LightId> addLight(const LightDesc& light);
     Result<void> setLight(LightId id, const LightDesc& light);
     // Removal. Ids carry a generation: a removed object's id is refused afterwards, also once its slot
@@ -256,7 +286,7 @@ class Module {
     // Default 0.5 and 0. NaN or out of range is refused.
     Result<void> setInstanceMaterial(InstanceId id, float roughness, float metalness);
     // Linear radiance of the ambient term (times albedo) and of pixels without geometry.
-    Result<void> setEnvironment(glm::vec3 ambient, glm::vec3 sky);
+    Result<void> setEnvironment(Float3 ambient, Float3 sky);
     // Refuses non-finite values, near/far/fov out of range, target == position and `up` parallel to the
     // view direction.
     Result<void> setCamera(const CameraDesc& camera);
@@ -265,10 +295,10 @@ class Module {
     // finite far plane, y down, off-centre allowed, e.g. glm::perspectiveRH_ZO(fovY, aspect, far, near)
     // with [1][1] negated. Standard Z, infinite far planes, shear and non-finite values are refused with
     // one line. `jitter` as in CameraDesc, applied by the module on top of `projection`.
-    Result<void> setCameraMatrices(const glm::mat4& view, const glm::mat4& projection, glm::vec2 jitter = {});
+    Result<void> setCameraMatrices(const Float4x4& view, const Float4x4& projection, Float2 jitter = {});
     // The jittered view-projection of the camera last set, for the targets' current size (a host that
     // renders its own G-buffer draws with it). Identity before the camera and targets are set.
-    glm::mat4 viewProjection() const;
+    Float4x4 viewProjection() const;
     // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
     // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9). byLevel: MH and MMH bakes take the kernel's taps on
     // the hierarchy level whose texel covers the receiver's pixel (hierarchical PCF: a distant receiver
@@ -287,7 +317,7 @@ class Module {
     void setView(DebugView view);
     Result<void> setExposure(float exposure); // scale on HDR before tone mapping (default 3)
     // Physical exposure for photometric lights (LightDesc::unit): setExposure(exposureFromEV100(ev100)),
-    // e.g. ev100FromCamera(16, 1/125, 100) = 14.97 for a sunny day (lights/light_types.h).
+    // e.g. ev100FromCamera(16, 1/125, 100) = 14.97 for a sunny day (manylights/lights.h).
     Result<void> setExposureEV100(float ev100);
 
     // Module-owned G-buffer and output at this size (record() then draws the G-buffer too). materials: the
@@ -296,6 +326,13 @@ class Module {
     Result<void> createTargets(uint32_t width, uint32_t height, bool materials = false);
     // Host-owned G-buffer (record() skips the G-buffer pass). Checked against HostTargets' table.
     Result<void> setTargets(const HostTargets& targets);
+    // Lets go of the targets (the host's, or the module's own) so that the host may destroy its images:
+    // record() refuses with one line until createTargets or setTargets gives new ones, instead of writing
+    // descriptors of destroyed views. The module cannot tell a destroyed image from a live one, so the
+    // order for host targets is: wait for the frames that used them (their fences), detachTargets() (or
+    // destroy the module), then destroy the images. The module's own images are released once the frames
+    // in flight that use them are done (the slot contract). Idempotent.
+    void detachTargets();
     // LDR (tone-mapped RGBA8) or HDR (linear RGBA16F) output from the next record() on, without rebuilding
     // anything: module-owned targets hold both images (outputImage() follows the mode); host targets must
     // already have an output of the mode's format (else refused: pass HostTargets::hdrOutput to setTargets
@@ -305,7 +342,7 @@ class Module {
 
     // Records the frame's passes into the host's command buffer.
     Result<void> record(VkCommandBuffer cmd);
-    // The buffers behind lights/manylights_lights.glsl for the frame the last record() recorded
+    // The buffers behind manylights/manylights.glsl for the frame the last record() recorded
     // (HostShaderBindings has the contract). Refused before the first record().
     Result<HostShaderBindings> hostShaderBindings() const;
     // Reports of frames whose results have arrived, oldest first; clears them. Call after the host
@@ -328,9 +365,8 @@ class Module {
     TimingMode timingMode() const;
     uint32_t lightCount() const; // lights not removed
 
-    // Internal state (engine/module_impl.h, not installed): tests reach it through internals(Module&) to
-    // compare intermediate buffers with the CPU references; engine/diagnostics.cpp implements the
-    // diagnostics read-backs with it.
+    // Internal state (not installed): the module's own tests and read-backs reach it through
+    // internals(Module&); a host has no use for it.
     struct Impl;
     friend Impl& internals(Module& module);
     friend const Impl& internals(const Module& module);

@@ -1,19 +1,16 @@
-// Per-pass GPU times of a frame (FrameReport::times): API types of the public header
-// (engine/manylights.h). The profiler that measures them is gpu/profiler.h (internal, generic: timer
-// slots and names given by the module, engine/frame.h, one slot per Pass).
+// Per-pass GPU times of a frame (FrameReport::times), one slot per Pass.
 #pragma once
 #include <array>
 #include <cstdint>
 
 namespace ml {
 
-// Every timed pass of the module's frame (engine/frame.h), in recording order; a new pass adds an entry
-// here and a name in passName() (engine/pass_times.cpp).
+// Every timed pass of the module's frame, in recording order (passName gives each its report name).
 enum class Pass : uint32_t {
     GBuffer,
     ClusterBounds,
     LightAssign,
-    // Virtual shadow maps, one scope per step (issue 39): VsmMark..VsmExpand are the bookkeeping
+    // Virtual shadow maps, one scope per step: VsmMark..VsmExpand are the bookkeeping
     // (PassTimes::vsmBookkeepingMs), VsmDraw the page draws.
     VsmMark,      // pages from the depth buffer
     VsmSort,      // vsm_list, vsm_sort: the request list closed and sorted by priority rank
@@ -36,8 +33,8 @@ struct PassTimes {
         startMs{};                      // pass start on the GPU clock (ms; only differences mean anything)
     std::array<bool, kPassCount> ran{}; // the pass was recorded this frame
     double totalMs() const;
-    // The VSM bookkeeping: the steps VsmMark..VsmExpand that ran (the sum tools/vsm_bookkeeping.py
-    // compares with the evaluation pass; the sort and allocation were one vsm_alloc scope before).
+    // The VSM bookkeeping: the steps VsmMark..VsmExpand that ran (their sum is what the maps cost
+    // besides drawing pages).
     double vsmBookkeepingMs() const;
 };
 // Whether a pass is one of the VSM bookkeeping steps (VsmMark..VsmExpand).
@@ -46,9 +43,8 @@ constexpr bool vsmBookkeeping(Pass p) {
 }
 
 // Timestamps: vkCmdWriteTimestamp2 pairs (GPUs). Fenced: each pass is submitted on its own and timed
-// with the host clock from submit to completion. lavapipe needs Fenced: llvmpipe writes timestamps from
-// its rasteriser bins, so they do not bracket compute dispatches (measured: a 700 ms evaluation pass
-// read as 0.03 ms), while on a CPU device a pass's wall time is its device time.
+// with the host clock from submit to completion: what a CPU device needs, whose timestamps need not
+// bracket compute dispatches, while its wall time for a pass is its device time.
 enum class TimingMode : uint32_t { Timestamps, Fenced };
 
 } // namespace ml
