@@ -91,8 +91,8 @@ constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipW
 constexpr uint64_t kMaxFactorBits = (uint64_t(1) << 32) - 64;
 constexpr uint32_t kMaxSlopes = 1u << 16;
 
-// Version 4: two plane classes a chunk and the slope table (version 3: a representative and one plane a
-// chunk). A reader takes only its own version and asks for a rebake otherwise.
+// Format version 4 (two plane classes a value chunk, the slope table). A reader takes only its own
+// version and asks for a rebake otherwise.
 constexpr uint32_t kVersionNumber = 4;
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);

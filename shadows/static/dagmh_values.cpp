@@ -155,11 +155,12 @@ struct ChunkCode {
 };
 
 // Chooses the split of a chunk's slots into two classes. Candidates: everything in class 0; each distinct
-// maximal coverage set (the slots whose intervals share a point, up to 8) as class 1, the former
-// representative; the slots at least 2^t wide for each width level t present (closed casters next to
+// maximal coverage set (the slots whose intervals share a point, up to 8) as class 1 (a class that
+// needs no factor); the slots at least 2^t wide for each width level t present (closed casters next to
 // open ones: a roof slab's wide intervals and the ground's one-point intervals on different planes); and
-// twice, the slots whose residual under the best class-0 plane so far lies beyond its median by more
-// than the median deviation (a second surface). The fewest factor bits (with new slope entries) win.
+// twice, under the best class-0 plane so far, the slots whose residual lies beyond its median by more
+// than 1.5 median deviations (a second surface) and the coverage sets of the two slots at the extremes
+// of the residual spread. The fewest factor bits (with new slope entries) win.
 ChunkCode encodeChunk(const Val* vals, uint32_t count, const SlopeTable& table) {
     std::vector<uint32_t> masks{0u};
     auto coverage = [&](uint32_t p) {
