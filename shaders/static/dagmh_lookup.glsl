@@ -13,16 +13,18 @@ const uint ML_DAG_NODE_OFFSET = 10u;
 const uint ML_DAG_TREELET_OFFSET = 12u;
 const uint ML_DAG_CHUNK_OFFSET = 14u;
 const uint ML_DAG_FACTOR_OFFSET = 15u;
+const uint ML_DAG_SLOPE_OFFSET = 20u;
 const uint ML_DAG_CHUNK_WORDS = 6u;
+const uint ML_DAG_SLOPE_WORDS = 2u;
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
-const uint ML_DAG_HEADER_WORDS = 20u;
+const uint ML_DAG_HEADER_WORDS = 22u;
 
 // The header words the lookup needs, read once per lookup (or once per PCF kernel): in the evaluation
 // pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
 // and each tap. Section offsets are absolute (base added).
 struct DagmhHeader {
-    uint L, S, B, base, skip, bounds, nodes, treelets, chunks, factors;
+    uint L, S, B, base, skip, bounds, nodes, treelets, chunks, slopes, factors;
 };
 
 // In two steps, so that a lookup the value bounds decide reads one header word (S): the levels and the
@@ -38,20 +40,21 @@ DagmhHeader dagmhHeaderTop(uint base, uint L) {
     uint levels = ML_STATIC_DATA[base + ML_DAG_SKIP_LEVEL]; // S | B << 8 (dagfmt::skipLevel, boundsLevel)
     h.S = levels & 255u;
     h.B = levels >> 8u;
-    // validate() requires the sections to tile the buffer from the header on: the skip list at word 20,
+    // validate() requires the sections to tile the buffer from the header on: the skip list at word 22,
     // the value bounds after its 4^S entries and the nodes after their 4^B words, so those offsets need
     // no read.
     h.skip = base + ML_DAG_HEADER_WORDS;
     h.bounds = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
     h.nodes = h.bounds + (1u << (2u * h.B));
     h.base = base;
-    h.treelets = 0u, h.chunks = 0u, h.factors = 0u;
+    h.treelets = 0u, h.chunks = 0u, h.slopes = 0u, h.factors = 0u;
     return h;
 }
 
 DagmhHeader dagmhSections(DagmhHeader h) {
     h.treelets = h.base + ML_STATIC_DATA[h.base + ML_DAG_TREELET_OFFSET];
     h.chunks = h.base + ML_STATIC_DATA[h.base + ML_DAG_CHUNK_OFFSET];
+    h.slopes = h.base + ML_STATIC_DATA[h.base + ML_DAG_SLOPE_OFFSET];
     h.factors = h.base + ML_STATIC_DATA[h.base + ML_DAG_FACTOR_OFFSET];
     return h;
 }
@@ -60,12 +63,9 @@ DagmhHeader dagmhHeader(uint base) {
     return dagmhSections(dagmhHeaderTop(base, ML_STATIC_DATA[base + ML_DAG_LEVELS]));
 }
 
-// The k-th factor of a chunk whose meta word is `meta` (bits 0-5 the factor width b, bits 6 on the byte
-// offset of its factors in the stream): b bits, which may straddle two words; 0 when b is 0.
-uint dagmhFactor(DagmhHeader h, uint meta, uint k) {
-    uint b = meta & 63u;
+// The b-bit field at bit `pos` of the factor stream (0 when b is 0); it may straddle two words.
+uint dagmhField(DagmhHeader h, uint pos, uint b) {
     if (b == 0u) return 0u;
-    uint pos = (meta >> 6u) * 8u + k * b;
     uint w = h.factors + (pos >> 5u);
     uint sh = pos & 31u;
     uint f = ML_STATIC_DATA[w] >> sh;
@@ -73,48 +73,43 @@ uint dagmhFactor(DagmhHeader h, uint meta, uint k) {
     return f & mlLowMask(b);
 }
 
-// Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor). (px, py) is the
-// texel at the top-left corner of the cell of the MH node that holds the value. One lookup reads only
-// the chunk words its slot needs (r, or the plane and factor words).
-uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
-    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * (index >> 5u);
-    uint j = index & 31u;
-    uint bm = ML_STATIC_DATA[ch + 1u];
-    if (((bm >> j) & 1u) == 0u) return ML_STATIC_DATA[ch];
-    uint k = mlPopc(bm & mlLowMask(j));
-    uint meta = ML_STATIC_DATA[ch + 5u];
-    uint f = dagmhFactor(h, meta, k);
-    if ((meta & 63u) == 32u) return f; // raw 32-bit fallback
-    uint wy = ML_STATIC_DATA[ch + 4u];
-    uint by = uint(int(wy) >> 5); // 27-bit signed y slope, arithmetic shift
-    return ML_STATIC_DATA[ch + 2u] + ML_STATIC_DATA[ch + 3u] * px + by * py + (f << (wy & 31u));
-}
-
-// The same decode from a chunk's 6 words read once (PCF: the taps of a kernel mostly fall in one or
-// two chunks, so a kernel keeps the last chunk and reads only factor bits for the other taps).
+// A chunk's 6 words, read once (PCF: the taps of a kernel mostly fall in one or two chunks, so a kernel
+// keeps the last chunk and reads only factor bits and a slope entry for the other taps).
 struct DagmhChunk {
-    uint r, bm, a, bx, wy, meta;
+    uint bm, a0, a1, widths, off, slopes;
 };
 
 DagmhChunk dagmhChunk(DagmhHeader h, uint chunk) {
     uint ch = h.chunks + ML_DAG_CHUNK_WORDS * chunk;
     DagmhChunk c;
-    c.r = ML_STATIC_DATA[ch];
-    c.bm = ML_STATIC_DATA[ch + 1u];
-    c.a = ML_STATIC_DATA[ch + 2u];
-    c.bx = ML_STATIC_DATA[ch + 3u];
-    c.wy = ML_STATIC_DATA[ch + 4u];
-    c.meta = ML_STATIC_DATA[ch + 5u];
+    c.bm = ML_STATIC_DATA[ch];
+    c.a0 = ML_STATIC_DATA[ch + 1u];
+    c.a1 = ML_STATIC_DATA[ch + 2u];
+    c.widths = ML_STATIC_DATA[ch + 3u];
+    c.off = ML_STATIC_DATA[ch + 4u];
+    c.slopes = ML_STATIC_DATA[ch + 5u];
     return c;
 }
 
+// Slot j of a chunk (twin of dagmhChunkSlot): class = bit j of the bitmap, value = A + B_x px + B_y py +
+// (factor << sh) with the class's plane, width and step; class 0's factors follow class 1's.
 uint dagmhChunkValue(DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
-    if (((c.bm >> j) & 1u) == 0u) return c.r;
-    uint k = mlPopc(c.bm & mlLowMask(j));
-    uint f = dagmhFactor(h, c.meta, k);
-    if ((c.meta & 63u) == 32u) return f; // raw 32-bit fallback
-    uint by = uint(int(c.wy) >> 5); // 27-bit signed y slope, arithmetic shift
-    return c.a + c.bx * px + by * py + (f << (c.wy & 31u));
+    uint cls = (c.bm >> j) & 1u;
+    uint before1 = mlPopc(c.bm & mlLowMask(j));
+    uint cw = cls != 0u ? c.widths >> 11u : c.widths;
+    uint b = cw & 63u;
+    uint pos = c.off + (cls != 0u ? before1 * b : mlPopc(c.bm) * ((c.widths >> 11u) & 63u) + (j - before1) * b);
+    uint f = dagmhField(h, pos, b);
+    if (b == 32u) return f; // raw 32-bit value
+    uint e = h.slopes + ML_DAG_SLOPE_WORDS * (cls != 0u ? c.slopes >> 16u : c.slopes & 0xFFFFu);
+    uint a = cls != 0u ? c.a1 : c.a0;
+    return a + ML_STATIC_DATA[e] * px + ML_STATIC_DATA[e + 1u] * py + (f << ((cw >> 6u) & 31u));
+}
+
+// Value retrieval (paper Alg. 2, integer version, two plane classes a chunk). (px, py) is the texel at the
+// top-left corner of the cell of the MH node that holds the value.
+uint dagmhValue(DagmhHeader h, uint index, uint px, uint py) {
+    return dagmhChunkValue(h, dagmhChunk(h, index >> 5u), index & 31u, px, py);
 }
 
 // The lookup in steps (twin of dagmhStart / dagmhDescend / dagmhLocate / dagmhLocatedValue / dagmhFinish /

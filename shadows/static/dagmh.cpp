@@ -2,6 +2,8 @@
 // docs/dagmh-encoding.md.
 #include "shadows/static/dagmh.h"
 
+#include "shadows/static/dagmh_values.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -150,179 +152,6 @@ uint32_t cellBounds(const uint32_t* data, uint32_t X, uint32_t Y) {
 
 namespace {
 
-// ---- value chunks (docs/dagmh-encoding.md) ----
-
-struct Val {
-    uint32_t lo, hi, px, py;
-};
-
-struct ChunkCode {
-    uint32_t rep = 0, bitmap = 0, a = 0, bx = 0, by = 0, sh = 0, b = 0;
-    std::vector<uint32_t> k; // factor per set bit, in bit order
-};
-
-// The decoder's arithmetic (dagmhValue) for a slot with a factor.
-uint32_t decodeFactor(const ChunkCode& c, const Val& v, uint32_t f) {
-    if (c.b == 32) return f;
-    uint32_t wy = (c.by << 5) | c.sh;
-    uint32_t by = uint32_t(int32_t(wy) >> 5);
-    return c.a + c.bx * v.px + by * v.py + (f << (wy & 31u));
-}
-
-constexpr int64_t kMaxSlopeY = (int64_t(1) << 26) - 1; // B_y is stored in 27 bits (signed)
-
-// Spread of the residual intervals under the plane (bx, by): max(lo - P) - min(hi - P).
-int64_t spread(const std::vector<const Val*>& v, int64_t bx, int64_t by) {
-    int64_t maxU = INT64_MIN, minW = INT64_MAX;
-    for (const Val* p : v) {
-        int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
-        maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
-    }
-    return maxU - minW;
-}
-
-// Plane + factors for the values in v (all with a factor): value = A + bx px + by py + (k << sh).
-// The plane minimises the spread (a convex piecewise-linear function of the integer slopes): least
-// squares on the interval midpoints as the start, then an integer pattern search. Every value is then
-// checked with the decoder's uint32 arithmetic; on any miss the chunk falls back to raw values.
-void fitPlane(const std::vector<const Val*>& v, ChunkCode& out) {
-    const size_t m = v.size();
-    out.k.assign(m, 0);
-    out.bx = out.by = out.sh = 0;
-    if (m == 0) {
-        out.b = 0, out.a = 0;
-        return;
-    }
-    int64_t bx = 0, by = 0;
-    int64_t best = spread(v, 0, 0);
-    if (m >= 2 && best > 0) {
-        double mx = 0, my = 0, mv = 0;
-        for (const Val* p : v) mx += p->px, my += p->py, mv += (double(p->lo) + double(p->hi)) * 0.5;
-        mx /= double(m), my /= double(m), mv /= double(m);
-        double sxx = 0, sxy = 0, syy = 0, sxv = 0, syv = 0;
-        for (const Val* p : v) {
-            double dx = p->px - mx, dy = p->py - my, dv = (double(p->lo) + double(p->hi)) * 0.5 - mv;
-            sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxv += dx * dv, syv += dy * dv;
-        }
-        double det = sxx * syy - sxy * sxy, fx = 0, fy = 0;
-        if (det > 1e-9 * std::max(1.0, sxx * syy))
-            fx = (syy * sxv - sxy * syv) / det, fy = (sxx * syv - sxy * sxv) / det;
-        else if (sxx > 0)
-            fx = sxv / sxx;
-        else if (syy > 0)
-            fy = syv / syy;
-        auto clampS = [](double f, int64_t lim) {
-            return int64_t(std::llround(std::clamp(f, -double(lim), double(lim))));
-        };
-        int64_t cx = clampS(fx, INT32_MAX), cy = clampS(fy, kMaxSlopeY);
-        int64_t s = spread(v, cx, cy);
-        if (s < best) best = s, bx = cx, by = cy;
-        // Pattern search over the 8 neighbours with halving steps.
-        for (int64_t step = int64_t(1) << 12; step >= 1 && best > 0; step >>= 1) {
-            for (int iter = 0; iter < 64; ++iter) {
-                bool moved = false;
-                for (int d = 0; d < 8; ++d) {
-                    static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1},
-                                         kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-                    int64_t nx = bx + kDx[d] * step, ny = by + kDy[d] * step;
-                    if (nx > INT32_MAX || nx < INT32_MIN || ny > kMaxSlopeY || ny < -kMaxSlopeY - 1) continue;
-                    int64_t t = spread(v, nx, ny);
-                    if (t < best) best = t, bx = nx, by = ny, moved = true;
-                }
-                if (!moved) break;
-            }
-        }
-    }
-    int64_t maxU = INT64_MIN, minW = INT64_MAX;
-    uint64_t minWidth = UINT64_MAX;
-    for (const Val* p : v) {
-        int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
-        maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
-        minWidth = std::min<uint64_t>(minWidth, uint64_t(p->hi) - p->lo);
-    }
-    // Lattice step 2^sh: every residual interval is at least 2^sh - 1 wide, so each holds a point.
-    uint32_t sh = std::min<uint32_t>(31, uint32_t(std::bit_width(minWidth + 1)) - 1);
-    const int64_t a = minW;
-    uint64_t steps = maxU > a ? (uint64_t(maxU - a) + (uint64_t(1) << sh) - 1) >> sh : 0;
-    out.b = uint32_t(std::bit_width(steps));
-    out.bx = uint32_t(int32_t(bx)), out.by = uint32_t(int32_t(by)) & 0x07FFFFFFu, out.sh = sh;
-    out.a = uint32_t(uint64_t(a));
-    bool ok = out.b < 32;
-    for (size_t i = 0; i < m && ok; ++i) {
-        int64_t pr = bx * int64_t(v[i]->px) + by * int64_t(v[i]->py);
-        int64_t u = int64_t(v[i]->lo) - pr;
-        out.k[i] = u > a ? uint32_t((uint64_t(u - a) + (uint64_t(1) << sh) - 1) >> sh) : 0u;
-        uint32_t d = decodeFactor(out, *v[i], out.k[i]);
-        ok = d >= v[i]->lo && d <= v[i]->hi;
-    }
-    if (!ok) { // raw fallback: the value itself
-        out.b = 32, out.a = out.bx = out.by = out.sh = 0;
-        for (size_t i = 0; i < m; ++i) out.k[i] = v[i]->lo;
-    }
-}
-
-// Chooses the representative (its coverage set decodes to it with no factor) and the plane for the
-// rest. Representative candidates: none; every distinct maximal-coverage set (up to 8); then, twice,
-// the coverage sets of the two values at the extremes of the residual spread under the best plane so
-// far (an off-plane group, e.g. a second surface or empty texels, is better served by the
-// representative than by widening every factor). The fewest factor bits win; ties keep the earlier.
-ChunkCode encodeChunk(const Val* vals, uint32_t count) {
-    auto coverage = [&](uint32_t p) {
-        uint32_t mask = 0;
-        for (uint32_t j = 0; j < count; ++j)
-            if (vals[j].lo <= p && p <= vals[j].hi) mask |= 1u << j;
-        return mask;
-    };
-    std::vector<std::pair<uint32_t, uint32_t>> cands{{0u, 0u}}; // (covered mask, point)
-    uint32_t bestCov = 0;
-    std::vector<std::pair<uint32_t, uint32_t>> maxSets;
-    for (uint32_t i = 0; i < count; ++i) {
-        uint32_t mask = coverage(vals[i].lo), cov = uint32_t(std::popcount(mask));
-        if (cov > bestCov) bestCov = cov, maxSets.clear();
-        if (cov == bestCov) maxSets.push_back({mask, vals[i].lo});
-    }
-    std::sort(maxSets.begin(), maxSets.end());
-    maxSets.erase(
-        std::unique(maxSets.begin(), maxSets.end(), [](auto& a, auto& b) { return a.first == b.first; }),
-        maxSets.end());
-    if (bestCov >= 2) {
-        if (maxSets.size() > 8) maxSets.resize(8);
-        cands.insert(cands.end(), maxSets.begin(), maxSets.end());
-    }
-    std::vector<const Val*> rest;
-    std::vector<uint32_t> tried;
-    ChunkCode best;
-    uint64_t bestBits = UINT64_MAX;
-    auto tryMask = [&](uint32_t mask, uint32_t p) {
-        if (std::find(tried.begin(), tried.end(), mask) != tried.end()) return;
-        tried.push_back(mask);
-        rest.clear();
-        for (uint32_t j = 0; j < count; ++j)
-            if (!(mask & (1u << j))) rest.push_back(&vals[j]);
-        ChunkCode c;
-        c.rep = p;
-        c.bitmap = ~mask & stat::lowMask(count);
-        fitPlane(rest, c);
-        uint64_t bits = uint64_t(rest.size()) * c.b;
-        if (bits < bestBits) bestBits = bits, best = std::move(c);
-    };
-    for (auto [mask, p] : cands) tryMask(mask, p);
-    for (int round = 0; round < 2 && bestBits > 0 && best.b < 32; ++round) {
-        const int64_t bx = int32_t(best.bx), by = int32_t(best.by << 5) >> 5;
-        int64_t maxU = INT64_MIN, minW = INT64_MAX;
-        uint32_t jU = 0, jW = 0;
-        for (uint32_t j = 0; j < count; ++j) {
-            int64_t pr = bx * int64_t(vals[j].px) + by * int64_t(vals[j].py);
-            int64_t u = int64_t(vals[j].lo) - pr, w = int64_t(vals[j].hi) - pr;
-            if (u > maxU) maxU = u, jU = j;
-            if (w < minW) minW = w, jW = j;
-        }
-        tryMask(coverage(vals[jU].lo), vals[jU].lo);
-        tryMask(coverage(vals[jW].lo), vals[jW].lo);
-    }
-    return best;
-}
-
 // Full-resolution texel at the top-left corner of every node's cell.
 std::vector<std::array<uint32_t, 2>> nodeCorners(const MhTree& tree) {
     std::vector<std::array<uint32_t, 2>> pos(tree.nodes.size(), {0u, 0u});
@@ -422,8 +251,8 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
         refKind[i] = 1, refPtr[i] = it->second;
     }
     st.innerNodes = nodeIds.size(), st.treelets = treelets.size();
-    // ---- values, in preorder (= node index order), chunks of 32 ----
-    std::vector<Val> vals;
+    // ---- values, in preorder (= node index order), chunks of 32 (dagmh_values.h) ----
+    std::vector<dagval::Val> vals;
     {
         std::vector<std::array<uint32_t, 2>> pos = nodeCorners(tree);
         for (size_t i = 0; i < n; ++i)
@@ -432,28 +261,13 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     }
     const uint32_t numValues = uint32_t(vals.size());
     const uint32_t numChunks = (numValues + kChunkValues - 1) / kChunkValues;
-    std::vector<uint32_t> chunks(size_t(numChunks) * kChunkWords, 0), factors;
-    uint64_t bitPos = 0;
-    for (uint32_t c = 0; c < numChunks; ++c) {
-        uint32_t count = std::min(kChunkValues, numValues - c * kChunkValues);
-        ChunkCode code = encodeChunk(&vals[size_t(c) * kChunkValues], count);
-        bitPos = (bitPos + 7) / 8 * 8;
-        if (bitPos / 8 >= kMaxFactorBytes) return fail("DAG-MH: factor stream exceeds 64 MiB");
-        uint32_t* w = &chunks[size_t(c) * kChunkWords];
-        w[0] = code.rep, w[1] = code.bitmap, w[2] = code.a, w[3] = code.bx, w[4] = code.by << 5 | code.sh;
-        w[5] = code.b | uint32_t(bitPos / 8) << 6;
-        st.rawChunks += code.b == 32;
-        st.factors += code.k.size();
-        auto put = [&](uint32_t k, uint32_t bits) {
-            for (uint32_t bit = 0; bit < bits; ++bit, ++bitPos) {
-                if ((bitPos >> 5) >= factors.size()) factors.push_back(0);
-                if ((k >> bit) & 1u) factors[bitPos >> 5] |= 1u << (bitPos & 31);
-            }
-        };
-        for (uint32_t k : code.k) put(k, code.b);
-        st.factorBits += uint64_t(code.k.size()) * code.b;
-    }
-    if (factors.size() < (bitPos + 31) / 32) factors.resize((bitPos + 31) / 32, 0);
+    dagval::Stats vst;
+    auto sections = dagval::encodeValues(vals, &vst);
+    if (!sections) return fail(sections.error());
+    const std::vector<uint32_t>&chunks = sections->chunks, &slopes = sections->slopes,
+          &factors = sections->factors;
+    st.rawChunks = vst.rawClasses, st.factors = vst.factors, st.factorBits = vst.factorBits;
+    st.slopes = slopes.size() / kSlopeWords;
     st.chunks = numChunks;
     // ---- assemble ----
     // Skip level: the deepest S <= min(L, 8) whose list (16 B per cell) stays within an eighth of the
@@ -461,7 +275,7 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     // child, count), so dense maps take it as deep as the budget allows; nearly empty maps keep a
     // short list.
     const uint64_t restWords = nodeWords.size() + uint64_t(kTreeletWords) * treelets.size() +
-                               uint64_t(kChunkWords) * numChunks + factors.size();
+                               uint64_t(kChunkWords) * numChunks + slopes.size() + factors.size();
     uint32_t S = 0;
     while (S < std::min<uint32_t>(L, 8) && (uint64_t(kSkipWords) << (2 * (S + 1))) * 8 <= restWords) ++S;
     const uint32_t skipEntries = 1u << (2 * S);
@@ -478,7 +292,9 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     out[kTreeletOffset] = out[kNodeOffset] + out[kNodeWords];
     out[kTreelets] = uint32_t(treelets.size());
     out[kChunkOffset] = out[kTreeletOffset] + kTreeletWords * out[kTreelets];
-    out[kFactorOffset] = out[kChunkOffset] + kChunkWords * numChunks;
+    out[kSlopeOffset] = out[kChunkOffset] + kChunkWords * numChunks;
+    out[kSlopes] = uint32_t(slopes.size() / kSlopeWords);
+    out[kFactorOffset] = out[kSlopeOffset] + uint32_t(slopes.size());
     out[kFactorWords] = uint32_t(factors.size());
     out[kTotalWords] = out[kFactorOffset] + out[kFactorWords];
     out.resize(out[kTotalWords], 0);
@@ -487,6 +303,7 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
         std::copy(treelets[t].begin(), treelets[t].end(),
                   out.begin() + out[kTreeletOffset] + kTreeletWords * t);
     std::copy(chunks.begin(), chunks.end(), out.begin() + out[kChunkOffset]);
+    std::copy(slopes.begin(), slopes.end(), out.begin() + out[kSlopeOffset]);
     std::copy(factors.begin(), factors.end(), out.begin() + out[kFactorOffset]);
     for (uint32_t Y = 0; Y < (1u << S); ++Y)
         for (uint32_t X = 0; X < (1u << S); ++X)
@@ -538,8 +355,9 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (!section(kSkipOffset, (uint64_t(kSkipWords) << (2 * S)) + (uint64_t(1) << (2 * B))) ||
         !section(kNodeOffset, data[kNodeWords]) ||
         !section(kTreeletOffset, uint64_t(kTreeletWords) * data[kTreelets]) ||
-        !section(kChunkOffset, kChunkWords * numChunks) || !section(kFactorOffset, data[kFactorWords]) ||
-        pos != size)
+        !section(kChunkOffset, kChunkWords * numChunks) ||
+        !section(kSlopeOffset, uint64_t(kSlopeWords) * data[kSlopes]) ||
+        !section(kFactorOffset, data[kFactorWords]) || pos != size)
         return bad("section offsets do not tile the buffer");
     // Treelets: only 85 bits used.
     const uint32_t* tl = data + data[kTreeletOffset];
@@ -608,18 +426,25 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
                 return bad("skip entry (" + std::to_string(X) + "," + std::to_string(Y) +
                            ") differs from the tree");
         }
-    // Chunks: bitmap within the chunk's values, bit width <= 32, factors inside the stream.
+    // Chunks: bitmap within the chunk's values, widths <= 32, slope entries in the table, factors inside
+    // the stream (which a uint32 bit position must address).
+    if (data[kSlopes] == 0 || data[kSlopes] > kMaxSlopes) return bad("slope table size out of range");
+    if (uint64_t(data[kFactorWords]) * 32u > kMaxFactorBits + 64) return bad("factor stream too long");
     const uint32_t* ch = data + data[kChunkOffset];
     const uint64_t factorBits = uint64_t(data[kFactorWords]) * 32u;
     for (uint64_t c = 0; c < numChunks; ++c) {
         const uint32_t* w = ch + kChunkWords * c;
-        uint32_t count = uint32_t(std::min<uint64_t>(kChunkValues, numValues - c * kChunkValues));
-        if (w[1] & ~stat::lowMask(count))
-            return bad("chunk " + std::to_string(c) + " bitmap past its values");
-        uint32_t b = w[5] & 63u;
-        if (b > 32) return bad("chunk " + std::to_string(c) + " bit width " + std::to_string(b));
-        if (uint64_t(w[5] >> 6) * 8u + uint64_t(stat::popc(w[1])) * b > factorBits)
-            return bad("chunk " + std::to_string(c) + " factors past the stream");
+        const uint32_t count = uint32_t(std::min<uint64_t>(kChunkValues, numValues - c * kChunkValues));
+        const std::string name = "chunk " + std::to_string(c);
+        if (w[0] & ~stat::lowMask(count)) return bad(name + " class bitmap past its values");
+        if (w[3] >> 22) return bad(name + " has unknown width bits");
+        const uint32_t b0 = w[3] & 63u, b1 = (w[3] >> 11) & 63u;
+        if (b0 > 32 || b1 > 32) return bad(name + " bit width over 32");
+        if ((w[5] & 0xFFFFu) >= data[kSlopes] || (w[5] >> 16) >= data[kSlopes])
+            return bad(name + " slope entry past the table");
+        const uint64_t n1 = stat::popc(w[0]);
+        if (uint64_t(w[4]) + n1 * b1 + (count - n1) * b0 > factorBits)
+            return bad(name + " factors past the stream");
     }
     // Value bounds: must equal the walk from each skip entry (last: it decodes values, so every section it
     // reads has been checked above).
@@ -654,7 +479,8 @@ stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size) {
     b.bounds = (uint64_t(1) << (2 * boundsLevel(data))) * 4u;
     b.nodes = uint64_t(data[kNodeWords]) * 4u;
     b.treelets = uint64_t(data[kTreelets]) * kTreeletWords * 4u;
-    b.values = uint64_t(data[kChunks]) * kChunkWords * 4u;
+    b.values = (uint64_t(data[kChunks]) * kChunkWords + uint64_t(data[kSlopes]) * kSlopeWords) *
+               4u; // chunks, slopes
     b.factors = uint64_t(data[kFactorWords]) * 4u;
     return b;
 }

@@ -22,27 +22,30 @@
 //     the value decode (dagmhBoundsClass; a PCF kernel tests the cells it covers at once). Exact: the bounds
 //     hold every texel's decoded value (validate() recomputes them, the tests check every texel); 1 word per
 //     cell.
-//   - Values: chunks of 32 with a representative value, a 32-bit "has factor" bitmap, and a plane
-//     predictor: value = A + B_x px + B_y py + (k << sh) (uint32 arithmetic), (px, py) the texel at the
-//     top-left corner of the value's node cell, k of the smallest bit width b; b = 32 stores raw values.
+//   - Values (format version 4): chunks of 32, each slot in one of two classes (a class bitmap); a class
+//     decodes value = A + B_x px + B_y py + (k << sh) (uint32 arithmetic), (px, py) the texel at the
+//     top-left corner of the value's node cell, k a factor of the class's bit width b (b = 32: raw
+//     values); the slopes (B_x, B_y) come from a table shared by all chunks (dagmh_values.h).
 // Layout (words):
-//   header[20]: magic 'DGM1' | version 3 | resolution | levels L | skip level S | B << 8 | root kind (1
-//   inner,
-//     2 treelet) | root pointer | values | chunks | skip offset | node offset | node words | treelet
-//     offset | treelets | chunk offset | factor offset | factor words | total words | checksum | 0
+//   header[22]: magic 'DGM1' | version 4 | resolution | levels L | skip level S | B << 8 | root kind (1
+//     inner, 2 treelet) | root pointer | values | chunks | skip offset | node offset | node words |
+//     treelet offset | treelets | chunk offset | factor offset | factor words | total words | checksum |
+//     0 | slope offset | slopes
 //   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8 | d_last << 16
 //     (depth of the node holding v_last), pointer, v_count, v_last; entry index = Y * 2^S + X.
-//   bounds: 4^B words (B in bits 8-15 of the skip level word), index Y * 2^B + X: lo >> 16 | (hi >> 16) << 16
-//   (lo, hi: the
-//     cell's smallest and largest decoded value; the node offset is skip offset + 4 * 4^S + 4^B).
+//   bounds: 4^B words (B in bits 8-15 of the skip level word), index Y * 2^B + X: lo >> 16 | (hi >> 16) <<
+//     16 (lo, hi: the cell's smallest and largest decoded value; the node offset is skip offset + 4 * 4^S +
+//     4^B).
 //   nodes: inner node = flags (2 bits per child c: 0 absent, 1 inner, 2 treelet; bit 8: the node has a
 //     value) | n child pointers (inner: word index into nodes, always smaller than the node's own;
 //     treelet: treelet index) | n - 1 prefix counts (values before child rank r >= 1 in the subtree,
 //     the node's own value included). Size 2n words.
 //   treelets: 3 words each (85 bits used).
-//   chunks: 6 words each: representative | bitmap (bit j: value j has a factor) | A | B_x |
-//     B_y << 5 | sh (B_y 27-bit signed) | meta = b (bits 0..5) | byte offset of the chunk's factors << 6.
-//   factors: bit stream, little-endian within words, each chunk starting at a byte boundary.
+//   chunks: 6 words each: class bitmap (bit j: slot j in class 1) | A_0 | A_1 | b_0 | sh_0 << 6 | b_1 << 11
+//     | sh_1 << 17 | bit offset of the chunk's factors (class 1's, then class 0's) | slope entry of class
+//     0 | slope entry of class 1 << 16.
+//   slopes: 2 words each (B_x, B_y as int32 bits); entry 0 is (0, 0).
+//   factors: bit stream, little-endian within words.
 // Empty texels decode to exactly kDepthEmpty.
 #pragma once
 #include "io/result.h"
@@ -58,7 +61,6 @@ namespace ml {
 
 namespace dagfmt {
 constexpr uint32_t kMagic = stat::fourcc('D', 'G', 'M', '1');
-constexpr uint32_t kHeaderWords = 20;
 enum : uint32_t {
     kMagicWord,
     kVersion,
@@ -79,13 +81,19 @@ enum : uint32_t {
     kFactorWords,
     kTotalWords,
     kChecksum,
-    kReserved
+    kReserved,
+    kSlopeOffset,
+    kSlopes,
 };
-constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipWords = 4;
-constexpr uint32_t kMaxFactorBytes = 1u << 26;
+constexpr uint32_t kHeaderWords = 22;
+constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipWords = 4, kSlopeWords = 2;
+// A chunk's factor offset is a bit position in a uint32, and a slope entry 16 bits.
+constexpr uint64_t kMaxFactorBits = (uint64_t(1) << 32) - 64;
+constexpr uint32_t kMaxSlopes = 1u << 16;
 
-// Version 3 added the value bounds; version 2 bakes are refused (rebake them).
-constexpr uint32_t kVersionNumber = 3;
+// Format version 4 (two plane classes a value chunk, the slope table). A reader takes only its own
+// version and asks for a rebake otherwise.
+constexpr uint32_t kVersionNumber = 4;
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
 // The bounds word of bounds cell (X, Y) (level B below), computed from its skip entry down (every node and
@@ -116,6 +124,7 @@ inline uint32_t packBounds(uint32_t lo, uint32_t hi) {
 
 struct DagMhStats {
     uint64_t innerNodes = 0, treelets = 0, values = 0, chunks = 0, rawChunks = 0, factors = 0, factorBits = 0;
+    uint64_t slopes = 0;                      // slope table entries; rawChunks counts raw classes
     uint64_t treeInner = 0, treeTreelets = 0; // before deduplication
 };
 
@@ -127,30 +136,38 @@ stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size);
 // arithmetic and counts the values outside their node's interval.
 uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data);
 
-// Value retrieval (paper Alg. 2, integer version, with a per-chunk plane predictor; see
-// docs/dagmh-encoding.md). (px, py) is the full-resolution texel of the top-left corner of the cell of
-// the MH node that holds the value. GLSL twin in shaders/static/dagmh_lookup.glsl.
+// The b-bit field at bit `pos` of the factor stream starting at word `factors` (0 when b == 0); it may
+// straddle two words.
+inline uint32_t dagmhField(const uint32_t* data, uint32_t factors, uint32_t pos, uint32_t b) {
+    if (b == 0u) return 0u;
+    const uint32_t w = factors + (pos >> 5u), sh = pos & 31u;
+    uint32_t f = data[w] >> sh;
+    if (sh + b > 32u) f |= data[w + 1u] << (32u - sh);
+    return f & stat::lowMask(b);
+}
+
+// Slot j of the chunk whose words are c[0..5] (paper Alg. 2, integers, two plane classes; see
+// docs/dagmh-encoding.md). Class c = bit j of the bitmap; its factors follow class 1's when c = 0.
+inline uint32_t dagmhChunkSlot(const uint32_t* data, uint32_t base, const uint32_t* c, uint32_t j,
+                               uint32_t px, uint32_t py) {
+    const uint32_t cls = (c[0] >> j) & 1u;
+    const uint32_t before1 = stat::popc(c[0] & stat::lowMask(j)); // class-1 slots before j
+    const uint32_t cw = cls != 0u ? c[3] >> 11u : c[3];           // this class's b (bits 0-5), sh (6-10)
+    const uint32_t b = cw & 63u;
+    const uint32_t pos =
+        c[4] + (cls != 0u ? before1 * b : stat::popc(c[0]) * ((c[3] >> 11u) & 63u) + (j - before1) * b);
+    const uint32_t f = dagmhField(data, base + data[base + dagfmt::kFactorOffset], pos, b);
+    if (b == 32u) return f; // raw 32-bit value
+    const uint32_t e = base + data[base + dagfmt::kSlopeOffset] +
+                       dagfmt::kSlopeWords * (cls != 0u ? c[5] >> 16u : c[5] & 0xFFFFu);
+    return c[1u + cls] + data[e] * px + data[e + 1u] * py + (f << ((cw >> 6u) & 31u));
+}
+
+// The value with index `index`, (px, py) the full-resolution texel at the top-left corner of the cell of
+// the MH node that holds it. GLSL twin in shaders/static/dagmh_lookup.glsl.
 inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index, uint32_t px, uint32_t py) {
-    uint32_t ch = base + data[base + dagfmt::kChunkOffset] + dagfmt::kChunkWords * (index >> 5u);
-    uint32_t j = index & 31u;
-    uint32_t bm = data[ch + 1u];
-    if (((bm >> j) & 1u) == 0u) return data[ch];
-    uint32_t k = stat::popc(bm & stat::lowMask(j));
-    uint32_t meta = data[ch + 5u];
-    uint32_t b = meta & 63u;
-    uint32_t f = 0u;
-    if (b != 0u) {
-        uint32_t pos = (meta >> 6u) * 8u + k * b;
-        uint32_t w = base + data[base + dagfmt::kFactorOffset] + (pos >> 5u);
-        uint32_t sh = pos & 31u;
-        f = data[w] >> sh;
-        if (sh + b > 32u) f |= data[w + 1u] << (32u - sh);
-        f &= stat::lowMask(b);
-    }
-    if (b == 32u) return f; // raw 32-bit fallback
-    uint32_t wy = data[ch + 4u];
-    uint32_t by = uint32_t(int32_t(wy) >> 5); // 27-bit signed y slope, arithmetic shift
-    return data[ch + 2u] + data[ch + 3u] * px + by * py + (f << (wy & 31u));
+    const uint32_t ch = base + data[base + dagfmt::kChunkOffset] + dagfmt::kChunkWords * (index >> 5u);
+    return dagmhChunkSlot(data, base, data + ch, index & 31u, px, py);
 }
 
 // Only valid on a buffer validateDAGMH accepted; x, y < resolution.

@@ -3,6 +3,9 @@
 // base 0 and with the buffer placed at an odd offset inside a larger array (the `base` argument).
 // The GPU run of the same text comes with the GPU tests; this pins the text itself.
 #include "static_test_util.h"
+#include "bake/bake.h"
+#include "bake/scene_casters.h"
+#include "scenes/scenes.h"
 
 #include <bit>
 
@@ -103,6 +106,35 @@ TEST(StaticGlslTwins, BitIdenticalRaster) {
     fr.fov = 1.2f;
     fr.farPlane = 12.0f;
     compareTwins(rasterizeDual(c, fr, 512));
+}
+
+// Real maps of the default night city (as `bake` makes them): the moon (light 239, directional,
+// orthographic: the DAG-MH chunks mix roof slabs, walls and ground on shared slopes) and the first static
+// spot light whose map holds more than the ground (perspective). Every texel, C++ against the GLSL text,
+// and lossless (encodeChecked in compareTwins' codec.validate path is not enough: countLossy below).
+TEST(StaticGlslTwins, BitIdenticalNightCityMoonAndSpot) {
+    auto scene = loadScene("night-city", 256, 1);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    ASSERT_GT(scene->lights.size(), 239u);
+    const Light& moon = scene->lights[239];
+    ASSERT_EQ(moon.type, LightKind::Directional);
+    const CasterTriangles casters = castersFromScene(*scene);
+    std::vector<DualDepthMap> maps{rasterizeDual(casters, bakeFrustums(*scene, moon).front(), 256)};
+    for (const Light& l : scene->lights) {
+        if (l.dynamic || l.type != LightKind::Spot) continue;
+        DualDepthMap m = rasterizeDual(casters, bakeFrustums(*scene, l).front(), 256);
+        uint64_t closed = 0;
+        for (size_t i = 0; i < m.enter.size(); ++i) closed += m.exit[i] > m.enter[i];
+        if (closed == 0) continue; // the ground alone (open): not the mixed case
+        maps.push_back(std::move(m));
+        break;
+    }
+    ASSERT_EQ(maps.size(), 2u);
+    for (const DualDepthMap& m : maps) {
+        SCOPED_TRACE(&m == &maps[0] ? "moon" : "spot");
+        compareTwins(m);
+        encodeChecked(m, codecs()[2]);
+    }
 }
 
 } // namespace

@@ -1,0 +1,32 @@
+// DAG-MH value section encoder (format version 4): chunks of 32 values, each split into two classes with
+// a plane each, the planes' slopes shared through a slope table. Layout and decoder: dagmh.h
+// (dagmhValue), docs/dagmh-encoding.md. Internal to the DAG-MH encoder (dagmh.cpp).
+#pragma once
+#include "io/result.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ml::dagval {
+
+// One value of the MH tree in depth-first order: its node's interval [lo, hi] and the full-resolution
+// texel (px, py) at the top-left corner of the node's cell (the lookup forms the same corner).
+struct Val {
+    uint32_t lo, hi, px, py;
+};
+
+struct Stats {
+    uint64_t rawClasses = 0, factors = 0, factorBits = 0;
+};
+
+struct Sections {
+    std::vector<uint32_t> chunks;  // kChunkWords per chunk
+    std::vector<uint32_t> slopes;  // kSlopeWords per entry; entry 0 is the zero slope
+    std::vector<uint32_t> factors; // bit stream
+};
+
+// Encodes the values; every value decodes (dagmhValue's arithmetic) into its interval, which the encoder
+// checks per class before it keeps a code (raw 32-bit values otherwise).
+Result<Sections> encodeValues(const std::vector<Val>& vals, Stats* stats);
+
+} // namespace ml::dagval
