@@ -20,7 +20,7 @@
 // the coverage test) marks from its receivers one by one instead (vsm_mark_cluster.comp): a box of a
 // few pages costs a handful of atomics, while a box that straddles a cube's faces or grazes a spot's
 // near plane would otherwise mark whole mips. A pixel's 3x3 PCF kernel touches 1-4 pages.
-#define ML_VSM_CLUSTER_PAGES 8u
+#define ML_VSM_CLUSTER_PAGES 16u
 
 #ifdef __cplusplus
 namespace ml::gpu {
