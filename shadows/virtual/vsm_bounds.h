@@ -17,9 +17,11 @@
 #include "shadows/virtual/vsm_math.h"
 
 // A cluster-light pair whose bounds reach more pages than this (lookups and fallback reservations, before
-// the coverage test) marks from its receivers one by one instead (vsm_mark_cluster.comp): a box of a
-// few pages costs a handful of atomics, while a box that straddles a cube's faces or grazes a spot's
-// near plane would otherwise mark whole mips. A pixel's 3x3 PCF kernel touches 1-4 pages.
+// the coverage test) marks from its receivers one by one instead (vsm_mark_cluster.comp), so that a box
+// straddling a cube's faces or grazing a spot's near plane does not mark whole mips. Refinement walks the
+// tile's 64 pixels in one invocation, so a low threshold costs more than the pages it saves: on the
+// night city at 640x360, 4 and 2 made the mark pass 2-5x slower than 16 (docs/results/log.md, "Virtual
+// shadow maps: marking per cluster").
 #define ML_VSM_CLUSTER_PAGES 16u
 
 #ifdef __cplusplus

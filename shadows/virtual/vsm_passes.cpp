@@ -59,7 +59,8 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
     const bool clustered = fc->cluster.w == ML_CULL_CLUSTERED || fc->cluster.w == ML_CULL_CLUSTERED_BRUTE;
     if (state_->settings().clusterMarking && clustered && fc->cluster.y == ML_TILE_SIZE && in.clusterBounds &&
         in.tileMasks)
-        dispatch(d, c, programs_.markCluster, fc->size.z * ML_MAX_SLICES, fc->size.w, NoPush{}, // per slice of a tile
+        dispatch(d, c, programs_.markCluster, fc->size.z * ML_MAX_SLICES, fc->size.w,
+                 NoPush{}, // per slice of a tile
                  {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
                   sampled(in.normal), slot.constants, slot.maps, slot.coverage, pg.marks, slot.counters,
                   slot.rankBase, pg.list[0], *in.clusterBounds, *in.tileMasks});
