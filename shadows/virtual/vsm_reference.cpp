@@ -215,7 +215,7 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
     return marks;
 }
 
-std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in) {
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs) {
     std::vector<uint32_t> marks(2 * in.markWords, 0);
     const FrameConstants& f = in.frame;
     const uint32_t width = f.size.x, height = f.size.y, T = ML_TILE_SIZE, slices = f.cluster.x;
@@ -267,6 +267,7 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in) {
                         refine.push_back({s, i});
                 }
             }
+            if (refinedPairs) *refinedPairs += refine.size();
             // The refined pairs from each receiver of their slice.
             for (const Pixel& p : pixels) {
                 if (!p.receiver) continue;

@@ -39,8 +39,8 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in);
 // vsm_mark_cluster.comp (VsmSettings::clusterMarking): per tile, the bounds of each slice's surface pixels
 // (as cluster_bounds.comp), and per (slice, light) pair the pages vsm_bounds.h bounds, or the receivers'
 // own marks where those exceed ML_VSM_CLUSTER_PAGES. Needs clustered culling (tiles of ML_TILE_SIZE).
-// Bit for bit the GPU's.
-std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in);
+// Bit for bit the GPU's. refinedPairs (optional) receives, added, the pairs refined per pixel.
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs = nullptr);
 
 struct VsmAllocState {
     std::vector<uint32_t> table;    // per entry of every slot in use
