@@ -59,6 +59,7 @@ bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --o
   --vsm-res N    virtual resolution (default 1024)
   --vsm-page N   page size (default 64)
   --vsm-pool N   physical pages (default 4096)
+  --vsm-mark M   page marking: pixel (default: per receiver pixel) or cluster (per cluster and light)
   --vsm-texels T shadow texels per pixel footprint: 0.25, 0.5, 1 (default), 2, 4 or 8
   --pcf LIST     PCF radii evaluated (0 = one tap .. 4 = 9x9), default 0,2; the module runs with the largest
   --vsm-raster R auto (default), mesh or vertex

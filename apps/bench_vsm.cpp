@@ -33,6 +33,7 @@ Virtual shadow maps on a camera path: pass times and page counts, cached against
   --vsm-res N     virtual resolution (default 4096)
   --vsm-page N    page size: 32, 64 (default), 128
   --vsm-pool N    physical pages (default 4096)
+  --vsm-mark M    page marking: pixel (default: per receiver pixel) or cluster (per cluster and light)
   --vsm-texels T  shadow texels per pixel footprint: 0.25, 0.5, 1 (default), 2, 4 or 8
   --kinds LIST    rows to run, comma-separated from static-spot,moving-spot,point,directional (default all)
   --vsm-raster R  page-draw path: mesh, vertex, auto or both (default both: every row once per path)

@@ -40,6 +40,7 @@ Checks every virtual-shadow-map lookup of a camera path against full reference m
   --vsm-res N    virtual resolution (default 1024)
   --vsm-page N   page size (default 64)
   --vsm-pool N   physical pages (default 4096)
+  --vsm-mark M   page marking: pixel (default: per receiver pixel) or cluster (per cluster and light)
   --vsm-texels T shadow texels per pixel footprint: 0.25, 0.5, 1 (default), 2, 4 or 8
   --pcf R        filter radius of the lookups (default 0; the check reads each kernel's centre texel)
   --vsm-raster R how pages are drawn: auto (default: vertex on CPU devices, mesh elsewhere), mesh or vertex

@@ -92,6 +92,7 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --vsm-res N      virtual resolution of each shadow map (power of two, 256..16384; default 4096)
   --vsm-page N     page size in texels: 32, 64 (default) or 128
   --vsm-pool N     physical pages in the shared pool (default 4096)
+  --vsm-mark M     page marking: pixel (default: per receiver pixel) or cluster (per cluster and light)
   --vsm-raster R   how shadow pages are drawn: auto (default: vertex on CPU devices such as lavapipe,
                    mesh elsewhere), mesh (meshlets, task and mesh shaders) or vertex
   --timing T       fenced (default: each pass submitted and timed on its own, honest on lavapipe) or

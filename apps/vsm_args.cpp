@@ -17,6 +17,10 @@ Result<void> vsmMapOptions(const cli::Args& args, uint32_t resolution, VsmSettin
     auto pool = cli::parseUint("--vsm-pool", args.get("--vsm-pool", "4096"), 1, 1u << 20);
     for (const std::string* e : {&res.error(), &page.error(), &pool.error()})
         if (!e->empty()) return fail(*e);
+    const std::string mark = args.get("--vsm-mark", VsmSettings{}.clusterMarking ? "cluster" : "pixel");
+    if (mark != "pixel" && mark != "cluster")
+        return fail("--vsm-mark: '" + mark + "' is not pixel or cluster");
+    vsm.clusterMarking = mark == "cluster";
     vsm.resolution = res.value();
     vsm.pageSize = page.value();
     vsm.poolPages = pool.value();

@@ -10,8 +10,9 @@
 
 namespace ml {
 
-// --vsm-res, --vsm-page, --vsm-pool: the virtual maps' side, page side and pool of pages.
-inline const cli::Flags kVsmMapFlags{{"--vsm-res", "--vsm-page", "--vsm-pool"}, {}};
+// --vsm-res, --vsm-page, --vsm-pool: the virtual maps' side, page side and pool of pages; --vsm-mark
+// pixel|cluster: how pages are marked (VsmSettings::clusterMarking).
+inline const cli::Flags kVsmMapFlags{{"--vsm-res", "--vsm-page", "--vsm-pool", "--vsm-mark"}, {}};
 // The session's own flags; its commands take opts::kSceneFlags, opts::kViewFlags and kVsmMapFlags too.
 inline const cli::Flags kVsmSessionFlags{{"--path", "--lights", "--bake", "--vsm-texels"}, {}};
 

@@ -222,6 +222,8 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.vsm.meshlets = &meshletBuffer;
     f.vsm.meshletVertices = &meshletVertexBuffer;
     f.vsm.meshletTriangles = &meshletTriangleBuffer;
+    f.vsm.clusterBounds = &cull.bounds;
+    f.vsm.tileMasks = &cull.tileMasks;
     return f;
 }
 

@@ -55,6 +55,11 @@ struct VsmSettings {
     // applies), 0.5 one coarser. Finer texels flicker less under a moving camera (docs/accuracy.md
     // section 7). A power of two in 1/4..8.
     float texelsPerPixel = 1.0f;
+    // Page marking per cluster-light pair against the cluster's bounds (vsm_mark_cluster.comp; a superset
+    // of the per-pixel marks) in the clustered culling modes; false, or `none` / `tiled` culling: per
+    // receiver pixel (vsm_mark.comp). Off by default: 2-5x faster marking for 1.4-1.9x the pages
+    // (docs/virtual-shadow-maps.md, "Marking per cluster").
+    bool clusterMarking = false;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     // Fallback reservations (a coarser page per lookup, drawn under pool pressure) cost marking time in
     // every frame: a third of vsm_mark on the night city. On demand, receivers reserve them only near

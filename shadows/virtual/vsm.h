@@ -117,6 +117,10 @@ struct VsmFrameInputs {
     const Buffer* meshlets = nullptr;
     const Buffer* meshletVertices = nullptr;
     const Buffer* meshletTriangles = nullptr;
+    // Clustered culling's cluster bounds and tile masks (culling/culling.h), for marking per cluster
+    // (VsmSettings::clusterMarking); without them the pages are marked per pixel.
+    const Buffer* clusterBounds = nullptr;
+    const Buffer* tileMasks = nullptr;
 };
 
 // Per map slot, what the CPU set up this frame (tests and `check vsm` read it).

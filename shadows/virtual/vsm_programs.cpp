@@ -15,6 +15,7 @@
 #include "vsm_invalidate.comp.spv.h"
 #include "vsm_list.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
+#include "vsm_mark_cluster.comp.spv.h"
 #include "vsm_merge.comp.spv.h"
 #include "vsm_pairs.comp.spv.h"
 #include "vsm_probe.comp.spv.h"
@@ -67,6 +68,7 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     auto markShader = ML_VSM_SHADER(spv_vsm_mark_comp);
     ML_TRY(markShader);
     ML_TRY(createComputeProgram(d, mark, *markShader.value(), {{/*kStage*/ 0, stage.value()}}));
+    ML_TRY(compute(markCluster, ML_VSM_SHADER(spv_vsm_mark_cluster_comp)));
     ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
     ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
     ML_TRY(compute(invalidate, ML_VSM_SHADER(spv_vsm_invalidate_comp)));
@@ -106,9 +108,9 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 }
 
 void VsmPrograms::destroy(const Device& d) {
-    for (Program* p :
-         {&mark,  &list, &sort,  &invalidate, &scan,  &alloc, &avail, &assign,     &hpb,    &groups,
-          &pairs, &cull, &clear, &merge,      &probe, &view,  &draw,  &drawClosed, &expand, &mesh})
+    for (Program* p : {&mark,  &markCluster, &list, &sort,   &invalidate, &scan,   &alloc,
+                       &avail, &assign,      &hpb,  &groups, &pairs,      &cull,   &clear,
+                       &merge, &probe,       &view, &draw,   &drawClosed, &expand, &mesh})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

@@ -9,8 +9,10 @@
 namespace ml {
 
 struct VsmPrograms {
-    Program mark, list, sort, invalidate, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge,
-        probe, view;
+    Program mark;        // vsm_mark.comp: per receiver pixel
+    Program markCluster; // vsm_mark_cluster.comp: per cluster-light pair (VsmSettings::clusterMarking)
+    Program list, sort, invalidate, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge, probe,
+        view;
     Program draw;       // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
     Program drawClosed; // the same with back faces culled (closed casters)
     Program expand;     // mesh path: vsm_expand.comp

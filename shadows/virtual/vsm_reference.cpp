@@ -2,7 +2,7 @@
 // allocation passes vsm_scan / vsm_alloc / vsm_assign. Same functions of vsm_math.h, same order.
 #include "shadows/virtual/vsm_reference.h"
 
-#include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bounds.h"
 
 #include <algorithm>
 #include <bit>
@@ -68,14 +68,129 @@ void markKernel(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32_t 
         }
 }
 
+// vsm_common.glsl's vsmMarkReceiver: the pages the lookup of (P, N) reads, and its fallback reservations.
+void markReceiver(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const GpuLight& L, glm::vec3 P,
+                  glm::vec3 N) {
+    const int radius = int(in.constants.options.x);
+    const uint32_t R = in.constants.options.z;
+    Choice c = choose(in, L, L.info.y, P, N);
+    if (!c.tap.ok) return;
+    markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
+    if (in.constants.camera.z == 0.0f) return; // no fallback reservations this frame
+    const size_t fw = in.markWords;
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
+        if (fb != c.map) markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, fw);
+        if (c.last != fb)
+            markKernel(in, marks, c.last, 0, vsmLocate(in.maps[c.last], R, 0, P, N), radius, fw);
+    } else {
+        const int wide = radius + vsmFallbackSlack(in.maps[c.map]);
+        uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
+        if (fb != c.mip) markKernel(in, marks, c.map, fb, vsmCoarserTap(c.tap, fb - c.mip), wide, fw);
+        if (c.last != fb)
+            markKernel(in, marks, c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius, fw);
+    }
+}
+
+// clusterLights (shaders/shared/cluster_list.glsl): the pixel's slice and its (offset, count).
+uint32_t sliceOf(const VsmMarkInputs& in, float d) {
+    const float z = linearDepth(d, in.frame.depth);
+    uint32_t s = 0;
+    while (s + 1 < in.frame.cluster.x && z >= in.sliceFar[s]) ++s;
+    return s;
+}
+
+// vsm_common.glsl's vsmMarkPages.
+uint32_t markPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32_t map, uint32_t mip,
+                   glm::ivec4 pages, size_t region, bool mark) {
+    const uint32_t n = vsmRectPageCount(pages);
+    if (!mark || n == 0) return n;
+    const VsmConstants& k = in.constants;
+    for (int py = pages.y; py <= pages.w; ++py)
+        for (int px = pages.x; px <= pages.z; ++px) {
+            uint32_t entry = vsmEntry(k.sizes.x, k.page.z, map, mip, uint32_t(px), uint32_t(py));
+            bool needs = (in.maps[map].info.y & ML_VSM_MAP_DYNAMIC_ONLY) == 0 || testBit(in.coverage, entry);
+            if (needs) marks[region + (entry >> 5)] |= 1u << (entry & 31u);
+        }
+    return n;
+}
+
+// vsm_common.glsl's vsmBoxPages: same calls, same order.
+uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const GpuLight& L, uint32_t firstMap,
+                  glm::vec3 lo, glm::vec3 hi, bool mark) {
+    const VsmConstants& k = in.constants;
+    const uint32_t R = k.options.z, shift = k.page.y;
+    const int radius = int(k.options.x);
+    const bool reserve = k.camera.z != 0.0f;
+    const size_t fw = in.markWords;
+    const glm::vec2 fp = vsmFootprintRange(glm::vec3(in.frame.cameraPosition), lo, hi, k.camera.x);
+    uint32_t n = 0;
+    auto level = [&](uint32_t l, size_t region) {
+        const GpuVsmMap& map = in.maps[firstMap + l];
+        VsmTapRect t = vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi));
+        if (t.ok)
+            n += markPages(in, marks, firstMap + l, 0, vsmRectPages(t.texels, 0, radius, R, 0, shift), region,
+                           mark);
+        return t;
+    };
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        const uint32_t levels = in.maps[firstMap].light.z, last = levels - 1;
+        const uint32_t a = vsmPickLevel(in.maps[firstMap], fp.x, R, levels);
+        const uint32_t b = vsmPickLevel(in.maps[firstMap], fp.y, R, levels);
+        uint32_t stop = last;
+        for (uint32_t l = a; l < levels; ++l) {
+            VsmTapRect t = level(l, 0);
+            if (l >= b && t.held) {
+                stop = l;
+                break;
+            }
+        }
+        if (!reserve) return n;
+        const uint32_t f1 = std::min(stop + ML_VSM_FALLBACK_MIPS, last);
+        for (uint32_t l = std::min(a + ML_VSM_FALLBACK_MIPS, last); l <= f1; ++l) level(l, fw);
+        if (f1 != last) level(last, fw);
+        return n;
+    }
+    const uint32_t faces = L.info.x == ML_LIGHT_POINT ? 6 : 1;
+    const uint32_t mips = k.page.w, last = mips - 1;
+    for (uint32_t f = 0; f < faces; ++f) {
+        const uint32_t m = firstMap + f;
+        const GpuVsmMap& map = in.maps[m];
+        const VsmViewBox vb = vsmViewBox(map.view, lo, hi);
+        const glm::uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
+        const int wide = radius + vsmFallbackSlack(map);
+        for (uint32_t mip = range.x; mip <= range.y; ++mip) {
+            VsmTapRect t = vsmBoxTaps(map, R, mip, vb);
+            if (!t.ok) continue;
+            n += markPages(in, marks, m, mip, vsmRectPages(t.texels, 0, radius, R, mip, shift), 0, mark);
+            if (!reserve) continue;
+            const uint32_t fb = std::min(mip + ML_VSM_FALLBACK_MIPS, last);
+            if (fb != mip)
+                n += markPages(in, marks, m, fb, vsmRectPages(t.texels, fb - mip, wide, R, fb, shift), fw,
+                               mark);
+            if (last != fb)
+                n += markPages(in, marks, m, last, vsmRectPages(t.texels, last - mip, wide, R, last, shift),
+                               fw, mark);
+        }
+    }
+    return n;
+}
+
+// cluster_bounds.comp's order-preserving key: min / max on keys order -0 before +0, as the GPU does.
+uint32_t toKey(float f) {
+    const uint32_t u = std::bit_cast<uint32_t>(f);
+    return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+}
+float fromKey(uint32_t k) {
+    return std::bit_cast<float>((k & 0x80000000u) ? (k & 0x7fffffffu) : ~k);
+}
+
 } // namespace
 
 std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
     std::vector<uint32_t> marks(2 * in.markWords, 0); // lookup marks, then fallback marks
     const FrameConstants& f = in.frame;
     const uint32_t width = f.size.x, height = f.size.y;
-    const int radius = int(in.constants.options.x);
-    const uint32_t R = in.constants.options.z;
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             const float d = in.depth[size_t(y) * width + x];
@@ -84,41 +199,81 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
             const glm::vec4 stored = in.normal[size_t(y) * width + x];
             if (stored.w < 0.0f) continue; // not a receiver
             glm::vec3 N = vsmNormalize(glm::vec3(stored));
-            // clusterLights (shaders/shared/cluster_list.glsl).
             uint32_t offset = ML_CLUSTER_OVERFLOW, count = f.cluster.z;
             if (f.cluster.w != ML_CULL_NONE) {
-                const float z = linearDepth(d, f.depth);
-                const uint32_t slices = f.cluster.x;
-                uint32_t s = 0;
-                while (s + 1 < slices && z >= in.sliceFar[s]) ++s;
                 const uint32_t tx = x / f.cluster.y, ty = y / f.cluster.y;
-                glm::uvec2 r = in.ranges[(size_t(ty) * f.size.z + tx) * slices + s];
+                glm::uvec2 r = in.ranges[(size_t(ty) * f.size.z + tx) * f.cluster.x + sliceOf(in, d)];
                 if (r.x != ML_CLUSTER_OVERFLOW) offset = r.x, count = r.y;
             }
             for (uint32_t i = 0; i < count; ++i) {
                 const GpuLight& L = in.lights[offset == ML_CLUSTER_OVERFLOW ? i : in.pool[offset + i]];
                 if (L.info.y == ML_VSM_NO_MAP || !lightReachesPoint(L, P) || !vsmFacesLight(L, P, N))
                     continue;
-                Choice c = choose(in, L, L.info.y, P, N);
-                if (!c.tap.ok) continue;
-                markKernel(in, marks, c.map, c.mip, c.tap, radius, 0);
-                if (in.constants.camera.z == 0.0f) continue; // no fallback reservations this frame
-                const size_t fw = in.markWords;
-                if (L.info.x == ML_LIGHT_DIRECTIONAL) {
-                    uint32_t fb = std::min(c.map + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.map)
-                        markKernel(in, marks, fb, 0, vsmLocate(in.maps[fb], R, 0, P, N), radius, fw);
-                    if (c.last != fb)
-                        markKernel(in, marks, c.last, 0, vsmLocate(in.maps[c.last], R, 0, P, N), radius, fw);
-                } else {
-                    const int wide = radius + vsmFallbackSlack(in.maps[c.map]);
-                    uint32_t fb = std::min(c.mip + ML_VSM_FALLBACK_MIPS, c.last);
-                    if (fb != c.mip)
-                        markKernel(in, marks, c.map, fb, vsmCoarserTap(c.tap, fb - c.mip), wide, fw);
-                    if (c.last != fb)
-                        markKernel(in, marks, c.map, c.last, vsmCoarserTap(c.tap, c.last - c.mip), radius,
-                                   fw);
+                markReceiver(in, marks, L, P, N);
+            }
+        }
+    return marks;
+}
+
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs) {
+    std::vector<uint32_t> marks(2 * in.markWords, 0);
+    const FrameConstants& f = in.frame;
+    const uint32_t width = f.size.x, height = f.size.y, T = ML_TILE_SIZE, slices = f.cluster.x;
+    struct Pixel {
+        glm::vec3 P, N;
+        uint32_t slice;
+        bool receiver;
+    };
+    std::vector<Pixel> pixels;
+    auto lightOf = [&](glm::uvec2 r, uint32_t i) -> const GpuLight& {
+        return in.lights[r.x == ML_CLUSTER_OVERFLOW ? i : in.pool[r.x + i]];
+    };
+    auto countOf = [&](glm::uvec2 r) { return r.x == ML_CLUSTER_OVERFLOW ? f.cluster.z : r.y; };
+    auto markPixel = [&](const Pixel& p, const GpuLight& L) {
+        if (L.info.y != ML_VSM_NO_MAP && lightReachesPoint(L, p.P) && vsmFacesLight(L, p.P, p.N))
+            markReceiver(in, marks, L, p.P, p.N);
+    };
+    for (uint32_t ty = 0; ty * T < height; ++ty)
+        for (uint32_t tx = 0; tx * T < width; ++tx) {
+            // cluster_bounds.comp: the world AABB of each slice's surface pixels (keys, as the GPU reduces).
+            pixels.clear();
+            std::vector<glm::uvec3> lo(slices, glm::uvec3(0xFFFFFFFFu)), hi(slices, glm::uvec3(0u));
+            for (uint32_t y = ty * T; y < std::min(height, ty * T + T); ++y)
+                for (uint32_t x = tx * T; x < std::min(width, tx * T + T); ++x) {
+                    const float d = in.depth[size_t(y) * width + x];
+                    if (!gpu::hasSurface(d)) continue;
+                    const glm::vec4 stored = in.normal[size_t(y) * width + x];
+                    const Pixel p{worldFromPixel(x, y, d, f.invViewProj, f.size),
+                                  vsmNormalize(glm::vec3(stored)), sliceOf(in, d), !(stored.w < 0.0f)};
+                    pixels.push_back(p);
+                    for (int c = 0; c < 3; ++c) {
+                        lo[p.slice][c] = std::min(lo[p.slice][c], toKey(p.P[c]));
+                        hi[p.slice][c] = std::max(hi[p.slice][c], toKey(p.P[c]));
+                    }
                 }
+            const size_t tile = size_t(ty) * f.size.z + tx;
+            std::vector<glm::uvec2> refine; // (slice, light index in its list)
+            for (uint32_t s = 0; s < slices; ++s) {
+                if (lo[s].x == 0xFFFFFFFFu) continue; // empty cluster
+                const glm::vec3 blo(fromKey(lo[s].x), fromKey(lo[s].y), fromKey(lo[s].z));
+                const glm::vec3 bhi(fromKey(hi[s].x), fromKey(hi[s].y), fromKey(hi[s].z));
+                const glm::uvec2 r = in.ranges[tile * slices + s];
+                for (uint32_t i = 0; i < countOf(r); ++i) {
+                    const GpuLight& L = lightOf(r, i);
+                    if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, blo, bhi)) continue;
+                    if (boxPages(in, marks, L, L.info.y, blo, bhi, false) <= ML_VSM_CLUSTER_PAGES)
+                        boxPages(in, marks, L, L.info.y, blo, bhi, true);
+                    else
+                        refine.push_back({s, i});
+                }
+            }
+            if (refinedPairs) *refinedPairs += refine.size();
+            // The refined pairs from each receiver of their slice.
+            for (const Pixel& p : pixels) {
+                if (!p.receiver) continue;
+                const glm::uvec2 r = in.ranges[tile * slices + p.slice];
+                for (const glm::uvec2& pair : refine)
+                    if (pair.x == p.slice) markPixel(p, lightOf(r, pair.y));
             }
         }
     return marks;

@@ -1,6 +1,7 @@
 // CPU references of the virtual shadow map passes (shadows/virtual/vsm.h), for the tests:
 //   vsmMarkReference      vsm_mark.comp: the mark bits from the G-buffer, the cluster lists, the lights
 //                         and the frame's maps (same functions of vsm_math.h, same order: bit for bit);
+//   vsmMarkClusterReference  vsm_mark_cluster.comp: the same marks per cluster-light pair (vsm_bounds.h);
 //   vsmAllocateReference  vsm_invalidate + vsm_scan + vsm_alloc + vsm_avail + vsm_assign (the passes
 //                         walk the sorted request list and the pool): invalidation, LRU refresh, requests in
 //                         priority order, the ordered list of free and evictable pages, assignment,
@@ -35,6 +36,11 @@ struct VsmMarkInputs {
     size_t markWords = 0;             // size of the mark bit array
 };
 std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in);
+// vsm_mark_cluster.comp (VsmSettings::clusterMarking): per tile, the bounds of each slice's surface pixels
+// (as cluster_bounds.comp), and per (slice, light) pair the pages vsm_bounds.h bounds, or the receivers'
+// own marks where those exceed ML_VSM_CLUSTER_PAGES. Needs clustered culling (tiles of ML_TILE_SIZE).
+// Bit for bit the GPU's. refinedPairs (optional) receives, added, the pairs refined per pixel.
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs = nullptr);
 
 struct VsmAllocState {
     std::vector<uint32_t> table;    // per entry of every slot in use

@@ -21,32 +21,6 @@ VsmSessionOptions smallPath(uint32_t width, uint32_t height) {
     return o;
 }
 
-VsmMarkInputs markInputs(Module& m) {
-    auto& impl = internals(m);
-    const VirtualShadowMaps& vsm = impl.vsm;
-    const uint32_t slot = impl.lastSlot;
-    VsmMarkInputs in;
-    in.frame = impl.lastConstants;
-    in.sliceFar = impl.lastSliceFar;
-    in.lights = impl.lastLights;
-    const size_t clusters = impl.cull.grid.count();
-    std::vector<glm::uvec2> rangesRead = readBufferAs<glm::uvec2>(*impl.device, impl.cull.ranges); // GPU-only
-    auto* ranges = rangesRead.data();
-    in.ranges.assign(ranges, ranges + clusters);
-    std::vector<uint32_t> poolRead = readBufferAs<uint32_t>(*impl.device, impl.cull.pool); // GPU-only
-    auto* pool = poolRead.data();
-    in.pool.assign(pool, pool + impl.cull.poolCapacity);
-    in.depth = toFloats(readImage(m, impl.targets.depth, 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
-    auto normal = readImage(m, impl.targets.normal, 8, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    in.normal.resize(in.depth.size());
-    for (size_t i = 0; i < in.normal.size(); ++i) in.normal[i] = half4(normal, i);
-    in.constants = vsm.lastConstants();
-    in.maps = vsm.slotHost(slot).maps;
-    in.coverage = vsm.slotHost(slot).coverage;
-    in.markWords = vsm.layout().markWords;
-    return in;
-}
-
 // What the allocation did over the path: the slot pool's final size and, for the pages taken from an
 // owner, how many came from each LRU class (vsm_alloc_common.glsl: 1 is >= 128 frames unused, 8 is one).
 struct AllocationSeen {
@@ -75,7 +49,9 @@ void marksAndAllocationEqualCpuReference(const VsmSessionOptions& options, uint3
         // Marking.
         std::vector<uint32_t> gpuMarks = vsm.read(deviceOf(m), VsmState::Marks);
         if (f % 10 == 0 || f < 3) { // the mark reference walks every pixel: every 10th frame keeps it short
-            std::vector<uint32_t> cpuMarks = vsmMarkReference(markInputs(m));
+            std::vector<uint32_t> cpuMarks = options.module.vsm.clusterMarking
+                                                 ? vsmMarkClusterReference(markInputs(m))
+                                                 : vsmMarkReference(markInputs(m));
             size_t differ = 0;
             for (size_t w = 0; w < gpuMarks.size(); ++w) differ += gpuMarks[w] != cpuMarks[w];
             ASSERT_EQ(differ, 0u) << "frame " << f << ": mark words differ";
@@ -247,6 +223,14 @@ TEST(GpuVsm, FallbacksReservedOnlyNearPressure) {
 
 TEST(GpuVsm, MarksAndAllocationEqualCpuReferenceEveryFrame) {
     marksAndAllocationEqualCpuReference(smallPath(192, 108), 100);
+}
+
+// Marking per cluster (VsmSettings::clusterMarking): its marks equal vsmMarkClusterReference, and the
+// allocation from them (the request list vsm_mark_cluster appends) equals the reference every frame.
+TEST(GpuVsm, ClusterMarksAndAllocationEqualCpuReference) {
+    VsmSessionOptions o = smallPath(192, 108);
+    o.module.vsm.clusterMarking = true;
+    marksAndAllocationEqualCpuReference(o, 40);
 }
 
 // A pool a little larger than a frame's need: once the free pages are gone, requests take cached pages

@@ -1,0 +1,149 @@
+// Page marking per cluster (vsm_mark_cluster.comp, its CPU twin vsmMarkClusterReference): bounds of
+// what the lookups of every receiver inside a world box [lo, hi] can read in one map. One source for
+// GLSL and C++, like vsm_math.h, whose per-receiver functions these bound.
+//
+// Why the bounds need no margin: the per-receiver functions (vsmPoint, vsmFootprint, vsmPickMip,
+// vsmLocate) are chains of `precise` +, -, *, /, sqrt and floor, each correctly rounded (lavapipe, and
+// the C++ build with -ffp-contract=off), and a correctly rounded operation is monotonic in each argument:
+// a <= a' gives fl(a + b) <= fl(a' + b), fl(m * a) <= fl(m * a') for m >= 0, and so on. Evaluating the
+// same chain, in the same order, at the argument that makes each operand smallest (largest) therefore
+// bounds the value every receiver of the box computes, exactly. The one input not bounded this way is
+// the normal (any unit vector: clusters keep no normal cone), whose offset is bounded by its length
+// with 1/1000 to spare; the texel rectangle is then still widened by one texel, so that a device whose
+// division is not correctly rounded (GLSL allows 2.5 ulp) cannot step past it.
+#ifndef ML_VSM_BOUNDS_H
+#define ML_VSM_BOUNDS_H
+
+#include "shadows/virtual/vsm_math.h"
+
+// A cluster-light pair whose bounds reach more pages than this (lookups and fallback reservations, before
+// the coverage test) marks from its receivers one by one instead (vsm_mark_cluster.comp), so that a box
+// straddling a cube's faces or grazing a spot's near plane does not mark whole mips. Refinement walks the
+// tile's 64 pixels in one invocation, so a low threshold costs more than the pages it saves: on the
+// night city at 640x360, 4 and 2 made the mark pass 2-5x slower than 16 (docs/results/log.md, "Virtual
+// shadow maps: marking per cluster").
+#define ML_VSM_CLUSTER_PAGES 16u
+
+#ifdef __cplusplus
+namespace ml::gpu {
+using ivec4 = glm::ivec4;
+#endif
+
+// The light-view box of a world box: per row of vsmPoint, each term at the corner coordinate that makes
+// it smallest (lo) or largest (hi), summed in vsmPoint's order.
+ML_STRUCT(VsmViewBox) {
+    vec3 lo;
+    vec3 hi;
+};
+ML_FN vec2 vsmRowRange(float m0, float m1, float m2, float m3, vec3 lo, vec3 hi) {
+    ML_PRECISE float a = m0 * (m0 >= 0.0f ? lo.x : hi.x) + m1 * (m1 >= 0.0f ? lo.y : hi.y) +
+                         m2 * (m2 >= 0.0f ? lo.z : hi.z) + m3;
+    ML_PRECISE float b = m0 * (m0 >= 0.0f ? hi.x : lo.x) + m1 * (m1 >= 0.0f ? hi.y : lo.y) +
+                         m2 * (m2 >= 0.0f ? hi.z : lo.z) + m3;
+    return vec2(a, b);
+}
+ML_FN VsmViewBox vsmViewBox(mat4 m, vec3 lo, vec3 hi) {
+    vec2 x = vsmRowRange(m[0][0], m[1][0], m[2][0], m[3][0], lo, hi);
+    vec2 y = vsmRowRange(m[0][1], m[1][1], m[2][1], m[3][1], lo, hi);
+    vec2 z = vsmRowRange(m[0][2], m[1][2], m[2][2], m[3][2], lo, hi);
+    VsmViewBox b;
+    b.lo = vec3(x.x, y.x, z.x);
+    b.hi = vec3(x.y, y.y, z.y);
+    return b;
+}
+
+// vsmFootprint's smallest and largest value over the box: per axis the smallest and largest |P - camera|.
+ML_FN vec2 vsmFootprintRange(vec3 camera, vec3 lo, vec3 hi, float perMetre) {
+    ML_PRECISE float lx = lo.x - camera.x, ly = lo.y - camera.y, lz = lo.z - camera.z;
+    ML_PRECISE float hx = hi.x - camera.x, hy = hi.y - camera.y, hz = hi.z - camera.z;
+    ML_PRECISE float nx = lx > 0.0f ? lx : (hx < 0.0f ? -hx : 0.0f);
+    ML_PRECISE float ny = ly > 0.0f ? ly : (hy < 0.0f ? -hy : 0.0f);
+    ML_PRECISE float nz = lz > 0.0f ? lz : (hz < 0.0f ? -hz : 0.0f);
+    ML_PRECISE float fx = max(-lx, hx), fy = max(-ly, hy), fz = max(-lz, hz);
+    ML_PRECISE float fNear = sqrt(nx * nx + ny * ny + nz * nz) * perMetre;
+    ML_PRECISE float fFar = sqrt(fx * fx + fy * fy + fz * fz) * perMetre;
+    return vec2(fNear, fFar);
+}
+
+// The mips a perspective map's lookups of the box pick (vsmPickMip over the box; x > y: none, when no
+// receiver lies beyond the near plane, where vsmChoose finds no tap). Receivers with a tap have
+// light depth z in (near, -vb.lo.z]: texel0 is smallest at the near plane and largest at the far end.
+ML_FN uvec2 vsmBoxMips(GpuVsmMap map, VsmViewBox vb, vec2 footprint, uint resolution, uint mips) {
+    ML_PRECISE float zFar = -vb.lo.z;
+    if (!(zFar > map.params.y)) return uvec2(1u, 0u);
+    ML_PRECISE float zNear = max(-vb.hi.z, map.params.y);
+    ML_PRECISE float t0Near = 2.0f * (zNear * map.params.x) / float(resolution);
+    ML_PRECISE float t0Far = 2.0f * (zFar * map.params.x) / float(resolution);
+    return uvec2(vsmPickMip(t0Far, footprint.x, mips), vsmPickMip(t0Near, footprint.y, mips));
+}
+
+// The taps (vsmLocate's texel, before the PCF kernel) of the box's receivers at `mip` of `map`, widened
+// by one texel: texels lo = (x, y), hi = (z, w). ok = 0 when no receiver of the box has a tap there
+// (all outside the map or before its near plane); held = 1 when every receiver has one (vsmChoose stops
+// at such a clip level).
+ML_STRUCT(VsmTapRect) {
+    ivec4 texels;
+    uint ok;
+    uint held;
+};
+ML_FN VsmTapRect vsmBoxTaps(GpuVsmMap map, uint resolution, uint mip, VsmViewBox vb) {
+    VsmTapRect r;
+    r.texels = ivec4(0, 0, -1, -1);
+    r.ok = 0u;
+    r.held = 0u;
+    uint res = resolution >> mip;
+    bool ortho = map.info.x == ML_VSM_ORTHOGRAPHIC;
+    // The normal offset: bias.y texels of the mip at the receiver's depth, along a unit normal whose
+    // light-view components are at most 1 (+ rounding: the 1.001).
+    ML_PRECISE float zFar = ortho ? 0.0f : -vb.lo.z;
+    if (!ortho && !(zFar > map.params.y)) return r;
+    ML_PRECISE float extent = ortho ? map.params.x : zFar * map.params.x;
+    ML_PRECISE float texelWorld = 2.0f * extent / float(res);
+    ML_PRECISE float offset = texelWorld * abs(map.bias.y) * 1.001f;
+    ML_PRECISE float qxLo = vb.lo.x - offset, qxHi = vb.hi.x + offset;
+    ML_PRECISE float qyLo = vb.lo.y - offset, qyHi = vb.hi.y + offset;
+    // zq = -(vp.z + vn.z * offset) > near for a tap (perspective).
+    ML_PRECISE float zqFar = -(vb.lo.z - offset);
+    if (!ortho && !(zqFar > map.params.y)) return r;
+    ML_PRECISE float zqNear = max(-(vb.hi.z + offset), map.params.y);
+    ML_PRECISE float sNear = ortho ? map.params.x : zqNear * map.params.x;
+    ML_PRECISE float sFar = ortho ? map.params.x : zqFar * map.params.x;
+    // q / scale over q in [qLo, qHi] and scale in [sNear, sFar] (both > 0): the extremes are at the corners.
+    ML_PRECISE float nxLo = min(qxLo / sNear, qxLo / sFar), nxHi = max(qxHi / sNear, qxHi / sFar);
+    ML_PRECISE float nyLo = min(qyLo / sNear, qyLo / sFar), nyHi = max(qyHi / sNear, qyHi / sFar);
+    ML_PRECISE float fxLo = (nxLo * 0.5f + 0.5f) * float(res), fxHi = (nxHi * 0.5f + 0.5f) * float(res);
+    ML_PRECISE float fyLo = (nyLo * 0.5f + 0.5f) * float(res), fyHi = (nyHi * 0.5f + 0.5f) * float(res);
+    // vsmLocate keeps taps with 0 <= f < res only.
+    if (!(fxHi >= 0.0f && fyHi >= 0.0f && fxLo < float(res) && fyLo < float(res))) return r;
+    ML_PRECISE float cx0 = max(fxLo, -1.0f), cy0 = max(fyLo, -1.0f);
+    ML_PRECISE float cx1 = min(fxHi, float(res)), cy1 = min(fyHi, float(res));
+    r.texels = ivec4(int(floor(cx0)) - 1, int(floor(cy0)) - 1, int(floor(cx1)) + 1, int(floor(cy1)) + 1);
+    r.ok = 1u;
+    r.held = (fxLo >= 1.0f && fyLo >= 1.0f && fxHi < float(res) - 1.0f && fyHi < float(res) - 1.0f) ? 1u : 0u;
+    return r;
+}
+
+// Pages (lo = (x, y), hi = (z, w); pages per side of the mip: s0 >> mip) under the tap texels shifted
+// `levels` mips coarser (vsmCoarserTap) and widened by `radius` texels, clamped to the map.
+ML_FN ivec4 vsmRectPages(ivec4 texels, uint levels, int radius, uint resolution, uint mip, uint pageShift) {
+    int res = int(resolution >> mip);
+    int x0 = (texels.x < 0 ? 0 : (texels.x >> int(levels))) - radius;
+    int y0 = (texels.y < 0 ? 0 : (texels.y >> int(levels))) - radius;
+    int x1 = (texels.z >> int(levels)) + radius, y1 = (texels.w >> int(levels)) + radius;
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > res - 1 ? res - 1 : x1;
+    y1 = y1 > res - 1 ? res - 1 : y1;
+    int s = int(pageShift);
+    return ivec4(x0 >> s, y0 >> s, x1 >> s, y1 >> s);
+}
+ML_FN uint vsmRectPageCount(ivec4 pages) {
+    if (pages.z < pages.x || pages.w < pages.y) return 0u;
+    return uint(pages.z - pages.x + 1) * uint(pages.w - pages.y + 1);
+}
+
+#ifdef __cplusplus
+} // namespace ml::gpu
+#endif
+
+#endif

@@ -1,0 +1,101 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// vsm_mark_cluster: page marking per cluster (VsmSettings::clusterMarking, the clustered culling modes):
+// one workgroup per screen tile of ML_TILE_SIZE^2 pixels, one invocation per depth slice of it (an
+// occupied one: its cluster_bounds box, the exact AABB of the cluster's surface pixels, is not empty),
+// no shared memory and no barrier. For each light of the cluster's list, the invocation marks every page
+// that any receiver inside the box could read (vsmBoxPages: vsm_bounds.h's mip, clip-level and texel
+// bounds, the PCF kernel, the normal offset and one texel). A light whose box reaches more than
+// ML_VSM_CLUSTER_PAGES pages (a box straddling cube faces or grazing a near plane would mark whole mips)
+// is refined instead: the tile's receivers in this slice mark for it as vsm_mark does (vsmMarkReceiver),
+// up to kRefineBatch lights per walk of the tile's pixels.
+// The marks and the request list are then those of the per-pixel pass, plus the pages the boxes add.
+// CPU twin: vsmMarkClusterReference (bit for bit).
+#include "shaders/shared/glsl_common.glsl"
+#include "shadows/virtual/vsm_types.h"
+
+layout(local_size_x = ML_MAX_SLICES) in;
+
+layout(binding = 0) uniform Frame { FrameConstants frame; };
+layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = 5) uniform texture2D depthImage;
+layout(binding = 6) uniform texture2D normalImage;
+layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
+layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
+layout(binding = 11, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = 12, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
+layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
+layout(binding = 14, std430) readonly buffer Bounds { ClusterBounds clusterBounds[]; };
+layout(binding = 15, std430) readonly buffer TileMasks { uvec2 tileMasks[]; }; // bit s: slice s occupied
+
+#define VSM_CONST vsm
+#define VSM_MAPS vsmMaps
+#define VSM_COVER vsmCoverage
+#define VSM_MARKS vsmMarks
+#define VSM_COUNTERS vsmCounters
+#define VSM_RANKS vsmRankBase
+#define VSM_LIST vsmList
+#define VSM_MARKING
+#include "shaders/shared/cluster_list.glsl"
+#include "shadows/virtual/vsm_common.glsl"
+#include "shadows/virtual/vsm_mark_box.glsl"
+
+// Refined lights are walked over the tile's pixels together, this many at a time (registers).
+const uint kRefineBatch = 8u;
+
+// vsm_mark.comp's marks of one receiver for one light.
+void markReceiver(GpuLight L, vec3 P, vec3 N) {
+    if (lightReachesPoint(L, P) && vsmFacesLight(L, P, N)) vsmMarkReceiver(L, L.info.y, P, N);
+}
+
+// The receivers of the tile in slice s mark for the batch's lights.
+void refine(uvec2 tile, uint s, uint batch[kRefineBatch], uint n) {
+    for (uint k = 0u; k < ML_TILE_SIZE * ML_TILE_SIZE; ++k) {
+        uvec2 px = tile * ML_TILE_SIZE + uvec2(k % ML_TILE_SIZE, k / ML_TILE_SIZE);
+        if (px.x >= frame.size.x || px.y >= frame.size.y) continue;
+        float d = texelFetch(depthImage, ivec2(px), 0).r;
+        if (!hasSurface(d) || clusterSlice(linearDepth(d, frame.depth)) != s) continue;
+        vec4 stored = texelFetch(normalImage, ivec2(px), 0);
+        if (stored.w < 0.0) continue; // ML_NOT_A_RECEIVER: the evaluation looks no shadow up here
+        vec3 P = worldFromPixel(px.x, px.y, d, frame.invViewProj, frame.size);
+        vec3 N = vsmNormalize(stored.xyz);
+        for (uint j = 0u; j < n; ++j) markReceiver(lights[batch[j]], P, N);
+    }
+}
+
+void main() {
+    uint slices = frame.cluster.x;
+    uint s = gl_LocalInvocationIndex;
+    uvec2 tile = gl_WorkGroupID.xy;
+    uint t = tile.y * frame.size.z + tile.x;
+    uvec2 mask = tileMasks[t];
+    if (s >= slices || (mask[s >> 5u] & (1u << (s & 31u))) == 0u) return; // no surface in the cluster
+    ClusterBounds b = clusterBounds[t * slices + s];
+    vec3 lo = b.lo.xyz, hi = b.hi.xyz;
+    uvec2 range = ranges[t * slices + s];
+    bool all = range.x == ML_CLUSTER_OVERFLOW; // the cluster overflowed: every visible light
+    uint count = all ? frame.cluster.z : range.y;
+    uint batch[kRefineBatch];
+    uint n = 0u;
+    for (uint i = 0u; i < count; ++i) {
+        uint index = all ? i : pool[range.x + i];
+        GpuLight L = lights[index];
+        // lightTouchesBox is conservative (light_math.h): false only when no point of the box is reached.
+        if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, lo, hi)) continue;
+        if (vsmBoxPages(L, L.info.y, lo, hi, false) <= ML_VSM_CLUSTER_PAGES) {
+            vsmBoxPages(L, L.info.y, lo, hi, true);
+            continue;
+        }
+        batch[n++] = index;
+        if (n == kRefineBatch) {
+            refine(tile, s, batch, n);
+            n = 0u;
+        }
+    }
+    if (n > 0u) refine(tile, s, batch, n);
+}

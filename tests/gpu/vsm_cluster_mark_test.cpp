@@ -1,0 +1,102 @@
+// Page marking per cluster (VsmSettings::clusterMarking, vsm_mark_cluster.comp) on real data at 320x180
+// with the validation layer: on the night city's drive path (256 lights) and the indoor level, every
+// frame the GPU's cluster marks equal vsmMarkClusterReference bit for bit and contain every page that
+// the per-pixel marking (vsmMarkReference, itself equal to vsm_mark.comp: GpuVsm.*) marks, lookup and
+// fallback regions both (the night city's frames also refine pairs per pixel); `tiled` culling keeps the
+// per-pixel pass.
+#include <algorithm>
+#include <bit>
+#include <cstdio>
+
+#include "vsm_test_util.h"
+
+namespace ml::test {
+namespace {
+
+struct MarkCounts {
+    size_t pixel = 0, cluster = 0, missing = 0, differ = 0, frames = 0, refined = 0;
+};
+
+MarkCounts compareMarks(const VsmSessionOptions& o, uint32_t frames) {
+    MarkCounts n;
+    auto session = VsmSession::create(o);
+    EXPECT_TRUE(session.ok()) << session.error();
+    if (!session.ok()) return n;
+    VsmSession& s = *session.value();
+    Module& m = *s.module;
+    const VirtualShadowMaps& vsm = internals(m).vsm;
+    for (uint32_t f = 0; f < frames; ++f) {
+        auto report = s.frame(f * 7); // frames 0, 7, 14, ...: the camera and the cars move between them
+        EXPECT_TRUE(report.ok()) << report.error();
+        if (!report.ok()) return n;
+        const VsmMarkInputs in = markInputs(m);
+        const std::vector<uint32_t> gpu = vsm.read(deviceOf(m), VsmState::Marks);
+        const std::vector<uint32_t> cluster = vsmMarkClusterReference(in, &n.refined);
+        const std::vector<uint32_t> pixel = vsmMarkReference(in);
+        EXPECT_GE(gpu.size(), cluster.size());
+        for (size_t w = 0; w < cluster.size() && w < gpu.size(); ++w) {
+            n.differ += gpu[w] != cluster[w];
+            n.missing += size_t(std::popcount(pixel[w] & ~gpu[w]));
+            n.pixel += size_t(std::popcount(pixel[w]));
+            n.cluster += size_t(std::popcount(gpu[w]));
+        }
+        ++n.frames;
+    }
+    return n;
+}
+
+VsmSessionOptions clusterOptions(const char* scene) {
+    VsmSessionOptions o = vsmSmallDrive();
+    o.scene = scene;
+    o.width = 320;
+    o.height = 180;
+    o.module.vsm.maxMaps = 1024; // the references' mark arrays cover every slot
+    o.module.vsm.clusterMarking = true;
+    o.module.vsm.fallbacksOnDemand = false; // reserve fallbacks every frame: both regions compared
+    return o;
+}
+
+// refines: the path has pairs past ML_VSM_CLUSTER_PAGES, so the per-pixel refinement is compared too.
+void expectSuperset(const char* scene, uint32_t frames, bool refines) {
+    resetValidationCounters();
+    const MarkCounts n = compareMarks(clusterOptions(scene), frames);
+    EXPECT_EQ(n.frames, frames);
+    EXPECT_EQ(n.differ, 0u) << scene << ": GPU cluster mark words differ from vsmMarkClusterReference";
+    EXPECT_EQ(n.missing, 0u) << scene << ": pages the pixels mark that the clusters miss";
+    EXPECT_GT(n.pixel, 0u) << scene << ": the path marks no page (nothing tested)";
+    EXPECT_GE(n.cluster, n.pixel);
+    if (refines) EXPECT_GT(n.refined, 0u) << scene << ": no pair was refined per pixel (that path untested)";
+    std::printf("%s: %zu frames, pages marked by pixels %zu, by clusters %zu (%.2fx), pairs refined %zu\n",
+                scene, n.frames, n.pixel, n.cluster, n.pixel ? double(n.cluster) / double(n.pixel) : 0.0,
+                n.refined);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+TEST(GpuVsmClusterMark, NightCityContainsPixelMarksAndEqualsCpu) {
+    expectSuperset("night-city", 4, true);
+}
+
+TEST(GpuVsmClusterMark, IndoorContainsPixelMarksAndEqualsCpu) {
+    expectSuperset("indoor", 4, false);
+}
+
+// `tiled` culling has one slice per tile: the setting falls back to the per-pixel pass, whose marks equal
+// vsmMarkReference exactly.
+TEST(GpuVsmClusterMark, TiledCullingMarksPerPixel) {
+    resetValidationCounters();
+    VsmSessionOptions o = clusterOptions("night-city");
+    o.module.culling = CullingMode::Tiled;
+    auto session = VsmSession::create(o);
+    ASSERT_TRUE(session.ok()) << session.error();
+    Module& m = *session.value()->module;
+    ASSERT_TRUE(session.value()->frame(0).ok());
+    const std::vector<uint32_t> pixel = vsmMarkReference(markInputs(m));
+    const std::vector<uint32_t> gpu = internals(m).vsm.read(deviceOf(m), VsmState::Marks);
+    ASSERT_GE(gpu.size(), pixel.size());
+    EXPECT_TRUE(std::equal(pixel.begin(), pixel.end(), gpu.begin()));
+    EXPECT_GT(std::count_if(pixel.begin(), pixel.end(), [](uint32_t w) { return w != 0; }), 0);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+} // namespace
+} // namespace ml::test
