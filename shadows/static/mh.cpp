@@ -212,6 +212,30 @@ Placed place(const MhTree& tree, const std::vector<uint32_t>& value, const std::
 }
 } // namespace
 
+void layoutPositions(const MhTree& tree, std::vector<uint32_t>& hpos, std::vector<uint32_t>& gpos) {
+    const size_t count = tree.nodes.size();
+    hpos.assign(count, 0), gpos.assign(count, 0);
+    const MhTree::Node& root = tree.nodes[0];
+    uint64_t words = 1;
+    if (root.inner()) hpos[0] = uint32_t(words++);
+    std::vector<int32_t> stack;
+    if (root.inner()) stack.push_back(0);
+    while (!stack.empty()) { // place()'s walk, counting
+        int32_t n = stack.back();
+        stack.pop_back();
+        gpos[n] = uint32_t(words);
+        const MhTree::Node& node = tree.nodes[n];
+        for (uint32_t c = 0; c < 4; ++c) {
+            int32_t ch = node.child[c];
+            if (ch < 0) continue;
+            words += tree.nodes[ch].valued;
+            if (tree.nodes[ch].inner()) hpos[ch] = uint32_t(words++);
+        }
+        for (int c = 3; c >= 0; --c)
+            if (node.child[c] >= 0 && tree.nodes[node.child[c]].inner()) stack.push_back(node.child[c]);
+    }
+}
+
 Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<uint32_t>& value,
                                         const std::vector<int32_t>* redirect,
                                         const std::vector<uint8_t>* skip, uint32_t magic,

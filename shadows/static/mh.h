@@ -120,6 +120,9 @@ Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<ui
                                         const std::vector<uint8_t>* skip, uint32_t magic,
                                         std::vector<uint32_t>* headerPos = nullptr,
                                         std::vector<uint32_t>* groupPos = nullptr, const Layout& layout = {});
+// Node-array positions of every inner node's header word and child group in the version 1 layout
+// without redirects (serialize's order, no padding), counted without writing the words: 8 B a node.
+void layoutPositions(const MhTree& tree, std::vector<uint32_t>& headerPos, std::vector<uint32_t>& groupPos);
 // Checks the header, checksum and every reachable record and group against the buffer's bounds.
 Result<void> validate(const uint32_t* data, size_t size, uint32_t magic);
 stat::ByteBreakdown breakdown(const uint32_t* data, size_t size);

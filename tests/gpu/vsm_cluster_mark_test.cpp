@@ -65,7 +65,9 @@ void expectSuperset(const char* scene, uint32_t frames, bool refines) {
     EXPECT_EQ(n.missing, 0u) << scene << ": pages the pixels mark that the clusters miss";
     EXPECT_GT(n.pixel, 0u) << scene << ": the path marks no page (nothing tested)";
     EXPECT_GE(n.cluster, n.pixel);
-    if (refines) EXPECT_GT(n.refined, 0u) << scene << ": no pair was refined per pixel (that path untested)";
+    if (refines) {
+        EXPECT_GT(n.refined, 0u) << scene << ": no pair was refined per pixel (that path untested)";
+    }
     std::printf("%s: %zu frames, pages marked by pixels %zu, by clusters %zu (%.2fx), pairs refined %zu\n",
                 scene, n.frames, n.pixel, n.cluster, n.pixel ? double(n.cluster) / double(n.pixel) : 0.0,
                 n.refined);
