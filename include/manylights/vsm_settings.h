@@ -8,8 +8,8 @@ namespace ml {
 
 // How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
 // indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
-// Auto: the vertex path on CPU devices (lavapipe: measured faster there, docs/virtual-shadow-maps.md,
-// "Meshlets") and on devices without mesh shaders, the mesh path otherwise. The choice is logged once at
+// Auto: the vertex path on CPU devices (measured faster there: docs/virtual-shadow-maps.md, "Meshlets")
+// and on devices without mesh shaders, the mesh path otherwise. The choice is logged once at
 // creation.
 enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
 // `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
@@ -76,7 +76,7 @@ struct VsmSettings {
     bool pageClip = true;
     // The static layer: every physical page gets a twin holding the static casters' depths alone (the
     // pool's memory doubles: 128 MiB at the defaults). A page invalidated only by a moving dynamic caster
-    // (a cart) then redraws only the dynamic casters and takes the minimum with its twin (vsm_merge.comp),
+    // (a cart) then redraws only the dynamic casters and takes the minimum with its twin,
     // not every caster again; static casters go to the twins only (one atomic per fragment either way).
     // Exact: the static casters' depths are unchanged, and the atomic minimum is order-independent.
     bool staticLayer = true;
@@ -95,9 +95,9 @@ struct VsmSettings {
     uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
     VsmRaster raster = VsmRaster::Auto;
     uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
-    // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity
-    // ML_MESHLET_VERTICES / ML_MESHLET_TRIANGLES (shaders/shared/config.h, which has the measurement);
-    // triangles a multiple of 4. Smaller values are for `bench vsm --meshlet`.
+    // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity, 64
+    // vertices and 124 triangles; triangles a multiple of 4. Smaller values are
+    // for `bench vsm --meshlet`.
     uint32_t meshletVertices = 64, meshletTriangles = 124;
 };
 
@@ -124,7 +124,7 @@ struct VsmStats {
     // pagesInvalidated, by moved casters' bounds only (not a moved light, a map made active, or caching
     // off). pagesRenderedDynamic: rendered from their static twin, dynamic casters only (staticLayer).
     uint32_t pagesNew = 0, pagesInvalidatedCaster = 0, pagesRenderedDynamic = 0;
-    // The culling's caster groups (64 casters in the culling order, vsm_groups.comp): (group, map with a
+    // The culling's caster groups (64 casters in the culling order): (group, map with a
     // dirty page) frustum tests, and those refused (the group's casters not read at all).
     // pairOverflow: pairs past the pair list's capacity (0 unless the device's storage-buffer
     // range cut it: their casters are not drawn, so shadows can be missing there).
