@@ -37,8 +37,8 @@ DAG-MH/MMH (goal <= 0.75), encode times and the DAG-MH breakdown.
   --cache DIR      keep the MH trees in DIR (<case>_<res>.tree): reruns skip the rasteriser (and the
                    per-texel check, which needs the map)
   --out DIR        output folder for bench_sizes.csv (default out/bench_sizes)
-Exits 1 when an encoding fails validation or decodes a value outside its interval; MH and MMH may not be
-encodable at large sizes (24-bit child offsets): their columns say so.
+Exits 1 when an encoding fails validation or decodes a value outside its interval; a method whose
+encoder fails at a size says so in its columns.
 Last stdout line: {"bench": "sizes", "maps": K, "mean_mmh_over_mh": ..., "mean_dagmh_over_mmh": ...,
 "errors": ...}
 )";

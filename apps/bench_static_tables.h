@@ -19,7 +19,7 @@ struct BenchStaticRow {
     uint64_t bytes = 0, mapBytes = 0;
     double renderS = 0, encodeS = 0, evalMs = 0;
     double precomputeS = 0, insertS = 0, compressS = 0; // CPVS: the paper's Table 3 split of encodeS
-    std::string failed; // the encoder's error when it cannot encode a map (e.g. MH's 24-bit offsets)
+    std::string failed;                                 // the encoder's error when it cannot encode a map
     uint64_t compared = 0, mismatches = 0;
     double meanAbs = 0;
     std::vector<LookupTiming> lookup; // per --lookup-pcf radius; empty when not measured

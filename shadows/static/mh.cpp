@@ -293,7 +293,7 @@ Result<std::vector<uint32_t>> serialize(const MhTree& tree, const std::vector<ui
             field = kFarBit | ((headerWords + target) >> shift);
         else
             return fail("MH: child offset " + std::to_string(int64_t(target) - int64_t(h)) +
-                        " does not fit 24 bits");
+                        " does not fit the layout"); // unreachable: placement checked every offset
         p.nodes[h] = childFlags(tree, int32_t(n)) | field << 8;
     }
     std::vector<uint32_t> out(headerWords, 0u);

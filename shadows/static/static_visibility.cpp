@@ -132,25 +132,6 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     glm::ivec2 t;
     uint32_t depth, step;
     if (!depthMapTap(rec, data, vp, vn, footprint2, t, depth, step)) return 1.0f;
-    if (step > 0) {
-        // A level above the finest (MH, MMH): the same taps on that level's map.
-        const int levelRes = int((res + (1u << step) - 1u) >> step);
-        const uint32_t steps = data[base + mhfmt::kLevels] - step;
-        uint32_t lit = 0;
-        for (int dy = -radius; dy <= radius; ++dy)
-            for (int dx = -radius; dx <= radius; ++dx) {
-                int x = t.x + dx, y = t.y + dy;
-                if (x < 0 || y < 0 || x >= levelRes || y >= levelRes) {
-                    ++lit;
-                    continue;
-                }
-                uint32_t d = method == StaticMethod::MH
-                                 ? mhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps)
-                                 : mmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps);
-                if (depth <= d) ++lit;
-            }
-        return float(lit) / taps;
-    }
     // Hierarchical PCF for DAG-MH: the taps share the traversal down to the node that holds them all.
     glm::ivec2 lo = glm::clamp(t - radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
@@ -164,15 +145,21 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     // dagmhPcfLit, also shares a prefix treelet's words and a chunk's words between taps: same values).
     uint32_t memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint32_t lit = 0;
+    // With filtering by level (step > 0: MH, MMH), the taps are texels of that level's map.
+    const int levelRes = int((res + (1u << step) - 1u) >> step);
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
-            if (x < 0 || y < 0 || x >= int(res) || y >= int(res)) {
+            if (x < 0 || y < 0 || x >= levelRes || y >= levelRes) {
                 ++lit;
                 continue;
             }
             uint32_t d;
-            if (method == StaticMethod::DAGMH) {
+            if (step > 0) {
+                const uint32_t steps = data[base + mhfmt::kLevels] - step;
+                d = method == StaticMethod::MH ? mhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps)
+                                               : mmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps);
+            } else if (method == StaticMethod::DAGMH) {
                 const uint32_t ux = uint32_t(x), uy = uint32_t(y);
                 DagmhState st =
                     dagmhLocate(data, base, ux, uy, usePrefix ? prefix : dagmhStart(data, base, ux, uy));
