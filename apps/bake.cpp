@@ -35,13 +35,14 @@ namespace {
 
 const char* kBakeHelp = R"(usage: manylights bake --method M --res N --lights SEL --out FILE [options]
 Bakes the static shadows of a scene's static spot and point lights (six cube faces each) into one bake file.
-  --scene S          night-city (default), night-city-large (40x40 blocks, 520K triangles), indoor
-                     (rooms and corridors) or a .gltf / .glb file
+  --scene S          night-city (default), night-city-large (40x40 blocks, 520K triangles), either
+                     with -closed (awnings, fences, foliage as thin closed boxes), indoor (rooms and
+                     corridors) or a .gltf / .glb file
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs
   --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384);
-                     mh, mmh and dagmh up to 65536: past 16384 they bake in tiles (see --tile)
+                     mh, mmh and dagmh up to 262144: past 16384 they bake in tiles (see --tile)
   --tile T           mh, mmh, dagmh: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
                      default 512 past --res 16384, whole maps below it). The map is never held whole:
                      memory is a tile per hardware thread (about 30 B a tile texel plus the
@@ -448,8 +449,8 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
                     100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
         if (l.tiles)
-            std::printf(" (%u tiles; render includes building the %llu-node tree)", l.tiles,
-                        (unsigned long long)l.treeNodes);
+            std::printf(" (%u tiles, %u empty; render includes building the %llu-node tree)", l.tiles,
+                        l.emptyTiles, (unsigned long long)l.treeNodes);
         std::printf("\n");
     }
     if (auto w = writeBakeFile(o.out, baked->file); !w) return runError("bake", w.error());

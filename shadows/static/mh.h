@@ -43,6 +43,12 @@
 
 namespace ml {
 
+// The largest map the MH family (MH, MMH, DAG-MH) builds and reads: 2^18 texels a side, the seeds'
+// 256K^2 tables. Coordinates, levels, node and word counts fit 32 bits there; the texel count (2^36)
+// is counted in 64 bits. Only tiled builds (mh_tiled.h) reach it: a whole map past 16384^2 is not held.
+constexpr uint32_t kMhMaxLevels = 18;
+constexpr uint32_t kMhMaxResolution = 1u << kMhMaxLevels;
+
 // Construction-side sparse quadtree shared by the MH, MMH and DAG-MH encoders.
 struct MhTree {
     struct Node {
