@@ -390,6 +390,16 @@ uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMetho
     return (uint64_t(400) << 20) + 2 * words + working;
 }
 
+// --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
+// leaves after the tiles' working memory (a node is held twice while tiles are spliced).
+BakeTiles bakeTilesOf(const BakeOptions& o) {
+    BakeTiles t;
+    t.tile = o.tile;
+    const uint64_t working = tiledWorkingBytes(o.tile ? o.tile : kBakeDefaultTile);
+    t.maxNodes = o.maxMemory > working ? (o.maxMemory - working) / (2 * sizeof(MhTree::Node)) : 1;
+    return t;
+}
+
 Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                              const std::optional<BakeNeed>& need) {
     std::vector<uint32_t> faces;
@@ -411,18 +421,23 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
     const uint32_t shards = o.shard && bakeTiled(o.method, o.res, o.tile) ? o.shard->count : 1;
-    return opts::checkMemory("bake", bakePeakBytes(faces, o.method, o.tile, shards), o.maxMemory,
+    const uint64_t estimate = bakePeakBytes(faces, o.method, o.tile, shards);
+    const bool tiled = !faces.empty() && std::all_of(faces.begin(), faces.end(), [&](uint32_t r) {
+        return bakeTiled(o.method, r, o.tile);
+    });
+    if (tiled && estimate > o.maxMemory) {
+        // The estimate's node per 64 texels is a bound for maps of open geometry; a tiled tree is held to
+        // what --max-memory leaves (bakeTilesOf), so the bake goes on and stops if the tree passes it.
+        std::fprintf(
+            stderr,
+            "manylights bake: estimated peak memory %llu MiB (%s, a tree node per 64 texels) is over "
+            "the limit %llu MiB: the tree is held to %llu nodes and the bake stops if it passes them\n",
+            (unsigned long long)(estimate >> 20), what.c_str(), (unsigned long long)(o.maxMemory >> 20),
+            (unsigned long long)bakeTilesOf(o).maxNodes);
+        return {};
+    }
+    return opts::checkMemory("bake", estimate, o.maxMemory,
                              shards > 1 ? what + ", one tile shard of " + std::to_string(shards) : what);
-}
-
-// --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
-// leaves after the tiles' working memory (a node is held twice while tiles are spliced).
-BakeTiles bakeTilesOf(const BakeOptions& o) {
-    BakeTiles t;
-    t.tile = o.tile;
-    const uint64_t working = tiledWorkingBytes(o.tile ? o.tile : kBakeDefaultTile);
-    t.maxNodes = o.maxMemory > working ? (o.maxMemory - working) / (2 * sizeof(MhTree::Node)) : 1;
-    return t;
 }
 
 // The whole selection into one bake file (by need or at one resolution), and what was baked.
