@@ -1,7 +1,9 @@
 // The GLSL decoders (shaders/static/*_lookup.glsl) compiled as C++ (glsl_shims.h). Every texel must
 // decode bit-identically to the C++ decoders, at base 0 and with the buffer placed at an odd offset
-// inside a larger array (the `base` argument).
-// The GPU run of the same text comes with the GPU tests; this pins the text itself.
+// inside a larger array (the `base` argument). MH's and MMH's text is the C++ decoders' own
+// (shaders/static/mh_descent.h): for them this pins the GLSL instantiation (words read through
+// ML_STATIC_DATA at `base`); DAG-MH's GLSL is a text of its own. The GPU run of the same text comes with
+// the GPU tests (GpuStatic.*); this pins the text itself.
 #include "static_test_util.h"
 #include "bake/bake.h"
 #include "bake/scene_casters.h"
