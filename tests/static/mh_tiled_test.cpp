@@ -12,6 +12,15 @@
 namespace ml::stest {
 namespace {
 
+// The bake's tile source: the rasteriser's blocks.
+DualTileSource rasterSource(const DualRasterizer& raster) {
+    return [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
+                     uint32_t* x) -> Result<void> {
+        raster.renderRect(x0, y0, w, h, e, x);
+        return {};
+    };
+}
+
 void expectSameTree(const MhTree& a, const MhTree& b, const std::string& what) {
     ASSERT_EQ(a.resolution, b.resolution) << what;
     ASSERT_EQ(a.levels, b.levels) << what;
@@ -123,14 +132,7 @@ TEST(TiledMh, NightCityRasterTilesEqualTheWholeMap) {
         EXPECT_EQ(differ, 0u) << name;
         MhTiledOptions o;
         o.tile = 64, o.threads = 2;
-        auto tiled = buildMhTreeTiled(
-            res,
-            [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
-                      uint32_t* x) -> Result<void> {
-                raster.renderRect(x0, y0, w, h, e, x);
-                return {};
-            },
-            o);
+        auto tiled = buildMhTreeTiled(res, rasterSource(raster), o);
         ASSERT_TRUE(tiled.ok()) << tiled.error();
         auto whole = buildMhTree(map);
         ASSERT_TRUE(whole.ok());
@@ -256,14 +258,7 @@ TEST(TiledMh, EmptyTilesAreSkippedExactly) {
             return raster.blockEmpty(x0, y0, w, h);
         };
         MhTiledStats st;
-        auto tiled = buildMhTreeTiled(
-            res,
-            [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
-                      uint32_t* x) -> Result<void> {
-                raster.renderRect(x0, y0, w, h, e, x);
-                return {};
-            },
-            o, &st);
+        auto tiled = buildMhTreeTiled(res, rasterSource(raster), o, &st);
         ASSERT_TRUE(tiled.ok()) << tiled.error();
         auto whole = buildMhTree(map);
         ASSERT_TRUE(whole.ok());
