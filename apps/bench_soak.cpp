@@ -35,6 +35,8 @@ be another flag.
   --lights L       lights in the scene at most (default 16)
   --limit-pct P    growth that fails the run, in % (default 1)
   --csv FILE       VmRSS and GPU bytes every 200 frames (default out/bench_soak.csv)
+  --plant-leak K   keep K KiB of host memory more every 200 frames (a leak the run must catch: the
+                   check that the soak can fail)
 Last stdout line: {"frames": ..., "rss_kib_warm": ..., "rss_kib_end": ..., "rss_growth_pct": ...,
 "gpu_bytes_warm": ..., "gpu_bytes_end": ..., "gpu_growth_pct": ..., ...}
 )";
@@ -75,7 +77,7 @@ LightDesc ringLight(uint32_t i, uint32_t count, bool casts) {
 
 int runBenchSoak(int argc, char** argv) {
     int status = 0;
-    const cli::Flags own{{"--warmup", "--lights", "--limit-pct", "--csv"}, {}};
+    const cli::Flags own{{"--warmup", "--lights", "--limit-pct", "--csv", "--plant-leak"}, {}};
     const auto args =
         commandArgs("bench", kBenchSoakHelp, cli::parse(argc, argv, 3, {opts::kViewFlags, own}), status);
     if (!args) return status;
@@ -83,7 +85,9 @@ int runBenchSoak(int argc, char** argv) {
     auto warmup = cli::parseUint("--warmup", args->get("--warmup", "1000"), kPeriod, 10000000);
     auto lights = cli::parseUint("--lights", args->get("--lights", "16"), 2, 256);
     auto limit = opts::number("--limit-pct", args->get("--limit-pct", "1"), 0.0f, 100.0f);
-    for (const std::string* e : {&view.error(), &warmup.error(), &lights.error(), &limit.error()})
+    auto leak = cli::parseUint("--plant-leak", args->get("--plant-leak", "0"), 0, 1u << 20);
+    for (const std::string* e :
+         {&view.error(), &warmup.error(), &lights.error(), &limit.error(), &leak.error()})
         if (!e->empty()) return usageError("bench", *e);
     const uint32_t frames = view->frames, warm = warmup.value(), count = lights.value();
     if (frames % kPeriod || warm % kPeriod)
@@ -155,6 +159,7 @@ int runBenchSoak(int argc, char** argv) {
     csv << "frame,rss_kib,gpu_bytes\n";
     uint64_t rssWarm = 0, rssEnd = 0, gpuWarm = 0, gpuEnd = 0, gpuLast = 0;
     std::string error;
+    std::vector<std::vector<uint8_t>> leaked; // --plant-leak
     const auto start = std::chrono::steady_clock::now();
     // Both frames in flight done, the newest report collected: the module's live bytes and VmRSS.
     auto sample = [&](uint64_t& rss, uint64_t& gpu) {
@@ -173,6 +178,9 @@ int runBenchSoak(int argc, char** argv) {
             sample(rss, gpuLast);
             csv << f << "," << rss << "," << gpuLast << "\n";
             if (f == warm) rssWarm = rss, gpuWarm = gpuLast;
+            if (leak.value()) { // touched, so that it is resident
+                leaked.emplace_back(size_t(leak.value()) * 1024, uint8_t(f));
+            }
             if (f % 1000 == 0)
                 std::fprintf(stderr, "  frame %u: VmRSS %llu KiB, module GPU bytes %llu\n", f,
                              (unsigned long long)rss, (unsigned long long)gpuLast);
