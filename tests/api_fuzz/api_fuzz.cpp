@@ -7,6 +7,7 @@
 //   - a refusal is not one non-empty line;
 //   - the validation layer reports anything (messages are printed as they happen);
 //   - the module's light count or frame count disagrees with the host's;
+//   - record() submits, waits or builds a pipeline (the module's own counters);
 // and a crash names its seed and step too (signal handler). Every failure prints the command line that
 // replays it. ctest runs it at 10,000 steps (ApiFuzz*); `api_fuzz --steps N --seed S` runs longer.
 #include "api_fuzz_host.h"
