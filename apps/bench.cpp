@@ -17,10 +17,12 @@
 
 namespace ml {
 
-static const char* kBenchHelp = R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes|cpu [options]
+static const char* kBenchHelp =
+    R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes|cpu|record|soak [options]
 (`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
 static shadows' temporal stability along a camera path, `bench vsm`, `bench cpvs`, `bench sizes` and
-`bench cpu --help` (the module's CPU time per frame) for theirs)
+`bench cpu --help` (the module's CPU time per frame), `bench record --help` (record()'s CPU time in
+frame 0 and after an LDR/HDR switch) and `bench soak --help` (memory over 10,000 frames) for theirs)
 Culling and shading time against light count, for each culling mode, in one run; every pass timed
 fenced (its own submission, timed to completion: lavapipe's timestamps do not bracket compute).
 Every flag of every command may be given once; a flag's value cannot be another flag.
@@ -260,9 +262,11 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "cpvs") return runBenchCpvs(argc, argv);
     if (std::string(argv[2]) == "sizes") return runBenchSizes(argc, argv);
     if (std::string(argv[2]) == "cpu") return runBenchCpu(argc, argv);
+    if (std::string(argv[2]) == "record") return runBenchRecord(argc, argv);
+    if (std::string(argv[2]) == "soak") return runBenchSoak(argc, argv);
     if (std::string(argv[2]) != "culling")
         return usageError("bench", std::string("unknown benchmark '") + argv[2] +
-                                       "' (culling, static, vsm, flicker, cpvs, sizes or cpu)");
+                                       "' (culling, static, vsm, flicker, cpvs, sizes, cpu, record or soak)");
     return runBenchCulling(argc, argv);
 }
 

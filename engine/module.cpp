@@ -445,8 +445,10 @@ Result<void> Module::setStaticShadow(LightId id, const StaticShadowDesc& shadow)
     if (auto v = validateStatic(shadow.method, shadow.words.data(), shadow.words.size()); !v)
         return fail("setStaticShadow: light " + std::to_string(id) + ": " + v.error());
     const LightFrustum f = lightFrustum(shadow.frustum);
+    // fov up to pi (exclusive): bakeStaticShadows renders a spot with fov = 2 x outer, and validateLight
+    // accepts outer half angles up to just under pi/2.
     if (!(f.nearPlane > 0) || !(f.farPlane > f.nearPlane) ||
-        !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.1f))
+        !(f.orthographic() ? std::isfinite(f.orthoHalf) : f.fov > 0 && f.fov < 3.14159265f))
         return fail("setStaticShadow: light " + std::to_string(id) +
                     ": frustum needs 0 < near < far, 0 < fov < pi (or a finite orthographic half side)");
     if (!rigidView(f.view))
@@ -638,6 +640,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     };
     if (auto r = runFrame(m.profiler, frame, passes); !r) return fail("record: " + r.error());
     m.endFrame(slotIndex);
+    m.ownOutputRecorded = m.ownOutputRecorded || m.ownTargets;
     m.retireStaged(); // the staging buffers this frame copied from (and replaced): freed once it is done
     return {};
 }
@@ -659,8 +662,11 @@ std::vector<FrameReport> Module::takeReports() {
 
 Result<void> Module::readOutput(std::vector<uint8_t>& rgba) {
     auto& m = *impl_;
+    if (!m.width) return fail("readOutput: no targets (call createTargets first)");
     if (!m.ownTargets) return fail("readOutput: the output image belongs to the host (setTargets)");
     if (m.hdrOutput) return fail("readOutput: the module writes HDR only (ModuleOptions::hdrOutput)");
+    if (!m.ownOutputRecorded)
+        return fail("readOutput: no frame was recorded into these targets yet (record or submitFrame first)");
     const Device& d = *m.device;
     ML_VK_CHECK(d.waitQueue());
     size_t bytes = size_t(m.width) * m.height * 4;

@@ -137,7 +137,10 @@ struct Module::Impl {
     uint32_t width = 0, height = 0;
     bool ownTargets = false;
     bool targetsDetached = false; // detachTargets() was the last call on targets: record() says so
-    bool ownMaterials = false;    // createTargets(..., materials): GGX from the module's material target
+    // A frame was recorded into the module's current own targets: before one, their output is still in
+    // UNDEFINED layout with nothing in it, and readOutput refuses instead of copying from it.
+    bool ownOutputRecorded = false;
+    bool ownMaterials = false; // createTargets(..., materials): GGX from the module's material target
     GBufferTargets targets;
     HostTargets host;
     Image hdr, output;

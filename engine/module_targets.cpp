@@ -159,6 +159,7 @@ Result<void> Module::createTargets(uint32_t width, uint32_t height, bool materia
     m.destroyTargets(); // released once the frames in flight that use them are done
     m.ownTargets = true;
     m.targetsDetached = false;
+    m.ownOutputRecorded = false;
     m.ownMaterials = materials;
     m.width = width;
     m.height = height;

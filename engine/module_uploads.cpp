@@ -128,6 +128,8 @@ Result<void> Module::Impl::uploadShadowWords() {
         wordsUsed = 0;
         for (auto& faces : shadows)
             for (StaticShadow& s : faces) s.resident = false;
+        pending =
+            live; // every face is uploaded again into the new arena, not only the ones that were pending
         recordsEpoch++;
         // State first: out of memory leaves no arena and every face pending, so the next frame retries.
         ML_TRY(createBuffer(d, staticWords, words * 4, kStorageBufferUsage, "static_shadow_words",

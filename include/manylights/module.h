@@ -352,7 +352,8 @@ class Module {
     std::vector<FrameReport> takeReports();
 
     // Convenience for headless hosts: waits for the queue, copies the output image (module-owned
-    // targets) to RGBA8 bytes, row-major, top row first.
+    // targets) to RGBA8 bytes, row-major, top row first. Refused until a frame was recorded into the
+    // current targets (a new createTargets starts them empty).
     Result<void> readOutput(std::vector<uint8_t>& rgba);
 
     // The module-owned output (RGBA8, GENERAL layout after record()); for hosts that present or copy it.
