@@ -14,6 +14,7 @@
 #ifndef ML_VSM_BOUNDS_H
 #define ML_VSM_BOUNDS_H
 
+#include "shaders/shared/cluster_receivers.h"
 #include "shadows/virtual/vsm_math.h"
 
 // A cluster-light pair whose bounds reach more pages than this (lookups and fallback reservations, before
@@ -140,6 +141,42 @@ ML_FN ivec4 vsmRectPages(ivec4 texels, uint levels, int radius, uint resolution,
 ML_FN uint vsmRectPageCount(ivec4 pages) {
     if (pages.z < pages.x || pages.w < pages.y) return 0u;
     return uint(pages.z - pages.x + 1) * uint(pages.w - pages.y + 1);
+}
+
+// Whether no receiver of the world box [lo, hi] whose unit normal lies in the box [nlo, nhi] (a cluster's
+// ClusterReceivers) faces light L by vsmFacesLight's rule, so that the cluster marks nothing for L. Per
+// receiver, vsmFacesLight takes d = L - P (rounded: monotonic, so each component lies in
+// [fl(L - hi), fl(L - lo)]) or the directional d, and N (vsmNormalize: inside [nlo, nhi]). u below is
+// the largest N.d over both boxes (per axis the largest of the four corner products), off by at most
+// 3.1e-7 * |d|max from its rounding; vsmFacesLight's own n.d is off by as little. So when u < -2e-3 *
+// |d|max, every receiver's computed n.d is below -1.99e-3 |d|, its square past the rule's 1e-6 |d|^2
+// (with 4x to spare), and vsmFacesLight returns false: the per-pixel pass marks nothing for L there.
+ML_FN bool vsmBoxFacesAway(GpuLight L, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi) {
+    ML_PRECISE float ax, ay, az, bx, by, bz; // d's range per axis
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        ax = -L.directionCosOuter.x, ay = -L.directionCosOuter.y, az = -L.directionCosOuter.z;
+        bx = ax, by = ay, bz = az;
+    } else {
+        ax = L.positionRange.x - hi.x, ay = L.positionRange.y - hi.y, az = L.positionRange.z - hi.z;
+        bx = L.positionRange.x - lo.x, by = L.positionRange.y - lo.y, bz = L.positionRange.z - lo.z;
+    }
+    ML_PRECISE float ux = max(max(nlo.x * ax, nlo.x * bx), max(nhi.x * ax, nhi.x * bx));
+    ML_PRECISE float uy = max(max(nlo.y * ay, nlo.y * by), max(nhi.y * ay, nhi.y * by));
+    ML_PRECISE float uz = max(max(nlo.z * az, nlo.z * bz), max(nhi.z * az, nhi.z * bz));
+    ML_PRECISE float u = ux + uy + uz;
+    ML_PRECISE float mx = max(abs(ax), abs(bx)), my = max(abs(ay), abs(by)), mz = max(abs(az), abs(bz));
+    ML_PRECISE float dmax = sqrt(mx * mx + my * my + mz * mz);
+    return u < -2e-3f * dmax;
+}
+
+// The normal bounds of a cluster's receivers (cluster_receivers.h codes), for vsmBoxFacesAway.
+ML_FN vec3 vsmNormalLo(ClusterReceivers r) {
+    return vec3(clusterNormalBound(r.normalLo, 0u), clusterNormalBound(r.normalLo, 1u),
+                clusterNormalBound(r.normalLo, 2u));
+}
+ML_FN vec3 vsmNormalHi(ClusterReceivers r) {
+    return vec3(clusterNormalBound(r.normalHi, 0u), clusterNormalBound(r.normalHi, 1u),
+                clusterNormalBound(r.normalHi, 2u));
 }
 
 #ifdef __cplusplus

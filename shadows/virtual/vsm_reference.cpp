@@ -215,7 +215,8 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
     return marks;
 }
 
-std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs) {
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs,
+                                              size_t* facingAwayPairs) {
     std::vector<uint32_t> marks(2 * in.markWords, 0);
     const FrameConstants& f = in.frame;
     const uint32_t width = f.size.x, height = f.size.y, T = ML_TILE_SIZE, slices = f.cluster.x;
@@ -235,9 +236,11 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
     };
     for (uint32_t ty = 0; ty * T < height; ++ty)
         for (uint32_t tx = 0; tx * T < width; ++tx) {
-            // cluster_bounds.comp: the world AABB of each slice's surface pixels (keys, as the GPU reduces).
+            // cluster_bounds.comp's receiver variant: per slice the world AABB of the receivers and the
+            // codes of their unit normals (keys and codes, as the GPU reduces).
             pixels.clear();
             std::vector<glm::uvec3> lo(slices, glm::uvec3(0xFFFFFFFFu)), hi(slices, glm::uvec3(0u));
+            std::vector<glm::uvec3> nlo(slices, glm::uvec3(1023u)), nhi(slices, glm::uvec3(0u));
             for (uint32_t y = ty * T; y < std::min(height, ty * T + T); ++y)
                 for (uint32_t x = tx * T; x < std::min(width, tx * T + T); ++x) {
                     const float d = in.depth[size_t(y) * width + x];
@@ -246,21 +249,33 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
                     const Pixel p{worldFromPixel(x, y, d, f.invViewProj, f.size),
                                   vsmNormalize(glm::vec3(stored)), sliceOf(in, d), !(stored.w < 0.0f)};
                     pixels.push_back(p);
+                    if (!p.receiver) continue;
+                    const glm::vec3 u = clusterUnitNormal(glm::vec3(stored));
                     for (int c = 0; c < 3; ++c) {
                         lo[p.slice][c] = std::min(lo[p.slice][c], toKey(p.P[c]));
                         hi[p.slice][c] = std::max(hi[p.slice][c], toKey(p.P[c]));
+                        nlo[p.slice][c] = std::min(nlo[p.slice][c], clusterNormalCode(u[c], false));
+                        nhi[p.slice][c] = std::max(nhi[p.slice][c], clusterNormalCode(u[c], true));
                     }
                 }
             const size_t tile = size_t(ty) * f.size.z + tx;
             std::vector<glm::uvec2> refine; // (slice, light index in its list)
             for (uint32_t s = 0; s < slices; ++s) {
-                if (lo[s].x == 0xFFFFFFFFu) continue; // empty cluster
+                if (lo[s].x == 0xFFFFFFFFu) continue; // no receiver in the cluster
                 const glm::vec3 blo(fromKey(lo[s].x), fromKey(lo[s].y), fromKey(lo[s].z));
                 const glm::vec3 bhi(fromKey(hi[s].x), fromKey(hi[s].y), fromKey(hi[s].z));
+                ClusterReceivers rb{};
+                rb.normalLo = nlo[s].x | (nlo[s].y << 10) | (nlo[s].z << 20);
+                rb.normalHi = nhi[s].x | (nhi[s].y << 10) | (nhi[s].z << 20) | ML_CLUSTER_HAS_RECEIVER;
+                const glm::vec3 nl = vsmNormalLo(rb), nh = vsmNormalHi(rb);
                 const glm::uvec2 r = in.ranges[tile * slices + s];
                 for (uint32_t i = 0; i < countOf(r); ++i) {
                     const GpuLight& L = lightOf(r, i);
                     if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, blo, bhi)) continue;
+                    if (vsmBoxFacesAway(L, blo, bhi, nl, nh)) {
+                        if (facingAwayPairs) ++*facingAwayPairs;
+                        continue;
+                    }
                     if (boxPages(in, marks, L, L.info.y, blo, bhi, false) <= ML_VSM_CLUSTER_PAGES)
                         boxPages(in, marks, L, L.info.y, blo, bhi, true);
                     else
