@@ -18,10 +18,12 @@
 namespace ml::gpu {
 #endif
 
-// 32 bytes per cluster. lo, hi: the world AABB of the cluster's receivers (0 when it has none).
-// normalLo, normalHi: per axis a 10-bit code (x bits 0-9, y 10-19, z 20-29) of a lower and an upper
-// bound of the receivers' unit normals (clusterNormalBound); bit 31 of normalHi: the cluster holds a
-// receiver (every other field is 0 when it does not).
+// 32 bytes per cluster, written for the occupied clusters only (the tile masks' bits: the clusters the
+// mark pass reads; the others keep an older frame's values, and the references give them zeros).
+// lo, hi: the world AABB of the cluster's receivers (0 when it has none). normalLo, normalHi: per axis a
+// 10-bit code (x bits 0-9, y 10-19, z 20-29) of a lower and an upper bound of the receivers' unit
+// normals (clusterNormalBound); bit 31 of normalHi: the cluster holds a receiver (every other field is
+// 0 when it does not).
 ML_STRUCT(ClusterReceivers) {
     vec3 lo;
     uint normalLo;

@@ -42,8 +42,13 @@ MarkCounts compareMarks(const VsmSessionOptions& o, uint32_t frames) {
             readBufferAs<gpu::ClusterReceivers>(deviceOf(m), cull.receivers); // GPU-only
         const std::vector<gpu::ClusterReceivers> ref =
             cullReceiversReference(in.depth, in.normal, in.frame, in.sliceFar);
+        // Written for the occupied clusters only (the tile masks), the ones the mark pass reads.
+        const std::vector<glm::uvec2> masks = readBufferAs<glm::uvec2>(deviceOf(m), cull.tileMasks);
+        const uint32_t slices = in.frame.cluster.x;
         EXPECT_GE(rec.size(), ref.size());
         for (size_t c = 0; c < ref.size() && c < rec.size(); ++c) {
+            const size_t t = c / slices, sl = c % slices;
+            if (t >= masks.size() || ((masks[t][sl >> 5] >> (sl & 31)) & 1u) == 0) continue;
             n.receiversDiffer += std::memcmp(&rec[c], &ref[c], sizeof(gpu::ClusterReceivers)) != 0;
             n.receiverClusters += (ref[c].normalHi & ML_CLUSTER_HAS_RECEIVER) != 0;
         }
