@@ -7,10 +7,11 @@
 // the C++ build with -ffp-contract=off), and a correctly rounded operation is monotonic in each argument:
 // a <= a' gives fl(a + b) <= fl(a' + b), fl(m * a) <= fl(m * a') for m >= 0, and so on. Evaluating the
 // same chain, in the same order, at the argument that makes each operand smallest (largest) therefore
-// bounds the value every receiver of the box computes, exactly. The one input not bounded this way is
-// the normal (any unit vector: clusters keep no normal cone), whose offset is bounded by its length
-// with 1/1000 to spare; the texel rectangle is then still widened by one texel, so that a device whose
-// division is not correctly rounded (GLSL allows 2.5 ulp) cannot step past it.
+// bounds the value every receiver of the box computes, exactly. The normal too: the cluster's normal
+// bounds (shaders/shared/cluster_receivers.h) give each light-view component of vsmDirection's result a
+// range (vsmNormalViewBox, the same argument), and the offset's length factor is bounded by its value at
+// the box's far end, with 1/1000 to spare; the texel rectangle is then still widened by one texel, so that a
+// device whose division is not correctly rounded (GLSL allows 2.5 ulp) cannot step past it.
 #ifndef ML_VSM_BOUNDS_H
 #define ML_VSM_BOUNDS_H
 
@@ -66,6 +67,18 @@ ML_FN vec2 vsmFootprintRange(vec3 camera, vec3 lo, vec3 hi, float perMetre) {
     return vec2(fNear, fFar);
 }
 
+// The range of vsmDirection(m, N) over unit normals N in [nlo, nhi]: vsmRowRange with no translation
+// (adding m3 = 0 changes no sum).
+ML_FN VsmViewBox vsmNormalViewBox(mat4 m, vec3 nlo, vec3 nhi) {
+    vec2 x = vsmRowRange(m[0][0], m[1][0], m[2][0], 0.0f, nlo, nhi);
+    vec2 y = vsmRowRange(m[0][1], m[1][1], m[2][1], 0.0f, nlo, nhi);
+    vec2 z = vsmRowRange(m[0][2], m[1][2], m[2][2], 0.0f, nlo, nhi);
+    VsmViewBox b;
+    b.lo = vec3(x.x, y.x, z.x);
+    b.hi = vec3(x.y, y.y, z.y);
+    return b;
+}
+
 // The mips a perspective map's lookups of the box pick (vsmPickMip over the box; x > y: none, when no
 // receiver lies beyond the near plane, where vsmChoose finds no tap). Receivers with a tap have
 // light depth z in (near, -vb.lo.z]: texel0 is smallest at the near plane and largest at the far end.
@@ -87,26 +100,35 @@ ML_STRUCT(VsmTapRect) {
     uint ok;
     uint held;
 };
-ML_FN VsmTapRect vsmBoxTaps(GpuVsmMap map, uint resolution, uint mip, VsmViewBox vb) {
+ML_FN VsmTapRect vsmBoxTaps(GpuVsmMap map, uint resolution, uint mip, VsmViewBox vb, VsmViewBox nb) {
     VsmTapRect r;
     r.texels = ivec4(0, 0, -1, -1);
     r.ok = 0u;
     r.held = 0u;
     uint res = resolution >> mip;
     bool ortho = map.info.x == ML_VSM_ORTHOGRAPHIC;
-    // The normal offset: bias.y texels of the mip at the receiver's depth, along a unit normal whose
-    // light-view components are at most 1 (+ rounding: the 1.001).
+    // The normal offset: vn * texelWorld * bias.y, texelWorld that of the mip at the receiver's depth, at
+    // most that of the box's far end (+ rounding: the 1.001); vn's light-view components lie in nb. The
+    // factor texelWorld * bias.y lies in [0, offset] (bias.y >= 0) or [-offset, 0], so per axis the
+    // offset lies in [min(v.lo, 0), max(v.hi, 0)] * offset, v = nb or -nb.
     ML_PRECISE float zFar = ortho ? 0.0f : -vb.lo.z;
     if (!ortho && !(zFar > map.params.y)) return r;
     ML_PRECISE float extent = ortho ? map.params.x : zFar * map.params.x;
     ML_PRECISE float texelWorld = 2.0f * extent / float(res);
     ML_PRECISE float offset = texelWorld * abs(map.bias.y) * 1.001f;
-    ML_PRECISE float qxLo = vb.lo.x - offset, qxHi = vb.hi.x + offset;
-    ML_PRECISE float qyLo = vb.lo.y - offset, qyHi = vb.hi.y + offset;
+    bool flip = map.bias.y < 0.0f;
+    ML_PRECISE float vxLo = flip ? -nb.hi.x : nb.lo.x, vxHi = flip ? -nb.lo.x : nb.hi.x;
+    ML_PRECISE float vyLo = flip ? -nb.hi.y : nb.lo.y, vyHi = flip ? -nb.lo.y : nb.hi.y;
+    ML_PRECISE float vzLo = flip ? -nb.hi.z : nb.lo.z, vzHi = flip ? -nb.lo.z : nb.hi.z;
+    ML_PRECISE float oxLo = min(vxLo, 0.0f) * offset, oxHi = max(vxHi, 0.0f) * offset;
+    ML_PRECISE float oyLo = min(vyLo, 0.0f) * offset, oyHi = max(vyHi, 0.0f) * offset;
+    ML_PRECISE float ozLo = min(vzLo, 0.0f) * offset, ozHi = max(vzHi, 0.0f) * offset;
+    ML_PRECISE float qxLo = vb.lo.x + oxLo, qxHi = vb.hi.x + oxHi;
+    ML_PRECISE float qyLo = vb.lo.y + oyLo, qyHi = vb.hi.y + oyHi;
     // zq = -(vp.z + vn.z * offset) > near for a tap (perspective).
-    ML_PRECISE float zqFar = -(vb.lo.z - offset);
+    ML_PRECISE float zqFar = -(vb.lo.z + ozLo);
     if (!ortho && !(zqFar > map.params.y)) return r;
-    ML_PRECISE float zqNear = max(-(vb.hi.z + offset), map.params.y);
+    ML_PRECISE float zqNear = max(-(vb.hi.z + ozHi), map.params.y);
     ML_PRECISE float sNear = ortho ? map.params.x : zqNear * map.params.x;
     ML_PRECISE float sFar = ortho ? map.params.x : zqFar * map.params.x;
     // q / scale over q in [qLo, qHi] and scale in [sNear, sFar] (both > 0): the extremes are at the corners.

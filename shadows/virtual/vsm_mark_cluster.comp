@@ -95,8 +95,8 @@ void main() {
         // lightTouchesBox is conservative (light_math.h): false only when no point of the box is reached.
         if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, lo, hi)) continue;
         if (vsmBoxFacesAway(L, lo, hi, nlo, nhi)) continue; // every receiver faces away from L
-        if (vsmBoxPages(L, L.info.y, lo, hi, false) <= ML_VSM_CLUSTER_PAGES) {
-            vsmBoxPages(L, L.info.y, lo, hi, true);
+        if (vsmBoxPages(L, L.info.y, lo, hi, nlo, nhi, false) <= ML_VSM_CLUSTER_PAGES) {
+            vsmBoxPages(L, L.info.y, lo, hi, nlo, nhi, true);
             continue;
         }
         batch[n++] = index;

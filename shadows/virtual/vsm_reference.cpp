@@ -117,7 +117,7 @@ uint32_t markPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32
 
 // vsm_common.glsl's vsmBoxPages: same calls, same order.
 uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const GpuLight& L, uint32_t firstMap,
-                  glm::vec3 lo, glm::vec3 hi, bool mark) {
+                  glm::vec3 lo, glm::vec3 hi, glm::vec3 nlo, glm::vec3 nhi, bool mark) {
     const VsmConstants& k = in.constants;
     const uint32_t R = k.options.z, shift = k.page.y;
     const int radius = int(k.options.x);
@@ -127,7 +127,8 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     uint32_t n = 0;
     auto level = [&](uint32_t l, size_t region) {
         const GpuVsmMap& map = in.maps[firstMap + l];
-        VsmTapRect t = vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi));
+        VsmTapRect t =
+            vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
         if (t.ok)
             n += markPages(in, marks, firstMap + l, 0, vsmRectPages(t.texels, 0, radius, R, 0, shift), region,
                            mark);
@@ -156,11 +157,11 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     for (uint32_t f = 0; f < faces; ++f) {
         const uint32_t m = firstMap + f;
         const GpuVsmMap& map = in.maps[m];
-        const VsmViewBox vb = vsmViewBox(map.view, lo, hi);
+        const VsmViewBox vb = vsmViewBox(map.view, lo, hi), nb = vsmNormalViewBox(map.view, nlo, nhi);
         const glm::uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
         const int wide = radius + vsmFallbackSlack(map);
         for (uint32_t mip = range.x; mip <= range.y; ++mip) {
-            VsmTapRect t = vsmBoxTaps(map, R, mip, vb);
+            VsmTapRect t = vsmBoxTaps(map, R, mip, vb, nb);
             if (!t.ok) continue;
             n += markPages(in, marks, m, mip, vsmRectPages(t.texels, 0, radius, R, mip, shift), 0, mark);
             if (!reserve) continue;
@@ -276,8 +277,8 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
                         if (facingAwayPairs) ++*facingAwayPairs;
                         continue;
                     }
-                    if (boxPages(in, marks, L, L.info.y, blo, bhi, false) <= ML_VSM_CLUSTER_PAGES)
-                        boxPages(in, marks, L, L.info.y, blo, bhi, true);
+                    if (boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, false) <= ML_VSM_CLUSTER_PAGES)
+                        boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, true);
                     else
                         refine.push_back({s, i});
                 }
