@@ -6,6 +6,8 @@
 //                   slice (exponential slices, sliceBoundaries); the world AABB of the pixels in each
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
+//                   Its receiver variant (wantReceivers: VSM page marking per cluster) also writes the
+//                   receivers' box and normal bounds per occupied cluster (ClusterReceivers).
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
 //                   light_fill (mark, append: sorted lists from per-tile light bitmasks, linear in the
 //                   hits). Each visible light (8 threads) tests only the occupied clusters inside its
