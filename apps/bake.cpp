@@ -35,13 +35,14 @@ namespace {
 
 const char* kBakeHelp = R"(usage: manylights bake --method M --res N --lights SEL --out FILE [options]
 Bakes the static shadows of a scene's static spot and point lights (six cube faces each) into one bake file.
-  --scene S          night-city (default), night-city-large (40x40 blocks, 520K triangles), indoor
-                     (rooms and corridors) or a .gltf / .glb file
+  --scene S          night-city (default), night-city-large (40x40 blocks, 520K triangles), either
+                     with -closed (awnings, fences, foliage as thin closed boxes), indoor (rooms and
+                     corridors) or a .gltf / .glb file
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs
   --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384);
-                     mh, mmh and dagmh up to 65536: past 16384 they bake in tiles (see --tile)
+                     mh, mmh and dagmh up to 262144: past 16384 they bake in tiles (see --tile)
   --tile T           mh, mmh, dagmh: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
                      default 512 past --res 16384, whole maps below it). The map is never held whole:
                      memory is a tile per hardware thread (about 30 B a tile texel plus the
@@ -389,6 +390,16 @@ uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMetho
     return (uint64_t(400) << 20) + 2 * words + working;
 }
 
+// --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
+// leaves after the tiles' working memory (a node is held twice while tiles are spliced).
+BakeTiles bakeTilesOf(const BakeOptions& o) {
+    BakeTiles t;
+    t.tile = o.tile;
+    const uint64_t working = tiledWorkingBytes(o.tile ? o.tile : kBakeDefaultTile);
+    t.maxNodes = o.maxMemory > working ? (o.maxMemory - working) / (2 * sizeof(MhTree::Node)) : 1;
+    return t;
+}
+
 Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                              const std::optional<BakeNeed>& need) {
     std::vector<uint32_t> faces;
@@ -410,18 +421,23 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
     const uint32_t shards = o.shard && bakeTiled(o.method, o.res, o.tile) ? o.shard->count : 1;
-    return opts::checkMemory("bake", bakePeakBytes(faces, o.method, o.tile, shards), o.maxMemory,
+    const uint64_t estimate = bakePeakBytes(faces, o.method, o.tile, shards);
+    const bool tiled = !faces.empty() && std::all_of(faces.begin(), faces.end(), [&](uint32_t r) {
+        return bakeTiled(o.method, r, o.tile);
+    });
+    if (tiled && estimate > o.maxMemory) {
+        // The estimate's node per 64 texels is a bound for maps of open geometry; a tiled tree is held to
+        // what --max-memory leaves (bakeTilesOf), so the bake goes on and stops if the tree passes it.
+        std::fprintf(
+            stderr,
+            "manylights bake: estimated peak memory %llu MiB (%s, a tree node per 64 texels) is over "
+            "the limit %llu MiB: the tree is held to %llu nodes and the bake stops if it passes them\n",
+            (unsigned long long)(estimate >> 20), what.c_str(), (unsigned long long)(o.maxMemory >> 20),
+            (unsigned long long)bakeTilesOf(o).maxNodes);
+        return {};
+    }
+    return opts::checkMemory("bake", estimate, o.maxMemory,
                              shards > 1 ? what + ", one tile shard of " + std::to_string(shards) : what);
-}
-
-// --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
-// leaves after the tiles' working memory (a node is held twice while tiles are spliced).
-BakeTiles bakeTilesOf(const BakeOptions& o) {
-    BakeTiles t;
-    t.tile = o.tile;
-    const uint64_t working = tiledWorkingBytes(o.tile ? o.tile : kBakeDefaultTile);
-    t.maxNodes = o.maxMemory > working ? (o.maxMemory - working) / (2 * sizeof(MhTree::Node)) : 1;
-    return t;
 }
 
 // The whole selection into one bake file (by need or at one resolution), and what was baked.
@@ -448,8 +464,8 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
                     100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
         if (l.tiles)
-            std::printf(" (%u tiles; render includes building the %llu-node tree)", l.tiles,
-                        (unsigned long long)l.treeNodes);
+            std::printf(" (%u tiles, %u empty; render includes building the %llu-node tree)", l.tiles,
+                        l.emptyTiles, (unsigned long long)l.treeNodes);
         std::printf("\n");
     }
     if (auto w = writeBakeFile(o.out, baked->file); !w) return runError("bake", w.error());

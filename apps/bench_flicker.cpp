@@ -41,7 +41,7 @@ int runBenchFlickerVsm(int argc, char** argv); // apps/bench_flicker_vsm.cpp
 static const char* kFlickerHelp = R"(usage: manylights bench flicker [options]
 Share of pixels whose static shadow flips between consecutive frames of a camera path while the
 ray-traced visibility does not, per method, resolution and PCF size. Table on stdout, CSV in --out.
-  --scene S        night-city (default) or a .gltf / .glb file
+  --scene S        night-city (default), night-city-closed or a .gltf / .glb file
   --methods LIST   comma-separated, default sm,mh,mmh,dagmh,cpvs
   --res LIST       comma-separated resolutions, default 1024,2048
   --pcf LIST       PCF radii (0 = one tap .. 4 = 9x9), default 0,2
@@ -456,7 +456,7 @@ int runBenchFlicker(int argc, char** argv) {
     auto options = parseOptions(*args);
     if (!options) return usageError("bench flicker", options.error());
     const Options& o = options.value();
-    auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed);
+    auto scene = loadScene(o.scene.name, o.scene.name.rfind("night-city", 0) == 0 ? 256 : 32, o.scene.seed);
     if (!scene) return inputError("bench flicker", scene.error());
     auto path = parsePath(*args, scene.value());
     if (!path) return usageError("bench flicker", path.error());

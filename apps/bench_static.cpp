@@ -38,7 +38,7 @@ static const char* kHelp = R"(usage: manylights bench static [options]
 Static shadow methods x resolutions on the same lights, in one run: bytes, bake time (render, encode),
 evaluation-pass GPU time, disagreement with ray-traced truth. Table on stdout, CSV and charts in --out.
 With DAG-MH rows, also the share of lookups its value bounds answer from one word (one tap, 3x3 PCF).
-  --scene S        night-city (default) or a .gltf / .glb file
+  --scene S        night-city (default), night-city-closed or a .gltf / .glb file
   --methods LIST   comma-separated, default sm,mh,mmh,dagmh,cpvs
   --res LIST       comma-separated resolutions, default 1024,2048,4096,8192
   --lights N       static spot lights measured (the N in view that light the most pixels), default 8
@@ -536,7 +536,7 @@ int runBenchStatic(int argc, char** argv) {
     if (!options) return usageError("bench static", options.error());
     const StaticOptions& o = options.value();
     if (auto r = cli::checkOutputDirectory("--out", o.out); !r) return usageError("bench static", r.error());
-    auto scene = loadScene(o.scene.name, o.scene.name == "night-city" ? 256 : 32, o.scene.seed,
+    auto scene = loadScene(o.scene.name, o.scene.name.rfind("night-city", 0) == 0 ? 256 : 32, o.scene.seed,
                            {o.scene.allowOutside});
     if (!scene) return inputError("bench static", scene.error());
     std::unique_ptr<Module> module;

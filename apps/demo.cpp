@@ -63,8 +63,9 @@ void printCamera(const char* when, const CameraDesc& c) {
 
 static const char* kDemoHelp = R"(usage: manylights demo [options]
 Renders a scene lit by many spotlights and writes images and a GPU profile.
-  --scene S        night-city (default), night-city-large (40x40 blocks, 520K triangles), indoor
-                   (rooms and corridors) or a .gltf / .glb file
+  --scene S        night-city (default), night-city-large (40x40 blocks, 520K triangles), either
+                   with -closed (awnings, fences, foliage as thin closed boxes), indoor (rooms and
+                   corridors) or a .gltf / .glb file
   --frames N       frames to render (default 3)
   --size WxH       image size (default 1280x720)
   --lights N       lights in the scene, 1..4096 (default 256)

@@ -29,7 +29,7 @@ constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
 // map. MH, MMH and DAG-MH bake past it in tiles (bake_tiled.h) up to the bake file's kMaxResolution,
 // holding a tile per worker and the output; SM and CPVS stop here.
 constexpr uint32_t kBakeWholeMapMax = 16384;
-constexpr uint32_t kBakeMaxResolution = 65536;
+constexpr uint32_t kBakeMaxResolution = 262144; // kMhMaxResolution (shadows/static/mh.h)
 // Tiled bakes' tile side: a 512^2 tile's hit lists and counting-sort table (8 B a hit, 4 B a texel)
 // stay small, once per hardware thread; a 2048^2 tile holds 16x as much (`bake --tile` to choose).
 constexpr uint32_t kBakeDefaultTile = 512;
@@ -63,7 +63,8 @@ struct LightBakeStats {
     double renderSeconds = 0, encodeSeconds = 0;
     uint64_t coveredTexels = 0, closedTexels = 0; // texels with a hit, and with exit > enter
     uint64_t bytes = 0;                           // the record's data
-    uint32_t tiles = 0;                           // tiled bakes: tiles rendered (0: whole map)
+    uint32_t tiles = 0;                           // tiled bakes: tiles built (0: whole map)
+    uint32_t emptyTiles = 0;                      // of them, empty ones (no caster reaches): not rendered
     uint64_t treeNodes = 0;                       // tiled bakes: the MH tree's nodes
 };
 

@@ -204,6 +204,9 @@ Result<TilePart> bakeTilePart(const Scene& scene, const SceneSpec& spec, StaticM
     };
     MhTiledOptions o;
     o.tile = grid->tile, o.progress = progress;
+    o.emptyBlock = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
+        return raster.blockEmpty(x0, y0, w, h);
+    };
     std::vector<MhTile> tiles;
     if (auto r = buildMhTiles(
             *grid, source, o, [&](uint32_t k) { return k % id.count == id.index; }, tiles);

@@ -39,6 +39,9 @@ Result<std::vector<uint32_t>> bakeRecordTiled(StaticMethod method, const CasterT
     const DualRasterizer raster(casters, frustum, res);
     MhTiledOptions to;
     to.tile = options.tile, to.maxNodes = options.maxNodes, to.progress = options.progress;
+    to.emptyBlock = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
+        return raster.blockEmpty(x0, y0, w, h);
+    };
     DualTileSource source = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
                                       uint32_t* exit) -> Result<void> {
         raster.renderRect(x0, y0, w, h, enter, exit);
@@ -50,7 +53,7 @@ Result<std::vector<uint32_t>> bakeRecordTiled(StaticMethod method, const CasterT
     if (!tree) return fail(tree.error());
     stats.renderSeconds = secondsSince(t0); // rendering and reduction overlap in the tile workers
     stats.coveredTexels = ts.coveredTexels, stats.closedTexels = ts.closedTexels;
-    stats.tiles = ts.tiles, stats.treeNodes = ts.nodes;
+    stats.tiles = ts.tiles, stats.emptyTiles = ts.emptyTiles, stats.treeNodes = ts.nodes;
     const auto te = Clock::now();
     Result<std::vector<uint32_t>> words = method == StaticMethod::MH    ? encodeMH(*tree)
                                           : method == StaticMethod::MMH ? encodeMMH(*tree)

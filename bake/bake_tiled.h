@@ -1,6 +1,6 @@
 // Out-of-core bakes and verifies of one record, tile by tile (shadows/static/mh_tiled.h): the dual depth
 // map is never held whole, so MH, MMH and DAG-MH bake past the whole-map limit (kBakeWholeMapMax) up to
-// the bake file's 65536^2. Tiles are rendered by the CPU rasteriser (DualRasterizer::renderRect) on every
+// kMhMaxResolution (262144^2). Tiles are rendered by the CPU rasteriser (DualRasterizer::renderRect) on every
 // hardware thread; a bake and its verify render the same texels whatever the tile size.
 #pragma once
 #include "bake/bake.h"

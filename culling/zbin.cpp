@@ -1,6 +1,8 @@
 #include "culling/zbin.h"
 
 #include "culling/culling.h"
+#include "culling/zbin_bindings.h"
+#include "gpu/bindings.h"
 #include "shaders/shared/light_math.h"
 
 #include "zbin_bins.comp.spv.h"
@@ -213,9 +215,13 @@ void ZBinning::recordStats(const Device& device, VkCommandBuffer c, VkImageView 
     vkCmdFillBuffer(c, statsBuffer.buffer, 0, VK_WHOLE_SIZE, 0);
     memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW);
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
+    const auto layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     dispatch(device, c, statsProgram_, fc.size.x, fc.size.y, push,
-             {frame, lights, sorted, masks, bins,
-              Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL), statsBuffer, wide});
+             {ML_BIND(ML_ZBIN_STATS_FRAME, frame), ML_BIND(ML_ZBIN_STATS_LIGHTS, lights),
+              ML_BIND(ML_ZBIN_STATS_SORTED, sorted), ML_BIND(ML_ZBIN_STATS_MASKS, masks),
+              ML_BIND(ML_ZBIN_STATS_BINS, bins),
+              ML_BIND(ML_ZBIN_STATS_DEPTH, Descriptor(Image{.view = depth}, layout)),
+              ML_BIND(ML_ZBIN_STATS_OUT, statsBuffer), ML_BIND(ML_ZBIN_STATS_WIDE, wide)});
     // Sums -> the host (mapped readback, after the submission's wait).
     memoryBarrier(c, kC, kW, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
@@ -232,8 +238,14 @@ void ZBinning::recordShade(const Device& device, VkCommandBuffer c, bool zbin, V
     const auto layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     memoryBarrier(c, kC, kW | kR, kC, kW); // an earlier probe's output -> this one's
     dispatch(device, c, shadePrograms_[zbin ? 1 : 0], fc.size.x, fc.size.y, push,
-             {frame, slices, lights, ranges, pool, sorted, masks, bins, wide,
-              Descriptor(Image{.view = depth}, layout), Descriptor(Image{.view = normal}, layout), shaded});
+             {ML_BIND(ML_ZBIN_SHADE_FRAME, frame), ML_BIND(ML_ZBIN_SHADE_SLICES, slices),
+              ML_BIND(ML_ZBIN_SHADE_LIGHTS, lights), ML_BIND(ML_ZBIN_SHADE_RANGES, ranges),
+              ML_BIND(ML_ZBIN_SHADE_POOL, pool), ML_BIND(ML_ZBIN_SHADE_SORTED, sorted),
+              ML_BIND(ML_ZBIN_SHADE_MASKS, masks), ML_BIND(ML_ZBIN_SHADE_BINS, bins),
+              ML_BIND(ML_ZBIN_SHADE_WIDE, wide),
+              ML_BIND(ML_ZBIN_SHADE_DEPTH, Descriptor(Image{.view = depth}, layout)),
+              ML_BIND(ML_ZBIN_SHADE_NORMAL, Descriptor(Image{.view = normal}, layout)),
+              ML_BIND(ML_ZBIN_SHADE_OUT, shaded)});
     memoryBarrier(c, kC, kW, kC, kR); // output -> readers (tests copy it: readBuffer orders its own copy)
 }
 

@@ -12,23 +12,24 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/shading.h"
 #include "culling/zbin_types.h"
+#include "culling/zbin_bindings.h"
 
 layout(local_size_x = ML_ZBIN_GROUP / 8, local_size_y = 8) in;
 layout(constant_id = 0) const uint kSpecSource = 0;
 layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5, std430) readonly buffer Sorted { ZBinLight sorted[]; };
-layout(binding = 6, std430) readonly buffer Masks { uint masks[]; };
-layout(binding = 7, std430) readonly buffer Bins { uint bins[]; };
-layout(binding = 8, std430) readonly buffer Wide { uint wide[]; };
-layout(binding = 9) uniform texture2D depthImage;
-layout(binding = 10) uniform texture2D normalImage;
-layout(binding = 11, std430) writeonly buffer Shaded { vec4 shaded[]; }; // row-major pixels
+layout(binding = ML_ZBIN_SHADE_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_ZBIN_SHADE_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_ZBIN_SHADE_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_ZBIN_SHADE_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_ZBIN_SHADE_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_ZBIN_SHADE_SORTED, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = ML_ZBIN_SHADE_MASKS, std430) readonly buffer Masks { uint masks[]; };
+layout(binding = ML_ZBIN_SHADE_BINS, std430) readonly buffer Bins { uint bins[]; };
+layout(binding = ML_ZBIN_SHADE_WIDE, std430) readonly buffer Wide { uint wide[]; };
+layout(binding = ML_ZBIN_SHADE_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_ZBIN_SHADE_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_ZBIN_SHADE_OUT, std430) writeonly buffer Shaded { vec4 shaded[]; }; // row-major pixels
 
 #include "shaders/shared/cluster_list.glsl"
 

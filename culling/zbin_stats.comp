@@ -8,22 +8,23 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
 #include "culling/zbin_types.h"
+#include "culling/zbin_bindings.h"
 
 layout(local_size_x = ML_ZBIN_GROUP / 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 2, std430) readonly buffer Sorted { ZBinLight sorted[]; };
-layout(binding = 3, std430) readonly buffer Masks { uint masks[]; };
-layout(binding = 4, std430) readonly buffer Bins { uint bins[]; };
-layout(binding = 5) uniform texture2D depthImage;
+layout(binding = ML_ZBIN_STATS_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_ZBIN_STATS_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_ZBIN_STATS_SORTED, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = ML_ZBIN_STATS_MASKS, std430) readonly buffer Masks { uint masks[]; };
+layout(binding = ML_ZBIN_STATS_BINS, std430) readonly buffer Bins { uint bins[]; };
+layout(binding = ML_ZBIN_STATS_DEPTH) uniform texture2D depthImage;
 // Sums over the pixels with geometry (ZBinStats): [0] evaluated, [1] reaching (among the evaluated),
 // [2] pixels, [3] the tile's bits at any depth (what the tile alone would give), [4] evaluated lights
 // whose own bin range holds the pixel's bin (exact per-light depth ranges; the rest of [0] are the
 // (min, max) range's false positives). Wide lights count in all but [2].
-layout(binding = 6, std430) buffer Stats { uint64_t stats[5]; };
-layout(binding = 7, std430) readonly buffer Wide { uint wide[]; }; // visible indices of the wide lights
+layout(binding = ML_ZBIN_STATS_OUT, std430) buffer Stats { uint64_t stats[5]; };
+layout(binding = ML_ZBIN_STATS_WIDE, std430) readonly buffer Wide { uint wide[]; }; // visible indices of the wide lights
 
 shared uint sEvaluated, sReaching, sSurface, sTile, sExact;
 

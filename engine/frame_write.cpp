@@ -21,10 +21,10 @@ bool Module::Impl::evaluatePbr() const {
     return ownTargets ? ownMaterials : host.material.view != VK_NULL_HANDLE;
 }
 
-// Every evaluation variant the targets can reach, so that no record() builds a pipeline (issue 41:
-// 130-240 ms of CPU in frame 0 and in the first frame after a switch, on lavapipe). The module's own
-// targets switch between LDR and HDR with setHdrOutput alone: both. A host's output has one format,
-// and setHdrOutput refuses the other mode until setTargets brings a new output: the current mode.
+// Every evaluation variant the targets can reach, so that no record() builds a pipeline: a build compiles
+// shaders on the CPU, far longer than a frame's recording (the figures: docs/results/log.md). The
+// module's own targets switch between LDR and HDR with setHdrOutput alone: both. A host's output has one
+// format, and setHdrOutput refuses the other mode until setTargets brings a new output: the current mode.
 Result<void> Module::Impl::preparePipelines() {
     for (bool hdr : {false, true})
         if (ownTargets || hdr == hdrOutput)

@@ -1,4 +1,5 @@
 #include "gpu/program.h"
+#include "gpu/bindings.h"
 
 #include <algorithm>
 #include <cassert>
@@ -468,11 +469,14 @@ void destroyProgram(const Device& device, Program& p) {
     p = Program{};
 }
 
-void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
-                 std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize) {
-    if (descriptors.size() != p.bindingCount || pushSize != p.pushSize) {
+namespace {
+
+// bindProgram over descriptors[0..count) in binding order (by position or placed by name).
+void bindDescriptors(const Device& device, VkCommandBuffer cmd, const Program& p, const Descriptor* const* ds,
+                     size_t count, const void* push, uint32_t pushSize) {
+    if (count != p.bindingCount || pushSize != p.pushSize) {
         std::fprintf(stderr, "%s: %zu descriptors / %u push bytes given, shader wants %u / %u\n",
-                     p.name.c_str(), descriptors.size(), pushSize, p.bindingCount, p.pushSize);
+                     p.name.c_str(), count, pushSize, p.bindingCount, p.pushSize);
         std::abort();
     }
     vkCmdBindPipeline(cmd, p.bindPoint, p.pipeline);
@@ -480,7 +484,8 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
     VkDescriptorBufferInfo bufferInfos[32];
     VkDescriptorImageInfo imageInfos[32];
     uint32_t b = 0;
-    for (const Descriptor& d : descriptors) {
+    for (; b < count; ++b) {
+        const Descriptor& d = *ds[b];
         VkWriteDescriptorSet& w = writes[b];
         w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w.dstBinding = b;
@@ -500,15 +505,12 @@ void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
             imageInfos[b] = {d.sampler, d.view, d.layout};
             w.pImageInfo = &imageInfos[b];
         }
-        ++b;
     }
     if (b) device.cmdPushDescriptorSet(cmd, p.bindPoint, p.layout, 0, b, writes);
     if (pushSize) vkCmdPushConstants(cmd, p.layout, p.stages, 0, pushSize, push);
 }
 
-void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& p, const uint32_t threads[3],
-                     const void* push, uint32_t pushSize, std::initializer_list<Descriptor> descriptors) {
-    bindProgram(device, cmd, p, descriptors, push, pushSize);
+void dispatchGroups(const Device& device, VkCommandBuffer cmd, const Program& p, const uint32_t threads[3]) {
     uint32_t groups[3];
     for (int k = 0; k < 3; ++k) {
         groups[k] = (threads[k] + p.localSize[k] - 1) / p.localSize[k];
@@ -521,6 +523,52 @@ void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& p
         }
     }
     if (groups[0] && groups[1] && groups[2]) vkCmdDispatch(cmd, groups[0], groups[1], groups[2]);
+}
+
+} // namespace
+
+void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& p,
+                 std::initializer_list<Descriptor> descriptors, const void* push, uint32_t pushSize) {
+    const Descriptor* ds[32] = {};
+    size_t n = 0;
+    for (const Descriptor& d : descriptors)
+        if (n < 32) ds[n++] = &d; // more than 32: refused by the count below
+    bindDescriptors(device, cmd, p, ds, descriptors.size(), push, pushSize);
+}
+
+void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& p, const uint32_t threads[3],
+                     const void* push, uint32_t pushSize, std::initializer_list<Descriptor> descriptors) {
+    bindProgram(device, cmd, p, descriptors, push, pushSize);
+    dispatchGroups(device, cmd, p, threads);
+}
+
+std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedDescriptor> named,
+                                  const Descriptor* ordered[32]) {
+    for (uint32_t b = 0; b < 32; ++b) ordered[b] = nullptr;
+    for (const NamedDescriptor& n : named) {
+        if (n.binding >= p.bindingCount)
+            return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) +
+                   ") is past the shader's " + std::to_string(p.bindingCount) + " bindings";
+        if (ordered[n.binding])
+            return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) + ") is given twice";
+        ordered[n.binding] = &n.descriptor;
+    }
+    for (uint32_t b = 0; b < p.bindingCount; ++b)
+        if (!ordered[b]) return p.name + ": binding " + std::to_string(b) + " is not given";
+    return {};
+}
+
+void dispatchThreadsNamed(const Device& device, VkCommandBuffer cmd, const Program& p,
+                          const uint32_t threads[3], const void* push, uint32_t pushSize,
+                          std::initializer_list<NamedDescriptor> named) {
+    const Descriptor* ordered[32];
+    const std::string error = orderNamedDescriptors(p, named, ordered);
+    if (!error.empty()) {
+        std::fprintf(stderr, "%s\n", error.c_str());
+        std::abort();
+    }
+    bindDescriptors(device, cmd, p, ordered, p.bindingCount, push, pushSize);
+    dispatchGroups(device, cmd, p, threads);
 }
 
 void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& p, const Buffer& args,

@@ -67,6 +67,14 @@ std::vector<glm::vec2> rect(glm::vec4 r) {
 
 const glm::vec3 kUp(0.0f, 1.0f, 0.0f);
 
+// Axis-aligned box [lo, hi] appended to m as 12 outward triangles: the closed variants' sheets.
+void addBox(Mesh& m, glm::vec3 lo, glm::vec3 hi) {
+    auto poly = rect({lo.x, lo.z, hi.x, hi.z});
+    addWalls(m, poly, lo.y, hi.y);
+    addCap(m, poly, 0, hi.y, kUp);
+    addCap(m, poly, 0, lo.y, -kUp);
+}
+
 } // namespace
 
 Mesh makeUnitBox() {
@@ -112,32 +120,56 @@ Mesh makeSteppedBox(glm::vec4 base, float baseHeight, glm::vec4 top, float topHe
     return m;
 }
 
-Mesh makeUnitQuad() {
+Mesh makeUnitQuad(float thickness) {
     Mesh m;
+    if (thickness > 0.0f) {
+        m.name = "unit-slab";
+        addBox(m, {-0.5f, -thickness, 0.0f}, {0.5f, 0.0f, 1.0f});
+        m.closed = true;
+        return m;
+    }
     m.name = "unit-quad";
     addQuad(m, {-0.5f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f}, {0.5f, 0.0f, 1.0f}, {-0.5f, 0.0f, 1.0f}, kUp);
     return m;
 }
 
-Mesh makeFence(int pickets) {
+Mesh makeFence(int pickets, float thickness) {
     Mesh m;
-    m.name = "fence";
+    m.name = thickness > 0.0f ? "fence-closed" : "fence";
     const glm::vec3 front(0.0f, 0.0f, 1.0f);
     float pitch = 1.0f / float(pickets), half = 0.25f * pitch;
     for (int i = 0; i < pickets; ++i) {
         float cx = -0.5f + (float(i) + 0.5f) * pitch;
+        if (thickness > 0.0f) {
+            addBox(m, {cx - half, 0.0f, -thickness}, {cx + half, 1.0f, 0.0f});
+            continue;
+        }
         addQuad(m, {cx - half, 0.0f, 0.0f}, {cx + half, 0.0f, 0.0f}, {cx + half, 1.0f, 0.0f},
                 {cx - half, 1.0f, 0.0f}, front);
     }
-    for (float y : {0.2f, 0.72f})
+    for (float y : {0.2f, 0.72f}) {
+        if (thickness > 0.0f) {
+            addBox(m, {-0.5f, y, 0.02f}, {0.5f, y + 0.08f, 0.02f + thickness});
+            continue;
+        }
         addQuad(m, {-0.5f, y, 0.02f}, {0.5f, y, 0.02f}, {0.5f, y + 0.08f, 0.02f}, {-0.5f, y + 0.08f, 0.02f},
                 front);
+    }
+    m.closed = thickness > 0.0f;
     return m;
 }
 
-Mesh makeFoliageCards() {
+Mesh makeFoliageCards(float thickness) {
     Mesh m;
-    m.name = "foliage-cards";
+    m.name = thickness > 0.0f ? "foliage-slabs" : "foliage-cards";
+    if (thickness > 0.0f) {
+        // Crossed slabs: two overlapping closed boxes, their union is what the dual depth map sees.
+        float h = 0.5f * thickness;
+        addBox(m, {-0.5f, 0.0f, -h}, {0.5f, 1.0f, h});
+        addBox(m, {-h, 0.0f, -0.5f}, {h, 1.0f, 0.5f});
+        m.closed = true;
+        return m;
+    }
     addQuad(m, {-0.5f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f}, {0.5f, 1.0f, 0.0f}, {-0.5f, 1.0f, 0.0f}, {0, 0, 1});
     addQuad(m, {0.0f, 0.0f, -0.5f}, {0.0f, 0.0f, 0.5f}, {0.0f, 1.0f, 0.5f}, {0.0f, 1.0f, -0.5f}, {1, 0, 0});
     return m;

@@ -4,7 +4,8 @@
 //  - Mesh builders for the night city. Closed builders (box, L prism, stepped box) emit watertight,
 //    consistently counter-clockwise-outward triangle lists with flat normals (vertices are split per
 //    face; isClosedMesh welds them back by position). Open builders (quad, fence, foliage cards) emit
-//    single-sided sheets whose edges have no opposite edge.
+//    single-sided sheets whose edges have no opposite edge; given a thickness > 0 they emit closed
+//    boxes of that thickness instead (the "-closed" night city variants).
 //  - Small geometry helpers: affine frames, mesh bounds, flat normals.
 #pragma once
 #include "scenes/scene.h"
@@ -60,17 +61,20 @@ Mesh makeLPrism(float notchX, float notchZ, const char* name);
 // (metres).
 Mesh makeSteppedBox(glm::vec4 base, float baseHeight, glm::vec4 top, float topHeight, const char* name);
 
-// ---- open meshes ----
+// ---- open meshes (closed slabs when thickness > 0, in object units) ----
 
 // Unit quad in the XZ plane (y = 0), x in [-0.5, 0.5], z in [0, 1], front face +Y. 2 triangles.
-Mesh makeUnitQuad();
+// thickness > 0: the box y in [-thickness, 0] under it, 12 triangles.
+Mesh makeUnitQuad(float thickness = 0.0f);
 
 // Fence panel in the XY plane (z = 0, front +Z), x in [-0.5, 0.5], y in [0, 1]: `pickets` vertical
 // strips plus two rails slightly in front (z = 0.02) so they never coincide with the pickets.
-Mesh makeFence(int pickets);
+// thickness > 0: pickets are boxes z in [-thickness, 0], rails z in [0.02, 0.02 + thickness].
+Mesh makeFence(int pickets, float thickness = 0.0f);
 
 // Two crossed unit quads (XY plane and ZY plane), x/z in [-0.5, 0.5], y in [0, 1]: a foliage card.
-Mesh makeFoliageCards();
+// thickness > 0: two crossed boxes that thick, centred on those planes (overlapping, each closed).
+Mesh makeFoliageCards(float thickness = 0.0f);
 
 // ---- helpers ----
 

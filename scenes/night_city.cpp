@@ -170,9 +170,12 @@ class CityBuilder {
     void makeMeshes() {
         scene_.meshes.resize(kMeshCount);
         scene_.meshes[kBoxMesh] = detail::makeUnitBox();
-        scene_.meshes[kQuadMesh] = detail::makeUnitQuad();
-        scene_.meshes[kFenceMesh] = detail::makeFence(10);
-        scene_.meshes[kFoliageMesh] = detail::makeFoliageCards();
+        // Closed variant: the awning's frame is in metres (2 cm canvas), the fence's depth axis is
+        // 1 m (2 cm boards), foliage is scaled 2.5-3.8x (1 cm -> 2.5-3.8 cm slabs).
+        bool closed = opt_.closedCasters;
+        scene_.meshes[kQuadMesh] = detail::makeUnitQuad(closed ? 0.02f : 0.0f);
+        scene_.meshes[kFenceMesh] = detail::makeFence(10, closed ? 0.02f : 0.0f);
+        scene_.meshes[kFoliageMesh] = detail::makeFoliageCards(closed ? 0.01f : 0.0f);
         // Car in metres (1.9 wide, 1.5 high, 4.5 long), front towards -Z: a body with a cabin set back.
         // Its transform stays rigid so attached headlights keep metric offsets.
         scene_.meshes[kCarMesh] = detail::makeSteppedBox({-0.95f, -2.25f, 0.95f, 2.25f}, 0.85f,

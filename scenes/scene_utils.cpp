@@ -11,21 +11,20 @@ namespace ml {
 
 Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
                         const LoadOptions& options) {
-    if (nameOrPath == "night-city") {
+    // "night-city-large": the benchmark city at the seeds' scale (their CLOSED CITY has 613K
+    // triangles), kLargeCityBlocks^2 blocks instead of 6 x 6, the same generator, lights and seed.
+    // "-closed": awnings, fences and foliage as thin closed boxes (NightCityOptions::closedCasters).
+    for (const char* name :
+         {"night-city", "night-city-large", "night-city-closed", "night-city-large-closed"}) {
+        if (nameOrPath != name) continue;
         NightCityOptions options;
         options.seed = seed;
         options.lights = lights;
-        return makeNightCity(options);
-    }
-    if (nameOrPath == "night-city-large") {
-        // The benchmark city at the seeds' scale (their CLOSED CITY has 613K triangles): kLargeCityBlocks^2
-        // blocks instead of 6 x 6, the same generator, lights and seed.
-        NightCityOptions options;
-        options.seed = seed;
-        options.lights = lights;
-        options.blocksX = options.blocksZ = kLargeCityBlocks;
+        if (nameOrPath.find("-large") != std::string::npos)
+            options.blocksX = options.blocksZ = kLargeCityBlocks;
+        options.closedCasters = nameOrPath.find("-closed") != std::string::npos;
         auto scene = makeNightCity(options);
-        if (scene) scene->name = "night-city-large";
+        if (scene) scene->name = nameOrPath;
         return scene;
     }
     if (nameOrPath == "indoor") {
@@ -42,10 +41,10 @@ Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t
         return lower.size() >= n && lower.compare(lower.size() - n, n, suffix) == 0;
     };
     if (endsWith(".gltf") || endsWith(".glb")) return loadGltf(nameOrPath, lights, seed, options);
-    return fail(
-        nameOrPath +
-        ": unknown scene (expected \"night-city\", \"night-city-large\", \"indoor\" or a path ending in "
-        ".gltf or .glb)");
+    return fail(nameOrPath +
+                ": unknown scene (expected \"night-city\", \"night-city-large\", \"night-city-closed\", "
+                "\"night-city-large-closed\", \"indoor\" or a path ending in "
+                ".gltf or .glb)");
 }
 
 bool isClosedMesh(const Mesh& mesh) {

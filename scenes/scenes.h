@@ -11,6 +11,10 @@ struct NightCityOptions {
     uint32_t lights = 256; // total lights, headlights included; 1..4096
     uint32_t blocksX = 6, blocksZ = 6;
     uint32_t cars = 8; // each carries two headlight spotlights
+    // Awnings, fences and foliage as thin closed boxes (2-3 cm) instead of open sheets: the seeds'
+    // CLOSED CITY. Open sheets have a point depth interval, so a static tree keeps a node per texel
+    // on them and grows with the texel count (docs/static-shadows.md, "Open and closed casters").
+    bool closedCasters = false;
 };
 
 // A grid of streets and blocks: closed buildings of varied height and footprint, open geometry
@@ -45,7 +49,7 @@ Result<Scene> loadGltf(const std::string& path, uint32_t lights, uint32_t seed,
 // triangles (ScenesNightCity.LargeCityHasTheSeedsScale), for benchmarks at the seeds' scale.
 constexpr uint32_t kLargeCityBlocks = 40;
 
-// "night-city", "night-city-large", "indoor" or a path ending in .gltf / .glb.
+// "night-city", "night-city-large", their "-closed" variants, "indoor" or a path ending in .gltf / .glb.
 Result<Scene> loadScene(const std::string& nameOrPath, uint32_t lights, uint32_t seed,
                         const LoadOptions& options = {});
 

@@ -4,8 +4,9 @@ each bake a process of its own (so its measured peak memory is its own), then op
 
 Usage:
   python3 tools/static_scale.py [--exe build/manylights] [--methods mh,mmh,dagmh] [--res 4096,8192,16384]
-                                [--light 239] [--tile T] [--verify] [--out DIR] [--csv FILE]
-Defaults: the night city's moon (light 239 of the default 256-light scene), mh,mmh,dagmh at
+                                [--light 239] [--scene S] [--tile T] [--verify] [--out DIR] [--csv FILE]
+Defaults: the night city's moon (light 239 of the default 256-light scene; --scene night-city-closed is the
+city with its open sheets closed), mh,mmh,dagmh at
 4096,8192,16384. Resolutions past 16384 (up to 65536) bake in tiles (bake --tile); --tile forces tiles at
 every resolution. Prints CSV: method, resolution, bytes, bytes against the 32-bit map (4 B a texel),
 render+tree seconds, encode seconds, tree nodes, tiles, measured peak MiB, and with --verify the texels
@@ -21,7 +22,7 @@ import tempfile
 import time
 
 LIGHT_LINE = re.compile(r"light (\d+): (\d+)\^2, render ([0-9.]+) s, encode ([0-9.]+) s, [0-9.]+% covered, "
-                        r"(\d+) bytes(?: \((\d+) tiles; render includes building the (\d+)-node tree\))?")
+                        r"(\d+) bytes(?: \((\d+) tiles, \d+ empty; render includes building the (\d+)-node tree\))?")
 PEAK = re.compile(r"measured peak memory (\d+) MiB")
 VERIFY = re.compile(r'\{"checked": (\d+), "mismatches": (\d+)\}')
 
@@ -38,6 +39,7 @@ def main():
     ap.add_argument("--methods", default="mh,mmh,dagmh")
     ap.add_argument("--res", default="4096,8192,16384")
     ap.add_argument("--light", default="239")
+    ap.add_argument("--scene", default="night-city")
     ap.add_argument("--tile", default="")
     ap.add_argument("--verify", action="store_true")
     ap.add_argument("--out", default="")
@@ -61,6 +63,8 @@ def main():
         for r in resolutions:
             path = os.path.join(out, f"{m}_{r}.mlbk")
             cmd = [a.exe, "bake", "--method", m, "--res", str(r), "--lights", a.light, "--quiet", "--out", path]
+            if a.scene != "night-city":
+                cmd += ["--scene", a.scene]
             if a.tile:
                 cmd += ["--tile", a.tile]
             p = subprocess.run(cmd, capture_output=True, text=True)

@@ -1,4 +1,5 @@
-// Limits and workgroup sizes, shared by C++ and GLSL. Each has the reason for its value.
+// Limits and workgroup sizes, shared by C++ and GLSL. Each has the reason for its value and its cost;
+// the measurements behind the chosen values are on the docs page of their subject, with their commands.
 #ifndef ML_CONFIG_H
 #define ML_CONFIG_H
 
@@ -9,23 +10,10 @@
 // Clustered modes: 8x8-pixel tiles, 64 exponential depth slices (ML_CLUSTER_SLICES; ML_MAX_SLICES is
 // the most the 64-bit tile masks and shared arrays hold). 64 slices give a slice depth ratio
 // (far/near)^(1/64) ~ 1.14 for 0.1..500 m; 8x8 = 64 threads per bounds group. Bounds are the pixels'
-// own AABB per cluster. Chosen by measurement for the footprint assignment on the night city's default
-// view at 640x360 (`manylights bench culling --size 640x360 --lights 1024,4096 --frames 3 --culling
-// clustered`, one build per grid; box tests, entries and lights per pixel are exact, times noisy):
-//   tile  slices  lights  box tests  list entries  evaluated/reaching px
-//     8     64     1024    352,716       80,922      16.55 / 13.62 = 1.22
-//     8     64     4096  1,236,009      270,647      55.34 / 45.01 = 1.23
-//     8     32     1024    328,803       72,483      17.24 / 13.62 = 1.27
-//     8     32     4096  1,154,975      242,506      57.68 / 45.01 = 1.28
-//    16     64     1024    121,837       30,599      18.95 / 13.62 = 1.39
-//    16     64     4096    428,516      103,128      63.67 / 45.01 = 1.41
-// The footprint assignment's work is the occupied clusters under each light, so coarser grids test
-// fewer boxes (16-px tiles: 1/3, and about half the assignment time in that run), but every pixel
-// then evaluates more lights: past the 1.3 evaluated/reaching target at 16 px, and 32 slices save only
-// 7 % of the tests for 1.28. On lavapipe the evaluation pass is 3-4x the culling at 4096 lights, so
-// 8 px x 64 slices, the tightest lists, is the better frame. (Earlier, with brute-force assignment
-// and the old view at 320x180: 16 px / 32 slices gave 4.4 evaluated per reaching, 8 px / 64 with the
-// pyramid test 1.75.)
+// own AABB per cluster. Reason: the tightest lists; coarser grids test fewer boxes in the assignment but
+// every pixel then evaluates more lights, and the evaluation pass costs several times the culling.
+// Cost: 921,600 clusters at 1280x720, 40 B each (32 B of bounds, 8 B of list range): 35 MiB. The grids
+// compared: docs/culling.md, "Grid size".
 #define ML_TILE_SIZE 8
 #define ML_MAX_SLICES 64
 #define ML_CLUSTER_SLICES 64
@@ -40,11 +28,10 @@
 
 // The light-index pool holds this many entries per cluster of the grid before clusters overflow; an
 // overflowing cluster is counted and its pixels fall back to testing every visible light, so no light is
-// lost. Most clusters are empty (no pixels: 2% occupied on the night city), so 16 per grid cluster is
-// ~700 per occupied one: 16 x 921,600 clusters (1280x720) x 4 B = 59 MiB at most, plus the footprint
-// mode's hit records (a quarter of that many, 8 B each: 29 MiB). The tiled grid gets the same pool as
-// the clustered one (its lists are the union of 64 slices'). The dense default view at 4096 lights and
-// 640x360 uses 271 K of the 3.7 M entries.
+// lost. Most clusters hold no pixel, so 16 per grid cluster is hundreds per occupied one (the pool's
+// use on the night city: docs/culling.md, "Grid size"). Cost: 16 x 921,600 clusters (1280x720) x 4 B =
+// 59 MiB at most, plus the footprint mode's hit records (a quarter of that many, 8 B each: 29 MiB). The
+// tiled grid gets the same pool as the clustered one (its lists are the union of 64 slices').
 #define ML_POOL_PER_CLUSTER 16
 
 // Culling modes (FrameConstants.cluster.w; ml::CullingMode takes these values). CLUSTERED
@@ -60,15 +47,14 @@
 // light's screen rectangle and test the occupied slices (a 64-bit mask per tile) inside its depth
 // range; ML_FOOTPRINT_GROUP / LANES lights per workgroup. Most lights cover a few tiles, so a whole
 // 64-thread group per light left lavapipe (8-wide SIMD, a fixed cost per group) paying for idle
-// threads: at 4096 lights, 640x360 (the previous, sparser default view), one group per light took
-// 76 ms of assignment for 70k box tests; 8 lanes per light, 46 ms in the same conditions.
+// threads; 8 lanes per light assign faster (docs/culling.md, "Grid size").
 #define ML_FOOTPRINT_GROUP 64
 #define ML_FOOTPRINT_LANES 8
 // Wide lights are the directional ones: the moon covers the whole grid (32,400 tiles at 1920x1080,
 // 4,050 per lane of its 8), so it is not walked by lanes but by a pass with one thread per tile of
-// its footprint. Spot and point lights with big footprints stay on their lanes: giving lights of
-// 256 or 1024+ tiles the wide pass made assignment 3-4x slower at 4096 lights, 640x360, on lavapipe
-// (a thread per tile repeats the light's setup for every tile; culling.md).
+// its footprint. Spot and point lights with big footprints stay on their lanes: a thread per tile
+// repeats the light's setup for every tile, which made their assignment slower (the wide lights'
+// entry in docs/results/log.md).
 // The wide pass's threads (one per tile of each wide light's footprint) run in rows of this many:
 // 1024 groups of 64 per row keeps each dimension far below the 65,535-group limit (the moon alone is
 // 32,400 threads at 1920x1080; 16 directional lights at 16384^2 pixels would be 1,024 rows).
@@ -79,8 +65,8 @@
 #define ML_FILL_GROUP 64
 #define ML_FILL_GROUPS 64
 // Hits the footprint count pass records, per pool entry: the pool holds 16 entries per grid cluster
-// and frames use far fewer (0.3 M of 3.7 M at 4096 lights, 640x360), so a quarter of the pool's
-// entries (8 bytes each) is room enough; past it the frame's lists overflow (counted, never lost).
+// and frames use far fewer (docs/culling.md, "Grid size"), so a quarter of the pool's entries (8 bytes
+// each) is room enough; past it the frame's lists overflow (counted, never lost).
 #define ML_HITS_PER_POOL_ENTRY_DIV 4
 // Sorted fill of the footprint mode (light_alloc, light_fill): per tile a bitmask over the visible
 // lights with a hit in the tile and its per-word prefix counts, ML_MAX_LIGHTS / 32 = 128 words each
@@ -93,9 +79,9 @@
 // linear in view depth over [near, the farthest light's far depth], each holding the (min, max)
 // sorted index of the lights overlapping it (16 bits each: ML_MAX_LIGHTS = 4096 fits); per
 // ML_TILE_SIZE^2 tile a bitmask over the depth-sorted lights, ML_MAX_LIGHTS / 32 = 128 words
-// (512 B per tile: 16.6 MB at 1920x1080's 32,400 tiles). On the night city the bins span 0.1-280 m
-// (256 lights) or 0.1-314 m (2048): 0.27-0.31 m each, below the lights' depth extents (metres); the
-// (min, max) ranges add 5-17 % of candidates over exact per-light ranges (docs/culling.md).
+// (512 B per tile: 16.6 MB at 1920x1080's 32,400 tiles). 1024 bins keep a bin (a few tenths of a metre
+// on the night city) below the lights' depth extents (metres), so the (min, max) ranges add few
+// candidates over exact per-light ranges (docs/culling.md, "Z-binning side by side").
 #define ML_ZBIN_BINS 1024
 #define ML_ZBIN_WORDS (ML_MAX_LIGHTS / 32)
 // Mask pass: ML_ZBIN_LANES threads per sorted light over its tile rectangle (as the footprint pass);
@@ -143,19 +129,14 @@
 #define ML_VSM_CLEAR_GROUP 256
 // Instance culling: one workgroup per (group of 64 casters, map with a dirty page) pair left by vsm_pairs,
 // one thread per caster. 64: two NVIDIA warps or eight 8-lane lavapipe rows per workgroup, and one refused
-// pair saves 64 caster reads (82 % of pairs refused at 4096 night-city lights; other sizes not measured).
+// pair saves 64 caster reads (most pairs are refused: docs/virtual-shadow-maps.md; other sizes not measured).
 #define ML_VSM_CULL_GROUP 64
 // Meshlets of the VSM mesh path (meshoptimizer, engine/module.cpp addMesh): at most this many vertices
 // and triangles each (meshoptimizer wants triangles a multiple of 4); the mesh shader's output capacity
-// (VsmSettings::meshletVertices/Triangles may ask for smaller ones). Measured on lavapipe, FZK-Haus
-// (32,588 triangles, 200 meshes), orbit, 320x180, 245 static spots, mesh path, page-draw ms per frame
-// uncached / cached (`manylights bench vsm --scene ../shared/scenes/fzk-haus.glb --path orbit --frames 5
-// --size 320x180 --kinds static-spot --vsm-raster mesh --meshlet VxT`, best of the runs, the machine shared):
-//   16x32: 6607 meshlets, 6362 / 58.4 ms;  32x64: 3356 meshlets, 3588 / 28.3 ms;
-//   64x124: 1637 meshlets, 2266 / 34.2 ms (triangles rasterized 0.96M vs 1.05M per frame at 32x64 vs 64x124).
-// Smaller meshlets cull a few more triangles in the task shader but cost more task and mesh workgroups:
-// 64/124 is fastest where drawing costs most (every page redrawn) and within noise when cached. The night
-// city's meshes are small (16 meshlets for 11 meshes at 64/124), so the size hardly matters there.
+// (VsmSettings::meshletVertices/Triangles may ask for smaller ones). Smaller meshlets cull a few more
+// triangles in the task shader but cost more task and mesh workgroups: 64/124 draws fastest where drawing
+// costs most (every page redrawn). Cost: every mesh workgroup reserves outputs for 64 vertices and 124
+// triangles. The sizes compared: docs/virtual-shadow-maps.md, "Meshlet size".
 #define ML_MESHLET_VERTICES 64
 #define ML_MESHLET_TRIANGLES 124
 // Task shader: one meshlet per invocation, 32 per workgroup (lavapipe prefers <= 64 task invocations).

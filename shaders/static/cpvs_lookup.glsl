@@ -1,6 +1,7 @@
-// CPVS lookup (paper section 5): GLSL twin of the CPU functions at the end of
-// shadows/static/cpvs_layout.cpp. Same names, same integer operations in the same order; keep the two in
-// step line by line. The data layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
+// CPVS lookup (paper section 5). The decoder (a depth's slice, a voxel's bit) is one source text with the
+// C++ one: shaders/static/cpvs_decode.h. The bias and PCF below are the GLSL twins of the CPU functions at
+// the end of shadows/static/cpvs_layout.cpp: same names, same operations in the same order; keep the two
+// in step line by line. The data layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
 //
 // Usage: bind the CPVS words of all lights as one `uint` array and define CPVS_DATA before including:
 //     layout(std430, set = 0, binding = 3) readonly buffer CpvsWords { uint words[]; } cpvsBuf;
@@ -21,58 +22,11 @@
 #error "define CPVS_DATA as the uint[] array that holds the CPVS words"
 #endif
 
-// header word indices (CpvsHeader in shadows/static/cpvs.h)
-const uint CPVS_H_RESOLUTION = 2u;
-const uint CPVS_H_LOG2_RESOLUTION = 3u;
-const uint CPVS_H_GRID_LOG2 = 4u;
-const uint CPVS_H_THRESHOLDS = 8u;
-const uint CPVS_H_GRID = 9u;
-const uint CPVS_LIT = 0u;
-const uint CPVS_SHADOWED = 1u;
-
-// Slice of a quantised depth: the number of s in [1, N-1] with T[s] < depth (binary search).
-uint cpvsSliceOfDepth(uint base, uint depth) {
-    uint n = CPVS_DATA[base + CPVS_H_RESOLUTION];
-    uint t = base + CPVS_DATA[base + CPVS_H_THRESHOLDS];
-    uint lo = 1u; // first s in [1, N) with T[s] >= depth, N if none
-    uint count = n - 1u;
-    while (count > 0u) {
-        uint step = count >> 1u;
-        uint mid = lo + step;
-        if (CPVS_DATA[t + mid] < depth) {
-            lo = mid + 1u;
-            count -= step + 1u;
-        } else {
-            count = step;
-        }
-    }
-    return lo - 1u;
-}
-
-// Voxel (x, y, s): x, y outside [0, N) are lit; s is clamped to [0, N-1].
-bool cpvsShadowedVoxel(uint base, int x, int y, int s) {
-    int n = int(CPVS_DATA[base + CPVS_H_RESOLUTION]);
-    if (x < 0 || y < 0 || x >= n || y >= n) return false;
-    s = s < 0 ? 0 : (s >= n ? n - 1 : s);
-    uint ux = uint(x), uy = uint(y), us = uint(s);
-    uint gridLog2 = CPVS_DATA[base + CPVS_H_GRID_LOG2];
-    uint cellLog2 = CPVS_DATA[base + CPVS_H_LOG2_RESOLUTION] - gridLog2;
-    uint cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
-    uint ptr = CPVS_DATA[base + CPVS_DATA[base + CPVS_H_GRID] + cell];
-    if (ptr == CPVS_LIT) return false;
-    if (ptr == CPVS_SHADOWED) return true;
-    uint half_ = 1u << (cellLog2 - 1u);
-    while (half_ >= 4u) {
-        uint h = CPVS_DATA[base + ptr];
-        uint c = ((ux & half_) != 0u ? 1u : 0u) | ((uy & half_) != 0u ? 2u : 0u) | ((us & half_) != 0u ? 4u : 0u);
-        uint bit = 1u << c;
-        if ((h & bit) == 0u) return ((h >> 8u) & bit) != 0u;
-        ptr = CPVS_DATA[base + ptr + 1u + uint(bitCount(h & (bit - 1u)))];
-        half_ >>= 1u;
-    }
-    uint b = (ux & 3u) + 4u * (uy & 3u) + 16u * (us & 3u);
-    return ((CPVS_DATA[base + ptr + (b >> 5u)] >> (b & 31u)) & 1u) != 0u;
-}
+// The decoder proper, cpvsSliceOfDepth and cpvsShadowedVoxel: one text with the C++ decoder.
+#define CPVS_FN
+#define CPVS_DATA_PARAM
+#define CPVS_WORD(i) CPVS_DATA[i]
+#include "shaders/static/cpvs_decode.h"
 
 // Normal bias: move along nq until the largest component is radius + 1 voxels, rounding half away from 0.
 ivec3 cpvsNormalOffset(ivec3 nq, int radius) {

@@ -1,44 +1,13 @@
-// MH lookup: line-by-line twin of mhLookup in shadows/static/mh.h (layout documented there).
+// MH and MMH lookups in GLSL: mhLookup, mhLookupLevel, mmhLookup, mmhLookupLevel. One text with the C++
+// decoders of shadows/static/mh.h and mmh.h: shaders/static/mh_descent.h, here reading ML_STATIC_DATA.
 #ifndef ML_MH_LOOKUP_GLSL
 #define ML_MH_LOOKUP_GLSL
 #include "common_static.glsl"
 
-// Header word indices (mhfmt).
-const uint ML_MH_LEVELS = 3u;
-const uint ML_MH_ROOT_TYPE = 4u;
-const uint ML_MH_NODE_OFFSET = 5u;
-const uint ML_MH_HEADER_WORDS = 12u; // version 1; version 2 (far groups) has 14
-const uint ML_MH_FAR_SHIFT = 12u;
-const uint ML_MH_FAR_BIT = 0x800000u;
-
-uint mhLookupLevel(uint base, uint x, uint y, uint steps) {
-    uint nodeOffset = ML_STATIC_DATA[base + ML_MH_NODE_OFFSET];
-    uint p = base + nodeOffset;
-    uint value = ML_STATIC_DATA[p];
-    if (ML_STATIC_DATA[base + ML_MH_ROOT_TYPE] == 1u) return value;
-    uint shift = nodeOffset > ML_MH_HEADER_WORDS ? ML_STATIC_DATA[base + ML_MH_FAR_SHIFT] : 0u;
-    uint farBit = shift != 0u ? ML_MH_FAR_BIT : 0u;
-    uint hp = p + 1u;
-    uint hdr = ML_STATIC_DATA[hp];
-    for (uint s = steps; s > 0u; --s) {
-        uint c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
-        uint t = (hdr >> (2u * c)) & 3u;
-        if (t == 0u) return value;
-        uint off = hdr >> 8u;
-        uint q = (off & farBit) != 0u ? base + ((off & (ML_MH_FAR_BIT - 1u)) << shift) : hp + off;
-        // Record sizes by type: absent 0, leaf 1, full 2, empty 1 (2-bit table 0x64).
-        for (uint i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
-        if (t != 3u) {
-            value = ML_STATIC_DATA[q];
-            q += 1u;
-        }
-        if (t == 1u) return value;
-        hp = q;
-        hdr = ML_STATIC_DATA[hp];
-    }
-    return value;
-}
-
-uint mhLookup(uint base, uint x, uint y) { return mhLookupLevel(base, x, y, ML_STATIC_DATA[base + ML_MH_LEVELS]); }
+#define ML_MH_FN
+#define ML_MH_DATA_PARAM
+#define ML_MH_DATA_ARG
+#define ML_MH_WORD(i) ML_STATIC_DATA[i]
+#include "shaders/static/mh_descent.h"
 
 #endif

@@ -12,6 +12,10 @@
 // angles where a constant depth bias fails, and with the kernel, whose outer taps would otherwise see
 // the receiver's own surface) and then compared with a further half-texel depth bias. PCF averages the
 // binary tests of (2r+1)^2 texels around it.
+// Filtering by level (MH and MMH records with shadowRecordByLevel, off by default): footprint2 is the
+// receiver's pixel footprint squared (shadowFootprint2: FrameConstants.cameraPosition.w times the squared
+// distance); shadowLevelStep picks the finest level whose texel covers it, by exact doubling so the CPU
+// twin picks the same one, and the taps, normal offset and depth bias are that level's texels.
 // CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_lookup.glsl).
 #ifndef ML_STATIC_VISIBILITY_GLSL
 #define ML_STATIC_VISIBILITY_GLSL

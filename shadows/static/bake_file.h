@@ -69,7 +69,7 @@ constexpr uint32_t kFixedHeaderWords = 16;
 constexpr uint32_t kRecordWords = 32;
 constexpr uint32_t kMaxSceneBytes = 4096;
 constexpr uint32_t kMaxRecords = 65536;
-constexpr uint32_t kMaxResolution = 65536;
+constexpr uint32_t kMaxResolution = 262144; // kMhMaxResolution: SM and CPVS records stop at 16384
 enum : uint32_t {
     kHMagic,
     kHVersion,

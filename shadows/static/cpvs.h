@@ -50,6 +50,7 @@
 #include "io/result.h"
 #include "shadows/static/dual_depth.h"
 
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -212,10 +213,26 @@ Result<void> validateCpvs(const uint32_t* data, size_t words);
 
 CpvsBytes cpvsBytes(const uint32_t* data); // data must be valid
 
-// CPU twin of shaders/static/cpvs_lookup.glsl: same names, same integer operations, same order.
-uint32_t cpvsSliceOfDepth(const uint32_t* data, uint32_t base, uint32_t depth);
-// x, y outside [0, N) are lit (outside the light's frustum); s is clamped to [0, N-1].
-bool cpvsShadowedVoxel(const uint32_t* data, uint32_t base, int32_t x, int32_t y, int32_t s);
+// The decoder: cpvsSliceOfDepth(data, base, depth), the slice of a quantised depth, and
+// cpvsShadowedVoxel(data, base, x, y, s), a voxel's bit (x, y outside [0, N) are lit: outside the light's
+// frustum; s is clamped to [0, N-1]). One source text with the GLSL decoder, shaders/static/cpvs_decode.h,
+// compiled here with the buffer as an argument.
+namespace cpvstwin {
+using uint = uint32_t;
+inline int bitCount(uint32_t x) {
+    return std::popcount(x);
+}
+#define CPVS_FN inline
+#define CPVS_DATA_PARAM const uint32_t *data,
+#define CPVS_WORD(i) data[i]
+#include "shaders/static/cpvs_decode.h"
+static_assert(CPVS_H_RESOLUTION == kCpvsHResolution && CPVS_H_LOG2_RESOLUTION == kCpvsHLog2Resolution &&
+              CPVS_H_GRID_LOG2 == kCpvsHGridLog2 && CPVS_H_THRESHOLDS == kCpvsHThresholds &&
+              CPVS_H_GRID == kCpvsHGrid && CPVS_LIT == kCpvsLit && CPVS_SHADOWED == kCpvsShadowed);
+} // namespace cpvstwin
+using cpvstwin::cpvsShadowedVoxel;
+using cpvstwin::cpvsSliceOfDepth;
+// The bias and PCF: CPU twins of shaders/static/cpvs_lookup.glsl's, same names, same operations, same order.
 // Normal bias (section 5): the lookup point moves along the voxel-space normal nq (any integer scale,
 // e.g. quantised to +-1024) until its largest component is radius + 1 voxels; rounding half away from 0.
 void cpvsNormalOffset(const int32_t nq[3], int32_t radius, int32_t out[3]);

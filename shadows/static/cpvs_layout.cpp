@@ -177,50 +177,8 @@ CpvsBytes cpvsBytes(const uint32_t* d) {
     return b;
 }
 
-// ----- CPU twin of shaders/static/cpvs_lookup.glsl (keep the two in step, line by line) -----
-
-uint32_t cpvsSliceOfDepth(const uint32_t* data, uint32_t base, uint32_t depth) {
-    uint32_t n = data[base + kCpvsHResolution];
-    uint32_t t = base + data[base + kCpvsHThresholds];
-    uint32_t lo = 1u; // first s in [1, N) with T[s] >= depth, N if none
-    uint32_t count = n - 1u;
-    while (count > 0u) {
-        uint32_t step = count >> 1u;
-        uint32_t mid = lo + step;
-        if (data[t + mid] < depth) {
-            lo = mid + 1u;
-            count -= step + 1u;
-        } else {
-            count = step;
-        }
-    }
-    return lo - 1u;
-}
-
-bool cpvsShadowedVoxel(const uint32_t* data, uint32_t base, int32_t x, int32_t y, int32_t s) {
-    int32_t n = int32_t(data[base + kCpvsHResolution]);
-    if (x < 0 || y < 0 || x >= n || y >= n) return false;
-    s = s < 0 ? 0 : (s >= n ? n - 1 : s);
-    uint32_t ux = uint32_t(x), uy = uint32_t(y), us = uint32_t(s);
-    uint32_t gridLog2 = data[base + kCpvsHGridLog2];
-    uint32_t cellLog2 = data[base + kCpvsHLog2Resolution] - gridLog2;
-    uint32_t cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
-    uint32_t ptr = data[base + data[base + kCpvsHGrid] + cell];
-    if (ptr == kCpvsLit) return false;
-    if (ptr == kCpvsShadowed) return true;
-    uint32_t half = 1u << (cellLog2 - 1u);
-    while (half >= 4u) {
-        uint32_t h = data[base + ptr];
-        uint32_t c =
-            ((ux & half) != 0u ? 1u : 0u) | ((uy & half) != 0u ? 2u : 0u) | ((us & half) != 0u ? 4u : 0u);
-        uint32_t bit = 1u << c;
-        if ((h & bit) == 0u) return ((h >> 8u) & bit) != 0u;
-        ptr = data[base + ptr + 1u + uint32_t(std::popcount(h & (bit - 1u)))];
-        half >>= 1u;
-    }
-    uint32_t b = (ux & 3u) + 4u * (uy & 3u) + 16u * (us & 3u);
-    return ((data[base + ptr + (b >> 5u)] >> (b & 31u)) & 1u) != 0u;
-}
+// ----- CPU twin of shaders/static/cpvs_lookup.glsl's bias and PCF (keep the two in step, line by line;
+// the decoder they call is one text with the shader's: shaders/static/cpvs_decode.h) -----
 
 void cpvsNormalOffset(const int32_t nq[3], int32_t radius, int32_t out[3]) {
     int32_t ax = nq[0] < 0 ? -nq[0] : nq[0], ay = nq[1] < 0 ? -nq[1] : nq[1], az = nq[2] < 0 ? -nq[2] : nq[2];

@@ -337,7 +337,7 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (data[kChecksum] != stat::checksumWords(data, size, kChecksum)) return bad("checksum mismatch");
     if (data[kReserved] != 0) return bad("reserved header word is not 0");
     const uint32_t L = data[kLevels], res = data[kResolution], S = skipLevel(data), B = boundsLevel(data);
-    if (L > 16 || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
+    if (L > kMhMaxLevels || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
         return bad("resolution does not match levels");
     if (S > L || S > 8) return bad("skip level " + std::to_string(S) + " out of range");
     if (B < S || B > std::min<uint32_t>(L, 9) || (data[kSkipLevel] >> 16) != 0)

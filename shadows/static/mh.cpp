@@ -120,8 +120,9 @@ Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* 
 
 Result<MhTree> buildMhTree(const DualDepthMap& map) {
     const uint32_t res = map.resolution;
-    if (res == 0 || res > (1u << 16))
-        return fail("MH: resolution " + std::to_string(res) + " outside 1..65536");
+    if (res == 0 || res > kMhMaxResolution)
+        return fail("MH: resolution " + std::to_string(res) + " outside 1.." +
+                    std::to_string(kMhMaxResolution));
     if (map.enter.size() != size_t(res) * res || map.exit.size() != map.enter.size())
         return fail("MH: dual depth map holds " + std::to_string(map.enter.size()) +
                     " texels, expected res^2");
@@ -325,7 +326,7 @@ Result<void> validate(const uint32_t* data, size_t size, uint32_t magic) {
                     std::to_string(size));
     if (data[kChecksum] != stat::checksumWords(data, size, kChecksum)) return fail("MH: checksum mismatch");
     uint32_t L = data[kLevels], res = data[kResolution];
-    if (L > 16 || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
+    if (L > kMhMaxLevels || res == 0 || res > (1u << L) || (L > 0 && res <= (1u << (L - 1))))
         return fail("MH: resolution " + std::to_string(res) + " does not match " + std::to_string(L) +
                     " levels");
     if (data[kNodeOffset] != headerWords || uint64_t(headerWords) + data[kNodeWords] != size)

@@ -43,6 +43,12 @@
 
 namespace ml {
 
+// The largest map the MH family (MH, MMH, DAG-MH) builds and reads: 2^18 texels a side, the seeds'
+// 256K^2 tables. Coordinates, levels, node and word counts fit 32 bits there; the texel count (2^36)
+// is counted in 64 bits. Only tiled builds (mh_tiled.h) reach it: a whole map past 16384^2 is not held.
+constexpr uint32_t kMhMaxLevels = 18;
+constexpr uint32_t kMhMaxResolution = 1u << kMhMaxLevels;
+
 // Construction-side sparse quadtree shared by the MH, MMH and DAG-MH encoders.
 struct MhTree {
     struct Node {
@@ -134,42 +140,23 @@ Result<void> validateMH(const uint32_t* data, size_t size);
 // Bytes per part: header, nodes (header words of inner records), values (value words).
 stat::ByteBreakdown breakdownMH(const uint32_t* data, size_t size);
 
-// GLSL twin: shaders/static/mh_lookup.glsl. Only valid on a buffer validateMH accepted; x, y < resolution.
-// The map at a coarser level: (x, y) a texel of the level `steps` below the root (steps <= levels; a
-// node of that level stands for 2^(levels - steps) texels a side). Its value is the deepest valued node's
-// on the path down to that level: every level of the hierarchy is a complete map (the MMH paper's
-// hierarchical filtering), exact at the finest (steps = levels) and an approximation above.
-inline uint32_t mhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, uint32_t steps) {
-    uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
-    uint32_t p = base + nodeOffset;
-    uint32_t value = data[p];
-    if (data[base + mhfmt::kRootType] == 1u) return value;
-    // Version 1 has no far groups: shift 0 and a far bit of 0 keep its 24-bit offsets.
-    uint32_t shift = nodeOffset > mhfmt::kHeaderWords ? data[base + mhfmt::kFarShift] : 0u;
-    uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
-    uint32_t hp = p + 1u;
-    uint32_t hdr = data[hp];
-    for (uint32_t s = steps; s > 0u; --s) {
-        uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
-        uint32_t t = (hdr >> (2u * c)) & 3u;
-        if (t == 0u) return value;
-        uint32_t off = hdr >> 8u;
-        uint32_t q = (off & farBit) != 0u ? base + ((off & (mhfmt::kFarBit - 1u)) << shift) : hp + off;
-        // Record sizes by type: absent 0, leaf 1, full 2, empty 1 (2-bit table 0x64).
-        for (uint32_t i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
-        if (t != 3u) {
-            value = data[q];
-            q += 1u;
-        }
-        if (t == 1u) return value;
-        hp = q;
-        hdr = data[hp];
-    }
-    return value;
-}
-inline uint32_t mhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    return mhLookupLevel(data, base, x, y, data[base + mhfmt::kLevels]);
-}
+// The lookups: mhLookup, mhLookupLevel (and mmhLookup, mmhLookupLevel, which mmh.h declares) are one
+// source text with the GLSL decoders, shaders/static/mh_descent.h, compiled here with the buffer as an
+// argument. Only valid on a buffer validateMH (validateMMH) accepted; x, y below the resolution of the
+// level looked up. mhLookupLevel(data, base, x, y, steps): the map at the level `steps` below the root.
+namespace mhtwin {
+using uint = uint32_t;
+#define ML_MH_FN inline
+#define ML_MH_DATA_PARAM const uint32_t *data,
+#define ML_MH_DATA_ARG data,
+#define ML_MH_WORD(i) data[i]
+#include "shaders/static/mh_descent.h"
+static_assert(ML_MH_LEVELS == mhfmt::kLevels && ML_MH_ROOT_TYPE == mhfmt::kRootType &&
+              ML_MH_NODE_OFFSET == mhfmt::kNodeOffset && ML_MH_HEADER_WORDS == mhfmt::kHeaderWords &&
+              ML_MH_FAR_SHIFT == mhfmt::kFarShift && ML_MH_FAR_BIT == mhfmt::kFarBit);
+} // namespace mhtwin
+using mhtwin::mhLookup;
+using mhtwin::mhLookupLevel;
 inline uint32_t mhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return mhLookup(data, 0u, x, y);
 }

@@ -93,8 +93,9 @@ int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
 } // namespace
 
 Result<MhTileGrid> mhTileGrid(uint32_t res, uint32_t tile) {
-    if (res == 0 || res > (1u << 16))
-        return fail("MH: resolution " + std::to_string(res) + " outside 1..65536");
+    if (res == 0 || res > kMhMaxResolution)
+        return fail("MH: resolution " + std::to_string(res) + " outside 1.." +
+                    std::to_string(kMhMaxResolution));
     if (tile == 0 || (tile & (tile - 1)) != 0)
         return fail("MH: tile side " + std::to_string(tile) + " is not a power of two");
     MhTileGrid g;
@@ -120,29 +121,17 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
     std::mutex mutex; // guards error, the stats sums and the progress callback
     std::string error;
     MhTiledStats st;
+    std::once_flag emptyOnce; // the empty tile's subtree, built by the first worker that meets one
+    MhTile emptyTile;
+    std::string emptyError;
+    std::atomic<uint32_t> emptyCount{0};
 
     auto worker = [&]() {
         std::vector<uint32_t> enter, exit, lo(size_t(T) * T), hi(size_t(T) * T);
         uint64_t covered = 0, closed = 0;
         double render = 0, reduce = 0;
-        for (uint32_t j; !failed && (j = next++) < owned;) {
-            const uint32_t k = mine[j];
-            // Row-major tile index = the top pyramid's finest level; emission visits it in preorder.
-            const uint32_t tx = k % m, ty = k / m, x0 = tx * T, y0 = ty * T;
-            const uint32_t w = x0 < res ? std::min(T, res - x0) : 0, h = y0 < res ? std::min(T, res - y0) : 0;
-            auto tr = Clock::now();
-            if (w && h) {
-                enter.resize(size_t(w) * h), exit.resize(size_t(w) * h);
-                if (auto r = source(x0, y0, w, h, enter.data(), exit.data()); !r) {
-                    std::lock_guard<std::mutex> lock(mutex);
-                    if (!failed)
-                        error = "tile (" + std::to_string(x0) + ", " + std::to_string(y0) + "): " + r.error();
-                    failed = true;
-                    break;
-                }
-            }
-            render += secondsSince(tr);
-            auto tb = Clock::now();
+        // Reduces the rendered w x h texels of tile k into tiles[k]; false after an error.
+        auto reduceTile = [&](uint32_t k, uint32_t w, uint32_t h) -> bool {
             // Texels past the resolution are "don't care" [0, 2^32-1], as in buildMhTree.
             for (uint32_t y = 0; y < T; ++y)
                 for (uint32_t x = 0; x < T; ++x) {
@@ -160,9 +149,56 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                 std::lock_guard<std::mutex> lock(mutex);
                 if (!failed) error = sub.error();
                 failed = true;
+                return false;
+            }
+            nodeCount += sub->nodes.size();
+            tiles[k] = pack(sub.value());
+            return true;
+        };
+        for (uint32_t j; !failed && (j = next++) < owned;) {
+            const uint32_t k = mine[j];
+            // Row-major tile index = the top pyramid's finest level; emission visits it in preorder.
+            const uint32_t tx = k % m, ty = k / m, x0 = tx * T, y0 = ty * T;
+            const uint32_t w = x0 < res ? std::min(T, res - x0) : 0, h = y0 < res ? std::min(T, res - y0) : 0;
+            auto tr = Clock::now();
+            const bool empty = w == T && h == T && options.emptyBlock && options.emptyBlock(x0, y0, w, h);
+            if (empty) {
+                std::call_once(emptyOnce, [&] {
+                    std::fill(lo.begin(), lo.end(), kDepthEmpty),
+                        std::fill(hi.begin(), hi.end(), kDepthEmpty);
+                    auto sub = mhbuild::buildSubtree(T, lo.data(), hi.data(), top);
+                    if (sub)
+                        emptyTile = pack(sub.value()), emptyTile.built = true;
+                    else
+                        emptyError = sub.error();
+                });
+                if (!emptyTile.built) {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    if (!failed) error = "the empty tile: " + emptyError;
+                    failed = true;
+                    break;
+                }
+                ++emptyCount;
+            } else if (w && h) {
+                enter.resize(size_t(w) * h), exit.resize(size_t(w) * h);
+                if (auto r = source(x0, y0, w, h, enter.data(), exit.data()); !r) {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    if (!failed)
+                        error = "tile (" + std::to_string(x0) + ", " + std::to_string(y0) + "): " + r.error();
+                    failed = true;
+                    break;
+                }
+            }
+            render += secondsSince(tr);
+            auto tb = Clock::now();
+            if (empty) {
+                nodeCount += emptyTile.nodes.size();
+                tiles[k] = emptyTile;
+            } else if (!reduceTile(k, w, h)) {
                 break;
             }
-            const uint64_t held = (nodeCount += sub->nodes.size());
+            tiles[k].built = true;
+            const uint64_t held = nodeCount;
             if (options.maxNodes && held > options.maxNodes) {
                 std::lock_guard<std::mutex> lock(mutex);
                 if (!failed)
@@ -173,8 +209,6 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                 failed = true;
                 break;
             }
-            tiles[k] = pack(sub.value());
-            tiles[k].built = true;
             reduce += secondsSince(tb);
             const uint32_t finished = ++done;
             if (options.progress) {
@@ -193,7 +227,7 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
     worker();
     for (std::thread& th : pool) th.join();
     if (failed) return fail("MH: " + error);
-    st.tiles = owned, st.tileSide = T;
+    st.tiles = owned, st.tileSide = T, st.emptyTiles = emptyCount;
     st.nodes = nodeCount;
     if (stats) *stats = st;
     return {};

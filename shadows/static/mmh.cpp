@@ -2,6 +2,7 @@
 #include "shadows/static/mmh.h"
 
 #include <algorithm>
+#include <type_traits>
 #include <unordered_map>
 
 namespace ml {
@@ -15,10 +16,13 @@ uint64_t mix64(uint64_t x) {
     return x ^ (x >> 31);
 }
 
+// A node's interval, narrowed by merges: always inside the tree's [lo, hi], so 32 bits hold it.
 struct Range {
-    int64_t lo, hi;
+    uint32_t lo, hi;
 };
 
+// Merge state, 44 B a tree node with the layout positions, beside the tree's 28 (the moon's tree at
+// 65536^2: 45 M nodes): what matching needs is dropped before the serializer allocates its own arrays.
 struct Builder {
     const MhTree& tree;
     size_t n;
@@ -26,7 +30,7 @@ struct Builder {
     std::vector<uint8_t> height, flags;
     std::vector<uint64_t> hash;
     std::vector<Range> J;
-    std::vector<int64_t> val;
+    std::vector<uint32_t> val; // inside its interval
     std::vector<uint8_t> fixed, dropped;
     std::vector<int32_t> redirect;
 
@@ -35,7 +39,7 @@ struct Builder {
         J.resize(n), val.assign(n, 0), fixed.assign(n, 0), dropped.assign(n, 0), redirect.assign(n, -1);
         for (size_t i = n; i-- > 0;) {
             const MhTree::Node& nd = tree.nodes[i];
-            J[i] = {int64_t(nd.lo), int64_t(nd.hi)};
+            J[i] = {nd.lo, nd.hi};
             uint32_t f = 0, h = 0;
             for (uint32_t c = 0; c < 4; ++c)
                 if (nd.child[c] >= 0) {
@@ -54,11 +58,11 @@ struct Builder {
     }
     void fix(size_t i) {
         if (fixed[i] || !tree.nodes[i].valued) return;
-        val[i] = J[i].lo + (J[i].hi - J[i].lo) / 2;
+        val[i] = J[i].lo + (J[i].hi - J[i].lo) / 2u;
         fixed[i] = 1;
     }
     // Value of the nearest valued node at or above i (every such node is already fixed).
-    int64_t base(int32_t i) const {
+    int64_t base(int32_t i) const { // int64: callers subtract it from intervals
         while (!tree.nodes[i].valued) i = parent[i];
         return val[i];
     }
@@ -113,7 +117,7 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
             Stat s{INT64_MAX, INT64_MIN, INT64_MAX, INT64_MIN};
             b.walkPairs(node, node, [&](int32_t x, int32_t) {
                 if (tree.nodes[x].valued) {
-                    int64_t lo = b.J[x].lo - a, hi = b.J[x].hi - a;
+                    int64_t lo = int64_t(b.J[x].lo) - a, hi = int64_t(b.J[x].hi) - a;
                     s.lMin = std::min(s.lMin, lo), s.lMax = std::max(s.lMax, lo);
                     s.hMin = std::min(s.hMin, hi), s.hMax = std::max(s.hMax, hi);
                 }
@@ -149,8 +153,8 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
                         b.walkPairs(A, B, [&](int32_t x, int32_t y) {
                             if (b.flags[x] != b.flags[y]) return ok = false;
                             if (tree.nodes[x].valued) {
-                                int64_t lo = std::max(b.J[x].lo - aA, b.J[y].lo - aB);
-                                int64_t hi = std::min(b.J[x].hi - aA, b.J[y].hi - aB);
+                                int64_t lo = std::max(int64_t(b.J[x].lo) - aA, int64_t(b.J[y].lo) - aB);
+                                int64_t hi = std::min(int64_t(b.J[x].hi) - aA, int64_t(b.J[y].hi) - aB);
                                 if (lo > hi) return ok = false;
                             }
                             return true;
@@ -160,9 +164,10 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
                         continue;
                     }
                     b.walkPairs(A, B, [&](int32_t x, int32_t y) {
+                        // Inside J[y]: the check above found the shifted intervals overlapping.
                         if (tree.nodes[x].valued)
-                            b.J[y] = {std::max(b.J[y].lo, b.J[x].lo - aA + aB),
-                                      std::min(b.J[y].hi, b.J[x].hi - aA + aB)};
+                            b.J[y] = {uint32_t(std::max<int64_t>(b.J[y].lo, int64_t(b.J[x].lo) - aA + aB)),
+                                      uint32_t(std::min<int64_t>(b.J[y].hi, int64_t(b.J[x].hi) - aA + aB))};
                         b.dropped[x] = 1;
                         ++st.droppedNodes;
                         return true;
@@ -176,6 +181,9 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
     }
     for (size_t i = 0; i < b.n; ++i)
         if (!b.dropped[i]) b.fix(i);
+    auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+    release(b.J), release(b.hash), release(b.height), release(b.flags), release(b.fixed), release(byHeight);
+    release(stat), release(baseOf);
     // Relative values: value minus the nearest valued ancestor's value (mod 2^32).
     std::vector<uint32_t> rel(b.n, 0);
     for (size_t i = 0; i < b.n; ++i) {
@@ -183,6 +191,7 @@ Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& op
         int64_t above = i == 0 ? 0 : b.base(b.parent[i]);
         rel[i] = uint32_t(b.val[i]) - uint32_t(above);
     }
+    release(b.parent), release(b.val);
     if (statsOut) *statsOut = st;
     std::vector<uint32_t>().swap(hpos), std::vector<uint32_t>().swap(gpos); // the serializer makes its own
     return mhfmt::serialize(tree, rel, &b.redirect, &b.dropped, mhfmt::kMagicMMH, nullptr, nullptr,

@@ -46,40 +46,11 @@ Result<std::vector<uint32_t>> encodeMMH(const DualDepthMap& map, const MmhOption
 Result<void> validateMMH(const uint32_t* data, size_t size);
 stat::ByteBreakdown breakdownMMH(const uint32_t* data, size_t size);
 
-// GLSL twin: shaders/static/mmh_lookup.glsl. Only valid on a buffer validateMMH accepted.
-// The map at a coarser level: (x, y) a texel of the level `steps` below the root (steps <= levels; a
-// node of that level stands for 2^(levels - steps) texels a side). Its value is the deepest valued node's
-// on the path down to that level: every level of the hierarchy is a complete map (the MMH paper's
-// hierarchical filtering), exact at the finest (steps = levels) and an approximation above.
-inline uint32_t mmhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, uint32_t steps) {
-    uint32_t nodeOffset = data[base + mhfmt::kNodeOffset];
-    uint32_t p = base + nodeOffset;
-    uint32_t value = data[p];
-    if (data[base + mhfmt::kRootType] == 1u) return value;
-    uint32_t shift = nodeOffset > mhfmt::kHeaderWords ? data[base + mhfmt::kFarShift] : 0u;
-    uint32_t farBit = shift != 0u ? mhfmt::kFarBit : 0u;
-    uint32_t hp = p + 1u;
-    uint32_t hdr = data[hp];
-    for (uint32_t s = steps; s > 0u; --s) {
-        uint32_t c = (((y >> (s - 1u)) & 1u) << 1u) | ((x >> (s - 1u)) & 1u);
-        uint32_t t = (hdr >> (2u * c)) & 3u;
-        if (t == 0u) return value;
-        uint32_t off = hdr >> 8u;
-        uint32_t q = (off & farBit) != 0u ? base + ((off & (mhfmt::kFarBit - 1u)) << shift) : hp + off;
-        for (uint32_t i = 0u; i < c; ++i) q += (0x64u >> (2u * ((hdr >> (2u * i)) & 3u))) & 3u;
-        if (t != 3u) {
-            value += data[q]; // relative to the nearest valued ancestor, wrapping mod 2^32
-            q += 1u;
-        }
-        if (t == 1u) return value;
-        hp = q;
-        hdr = data[hp];
-    }
-    return value;
-}
-inline uint32_t mmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    return mmhLookupLevel(data, base, x, y, data[base + mhfmt::kLevels]);
-}
+// The lookups: MH's descent adding relative values, one source text with the GLSL decoders
+// (shaders/static/mh_descent.h, compiled by mh.h). Only valid on a buffer validateMMH accepted.
+// mmhLookupLevel(data, base, x, y, steps): the map at the level `steps` below the root.
+using mhtwin::mmhLookup;
+using mhtwin::mmhLookupLevel;
 inline uint32_t mmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return mmhLookup(data, 0u, x, y);
 }

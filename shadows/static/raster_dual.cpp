@@ -194,6 +194,19 @@ void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint3
     renderRect(0, y0, res_, y1 - y0, enter, exit);
 }
 
+bool DualRasterizer::blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const {
+    const uint32_t y1 = y0 + h;
+    for (const Tri& tr : tris_) { // renderRect's row and column bounds, without the coverage
+        if (tr.yMin >= int32_t(y1)) break;
+        if (tr.yMax < int32_t(y0)) continue;
+        int64_t xmin = std::min({tr.x[0], tr.x[1], tr.x[2]}), xmax = std::max({tr.x[0], tr.x[1], tr.x[2]});
+        int64_t c0 = floorDiv(xmin - kSub / 2 + kSub - 1, kSub), c1 = floorDiv(xmax - kSub / 2, kSub);
+        c0 = std::max<int64_t>(c0, x0), c1 = std::min<int64_t>(c1, int64_t(x0) + w - 1);
+        if (c0 <= c1) return false;
+    }
+    return true;
+}
+
 void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
                                 uint32_t* exit) const {
     const uint32_t y1 = y0 + h;

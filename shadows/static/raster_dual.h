@@ -82,6 +82,9 @@ class DualRasterizer {
     // Renders the w x h block at texel (x0, y0) (inside the map, w * h < 2^30) into enter/exit, w words a
     // row: the same texels renderRows gives. Safe to call from several threads at once.
     void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit) const;
+    // True when no triangle's covered rows and columns (renderRect's own bounds) reach the block, so
+    // renderRect would fill it with kDepthEmpty only. Conservative: false may still render empty.
+    bool blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const;
     // The whole map, in tiles of at most `tileTexels` texels.
     DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
 

@@ -312,5 +312,40 @@ TEST(ScenesNightCity, LargeCityHasTheSeedsScale) {
                 (unsigned long long)triangles(*large));
 }
 
+// The closed variant is the same city with its open sheets (awnings, fences, foliage) turned into thin
+// closed boxes: every static mesh an instance uses passes the watertightness test, the layout and the
+// lights are the open city's, and only the three sheet meshes changed.
+TEST(ScenesNightCity, ClosedVariantHasOnlyClosedCasters) {
+    auto open = loadScene("night-city", 256, 1);
+    auto closed = loadScene("night-city-closed", 256, 1);
+    ASSERT_TRUE(open.ok() && closed.ok());
+    EXPECT_EQ(closed->name, "night-city-closed");
+    ASSERT_EQ(open->instances.size(), closed->instances.size());
+    ASSERT_EQ(open->lights.size(), closed->lights.size());
+    ASSERT_EQ(open->meshes.size(), closed->meshes.size());
+    size_t openUsed = 0, changed = 0;
+    std::vector<bool> used(closed->meshes.size(), false);
+    for (size_t i = 0; i < closed->instances.size(); ++i) {
+        EXPECT_EQ(open->instances[i].mesh, closed->instances[i].mesh) << "instance " << i;
+        EXPECT_EQ(open->instances[i].transform, closed->instances[i].transform) << "instance " << i;
+        if (!closed->instances[i].dynamic) used[closed->instances[i].mesh] = true;
+    }
+    for (size_t m = 0; m < closed->meshes.size(); ++m) {
+        if (!used[m]) continue;
+        const Mesh& c = closed->meshes[m];
+        EXPECT_TRUE(c.closed && isClosedMesh(c)) << c.name;
+        if (!open->meshes[m].closed) ++openUsed;
+        if (open->meshes[m].indices != c.indices || open->meshes[m].name != c.name) ++changed;
+    }
+    EXPECT_EQ(openUsed, 3u) << "awning, fence and foliage are the open city's open casters";
+    EXPECT_EQ(changed, 3u);
+    for (size_t l = 0; l < closed->lights.size(); ++l)
+        EXPECT_EQ(open->lights[l].position, closed->lights[l].position) << "light " << l;
+    auto large = loadScene("night-city-large-closed", 16, 1);
+    ASSERT_TRUE(large.ok());
+    EXPECT_EQ(large->name, "night-city-large-closed");
+    EXPECT_GT(large->instances.size(), 10 * closed->instances.size());
+}
+
 } // namespace
 } // namespace ml

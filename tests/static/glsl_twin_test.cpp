@@ -1,35 +1,14 @@
-// The GLSL decoders (shaders/static/*_lookup.glsl) compiled as C++: `uint` is uint32_t, the SSBO is a
-// pointer, bitCount is std::popcount. Every texel must decode bit-identically to the C++ decoders, at
-// base 0 and with the buffer placed at an odd offset inside a larger array (the `base` argument).
-// The GPU run of the same text comes with the GPU tests; this pins the text itself.
+// The GLSL decoders (shaders/static/*_lookup.glsl) compiled as C++ (glsl_shims.h). Every texel must
+// decode bit-identically to the C++ decoders, at base 0 and with the buffer placed at an odd offset
+// inside a larger array (the `base` argument). MH's and MMH's text is the C++ decoders' own
+// (shaders/static/mh_descent.h): for them this pins the GLSL instantiation (words read through
+// ML_STATIC_DATA at `base`); DAG-MH's GLSL is a text of its own. The GPU run of the same text comes with
+// the GPU tests (GpuStatic.*); this pins the text itself.
 #include "static_test_util.h"
 #include "bake/bake.h"
 #include "bake/scene_casters.h"
+#include "glsl_shims.h"
 #include "scenes/scenes.h"
-
-#include <bit>
-
-namespace glsl {
-using uint = uint32_t;
-static const uint32_t* gStaticData = nullptr;
-inline int bitCount(uint x) {
-    return std::popcount(x);
-}
-inline int findMSB(uint x) {
-    return x == 0 ? -1 : 31 - std::countl_zero(x);
-}
-inline uint min(uint a, uint b) {
-    return a < b ? a : b;
-}
-inline uint max(uint a, uint b) {
-    return a > b ? a : b;
-}
-#define ML_STATIC_DATA gStaticData
-#include "shaders/static/dagmh_lookup.glsl"
-#include "shaders/static/mh_lookup.glsl"
-#include "shaders/static/mmh_lookup.glsl"
-#undef ML_STATIC_DATA
-} // namespace glsl
 
 namespace ml::stest {
 namespace {

@@ -1,22 +1,9 @@
 // The MH and MMH lookups at every level of the hierarchy (mhLookupLevel, mmhLookupLevel: filtering by
 // level), at every node position of every level, against the construction tree: MH returns the midpoint
 // of the deepest valued node on the path down to that level, MMH a value inside that node's interval.
-// The GLSL text of both (compiled as C++, as glsl_twin_test.cpp does) answers the same.
+// The GLSL text of both (compiled as C++: glsl_shims.h) answers the same.
 #include "static_test_util.h"
-
-#include <bit>
-
-namespace glsl_level {
-using uint = uint32_t;
-static const uint32_t* gLevelData = nullptr;
-inline int bitCount(uint x) {
-    return std::popcount(x);
-}
-#define ML_STATIC_DATA gLevelData
-#include "shaders/static/mh_lookup.glsl"
-#include "shaders/static/mmh_lookup.glsl"
-#undef ML_STATIC_DATA
-} // namespace glsl_level
+#include "glsl_shims.h"
 
 namespace ml::stest {
 namespace {
@@ -57,14 +44,14 @@ void checkLevels(const DualDepthMap& m, const std::string& what) {
                 bool ok = a == mid && mhLookupLevel(mhFar->data(), 0, x, y, steps) == a;
                 ok =
                     ok && node.lo <= b && b <= node.hi && mmhLookupLevel(mmhFar->data(), 0, x, y, steps) == b;
-                glsl_level::gLevelData = mh->data();
-                ok = ok && glsl_level::mhLookupLevel(0, x, y, steps) == a;
-                glsl_level::gLevelData = mhFar->data();
-                ok = ok && glsl_level::mhLookupLevel(0, x, y, steps) == a;
-                glsl_level::gLevelData = shifted.data();
-                ok = ok && glsl_level::mmhLookupLevel(base, x, y, steps) == b;
-                glsl_level::gLevelData = mmhFar->data();
-                ok = ok && glsl_level::mmhLookupLevel(0, x, y, steps) == b;
+                glsl::gStaticData = mh->data();
+                ok = ok && glsl::mhLookupLevel(0, x, y, steps) == a;
+                glsl::gStaticData = mhFar->data();
+                ok = ok && glsl::mhLookupLevel(0, x, y, steps) == a;
+                glsl::gStaticData = shifted.data();
+                ok = ok && glsl::mmhLookupLevel(base, x, y, steps) == b;
+                glsl::gStaticData = mmhFar->data();
+                ok = ok && glsl::mmhLookupLevel(0, x, y, steps) == b;
                 if (!ok && ++bad <= 5)
                     ADD_FAILURE() << "level " << steps << " texel (" << x << "," << y << "): MH " << a
                                   << " (tree " << mid << "), MMH " << b << " outside [" << node.lo << ", "

@@ -7,6 +7,8 @@
 #include "scenes/scenes.h"
 #include "shadows/static/mh_tiled.h"
 
+#include <atomic>
+
 namespace ml::stest {
 namespace {
 
@@ -153,7 +155,7 @@ TEST(TiledMh, RefusesBadTilesAndPassesTheSourcesError) {
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("tile (64, 96): disk full"), std::string::npos) << r.error();
     EXPECT_FALSE(buildMhTreeTiled(0, dualTileSourceOf(map), o).ok());
-    EXPECT_FALSE(buildMhTreeTiled(65537, dualTileSourceOf(map), o).ok());
+    EXPECT_FALSE(buildMhTreeTiled(kMhMaxResolution + 1, dualTileSourceOf(map), o).ok());
 }
 
 // One light's tiles in shards: three builds of every third tile, put together, assemble to the whole
@@ -207,6 +209,140 @@ TEST(TiledMh, ShardsOfTilesAssembleToTheWholeTree) {
     auto tree = assembleMhTree(*grid, std::move(all));
     ASSERT_TRUE(tree.ok()) << tree.error();
     expectSameTree(*whole, *tree, "three shards of tiles");
+}
+
+// Tiles that no caster reaches are not rendered: blockEmpty is never wrong about a block (every block
+// it calls empty renders empty, at three block sizes), and a build that skips them is the whole map's
+// tree node for node, for the moon (rows past its box) and a spot.
+TEST(TiledMh, EmptyTilesAreSkippedExactly) {
+    auto scene = loadScene("night-city", 256, 1);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    const CasterTriangles casters = castersFromScene(*scene);
+    std::vector<std::pair<std::string, LightFrustum>> frusta;
+    for (const Light& l : scene->lights) {
+        if (l.type == LightKind::Directional && frusta.empty())
+            frusta.push_back(
+                {"moon", directionalLightFrustum(l.direction, scene->boundsMin, scene->boundsMax)});
+    }
+    for (const Light& l : scene->lights)
+        if (l.type == LightKind::Spot) {
+            frusta.push_back({"spot", spotLightFrustum(l)});
+            break;
+        }
+    ASSERT_EQ(frusta.size(), 2u);
+    const uint32_t res = 512;
+    for (const auto& [name, f] : frusta) {
+        const DualRasterizer raster(casters, f, res);
+        const DualDepthMap map = raster.render();
+        for (uint32_t b : {16u, 32u, 64u}) {
+            uint32_t empty = 0, wrong = 0;
+            for (uint32_t y0 = 0; y0 < res; y0 += b)
+                for (uint32_t x0 = 0; x0 < res; x0 += b) {
+                    if (!raster.blockEmpty(x0, y0, b, b)) continue;
+                    ++empty;
+                    for (uint32_t y = y0; y < y0 + b; ++y)
+                        for (uint32_t x = x0; x < x0 + b; ++x)
+                            wrong += map.enter[size_t(y) * res + x] != kDepthEmpty ||
+                                     map.exit[size_t(y) * res + x] != kDepthEmpty;
+                }
+            EXPECT_EQ(wrong, 0u) << name << ", blocks of " << b;
+            if (name == "moon") {
+                EXPECT_GT(empty, 0u) << "the moon's rows past its box are empty";
+            }
+        }
+        MhTiledOptions o;
+        o.tile = 32, o.threads = 2;
+        o.emptyBlock = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
+            return raster.blockEmpty(x0, y0, w, h);
+        };
+        MhTiledStats st;
+        auto tiled = buildMhTreeTiled(
+            res,
+            [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
+                      uint32_t* x) -> Result<void> {
+                raster.renderRect(x0, y0, w, h, e, x);
+                return {};
+            },
+            o, &st);
+        ASSERT_TRUE(tiled.ok()) << tiled.error();
+        auto whole = buildMhTree(map);
+        ASSERT_TRUE(whole.ok());
+        expectSameTree(*whole, *tiled, name + " with empty tiles skipped");
+        if (name == "moon") {
+            EXPECT_GT(st.emptyTiles, 0u);
+        }
+        std::printf("  %s: %u of %u tiles empty\n", name.c_str(), st.emptyTiles, st.tiles);
+    }
+}
+
+// The largest map, 262144^2 (18 levels): a tiled build whose tiles are empty but for five 1024^2
+// feature tiles (the corners and one inside: synthetic slopes, boxes and 32-bit noise) encodes to MH,
+// MMH and DAG-MH words that validate, decode every texel of the feature tiles inside its interval and
+// the empty rest (a sample, and the corners of every seventh row of tiles) to kDepthEmpty.
+TEST(TiledMh, LargestMapBuildsEncodesAndDecodes) {
+    const uint32_t res = kMhMaxResolution, T = 1024, m = res / T;
+    ASSERT_EQ(res, 262144u);
+    const uint32_t features[5][2] = {{0, 0}, {m - 1, 0}, {0, m - 1}, {m - 1, m - 1}, {m / 3, (2 * m) / 3}};
+    std::vector<DualDepthMap> maps;
+    for (uint32_t i = 0; i < 5; ++i) maps.push_back(syntheticMap(T, 11 + i));
+    auto featureOf = [&](uint32_t x, uint32_t y) -> int {
+        for (int i = 0; i < 5; ++i)
+            if (x / T == features[i][0] && y / T == features[i][1]) return i;
+        return -1;
+    };
+    MhTiledOptions o;
+    o.tile = T, o.threads = 2;
+    o.emptyBlock = [&](uint32_t x0, uint32_t y0, uint32_t, uint32_t) { return featureOf(x0, y0) < 0; };
+    std::atomic<uint32_t> rendered{0};
+    DualTileSource source = [&](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
+                                uint32_t* x) -> Result<void> {
+        const int f = featureOf(x0, y0);
+        if (f < 0 || w != T || h != T) return fail("a tile the test calls empty was rendered");
+        ++rendered;
+        std::copy(maps[f].enter.begin(), maps[f].enter.end(), e);
+        std::copy(maps[f].exit.begin(), maps[f].exit.end(), x);
+        return {};
+    };
+    MhTiledStats st;
+    auto tree = buildMhTreeTiled(res, source, o, &st);
+    ASSERT_TRUE(tree.ok()) << tree.error();
+    EXPECT_EQ(rendered.load(), 5u);
+    EXPECT_EQ(st.emptyTiles, m * m - 5);
+    EXPECT_EQ(tree->levels, 18u);
+    auto mh = encodeMH(*tree), mmh = encodeMMH(*tree), dag = encodeDAGMH(*tree);
+    ASSERT_TRUE(mh && mmh && dag) << (mh ? "" : mh.error()) << (mmh ? "" : mmh.error())
+                                  << (dag ? "" : dag.error());
+    ASSERT_TRUE(validateMH(mh->data(), mh->size()).ok());
+    ASSERT_TRUE(validateMMH(mmh->data(), mmh->size()).ok());
+    auto dv = validateDAGMH(dag->data(), dag->size());
+    ASSERT_TRUE(dv.ok()) << dv.error();
+    uint64_t bad = 0, checked = 0;
+    auto check = [&](uint32_t x, uint32_t y, uint32_t e, uint32_t f) {
+        for (uint32_t v :
+             {mhLookup(mh->data(), x, y), mmhLookup(mmh->data(), x, y), dagmhLookup(dag->data(), x, y)}) {
+            const bool ok = e == kDepthEmpty ? v == kDepthEmpty : (e <= v && v <= std::max(e, f));
+            if (!ok && ++bad <= 3) ADD_FAILURE() << "texel (" << x << ", " << y << ") decodes " << v;
+            ++checked;
+        }
+    };
+    for (int i = 0; i < 5; ++i)
+        for (uint32_t y = 0; y < T; ++y)
+            for (uint32_t x = 0; x < T; ++x)
+                check(features[i][0] * T + x, features[i][1] * T + y, maps[i].enter[size_t(y) * T + x],
+                      maps[i].exit[size_t(y) * T + x]);
+    std::mt19937 rng(5);
+    for (int s = 0; s < 200000; ++s) {
+        const uint32_t x = rng() % res, y = rng() % res;
+        if (featureOf(x, y) < 0) check(x, y, kDepthEmpty, kDepthEmpty);
+    }
+    for (uint32_t ty = 0; ty < m; ty += 7)
+        for (uint32_t tx = 0; tx < m; ++tx)
+            if (featureOf(tx * T, ty * T) < 0)
+                for (uint32_t c = 0; c < 4; ++c)
+                    check(tx * T + (c & 1) * (T - 1), ty * T + (c >> 1) * (T - 1), kDepthEmpty, kDepthEmpty);
+    EXPECT_EQ(bad, 0u) << "of " << checked;
+    std::printf("  262144^2: %zu tree nodes; MH %zu, MMH %zu, DAG-MH %zu words; %llu lookups checked\n",
+                tree->nodes.size(), mh->size(), mmh->size(), dag->size(), (unsigned long long)checked);
 }
 
 } // namespace

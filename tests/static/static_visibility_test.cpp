@@ -244,9 +244,9 @@ TEST(StaticVisibility, RecordViewMatchesTheFrustumMatrix) {
     }
     EXPECT_LT(worst, 1e-6f);
     std::printf("  %zu frustums: largest difference %.2e of the distance scale\n", frustums.size(), worst);
-    // The bake format's largest maps (65536 texels a side) with the largest method value.
-    const auto big = makeShadowRecord(StaticMethod::CPVS, frustums[0], 0, 65536, 9);
-    EXPECT_EQ(gpu::shadowRecordResolution(big), 65536u);
+    // The bake format's largest maps (kMhMaxResolution texels a side) with the largest method value.
+    const auto big = makeShadowRecord(StaticMethod::CPVS, frustums[0], 0, kMhMaxResolution, 9);
+    EXPECT_EQ(gpu::shadowRecordResolution(big), kMhMaxResolution);
     EXPECT_EQ(gpu::shadowRecordMethod(big), uint32_t(StaticMethod::CPVS));
     EXPECT_EQ(gpu::shadowRecordRadius(big), uint32_t(ML_MAX_PCF_RADIUS));
     EXPECT_EQ(gpu::shadowRecordRadius(makeShadowRecord(StaticMethod::SM, frustums[0], 0, 64, 9)),

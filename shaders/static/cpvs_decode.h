@@ -1,0 +1,71 @@
+// The CPVS decoder proper (paper section 5): a depth's slice and a voxel's bit. One source text for the
+// C++ decoder (shadows/static/cpvs.h) and the GLSL one (shaders/static/cpvs_lookup.glsl), as
+// shaders/static/mh_descent.h is for MH: the same integer operations in the same order on both sides.
+// The layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
+//
+// The languages differ only in how the decoder reaches its words: C++ passes the buffer, GLSL reads the
+// array named CPVS_DATA. The includer defines, before including this file:
+//   CPVS_FN          `inline` in C++, nothing in GLSL
+//   CPVS_DATA_PARAM  the leading parameter: `const uint32_t* data,` in C++, nothing in GLSL
+//   CPVS_WORD(i)     word i: `data[i]` or `CPVS_DATA[i]`
+// and `uint` must name a 32-bit unsigned integer, `int` be 32 bits, bitCount(uint) count the set bits (a
+// GLSL built-in). This file undefines the three at its end; its includers guard it.
+
+// Header word indices and grid entries (CpvsHeader and kCpvsLit / kCpvsShadowed in shadows/static/cpvs.h,
+// which asserts them equal).
+const uint CPVS_H_RESOLUTION = 2u;
+const uint CPVS_H_LOG2_RESOLUTION = 3u;
+const uint CPVS_H_GRID_LOG2 = 4u;
+const uint CPVS_H_THRESHOLDS = 8u;
+const uint CPVS_H_GRID = 9u;
+const uint CPVS_LIT = 0u;
+const uint CPVS_SHADOWED = 1u;
+
+// Slice of a quantised depth: the number of s in [1, N-1] with T[s] < depth (binary search).
+CPVS_FN uint cpvsSliceOfDepth(CPVS_DATA_PARAM uint base, uint depth) {
+    uint n = CPVS_WORD(base + CPVS_H_RESOLUTION);
+    uint t = base + CPVS_WORD(base + CPVS_H_THRESHOLDS);
+    uint lo = 1u; // first s in [1, N) with T[s] >= depth, N if none
+    uint count = n - 1u;
+    while (count > 0u) {
+        uint step = count >> 1u;
+        uint mid = lo + step;
+        if (CPVS_WORD(t + mid) < depth) {
+            lo = mid + 1u;
+            count -= step + 1u;
+        } else {
+            count = step;
+        }
+    }
+    return lo - 1u;
+}
+
+// Voxel (x, y, s): x, y outside [0, N) are lit (outside the light's frustum); s is clamped to [0, N-1].
+CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
+    int n = int(CPVS_WORD(base + CPVS_H_RESOLUTION));
+    if (x < 0 || y < 0 || x >= n || y >= n) return false;
+    s = s < 0 ? 0 : (s >= n ? n - 1 : s);
+    uint ux = uint(x), uy = uint(y), us = uint(s);
+    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
+    uint cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
+    uint ptr = CPVS_WORD(base + CPVS_WORD(base + CPVS_H_GRID) + cell);
+    if (ptr == CPVS_LIT) return false;
+    if (ptr == CPVS_SHADOWED) return true;
+    uint half_ = 1u << (cellLog2 - 1u); // `half` is a reserved word in GLSL
+    while (half_ >= 4u) {
+        uint h = CPVS_WORD(base + ptr);
+        uint c =
+            ((ux & half_) != 0u ? 1u : 0u) | ((uy & half_) != 0u ? 2u : 0u) | ((us & half_) != 0u ? 4u : 0u);
+        uint bit = 1u << c;
+        if ((h & bit) == 0u) return ((h >> 8u) & bit) != 0u;
+        ptr = CPVS_WORD(base + ptr + 1u + uint(bitCount(h & (bit - 1u))));
+        half_ >>= 1u;
+    }
+    uint b = (ux & 3u) + 4u * (uy & 3u) + 16u * (us & 3u);
+    return ((CPVS_WORD(base + ptr + (b >> 5u)) >> (b & 31u)) & 1u) != 0u;
+}
+
+#undef CPVS_FN
+#undef CPVS_DATA_PARAM
+#undef CPVS_WORD
