@@ -66,6 +66,7 @@ Result<void> LightCulling::create(const Device& device) {
     ML_TRY(ML_LOAD_SHADER(device, footprintShader_, spv_light_footprint_comp));
     ML_TRY(ML_LOAD_SHADER(device, allocShader_, spv_light_alloc_comp));
     ML_TRY(createComputeProgram(device, boundsProgram_, boundsShader_));
+    ML_TRY(createComputeProgram(device, receiversProgram_, boundsShader_, {{0, 1u}})); // kReceivers
     ML_TRY(createComputeProgram(device, assignProgram_, assignShader_));
     ML_TRY(ML_LOAD_SHADER(device, fillShader_, spv_light_fill_comp));
     ML_TRY(createComputeProgram(device, countProgram_, footprintShader_, {{0, 0u}}));
@@ -82,6 +83,7 @@ Result<void> LightCulling::create(const Device& device) {
 
 void LightCulling::destroy(const Device& device) {
     destroyProgram(device, boundsProgram_);
+    destroyProgram(device, receiversProgram_);
     destroyProgram(device, assignProgram_);
     destroyProgram(device, countProgram_);
     destroyProgram(device, wideProgram_);
@@ -95,8 +97,8 @@ void LightCulling::destroy(const Device& device) {
     destroyShader(device, footprintShader_);
     destroyShader(device, allocShader_);
     destroyShader(device, fillShader_);
-    for (Buffer* b : {&bounds, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts, &tileBits,
-                      &tilePrefix, &tileRanges, &tileSlices})
+    for (Buffer* b : {&bounds, &receivers, &ranges, &pool, &tileMasks, &counts, &work, &hits, &viewCounts,
+                      &tileBits, &tilePrefix, &tileRanges, &tileSlices})
         destroyBuffer(device, *b);
 }
 
@@ -146,12 +148,25 @@ Result<void> LightCulling::prepareView(const Device& device, uint32_t width, uin
     return {};
 }
 
+Result<void> LightCulling::ensureReceivers(const Device& device) {
+    ML_TRY(ensureBuffer(device, receivers, VkDeviceSize(grid.count()) * sizeof(gpu::ClusterReceivers),
+                        kStorageBufferUsage, "cluster_receivers", MemoryRole::GpuOnly));
+    return {};
+}
+
 void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const Buffer& frame,
-                                const Buffer& slices, VkImageView depth, const Buffer& counters) {
-    // One ML_TILE_SIZE^2 group per tile: a thread per pixel of the tile grid.
-    dispatch(device, c, boundsProgram_, grid.tilesX * ML_TILE_SIZE, grid.tilesY * ML_TILE_SIZE, NoPush{},
+                                const Buffer& slices, VkImageView depth, VkImageView normal,
+                                const Buffer& counters) {
+    const bool withReceivers =
+        wantReceivers && receivers.buffer && receivers.size >= grid.count() * sizeof(gpu::ClusterReceivers);
+    // One ML_TILE_SIZE^2 group per tile: a thread per pixel of the tile grid. The plain variant binds
+    // the bounds in the receivers' slot (never written there).
+    dispatch(device, c, withReceivers ? receiversProgram_ : boundsProgram_, grid.tilesX * ML_TILE_SIZE,
+             grid.tilesY * ML_TILE_SIZE, NoPush{},
              {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              bounds, counters, tileMasks});
+              bounds, counters, tileMasks,
+              Descriptor(Image{.view = normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+              withReceivers ? receivers : bounds});
     // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's
     // atomics.
     memoryBarrier(c, kC, kW, kC, kR | kW);
@@ -238,6 +253,42 @@ float fromKey(uint32_t k) {
     return f;
 }
 } // namespace
+
+std::vector<gpu::ClusterReceivers> cullReceiversReference(const std::vector<float>& depth,
+                                                          const std::vector<glm::vec4>& normal,
+                                                          const gpu::FrameConstants& frame,
+                                                          const std::vector<float>& sliceFar) {
+    const uint32_t width = frame.size.x, height = frame.size.y, tilesX = frame.size.z, tilesY = frame.size.w;
+    const uint32_t slices = frame.cluster.x;
+    const size_t n = size_t(tilesX) * tilesY * slices;
+    std::vector<glm::uvec3> lo(n, glm::uvec3(0xFFFFFFFFu)), hi(n, glm::uvec3(0u));
+    std::vector<glm::uvec3> nlo(n, glm::uvec3(1023u)), nhi(n, glm::uvec3(0u));
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const float d = depth[size_t(y) * width + x];
+            const glm::vec4 stored = normal[size_t(y) * width + x];
+            if (!gpu::hasSurface(d) || stored.w < 0.0f) continue; // no surface, or not a receiver
+            const glm::vec3 p = gpu::worldFromPixel(x, y, d, frame.invViewProj, frame.size);
+            const glm::vec3 u = gpu::clusterUnitNormal(glm::vec3(stored));
+            const uint32_t s = sliceOf(gpu::linearDepth(d, frame.depth), sliceFar, slices);
+            const size_t c = (size_t(y / ML_TILE_SIZE) * tilesX + x / ML_TILE_SIZE) * slices + s;
+            for (int i = 0; i < 3; ++i) {
+                lo[c][i] = std::min(lo[c][i], toKey(p[i]));
+                hi[c][i] = std::max(hi[c][i], toKey(p[i]));
+                nlo[c][i] = std::min(nlo[c][i], gpu::clusterNormalCode(u[i], false));
+                nhi[c][i] = std::max(nhi[c][i], gpu::clusterNormalCode(u[i], true));
+            }
+        }
+    std::vector<gpu::ClusterReceivers> out(n, gpu::ClusterReceivers{});
+    for (size_t c = 0; c < n; ++c) {
+        if (lo[c].x == 0xFFFFFFFFu) continue; // no receiver: all zero
+        out[c].lo = glm::vec3(fromKey(lo[c].x), fromKey(lo[c].y), fromKey(lo[c].z));
+        out[c].hi = glm::vec3(fromKey(hi[c].x), fromKey(hi[c].y), fromKey(hi[c].z));
+        out[c].normalLo = nlo[c].x | (nlo[c].y << 10) | (nlo[c].z << 20);
+        out[c].normalHi = nhi[c].x | (nhi[c].y << 10) | (nhi[c].z << 20) | ML_CLUSTER_HAS_RECEIVER;
+    }
+    return out;
+}
 
 ClusterReference cullReference(const std::vector<float>& depth, const gpu::FrameConstants& frame,
                                const std::vector<float>& sliceFar, const std::vector<gpu::GpuLight>& lights) {

@@ -6,6 +6,8 @@
 //                   slice (exponential slices, sliceBoundaries); the world AABB of the pixels in each
 //                   (tile, slice) is reduced exactly with integer min/max. Empty clusters are marked;
 //                   each tile's occupied slices also go into a 64-bit mask.
+//                   Its receiver variant (wantReceivers: VSM page marking per cluster) also writes the
+//                   receivers' box and normal bounds per occupied cluster (ClusterReceivers).
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
 //                   light_fill (mark, append: sorted lists from per-tile light bitmasks, linear in the
 //                   hits). Each visible light (8 threads) tests only the occupied clusters inside its
@@ -26,6 +28,7 @@
 #pragma once
 #include "shaders/shared/enums.h"
 #include "gpu/program.h"
+#include "shaders/shared/cluster_receivers.h"
 #include "shaders/shared/gpu_types.h"
 #include "shaders/shared/light_math.h"
 
@@ -57,8 +60,13 @@ class LightCulling {
     // The two passes of the frame (engine/frame.h times them): cluster bounds from the depth buffer, then
     // light assignment, whose mode and visible-light count are read from the frame constants `frame`
     // holds (a mapped upload buffer the module wrote just before; read back from it on the CPU).
+    // With wantReceivers (and ensureReceivers called since the last resize) it also writes `receivers`
+    // from the G-buffer normal (the receiver variant of cluster_bounds.comp); otherwise `normal` is
+    // bound but not read.
     void recordBounds(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                      VkImageView depth, const Buffer& counters);
+                      VkImageView depth, VkImageView normal, const Buffer& counters);
+    // Sizes `receivers` for the grid (32 B per cluster, only for page marking per cluster).
+    Result<void> ensureReceivers(const Device& device);
     // wideLights: the frame's wideCount WideLight entries (the lights with params.w = 1), whose
     // footprints hold wideThreads tiles in all.
     void recordAssign(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
@@ -88,10 +96,14 @@ class LightCulling {
     Buffer tileSlices; // uvec2 slice mask per (tile, light), in light order (hitCapacity entries)
     uint32_t hitCapacity = 0;
     Buffer viewCounts; // uint per pixel, written by recordView
+    // Page marking per cluster (VsmSettings::clusterMarking) reads ClusterReceivers per cluster; the host
+    // sets wantReceivers per frame.
+    Buffer receivers;
+    bool wantReceivers = false;
 
   private:
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
-    Program boundsProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
+    Program boundsProgram_, receiversProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
     Program fillPrograms_[2]; // light_fill.comp's steps: mark, append
     Program viewPrograms_[2]; // evaluated, reaching
 };
@@ -111,6 +123,14 @@ struct ClusterReference {
 };
 ClusterReference cullReference(const std::vector<float>& depth, const gpu::FrameConstants& frame,
                                const std::vector<float>& sliceFar, const std::vector<gpu::GpuLight>& lights);
+
+// cluster_bounds.comp's receiver variant: per cluster the receivers' world box and normal codes
+// (shaders/shared/cluster_receivers.h), from the depth buffer and the G-buffer normals as stored
+// (RGBA16F -> float, row-major). Bit for bit the GPU's.
+std::vector<gpu::ClusterReceivers> cullReceiversReference(const std::vector<float>& depth,
+                                                          const std::vector<glm::vec4>& normal,
+                                                          const gpu::FrameConstants& frame,
+                                                          const std::vector<float>& sliceFar);
 
 // Slice of a linear depth, exactly as the shaders compute it.
 uint32_t sliceOf(float z, const std::vector<float>& sliceFar, uint32_t slices);

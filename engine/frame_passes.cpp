@@ -83,7 +83,7 @@ void GBufferDrawPass::record(FrameContext& f) {
 
 void CullingPass::record(FrameContext& f) {
     if (timer() == Pass::ClusterBounds)
-        cull.recordBounds(*f.device, f.cmd, *f.frame, *f.slices, f.depth, *f.counters);
+        cull.recordBounds(*f.device, f.cmd, *f.frame, *f.slices, f.depth, f.normal, *f.counters);
     else
         cull.recordAssign(*f.device, f.cmd, *f.frame, *f.slices, *f.lights, *f.wideLights, f.wideCount,
                           f.wideThreads, *f.counters);

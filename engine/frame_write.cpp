@@ -62,12 +62,17 @@ Result<uint32_t> Module::Impl::beginFrame() {
         // All ten (the sorted fill's four too: ensureBuffer would destroy one that must grow while a
         // frame in flight still reads it; issue 41's 2-in-flight host caught it once record() stopped
         // draining the queue).
-        for (Buffer* b : {&cull.bounds, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts, &cull.hits,
-                          &cull.tileBits, &cull.tilePrefix, &cull.tileRanges, &cull.tileSlices})
+        for (Buffer* b :
+             {&cull.bounds, &cull.receivers, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts,
+              &cull.hits, &cull.tileBits, &cull.tilePrefix, &cull.tileRanges, &cull.tileSlices})
             retire(*b);
         ML_TRY(cull.resize(d, grid, poolOverride));
         cullingMode = mode;
     }
+    // Page marking per cluster reads the clusters' receiver bounds (cluster_bounds' receiver variant).
+    cull.wantReceivers = vsm.enabled() && vsm.settings().clusterMarking &&
+                         (mode == CullingMode::Clustered || mode == CullingMode::ClusteredBrute);
+    if (cull.wantReceivers) ML_TRY(cull.ensureReceivers(d));
     if (view == DebugView::LightsEvaluated || view == DebugView::LightsReaching)
         ML_TRY(cull.prepareView(d, width, height));
     // Built by createTargets / setTargets for both output modes (preparePipelines): a no-op here unless
@@ -222,7 +227,7 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.vsm.meshlets = &meshletBuffer;
     f.vsm.meshletVertices = &meshletVertexBuffer;
     f.vsm.meshletTriangles = &meshletTriangleBuffer;
-    f.vsm.clusterBounds = &cull.bounds;
+    f.vsm.clusterReceivers = cull.wantReceivers ? &cull.receivers : nullptr;
     f.vsm.tileMasks = &cull.tileMasks;
     return f;
 }

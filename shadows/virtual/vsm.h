@@ -117,9 +117,9 @@ struct VsmFrameInputs {
     const Buffer* meshlets = nullptr;
     const Buffer* meshletVertices = nullptr;
     const Buffer* meshletTriangles = nullptr;
-    // Clustered culling's cluster bounds and tile masks (culling/culling.h), for marking per cluster
-    // (VsmSettings::clusterMarking); without them the pages are marked per pixel.
-    const Buffer* clusterBounds = nullptr;
+    // Clustered culling's receiver bounds (ClusterReceivers) and tile masks (culling/culling.h), for
+    // marking per cluster (VsmSettings::clusterMarking); without them the pages are marked per pixel.
+    const Buffer* clusterReceivers = nullptr;
     const Buffer* tileMasks = nullptr;
 };
 

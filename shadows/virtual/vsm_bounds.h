@@ -7,13 +7,15 @@
 // the C++ build with -ffp-contract=off), and a correctly rounded operation is monotonic in each argument:
 // a <= a' gives fl(a + b) <= fl(a' + b), fl(m * a) <= fl(m * a') for m >= 0, and so on. Evaluating the
 // same chain, in the same order, at the argument that makes each operand smallest (largest) therefore
-// bounds the value every receiver of the box computes, exactly. The one input not bounded this way is
-// the normal (any unit vector: clusters keep no normal cone), whose offset is bounded by its length
-// with 1/1000 to spare; the texel rectangle is then still widened by one texel, so that a device whose
-// division is not correctly rounded (GLSL allows 2.5 ulp) cannot step past it.
+// bounds the value every receiver of the box computes, exactly. The normal too: the cluster's normal
+// bounds (shaders/shared/cluster_receivers.h) give each light-view component of vsmDirection's result a
+// range (vsmNormalViewBox, the same argument), and the offset's length factor is bounded by its value at
+// the box's far end, with 1/1000 to spare; the texel rectangle is then still widened by one texel, so that a
+// device whose division is not correctly rounded (GLSL allows 2.5 ulp) cannot step past it.
 #ifndef ML_VSM_BOUNDS_H
 #define ML_VSM_BOUNDS_H
 
+#include "shaders/shared/cluster_receivers.h"
 #include "shadows/virtual/vsm_math.h"
 
 // A cluster-light pair whose bounds reach more pages than this (lookups and fallback reservations, before
@@ -65,6 +67,18 @@ ML_FN vec2 vsmFootprintRange(vec3 camera, vec3 lo, vec3 hi, float perMetre) {
     return vec2(fNear, fFar);
 }
 
+// The range of vsmDirection(m, N) over unit normals N in [nlo, nhi]: vsmRowRange with no translation
+// (adding m3 = 0 changes no sum).
+ML_FN VsmViewBox vsmNormalViewBox(mat4 m, vec3 nlo, vec3 nhi) {
+    vec2 x = vsmRowRange(m[0][0], m[1][0], m[2][0], 0.0f, nlo, nhi);
+    vec2 y = vsmRowRange(m[0][1], m[1][1], m[2][1], 0.0f, nlo, nhi);
+    vec2 z = vsmRowRange(m[0][2], m[1][2], m[2][2], 0.0f, nlo, nhi);
+    VsmViewBox b;
+    b.lo = vec3(x.x, y.x, z.x);
+    b.hi = vec3(x.y, y.y, z.y);
+    return b;
+}
+
 // The mips a perspective map's lookups of the box pick (vsmPickMip over the box; x > y: none, when no
 // receiver lies beyond the near plane, where vsmChoose finds no tap). Receivers with a tap have
 // light depth z in (near, -vb.lo.z]: texel0 is smallest at the near plane and largest at the far end.
@@ -86,26 +100,35 @@ ML_STRUCT(VsmTapRect) {
     uint ok;
     uint held;
 };
-ML_FN VsmTapRect vsmBoxTaps(GpuVsmMap map, uint resolution, uint mip, VsmViewBox vb) {
+ML_FN VsmTapRect vsmBoxTaps(GpuVsmMap map, uint resolution, uint mip, VsmViewBox vb, VsmViewBox nb) {
     VsmTapRect r;
     r.texels = ivec4(0, 0, -1, -1);
     r.ok = 0u;
     r.held = 0u;
     uint res = resolution >> mip;
     bool ortho = map.info.x == ML_VSM_ORTHOGRAPHIC;
-    // The normal offset: bias.y texels of the mip at the receiver's depth, along a unit normal whose
-    // light-view components are at most 1 (+ rounding: the 1.001).
+    // The normal offset: vn * texelWorld * bias.y, texelWorld that of the mip at the receiver's depth, at
+    // most that of the box's far end (+ rounding: the 1.001); vn's light-view components lie in nb. The
+    // factor texelWorld * bias.y lies in [0, offset] (bias.y >= 0) or [-offset, 0], so per axis the
+    // offset lies in [min(v.lo, 0), max(v.hi, 0)] * offset, v = nb or -nb.
     ML_PRECISE float zFar = ortho ? 0.0f : -vb.lo.z;
     if (!ortho && !(zFar > map.params.y)) return r;
     ML_PRECISE float extent = ortho ? map.params.x : zFar * map.params.x;
     ML_PRECISE float texelWorld = 2.0f * extent / float(res);
     ML_PRECISE float offset = texelWorld * abs(map.bias.y) * 1.001f;
-    ML_PRECISE float qxLo = vb.lo.x - offset, qxHi = vb.hi.x + offset;
-    ML_PRECISE float qyLo = vb.lo.y - offset, qyHi = vb.hi.y + offset;
+    bool flip = map.bias.y < 0.0f;
+    ML_PRECISE float vxLo = flip ? -nb.hi.x : nb.lo.x, vxHi = flip ? -nb.lo.x : nb.hi.x;
+    ML_PRECISE float vyLo = flip ? -nb.hi.y : nb.lo.y, vyHi = flip ? -nb.lo.y : nb.hi.y;
+    ML_PRECISE float vzLo = flip ? -nb.hi.z : nb.lo.z, vzHi = flip ? -nb.lo.z : nb.hi.z;
+    ML_PRECISE float oxLo = min(vxLo, 0.0f) * offset, oxHi = max(vxHi, 0.0f) * offset;
+    ML_PRECISE float oyLo = min(vyLo, 0.0f) * offset, oyHi = max(vyHi, 0.0f) * offset;
+    ML_PRECISE float ozLo = min(vzLo, 0.0f) * offset, ozHi = max(vzHi, 0.0f) * offset;
+    ML_PRECISE float qxLo = vb.lo.x + oxLo, qxHi = vb.hi.x + oxHi;
+    ML_PRECISE float qyLo = vb.lo.y + oyLo, qyHi = vb.hi.y + oyHi;
     // zq = -(vp.z + vn.z * offset) > near for a tap (perspective).
-    ML_PRECISE float zqFar = -(vb.lo.z - offset);
+    ML_PRECISE float zqFar = -(vb.lo.z + ozLo);
     if (!ortho && !(zqFar > map.params.y)) return r;
-    ML_PRECISE float zqNear = max(-(vb.hi.z + offset), map.params.y);
+    ML_PRECISE float zqNear = max(-(vb.hi.z + ozHi), map.params.y);
     ML_PRECISE float sNear = ortho ? map.params.x : zqNear * map.params.x;
     ML_PRECISE float sFar = ortho ? map.params.x : zqFar * map.params.x;
     // q / scale over q in [qLo, qHi] and scale in [sNear, sFar] (both > 0): the extremes are at the corners.
@@ -140,6 +163,42 @@ ML_FN ivec4 vsmRectPages(ivec4 texels, uint levels, int radius, uint resolution,
 ML_FN uint vsmRectPageCount(ivec4 pages) {
     if (pages.z < pages.x || pages.w < pages.y) return 0u;
     return uint(pages.z - pages.x + 1) * uint(pages.w - pages.y + 1);
+}
+
+// Whether no receiver of the world box [lo, hi] whose unit normal lies in the box [nlo, nhi] (a cluster's
+// ClusterReceivers) faces light L by vsmFacesLight's rule, so that the cluster marks nothing for L. Per
+// receiver, vsmFacesLight takes d = L - P (rounded: monotonic, so each component lies in
+// [fl(L - hi), fl(L - lo)]) or the directional d, and N (vsmNormalize: inside [nlo, nhi]). u below is
+// the largest N.d over both boxes (per axis the largest of the four corner products), off by at most
+// 3.1e-7 * |d|max from its rounding; vsmFacesLight's own n.d is off by as little. So when u < -2e-3 *
+// |d|max, every receiver's computed n.d is below -1.99e-3 |d|, its square past the rule's 1e-6 |d|^2
+// (with 4x to spare), and vsmFacesLight returns false: the per-pixel pass marks nothing for L there.
+ML_FN bool vsmBoxFacesAway(GpuLight L, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi) {
+    ML_PRECISE float ax, ay, az, bx, by, bz; // d's range per axis
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) {
+        ax = -L.directionCosOuter.x, ay = -L.directionCosOuter.y, az = -L.directionCosOuter.z;
+        bx = ax, by = ay, bz = az;
+    } else {
+        ax = L.positionRange.x - hi.x, ay = L.positionRange.y - hi.y, az = L.positionRange.z - hi.z;
+        bx = L.positionRange.x - lo.x, by = L.positionRange.y - lo.y, bz = L.positionRange.z - lo.z;
+    }
+    ML_PRECISE float ux = max(max(nlo.x * ax, nlo.x * bx), max(nhi.x * ax, nhi.x * bx));
+    ML_PRECISE float uy = max(max(nlo.y * ay, nlo.y * by), max(nhi.y * ay, nhi.y * by));
+    ML_PRECISE float uz = max(max(nlo.z * az, nlo.z * bz), max(nhi.z * az, nhi.z * bz));
+    ML_PRECISE float u = ux + uy + uz;
+    ML_PRECISE float mx = max(abs(ax), abs(bx)), my = max(abs(ay), abs(by)), mz = max(abs(az), abs(bz));
+    ML_PRECISE float dmax = sqrt(mx * mx + my * my + mz * mz);
+    return u < -2e-3f * dmax;
+}
+
+// The normal bounds of a cluster's receivers (cluster_receivers.h codes), for vsmBoxFacesAway.
+ML_FN vec3 vsmNormalLo(ClusterReceivers r) {
+    return vec3(clusterNormalBound(r.normalLo, 0u), clusterNormalBound(r.normalLo, 1u),
+                clusterNormalBound(r.normalLo, 2u));
+}
+ML_FN vec3 vsmNormalHi(ClusterReceivers r) {
+    return vec3(clusterNormalBound(r.normalHi, 0u), clusterNormalBound(r.normalHi, 1u),
+                clusterNormalBound(r.normalHi, 2u));
 }
 
 #ifdef __cplusplus

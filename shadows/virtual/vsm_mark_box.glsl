@@ -25,9 +25,10 @@ uint vsmMarkPages(uint map, uint mip, ivec4 pages, uint region, bool mark) {
 }
 
 // Every page that vsmMarkReceiver marks for light L from any receiver inside the world box [lo, hi]
+// whose unit normal lies in [nlo, nhi]
 // (vsm_bounds.h bounds the mips, clip levels and taps; a point light's six faces each take the part of
 // the box in front of them): marked (mark) or counted. Twin: boxPages in vsm_reference.cpp.
-uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, bool mark) {
+uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi, bool mark) {
     uint R = VSM_CONST.options.z, shift = VSM_CONST.page.y;
     int radius = int(VSM_CONST.options.x);
     bool reserve = VSM_CONST.camera.z != 0.0;
@@ -43,7 +44,7 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, bool mark) {
         uint stop = last;
         for (uint l = a; l < levels; ++l) {
             GpuVsmMap map = VSM_MAPS[firstMap + l];
-            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi));
+            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
             if (t.ok != 0u)
                 n += vsmMarkPages(firstMap + l, 0u, vsmRectPages(t.texels, 0u, radius, R, 0u, shift), 0u, mark);
             if (l >= b && t.held != 0u) {
@@ -56,13 +57,13 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, bool mark) {
         uint f1 = min(stop + ML_VSM_FALLBACK_MIPS, last);
         for (uint l = min(a + ML_VSM_FALLBACK_MIPS, last); l <= f1; ++l) {
             GpuVsmMap map = VSM_MAPS[firstMap + l];
-            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi));
+            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
             if (t.ok != 0u)
                 n += vsmMarkPages(firstMap + l, 0u, vsmRectPages(t.texels, 0u, radius, R, 0u, shift), fw, mark);
         }
         if (f1 != last) {
             GpuVsmMap map = VSM_MAPS[firstMap + last];
-            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi));
+            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
             if (t.ok != 0u)
                 n += vsmMarkPages(firstMap + last, 0u, vsmRectPages(t.texels, 0u, radius, R, 0u, shift), fw, mark);
         }
@@ -73,11 +74,11 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, bool mark) {
     for (uint f = 0u; f < faces; ++f) {
         uint m = firstMap + f;
         GpuVsmMap map = VSM_MAPS[m];
-        VsmViewBox vb = vsmViewBox(map.view, lo, hi);
+        VsmViewBox vb = vsmViewBox(map.view, lo, hi), nb = vsmNormalViewBox(map.view, nlo, nhi);
         uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
         int wide = radius + vsmFallbackSlack(map);
         for (uint mip = range.x; mip <= range.y; ++mip) {
-            VsmTapRect t = vsmBoxTaps(map, R, mip, vb);
+            VsmTapRect t = vsmBoxTaps(map, R, mip, vb, nb);
             if (t.ok == 0u) continue;
             n += vsmMarkPages(m, mip, vsmRectPages(t.texels, 0u, radius, R, mip, shift), 0u, mark);
             if (!reserve) continue;

@@ -2,16 +2,21 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_mark_cluster: page marking per cluster (VsmSettings::clusterMarking, the clustered culling modes):
 // one workgroup per screen tile of ML_TILE_SIZE^2 pixels, one invocation per depth slice of it (an
-// occupied one: its cluster_bounds box, the exact AABB of the cluster's surface pixels, is not empty),
-// no shared memory and no barrier. For each light of the cluster's list, the invocation marks every page
-// that any receiver inside the box could read (vsmBoxPages: vsm_bounds.h's mip, clip-level and texel
-// bounds, the PCF kernel, the normal offset and one texel). A light whose box reaches more than
-// ML_VSM_CLUSTER_PAGES pages (a box straddling cube faces or grazing a near plane would mark whole mips)
-// is refined instead: the tile's receivers in this slice mark for it as vsm_mark does (vsmMarkReceiver),
-// up to kRefineBatch lights per walk of the tile's pixels.
+// occupied one: the tile mask of cluster_bounds), no shared memory and no barrier. The cluster's
+// receivers (ClusterReceivers, from cluster_bounds' receiver variant: the AABB of the pixels that
+// receive shadows, and a box over their unit normals) bound what it marks: a cluster without receivers
+// marks nothing, and a light that every receiver faces away from (vsmBoxFacesAway, with margins that
+// keep the per-pixel pass's vsmFacesLight false for each of them) marks nothing. For each other light
+// of the cluster's list, the invocation marks every page that any receiver inside the box could read
+// (vsmBoxPages: vsm_bounds.h's mip, clip-level and texel bounds, the PCF kernel, the normal offset and
+// one texel). A light whose box reaches more than ML_VSM_CLUSTER_PAGES pages (a box straddling cube
+// faces or grazing a near plane would mark whole mips) is refined instead: the tile's receivers in this
+// slice mark for it as vsm_mark does (vsmMarkReceiver), up to kRefineBatch lights per walk of the
+// tile's pixels.
 // The marks and the request list are then those of the per-pixel pass, plus the pages the boxes add.
 // CPU twin: vsmMarkClusterReference (bit for bit).
 #include "shaders/shared/glsl_common.glsl"
+#include "shaders/shared/cluster_receivers.h"
 #include "shadows/virtual/vsm_types.h"
 
 layout(local_size_x = ML_MAX_SLICES) in;
@@ -30,7 +35,7 @@ layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
 layout(binding = 11, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(binding = 12, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
 layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
-layout(binding = 14, std430) readonly buffer Bounds { ClusterBounds clusterBounds[]; };
+layout(binding = 14, std430) readonly buffer Receivers { ClusterReceivers clusterReceivers[]; };
 layout(binding = 15, std430) readonly buffer TileMasks { uvec2 tileMasks[]; }; // bit s: slice s occupied
 
 #define VSM_CONST vsm
@@ -75,8 +80,10 @@ void main() {
     uint t = tile.y * frame.size.z + tile.x;
     uvec2 mask = tileMasks[t];
     if (s >= slices || (mask[s >> 5u] & (1u << (s & 31u))) == 0u) return; // no surface in the cluster
-    ClusterBounds b = clusterBounds[t * slices + s];
-    vec3 lo = b.lo.xyz, hi = b.hi.xyz;
+    ClusterReceivers b = clusterReceivers[t * slices + s];
+    if ((b.normalHi & ML_CLUSTER_HAS_RECEIVER) == 0u) return; // no receiver: no lookup, no page
+    vec3 lo = b.lo, hi = b.hi;
+    vec3 nlo = vsmNormalLo(b), nhi = vsmNormalHi(b);
     uvec2 range = ranges[t * slices + s];
     bool all = range.x == ML_CLUSTER_OVERFLOW; // the cluster overflowed: every visible light
     uint count = all ? frame.cluster.z : range.y;
@@ -87,8 +94,9 @@ void main() {
         GpuLight L = lights[index];
         // lightTouchesBox is conservative (light_math.h): false only when no point of the box is reached.
         if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, lo, hi)) continue;
-        if (vsmBoxPages(L, L.info.y, lo, hi, false) <= ML_VSM_CLUSTER_PAGES) {
-            vsmBoxPages(L, L.info.y, lo, hi, true);
+        if (vsmBoxFacesAway(L, lo, hi, nlo, nhi)) continue; // every receiver faces away from L
+        if (vsmBoxPages(L, L.info.y, lo, hi, nlo, nhi, false) <= ML_VSM_CLUSTER_PAGES) {
+            vsmBoxPages(L, L.info.y, lo, hi, nlo, nhi, true);
             continue;
         }
         batch[n++] = index;

@@ -57,13 +57,13 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
     // Per cluster where the frame has cluster bounds and lists of ML_TILE_SIZE tiles (the clustered
     // modes); per pixel for `none` and `tiled`, and when the setting is off.
     const bool clustered = fc->cluster.w == ML_CULL_CLUSTERED || fc->cluster.w == ML_CULL_CLUSTERED_BRUTE;
-    if (state_->settings().clusterMarking && clustered && fc->cluster.y == ML_TILE_SIZE && in.clusterBounds &&
-        in.tileMasks)
+    if (state_->settings().clusterMarking && clustered && fc->cluster.y == ML_TILE_SIZE &&
+        in.clusterReceivers && in.tileMasks)
         dispatch(d, c, programs_.markCluster, fc->size.z * ML_MAX_SLICES, fc->size.w,
                  NoPush{}, // per slice of a tile
                  {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
                   sampled(in.normal), slot.constants, slot.maps, slot.coverage, pg.marks, slot.counters,
-                  slot.rankBase, pg.list[0], *in.clusterBounds, *in.tileMasks});
+                  slot.rankBase, pg.list[0], *in.clusterReceivers, *in.tileMasks});
     else
         dispatch(d, c, programs_.mark, fc->size.x, fc->size.y, NoPush{},
                  {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),

@@ -117,7 +117,7 @@ uint32_t markPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, uint32
 
 // vsm_common.glsl's vsmBoxPages: same calls, same order.
 uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const GpuLight& L, uint32_t firstMap,
-                  glm::vec3 lo, glm::vec3 hi, bool mark) {
+                  glm::vec3 lo, glm::vec3 hi, glm::vec3 nlo, glm::vec3 nhi, bool mark) {
     const VsmConstants& k = in.constants;
     const uint32_t R = k.options.z, shift = k.page.y;
     const int radius = int(k.options.x);
@@ -127,7 +127,8 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     uint32_t n = 0;
     auto level = [&](uint32_t l, size_t region) {
         const GpuVsmMap& map = in.maps[firstMap + l];
-        VsmTapRect t = vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi));
+        VsmTapRect t =
+            vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
         if (t.ok)
             n += markPages(in, marks, firstMap + l, 0, vsmRectPages(t.texels, 0, radius, R, 0, shift), region,
                            mark);
@@ -156,11 +157,11 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     for (uint32_t f = 0; f < faces; ++f) {
         const uint32_t m = firstMap + f;
         const GpuVsmMap& map = in.maps[m];
-        const VsmViewBox vb = vsmViewBox(map.view, lo, hi);
+        const VsmViewBox vb = vsmViewBox(map.view, lo, hi), nb = vsmNormalViewBox(map.view, nlo, nhi);
         const glm::uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
         const int wide = radius + vsmFallbackSlack(map);
         for (uint32_t mip = range.x; mip <= range.y; ++mip) {
-            VsmTapRect t = vsmBoxTaps(map, R, mip, vb);
+            VsmTapRect t = vsmBoxTaps(map, R, mip, vb, nb);
             if (!t.ok) continue;
             n += markPages(in, marks, m, mip, vsmRectPages(t.texels, 0, radius, R, mip, shift), 0, mark);
             if (!reserve) continue;
@@ -215,7 +216,8 @@ std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in) {
     return marks;
 }
 
-std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs) {
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs,
+                                              size_t* facingAwayPairs) {
     std::vector<uint32_t> marks(2 * in.markWords, 0);
     const FrameConstants& f = in.frame;
     const uint32_t width = f.size.x, height = f.size.y, T = ML_TILE_SIZE, slices = f.cluster.x;
@@ -235,9 +237,11 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
     };
     for (uint32_t ty = 0; ty * T < height; ++ty)
         for (uint32_t tx = 0; tx * T < width; ++tx) {
-            // cluster_bounds.comp: the world AABB of each slice's surface pixels (keys, as the GPU reduces).
+            // cluster_bounds.comp's receiver variant: per slice the world AABB of the receivers and the
+            // codes of their unit normals (keys and codes, as the GPU reduces).
             pixels.clear();
             std::vector<glm::uvec3> lo(slices, glm::uvec3(0xFFFFFFFFu)), hi(slices, glm::uvec3(0u));
+            std::vector<glm::uvec3> nlo(slices, glm::uvec3(1023u)), nhi(slices, glm::uvec3(0u));
             for (uint32_t y = ty * T; y < std::min(height, ty * T + T); ++y)
                 for (uint32_t x = tx * T; x < std::min(width, tx * T + T); ++x) {
                     const float d = in.depth[size_t(y) * width + x];
@@ -246,23 +250,35 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
                     const Pixel p{worldFromPixel(x, y, d, f.invViewProj, f.size),
                                   vsmNormalize(glm::vec3(stored)), sliceOf(in, d), !(stored.w < 0.0f)};
                     pixels.push_back(p);
+                    if (!p.receiver) continue;
+                    const glm::vec3 u = clusterUnitNormal(glm::vec3(stored));
                     for (int c = 0; c < 3; ++c) {
                         lo[p.slice][c] = std::min(lo[p.slice][c], toKey(p.P[c]));
                         hi[p.slice][c] = std::max(hi[p.slice][c], toKey(p.P[c]));
+                        nlo[p.slice][c] = std::min(nlo[p.slice][c], clusterNormalCode(u[c], false));
+                        nhi[p.slice][c] = std::max(nhi[p.slice][c], clusterNormalCode(u[c], true));
                     }
                 }
             const size_t tile = size_t(ty) * f.size.z + tx;
             std::vector<glm::uvec2> refine; // (slice, light index in its list)
             for (uint32_t s = 0; s < slices; ++s) {
-                if (lo[s].x == 0xFFFFFFFFu) continue; // empty cluster
+                if (lo[s].x == 0xFFFFFFFFu) continue; // no receiver in the cluster
                 const glm::vec3 blo(fromKey(lo[s].x), fromKey(lo[s].y), fromKey(lo[s].z));
                 const glm::vec3 bhi(fromKey(hi[s].x), fromKey(hi[s].y), fromKey(hi[s].z));
+                ClusterReceivers rb{};
+                rb.normalLo = nlo[s].x | (nlo[s].y << 10) | (nlo[s].z << 20);
+                rb.normalHi = nhi[s].x | (nhi[s].y << 10) | (nhi[s].z << 20) | ML_CLUSTER_HAS_RECEIVER;
+                const glm::vec3 nl = vsmNormalLo(rb), nh = vsmNormalHi(rb);
                 const glm::uvec2 r = in.ranges[tile * slices + s];
                 for (uint32_t i = 0; i < countOf(r); ++i) {
                     const GpuLight& L = lightOf(r, i);
                     if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, blo, bhi)) continue;
-                    if (boxPages(in, marks, L, L.info.y, blo, bhi, false) <= ML_VSM_CLUSTER_PAGES)
-                        boxPages(in, marks, L, L.info.y, blo, bhi, true);
+                    if (vsmBoxFacesAway(L, blo, bhi, nl, nh)) {
+                        if (facingAwayPairs) ++*facingAwayPairs;
+                        continue;
+                    }
+                    if (boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, false) <= ML_VSM_CLUSTER_PAGES)
+                        boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, true);
                     else
                         refine.push_back({s, i});
                 }

@@ -36,11 +36,14 @@ struct VsmMarkInputs {
     size_t markWords = 0;             // size of the mark bit array
 };
 std::vector<uint32_t> vsmMarkReference(const VsmMarkInputs& in);
-// vsm_mark_cluster.comp (VsmSettings::clusterMarking): per tile, the bounds of each slice's surface pixels
-// (as cluster_bounds.comp), and per (slice, light) pair the pages vsm_bounds.h bounds, or the receivers'
+// vsm_mark_cluster.comp (VsmSettings::clusterMarking): per tile, the bounds of each slice's receivers
+// and of their normals (as cluster_bounds.comp's receiver variant), and per (slice, light) pair none when
+// every receiver faces away (vsmBoxFacesAway), else the pages vsm_bounds.h bounds, or the receivers'
 // own marks where those exceed ML_VSM_CLUSTER_PAGES. Needs clustered culling (tiles of ML_TILE_SIZE).
-// Bit for bit the GPU's. refinedPairs (optional) receives, added, the pairs refined per pixel.
-std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs = nullptr);
+// Bit for bit the GPU's. refinedPairs and facingAwayPairs (optional) receive, added, the pairs refined
+// per pixel and the pairs vsmBoxFacesAway skipped.
+std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* refinedPairs = nullptr,
+                                              size_t* facingAwayPairs = nullptr);
 
 struct VsmAllocState {
     std::vector<uint32_t> table;    // per entry of every slot in use

@@ -2,12 +2,15 @@
 // with the validation layer: on the night city's drive path (256 lights) and the indoor level, every
 // frame the GPU's cluster marks equal vsmMarkClusterReference bit for bit and contain every page that
 // the per-pixel marking (vsmMarkReference, itself equal to vsm_mark.comp: GpuVsm.*) marks, lookup and
-// fallback regions both (the night city's frames also refine pairs per pixel); `tiled` culling keeps the
-// per-pixel pass.
+// fallback regions both (the night city's frames also refine pairs per pixel); the clusters' receiver
+// bounds (cluster_bounds' receiver variant) equal cullReceiversReference bit for bit, and some pairs are
+// skipped because every receiver faces away from the light; `tiled` culling keeps the per-pixel pass.
 #include <algorithm>
 #include <bit>
 #include <cstdio>
+#include <cstring>
 
+#include "culling/culling.h"
 #include "vsm_test_util.h"
 
 namespace ml::test {
@@ -15,6 +18,7 @@ namespace {
 
 struct MarkCounts {
     size_t pixel = 0, cluster = 0, missing = 0, differ = 0, frames = 0, refined = 0;
+    size_t facingAway = 0, receiverClusters = 0, receiversDiffer = 0;
 };
 
 MarkCounts compareMarks(const VsmSessionOptions& o, uint32_t frames) {
@@ -31,7 +35,23 @@ MarkCounts compareMarks(const VsmSessionOptions& o, uint32_t frames) {
         if (!report.ok()) return n;
         const VsmMarkInputs in = markInputs(m);
         const std::vector<uint32_t> gpu = vsm.read(deviceOf(m), VsmState::Marks);
-        const std::vector<uint32_t> cluster = vsmMarkClusterReference(in, &n.refined);
+        const std::vector<uint32_t> cluster = vsmMarkClusterReference(in, &n.refined, &n.facingAway);
+        // The receiver bounds the pass read, against the culling folder's reference.
+        const auto& cull = internals(m).cull;
+        const std::vector<gpu::ClusterReceivers> rec =
+            readBufferAs<gpu::ClusterReceivers>(deviceOf(m), cull.receivers); // GPU-only
+        const std::vector<gpu::ClusterReceivers> ref =
+            cullReceiversReference(in.depth, in.normal, in.frame, in.sliceFar);
+        // Written for the occupied clusters only (the tile masks), the ones the mark pass reads.
+        const std::vector<glm::uvec2> masks = readBufferAs<glm::uvec2>(deviceOf(m), cull.tileMasks);
+        const uint32_t slices = in.frame.cluster.x;
+        EXPECT_GE(rec.size(), ref.size());
+        for (size_t c = 0; c < ref.size() && c < rec.size(); ++c) {
+            const size_t t = c / slices, sl = c % slices;
+            if (t >= masks.size() || ((masks[t][sl >> 5] >> (sl & 31)) & 1u) == 0) continue;
+            n.receiversDiffer += std::memcmp(&rec[c], &ref[c], sizeof(gpu::ClusterReceivers)) != 0;
+            n.receiverClusters += (ref[c].normalHi & ML_CLUSTER_HAS_RECEIVER) != 0;
+        }
         const std::vector<uint32_t> pixel = vsmMarkReference(in);
         EXPECT_GE(gpu.size(), cluster.size());
         for (size_t w = 0; w < cluster.size() && w < gpu.size(); ++w) {
@@ -65,12 +85,16 @@ void expectSuperset(const char* scene, uint32_t frames, bool refines) {
     EXPECT_EQ(n.missing, 0u) << scene << ": pages the pixels mark that the clusters miss";
     EXPECT_GT(n.pixel, 0u) << scene << ": the path marks no page (nothing tested)";
     EXPECT_GE(n.cluster, n.pixel);
+    EXPECT_EQ(n.receiversDiffer, 0u) << scene << ": GPU receiver bounds differ from cullReceiversReference";
+    EXPECT_GT(n.receiverClusters, 0u) << scene << ": no cluster holds a receiver (nothing tested)";
+    EXPECT_GT(n.facingAway, 0u) << scene << ": no pair faces away (vsmBoxFacesAway untested)";
     if (refines) {
         EXPECT_GT(n.refined, 0u) << scene << ": no pair was refined per pixel (that path untested)";
     }
-    std::printf("%s: %zu frames, pages marked by pixels %zu, by clusters %zu (%.2fx), pairs refined %zu\n",
+    std::printf("%s: %zu frames, pages marked by pixels %zu, by clusters %zu (%.2fx), pairs refined %zu, "
+                "facing away %zu\n",
                 scene, n.frames, n.pixel, n.cluster, n.pixel ? double(n.cluster) / double(n.pixel) : 0.0,
-                n.refined);
+                n.refined, n.facingAway);
     EXPECT_EQ(validationErrors(), 0u);
 }
 
