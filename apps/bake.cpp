@@ -422,18 +422,15 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
     const uint32_t shards = o.shard && bakeTiled(o.method, o.res, o.tile) ? o.shard->count : 1;
     const uint64_t estimate = bakePeakBytes(faces, o.method, o.tile, shards);
-    const bool tiled = !faces.empty() && std::all_of(faces.begin(), faces.end(), [&](uint32_t r) {
-        return bakeTiled(o.method, r, o.tile);
-    });
-    if (tiled && estimate > o.maxMemory) {
-        // The estimate's node per 64 texels is a bound for maps of open geometry; a tiled tree is held to
-        // what --max-memory leaves (bakeTilesOf), so the bake goes on and stops if the tree passes it.
-        std::fprintf(
-            stderr,
-            "manylights bake: estimated peak memory %llu MiB (%s, a tree node per 64 texels) is over "
-            "the limit %llu MiB: the tree is held to %llu nodes and the bake stops if it passes them\n",
-            (unsigned long long)(estimate >> 20), what.c_str(), (unsigned long long)(o.maxMemory >> 20),
-            (unsigned long long)bakeTilesOf(o).maxNodes);
+    // The estimate's node per 64 texels is a bound for maps of open geometry; a tiled tree is held to
+    // what --max-memory leaves (bakeTilesOf), so a tiled bake goes on and stops if the tree passes it.
+    const auto tiled = [&](uint32_t r) { return bakeTiled(o.method, r, o.tile); };
+    if (!faces.empty() && std::all_of(faces.begin(), faces.end(), tiled) && estimate > o.maxMemory) {
+        std::fprintf(stderr,
+                     "manylights bake: estimated peak memory %llu MiB (%s, a tree node per 64 texels) "
+                     "is over the limit %llu MiB: the tree is held to %llu nodes, the bake stops past them\n",
+                     (unsigned long long)(estimate >> 20), what.c_str(),
+                     (unsigned long long)(o.maxMemory >> 20), (unsigned long long)bakeTilesOf(o).maxNodes);
         return {};
     }
     return opts::checkMemory("bake", estimate, o.maxMemory,
