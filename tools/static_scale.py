@@ -7,7 +7,7 @@ Usage:
                                 [--light 239] [--scene S] [--tile T] [--verify] [--out DIR] [--csv FILE]
 Defaults: the night city's moon (light 239 of the default 256-light scene; --scene night-city-closed is the
 city with its open sheets closed), mh,mmh,dagmh at
-4096,8192,16384. Resolutions past 16384 (up to 65536) bake in tiles (bake --tile); --tile forces tiles at
+4096,8192,16384. Resolutions past 16384 (up to 262144) bake in tiles (bake --tile); --tile forces tiles at
 every resolution. Prints CSV: method, resolution, bytes, bytes against the 32-bit map (4 B a texel),
 render+tree seconds, encode seconds, tree nodes, tiles, measured peak MiB, and with --verify the texels
 checked, mismatches, verify seconds and verify peak MiB. A bake that fails prints its one-line error in
