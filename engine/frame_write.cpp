@@ -60,7 +60,7 @@ Result<uint32_t> Module::Impl::beginFrame() {
     if (mode != cullingMode || grid.count() != cull.grid.count()) {
         // The cluster buffers are shared by the frames in flight: the old ones are retired, not waited on.
         // All ten (the sorted fill's four too: ensureBuffer would destroy one that must grow while a
-        // frame in flight still reads it; issue 41's 2-in-flight host caught it once record() stopped
+        // frame in flight still reads it; a host with 2 frames in flight caught it once record() stopped
         // draining the queue).
         for (Buffer* b :
              {&cull.bounds, &cull.receivers, &cull.ranges, &cull.pool, &cull.tileMasks, &cull.counts,

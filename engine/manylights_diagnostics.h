@@ -88,8 +88,8 @@ uint64_t deviceWaitCount(const Module& module);
 
 // Every queue submission and every queue, device or fence wait the module made on its device (its own or
 // the borrowed one), counted at the one place they all go through (the module's device layer), and
-// those made inside record(): 0 submits and 0 waits there outside TimingChoice::Fenced (issue 41;
-// QueueAccess.* interpose the Vulkan calls and agree with these).
+// those made inside record(): 0 submits and 0 waits there outside TimingChoice::Fenced (the host's queue is
+// its own; QueueAccess.* interpose the Vulkan calls and agree with these).
 struct QueueAccessCounts {
     uint64_t submits = 0, waits = 0;             // since create()
     uint64_t recordSubmits = 0, recordWaits = 0; // of those, inside record()

@@ -53,10 +53,11 @@ class Device {
     Result<VkCommandBuffer> tryBeginOneTime(const char* what) const;
     Result<void> tryEndOneTime(VkCommandBuffer cmd, const char* what) const;
 
-    // Queue access (issue 41): every submit and every queue, device or fence wait the module makes goes
-    // through these four, which count it; the ones made while record() runs (a RecordScope is open) are
-    // counted apart, so a hidden submit or wait behind the host's back cannot go unseen. The source check
-    // QueueAccess.OnlyDeviceCallsTheQueue (tests/record_queue) keeps direct calls out of the module.
+    // Queue access (record() never touches the host's queue): every submit and every queue, device or fence
+    // wait the module makes goes through these four, which count it; the ones made while record() runs (a
+    // RecordScope is open) are counted apart, so a hidden submit or wait behind the host's back cannot go
+    // unseen. The source check QueueAccess.OnlyDeviceCallsTheQueue (tests/record_queue) keeps direct calls
+    // out of the module.
     VkResult submit(const VkSubmitInfo& info, VkFence fence) const;
     VkResult waitQueue() const;
     VkResult waitDevice() const;

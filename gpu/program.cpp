@@ -360,7 +360,7 @@ Result<void> createComputeProgram(const Device& device, Program& p, const Shader
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = spec.size() ? &sd.info : nullptr;
     ci.layout = p.layout;
-    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
+    device.countPipelineBuild(); // none may happen inside record() (built ahead by createTargets)
     if (VkResult r = ML_VK_ALLOC(
             vkCreateComputePipelines(device.device, device.pipelineCache, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {
@@ -442,7 +442,7 @@ Result<void> createGraphicsProgram(const Device& device, Program& p,
     ci.pColorBlendState = &cb;
     ci.pDynamicState = &dy;
     ci.layout = p.layout;
-    device.countPipelineBuild(); // none may happen inside record() (issue 41: built ahead)
+    device.countPipelineBuild(); // none may happen inside record() (built ahead by createTargets)
     if (VkResult r = ML_VK_ALLOC(
             vkCreateGraphicsPipelines(device.device, device.pipelineCache, 1, &ci, nullptr, &p.pipeline));
         r != VK_SUCCESS) {

@@ -124,8 +124,8 @@ struct StagedCopy {
     std::vector<VkBufferCopy> regions;
 };
 
-// The setup commands of the frame being recorded (issue 41: record() never submits to or waits on the
-// host's queue). While Module::record prepares a frame (active), a new GPU-only buffer's fill
+// The setup commands of the frame being recorded (record() never submits to or waits on the host's
+// queue). While Module::record prepares a frame (active), a new GPU-only buffer's fill
 // (createDeviceBuffer) and a grown buffer's copy of its old contents (copyBufferInFrame) are queued here
 // instead of a one-time submit and wait, and the frame-begin pass records them at the start of the
 // frame's own command buffer, before every pass. Buffers replaced meanwhile (releaseAfterFrame) are not

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """bake_box_fractions.py FILE X0 Y0 Z0 X1 Y1 Z1: for each directional record of a bake file, of bake
-format version 1, 2 (square maps, from before issue 21) or 3 (fitted), the share of the map's texels
+format version 1, 2 (square maps, from before fitted directional maps) or 3 (fitted), the share of the map's texels
 whose centres lie in the box's light-space rectangle and of its N depth slices (CPVS: from the stored
 thresholds; depth methods: N equal parts of [near, far]) inside the box's slab along the light. The box
 is the one the file was baked for (--bounds). For version 3 files `manylights inspect` prints the same

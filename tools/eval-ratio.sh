@@ -1,5 +1,5 @@
 #!/bin/bash
-# The evaluation pass with DAG-MH static shadows against the unshadowed pass (issue 18's ratios), for one
+# The evaluation pass with DAG-MH static shadows against the unshadowed pass (docs/culling.md's ratios), for one
 # or more builds alternated round by round: per round and build, the minimum `evaluate` time of frames 1-9
 # of `demo --size 640x360 --frames 10 --dynamic off`, unshadowed, one tap (--pcf 0) and 3x3 PCF (--pcf 1),
 # and the two ratios. Fenced timing (the demo's default on CPU devices); alternate builds on a shared

@@ -173,7 +173,8 @@ Result<void> parseWords(const std::string& name, const uint32_t* w, size_t count
             if (rec[i] != 0) return badRec("reserved word " + std::to_string(i) + " is not 0");
         if (rec[kROrtho] != 0 && version != kVersionFitted)
             return badRec("a directional record of bake format version " + std::to_string(version) +
-                          " (a square map with log depth slices, from a build before issue 21): this build "
+                          " (a square map with log depth slices, from a build before fitted directional "
+                          "maps): this build "
                           "reads directional records of version " +
                           std::to_string(kVersionFitted) + " only; re-bake the light");
         if (rec[kROrtho] == 0 && (rec[kROrthoHalfY] != 0 || rec[kRFitMargin] != 0))

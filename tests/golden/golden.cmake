@@ -26,7 +26,7 @@ foreach(method sm mh mmh dagmh cpvs)
       --out ${method}.mlbk --quiet)
   list(APPEND outputs ${method}.mlbk)
   # The same lights without the directional one: spot and point records must stay byte-identical
-  # whatever directional bakes change (issue 21; these checksums predate it).
+  # whatever directional bakes change (these checksums predate fitted directional maps).
   run(${EXE} bake --method ${method} --res 128 --lights 0-5 --scene-lights 64 --out spot_${method}.mlbk --quiet)
   list(APPEND outputs spot_${method}.mlbk)
 endforeach()

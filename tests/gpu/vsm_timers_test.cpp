@@ -1,4 +1,4 @@
-// The VSM per-step timers (manylights/pass_times.h, issue 39 item 3): mark, sort, allocation, HPB, group
+// The VSM per-step timers (manylights/pass_times.h): mark, sort, allocation, HPB, group
 // culling, culling (vertex path) or expansion (mesh path) and draw are each a scope of their own, on
 // both raster paths and in both timing modes. Fenced timing (lavapipe's: timestamps do not bracket
 // compute on a CPU device) submits each scope on its own, so every step that ran has a positive host-

@@ -76,7 +76,7 @@ if(MODE STREQUAL "install")
   find_program(PKG_CONFIG pkg-config REQUIRED)
   set(ENV{PKG_CONFIG_PATH} ${OUT}/prefix/lib/pkgconfig)
   run(${PKG_CONFIG} --cflags --libs manylights)
-  # Nor the language mode (issue 41): -std= is the host's, on its own compile line.
+  # Nor the language mode: -std= is the host's, on its own compile line.
   if(last_output MATCHES "GLM_|glfw|include/manylights|-std=")
     message(FATAL_ERROR "pkg-config manylights leaks settings into the host: ${last_output}")
   endif()

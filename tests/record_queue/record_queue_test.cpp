@@ -1,9 +1,9 @@
-// record() never submits to or waits on the host's queue, nor builds a pipeline (issue 41). This
-// executable interposes the Vulkan entry points that submit, wait or build pipelines (vkQueueSubmit,
-// vkQueueSubmit2, vkQueueWaitIdle, vkDeviceWaitIdle, vkWaitForFences, vkCreate*Pipelines): the definitions
-// below take precedence over the loader's for every call the test and the statically linked module make,
-// count the calls made while record() runs, and forward to the loader (dlsym RTLD_NEXT). It is an executable
-// of its own so that no other test runs under the interposer.
+// record() never submits to or waits on the host's queue, nor builds a pipeline (a host may submit from
+// another thread). This executable interposes the Vulkan entry points that submit, wait or build pipelines
+// (vkQueueSubmit, vkQueueSubmit2, vkQueueWaitIdle, vkDeviceWaitIdle, vkWaitForFences, vkCreate*Pipelines):
+// the definitions below take precedence over the loader's for every call the test and the statically linked
+// module make, count the calls made while record() runs, and forward to the loader (dlsym RTLD_NEXT). It is
+// an executable of its own so that no other test runs under the interposer.
 //
 // The host: two frames in flight (a command buffer and a fence per slot; the host's own fence waits
 // happen outside record() and are not counted), virtual shadow maps whose slot pool starts at one map
