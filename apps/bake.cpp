@@ -78,8 +78,8 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --max-memory M     peak memory allowed, MiB (default: half of this machine's memory). The bake
                      estimates its peak from the method, resolutions and lights (every record is held
-                     until the file is written) and prints it; past the limit it refuses before any
-                     work (--need: at the cap first, then at the resolutions the need chose)
+                     until the file is written) and prints it; past the limit it refuses before any work
+                     (--need: at the cap, then at the need's resolutions); a tiled bake goes on, held to it
   --quiet            no progress lines on stderr
 Dynamic lights among the selection are skipped and listed, never silently. Directional lights (the
 glTF's, or --light-dir) bake one orthographic map each.

@@ -41,7 +41,7 @@ std::optional<cli::Args> commandArgs(const char* command, const char* help, Resu
 static const char* kHelp = R"(usage: manylights <command> [options]
 Many shadowed lights on Vulkan. Commands (each takes --help):
   demo    render the night city (or a glTF scene) headless; images, GPU profile and stats
-  bench   benchmarks: `bench culling`, `static`, `vsm`, `flicker`, `cpvs`, `sizes`, `cpu` (tables, CSV, JSON)
+  bench   benchmarks: `bench culling`, `static`, `vsm`, `flicker`, `cpvs`, `sizes`, `cpu`, `record`, `soak`
   bake    bake static lights' shadows (spot, point, directional; sm, mh, mmh, dagmh, cpvs) into one file
   inspect validate a bake file and report its method, resolution, lights and bytes per part
   verify  re-render a bake file's lights and check every texel or voxel (last line JSON)
@@ -49,7 +49,7 @@ Many shadowed lights on Vulkan. Commands (each takes --help):
   merge   merge the parts of a sharded bake (bake --shard I/N) into one bake file
 Exit status (every command): 0 done; 1 usage error (a bad, missing, repeated or useless option, a
 value out of range, or settings past this machine's device limits or --max-memory: refused before
-any work); 2 a hostile or malformed input file (scene, bake file, part); 3 the run failed (device
+any work, but a tiled bake goes on held to --max-memory); 2 a hostile or malformed input file (scene, bake file, part); 3 the run failed (device
 error, output not written, validation messages, or a check that found mismatches).
 )";
 
