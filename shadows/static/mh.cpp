@@ -24,6 +24,11 @@ struct Pyramid {
 // The point covered by the most of the 4 intervals; returns the covering subset as a 4-bit mask.
 // Ties: the widest intersection, then the lowest mask candidate order (child 0 first).
 uint32_t bestSubset(const uint32_t lo[4], const uint32_t hi[4]) {
+    // All four share a point (empty cells, closed slabs): the loop below would find all four at the
+    // first candidate with the greatest lo, and every such candidate has the same width.
+    if (std::max(std::max(lo[0], lo[1]), std::max(lo[2], lo[3])) <=
+        std::min(std::min(hi[0], hi[1]), std::min(hi[2], hi[3])))
+        return 15u;
     uint32_t bestMask = 1, bestCount = 0;
     uint64_t bestWidth = 0;
     for (int k = 0; k < 4; ++k) {
