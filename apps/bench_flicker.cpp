@@ -54,8 +54,8 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
   --bake A[,B...]  instead of baking: the stored records of one light (the first file's first record's
                    light, e.g. the moon at 4096^2 and at 65536^2), one row per file and PCF radius
-  --by-level       MH and MMH also filtered by level (the hierarchy level whose texel covers the
-                   pixel: Module::setShadowFilter's byLevel), one more row each
+  --by-level       MH and MMH also filtered by level (the coarsest hierarchy level whose texel is at
+                   most a quarter of the pixel: Module::setShadowFilter's byLevel), one more row each
   --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
                    (the rays keep the true light): a deliberately unstable map (default 0)
   --seed S         scene seed, default 1

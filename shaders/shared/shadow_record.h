@@ -33,8 +33,9 @@ ML_FN uint shadowRecordWithRadius(uint info, uint radius) {
     return (info & ~0xF0u) | ((radius & 15u) << 4u);
 }
 
-// info.z bit 0: filter by level (Module::setShadowFilter): the MH and MMH lookups take the hierarchy
-// level whose texel covers the receiver's pixel (shadowLevelStep); the other methods ignore it.
+// info.z bit 0: filter by level (Module::setShadowFilter): the MH and MMH lookups take the coarsest
+// hierarchy level whose texel is at most a quarter of the receiver's pixel (shadowLevelStep); the other
+// methods ignore it.
 ML_FN bool shadowRecordByLevel(GpuShadowRecord r) {
     return (r.info.z & 1u) != 0u;
 }
@@ -51,12 +52,13 @@ ML_FN float shadowFootprint2(vec3 cameraPosition, vec3 P, float pixelAngle2) {
     return f2;
 }
 
-// Levels above the finest whose texel first covers the footprint: the smallest k <= maxStep with
-// (texelWorld 2^k)^2 >= footprint2. Doubling is exact and the square is `precise`, so the shader and the
-// CPU twin pick the same level (no log2, whose rounding differs between implementations).
+// Levels above the finest whose texel first covers 1/ML_LEVEL_TEXELS_PER_PIXEL of the footprint: the
+// smallest k <= maxStep with (ML_LEVEL_TEXELS_PER_PIXEL texelWorld 2^k)^2 >= footprint2. Scaling by a
+// power of two and doubling are exact and the square is `precise`, so the shader and the CPU twin pick
+// the same level (no log2, whose rounding differs between implementations).
 ML_FN uint shadowLevelStep(float texelWorld, float footprint2, uint maxStep) {
     uint k = 0u;
-    ML_PRECISE float w = texelWorld;
+    ML_PRECISE float w = texelWorld * float(ML_LEVEL_TEXELS_PER_PIXEL);
     ML_PRECISE float w2 = w * w;
     while (k < maxStep && w2 < footprint2) {
         w = w * 2.0f;

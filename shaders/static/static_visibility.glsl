@@ -14,8 +14,9 @@
 // binary tests of (2r+1)^2 texels around it.
 // Filtering by level (MH and MMH records with shadowRecordByLevel, off by default): footprint2 is the
 // receiver's pixel footprint squared (shadowFootprint2: FrameConstants.cameraPosition.w times the squared
-// distance); shadowLevelStep picks the finest level whose texel covers it, by exact doubling so the CPU
-// twin picks the same one, and the taps, normal offset and depth bias are that level's texels.
+// distance); shadowLevelStep picks the coarsest level whose texel is at most a quarter of it
+// (ML_LEVEL_TEXELS_PER_PIXEL), by exact doubling so the CPU twin picks the same one, and the taps, normal
+// offset and depth bias are that level's texels.
 // CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_lookup.glsl).
 #ifndef ML_STATIC_VISIBILITY_GLSL
 #define ML_STATIC_VISIBILITY_GLSL
@@ -124,7 +125,7 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
     }
     float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
     // Filtering by level (MH, MMH): the taps, the normal offset and the depth bias are those of the level
-    // whose texel covers the pixel, so a distant receiver neither aliases nor walks the whole hierarchy.
+    // shadowLevelStep picks, so a distant receiver does not walk the whole hierarchy.
     uint step = 0u;
     if (shadowRecordByLevel(rec) && (method == ML_STATIC_MH || method == ML_STATIC_MMH))
         step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + ML_MH_LEVELS]);

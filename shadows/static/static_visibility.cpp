@@ -58,7 +58,8 @@ namespace {
 // The depth methods' mapping (SM, MH, MMH, DAG-MH): the receiver at view position vp with view normal vn,
 // offset along the normal, to its centre tap t and quantised, biased depth; false when the offset
 // receiver lies before the near plane (lit). With filtering by level (MH, MMH), step is the level above
-// the finest whose texel covers the pixel (footprint2), and t a texel of that level. The shader's lines,
+// the finest (shadowLevelStep: its texel at most a quarter of the pixel, footprint2), and t a texel of
+// that level. The shader's lines,
 // in its order.
 bool depthMapTap(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 vp, glm::vec3 vn,
                  float footprint2, glm::ivec2& t, uint32_t& depth, uint32_t& step) {

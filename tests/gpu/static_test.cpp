@@ -106,8 +106,8 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
 
 // Every visible static spot light gets a DAG-MH (or CPVS) bake; the evaluation pass's HDR output is
 // compared with the CPU reference (shading.h + static_visibility.cpp) on sampled pixels.
-// byLevel: MH and MMH take the level whose texel covers the pixel (setShadowFilter); the CPU twin gets the
-// same footprint, and some pixels must see another visibility than at the finest level.
+// byLevel: MH and MMH take the level shadowLevelStep picks for the pixel (setShadowFilter); the CPU twin
+// gets the same footprint, and some pixels must see another visibility than at the finest level.
 void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf, bool byLevel = false) {
     auto m = makeModule();
     auto scene = loadScene("night-city", 64, 2);
@@ -132,7 +132,8 @@ void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf, bool byLevel 
         const Light& l = scene->lights[i];
         if (l.dynamic || l.type != LightKind::Spot) continue;
         LightFrustum f = spotLightFrustum(l);
-        DualDepthMap map = rasterizeDual(casters, f, 256);
+        // By level: maps 4x finer, so that texels of a quarter pixel (shadowLevelStep) are coarser levels.
+        DualDepthMap map = rasterizeDual(casters, f, byLevel ? 1024 : 256);
         auto words = encodeStatic(method, map, {f.nearPlane, f.farPlane, {}});
         ASSERT_TRUE(words.ok()) << words.error();
         ASSERT_TRUE(m->setStaticShadow(i, {method, f, words.value()}).ok());
