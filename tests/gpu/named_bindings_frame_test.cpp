@@ -1,9 +1,9 @@
 // Named bindings in the module's frame: with the binding log on (gpu/bindings.h), a frame of the night
-// city records what each named bind placed, and each binding of the culling, evaluation, statistics and
-// view passes must hold the buffer or image meant for it, taken from the module's own state (the
-// cluster lists, the slot's buffers, the targets). Two buffers of one kind traded at a call site pass
-// every type check, and fail here; a binding left out aborts the dispatch with the program's and the
-// binding's names, and so does one named twice (checked against the real evaluation program).
+// city records what each named bind placed, and each binding of the G-buffer draw and the culling,
+// evaluation, statistics and view passes must hold the buffer or image meant for it, taken from the module's
+// own state (the cluster lists, the slot's buffers, the targets). Two buffers of one kind traded at a call
+// site pass every type check, and fail here; a binding left out aborts the dispatch with the program's and
+// the binding's names, and so does one named twice (checked against the real evaluation program).
 #include "gpu_test_util.h"
 
 #include "culling/culling_bindings.h"
@@ -147,6 +147,12 @@ TEST(NamedBindings, ClusteredCullingBindsEachBufferAtItsName) {
                           {"ML_BOUNDS_TILE_MASKS", c.tileMasks},
                           {"ML_BOUNDS_NORMAL", m.targets.normal.view},
                           {"ML_BOUNDS_RECEIVERS", c.bounds}}), // no receivers wanted: the bounds fill it
+              "");
+    // The G-buffer draw (a graphics program, bound by name as well) before them.
+    EXPECT_EQ(checkBinds(f.log, "spv_gbuffer_vert",
+                         {{"ML_GBUFFER_FRAME", s.frame},
+                          {"ML_GBUFFER_VERTICES", m.vertexBuffer},
+                          {"ML_GBUFFER_INSTANCES", s.instances}}),
               "");
     // Both variants (lanes, and the moon's wide pass) bind the same.
     EXPECT_EQ(checkBinds(f.log, "spv_light_footprint_comp",
