@@ -1,9 +1,10 @@
 // Named bindings in the module's frame: with the binding log on (gpu/bindings.h), a frame of the night
-// city records what each named bind placed, and each binding of the G-buffer draw and the culling,
-// evaluation, statistics and view passes must hold the buffer or image meant for it, taken from the module's
-// own state (the cluster lists, the slot's buffers, the targets). Two buffers of one kind traded at a call
-// site pass every type check, and fail here; a binding left out aborts the dispatch with the program's and
-// the binding's names, and so does one named twice (checked against the real evaluation program).
+// city records what each named bind placed, and each binding of the G-buffer draw and of the culling,
+// evaluation, statistics and view passes must hold the buffer or image meant for it, taken from the
+// module's own state (the cluster lists, the slot's buffers, the targets). Two buffers of one kind traded
+// at a call site pass every type check, and fail here. A binding left out aborts the dispatch naming the
+// program and the binding's number, one named twice naming the constant (both checked against the real
+// evaluation program).
 #include "gpu_test_util.h"
 
 #include "culling/culling_bindings.h"
