@@ -12,20 +12,21 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
 #include "shaders/shared/cluster_receivers.h"
+#include "culling/culling_bindings.h"
 
 layout(constant_id = 0) const uint kReceivers = 0u;
 
 layout(local_size_x = ML_TILE_SIZE, local_size_y = ML_TILE_SIZE) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; }; // slice s ends at sliceFar[s]
+layout(binding = ML_BOUNDS_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_BOUNDS_SLICES, std430) readonly buffer Slices { float sliceFar[]; }; // slice s ends at sliceFar[s]
 #include "shaders/shared/cluster_slice.glsl"
-layout(binding = 2) uniform texture2D depthImage;
-layout(binding = 3, std430) writeonly buffer Bounds { ClusterBounds bounds[]; };
-layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
-layout(binding = 5, std430) writeonly buffer TileMasks { uvec2 tileMasks[]; }; // slices 0-31, 32-63
-layout(binding = 6) uniform texture2D normalImage; // G-buffer normal (w < 0: not a receiver)
-layout(binding = 7, std430) writeonly buffer Receivers { ClusterReceivers receivers[]; };
+layout(binding = ML_BOUNDS_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_BOUNDS_OUT, std430) writeonly buffer Bounds { ClusterBounds bounds[]; };
+layout(binding = ML_BOUNDS_COUNTERS, std430) buffer Counters { FrameCounters counters; };
+layout(binding = ML_BOUNDS_TILE_MASKS, std430) writeonly buffer TileMasks { uvec2 tileMasks[]; }; // slices 0-31, 32-63
+layout(binding = ML_BOUNDS_NORMAL) uniform texture2D normalImage; // G-buffer normal (w < 0: not a receiver)
+layout(binding = ML_BOUNDS_RECEIVERS, std430) writeonly buffer Receivers { ClusterReceivers receivers[]; };
 
 shared uint sMask[2];
 shared uint sLo[3][ML_MAX_SLICES];

@@ -1,6 +1,8 @@
 #include "culling/culling.h"
 
+#include "culling/culling_bindings.h"
 #include "culling/culling_push.h"
+#include "gpu/bindings.h"
 #include "shaders/shared/light_math.h"
 
 #include "cluster_bounds.comp.spv.h"
@@ -154,27 +156,26 @@ Result<void> LightCulling::ensureReceivers(const Device& device) {
     return {};
 }
 
-void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const Buffer& frame,
-                                const Buffer& slices, VkImageView depth, VkImageView normal,
-                                const Buffer& counters) {
+void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const BoundsInputs& in) {
     const bool withReceivers =
         wantReceivers && receivers.buffer && receivers.size >= grid.count() * sizeof(gpu::ClusterReceivers);
+    constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     // One ML_TILE_SIZE^2 group per tile: a thread per pixel of the tile grid. The plain variant binds
     // the bounds in the receivers' slot (never written there).
     dispatch(device, c, withReceivers ? receiversProgram_ : boundsProgram_, grid.tilesX * ML_TILE_SIZE,
              grid.tilesY * ML_TILE_SIZE, NoPush{},
-             {frame, slices, Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              bounds, counters, tileMasks,
-              Descriptor(Image{.view = normal}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              withReceivers ? receivers : bounds});
+             {ML_BIND(ML_BOUNDS_FRAME, *in.frame), ML_BIND(ML_BOUNDS_SLICES, *in.slices),
+              ML_BIND(ML_BOUNDS_DEPTH, Descriptor(in.depth, kRead)), ML_BIND(ML_BOUNDS_OUT, bounds),
+              ML_BIND(ML_BOUNDS_COUNTERS, *in.counters), ML_BIND(ML_BOUNDS_TILE_MASKS, tileMasks),
+              ML_BIND(ML_BOUNDS_NORMAL, Descriptor(in.normal, kRead)),
+              ML_BIND(ML_BOUNDS_RECEIVERS, withReceivers ? receivers : bounds)});
     // Cluster bounds and tile masks -> light assignment (read); counters (atomics) -> assignment's
     // atomics.
     memoryBarrier(c, kC, kW, kC, kR | kW);
 }
 
-void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const Buffer& frame,
-                                const Buffer& slices, const Buffer& lights, const Buffer& wideLights,
-                                uint32_t wideCount, uint32_t wideThreads, const Buffer& counters) {
+void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const AssignInputs& in) {
+    const Buffer& frame = *in.frame;
     const gpu::FrameConstants& fc = *frame.as<gpu::FrameConstants>();
     const uint32_t mode = fc.cluster.w, visible = fc.cluster.z;
     const uint32_t tiles = grid.tilesX * grid.tilesY;
@@ -189,51 +190,69 @@ void LightCulling::recordAssign(const Device& device, VkCommandBuffer c, const B
         // Count and record hits (ML_FOOTPRINT_LANES threads per light), allocate (one thread per tile),
         // mark (ML_FILL_GROUPS groups stride over the hits) and append (one thread per tile, walking
         // its lights in index order: the lists come out sorted, in time linear in the hits).
-        const gpu::CullPush push{hitCapacity, wideCount, wideThreads};
+        const gpu::CullPush push{hitCapacity, in.wideCount, in.wideThreads};
+        // Both footprint variants read and write the same buffers.
+        auto footprint = [&](const Program& program, uint32_t threadsX, uint32_t threadsY) {
+            dispatch(device, c, program, threadsX, threadsY, push,
+                     {ML_BIND(ML_FOOTPRINT_FRAME, frame), ML_BIND(ML_FOOTPRINT_SLICES, *in.slices),
+                      ML_BIND(ML_FOOTPRINT_LIGHTS, *in.lights), ML_BIND(ML_FOOTPRINT_BOUNDS, bounds),
+                      ML_BIND(ML_FOOTPRINT_TILE_MASKS, tileMasks), ML_BIND(ML_FOOTPRINT_COUNTS, counts),
+                      ML_BIND(ML_FOOTPRINT_HITS, hits), ML_BIND(ML_FOOTPRINT_WORK, work),
+                      ML_BIND(ML_FOOTPRINT_WIDE, *in.wideLights), ML_BIND(ML_FOOTPRINT_TILE_BITS, tileBits)});
+        };
         if (visible) {
-            dispatch(device, c, countProgram_, visible * ML_FOOTPRINT_LANES, 1, push,
-                     {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights, tileBits});
+            footprint(countProgram_, visible * ML_FOOTPRINT_LANES, 1);
             // The wide lights: a thread per tile of each one's footprint, in rows of ML_WIDE_ROW. Its
             // atomics (counts, hit cursor) commute with the lane pass's: no barrier between the two.
-            if (wideThreads)
-                dispatch(
-                    device, c, wideProgram_, std::min(wideThreads, uint32_t(ML_WIDE_ROW)),
-                    (wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW, push,
-                    {frame, slices, lights, bounds, tileMasks, counts, hits, work, wideLights, tileBits});
+            if (in.wideThreads)
+                footprint(wideProgram_, std::min(in.wideThreads, uint32_t(ML_WIDE_ROW)),
+                          (in.wideThreads + ML_WIDE_ROW - 1) / ML_WIDE_ROW);
             memoryBarrier(c, kC, kW, kC, kR | kW); // counts, hits, work -> alloc (reads; pool cursor atomics)
         }
-        dispatch(
-            device, c, allocProgram_, tiles, 1, push,
-            {frame, tileMasks, counts, ranges, counters, work, tileBits, tilePrefix, tileRanges, tileSlices});
+        dispatch(device, c, allocProgram_, tiles, 1, push,
+                 {ML_BIND(ML_ALLOC_FRAME, frame), ML_BIND(ML_ALLOC_TILE_MASKS, tileMasks),
+                  ML_BIND(ML_ALLOC_COUNTS, counts), ML_BIND(ML_ALLOC_RANGES, ranges),
+                  ML_BIND(ML_ALLOC_COUNTERS, *in.counters), ML_BIND(ML_ALLOC_WORK, work),
+                  ML_BIND(ML_ALLOC_TILE_BITS, tileBits), ML_BIND(ML_ALLOC_TILE_PREFIX, tilePrefix),
+                  ML_BIND(ML_ALLOC_TILE_RANGES, tileRanges), ML_BIND(ML_ALLOC_TILE_SLICES, tileSlices)});
         // Ranges, prefix counts, tile ranges, cleared slice masks -> mark (reads, atomics).
         memoryBarrier(c, kC, kW, kC, kR | kW);
         if (visible) {
-            dispatch(device, c, fillPrograms_[0], ML_FILL_GROUPS * ML_FILL_GROUP, 1, push,
-                     {frame, hits, ranges, pool, work, tileBits, tilePrefix, tileRanges, tileSlices});
+            // Mark, then append: one shader, the same buffers.
+            auto fill = [&](const Program& program, uint32_t threads) {
+                dispatch(device, c, program, threads, 1, push,
+                         {ML_BIND(ML_FILL_FRAME, frame), ML_BIND(ML_FILL_HITS, hits),
+                          ML_BIND(ML_FILL_RANGES, ranges), ML_BIND(ML_FILL_POOL, pool),
+                          ML_BIND(ML_FILL_WORK, work), ML_BIND(ML_FILL_TILE_BITS, tileBits),
+                          ML_BIND(ML_FILL_TILE_PREFIX, tilePrefix), ML_BIND(ML_FILL_TILE_RANGES, tileRanges),
+                          ML_BIND(ML_FILL_TILE_SLICES, tileSlices)});
+            };
+            fill(fillPrograms_[0], ML_FILL_GROUPS * ML_FILL_GROUP);
             memoryBarrier(c, kC, kW, kC, kR); // slice masks -> append
-            dispatch(device, c, fillPrograms_[1], tiles, 1, push,
-                     {frame, hits, ranges, pool, work, tileBits, tilePrefix, tileRanges, tileSlices});
+            fill(fillPrograms_[1], tiles);
         }
     } else {
         // One ML_ASSIGN_GROUP group per tile (its threads stride over the lights).
         dispatch(device, c, assignProgram_, grid.tilesX * ML_ASSIGN_GROUP, grid.tilesY, NoPush{},
-                 {frame, lights, bounds, ranges, pool, counters, work});
+                 {ML_BIND(ML_ASSIGN_FRAME, frame), ML_BIND(ML_ASSIGN_LIGHTS, *in.lights),
+                  ML_BIND(ML_ASSIGN_BOUNDS, bounds), ML_BIND(ML_ASSIGN_RANGES, ranges),
+                  ML_BIND(ML_ASSIGN_POOL, pool), ML_BIND(ML_ASSIGN_COUNTERS, *in.counters),
+                  ML_BIND(ML_ASSIGN_WORK, work)});
     }
     // Ranges and pool -> every later reader (VSM marks, evaluation, statistics, views: compute).
     // The counters reach the host through the frame-end barrier (engine/frame_passes.cpp).
     memoryBarrier(c, kC, kW, kC, kR);
 }
 
-void LightCulling::recordView(const Device& device, VkCommandBuffer c, bool reaching, const Buffer& frame,
-                              const Buffer& slices, const Buffer& lights, VkImageView depth,
-                              VkImageView output, uint32_t width, uint32_t height) {
+void LightCulling::recordView(const Device& device, VkCommandBuffer c, const ViewInputs& in) {
     // viewCounts was sized by prepareView (Module::Impl::beginFrame).
     // The evaluation's output -> overwritten here (write-after-write).
     memoryBarrier(c, kC, kW, kC, kW);
-    dispatch(device, c, viewPrograms_[reaching ? 1 : 0], width, height, NoPush{},
-             {frame, slices, lights, ranges,
-              Descriptor(Image{.view = depth}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
-              Descriptor(Image{.view = output}), viewCounts});
+    dispatch(device, c, viewPrograms_[in.reaching ? 1 : 0], in.width, in.height, NoPush{},
+             {ML_BIND(ML_VIEW_FRAME, *in.frame), ML_BIND(ML_VIEW_SLICES, *in.slices),
+              ML_BIND(ML_VIEW_LIGHTS, *in.lights), ML_BIND(ML_VIEW_RANGES, ranges),
+              ML_BIND(ML_VIEW_DEPTH, Descriptor(in.depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)),
+              ML_BIND(ML_VIEW_OUTPUT, Descriptor(in.output)), ML_BIND(ML_VIEW_COUNTS, viewCounts)});
     // Output -> the host's reads after record(); per-pixel counts -> host (tests read them mapped).
     memoryBarrier(c, kC, kW, kOutputReaderStages | VK_PIPELINE_STAGE_2_HOST_BIT,
                   kOutputReads | VK_ACCESS_2_HOST_READ_BIT);

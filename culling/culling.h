@@ -47,6 +47,35 @@ struct ClusterGrid {
 };
 ClusterGrid clusterGrid(uint32_t width, uint32_t height, CullingMode mode);
 
+// What each culling pass reads and writes besides LightCulling's own buffers (bounds, lists, hits,
+// tile masks): the frame's buffers by name. Every pass binds them by name too (culling_bindings.h).
+struct BoundsInputs {
+    const Buffer* frame = nullptr;       // FrameConstants (uniform)
+    const Buffer* slices = nullptr;      // slice boundaries (sliceBoundaries)
+    VkImageView depth = VK_NULL_HANDLE;  // SHADER_READ_ONLY_OPTIMAL
+    VkImageView normal = VK_NULL_HANDLE; // likewise; read by the receiver variant only
+    const Buffer* counters = nullptr;    // FrameCounters (atomics)
+};
+struct AssignInputs {
+    const Buffer* frame = nullptr; // FrameConstants: mode (cluster.w) and visible lights (cluster.z)
+    const Buffer* slices = nullptr;
+    const Buffer* lights = nullptr; // visible GpuLights
+    // The frame's wideCount WideLight entries (the lights with params.w = 1), whose footprints hold
+    // wideThreads tiles in all.
+    const Buffer* wideLights = nullptr;
+    uint32_t wideCount = 0, wideThreads = 0;
+    const Buffer* counters = nullptr; // FrameCounters (overflow atomics)
+};
+struct ViewInputs {
+    const Buffer* frame = nullptr;
+    const Buffer* slices = nullptr;
+    const Buffer* lights = nullptr;
+    VkImageView depth = VK_NULL_HANDLE;  // SHADER_READ_ONLY_OPTIMAL
+    VkImageView output = VK_NULL_HANDLE; // RGBA8 storage, GENERAL: overwritten where there is a surface
+    uint32_t width = 0, height = 0;
+    bool reaching = false; // colour by lights reaching (else lights evaluated)
+};
+
 class LightCulling {
   public:
     Result<void> create(const Device& device);
@@ -58,26 +87,19 @@ class LightCulling {
     // Sizes viewCounts for recordView (a readback buffer); call before recording a light-count view.
     Result<void> prepareView(const Device& device, uint32_t width, uint32_t height);
     // The two passes of the frame (engine/frame.h times them): cluster bounds from the depth buffer, then
-    // light assignment, whose mode and visible-light count are read from the frame constants `frame`
-    // holds (a mapped upload buffer the module wrote just before; read back from it on the CPU).
-    // With wantReceivers (and ensureReceivers called since the last resize) it also writes `receivers`
-    // from the G-buffer normal (the receiver variant of cluster_bounds.comp); otherwise `normal` is
-    // bound but not read.
-    void recordBounds(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                      VkImageView depth, VkImageView normal, const Buffer& counters);
+    // light assignment, whose mode and visible-light count are read from the frame constants
+    // (a mapped upload buffer the module wrote just before; read back from it on the CPU).
+    // With wantReceivers (and ensureReceivers called since the last resize) bounds also writes
+    // `receivers` from the G-buffer normal (the receiver variant of cluster_bounds.comp); otherwise
+    // the normal is bound but not read.
+    void recordBounds(const Device& device, VkCommandBuffer cmd, const BoundsInputs& in);
     // Sizes `receivers` for the grid (32 B per cluster, only for page marking per cluster).
     Result<void> ensureReceivers(const Device& device);
-    // wideLights: the frame's wideCount WideLight entries (the lights with params.w = 1), whose
-    // footprints hold wideThreads tiles in all.
-    void recordAssign(const Device& device, VkCommandBuffer cmd, const Buffer& frame, const Buffer& slices,
-                      const Buffer& lights, const Buffer& wideLights, uint32_t wideCount,
-                      uint32_t wideThreads, const Buffer& counters);
+    void recordAssign(const Device& device, VkCommandBuffer cmd, const AssignInputs& in);
     // Light-complexity view (lights/view_lights.comp), after the evaluation pass: overwrites the
     // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and
     // writes both counts to viewCounts (evaluated | reaching << 16, row-major).
-    void recordView(const Device& device, VkCommandBuffer cmd, bool reaching, const Buffer& frame,
-                    const Buffer& slices, const Buffer& lights, VkImageView depth, VkImageView output,
-                    uint32_t width, uint32_t height);
+    void recordView(const Device& device, VkCommandBuffer cmd, const ViewInputs& in);
     // Box tests (light x cluster) the last recorded assignment ran; valid once its frame completed.
     uint32_t lastBoxTests() const { return work.data ? *work.as<uint32_t>() : 0u; }
 

@@ -12,19 +12,20 @@
 // tileSlices: T <= the tile's hits, so the ranges fit the hit capacity whenever the hits did.
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
+#include "culling/culling_bindings.h"
 
 layout(local_size_x = ML_ALLOC_GROUP) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
-layout(binding = 2, std430) readonly buffer Counts { uint counts[]; };
-layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) buffer Counters { FrameCounters counters; };
-layout(binding = 5, std430) buffer Work { uint workTests; uint hitCount; uint tileCursor; };
-layout(binding = 6, std430) readonly buffer TileBits { uint tileBits[]; };
-layout(binding = 7, std430) writeonly buffer TilePrefix { uint tilePrefix[]; };
-layout(binding = 8, std430) writeonly buffer TileRanges { uvec2 tileRanges[]; };
-layout(binding = 9, std430) writeonly buffer TileSlices { uvec2 tileSlices[]; };
+layout(binding = ML_ALLOC_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_ALLOC_TILE_MASKS, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
+layout(binding = ML_ALLOC_COUNTS, std430) readonly buffer Counts { uint counts[]; };
+layout(binding = ML_ALLOC_RANGES, std430) writeonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_ALLOC_COUNTERS, std430) buffer Counters { FrameCounters counters; };
+layout(binding = ML_ALLOC_WORK, std430) buffer Work { uint workTests; uint hitCount; uint tileCursor; };
+layout(binding = ML_ALLOC_TILE_BITS, std430) readonly buffer TileBits { uint tileBits[]; };
+layout(binding = ML_ALLOC_TILE_PREFIX, std430) writeonly buffer TilePrefix { uint tilePrefix[]; };
+layout(binding = ML_ALLOC_TILE_RANGES, std430) writeonly buffer TileRanges { uvec2 tileRanges[]; };
+layout(binding = ML_ALLOC_TILE_SLICES, std430) writeonly buffer TileSlices { uvec2 tileSlices[]; };
 layout(push_constant) uniform Push { CullPush push; };
 
 void main() {

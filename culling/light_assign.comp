@@ -13,16 +13,17 @@
 // light is ever dropped.
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
+#include "culling/culling_bindings.h"
 
 layout(local_size_x = ML_ASSIGN_GROUP) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 2, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
-layout(binding = 3, std430) writeonly buffer Ranges { uvec2 ranges[]; }; // (offset, count) per cluster
-layout(binding = 4, std430) writeonly buffer Pool { uint pool[]; };
-layout(binding = 5, std430) buffer Counters { FrameCounters counters; };
-layout(binding = 6, std430) buffer Work { uint workTests; }; // box tests run (bench's "clusters touched")
+layout(binding = ML_ASSIGN_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_ASSIGN_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_ASSIGN_BOUNDS, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
+layout(binding = ML_ASSIGN_RANGES, std430) writeonly buffer Ranges { uvec2 ranges[]; }; // (offset, count) per cluster
+layout(binding = ML_ASSIGN_POOL, std430) writeonly buffer Pool { uint pool[]; };
+layout(binding = ML_ASSIGN_COUNTERS, std430) buffer Counters { FrameCounters counters; };
+layout(binding = ML_ASSIGN_WORK, std430) buffer Work { uint workTests; }; // box tests run (bench's "clusters touched")
 
 shared vec3 sLo[ML_MAX_SLICES];
 shared vec3 sHi[ML_MAX_SLICES];

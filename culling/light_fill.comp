@@ -13,19 +13,20 @@
 // Overflowed clusters are skipped (their pixels test every visible light).
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
+#include "culling/culling_bindings.h"
 
 layout(local_size_x = ML_FILL_GROUP) in;
 layout(constant_id = 0) const uint kSpecStep = 0;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
-layout(binding = 2, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 3, std430) writeonly buffer Pool { uint pool[]; };
-layout(binding = 4, std430) readonly buffer Work { uint workTests; uint hitCount; uint tileCursor; };
-layout(binding = 5, std430) readonly buffer TileBits { uint tileBits[]; };     // ML_TILE_WORDS per tile
-layout(binding = 6, std430) readonly buffer TilePrefix { uint tilePrefix[]; }; // ML_TILE_WORDS per tile
-layout(binding = 7, std430) readonly buffer TileRanges { uvec2 tileRanges[]; }; // (tileOff, T)
-layout(binding = 8, std430) buffer TileSlices { uvec2 tileSlices[]; };         // slice mask per rank
+layout(binding = ML_FILL_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_FILL_HITS, std430) readonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
+layout(binding = ML_FILL_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_FILL_POOL, std430) writeonly buffer Pool { uint pool[]; };
+layout(binding = ML_FILL_WORK, std430) readonly buffer Work { uint workTests; uint hitCount; uint tileCursor; };
+layout(binding = ML_FILL_TILE_BITS, std430) readonly buffer TileBits { uint tileBits[]; };     // ML_TILE_WORDS per tile
+layout(binding = ML_FILL_TILE_PREFIX, std430) readonly buffer TilePrefix { uint tilePrefix[]; }; // ML_TILE_WORDS per tile
+layout(binding = ML_FILL_TILE_RANGES, std430) readonly buffer TileRanges { uvec2 tileRanges[]; }; // (tileOff, T)
+layout(binding = ML_FILL_TILE_SLICES, std430) buffer TileSlices { uvec2 tileSlices[]; };         // slice mask per rank
 layout(push_constant) uniform Push { CullPush push; };
 
 void main() {

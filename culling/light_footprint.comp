@@ -18,6 +18,7 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/culling_push.h"
 #include "shaders/shared/light_math.h"
+#include "culling/culling_bindings.h"
 
 layout(local_size_x = ML_FOOTPRINT_GROUP) in;
 // 0: ML_FOOTPRINT_LANES threads per visible light (wide lights skipped); 1: the wide pass, one thread
@@ -25,19 +26,19 @@ layout(local_size_x = ML_FOOTPRINT_GROUP) in;
 layout(constant_id = 0) const uint kSpecWide = 0;
 layout(push_constant) uniform Push { CullPush push; };
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_FOOTPRINT_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_FOOTPRINT_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
 #include "shaders/shared/cluster_slice.glsl"
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
-layout(binding = 4, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
-layout(binding = 5, std430) buffer Counts { uint counts[]; };
-layout(binding = 6, std430) writeonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
-layout(binding = 7, std430) buffer Work { uint workTests; uint hitCount; };
-layout(binding = 8, std430) readonly buffer WideLights { WideLight wideLights[]; };
+layout(binding = ML_FOOTPRINT_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_FOOTPRINT_BOUNDS, std430) readonly buffer Bounds { ClusterBounds bounds[]; };
+layout(binding = ML_FOOTPRINT_TILE_MASKS, std430) readonly buffer TileMasks { uvec2 tileMasks[]; };
+layout(binding = ML_FOOTPRINT_COUNTS, std430) buffer Counts { uint counts[]; };
+layout(binding = ML_FOOTPRINT_HITS, std430) writeonly buffer Hits { uvec2 hits[]; }; // (cluster, light)
+layout(binding = ML_FOOTPRINT_WORK, std430) buffer Work { uint workTests; uint hitCount; };
+layout(binding = ML_FOOTPRINT_WIDE, std430) readonly buffer WideLights { WideLight wideLights[]; };
 // Per tile a bitmask over the visible lights with a hit there (ML_TILE_WORDS words): light_alloc and
 // light_fill rank each hit among its tile's lights from it, so the lists come out sorted in linear time.
-layout(binding = 9, std430) buffer TileBits { uint tileBits[]; };
+layout(binding = ML_FOOTPRINT_TILE_BITS, std430) buffer TileBits { uint tileBits[]; };
 
 shared uint sTests;
 

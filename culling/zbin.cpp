@@ -201,13 +201,15 @@ void ZBinning::recordMasks(const Device& device, VkCommandBuffer c, const Buffer
     if (push.words) vkCmdFillBuffer(c, masks.buffer, 0, VkDeviceSize(tiles) * push.words * 4, 0);
     memoryBarrier(c, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kC, kR | kW); // cleared -> atomicOr
     dispatch(device, c, maskProgram_, push.sorted * ML_ZBIN_LANES, 1, push,
-             {sorted, tileSlices, masks, frame});
+             {ML_BIND(ML_ZBIN_MASK_SORTED, sorted), ML_BIND(ML_ZBIN_MASK_TILE_SLICES, tileSlices),
+              ML_BIND(ML_ZBIN_MASK_MASKS, masks), ML_BIND(ML_ZBIN_MASK_FRAME, frame)});
     memoryBarrier(c, kC, kW, kC, kR); // masks -> stats (and any later reader)
 }
 
 void ZBinning::recordBins(const Device& device, VkCommandBuffer c) {
     memoryBarrier(c, kC, kR, kC, kW); // an earlier stats pass's reads -> this pass's writes
-    dispatch(device, c, binProgram_, push.bins, 1, push, {sorted, bins});
+    dispatch(device, c, binProgram_, push.bins, 1, push,
+             {ML_BIND(ML_ZBIN_BINS_SORTED, sorted), ML_BIND(ML_ZBIN_BINS_OUT, bins)});
     memoryBarrier(c, kC, kW, kC, kR); // bins -> stats
 }
 

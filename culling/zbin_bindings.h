@@ -1,8 +1,19 @@
-// Binding numbers of the Z-binning stats and shading probes (zbin_stats.comp, zbin_shade.comp), named
-// once for the shaders (`layout(binding = ...)`) and for zbin.cpp, which passes each resource by its
-// name (ML_BIND, gpu/bindings.h): the dispatch places it at that binding, in whatever order the list is.
+// Binding numbers of the Z-binning passes (zbin_mask.comp, zbin_bins.comp) and of its stats and shading
+// probes (zbin_stats.comp, zbin_shade.comp), named once for the shaders (`layout(binding = ...)`) and
+// for zbin.cpp, which passes each resource by its name (ML_BIND, gpu/bindings.h): the dispatch places it
+// at that binding, in whatever order the list is.
 #ifndef ML_ZBIN_BINDINGS_H
 #define ML_ZBIN_BINDINGS_H
+
+// zbin_mask.comp: the depth-sorted lights' tile masks.
+#define ML_ZBIN_MASK_SORTED 0
+#define ML_ZBIN_MASK_TILE_SLICES 1
+#define ML_ZBIN_MASK_MASKS 2
+#define ML_ZBIN_MASK_FRAME 3
+
+// zbin_bins.comp: each depth bin's range of sorted lights.
+#define ML_ZBIN_BINS_SORTED 0
+#define ML_ZBIN_BINS_OUT 1
 
 // zbin_stats.comp: per-pixel candidate counts.
 #define ML_ZBIN_STATS_FRAME 0

@@ -8,12 +8,13 @@
 // lights), no atomics, every word written (no clear).
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/zbin_types.h"
+#include "culling/zbin_bindings.h"
 
 layout(local_size_x = ML_ZBIN_GROUP) in;
 layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0, std430) readonly buffer Sorted { ZBinLight sorted[]; };
-layout(binding = 1, std430) writeonly buffer Bins { uint bins[]; };
+layout(binding = ML_ZBIN_BINS_SORTED, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = ML_ZBIN_BINS_OUT, std430) writeonly buffer Bins { uint bins[]; };
 
 void main() {
     uint b = gl_GlobalInvocationID.x;

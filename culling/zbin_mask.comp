@@ -9,14 +9,15 @@
 // and bits go in with atomicOr, so the result does not depend on the order of the threads.
 #include "shaders/shared/glsl_common.glsl"
 #include "culling/zbin_types.h"
+#include "culling/zbin_bindings.h"
 
 layout(local_size_x = ML_ZBIN_GROUP) in;
 layout(push_constant) uniform Push { ZBinPush push; };
 
-layout(binding = 0, std430) readonly buffer Sorted { ZBinLight sorted[]; };
-layout(binding = 1, std430) readonly buffer TileSlices { uvec2 tileSlices[]; }; // cluster_bounds'
-layout(binding = 2, std430) buffer Masks { uint masks[]; };
-layout(binding = 3) uniform Frame { FrameConstants frame; };
+layout(binding = ML_ZBIN_MASK_SORTED, std430) readonly buffer Sorted { ZBinLight sorted[]; };
+layout(binding = ML_ZBIN_MASK_TILE_SLICES, std430) readonly buffer TileSlices { uvec2 tileSlices[]; }; // cluster_bounds'
+layout(binding = ML_ZBIN_MASK_MASKS, std430) buffer Masks { uint masks[]; };
+layout(binding = ML_ZBIN_MASK_FRAME) uniform Frame { FrameConstants frame; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x / ML_ZBIN_LANES, lane = gl_GlobalInvocationID.x % ML_ZBIN_LANES;

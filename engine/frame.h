@@ -39,34 +39,24 @@ struct FrameContext {
     bool hdrOutput = false; // the host's output takes HDR radiance (no tone-mapped output, no views)
 
     // Targets. gbuffer: the module's own G-buffer (it draws it), null for the host's. The G-buffer views
-    // are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten whole each frame.
+    // (in `shading`) are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten
+    // whole each frame.
     const GBufferTargets* gbuffer = nullptr;
-    const Image* hdrImage = nullptr;                 // the module's: full-size (own targets) or a 1x1 stub
-    const Image* outputImage = nullptr;              // likewise (the host's output arrives GENERAL)
-    EvaluateOutputs outputs = EvaluateOutputs::Both; // which of hdrView / toneView the evaluation writes
-    VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE, albedo = VK_NULL_HANDLE;
-    VkImageView output = VK_NULL_HANDLE;                             // the debug views' target
-    VkImageView hdrView = VK_NULL_HANDLE, toneView = VK_NULL_HANDLE; // the evaluation's two outputs
-    uint32_t width = 0, height = 0;
+    const Image* hdrImage = nullptr;     // the module's: full-size (own targets) or a 1x1 stub
+    const Image* outputImage = nullptr;  // likewise (the host's output arrives GENERAL)
+    VkImageView output = VK_NULL_HANDLE; // the debug views' target
+    const Buffer* counters = nullptr;    // FrameCounters (atomics; read by the host one frame later)
+    std::span<const StagedCopy> copies;  // recorded first, by FrameBeginPass
+    const FrameSetup* setup = nullptr;   // fills and copies queued while the frame was prepared (first too)
 
-    // Per-frame inputs: the slot's buffers (written by the host just before) and the geometry.
-    const Buffer* frame = nullptr;    // FrameConstants (uniform)
-    const Buffer* slices = nullptr;   // cluster slice boundaries
-    const Buffer* lights = nullptr;   // visible GpuLights
-    const Buffer* counters = nullptr; // FrameCounters (atomics; read by the host one frame later)
-    const Buffer* instances = nullptr;
-    const Buffer* vertices = nullptr;
-    const Buffer* indices = nullptr;
-    const Buffer* draws = nullptr; // G-buffer indirect draws
-    uint32_t instanceCount = 0;
-    const Buffer* wideLights = nullptr; // the frame's WideLight entries (light assignment)
-    uint32_t wideCount = 0, wideThreads = 0;
-    std::span<const StagedCopy> copies; // recorded first, by FrameBeginPass
-    const FrameSetup* setup = nullptr;  // fills and copies queued while the frame was prepared (first too)
-
-    // The same, grouped as the passes' bindings want them.
-    ShadingInputs shading{};
+    // What each feature's pass reads and writes, by name: the slot's buffers (written by the host just
+    // before), the geometry, the cluster lists and the G-buffer views, grouped as each pass takes them.
+    GBufferInputs geometry{};
+    BoundsInputs bounds{};
+    AssignInputs assign{};
+    ShadingInputs shading{}; // evaluation, statistics and the light-count views
     ShadowInputs shadows{};
+    EvaluateTargets evaluation{};
     VsmFrameInputs vsm{};
 };
 
@@ -105,19 +95,26 @@ struct GBufferDrawPass final : FramePass {
     void record(FrameContext& f) override;
     const GBufferPass& gbuffer;
 };
-// Cluster bounds, and light assignment into the cluster lists (culling on).
-struct CullingPass final : FramePass {
-    CullingPass(LightCulling& c, Pass which) : FramePass(which), cull(c) {}
+// Cluster bounds, then light assignment into the cluster lists (culling on).
+struct ClusterBoundsPass final : FramePass {
+    explicit ClusterBoundsPass(LightCulling& c) : FramePass(Pass::ClusterBounds), cull(c) {}
+    bool enabled(const FrameContext& f) const override { return f.culling != CullingMode::None; }
+    void record(FrameContext& f) override;
+    LightCulling& cull;
+};
+struct LightAssignPass final : FramePass {
+    explicit LightAssignPass(LightCulling& c) : FramePass(Pass::LightAssign), cull(c) {}
     bool enabled(const FrameContext& f) const override { return f.culling != CullingMode::None; }
     void record(FrameContext& f) override;
     LightCulling& cull;
 };
 // One virtual shadow map pass (VsmPasses::record*): Reset (untimed, VSM on), then the timed
-// ones while the slot has active maps, each under its own Pass; Cull on the vertex path, Expand on the
-// mesh path.
+// ones while the slot has active maps, each under the Pass its FramePasses entry names; Cull on the
+// vertex path, Expand on the mesh path.
 struct VsmPass final : FramePass {
     enum Kind { Reset, Mark, Sort, Alloc, Hpb, GroupCull, Cull, Expand, Draw };
-    VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k);
+    VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k, std::optional<Pass> timer = std::nullopt)
+        : FramePass(timer), vsm(v), passes(p), kind(k) {}
     bool enabled(const FrameContext& f) const override;
     void record(FrameContext& f) override;
     const VirtualShadowMaps& vsm;
@@ -158,19 +155,22 @@ struct DebugViewPass final : FramePass {
     const VsmPasses& passes;
 };
 
-// Every pass object of the module, built once over its features.
+// Every pass object of the module, built once over its features; each timed pass names its timer here
+// or in its class, once.
 struct FramePasses {
     FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
                 const EvaluatePass& e, const StatisticsPass& s)
-        : gbuffer(g), clusterBounds(c, Pass::ClusterBounds), lightAssign(c, Pass::LightAssign),
-          vsmReset(v, vp, VsmPass::Reset), vsmMark(v, vp, VsmPass::Mark), vsmSort(v, vp, VsmPass::Sort),
-          vsmAlloc(v, vp, VsmPass::Alloc), vsmHpb(v, vp, VsmPass::Hpb),
-          vsmGroupCull(v, vp, VsmPass::GroupCull), vsmCull(v, vp, VsmPass::Cull),
-          vsmExpand(v, vp, VsmPass::Expand), vsmDraw(v, vp, VsmPass::Draw), evaluate(e), vsmProbe(v, vp),
-          statistics(s), debugView(c, v, vp) {}
+        : gbuffer(g), clusterBounds(c), lightAssign(c), vsmReset(v, vp, VsmPass::Reset),
+          vsmMark(v, vp, VsmPass::Mark, Pass::VsmMark), vsmSort(v, vp, VsmPass::Sort, Pass::VsmSort),
+          vsmAlloc(v, vp, VsmPass::Alloc, Pass::VsmAlloc), vsmHpb(v, vp, VsmPass::Hpb, Pass::VsmHpb),
+          vsmGroupCull(v, vp, VsmPass::GroupCull, Pass::VsmGroupCull),
+          vsmCull(v, vp, VsmPass::Cull, Pass::VsmCull), vsmExpand(v, vp, VsmPass::Expand, Pass::VsmExpand),
+          vsmDraw(v, vp, VsmPass::Draw, Pass::VsmDraw), evaluate(e), vsmProbe(v, vp), statistics(s),
+          debugView(c, v, vp) {}
     FrameBeginPass begin;
     GBufferDrawPass gbuffer;
-    CullingPass clusterBounds, lightAssign;
+    ClusterBoundsPass clusterBounds;
+    LightAssignPass lightAssign;
     VsmPass vsmReset, vsmMark, vsmSort, vsmAlloc, vsmHpb, vsmGroupCull, vsmCull, vsmExpand, vsmDraw;
     EvaluationOutputsPass evaluationOutputs;
     EvaluationPass evaluate;

@@ -77,46 +77,16 @@ void FrameEndPass::record(FrameContext& f) {
 }
 
 void GBufferDrawPass::record(FrameContext& f) {
-    gbuffer.record(*f.device, f.cmd, *f.gbuffer, *f.frame, *f.vertices, *f.indices, *f.instances, *f.draws,
-                   f.instanceCount);
+    gbuffer.record(*f.device, f.cmd, *f.gbuffer, f.geometry);
 }
 
-void CullingPass::record(FrameContext& f) {
-    if (timer() == Pass::ClusterBounds)
-        cull.recordBounds(*f.device, f.cmd, *f.frame, *f.slices, f.depth, f.normal, *f.counters);
-    else
-        cull.recordAssign(*f.device, f.cmd, *f.frame, *f.slices, *f.lights, *f.wideLights, f.wideCount,
-                          f.wideThreads, *f.counters);
+void ClusterBoundsPass::record(FrameContext& f) {
+    cull.recordBounds(*f.device, f.cmd, f.bounds);
 }
 
-namespace {
-std::optional<Pass> vsmTimer(VsmPass::Kind k) {
-    switch (k) {
-    case VsmPass::Mark:
-        return Pass::VsmMark;
-    case VsmPass::Sort:
-        return Pass::VsmSort;
-    case VsmPass::Alloc:
-        return Pass::VsmAlloc;
-    case VsmPass::Hpb:
-        return Pass::VsmHpb;
-    case VsmPass::GroupCull:
-        return Pass::VsmGroupCull;
-    case VsmPass::Cull:
-        return Pass::VsmCull;
-    case VsmPass::Expand:
-        return Pass::VsmExpand;
-    case VsmPass::Draw:
-        return Pass::VsmDraw;
-    case VsmPass::Reset:
-        break;
-    }
-    return std::nullopt;
+void LightAssignPass::record(FrameContext& f) {
+    cull.recordAssign(*f.device, f.cmd, f.assign);
 }
-} // namespace
-
-VsmPass::VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k)
-    : FramePass(vsmTimer(k)), vsm(v), passes(p), kind(k) {}
 
 bool VsmPass::enabled(const FrameContext& f) const {
     if (kind == Reset) return vsm.enabled();
@@ -172,7 +142,7 @@ void EvaluationOutputsPass::record(FrameContext& f) {
 }
 
 void EvaluationPass::record(FrameContext& f) {
-    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.outputs, f.hdrView, f.toneView);
+    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.evaluation);
 }
 
 void VsmProbePass::record(FrameContext& f) {
@@ -194,8 +164,9 @@ void DebugViewPass::record(FrameContext& f) {
     if (f.view == DebugView::Vsm)
         passes.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
     else
-        cull.recordView(*f.device, f.cmd, f.view == DebugView::LightsReaching, *f.frame, *f.slices, *f.lights,
-                        f.depth, f.output, f.width, f.height);
+        cull.recordView(*f.device, f.cmd,
+                        {f.shading.frame, f.shading.slices, f.shading.lights, f.shading.depth, f.output,
+                         f.shading.width, f.shading.height, f.view == DebugView::LightsReaching});
 }
 
 } // namespace ml

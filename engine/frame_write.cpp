@@ -182,48 +182,36 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     // (engine/module_targets.cpp); both transitioned each frame.
     f.hdrImage = &hdr;
     f.outputImage = &output;
-    f.depth = ownTargets ? targets.depth.view : host.depth.view;
-    f.normal = ownTargets ? targets.normal.view : host.normal.view;
-    f.albedo = ownTargets ? targets.albedo.view : host.albedo.view;
+    const VkImageView depth = ownTargets ? targets.depth.view : host.depth.view;
+    const VkImageView normal = ownTargets ? targets.normal.view : host.normal.view;
+    const VkImageView albedo = ownTargets ? targets.albedo.view : host.albedo.view;
     f.output = ownTargets ? output.view : host.output.view;
-    if (ownTargets) { // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
-        f.outputs = hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both;
-        f.hdrView = hdr.view;
-        f.toneView = output.view;
-    } else { // the host's output takes what the mode writes; the other binding gets the stub
-        f.outputs = hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly;
-        f.hdrView = hdrOutput ? host.output.view : hdr.view;
-        f.toneView = hdrOutput ? output.view : host.output.view;
-    }
-    f.width = width;
-    f.height = height;
-    f.frame = &slot.frame;
-    f.slices = &slot.slices;
-    f.lights = &slot.lights;
+    if (ownTargets) // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
+        f.evaluation = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both, hdr.view, output.view};
+    else // the host's output takes what the mode writes; the other binding gets the stub
+        f.evaluation = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly,
+                        hdrOutput ? host.output.view : hdr.view, hdrOutput ? output.view : host.output.view};
     f.counters = &slot.counters;
-    f.instances = &slot.instances;
-    f.vertices = &vertexBuffer;
-    f.indices = &indexBuffer;
-    f.draws = &slot.draws;
-    f.instanceCount = uint32_t(instances.size());
-    f.wideLights = &slot.wide;
-    f.wideCount = slot.wideCount;
-    f.wideThreads = slot.wideThreads;
     f.copies = stagedCopies;
-    f.shading = {f.frame, f.slices, f.lights, &cull.ranges, &cull.pool,
-                 f.depth, f.normal, f.albedo, width,        height};
+    f.geometry = {&slot.frame,     &vertexBuffer, &indexBuffer,
+                  &slot.instances, &slot.draws,   uint32_t(instances.size())};
+    f.bounds = {&slot.frame, &slot.slices, depth, normal, &slot.counters};
+    f.assign = {&slot.frame,    &slot.slices,     &slot.lights,  &slot.wide,
+                slot.wideCount, slot.wideThreads, &slot.counters};
+    f.shading = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges, &cull.pool,
+                 depth,       normal,       albedo,       width,        height};
     f.shading.material =
         ownTargets ? (ownMaterials ? targets.material.view : VK_NULL_HANDLE) : host.material.view;
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
     f.shadows = {&staticWords,
                  &slot.shadowRecords,
-                 vsmOn ? &vsm.constants(slotIndex) : f.frame,
+                 vsmOn ? &vsm.constants(slotIndex) : &slot.frame,
                  vsmOn ? &vsm.maps(slotIndex) : &staticWords,
                  vsmOn ? &vsm.coverage(slotIndex) : &staticWords,
                  vsmOn ? &vsm.table() : &staticWords,
                  vsmOn ? &vsm.pagePool() : &staticWords};
-    f.vsm = {f.frame, f.slices, f.lights,   &cull.ranges, &cull.pool,
-             f.depth, f.normal, f.vertices, f.indices,    f.instances};
+    f.vsm = {&slot.frame, &slot.slices, &slot.lights,  &cull.ranges, &cull.pool,
+             depth,       normal,       &vertexBuffer, &indexBuffer, &slot.instances};
     f.vsm.meshlets = &meshletBuffer;
     f.vsm.meshletVertices = &meshletVertexBuffer;
     f.vsm.meshletTriangles = &meshletTriangleBuffer;

@@ -1,5 +1,8 @@
 #include "engine/gbuffer.h"
 
+#include "engine/gbuffer_bindings.h"
+#include "gpu/bindings.h"
+
 #include "gbuffer.frag.spv.h"
 #include "gbuffer.vert.spv.h"
 
@@ -37,8 +40,7 @@ Result<void> GBufferPass::createTargets(const Device& device, uint32_t w, uint32
 }
 
 void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& t,
-                         const Buffer& frame, const Buffer& vertices, const Buffer& indices,
-                         const Buffer& instances, const Buffer& draws, uint32_t drawCount) const {
+                         const GBufferInputs& in) const {
     const auto color = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
     const auto depthStages =
         VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
@@ -79,10 +81,13 @@ void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBuffe
     VkRect2D sc{{0, 0}, {t.depth.width, t.depth.height}};
     vkCmdSetViewport(cmd, 0, 1, &vp);
     vkCmdSetScissor(cmd, 0, 1, &sc);
-    if (drawCount) {
-        bindProgram(device, cmd, program_, {frame, vertices, instances}, nullptr, 0);
-        vkCmdBindIndexBuffer(cmd, indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-        vkCmdDrawIndexedIndirect(cmd, draws.buffer, 0, drawCount, sizeof(VkDrawIndexedIndirectCommand));
+    if (in.drawCount) {
+        bindProgram(device, cmd, program_, NoPush{},
+                    {ML_BIND(ML_GBUFFER_FRAME, *in.frame), ML_BIND(ML_GBUFFER_VERTICES, *in.vertices),
+                     ML_BIND(ML_GBUFFER_INSTANCES, *in.instances)});
+        vkCmdBindIndexBuffer(cmd, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdDrawIndexedIndirect(cmd, in.draws->buffer, 0, in.drawCount,
+                                 sizeof(VkDrawIndexedIndirectCommand));
     }
     vkCmdEndRendering(cmd);
 

@@ -10,6 +10,17 @@ struct GBufferTargets {
     Image depth, normal, albedo, material;
 };
 
+// What the G-buffer draw reads: the frame's constants and the scene's geometry, by name (each bound at
+// gbuffer.vert's named binding, engine/gbuffer_bindings.h).
+struct GBufferInputs {
+    const Buffer* frame = nullptr;     // FrameConstants (uniform)
+    const Buffer* vertices = nullptr;  // GpuVertex, pulled by index
+    const Buffer* indices = nullptr;   // uint32 indices
+    const Buffer* instances = nullptr; // GpuInstance per instance
+    const Buffer* draws = nullptr;     // VkDrawIndexedIndirectCommand per instance
+    uint32_t drawCount = 0;
+};
+
 class GBufferPass {
   public:
     Result<void> create(const Device& device);
@@ -18,9 +29,8 @@ class GBufferPass {
     Result<void> createTargets(const Device& device, uint32_t width, uint32_t height,
                                GBufferTargets& out) const;
     // Leaves depth, normal, albedo and material in SHADER_READ_ONLY_OPTIMAL.
-    void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets, const Buffer& frame,
-                const Buffer& vertices, const Buffer& indices, const Buffer& instances, const Buffer& draws,
-                uint32_t drawCount) const;
+    void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets,
+                const GBufferInputs& in) const;
 
   private:
     ShaderModule vs_, fs_;

@@ -3,11 +3,12 @@
 // G-buffer vertices: pulled from storage buffers (no vertex input state); the draw's firstInstance is
 // the instance index, so one indirect multi-draw renders every instance.
 #include "shaders/shared/glsl_common.glsl"
+#include "engine/gbuffer_bindings.h"
 
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Vertices { GpuVertex vertices[]; };
-layout(binding = 2, std430) readonly buffer Instances { GpuInstance instances[]; };
+layout(binding = ML_GBUFFER_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_GBUFFER_VERTICES, std430) readonly buffer Vertices { GpuVertex vertices[]; };
+layout(binding = ML_GBUFFER_INSTANCES, std430) readonly buffer Instances { GpuInstance instances[]; };
 
 layout(location = 0) out vec3 outNormal;
 layout(location = 1) out vec3 outAlbedo;

@@ -9,6 +9,7 @@
 #include "gpu/program.h"
 
 #include <string>
+#include <vector>
 
 namespace ml {
 
@@ -22,22 +23,56 @@ struct NamedDescriptor {
         binding, #binding, ::ml::Descriptor(resource)                                                        \
     }
 
-// The named descriptors in binding order (ordered[b] for binding b < program.bindingCount), or the
-// message naming what does not match the program's bindings (empty when they do). Bound only on success.
+// The named descriptors in binding order (ordered[b] for binding b < program.bindingCount, names[b] its
+// constant's name when names is given), or the message naming what does not match the program's
+// bindings (empty when they do). Bound only on success.
 std::string orderNamedDescriptors(const Program& program, std::initializer_list<NamedDescriptor> named,
-                                  const Descriptor* ordered[32]);
+                                  const Descriptor* ordered[32], const char* names[32] = nullptr);
 
-// As dispatchThreads (gpu/program.h), the descriptors placed by name; aborts with orderNamedDescriptors'
-// message when they do not match.
+// What one named bind placed, for tests that check a pass hands each binding the resource meant for it
+// (a swap of two buffers of one kind passes every other check).
+struct BoundName {
+    std::string program;
+    const char* binding; // the constant's name
+    uint32_t index;
+    Descriptor descriptor;
+};
+// While set, every named bind appends its descriptors, in binding order, to `log` (nullptr: off). Tests
+// only: it is not synchronised, and the module records its passes on the caller's thread.
+void setBindingLog(std::vector<BoundName>* log);
+
+// As bindProgram / dispatchThreads / dispatchIndirect (gpu/program.h), the descriptors placed by name;
+// they abort with orderNamedDescriptors' message when the names do not match the program's bindings.
+void bindProgramNamed(const Device& device, VkCommandBuffer cmd, const Program& program,
+                      std::initializer_list<NamedDescriptor> named, const void* push, uint32_t pushSize);
 void dispatchThreadsNamed(const Device& device, VkCommandBuffer cmd, const Program& program,
                           const uint32_t threads[3], const void* push, uint32_t pushSize,
                           std::initializer_list<NamedDescriptor> named);
+void dispatchIndirectNamed(const Device& device, VkCommandBuffer cmd, const Program& program,
+                           const Buffer& args, VkDeviceSize offset, const void* push, uint32_t pushSize,
+                           std::initializer_list<NamedDescriptor> named);
 
+template <class Push>
+void bindProgram(const Device& device, VkCommandBuffer cmd, const Program& program, const Push& push,
+                 std::initializer_list<NamedDescriptor> named) {
+    bindProgramNamed(device, cmd, program, named, &push, pushBytes<Push>());
+}
+template <class Push>
+void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX,
+              uint32_t threadsY, uint32_t threadsZ, const Push& push,
+              std::initializer_list<NamedDescriptor> named) {
+    const uint32_t threads[3] = {threadsX, threadsY, threadsZ};
+    dispatchThreadsNamed(device, cmd, program, threads, &push, pushBytes<Push>(), named);
+}
 template <class Push>
 void dispatch(const Device& device, VkCommandBuffer cmd, const Program& program, uint32_t threadsX,
               uint32_t threadsY, const Push& push, std::initializer_list<NamedDescriptor> named) {
-    const uint32_t threads[3] = {threadsX, threadsY, 1};
-    dispatchThreadsNamed(device, cmd, program, threads, &push, pushBytes<Push>(), named);
+    dispatch(device, cmd, program, threadsX, threadsY, 1, push, named);
+}
+template <class Push>
+void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& program, const Buffer& args,
+                      VkDeviceSize offset, const Push& push, std::initializer_list<NamedDescriptor> named) {
+    dispatchIndirectNamed(device, cmd, program, args, offset, &push, pushBytes<Push>(), named);
 }
 
 } // namespace ml

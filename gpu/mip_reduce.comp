@@ -1,14 +1,16 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // mip_reduce: mip m of a 2D array image (R32_UINT) from mip m - 1, every layer (one dispatch per mip,
 // z = layer). Destination texel (x, y) reduces source texels 2x..2x+1 by 2y..2y+1; on an odd source
 // side the last destination column / row also takes the last source column / row, so every source
 // texel reaches exactly one destination texel (nothing dropped at non-power-of-two sizes).
 // kOp: 0 sum, 1 max, 2 any (1 when a source texel is non-zero: the 2x2 OR of a page pyramid).
 // CPU twin: mipReduceReference (tests/gpu/image_mips_test.cpp).
+#include "gpu/mip_reduce_bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const uint kOp = 0u;
-layout(binding = 0, r32ui) uniform readonly uimage2DArray src;
-layout(binding = 1, r32ui) uniform writeonly uimage2DArray dst;
+layout(binding = ML_MIP_REDUCE_SRC, r32ui) uniform readonly uimage2DArray src;
+layout(binding = ML_MIP_REDUCE_DST, r32ui) uniform writeonly uimage2DArray dst;
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID.xy, gl_WorkGroupID.z);

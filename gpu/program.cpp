@@ -472,8 +472,9 @@ void destroyProgram(const Device& device, Program& p) {
 namespace {
 
 // bindProgram over descriptors[0..count) in binding order (by position or placed by name).
+// names[b], where given, is binding b's constant (named bindings), for the message on a wrong kind.
 void bindDescriptors(const Device& device, VkCommandBuffer cmd, const Program& p, const Descriptor* const* ds,
-                     size_t count, const void* push, uint32_t pushSize) {
+                     size_t count, const void* push, uint32_t pushSize, const char* const* names = nullptr) {
     if (count != p.bindingCount || pushSize != p.pushSize) {
         std::fprintf(stderr, "%s: %zu descriptors / %u push bytes given, shader wants %u / %u\n",
                      p.name.c_str(), count, pushSize, p.bindingCount, p.pushSize);
@@ -494,8 +495,8 @@ void bindDescriptors(const Device& device, VkCommandBuffer cmd, const Program& p
         bool isBuffer = w.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
                         w.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (isBuffer != (d.buffer != VK_NULL_HANDLE)) {
-            std::fprintf(stderr, "%s: binding %u expects a%s\n", p.name.c_str(), b,
-                         isBuffer ? " buffer" : "n image");
+            std::fprintf(stderr, "%s: %s%sbinding %u expects a%s\n", p.name.c_str(), names ? names[b] : "",
+                         names ? " " : "", b, isBuffer ? " buffer" : "n image");
             std::abort();
         }
         if (isBuffer) {
@@ -542,9 +543,20 @@ void dispatchThreads(const Device& device, VkCommandBuffer cmd, const Program& p
     dispatchGroups(device, cmd, p, threads);
 }
 
+namespace {
+std::vector<BoundName>* gBindingLog = nullptr;
+} // namespace
+
+void setBindingLog(std::vector<BoundName>* log) {
+    gBindingLog = log;
+}
+
 std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedDescriptor> named,
-                                  const Descriptor* ordered[32]) {
-    for (uint32_t b = 0; b < 32; ++b) ordered[b] = nullptr;
+                                  const Descriptor* ordered[32], const char* names[32]) {
+    for (uint32_t b = 0; b < 32; ++b) {
+        ordered[b] = nullptr;
+        if (names) names[b] = nullptr;
+    }
     for (const NamedDescriptor& n : named) {
         if (n.binding >= p.bindingCount)
             return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) +
@@ -552,23 +564,40 @@ std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedD
         if (ordered[n.binding])
             return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) + ") is given twice";
         ordered[n.binding] = &n.descriptor;
+        if (names) names[n.binding] = n.name;
     }
     for (uint32_t b = 0; b < p.bindingCount; ++b)
         if (!ordered[b]) return p.name + ": binding " + std::to_string(b) + " is not given";
     return {};
 }
 
-void dispatchThreadsNamed(const Device& device, VkCommandBuffer cmd, const Program& p,
-                          const uint32_t threads[3], const void* push, uint32_t pushSize,
-                          std::initializer_list<NamedDescriptor> named) {
+void bindProgramNamed(const Device& device, VkCommandBuffer cmd, const Program& p,
+                      std::initializer_list<NamedDescriptor> named, const void* push, uint32_t pushSize) {
     const Descriptor* ordered[32];
-    const std::string error = orderNamedDescriptors(p, named, ordered);
+    const char* names[32];
+    const std::string error = orderNamedDescriptors(p, named, ordered, names);
     if (!error.empty()) {
         std::fprintf(stderr, "%s\n", error.c_str());
         std::abort();
     }
-    bindDescriptors(device, cmd, p, ordered, p.bindingCount, push, pushSize);
+    if (gBindingLog)
+        for (uint32_t b = 0; b < p.bindingCount; ++b)
+            gBindingLog->push_back({p.name, names[b], b, *ordered[b]});
+    bindDescriptors(device, cmd, p, ordered, p.bindingCount, push, pushSize, names);
+}
+
+void dispatchThreadsNamed(const Device& device, VkCommandBuffer cmd, const Program& p,
+                          const uint32_t threads[3], const void* push, uint32_t pushSize,
+                          std::initializer_list<NamedDescriptor> named) {
+    bindProgramNamed(device, cmd, p, named, push, pushSize);
     dispatchGroups(device, cmd, p, threads);
+}
+
+void dispatchIndirectNamed(const Device& device, VkCommandBuffer cmd, const Program& p, const Buffer& args,
+                           VkDeviceSize offset, const void* push, uint32_t pushSize,
+                           std::initializer_list<NamedDescriptor> named) {
+    bindProgramNamed(device, cmd, p, named, push, pushSize);
+    vkCmdDispatchIndirect(cmd, args.buffer, offset);
 }
 
 void dispatchIndirect(const Device& device, VkCommandBuffer cmd, const Program& p, const Buffer& args,

@@ -13,15 +13,21 @@
 // twins (shadows/static/static_visibility.cpp, shadows/virtual/vsm_reference.cpp); a host pass built
 // from the same include reproduces this image bit for bit (HostShader.*).
 // The lookups (cluster list, static x dynamic visibility) are lights/manylights_lights.glsl's, the
-// include a host's own shaders use: its 12 buffers take bindings 0-11, the G-buffer and outputs follow.
+// include a host's own shaders use: its 12 buffers take bindings 0-11 (ML_LIGHTS_BINDING left at 0, so
+// they are the ML_HOST_* numbers the C++ binds by), the G-buffer and outputs follow
+// (lights/evaluate_bindings.h).
 #include "lights/manylights_lights.glsl"
+#include "lights/evaluate_bindings.h"
+#if ML_LIGHTS_BINDING != 0
+#error "the evaluation binds its buffers at the ML_HOST_* numbers themselves"
+#endif
 #include "shaders/shared/brdf.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 // 0: HDR and the tone-mapped sRGB output; 1: HDR only (the host tone-maps); 2: tone-mapped only
 // (lights/evaluate_pass.h, EvaluateOutputs).
 layout(constant_id = 0) const uint kSpecOutput = 0;
-// 1: GGX from the material target (binding ML_HOST_BINDING_COUNT + 5, shaders/shared/brdf.h);
+// 1: GGX from the material target (binding ML_EVAL_MATERIAL, shaders/shared/brdf.h);
 // 0: Lambert + Blinn-Phong (shading.h), that binding unread.
 layout(constant_id = 1) const uint kSpecPbr = 0;
 // 1: the wave-uniform light loop. Cluster lists are sorted by light index (culling/culling.h), so a
@@ -40,13 +46,13 @@ const uint kUniformLoop = 0;
 // The G-buffer (SHADER_READ_ONLY_OPTIMAL): reversed-Z depth (0 = sky), world normal as stored (unit
 // up to half-float rounding; the VSM lookup normalises it itself), linear albedo. The outputs (GENERAL)
 // are written whole: HDR radiance before exposure, and the exposed, tone-mapped sRGB values.
-layout(binding = ML_HOST_BINDING_COUNT + 0) uniform texture2D depthImage;
-layout(binding = ML_HOST_BINDING_COUNT + 1) uniform texture2D normalImage;
-layout(binding = ML_HOST_BINDING_COUNT + 2) uniform texture2D albedoImage;
-layout(binding = ML_HOST_BINDING_COUNT + 3, rgba16f) uniform writeonly image2D hdrImage;
-layout(binding = ML_HOST_BINDING_COUNT + 4, rgba8) uniform writeonly image2D outputImage;
+layout(binding = ML_EVAL_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_EVAL_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_EVAL_ALBEDO) uniform texture2D albedoImage;
+layout(binding = ML_EVAL_HDR, rgba16f) uniform writeonly image2D hdrImage;
+layout(binding = ML_EVAL_OUTPUT, rgba8) uniform writeonly image2D outputImage;
 // The optional material target: r perceptual roughness, g metalness (read only when kSpecPbr is 1).
-layout(binding = ML_HOST_BINDING_COUNT + 5) uniform texture2D materialImage;
+layout(binding = ML_EVAL_MATERIAL) uniform texture2D materialImage;
 
 // Light L's contribution at the pixel, added to hdr (the same lines in both loops).
 void addLight(GpuLight L, vec3 P, vec3 N, vec3 Nraw, vec3 V, vec3 albedo, vec2 material, bool receiver,

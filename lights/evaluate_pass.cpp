@@ -1,5 +1,8 @@
 #include "lights/evaluate_pass.h"
 
+#include "gpu/bindings.h"
+#include "lights/evaluate_bindings.h"
+
 #include "evaluate.comp.spv.h"
 #include "evaluate_wave.comp.spv.h"
 #include "statistics.comp.spv.h"
@@ -14,7 +17,7 @@ namespace {
 constexpr auto kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 constexpr auto kWrite = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 Descriptor sampled(VkImageView view) {
-    return Descriptor(Image{.view = view}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    return Descriptor(view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 } // namespace
 
@@ -61,15 +64,21 @@ void EvaluatePass::destroy(const Device& device) {
 }
 
 void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
-                          EvaluateOutputs outputs, VkImageView hdr, VkImageView output) const {
+                          const EvaluateTargets& t) const {
     // Without a material target the albedo fills its binding (a valid sampled image, never read).
     const bool pbr = in.material != VK_NULL_HANDLE;
-    dispatch(d, c, programs_[programIndex(outputs, pbr)], in.width, in.height, NoPush{},
+    dispatch(d, c, programs_[programIndex(t.outputs, pbr)], in.width, in.height, NoPush{},
              {// lights/manylights_lights.glsl's 12 (manylights/host_bindings.h), then the images
-              *in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, *s.staticWords, *s.shadowRecords,
-              *s.vsmConstants, *s.vsmMaps, *s.vsmCoverage, *s.vsmTable, *s.vsmPool, sampled(in.depth),
-              sampled(in.normal), sampled(in.albedo), Descriptor(Image{.view = hdr}),
-              Descriptor(Image{.view = output}), sampled(pbr ? in.material : in.albedo)});
+              ML_BIND(ML_HOST_FRAME, *in.frame), ML_BIND(ML_HOST_SLICES, *in.slices),
+              ML_BIND(ML_HOST_LIGHTS, *in.lights), ML_BIND(ML_HOST_RANGES, *in.ranges),
+              ML_BIND(ML_HOST_POOL, *in.pool), ML_BIND(ML_HOST_STATIC_WORDS, *s.staticWords),
+              ML_BIND(ML_HOST_SHADOW_RECORDS, *s.shadowRecords), ML_BIND(ML_HOST_VSM_CONST, *s.vsmConstants),
+              ML_BIND(ML_HOST_VSM_MAPS, *s.vsmMaps), ML_BIND(ML_HOST_VSM_COVERAGE, *s.vsmCoverage),
+              ML_BIND(ML_HOST_VSM_TABLE, *s.vsmTable), ML_BIND(ML_HOST_VSM_POOL, *s.vsmPool),
+              ML_BIND(ML_EVAL_DEPTH, sampled(in.depth)), ML_BIND(ML_EVAL_NORMAL, sampled(in.normal)),
+              ML_BIND(ML_EVAL_ALBEDO, sampled(in.albedo)), ML_BIND(ML_EVAL_HDR, Descriptor(t.hdr)),
+              ML_BIND(ML_EVAL_OUTPUT, Descriptor(t.output)),
+              ML_BIND(ML_EVAL_MATERIAL, sampled(pbr ? in.material : in.albedo))});
     // HDR and output -> the host's reads after record() (copy, blit, sampling); the debug views that
     // overwrite the output order their writes themselves.
     memoryBarrier(c, kCompute, kWrite, kOutputReaderStages, kOutputReads);
@@ -88,7 +97,10 @@ void StatisticsPass::destroy(const Device& device) {
 void StatisticsPass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in,
                             const Buffer& counters) const {
     dispatch(d, c, program_, in.width, in.height, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), counters});
+             {ML_BIND(ML_STATS_FRAME, *in.frame), ML_BIND(ML_STATS_SLICES, *in.slices),
+              ML_BIND(ML_STATS_LIGHTS, *in.lights), ML_BIND(ML_STATS_RANGES, *in.ranges),
+              ML_BIND(ML_STATS_POOL, *in.pool), ML_BIND(ML_STATS_DEPTH, sampled(in.depth)),
+              ML_BIND(ML_STATS_COUNTERS, counters)});
     // Counters (every pass's atomics, and these sums) -> host (engine/frame_passes.cpp's frame end does
     // it when statistics are off).
     memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);

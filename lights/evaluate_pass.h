@@ -8,7 +8,7 @@
 
 namespace ml {
 
-// What both passes read, in the shaders' binding order.
+// What both passes read, by name; each is bound at its shader's named binding (lights/evaluate_bindings.h).
 struct ShadingInputs {
     const Buffer* frame;  // FrameConstants (uniform)
     const Buffer* slices; // cluster slice boundaries
@@ -38,6 +38,14 @@ struct ShadowInputs {
 enum class EvaluateOutputs : uint32_t { Both = 0, HdrOnly = 1, ToneOnly = 2 };
 constexpr uint32_t kEvaluateOutputModes = 3;
 
+// What the evaluation writes: both views valid images in GENERAL, `hdr` RGBA16F and `output` RGBA8
+// storage, written as `outputs` says.
+struct EvaluateTargets {
+    EvaluateOutputs outputs = EvaluateOutputs::Both;
+    VkImageView hdr = VK_NULL_HANDLE;
+    VkImageView output = VK_NULL_HANDLE;
+};
+
 class EvaluatePass {
   public:
     // Checks the device's subgroup support: with arithmetic subgroup operations in compute it loads the
@@ -55,11 +63,9 @@ class EvaluatePass {
     // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait);
     // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
     Result<void> prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
-    // Writes `hdr` (RGBA16F storage, GENERAL) and `output` (RGBA8 storage, GENERAL) as `outputs` says;
-    // both views must be valid images in GENERAL. prepare(outputs) must have run.
+    // Writes the targets; prepare(targets.outputs) must have run.
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
-                const ShadowInputs& shadows, EvaluateOutputs outputs, VkImageView hdr,
-                VkImageView output) const;
+                const ShadowInputs& shadows, const EvaluateTargets& targets) const;
 
   private:
     uint32_t programIndex(EvaluateOutputs outputs, bool pbr) const {

@@ -5,16 +5,17 @@
 // the lights whose cone and range really hold the point (a brute-force loop over every visible light:
 // diagnostic cost, which is why it is a pass of its own with its own profile entry).
 #include "shaders/shared/glsl_common.glsl"
+#include "lights/evaluate_bindings.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5) uniform texture2D depthImage;
-layout(binding = 6, std430) buffer Counters { FrameCounters counters; };
+layout(binding = ML_STATS_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_STATS_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_STATS_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_STATS_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_STATS_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_STATS_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_STATS_COUNTERS, std430) buffer Counters { FrameCounters counters; };
 
 #include "shaders/shared/cluster_list.glsl"
 

@@ -8,18 +8,19 @@
 // as shaded (the sky). Diagnostic: its cost is not part of the frame's passes.
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/heat.h"
+#include "culling/culling_bindings.h"
 
 layout(local_size_x = ML_EVAL_GROUP, local_size_y = ML_EVAL_GROUP) in;
 layout(constant_id = 0) const bool kSpecReaching = false;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_VIEW_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_VIEW_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
 #include "shaders/shared/cluster_slice.glsl"
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4) uniform texture2D depthImage;
-layout(binding = 5, rgba8) uniform writeonly image2D outputImage;
-layout(binding = 6, std430) writeonly buffer ViewCounts { uint viewCounts[]; };
+layout(binding = ML_VIEW_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_VIEW_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_VIEW_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_VIEW_OUTPUT, rgba8) uniform writeonly image2D outputImage;
+layout(binding = ML_VIEW_COUNTS, std430) writeonly buffer ViewCounts { uint viewCounts[]; };
 
 void main() {
     uvec2 px = gl_GlobalInvocationID.xy;

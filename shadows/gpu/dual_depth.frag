@@ -12,9 +12,9 @@
 #include "shadows/gpu/dual_depth_push.h"
 
 layout(constant_id = 0) const uint kSpecPass = 0;
-layout(binding = 1, r32ui) uniform coherent uimage2D enterImage;
-layout(binding = 2, r32ui) uniform coherent uimage2D closedImage;
-layout(binding = 3, r32ui) uniform coherent uimage2D exitImage;
+layout(binding = ML_DUAL_DEPTH_ENTER, r32ui) uniform coherent uimage2D enterImage;
+layout(binding = ML_DUAL_DEPTH_CLOSED, r32ui) uniform coherent uimage2D closedImage;
+layout(binding = ML_DUAL_DEPTH_EXIT, r32ui) uniform coherent uimage2D exitImage;
 layout(push_constant) uniform Push { DualDepthPush push; };
 layout(location = 0) in float inDepth;
 layout(location = 1) flat in uint inClosed;

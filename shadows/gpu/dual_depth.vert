@@ -6,7 +6,7 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/gpu/dual_depth_push.h"
 
-layout(binding = 0, std430) readonly buffer Vertices { vec4 vertices[]; };
+layout(binding = ML_DUAL_DEPTH_VERTICES, std430) readonly buffer Vertices { vec4 vertices[]; };
 layout(push_constant) uniform Push { DualDepthPush push; };
 layout(location = 0) out float outDepth;
 layout(location = 1) flat out uint outClosed;

@@ -1,5 +1,6 @@
 #include "shadows/gpu/dual_depth_gpu.h"
 
+#include "gpu/bindings.h"
 #include "shadows/gpu/dual_depth_push.h"
 
 #include "dual_depth.frag.spv.h"
@@ -111,7 +112,8 @@ Result<DualDepthMap> DualDepthRenderer::render(const CasterTriangles& casters, c
             for (uint32_t pass = 0; pass < 3; ++pass) {
                 beginAttachmentless(cmd, tile, {w, h});
                 bindProgram(d, cmd, passes_[pass], push,
-                            {vertices_, Descriptor(enter_), Descriptor(closed_), Descriptor(exit_)});
+                            {ML_BIND(ML_DUAL_DEPTH_VERTICES, vertices_), ML_BIND(ML_DUAL_DEPTH_ENTER, enter_),
+                             ML_BIND(ML_DUAL_DEPTH_CLOSED, closed_), ML_BIND(ML_DUAL_DEPTH_EXIT, exit_)});
                 if (!verts.empty()) vkCmdDraw(cmd, uint32_t(verts.size()), 1, 0, 0);
                 vkCmdEndRendering(cmd);
                 fullBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,

@@ -1,9 +1,15 @@
-// Push block of the dual depth bake (dual_depth.vert / .frag, shadows/gpu/dual_depth_gpu.cpp), defined
-// once for C++ and GLSL; layout rules as in shaders/shared/gpu_types.h.
+// Push block and binding numbers of the dual depth bake (dual_depth.vert / .frag,
+// shadows/gpu/dual_depth_gpu.cpp), defined once for C++ and GLSL; layout rules as in
+// shaders/shared/gpu_types.h. The C++ binds each resource by its binding's name (ML_BIND, gpu/bindings.h).
 #ifndef ML_DUAL_DEPTH_PUSH_H
 #define ML_DUAL_DEPTH_PUSH_H
 
 #include "shaders/shared/gpu_types.h"
+
+#define ML_DUAL_DEPTH_VERTICES 0 // world-space caster triangles (vertex stage)
+#define ML_DUAL_DEPTH_ENTER 1    // the three R32_UINT tile images (fragment stage)
+#define ML_DUAL_DEPTH_CLOSED 2
+#define ML_DUAL_DEPTH_EXIT 3
 
 #ifdef __cplusplus
 namespace ml::gpu {

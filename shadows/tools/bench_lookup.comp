@@ -9,12 +9,13 @@
 // host checks it against the CPU twin (static_visibility.cpp).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/tools/lookup_push.h"
+#include "shadows/tools/bench_lookup_bindings.h"
 
 layout(local_size_x = 64) in;
-layout(binding = 0, std430) readonly buffer Items { vec4 items[]; }; // per pair: P (w unused), N (w = record bits)
-layout(binding = 1, std430) readonly buffer Records { GpuShadowRecord records[]; };
-layout(binding = 2, std430) readonly buffer Words { uint words[]; };
-layout(binding = 3, std430) writeonly buffer Out { float sums[]; };
+layout(binding = ML_LOOKUP_ITEMS, std430) readonly buffer Items { vec4 items[]; }; // per pair: P (w unused), N (w = record bits)
+layout(binding = ML_LOOKUP_RECORDS, std430) readonly buffer Records { GpuShadowRecord records[]; };
+layout(binding = ML_LOOKUP_WORDS, std430) readonly buffer Words { uint words[]; };
+layout(binding = ML_LOOKUP_OUT, std430) writeonly buffer Out { float sums[]; };
 layout(push_constant) uniform Push { LookupPush push; };
 
 #define ML_STATIC_DATA words

@@ -1,8 +1,9 @@
 #include "shadows/tools/lookup_timer.h"
 
-#include "gpu/program.h"
+#include "gpu/bindings.h"
 #include "gpu/resources.h"
 #include "shadows/static/static_visibility.h"
+#include "shadows/tools/bench_lookup_bindings.h"
 #include "shadows/tools/lookup_push.h"
 
 #include "bench_lookup.comp.spv.h"
@@ -71,7 +72,9 @@ Result<std::vector<LookupTiming>> LookupTimer::measure(const std::vector<gpu::Gp
     auto run = [&](uint32_t lookups, uint32_t radius) {
         const gpu::LookupPush push{count, lookups, radius, 0};
         VkCommandBuffer cmd = d.beginOneTime();
-        dispatch(d, cmd, s_->program, count, 1, push, {itemBuf, recBuf, wordBuf, outBuf});
+        dispatch(d, cmd, s_->program, count, 1, push,
+                 {ML_BIND(ML_LOOKUP_ITEMS, itemBuf), ML_BIND(ML_LOOKUP_RECORDS, recBuf),
+                  ML_BIND(ML_LOOKUP_WORDS, wordBuf), ML_BIND(ML_LOOKUP_OUT, outBuf)});
         fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);
         auto t0 = std::chrono::steady_clock::now();
         d.endOneTime(cmd); // submit and wait: fenced wall time (lavapipe's timestamps do not bracket compute)

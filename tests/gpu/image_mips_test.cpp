@@ -3,7 +3,8 @@
 // views), read back through the staging path one (mip, layer) at a time and compared with a CPU
 // reference; uploads into one (mip, layer) reach exactly that subresource.
 #include "gpu/device.h"
-#include "gpu/program.h"
+#include "gpu/bindings.h"
+#include "gpu/mip_reduce_bindings.h"
 #include "gpu/resources.h"
 
 #include "mip_reduce.comp.spv.h"
@@ -67,8 +68,9 @@ void buildMips(const Device& d, const Image& image, uint32_t op) {
     imageBarrier(cmd, image, 1, image.mips - 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, C, 0, C,
                  VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     for (uint32_t m = 1; m < image.mips; ++m) {
-        dispatch(d, cmd, program, image.mipWidth(m), image.mipHeight(m), image.layers, NoPush{},
-                 {Descriptor(image.mipView(m - 1)), Descriptor(image.mipView(m))});
+        dispatch(
+            d, cmd, program, image.mipWidth(m), image.mipHeight(m), image.layers, NoPush{},
+            {ML_BIND(ML_MIP_REDUCE_SRC, image.mipView(m - 1)), ML_BIND(ML_MIP_REDUCE_DST, image.mipView(m))});
         // Mip m -> the next dispatch reads it (read-after-write).
         imageBarrier(cmd, image, m, 1, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, C,
                      VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, C, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);

@@ -3,7 +3,7 @@
 #include "gpu_test_util.h"
 #include "bake/scene_casters.h"
 
-#include "gpu/program.h"
+#include "gpu/bindings.h"
 #include "shaders/shared/shading.h"
 #include "shadows/static/raster_dual.h"
 #include "shadows/static/static_visibility.h"
@@ -73,7 +73,8 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
             Buffer out = createBuffer(d, outWords * 4, kStorageBufferUsage, "decode_out");
             const ml::gpu::StaticDecodePush push{uint32_t(method), base, res, 0};
             VkCommandBuffer cmd = d.beginOneTime();
-            dispatch(d, cmd, program, res, res, push, {in, out});
+            dispatch(d, cmd, program, res, res, push,
+                     {ML_BIND(ML_DECODE_WORDS, in), ML_BIND(ML_DECODE_OUT, out)});
             fullBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_2_HOST_BIT);
             d.endOneTime(cmd);
             const uint32_t* gpu = out.as<uint32_t>();

@@ -6,8 +6,8 @@
 #include "tests/shaders/static_decode_push.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, std430) readonly buffer Words { uint words[]; };
-layout(binding = 1, std430) writeonly buffer Out { uint outWords[]; };
+layout(binding = ML_DECODE_WORDS, std430) readonly buffer Words { uint words[]; };
+layout(binding = ML_DECODE_OUT, std430) writeonly buffer Out { uint outWords[]; };
 layout(push_constant) uniform Push { StaticDecodePush push; };
 
 #define ML_STATIC_DATA words
