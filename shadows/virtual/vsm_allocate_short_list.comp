@@ -13,8 +13,7 @@
 // Threads own contiguous chunks (list entries and pool pages in index order), so a chunk's prefix over
 // the threads before it keeps the multi-dispatch path's order: the ranks of requests by list position,
 // and the available-page list by class, then page index. Barriers: lavapipe runs each as a pass over the
-// group's invocations; the bitonic sort takes log2(P) (log2(P) + 1) / 2 of them for a list padded to
-// P = 2^k (78 at 4,096), the rest about 15.
+// group's invocations; the sort takes at most 9 of them, the rest about 15.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_alloc_bindings.h"
 #include "shadows/virtual/vsm_types.h"
@@ -25,7 +24,7 @@ layout(binding = ML_VSM_SHORT_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
 layout(binding = ML_VSM_SHORT_RUNS, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = ML_VSM_SHORT_COUNTERS, std430) coherent buffer Counters { VsmCounters vsmCounters; };
 layout(binding = ML_VSM_SHORT_REQUESTS, std430) readonly buffer ListA { uint vsmListA[]; };
-layout(binding = ML_VSM_SHORT_SORTED, std430) writeonly buffer ListB { uint vsmListB[]; };
+layout(binding = ML_VSM_SHORT_SORTED, std430) coherent buffer ListB { uint vsmListB[]; }; // merge buffer
 layout(binding = ML_VSM_SHORT_SORT_ARGS, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
 layout(binding = ML_VSM_SHORT_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
 layout(binding = ML_VSM_SHORT_STALE, std430) readonly buffer Stale { uint vsmStale[]; };
@@ -47,7 +46,7 @@ layout(push_constant) uniform Push { VsmSortPush push; };
 #define VSM_ASSIGN
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
-shared uint sKeys[ML_VSM_ONE_GROUP_LIST]; // the list, sorted in place (16 KiB at 4,096)
+shared uint sKeys[ML_VSM_ONE_GROUP_LIST]; // the list (16 KiB at 4,096)
 shared uint sCount, sShort, sRequests, sAvailable;
 
 // Both barriers: global writes of this workgroup (table, owners, last use, avail) -> its next reads.
@@ -98,27 +97,44 @@ void main() {
         if (c < kVsmClasses) ++counts[c];
     }
 
-    // 2. vsm_sort: bitonic sort of the list padded to a power of two with keys that sort last (ranks are
-    // unique, so any sort gives the multi-dispatch path's order).
-    uint padded = max(2u, 1u << uint(findMSB(max(n, 1u) * 2u - 1u)));
-    for (uint i = t; i < padded; i += ML_VSM_BLOCK) sKeys[i] = i < n ? vsmListA[i] : 0xFFFFFFFFu;
-    allBarrier(); // also: the invalidated table -> the scan's reads
-    for (uint k = 2u; k <= padded; k <<= 1u) {
-        for (uint j = k >> 1u; j > 0u; j >>= 1u) {
-            for (uint i = t; i < padded; i += ML_VSM_BLOCK) {
-                uint other = i ^ j;
-                if (other > i) {
-                    uint a = sKeys[i], b = sKeys[other];
-                    if ((a > b) == ((i & k) == 0u)) {
-                        sKeys[i] = b;
-                        sKeys[other] = a;
-                    }
-                }
-            }
-            barrier();
+    // 2. vsm_sort: each thread sorts its own run of the list (insertion sort, at most 16 keys), then runs
+    // merge pairwise, alternating between the shared keys and list B: a key's place in the merged run is
+    // its index in its own run plus the sibling run's keys below it (binary search), as in vsm_sort. At
+    // most log2(ML_VSM_BLOCK) = 8 merges, one barrier each, where a bitonic network over 4,096 keys takes
+    // 78 (lavapipe runs each barrier as a pass over the group's invocations: 78 were about half of this
+    // pass's time). Ranks are unique, so any sort gives the multi-dispatch path's order.
+    for (uint i = listFirst; i < listLast; ++i) {
+        uint key = vsmListA[i], j = i;
+        while (j > listFirst && sKeys[j - 1u] > key) {
+            sKeys[j] = sKeys[j - 1u];
+            --j;
         }
+        sKeys[j] = key;
     }
-    for (uint i = t; i < n; i += ML_VSM_BLOCK) vsmListB[i] = sKeys[i]; // vsm_hpb walks it
+    allBarrier(); // also: the invalidated table -> the scan's reads
+    bool inShared = true;
+    for (uint w = max(listRun, 1u); w < n; w *= 2u) {
+        for (uint i = t; i < n; i += ML_VSM_BLOCK) {
+            uint run = i / w, sibling = run ^ 1u, key = inShared ? sKeys[i] : vsmListB[i];
+            uint lo = sibling * w, a = lo, b = min(lo + w, n);
+            while (a < b) {
+                uint mid = (a + b) / 2u;
+                if ((inShared ? sKeys[mid] : vsmListB[mid]) < key) a = mid + 1u;
+                else b = mid;
+            }
+            uint at = min(run, sibling) * w + (i - run * w) + (a > lo ? a - lo : 0u);
+            if (inShared) vsmListB[at] = key;
+            else sKeys[at] = key;
+        }
+        allBarrier();
+        inShared = !inShared;
+    }
+    // The sorted list in both: list B for vsm_hpb, the shared keys for the steps below.
+    for (uint i = t; i < n; i += ML_VSM_BLOCK) {
+        if (inShared) vsmListB[i] = sKeys[i];
+        else sKeys[i] = vsmListB[i];
+    }
+    allBarrier();
 
     // 3. vsm_scan: last use of wanted pages that have one; the rest are requests, ranked by list place.
     uint requests = 0u;

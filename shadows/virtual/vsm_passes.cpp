@@ -26,8 +26,9 @@ Descriptor sampled(VkImageView view) {
 } // namespace
 
 namespace {
-// vsm_allocate_short_list's shared memory: the keys, vsmBlockScan3's rows and their totals, four words.
-constexpr uint32_t kShortListSharedBytes = ML_VSM_ONE_GROUP_LIST * 4 + ML_VSM_BLOCK * 12 + 16 * 12 + 16;
+// vsm_allocate_short_list's shared memory: the keys, vsmBlockScan3's rows and their totals (uvec3 at a
+// 16-byte stride, as a device may lay them out), four words: 20,752 bytes at 4,096 keys.
+constexpr uint32_t kShortListSharedBytes = ML_VSM_ONE_GROUP_LIST * 4 + ML_VSM_BLOCK * 16 + 16 * 16 + 16;
 
 // The longest list one workgroup allocates on this device: 0 where it lacks the workgroup's shared
 // memory or invocations; ML_VSM_ALLOC_SHORT_LIST=N (0..ML_VSM_ONE_GROUP_LIST) lowers it (tests, benches).
