@@ -7,7 +7,17 @@ were split (vsm_alloc then held the sort, vsm_cull / vsm_expand the group cullin
 Usage:
   for n in 256 1024 4096; do build/manylights demo --lights $n --frames 4 --size 640x360 --path drive --out out/bk$n; done
   python3 tools/vsm_bookkeeping.py out/bk256 out/bk1024 out/bk4096
-Prints two Markdown tables."""
+Prints two Markdown tables.
+
+The allocation, one workgroup against the multi-dispatch passes (vsm_allocate_short_list.comp):
+  python3 tools/vsm_bookkeeping.py --compare-alloc [--binary build/manylights] [--scene night-city]
+      [--lights 256] [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]
+runs the demo (drive path, fenced timing) alternately with ML_VSM_ALLOC_SHORT_LIST=0 (the multi-dispatch
+passes alone) and without it (lists up to ML_VSM_ONE_GROUP_LIST in one workgroup), the order swapped
+each round, and prints per round the median over frames 1.. of vsm_sort + vsm_alloc (the allocation's
+two scopes; medians, not means: on a shared machine one stalled frame of a one-workgroup dispatch, which
+runs on one core, moves a mean by several times) for each, their ratio, the last frame's pages marked and
+allocated (equal in both: the allocation is the same), then the median over every round's frames."""
 import collections
 import csv
 import json
@@ -36,7 +46,77 @@ def row(folder):
             book / evaluate if evaluate else float("nan")), [mean.get(k, 0.0) for k in STEPS]
 
 
+def frame_sums(folder, names):
+    """Per frame from 1 on, the sum of the named passes' fenced times."""
+    sums = collections.defaultdict(float)
+    with open(os.path.join(folder, "frames.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            if int(r["frame"]) >= 1 and r["pass"] in names:
+                sums[int(r["frame"])] += float(r["gpu_ms"])
+    return [sums[k] for k in sorted(sums)]
+
+
+def median(values):
+    v = sorted(values)
+    return (v[len(v) // 2] + v[(len(v) - 1) // 2]) / 2 if v else float("nan")
+
+
+def compare_alloc(argv):
+    import argparse
+    import subprocess
+    import tempfile
+    ap = argparse.ArgumentParser(prog="vsm_bookkeeping.py --compare-alloc")
+    ap.add_argument("--binary", default="build/manylights")
+    ap.add_argument("--scene", default="night-city")
+    ap.add_argument("--lights", type=int, default=256)
+    ap.add_argument("--frames", type=int, default=8)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--size", default="640x360")
+    ap.add_argument("--out")
+    a = ap.parse_args(argv)
+    if a.frames < 2 or a.rounds < 1:
+        sys.exit("vsm_bookkeeping: --frames must be >= 2, --rounds >= 1")
+    out = a.out or tempfile.mkdtemp(prefix="vsm_alloc_")
+    names = ("vsm_sort", "vsm_alloc")
+    paths = (("multi", "0"), ("one", None))
+    print(f"{a.scene}, {a.lights} lights, {a.size}, drive path, frames 1..{a.frames - 1} of {a.frames}, fenced; "
+          f"outputs in {out}")
+    print()
+    print("| round | multi-dispatch sort + alloc ms (median) | one workgroup sort + alloc ms (median) | one / multi | "
+          "pages marked | pages allocated |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    sums = {"multi": [], "one": []}
+    for r in range(a.rounds):
+        got, pages = {}, {}
+        for name, limit in (paths if r % 2 == 0 else paths[::-1]):
+            folder = os.path.join(out, f"{name}_round{r}")
+            env = dict(os.environ)
+            env.pop("ML_VSM_ALLOC_SHORT_LIST", None)
+            if limit is not None:
+                env["ML_VSM_ALLOC_SHORT_LIST"] = limit
+            cmd = [a.binary, "demo", "--scene", a.scene, "--lights", str(a.lights), "--frames", str(a.frames),
+                   "--size", a.size, "--path", "drive", "--out", folder]
+            run = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            if run.returncode != 0:
+                sys.exit(f"vsm_bookkeeping: {name}: {' '.join(cmd)} failed:\n{run.stderr[-2000:]}")
+            frames = frame_sums(folder, names)
+            got[name] = median(frames)
+            with open(os.path.join(folder, "stats.json")) as f:
+                vsm = json.load(f).get("vsm", {})
+            pages[name] = (vsm.get("pages_marked"), vsm.get("pages_allocated"))
+            sums[name] += frames
+        if pages["multi"] != pages["one"]:
+            sys.exit(f"vsm_bookkeeping: round {r}: the two paths' page counts differ: {pages}")
+        print(f"| {r + 1} | {got['multi']:.3f} | {got['one']:.3f} | {got['one'] / got['multi']:.2f} | "
+              f"{pages['one'][0]} | {pages['one'][1]} |")
+    multi, one = (median(sums[k]) for k in ("multi", "one"))
+    print(f"| all frames (median) | {multi:.3f} | {one:.3f} | {one / multi:.2f} | | |")
+    return 0
+
+
 def main(folders):
+    if folders and folders[0] == "--compare-alloc":
+        return compare_alloc(folders[1:])
     if not folders or folders[0] in ("-h", "--help"):
         print(__doc__)
         return 0 if folders else 1

@@ -130,6 +130,8 @@
 // each: the in-block rank is a shared-memory prefix sum, and 256 entries x 4 B fit one lavapipe
 // workgroup's shared memory many times over. vsm_alloc is one workgroup of the same size.
 #define ML_VSM_BLOCK 256
+// One workgroup allocates request lists up to this long: 16 KiB of shared keys, 16 per thread, one core.
+#define ML_VSM_ONE_GROUP_LIST 4096
 // Marking and lookup: 8x8 pixels per workgroup, as the evaluation pass (neighbours share clusters).
 #define ML_VSM_MARK_GROUP 8
 // Shadow-page clear: one workgroup per rendered page, each thread clears pageSize^2 / 256 texels.

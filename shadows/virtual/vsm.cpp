@@ -109,7 +109,8 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
     const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
     settings_.requestCapacity = capacity;
     pages_.mergePasses = uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK));
-    ML_TRY(createDeviceBuffer(d, pages_.sortArgs, (4 + 3 * (pages_.mergePasses + 1)) * 4, kIndirectUsage,
+    // Words 0-3, each sort pass's dispatch, then three more (vsm_allocate_short_list.comp).
+    ML_TRY(createDeviceBuffer(d, pages_.sortArgs, (4 + 3 * (pages_.mergePasses + 1) + 9) * 4, kIndirectUsage,
                               "vsm_sort_args"));
     for (uint32_t i = 0; i < 2; ++i)
         ML_TRY(createDeviceBuffer(d, pages_.list[i], size_t(capacity) * 4, kStorageBufferUsage,
@@ -452,6 +453,8 @@ std::vector<uint32_t> VirtualShadowMaps::read(const Device& d, VsmState state) c
         return readWords(d, pages_.lastUsed, settings_.poolPages);
     case VsmState::Marks: // lookup and fallback marks (the wanted bits are their OR)
         return readWords(d, pages_.marks, 2 * markWords_);
+    case VsmState::SortArgs: // words 0-3: sorted buffer, one-workgroup flag, list length
+        return readWords(d, pages_.sortArgs, 4);
     case VsmState::PagePool:
         break;
     }

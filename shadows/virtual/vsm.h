@@ -11,6 +11,11 @@
 //                 pressure (VsmSettings::fallbacksOnDemand), two fallback pages (3 mips coarser, and the
 //                 coarsest), drawn only in frames under pool pressure; the first want of
 //                 an entry appends its priority rank to the request list (stream compaction);
+//     vsm_allocate_short_list  one workgroup: closes the list; a list of at most ML_VSM_ONE_GROUP_LIST
+//                 entries it also invalidates, sorts and allocates (the steps below in one dispatch, the
+//                 same functions: the same pages), and the passes below get 0 groups; a longer one goes
+//                 to them (VsmPasses::shortListLimit; where the device lacks the shared memory, vsm_list
+//                 alone closes the list);
 //     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
 //     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
 //     vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner entry (light
@@ -160,8 +165,9 @@ struct VsmSlotHost {
     uint64_t castersVisited = 0;
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
-// the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool.
-enum class VsmState { Table, Owners, LastUsed, Marks, PagePool };
+// the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool, and
+// the list's words 0-3 (which buffer ends sorted, 1 when one workgroup allocated, the list's length).
+enum class VsmState { Table, Owners, LastUsed, Marks, PagePool, SortArgs };
 
 // The GPU state the passes share, created with the settings: persistent across frames (page table,
 // physical page owners and last use, the pool), and per frame but kept (marks, block counts, lists,
@@ -174,6 +180,7 @@ struct VsmPages {
     Buffer classCounts;       // per pool block and page class: counts, then bases (vsm_invalidate, vsm_alloc)
     Buffer dirtyMaps;         // maps with a page rendered this frame (vsm_assign): the culling's y
     Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
+                              // (then the multi-dispatch passes': vsm_allocate_short_list.comp)
     uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
 };
 // Per frame in flight: what prepare() computes and uploads for the passes.

@@ -1,5 +1,6 @@
 // Shared by the allocation passes (vsm_list, vsm_sort, vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail,
-// vsm_assign, vsm_hpb): the priority order of page-table entries, the classes of physical pages and the
+// vsm_assign, vsm_hpb; vsm_allocate_short_list does list to assignment in one workgroup with the same
+// functions): the priority order of page-table entries, the classes of physical pages and the
 // block prefix sum. The passes walk the request list (the wanted entries, sorted by priority rank) and
 // the physical pool, never every entry of every map.
 //
@@ -46,6 +47,38 @@ bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out u
 uint vsmListRank(uint i) { return vsmSorted == 0u ? vsmListA[i] : vsmListB[i]; }
 #endif
 
+#ifdef VSM_CLOSE_LIST
+// vsm_list's step: clamps the list to its capacity (VsmConstants.order.z; the rest counted in
+// listOverflow), writes the list passes' dispatch (ML_VSM_BLOCK entries per group) and each vsm_sort
+// pass's dispatch from word 4 of vsmSortArgs: the block sort, then a merge of runs of width w only while
+// w < n, so the passes run follow the list's length. `passes` is the merge passes at most; with `skip`
+// every sort pass gets 0 groups (the one-workgroup allocation sorted the list). Returns the closed
+// length; word 0 (which buffer ends sorted) is the caller's.
+uint vsmCloseList(uint passes, bool skip, out uint lastWritten) {
+    uint n = vsmCounters.listCount;
+    uint capacity = vsm.order.z;
+    if (n > capacity) {
+        vsmCounters.listOverflow = n - capacity;
+        n = capacity;
+        vsmCounters.listCount = n;
+    }
+    uint groups = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    vsmCounters.listGroupsX = groups;
+    vsmCounters.listGroupsY = 1u;
+    vsmCounters.listGroupsZ = 1u;
+    uint run = 1u;
+    for (uint pass = 0u; pass <= passes; ++pass) {
+        bool needed = pass == 0u || (uint(ML_VSM_BLOCK) << (pass - 1u)) < n;
+        vsmSortArgs[4u + 3u * pass] = needed && !skip ? groups : 0u;
+        vsmSortArgs[4u + 3u * pass + 1u] = 1u;
+        vsmSortArgs[4u + 3u * pass + 2u] = 1u;
+        if (needed && pass > 0u) ++run;
+    }
+    lastWritten = run % 2u; // pass p writes list[(p + 1) % 2]
+    return n;
+}
+#endif
+
 #ifndef VSM_NO_MARKS
 // Marked: a lookup reads the page. Wanted: marked, or reserved as a fallback page; wanted pages get memory
 // and are not evicted. The includer declares `vsm` (VsmConstants).
@@ -66,6 +99,78 @@ uint vsmPageClass(uint p) {
     if (vsmWanted(owner)) return kVsmClasses;
     uint age = max(vsm.sizes.w - vsmLastUsed[p], 1u);
     return 8u - min(uint(findMSB(age)), 7u);
+}
+#endif
+
+#ifdef VSM_INVALIDATE
+// vsm_invalidate's step for physical page p (the includer declares vsmOwner[], vsmTable[], vsmMaps[],
+// vsmStale[], vsmCounters): for the entry that owns the page, clears last frame's DIRTY bits and takes
+// VALID away when its light moved or its map became active (map flag), when a moved caster's bounds
+// overlap it (the CPU's stale bits), or always with caching off; the static twin survives dynamic
+// casters' stale bits (the second region, from word vsm.options.w, holds static casters').
+void vsmInvalidatePage(uint p) {
+    uint entry = vsmOwner[p];
+    if (entry == ML_VSM_NO_OWNER) return;
+    uint pt = vsmTable[entry];
+    uint before = pt;
+    pt &= ~(ML_VSM_DIRTY | ML_VSM_DIRTY_STATIC);
+    uint map = entry / vsm.sizes.x, bit = 1u << (entry & 31u);
+    bool whole = vsm.options.y == 0u || (vsmMaps[map].info.y & ML_VSM_MAP_INVALIDATE) != 0u;
+    bool staticStale = whole || (vsmStale[vsm.options.w + (entry >> 5u)] & bit) != 0u;
+    bool stale = staticStale || (vsmStale[entry >> 5u] & bit) != 0u;
+    if (staticStale) pt &= ~ML_VSM_STATIC_VALID;
+    if ((pt & ML_VSM_VALID) != 0u && stale) {
+        pt &= ~ML_VSM_VALID;
+        atomicAdd(vsmCounters.pagesInvalidated, 1u);
+        if (!whole) atomicAdd(vsmCounters.pagesInvalidatedCaster, 1u);
+    }
+    if (pt != before) vsmTable[entry] = pt;
+}
+#endif
+
+#ifdef VSM_ASSIGN
+// vsm_assign's step for one wanted entry of the sorted list (pt: its table word after invalidation;
+// request: it had no page; rank: its place among the requests; available, pressure: vsm_alloc's). A
+// request of rank r takes vsmAvail[r], evicting that page's previous entry; past `available` it is a
+// fallback (counted). Then every marked entry with a page that is not valid is rendered this frame (under
+// pressure every reserved fallback page too). Only wanted entries are written and no wanted entry is
+// ever evicted, so the writes of different entries do not race. The includer declares the buffers.
+void vsmAssignEntry(uint entry, uint map, uint mip, uint pt, bool request, uint rank, uint available,
+                    bool pressure) {
+    bool marked = vsmMarked(entry);
+    if (request) {
+        if (rank >= available) {
+            atomicAdd(vsmCounters.fallbacks, 1u);
+            return;
+        }
+        uint p = vsmAvail[rank];
+        uint old = vsmOwner[p];
+        if (old != ML_VSM_NO_OWNER) {
+            vsmTable[old] = 0u;
+            atomicAdd(vsmCounters.pagesEvicted, 1u);
+        }
+        vsmOwner[p] = entry;
+        vsmLastUsed[p] = vsm.sizes.w;
+        pt = ML_VSM_ALLOCATED | p;
+    }
+    if ((pt & ML_VSM_VALID) == 0u && (marked || pressure)) {
+        // With the static layer, a page whose twin is still valid is redrawn from it (dynamic casters
+        // only); otherwise both are rendered.
+        bool fromStatic = (pt & ML_VSM_STATIC_VALID) != 0u;
+        pt |= ML_VSM_VALID | ML_VSM_DIRTY;
+        if (vsm.camera.w != 0.0 && !fromStatic) pt |= ML_VSM_STATIC_VALID | ML_VSM_DIRTY_STATIC;
+        uint slot = atomicAdd(vsmCounters.dispatchX, 1u);
+        vsmRendered[slot] = (pt & ML_VSM_PHYS_MASK) | (fromStatic ? ML_VSM_RENDER_FROM_STATIC : 0u);
+        if (request) atomicAdd(vsmCounters.pagesNew, 1u);
+        if (fromStatic) atomicAdd(vsmCounters.pagesRenderedDynamic, 1u);
+        // The first dirty page of a map lists it for the culling passes (their dispatch's y size).
+        if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u)
+            vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
+        atomicAdd(vsmCounters.pagesRendered, 1u);
+    } else if (marked && (pt & ML_VSM_VALID) != 0u) {
+        atomicAdd(vsmCounters.pagesCached, 1u);
+    }
+    vsmTable[entry] = pt;
 }
 #endif
 #endif // VSM_NO_MARKS

@@ -32,6 +32,7 @@ layout(binding = 13, std430) readonly buffer ListB { uint vsmListB[]; };
 layout(binding = 14, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
+#define VSM_ASSIGN
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
@@ -42,39 +43,6 @@ void main() {
     bool request = wanted && (pt & ML_VSM_ALLOCATED) == 0u;
     uint sum;
     uint rank = vsmBlockRanks[gl_WorkGroupID.x] + vsmBlockScan(request ? 1u : 0u, sum);
-    if (!wanted) return;
-    bool marked = vsmMarked(entry);
-    if (request) {
-        if (rank < vsmCounters.available) {
-            uint p = vsmAvail[rank];
-            uint old = vsmOwner[p];
-            if (old != ML_VSM_NO_OWNER) {
-                vsmTable[old] = 0u;
-                atomicAdd(vsmCounters.pagesEvicted, 1u);
-            }
-            vsmOwner[p] = entry;
-            vsmLastUsed[p] = vsm.sizes.w;
-            pt = ML_VSM_ALLOCATED | p;
-        } else {
-            atomicAdd(vsmCounters.fallbacks, 1u);
-            return;
-        }
-    }
-    if ((pt & ML_VSM_VALID) == 0u && (marked || vsmCounters.pressure != 0u)) {
-        // With the static layer, a page whose twin is still valid is redrawn from it (dynamic casters
-        // only); otherwise both are rendered.
-        bool fromStatic = (pt & ML_VSM_STATIC_VALID) != 0u;
-        pt |= ML_VSM_VALID | ML_VSM_DIRTY;
-        if (vsm.camera.w != 0.0 && !fromStatic) pt |= ML_VSM_STATIC_VALID | ML_VSM_DIRTY_STATIC;
-        uint slot = atomicAdd(vsmCounters.dispatchX, 1u);
-        vsmRendered[slot] = (pt & ML_VSM_PHYS_MASK) | (fromStatic ? ML_VSM_RENDER_FROM_STATIC : 0u);
-        if (request) atomicAdd(vsmCounters.pagesNew, 1u);
-        if (fromStatic) atomicAdd(vsmCounters.pagesRenderedDynamic, 1u);
-        // The first dirty page of a map lists it for the culling passes (their dispatch's y size).
-        if (atomicOr(vsmDirtyMips[map], 1u << mip) == 0u) vsmDirtyMaps[atomicAdd(vsmCounters.cullGroupsY, 1u)] = map;
-        atomicAdd(vsmCounters.pagesRendered, 1u);
-    } else if (marked && (pt & ML_VSM_VALID) != 0u) {
-        atomicAdd(vsmCounters.pagesCached, 1u);
-    }
-    vsmTable[entry] = pt;
+    if (wanted)
+        vsmAssignEntry(entry, map, mip, pt, request, rank, vsmCounters.available, vsmCounters.pressure != 0u);
 }

@@ -27,6 +27,7 @@ layout(binding = 8, std430) buffer Counters { VsmCounters vsmCounters; };
 
 #define VSM_PAGE_CLASSES
 #define VSM_NO_RUNS
+#define VSM_INVALIDATE
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 shared uint sClass[kVsmClasses];
@@ -36,23 +37,7 @@ void main() {
     if (l < kVsmClasses) sClass[l] = 0u;
     barrier();
     if (p < vsm.sizes.z) {
-        uint entry = vsmOwner[p];
-        if (entry != ML_VSM_NO_OWNER) {
-            uint pt = vsmTable[entry];
-            uint before = pt;
-            pt &= ~(ML_VSM_DIRTY | ML_VSM_DIRTY_STATIC);
-            uint map = entry / vsm.sizes.x, bit = 1u << (entry & 31u);
-            bool whole = vsm.options.y == 0u || (vsmMaps[map].info.y & ML_VSM_MAP_INVALIDATE) != 0u;
-            bool staticStale = whole || (vsmStale[vsm.options.w + (entry >> 5u)] & bit) != 0u;
-            bool stale = staticStale || (vsmStale[entry >> 5u] & bit) != 0u;
-            if (staticStale) pt &= ~ML_VSM_STATIC_VALID;
-            if ((pt & ML_VSM_VALID) != 0u && stale) {
-                pt &= ~ML_VSM_VALID;
-                atomicAdd(vsmCounters.pagesInvalidated, 1u);
-                if (!whole) atomicAdd(vsmCounters.pagesInvalidatedCaster, 1u);
-            }
-            if (pt != before) vsmTable[entry] = pt;
-        }
+        vsmInvalidatePage(p);
         uint c = vsmPageClass(p);
         if (c < kVsmClasses) atomicAdd(sClass[c], 1u); // counts: the same whatever the order
     }

@@ -12,32 +12,20 @@ layout(local_size_x = 1) in;
 
 layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
 layout(binding = 1, std430) buffer Counters { VsmCounters vsmCounters; };
-// Word 0: which list buffer holds the sorted list (vsm_alloc_common.glsl's vsmListRank); from word 4,
+// Word 0: which list buffer holds the sorted list (vsm_alloc_common.glsl's vsmListRank); word 1: 1 when
+// vsm_allocate_short_list allocated in one workgroup, else 0; word 2: its closed length; from word 4,
 // per vsm_sort pass, its indirect dispatch (x, y, z).
 layout(binding = 2, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
 layout(push_constant) uniform Push { VsmSortPush push; }; // width: the number of merge passes
 
+#define VSM_NO_RUNS
+#define VSM_NO_MARKS
+#define VSM_CLOSE_LIST
+#include "shadows/virtual/vsm_alloc_common.glsl"
+
 void main() {
-    uint n = vsmCounters.listCount;
-    uint capacity = vsm.order.z;
-    if (n > capacity) {
-        vsmCounters.listOverflow = n - capacity;
-        n = capacity;
-        vsmCounters.listCount = n;
-    }
-    uint groups = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
-    vsmCounters.listGroupsX = groups;
-    vsmCounters.listGroupsY = 1u;
-    vsmCounters.listGroupsZ = 1u;
-    // The block sort always runs; a merge of runs of width w only while w < n (otherwise its dispatch is
-    // empty), so the passes run follow the list's length: log2(n / ML_VSM_BLOCK), not the capacity's.
-    uint run = 1u;
-    for (uint pass = 0u; pass <= push.width; ++pass) {
-        bool needed = pass == 0u || (uint(ML_VSM_BLOCK) << (pass - 1u)) < n;
-        vsmSortArgs[4u + 3u * pass] = needed ? groups : 0u;
-        vsmSortArgs[4u + 3u * pass + 1u] = 1u;
-        vsmSortArgs[4u + 3u * pass + 2u] = 1u;
-        if (needed && pass > 0u) ++run;
-    }
-    vsmSortArgs[0] = run % 2u; // pass p writes list[(p + 1) % 2]
+    uint sorted;
+    vsmSortArgs[2] = vsmCloseList(push.width, false, sorted);
+    vsmSortArgs[0] = sorted;
+    vsmSortArgs[1] = 0u; // not allocated by vsm_allocate_short_list
 }

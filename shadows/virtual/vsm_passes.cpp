@@ -3,8 +3,14 @@
 // barrier (engine/frame_passes.cpp) orders this frame's first writes after the previous frame's reads.
 #include "shadows/virtual/vsm_passes.h"
 
+#include "gpu/bindings.h"
+#include "shadows/virtual/vsm_alloc_bindings.h"
+
 #include <algorithm>
 #include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 
 namespace ml {
 
@@ -19,8 +25,36 @@ Descriptor sampled(VkImageView view) {
 }
 } // namespace
 
+namespace {
+// vsm_allocate_short_list's shared memory: the keys, vsmBlockScan3's rows and their totals (uvec3 at a
+// 16-byte stride, as a device may lay them out), four words: 20,752 bytes at 4,096 keys.
+constexpr uint32_t kShortListSharedBytes = ML_VSM_ONE_GROUP_LIST * 4 + ML_VSM_BLOCK * 16 + 16 * 16 + 16;
+
+// The longest list one workgroup allocates on this device: 0 where it lacks the workgroup's shared
+// memory or invocations; ML_VSM_ALLOC_SHORT_LIST=N (0..ML_VSM_ONE_GROUP_LIST) lowers it (tests, benches).
+Result<uint32_t> deviceShortListLimit(const Device& d) {
+    const VkPhysicalDeviceLimits& l = d.properties.limits;
+    const bool fits = l.maxComputeSharedMemorySize >= kShortListSharedBytes &&
+                      l.maxComputeWorkGroupInvocations >= ML_VSM_BLOCK &&
+                      l.maxComputeWorkGroupSize[0] >= ML_VSM_BLOCK;
+    uint32_t limit = fits ? ML_VSM_ONE_GROUP_LIST : 0u;
+    const char* env = std::getenv("ML_VSM_ALLOC_SHORT_LIST");
+    if (!env || !*env) return limit;
+    char* end = nullptr;
+    const unsigned long v = std::strtoul(env, &end, 10);
+    if (*end != '\0' || v > ML_VSM_ONE_GROUP_LIST)
+        return fail(
+            "ML_VSM_ALLOC_SHORT_LIST must be 0.." + std::to_string(ML_VSM_ONE_GROUP_LIST) +
+            " (the longest request list one workgroup allocates; 0: the multi-dispatch passes alone)");
+    return std::min(limit, uint32_t(v));
+}
+} // namespace
+
 Result<void> VsmPasses::create(const Device& device, const VirtualShadowMaps& state) {
     state_ = &state;
+    auto limit = deviceShortListLimit(device);
+    if (!limit) return fail(limit.error());
+    shortList_ = limit.value();
     return programs_.create(device, state.meshPath());
 }
 
@@ -84,10 +118,28 @@ void nextAllocationPass(VkCommandBuffer c) {
 void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    // The list's count and the sort's dispatch sizes.
-    dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
-             {slot.constants, slot.counters, pg.sortArgs});
-    nextAllocationPass(c); // the list's count -> the sort's dispatch sizes and reads
+    if (shortList_ != 0) {
+        // A list of at most shortList_ entries: closed, sorted and allocated here in one workgroup, and
+        // the passes below get 0 groups; a longer one: closed here, the passes below allocate it.
+        dispatch(
+            d, c, programs_.allocateShortList, ML_VSM_BLOCK, 1, gpu::VsmSortPush{pg.mergePasses, shortList_},
+            {ML_BIND(ML_VSM_SHORT_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SHORT_RUNS, slot.runs),
+             ML_BIND(ML_VSM_SHORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SHORT_REQUESTS, pg.list[0]),
+             ML_BIND(ML_VSM_SHORT_SORTED, pg.list[1]), ML_BIND(ML_VSM_SHORT_SORT_ARGS, pg.sortArgs),
+             ML_BIND(ML_VSM_SHORT_MAPS, slot.maps), ML_BIND(ML_VSM_SHORT_STALE, slot.stale),
+             ML_BIND(ML_VSM_SHORT_TABLE, pg.table), ML_BIND(ML_VSM_SHORT_MARKS, pg.marks),
+             ML_BIND(ML_VSM_SHORT_OWNERS, pg.owners), ML_BIND(ML_VSM_SHORT_LAST_USED, pg.lastUsed),
+             ML_BIND(ML_VSM_SHORT_AVAIL, pg.avail), ML_BIND(ML_VSM_SHORT_RENDERED, pg.rendered),
+             ML_BIND(ML_VSM_SHORT_DIRTY_MIPS, pg.dirtyMips), ML_BIND(ML_VSM_SHORT_DIRTY_MAPS, pg.dirtyMaps)});
+        // Short: the table, owners, rendered list, dirty maps, counters -> vsm_hpb and the culling (through
+        // the barriers below); long: the list's count and every pass's dispatch size -> indirect reads.
+        nextAllocationPass(c);
+    } else {
+        // The list's count and the sort's dispatch sizes.
+        dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
+                 {slot.constants, slot.counters, pg.sortArgs});
+        nextAllocationPass(c); // the list's count -> the sort's dispatch sizes and reads
+    }
     // Block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
     // merges past the list's length no groups (an empty dispatch).
     for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
@@ -107,23 +159,40 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     const VsmPages& pg = state_->pages();
     const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
     const uint32_t pool = state_->settings().poolPages;
+    // With the one-workgroup path (shortList_ != 0) vsm_allocate_short_list wrote these passes' dispatch
+    // sizes after the sort passes' (0 groups after a list it allocated); without it, as sized here.
+    const VkDeviceSize args = (4 + 3 * VkDeviceSize(pg.mergePasses + 1)) * 4;
+    const bool indirect = shortList_ != 0;
+    auto poolPass = [&](const Program& program, std::initializer_list<Descriptor> bound, uint32_t threads) {
+        if (indirect)
+            dispatchIndirect(d, c, program, pg.sortArgs, args, NoPush{}, bound);
+        else
+            dispatch(d, c, program, threads, 1, NoPush{}, bound);
+    };
+    const Buffer& listArgsBuffer = indirect ? pg.sortArgs : slot.counters;
+    const VkDeviceSize listArgsAt = indirect ? args + 12 : listArgs;
     // The pool pass (invalidation, class counts): it needs neither the sorted list nor the sort its
     // results, so it runs after the sort (recordSort), which keeps the sort one timed scope.
-    dispatch(d, c, programs_.invalidate, pool, 1, NoPush{},
+    poolPass(programs_.invalidate,
              {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
-              pg.classCounts, slot.counters});
+              pg.classCounts, slot.counters},
+             pool);
     nextAllocationPass(c); // table, class counts, counters -> the list passes
-    dispatchIndirect(d, c, programs_.scan, slot.counters, listArgs, NoPush{},
+    dispatchIndirect(d, c, programs_.scan, listArgsBuffer, listArgsAt, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
                       pg.blockCounts, pg.list[1], pg.sortArgs});
     nextAllocationPass(c); // block counts, last use -> alloc, avail
-    dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
-             {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
+    if (indirect)
+        dispatchIndirect(d, c, programs_.alloc, pg.sortArgs, args + 24, NoPush{},
+                         {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
+    else
+        dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
+                 {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
     nextAllocationPass(c); // block ranks, class bases, counters -> avail, assign
-    dispatch(d, c, programs_.avail, pool, 1, NoPush{},
-             {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail});
+    poolPass(programs_.avail, {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail},
+             pool);
     nextAllocationPass(c); // the available-page list -> assign
-    dispatchIndirect(d, c, programs_.assign, slot.counters, listArgs, NoPush{},
+    dispatchIndirect(d, c, programs_.assign, listArgsBuffer, listArgsAt, NoPush{},
                      {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
                       pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.dirtyMaps,
                       pg.list[1], pg.sortArgs});

@@ -1,6 +1,7 @@
 #include "shadows/virtual/vsm_programs.h"
 
 #include "vsm_alloc.comp.spv.h"
+#include "vsm_allocate_short_list.comp.spv.h"
 #include "vsm_assign.comp.spv.h"
 #include "vsm_avail.comp.spv.h"
 #include "vsm_clear.comp.spv.h"
@@ -71,6 +72,7 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     ML_TRY(compute(markCluster, ML_VSM_SHADER(spv_vsm_mark_cluster_comp)));
     ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
     ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
+    ML_TRY(compute(allocateShortList, ML_VSM_SHADER(spv_vsm_allocate_short_list_comp)));
     ML_TRY(compute(invalidate, ML_VSM_SHADER(spv_vsm_invalidate_comp)));
     ML_TRY(compute(scan, ML_VSM_SHADER(spv_vsm_scan_comp)));
     ML_TRY(compute(alloc, ML_VSM_SHADER(spv_vsm_alloc_comp)));
@@ -108,9 +110,17 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 }
 
 void VsmPrograms::destroy(const Device& d) {
-    for (Program* p : {&mark,  &markCluster, &list, &sort,   &invalidate, &scan,   &alloc,
-                       &avail, &assign,      &hpb,  &groups, &pairs,      &cull,   &clear,
-                       &merge, &probe,       &view, &draw,   &drawClosed, &expand, &mesh})
+    for (Program* p : {&mark,       &markCluster,
+                       &list,       &sort,
+                       &invalidate, &scan,
+                       &alloc,      &avail,
+                       &assign,     &hpb,
+                       &groups,     &pairs,
+                       &cull,       &clear,
+                       &merge,      &probe,
+                       &view,       &draw,
+                       &drawClosed, &expand,
+                       &mesh,       &allocateShortList})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

@@ -13,10 +13,11 @@ struct VsmPrograms {
     Program markCluster; // vsm_mark_cluster.comp: per cluster-light pair (VsmSettings::clusterMarking)
     Program list, sort, invalidate, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge, probe,
         view;
-    Program draw;       // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
-    Program drawClosed; // the same with back faces culled (closed casters)
-    Program expand;     // mesh path: vsm_expand.comp
-    Program mesh;       // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
+    Program allocateShortList; // vsm_allocate_short_list.comp: list to assignment in one workgroup
+    Program draw;              // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
+    Program drawClosed;        // the same with back faces culled (closed casters)
+    Program expand;            // mesh path: vsm_expand.comp
+    Program mesh;              // mesh path: vsm_draw.task + vsm_draw.mesh + vsm_draw.frag
     Result<void> create(const Device& device, bool meshPath);
     void destroy(const Device& device);
 

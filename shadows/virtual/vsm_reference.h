@@ -3,7 +3,8 @@
 //                         and the frame's maps (same functions of vsm_math.h, same order: bit for bit);
 //   vsmMarkClusterReference  vsm_mark_cluster.comp: the same marks per cluster-light pair (vsm_bounds.h);
 //   vsmAllocateReference  vsm_invalidate + vsm_scan + vsm_alloc + vsm_avail + vsm_assign (the passes
-//                         walk the sorted request list and the pool): invalidation, LRU refresh, requests in
+//                         walk the sorted request list and the pool), and vsm_allocate_short_list, which
+//                         does them in one workgroup for a short list: invalidation, LRU refresh, requests in
 //                         priority order, the ordered list of free and evictable pages, assignment,
 //                         eviction, fallbacks, and which pages render this frame. The page table, the
 //                         owners and the last-use frames it leaves equal the GPU's exactly.

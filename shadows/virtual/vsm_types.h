@@ -177,10 +177,12 @@ ML_STRUCT(GpuVsmProbe) {
 };
 
 // Push blocks. vsm_sort: width 0 sorts each block of ML_VSM_BLOCK list entries in shared memory; a width
-// w >= ML_VSM_BLOCK merges pairs of sorted runs of w entries. 8 bytes.
+// w >= ML_VSM_BLOCK merges pairs of sorted runs of w entries. vsm_list, vsm_allocate_short_list: width is
+// the number of merge passes; shortList the longest list one workgroup allocates (0: none, and in
+// vsm_sort, vsm_list). 8 bytes.
 ML_STRUCT(VsmSortPush) {
     uint width;
-    uint pad;
+    uint shortList;
 };
 
 // vsm_cull and vsm_expand: one thread per (caster, map with a dirty page); `capacity` is the per-mip
