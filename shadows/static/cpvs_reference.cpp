@@ -67,28 +67,42 @@ class ColumnWalk {
 
 } // namespace
 
-CpvsVerifyReport verifyCpvs(const uint32_t* d, const DualDepthMap& map) {
-    CpvsVerifyReport r;
+Result<CpvsSpace> cpvsSpaceOf(const uint32_t* d) {
     float nearPlane, farPlane;
     std::memcpy(&nearPlane, &d[kCpvsHNearBits], 4);
     std::memcpy(&farPlane, &d[kCpvsHFarBits], 4);
+    return makeCpvsSpace(d[kCpvsHResolution], nearPlane, farPlane, CpvsSlicing(d[kCpvsHSlicing]));
+}
+
+uint64_t cpvsThresholdMismatches(const uint32_t* d, const CpvsSpace& space) {
+    // the stored slice thresholds must be the ones eq. 1 (or the linear slicing) gives: the lookup's
+    // depth -> slice map
+    uint64_t bad = 0;
+    for (uint32_t s = 0; s <= space.resolution; ++s) bad += d[d[kCpvsHThresholds] + s] != space.thresholds[s];
+    return bad;
+}
+
+void verifyCpvsBlock(const uint32_t* d, const CpvsSpace& space, uint32_t x0, uint32_t y0, uint32_t w,
+                     uint32_t h, const uint32_t* enter, const uint32_t* exit, CpvsVerifyReport& report) {
+    ColumnWalk walk(d, report);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            walk.column(x0 + x, y0 + y, cpvsReferenceColumn(space, enter[i], exit[i]));
+        }
+}
+
+CpvsVerifyReport verifyCpvs(const uint32_t* d, const DualDepthMap& map) {
+    CpvsVerifyReport r;
     const uint32_t n = d[kCpvsHResolution];
-    auto space = makeCpvsSpace(n, nearPlane, farPlane, CpvsSlicing(d[kCpvsHSlicing]));
+    auto space = cpvsSpaceOf(d);
     if (!space || map.resolution != n || map.enter.size() != size_t(n) * n ||
         map.exit.size() != size_t(n) * n) {
         r.mismatches = 1; // nothing comparable
         return r;
     }
-    // the stored slice thresholds must be the ones eq. 1 (or the linear slicing) gives: the lookup's
-    // depth -> slice map
-    for (uint32_t s = 0; s <= n; ++s)
-        if (d[d[kCpvsHThresholds] + s] != space->thresholds[s]) ++r.mismatches;
-    ColumnWalk walk(d, r);
-    for (uint32_t y = 0; y < n; ++y)
-        for (uint32_t x = 0; x < n; ++x) {
-            size_t i = size_t(y) * n + x;
-            walk.column(x, y, cpvsReferenceColumn(*space, map.enter[i], map.exit[i]));
-        }
+    r.mismatches += cpvsThresholdMismatches(d, *space);
+    verifyCpvsBlock(d, *space, 0, 0, n, n, map.enter.data(), map.exit.data(), r);
     return r;
 }
 
