@@ -43,7 +43,8 @@ Result<CpvsBake> bakeCpvsTiled(const DualTileSource& source, const CpvsParams& p
 
     CpvsTiledStats st;
     st.regionSide = side;
-    std::mutex mutex; // guards st's sums and `error` from the workers
+    uint64_t steps = 0; // visibility masks over all 8x8 tiles (CpvsStats::tileSteps)
+    std::mutex mutex;   // guards st's sums and `error` from the workers
     auto region = [&](const CellBlock& block) -> Result<Dag> {
         const uint32_t x0 = block.x0 << cellLog2, y0 = block.y0 << cellLog2;
         if (options.emptyBlock && options.emptyBlock(x0, y0, side, side)) {
@@ -107,6 +108,7 @@ Result<CpvsBake> bakeCpvsTiled(const DualTileSource& source, const CpvsParams& p
             p = CpvsPrecompute{}; // freed as appended
         }
         precomputeFinish(pre, cell);
+        steps += pre.stepStart.size();
         CellBlock local = block; // the region's own precompute: cells from (0, 0)
         local.x0 = local.y0 = 0;
         return insertBlock(pre, lg, gridLog2, local);
@@ -128,6 +130,7 @@ Result<CpvsBake> bakeCpvsTiled(const DualTileSource& source, const CpvsParams& p
     bake.data = std::move(words.value());
     cs.layoutMs = 1000.0 * secondsSince(tl);
     st.regions = rs.regions;
+    cs.tileSteps = steps;
     cs.nodesInserted = rs.nodesInserted, cs.leavesInserted = rs.leavesInserted;
     cs.regions = rs.regions, cs.regionNodesPeak = rs.regionNodesPeak,
     cs.regionLeavesPeak = rs.regionLeavesPeak;

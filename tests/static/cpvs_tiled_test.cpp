@@ -86,6 +86,7 @@ void expectTiledEqualsWhole(const DualDepthMap& map, const CpvsParams& p, uint32
         ASSERT_TRUE(tiled.ok()) << what << ": " << tiled.error();
         EXPECT_EQ(tiled->data, whole->data) << what << (skip ? ", empty blocks skipped" : "");
         EXPECT_EQ(tiled->stats.nodesFinal, whole->stats.nodesFinal) << what;
+        EXPECT_EQ(tiled->stats.tileSteps, whole->stats.tileSteps) << what;
         ASSERT_TRUE(validateCpvs(tiled->data.data(), tiled->data.size()).ok()) << what;
         if (skip && emptyRegions) *emptyRegions = st.emptyRegions;
         if (!skip) {
@@ -232,6 +233,46 @@ TEST(CpvsTiled, BadInputFailsCleanly) {
     auto whole = bakeCpvs(DualDepthMap{}, q);
     ASSERT_FALSE(whole.ok());
     EXPECT_NE(whole.error().find("whole-map bake stops at 16384"), std::string::npos) << whole.error();
+}
+
+// The streaming verify's block check walks aligned 4x4 columns at once: its counts equal the one-column
+// walk's on a good bake and on one with damaged leaves and homogeneous children (mismatches found).
+TEST(CpvsTiled, BlockVerifyEqualsColumnWalk) {
+    const DualDepthMap map = boxesMap(256, 12, false, false);
+    CpvsParams p;
+    p.resolution = 256, p.nearPlane = kNear, p.farPlane = kFar;
+    auto bake = bakeCpvs(map, p);
+    ASSERT_TRUE(bake.ok()) << bake.error();
+    auto space = cpvsSpaceOf(bake->data.data());
+    ASSERT_TRUE(space.ok());
+    std::vector<uint32_t> bad = bake->data;
+    for (uint32_t i = bad[kCpvsHLeaves]; i < bad[kCpvsHLeaves] + bad[kCpvsHLeafWords]; i += 7)
+        bad[i] ^= 0x10204u;
+    // The node region is a sequence of (header, one pointer per childMask bit): in every 5th node, flip the
+    // value of its first homogeneous child.
+    for (uint32_t i = bad[kCpvsHNodes], k = 0; i < bad[kCpvsHLeaves]; ++k) {
+        const uint32_t h = bad[i], free = ~h & 0xFFu;
+        if (k % 5 == 0 && free) bad[i] = h ^ ((free & (0u - free)) << 8);
+        i += 1 + uint32_t(std::popcount(h & 0xFFu));
+    }
+    for (const std::vector<uint32_t>* words : {&bake->data, &bad}) {
+        CpvsVerifyReport block, columns;
+        verifyCpvsBlock(words->data(), *space, 0, 0, 256, 256, map.enter.data(), map.exit.data(), block);
+        for (uint32_t y = 0; y < 256; ++y)
+            for (uint32_t x = 0; x < 256; ++x) { // 1x1 blocks: the one-column walk
+                const size_t i = size_t(y) * 256 + x;
+                verifyCpvsBlock(words->data(), *space, x, y, 1, 1, &map.enter[i], &map.exit[i], columns);
+            }
+        EXPECT_EQ(block.checked, columns.checked);
+        EXPECT_EQ(block.undefined, columns.undefined);
+        EXPECT_EQ(block.mismatches, columns.mismatches);
+        EXPECT_EQ(block.checked + block.undefined, uint64_t(256) * 256 * 256);
+        if (words == &bad) {
+            EXPECT_GT(block.mismatches, 1000u) << "the damage should show";
+        } else {
+            EXPECT_EQ(block.mismatches, 0u);
+        }
+    }
 }
 
 // 65536^2: slice N = 65536 does not fit 16 bits (the precompute's "never shadowed" value), the N + 1
