@@ -41,9 +41,9 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --scene-lights N   lights the scene is created with, 1..4096 (default 256)
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs
-  --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..16384);
-                     mh, mmh and dagmh up to 262144: past 16384 they bake in tiles (see --tile)
-  --tile T           mh, mmh, dagmh: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
+  --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..262144);
+                     mh, mmh, dagmh and cpvs up to 262144: past 16384 they bake in tiles (see --tile)
+  --tile T           mh, mmh, dagmh, cpvs: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
                      default 512 past --res 16384, whole maps below it). The map is never held whole:
                      memory is a tile per hardware thread (about 30 B a tile texel plus the
                      rasteriser's hits) and the output. Tiles render on the CPU rasteriser, so with
@@ -106,7 +106,7 @@ The last line on stdout is {"checked": N, "mismatches": M}.
 Exit status: 0 all agree, 1 usage error, 2 bad input (unreadable or invalid file, scene changed, no
 records: nothing checked is not a pass), 3 mismatches found (or the renderer failed).
   --allow-outside-scene-dir  let the named glTF's buffer/image URIs leave its folder (trusted files only)
-  --tile T  check sm, mh, mmh, dagmh records tile by tile (T x T texels, a power of two 64..16384) on the
+  --tile T  check sm, mh, mmh, dagmh, cpvs records tile by tile (T x T texels, a power of two 64..16384) on the
             CPU rasteriser, in bounded memory; records past 16384^2 always are (tiles of 512). Not for
             perspective maps the Vulkan renderer made (its depths round differently)
   --quiet   no progress lines on stderr
@@ -303,12 +303,12 @@ Result<BakeOptions> parseBake(const cli::Args& args) {
             return fail("--tile: " + args.get("--tile", "") + " is not a power of two");
         if (!bakeTiled(o.method, o.res, tile.value()))
             return fail("--tile: " + std::string(staticMethodName(o.method)) +
-                        " bakes whole maps (mh, mmh and dagmh bake in tiles)");
+                        " bakes whole maps (mh, mmh, dagmh and cpvs bake in tiles)");
         o.tile = tile.value();
     }
     if (o.res > kBakeWholeMapMax && !bakeTiled(o.method, o.res, o.tile))
         return fail("--res: " + std::string(staticMethodName(o.method)) + " bakes whole maps, up to " +
-                    std::to_string(kBakeWholeMapMax) + " (mh, mmh and dagmh bake larger maps in tiles)");
+                    std::to_string(kBakeWholeMapMax) + " (mh, mmh, dagmh, cpvs bake larger maps in tiles)");
     return o;
 }
 

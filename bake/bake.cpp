@@ -1,5 +1,6 @@
 #include "bake/bake.h"
 #include "bake/bake_tiled.h"
+#include "bake/bake_tiled_cpvs.h"
 #include "bake/scene_casters.h"
 
 #include <algorithm>
@@ -103,12 +104,13 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
                     std::to_string(kBakeMaxResolution));
     if (res > kBakeWholeMapMax && !bakeTiled(method, res, tiles.tile))
         return fail("bake: " + std::string(staticMethodName(method)) + " bakes whole maps, up to " +
-                    std::to_string(kBakeWholeMapMax) + "^2 (mh, mmh and dagmh bake larger maps in tiles)");
+                    std::to_string(kBakeWholeMapMax) +
+                    "^2 (mh, mmh, dagmh and cpvs bake larger maps in tiles)");
     if (tiles.tile != 0 && (tiles.tile & (tiles.tile - 1)) != 0)
         return fail("bake: tile side " + std::to_string(tiles.tile) + " is not a power of two");
     if (tiles.tile != 0 && !bakeTiled(method, res, tiles.tile))
         return fail("bake: " + std::string(staticMethodName(method)) +
-                    " does not bake in tiles (mh, mmh and dagmh do)");
+                    " does not bake in tiles (mh, mmh, dagmh and cpvs do)");
     std::vector<uint32_t> lights = lightsIn;
     std::sort(lights.begin(), lights.end());
     lights.erase(std::unique(lights.begin(), lights.end()), lights.end());
@@ -140,7 +142,7 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
                     " selected lights is a static spot, point or directional light (first skipped: light " +
                     std::to_string(out.skipped[0].light) + ", " + out.skipped[0].reason + ")");
     if (method == StaticMethod::CPVS) {
-        // Fail before rendering anything (CPVS needs a power of two in 64..16384).
+        // Fail before rendering anything (CPVS needs a power of two in 64..262144, tiled past 16384).
         for (const auto& [li, face] : work)
             if (auto space = makeCpvsSpace(resOf(li), 1.0f, 2.0f); !space)
                 return fail("bake: " + space.error());
@@ -328,18 +330,20 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
 
         VerifyLight vl;
         vl.light = rec.light;
-        if (isDepthMethod(rec.method) && (tile != 0 || rec.resolution > kBakeWholeMapMax)) {
+        const bool tiledCpvs = rec.method == StaticMethod::CPVS;
+        if ((isDepthMethod(rec.method) || tiledCpvs) && (tile != 0 || rec.resolution > kBakeWholeMapMax)) {
             if (file.renderer == BakeRenderer::Gpu && !rec.frustum.orthographic())
                 return fail(where + ": tiled verify renders on the CPU rasteriser, and this perspective map "
                                     "was rendered by the Vulkan renderer (verify it without --tile)");
             // Streaming: tile by tile on the CPU rasteriser, bounded memory at any resolution.
             report("check", 0.0);
-            if (auto r = verifyRecordTiled(
+            const auto verifyTiled = tiledCpvs ? verifyCpvsRecordTiled : verifyRecordTiled;
+            if (auto r = verifyTiled(
                     rec, casters, tile ? tile : kBakeDefaultTile, [&](double f) { report("check", f); }, vl,
                     rep.examples, 8);
                 !r)
                 return fail(where + ": " + r.error());
-            rep.checked += vl.checked, rep.mismatches += vl.mismatches;
+            rep.checked += vl.checked, rep.mismatches += vl.mismatches, rep.undefined += vl.undefined;
             rep.lights.push_back(vl);
             report("done", 1.0);
             continue;

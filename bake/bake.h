@@ -26,18 +26,19 @@ using DualRenderFn =
 // in memory at once, so the tile bounds the bake's memory beside the map itself.
 constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
 // Whole-map bakes hold the dual depth map (8 B a texel) and the encoder's scratch: 16384^2 is 2 GiB of
-// map. MH, MMH and DAG-MH bake past it in tiles (bake_tiled.h) up to the bake file's kMaxResolution,
-// holding a tile per worker and the output; SM and CPVS stop here.
+// map. MH, MMH and DAG-MH bake past it in tiles (bake_tiled.h) up to the bake file's kMaxResolution, CPVS
+// (bake_tiled_cpvs.h) up to kCpvsMaxResolution, holding a tile per worker and the output; SM stops here.
 constexpr uint32_t kBakeWholeMapMax = 16384;
 constexpr uint32_t kBakeMaxResolution = 262144; // kMhMaxResolution (shadows/static/mh.h)
 // Tiled bakes' tile side: a 512^2 tile's hit lists and counting-sort table (8 B a hit, 4 B a texel)
 // stay small, once per hardware thread; a 2048^2 tile holds 16x as much (`bake --tile` to choose).
 constexpr uint32_t kBakeDefaultTile = 512;
-// Whether a bake at `resolution` (with `tile` from --tile, 0: none asked) goes tile by tile.
+// Whether a bake at `resolution` (with `tile` from --tile, 0: none asked) goes tile by tile: the MH
+// family (bake_tiled.h) and CPVS (bake_tiled_cpvs.h, regions of max(tile, its grid cell) texels).
 inline bool bakeTiled(StaticMethod method, uint32_t resolution, uint32_t tile) {
-    const bool mhFamily =
-        method == StaticMethod::MH || method == StaticMethod::MMH || method == StaticMethod::DAGMH;
-    return mhFamily && (tile != 0 || resolution > kBakeWholeMapMax);
+    const bool tiles = method == StaticMethod::MH || method == StaticMethod::MMH ||
+                       method == StaticMethod::DAGMH || method == StaticMethod::CPVS;
+    return tiles && (tile != 0 || resolution > kBakeWholeMapMax);
 }
 
 // The CPU rasteriser (DualRasterizer::render in row tiles).

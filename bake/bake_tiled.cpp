@@ -1,6 +1,8 @@
 // Tiled bakes and verifies of one record (see bake_tiled.h).
 #include "bake/bake_tiled.h"
 
+#include "bake/bake_tiled_cpvs.h"
+
 #include "shadows/static/mh_tiled.h"
 
 #include <sys/resource.h>
@@ -34,8 +36,9 @@ uint64_t peakResidentBytes() {
 Result<std::vector<uint32_t>> bakeRecordTiled(StaticMethod method, const CasterTriangles& casters,
                                               const LightFrustum& frustum, uint32_t res,
                                               const TiledBakeOptions& options, LightBakeStats& stats) {
+    if (method == StaticMethod::CPVS) return bakeCpvsRecordTiled(casters, frustum, res, options, stats);
     if (method != StaticMethod::MH && method != StaticMethod::MMH && method != StaticMethod::DAGMH)
-        return fail(std::string("tiled bakes build the MH family only, not ") + staticMethodName(method));
+        return fail(std::string("tiled bakes build the MH family and CPVS, not ") + staticMethodName(method));
     const DualRasterizer raster(casters, frustum, res);
     MhTiledOptions to;
     to.tile = options.tile, to.maxNodes = options.maxNodes, to.progress = options.progress;

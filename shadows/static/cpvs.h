@@ -2,7 +2,8 @@
 // Assarsson, "Fast, Memory-Efficient Construction of Voxelized Shadows" (TVCG 2016; "the paper").
 //
 // VOXEL SPACE (paper section 5, eq. 1). A light with a square frustum, DualDepthMap of resolution N
-// (power of two, 64..16384) and depth range [near, far] is cut into N^3 voxels (x, y, s):
+// (power of two, 64..262144; whole maps up to 16384, larger ones tiled: cpvs_tiled.h) and depth range [near,
+// far] is cut into N^3 voxels (x, y, s):
 //   x, y  the texel column of the dual depth map (NDC x, y; row 0 at NDC y = -1);
 //   s     the log-depth slice: s = k - 1 with k = ceil(N * log(z / near) / log(far / near)), clamped to
 //         [0, N-1]. Slice s holds the linear depths z in (z_s, z_{s+1}], z_s = near * (far/near)^(s/N),
@@ -61,7 +62,12 @@ namespace ml {
 // Voxel space
 
 constexpr uint32_t kCpvsMinResolution = 64;
-constexpr uint32_t kCpvsMaxResolution = 16384;
+// The format's limit: N + 1 thresholds and the (2^g)^3 grid stay small, voxel coordinates fit an int, and
+// every offset is a uint32 word index (writeLayout refuses a DAG past 2^32 - 1 words). A whole-map bake
+// holds the dual depth map (8 B a texel: 2 GiB at 16384^2), so only tiled bakes go past kCpvsWholeMapMax.
+// Readers built before N could exceed 16384 refuse such records (validateCpvs: "resolution invalid").
+constexpr uint32_t kCpvsMaxResolution = 262144;
+constexpr uint32_t kCpvsWholeMapMax = 16384;
 
 enum class CpvsSlicing : uint32_t {
     Log = 0,    // eq. 1 (spot and point lights)
@@ -76,7 +82,7 @@ struct CpvsSpace {
     std::vector<uint32_t> thresholds; // N + 1 quantised depths T[s], non-decreasing
 };
 
-// Fails unless N is a power of two in [64, 16384] and 0 < near < far (finite).
+// Fails unless N is a power of two in [64, 262144] and 0 < near < far (finite).
 Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane,
                                 CpvsSlicing slicing = CpvsSlicing::Log);
 
@@ -110,11 +116,11 @@ struct CpvsPrecompute {
     // shadowed. Before the first step all cells are lit. Masks only grow; starts strictly increase, so
     // they are exactly the distinct resolved transition slices t < N of the tile's texels.
     std::vector<uint32_t> stepFirst;
-    std::vector<uint16_t> stepStart;
+    std::vector<uint32_t> stepStart; // 32 bits: slice N = 65536 and beyond must fit (16 bits would wrap)
     std::vector<uint64_t> stepMask;
     // Min-max hierarchy of the resolved transition slice t (column lit below t, shadowed from t on; t = N
     // if never shadowed). Level k covers (8 << k)^2 texels, (tiles >> k)^2 entries.
-    std::vector<std::vector<uint16_t>> minT, maxT;
+    std::vector<std::vector<uint32_t>> minT, maxT;
 };
 
 // Resolves undefined voxels by the paper's rules and builds the hierarchy up to footprints of topSize
@@ -256,6 +262,13 @@ struct CpvsVerifyReport {
 // Every voxel of the baked data against cpvsReferenceColumn of the maps, walking each texel's column
 // through the DAG (homogeneous runs are checked as runs). data must have passed validateCpvs.
 CpvsVerifyReport verifyCpvs(const uint32_t* data, const DualDepthMap& map);
+// The same in pieces, for maps never held whole (a tiled verify): the voxel space the header describes;
+// the stored thresholds that differ from it (each a mismatch); and the columns of a w x h block of texels
+// at (x0, y0) (enter / exit row-major, w words a row), added to `report`.
+Result<CpvsSpace> cpvsSpaceOf(const uint32_t* data);
+uint64_t cpvsThresholdMismatches(const uint32_t* data, const CpvsSpace& space);
+void verifyCpvsBlock(const uint32_t* data, const CpvsSpace& space, uint32_t x0, uint32_t y0, uint32_t w,
+                     uint32_t h, const uint32_t* enter, const uint32_t* exit, CpvsVerifyReport& report);
 
 // A plain sparse voxel octree (no sharing), built by brute force from a voxel function, for small N.
 // Child refs: node index into the next finer level (levels[k] holds (8 << k)^3 nodes), or a leaf index.

@@ -353,6 +353,9 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params) {
     auto t0 = Clock::now();
     auto space = makeCpvsSpace(params.resolution, params.nearPlane, params.farPlane, params.slicing);
     if (!space) return fail(space.error());
+    if (space->resolution > kCpvsWholeMapMax) // the map alone is 8 B a texel: larger maps bake in tiles
+        return fail("cpvs: a whole-map bake stops at " + std::to_string(kCpvsWholeMapMax) + "^2, not " +
+                    std::to_string(space->resolution) + "^2 (bakeCpvsTiled builds larger maps)");
     const uint32_t gridLog2 = std::min(params.gridLog2, space->log2Resolution - 3);
     auto pre = cpvsPrecompute(*space, map, 1u << (space->log2Resolution - gridLog2));
     if (!pre) return fail(pre.error());
@@ -394,7 +397,9 @@ Result<CpvsBake> bakeCpvs(const DualDepthMap& map, const CpvsParams& params) {
     }
     report(0.9f);
     auto t3 = Clock::now();
-    bake.data = cpvs_detail::writeLayout(*space, dag);
+    auto words = cpvs_detail::writeLayout(*space, dag);
+    if (!words) return fail(words.error());
+    bake.data = std::move(words.value());
     auto t4 = Clock::now();
     st.leavesFinal = dag.leaves.size();
     for (const auto& l : dag.levels) {

@@ -28,6 +28,18 @@ struct CellBlock {
     std::vector<uint32_t> grid;
 };
 
+// The precompute (cpvsPrecompute) in pieces, so that a map is never needed whole: precomputeBlock appends
+// the 8x8 tiles of a width x height block (multiples of 8; texel (x, y) at enter[y * stride + x]) in
+// row-major tile order to stepFirst / stepStart / stepMask / minT[0] / maxT[0]; precomputeEmpty appends
+// `tiles` tiles of empty texels (no step: lit everywhere) without reading any; precomputeAppend appends
+// another such partial precompute; precomputeFinish adds stepFirst's end and the hierarchy up to topSize.
+// pre.tiles must be the per-axis tile count of the whole block appended (row-major), minT/maxT one level.
+void precomputeBlock(const CpvsSpace& space, const uint32_t* enter, const uint32_t* exit, uint32_t width,
+                     uint32_t height, size_t stride, CpvsPrecompute& pre);
+void precomputeEmpty(const CpvsSpace& space, size_t tiles, CpvsPrecompute& pre);
+void precomputeAppend(CpvsPrecompute& pre, const CpvsPrecompute& part);
+void precomputeFinish(CpvsPrecompute& pre, uint32_t topSize);
+
 // Section 3.2 insertion. progress(f) with f in [0, 1] after each grid layer.
 Dag insert(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2,
            const std::function<void(float)>& progress);
@@ -52,6 +64,16 @@ struct RegionStats {
 Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2,
                  RegionStats& stats, const std::function<void(float)>& progress);
 
+// The same merge over sub-DAGs from any source: source(block) returns the block's inserted, uncompressed
+// sub-DAG (the block's grid layout, log2Resolution - gridLog2 - 2 levels), as insertBlock does; each is
+// compressed bottom-up and merged in the same binary-counter order. The result depends only on the voxels,
+// not on where the sub-DAGs came from (the levels are the sorted lists of distinct subtrees). Fails with
+// the source's error, or once the live sub-DAGs pass maxLiveBytes (0: no bound).
+using RegionSource = std::function<Result<Dag>(const CellBlock& block)>;
+Result<Dag> mergeRegions(uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2, RegionStats& stats,
+                         const std::function<void(float)>& progress, const RegionSource& source,
+                         uint64_t maxLiveBytes);
+
 // Section 4.1: sort and merge every level from the leaves up; equality on full node content.
 void compressBottomUp(Dag& dag);
 
@@ -61,7 +83,8 @@ void compressBottomUp(Dag& dag);
 // hash (tests force collisions with it).
 uint64_t compressTopDown(Dag& dag, uint32_t hashBits);
 
-std::vector<uint32_t> writeLayout(const CpvsSpace& space, const Dag& dag);
+// Fails when the words would pass 2^32 - 1 (offsets are uint32 word indices).
+Result<std::vector<uint32_t>> writeLayout(const CpvsSpace& space, const Dag& dag);
 
 inline bool operator<(const Node& a, const Node& b) {
     if (a.childMask != b.childMask) return a.childMask < b.childMask;

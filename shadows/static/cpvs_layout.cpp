@@ -22,20 +22,27 @@
 namespace ml {
 namespace cpvs_detail {
 
-std::vector<uint32_t> writeLayout(const CpvsSpace& space, const Dag& dag) {
+Result<std::vector<uint32_t>> writeLayout(const CpvsSpace& space, const Dag& dag) {
     const uint32_t n = space.resolution, g = 1u << dag.gridLog2, top = uint32_t(dag.levels.size()) - 1;
     // word offset of every node, levels top first
     std::vector<std::vector<uint32_t>> offset(dag.levels.size());
     const uint32_t thresholds = kCpvsHeaderWords, grid = thresholds + n + 1, nodes = grid + g * g * g;
-    uint32_t at = nodes;
+    // Every pointer and region offset is a uint32 word index: counted in 64 bits, refused past 2^32 - 1
+    // words (16 GiB) rather than wrapped.
+    uint64_t at = nodes;
     for (uint32_t k = top + 1; k-- > 0;) {
         offset[k].resize(dag.levels[k].size());
         for (size_t i = 0; i < dag.levels[k].size(); ++i) {
-            offset[k][i] = at;
+            offset[k][i] = uint32_t(at);
             at += 1 + uint32_t(std::popcount(dag.levels[k][i].childMask));
+            if (at > 0xFFFFFFFFull) break;
         }
     }
-    const uint32_t leaves = at, total = leaves + 2 * uint32_t(dag.leaves.size());
+    const uint64_t total64 = at + 2 * uint64_t(dag.leaves.size());
+    if (total64 > 0xFFFFFFFFull)
+        return fail("cpvs: the layout needs " + std::to_string(total64) +
+                    " words, past the 2^32 - 1 a uint32 word offset addresses");
+    const uint32_t leaves = uint32_t(at), total = uint32_t(total64);
     std::vector<uint32_t> w(total, 0u);
     w[kCpvsHMagic] = kCpvsMagic;
     w[kCpvsHVersion] = space.slicing == CpvsSlicing::Linear ? kCpvsVersionLinear : kCpvsVersion;
@@ -87,14 +94,16 @@ namespace {
 struct Validator {
     const uint32_t* d;
     uint64_t nodes, nodesEnd, leaves, leavesEnd;
-    std::vector<uint16_t> seen; // per node word: bit sizeLog2 set once validated as a node of that size
+    // per node word: bit sizeLog2 - 3 set once validated as a node of that size (nodes are 8^3 .. 2^18 per
+    // side: 16 bits hold every size a resolution up to kCpvsMaxResolution has)
+    std::vector<uint16_t> seen;
     std::string error;
 
     bool node(uint64_t p, uint32_t sizeLog2) {
         if (p < nodes || p >= nodesEnd)
             return bad("node offset " + std::to_string(p) + " outside the node region");
         uint16_t& mark = seen[p - nodes];
-        if ((mark >> sizeLog2) & 1u) return true;
+        if ((mark >> (sizeLog2 - 3)) & 1u) return true;
         uint32_t h = d[p];
         if (h >> 16) return bad("node at " + std::to_string(p) + " has header bits above 16 set");
         if ((h & 0xFFu) & (h >> 8))
@@ -112,7 +121,7 @@ struct Validator {
                 return false;
             }
         }
-        mark |= uint16_t(1u << sizeLog2);
+        mark |= uint16_t(1u << (sizeLog2 - 3));
         return true;
     }
     bool bad(std::string m) {

@@ -1,6 +1,7 @@
 // CPVS voxel space, the direct voxelisation of the dual depth maps, and the precompute of the paper's
 // section 3.4 / 6.1 (per-tile visibility masks with re-use depths, min-max hierarchy). See cpvs.h.
 #include "shadows/static/cpvs.h"
+#include "shadows/static/cpvs_internal.h"
 
 #include <algorithm>
 #include <bit>
@@ -21,8 +22,8 @@ inline uint32_t sliceHi(const CpvsSpace& space, uint32_t s) {
 Result<CpvsSpace> makeCpvsSpace(uint32_t resolution, float nearPlane, float farPlane, CpvsSlicing slicing) {
     if (resolution < kCpvsMinResolution || resolution > kCpvsMaxResolution ||
         !std::has_single_bit(resolution))
-        return fail("cpvs: resolution " + std::to_string(resolution) +
-                    " is not a power of two in [64, 16384]");
+        return fail("cpvs: resolution " + std::to_string(resolution) + " is not a power of two in [64, " +
+                    std::to_string(kCpvsMaxResolution) + "]");
     if (!(nearPlane > 0.0f) || !(farPlane > nearPlane) || !std::isfinite(farPlane))
         return fail("cpvs: need 0 < near < far, got near " + std::to_string(nearPlane) + " far " +
                     std::to_string(farPlane));
@@ -89,33 +90,20 @@ CpvsColumn cpvsReferenceColumn(const CpvsSpace& space, uint32_t enter, uint32_t 
     return c;
 }
 
-Result<CpvsPrecompute> cpvsPrecompute(const CpvsSpace& space, const DualDepthMap& map, uint32_t topSize) {
-    const uint32_t n = space.resolution;
-    if (map.resolution != n || map.enter.size() != size_t(n) * n || map.exit.size() != size_t(n) * n)
-        return fail("cpvs: dual depth map is " + std::to_string(map.resolution) + "^2 with " +
-                    std::to_string(map.enter.size()) + " enter / " + std::to_string(map.exit.size()) +
-                    " exit texels, expected " + std::to_string(n) + "^2");
-    if (topSize < 8 || topSize > n || !std::has_single_bit(topSize))
-        return fail("cpvs: hierarchy top size " + std::to_string(topSize) + " invalid");
-    CpvsPrecompute pre;
-    pre.resolution = n;
-    pre.tiles = n / 8;
-    const uint32_t tiles = pre.tiles;
-    pre.stepFirst.resize(size_t(tiles) * tiles + 1);
-    pre.minT.emplace_back(size_t(tiles) * tiles);
-    pre.maxT.emplace_back(size_t(tiles) * tiles);
-    pre.stepStart.reserve(size_t(tiles) * tiles);
-    pre.stepMask.reserve(size_t(tiles) * tiles);
+namespace cpvs_detail {
 
+void precomputeBlock(const CpvsSpace& space, const uint32_t* enter, const uint32_t* exit, uint32_t width,
+                     uint32_t height, size_t stride, CpvsPrecompute& pre) {
+    const uint32_t n = space.resolution;
     uint32_t a[64], b[64];
-    for (uint32_t ty = 0; ty < tiles; ++ty) {
-        for (uint32_t tx = 0; tx < tiles; ++tx) {
-            const size_t tile = size_t(ty) * tiles + tx;
-            pre.stepFirst[tile] = uint32_t(pre.stepStart.size());
+    for (uint32_t ty = 0; ty < height / 8; ++ty) {
+        for (uint32_t tx = 0; tx < width / 8; ++tx) {
+            pre.stepFirst.push_back(uint32_t(pre.stepStart.size()));
+            const size_t first = pre.stepStart.size();
             for (uint32_t ly = 0; ly < 8; ++ly) {
-                size_t row = size_t(ty * 8 + ly) * n + tx * 8;
+                size_t row = size_t(ty * 8 + ly) * stride + tx * 8;
                 for (uint32_t lx = 0; lx < 8; ++lx) {
-                    CpvsColumn c = cpvsReferenceColumn(space, map.enter[row + lx], map.exit[row + lx]);
+                    CpvsColumn c = cpvsReferenceColumn(space, enter[row + lx], exit[row + lx]);
                     a[ly * 8 + lx] = c.litEnd;
                     b[ly * 8 + lx] = c.shadowBegin;
                 }
@@ -134,18 +122,38 @@ Result<CpvsPrecompute> cpvsPrecompute(const CpvsSpace& space, const DualDepthMap
                 uint64_t m = cur;
                 for (uint32_t i = 0; i < 64; ++i)
                     if (a[i] <= s) m |= uint64_t(1) << i;
-                pre.stepStart.push_back(uint16_t(s));
+                pre.stepStart.push_back(s);
                 pre.stepMask.push_back(m);
                 cur = m;
                 lastStart = s;
                 if (cur == ~uint64_t(0)) break;
             }
-            bool any = pre.stepStart.size() > pre.stepFirst[tile];
-            pre.minT[0][tile] = uint16_t(any ? pre.stepStart[pre.stepFirst[tile]] : n);
-            pre.maxT[0][tile] = uint16_t(cur == ~uint64_t(0) ? lastStart : n);
+            bool any = pre.stepStart.size() > first;
+            pre.minT[0].push_back(any ? pre.stepStart[first] : n);
+            pre.maxT[0].push_back(cur == ~uint64_t(0) ? lastStart : n);
         }
     }
-    pre.stepFirst.back() = uint32_t(pre.stepStart.size());
+}
+
+void precomputeEmpty(const CpvsSpace& space, size_t tiles, CpvsPrecompute& pre) {
+    // an empty texel is lit in every slice (enter = kDepthEmpty is past every threshold): no step
+    pre.stepFirst.insert(pre.stepFirst.end(), tiles, uint32_t(pre.stepStart.size()));
+    pre.minT[0].insert(pre.minT[0].end(), tiles, space.resolution);
+    pre.maxT[0].insert(pre.maxT[0].end(), tiles, space.resolution);
+}
+
+void precomputeAppend(CpvsPrecompute& pre, const CpvsPrecompute& part) {
+    const uint32_t base = uint32_t(pre.stepStart.size());
+    for (uint32_t f : part.stepFirst) pre.stepFirst.push_back(base + f);
+    pre.stepStart.insert(pre.stepStart.end(), part.stepStart.begin(), part.stepStart.end());
+    pre.stepMask.insert(pre.stepMask.end(), part.stepMask.begin(), part.stepMask.end());
+    pre.minT[0].insert(pre.minT[0].end(), part.minT[0].begin(), part.minT[0].end());
+    pre.maxT[0].insert(pre.maxT[0].end(), part.maxT[0].begin(), part.maxT[0].end());
+}
+
+void precomputeFinish(CpvsPrecompute& pre, uint32_t topSize) {
+    const uint32_t tiles = pre.tiles;
+    pre.stepFirst.push_back(uint32_t(pre.stepStart.size()));
     for (uint32_t size = 16, k = 1; size <= topSize; size *= 2, ++k) {
         uint32_t w = tiles >> k, pw = tiles >> (k - 1);
         pre.minT.emplace_back(size_t(w) * w);
@@ -158,6 +166,31 @@ Result<CpvsPrecompute> cpvsPrecompute(const CpvsSpace& space, const DualDepthMap
                 pre.maxT[k][size_t(y) * w + x] = std::max({pmax[p0], pmax[p0 + 1], pmax[p1], pmax[p1 + 1]});
             }
     }
+}
+
+} // namespace cpvs_detail
+
+Result<CpvsPrecompute> cpvsPrecompute(const CpvsSpace& space, const DualDepthMap& map, uint32_t topSize) {
+    const uint32_t n = space.resolution;
+    if (map.resolution != n || map.enter.size() != size_t(n) * n || map.exit.size() != size_t(n) * n)
+        return fail("cpvs: dual depth map is " + std::to_string(map.resolution) + "^2 with " +
+                    std::to_string(map.enter.size()) + " enter / " + std::to_string(map.exit.size()) +
+                    " exit texels, expected " + std::to_string(n) + "^2");
+    if (topSize < 8 || topSize > n || !std::has_single_bit(topSize))
+        return fail("cpvs: hierarchy top size " + std::to_string(topSize) + " invalid");
+    CpvsPrecompute pre;
+    pre.resolution = n;
+    pre.tiles = n / 8;
+    const size_t tiles = size_t(pre.tiles) * pre.tiles;
+    pre.stepFirst.reserve(tiles + 1);
+    pre.minT.emplace_back();
+    pre.maxT.emplace_back();
+    pre.minT[0].reserve(tiles);
+    pre.maxT[0].reserve(tiles);
+    pre.stepStart.reserve(tiles);
+    pre.stepMask.reserve(tiles);
+    cpvs_detail::precomputeBlock(space, map.enter.data(), map.exit.data(), n, n, n, pre);
+    cpvs_detail::precomputeFinish(pre, topSize);
     return pre;
 }
 

@@ -139,8 +139,9 @@ uint32_t deinterleave(uint32_t v) {
 
 } // namespace
 
-Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2,
-                 RegionStats& st, const std::function<void(float)>& progress) {
+Result<Dag> mergeRegions(uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2, RegionStats& st,
+                         const std::function<void(float)>& progress, const RegionSource& source,
+                         uint64_t maxLiveBytes) {
     using Clock = std::chrono::steady_clock;
     auto ms = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration<double, std::milli>(b - a).count();
@@ -163,13 +164,24 @@ Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gr
         const uint64_t other = stackBytes();
         stack.push_back(mergeSubDags(std::move(a), std::move(b), other, st.liveBytesPeak));
     };
+    auto overBound = [&]() -> Result<void> {
+        if (maxLiveBytes && st.liveBytesPeak > maxLiveBytes)
+            return fail("cpvs: the DAG under construction passed " + std::to_string(st.liveBytesPeak >> 20) +
+                        " MiB, over its bound of " + std::to_string(maxLiveBytes >> 20) + " MiB");
+        return {};
+    };
     for (uint32_t i = 0; i < count; ++i) {
         CellBlock block;
         block.x0 = deinterleave(i) * w;
         block.y0 = deinterleave(i >> 1) * w;
         block.w = w;
         auto t0 = Clock::now();
-        Dag d = insertBlock(pre, log2Resolution, gridLog2, block);
+        auto inserted = source(block);
+        if (!inserted) return fail(inserted.error());
+        Dag& d = inserted.value();
+        if (d.grid.size() != size_t(w) * w * (size_t(1) << gridLog2) ||
+            d.levels.size() != log2Resolution - gridLog2 - 2)
+            return fail("cpvs: region " + std::to_string(i) + " has a grid or levels of the wrong size");
         auto t1 = Clock::now();
         uint64_t nodes = 0;
         for (const auto& l : d.levels) nodes += l.size();
@@ -193,14 +205,16 @@ Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gr
         while (stack.size() >= 2 && stack[stack.size() - 1].regions == stack[stack.size() - 2].regions)
             mergeTop();
         st.mergeMs += ms(t3, Clock::now());
+        if (auto b = overBound(); !b) return fail(b.error());
         if (progress) progress(float(i + 1) / float(count));
     }
     auto t4 = Clock::now();
     while (stack.size() >= 2) mergeTop();
     st.mergeMs += ms(t4, Clock::now());
+    if (auto b = overBound(); !b) return fail(b.error());
 
     Dag dag;
-    dag.resolution = pre.resolution;
+    dag.resolution = 1u << log2Resolution;
     dag.log2Resolution = log2Resolution;
     dag.gridLog2 = gridLog2;
     dag.cellLog2 = log2Resolution - gridLog2;
@@ -216,6 +230,17 @@ Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gr
     dag.levels = std::move(all.levels);
     dag.leaves = std::move(all.leaves);
     return dag;
+}
+
+Dag buildRegions(const CpvsPrecompute& pre, uint32_t log2Resolution, uint32_t gridLog2, uint32_t regionLog2,
+                 RegionStats& st, const std::function<void(float)>& progress) {
+    auto dag = mergeRegions(
+        log2Resolution, gridLog2, regionLog2, st, progress,
+        [&](const CellBlock& block) -> Result<Dag> {
+            return insertBlock(pre, log2Resolution, gridLog2, block);
+        },
+        0);
+    return std::move(dag.value()); // no bound and a source that cannot fail: always a value
 }
 
 } // namespace ml::cpvs_detail
