@@ -227,6 +227,30 @@ int64_t ceilDivPositive(int64_t a, int64_t b) { // a > 0, b > 0
     return (a + b - 1) / b;
 }
 
+// A projected triangle's edge functions, tie rule and covered columns within [x0, x0 + w): edge i is
+// opposite vertex i, from v[i+1] to v[i+2], E = A (px - ax) + B (py - ay); a centre on it is covered
+// when bias_i is 0 (raster_dual.h step 3). False when no column is covered.
+struct Edges {
+    int64_t A[3], B[3], bias[3];
+    int64_t c0, c1;
+    double invArea;
+};
+bool triangleEdges(const int64_t x[3], const int64_t y[3], uint32_t x0, uint32_t w, Edges& out) {
+    const int64_t xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
+    out.c0 = std::max<int64_t>(floorDiv(xmin - kSub / 2 + kSub - 1, kSub), x0);
+    out.c1 = std::min<int64_t>(floorDiv(xmax - kSub / 2, kSub), int64_t(x0) + w - 1);
+    if (out.c0 > out.c1) return false;
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        const int64_t dx = x[b] - x[a], dy = y[b] - y[a];
+        out.A[i] = -dy, out.B[i] = dx;
+        out.bias[i] = dy < 0 || (dy == 0 && dx > 0) ? 0 : 1;
+    }
+    const int64_t area = out.B[0] * (y[0] - y[1]) + out.A[0] * (x[0] - x[1]);
+    out.invArea = 1.0 / double(area);
+    return true;
+}
+
 } // namespace
 
 void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
@@ -240,21 +264,10 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
     for (const Tri& tr : tris_) {
         if (tr.yMin >= int32_t(y1)) break;
         if (tr.yMax < int32_t(y0)) continue;
-        int64_t xmin = std::min({tr.x[0], tr.x[1], tr.x[2]}), xmax = std::max({tr.x[0], tr.x[1], tr.x[2]});
-        int64_t c0 = floorDiv(xmin - kSub / 2 + kSub - 1, kSub), c1 = floorDiv(xmax - kSub / 2, kSub);
-        c0 = std::max<int64_t>(c0, x0), c1 = std::min<int64_t>(c1, int64_t(x0) + w - 1);
-        if (c0 > c1) continue;
-        // The edge functions and the tie rule of renderRectReference, term for term.
-        int64_t A[3], B[3], bias[3];
-        for (int i = 0; i < 3; ++i) {
-            int a = (i + 1) % 3, b = (i + 2) % 3;
-            int64_t dx = tr.x[b] - tr.x[a], dy = tr.y[b] - tr.y[a];
-            A[i] = -dy, B[i] = dx;
-            bool owns = dy < 0 || (dy == 0 && dx > 0);
-            bias[i] = owns ? 0 : 1;
-        }
-        const int64_t area = B[0] * (tr.y[0] - tr.y[1]) + A[0] * (tr.x[0] - tr.x[1]);
-        const double invArea = 1.0 / double(area);
+        Edges ed;
+        if (!triangleEdges(tr.x, tr.y, x0, w, ed)) continue;
+        const int64_t *A = ed.A, *B = ed.B, *bias = ed.bias, c0 = ed.c0, c1 = ed.c1;
+        const double invArea = ed.invArea;
         int32_t ys = std::max(tr.yMin, int32_t(y0)), ye = std::min(tr.yMax, int32_t(y1) - 1);
         for (int32_t y = ys; y <= ye; ++y) {
             int64_t py = int64_t(y) * kSub + kSub / 2, px = c0 * kSub + kSub / 2;
@@ -357,21 +370,10 @@ void DualRasterizer::renderRectReference(uint32_t x0, uint32_t y0, uint32_t w, u
     for (const Tri& tr : tris_) {
         if (tr.yMin >= int32_t(y1)) break;
         if (tr.yMax < int32_t(y0)) continue;
-        int64_t xmin = std::min({tr.x[0], tr.x[1], tr.x[2]}), xmax = std::max({tr.x[0], tr.x[1], tr.x[2]});
-        int64_t c0 = floorDiv(xmin - kSub / 2 + kSub - 1, kSub), c1 = floorDiv(xmax - kSub / 2, kSub);
-        c0 = std::max<int64_t>(c0, x0), c1 = std::min<int64_t>(c1, int64_t(x0) + w - 1);
-        if (c0 > c1) continue;
-        // Edge i is opposite vertex i: from v[i+1] to v[i+2]. E = A (px - ax) + B (py - ay).
-        int64_t A[3], B[3], bias[3];
-        for (int i = 0; i < 3; ++i) {
-            int a = (i + 1) % 3, b = (i + 2) % 3;
-            int64_t dx = tr.x[b] - tr.x[a], dy = tr.y[b] - tr.y[a];
-            A[i] = -dy, B[i] = dx;
-            bool owns = dy < 0 || (dy == 0 && dx > 0);
-            bias[i] = owns ? 0 : 1;
-        }
-        const int64_t area = B[0] * (tr.y[0] - tr.y[1]) + A[0] * (tr.x[0] - tr.x[1]);
-        const double invArea = 1.0 / double(area);
+        Edges ed;
+        if (!triangleEdges(tr.x, tr.y, x0, w, ed)) continue;
+        const int64_t *A = ed.A, *B = ed.B, *bias = ed.bias, c0 = ed.c0, c1 = ed.c1;
+        const double invArea = ed.invArea;
         int32_t ys = std::max(tr.yMin, int32_t(y0)), ye = std::min(tr.yMax, int32_t(y1) - 1);
         for (int32_t y = ys; y <= ye; ++y) {
             int64_t py = int64_t(y) * kSub + kSub / 2, px = c0 * kSub + kSub / 2;
