@@ -45,8 +45,8 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
                      mh, mmh, dagmh and cpvs up to 262144: past 16384 they bake in tiles (see --tile)
   --tile T           mh, mmh, dagmh, cpvs: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
                      default 512 past --res 16384, whole maps below it). The map is never held whole:
-                     memory is a tile per hardware thread (about 30 B a tile texel plus the
-                     rasteriser's hits) and the output. Tiles render on the CPU rasteriser, so with
+                     memory is a tile per hardware thread (about 30 B a tile texel and 68 B of
+                     rasteriser hit slots) and the output. Tiles render on the CPU rasteriser, so with
                      --renderer gpu only directional lights may be selected; the words equal a
                      whole-map bake's. The last line on stderr gives the measured peak memory.
   --lights SEL       scene lights to bake: all, N, A-B, or a comma list (e.g. 0-7,12)

@@ -24,7 +24,7 @@ double secondsSince(Clock::time_point t0) {
 
 uint64_t tiledWorkingBytes(uint32_t tile) {
     const uint64_t threads = std::max(1u, std::thread::hardware_concurrency());
-    return threads * uint64_t(tile) * tile * (30 + 16);
+    return threads * uint64_t(tile) * tile * (30 + 68); // the tile, and the rasteriser's hit slots
 }
 
 uint64_t peakResidentBytes() {

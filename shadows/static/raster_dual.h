@@ -82,7 +82,7 @@ class DualRasterizer {
     // Renders the w x h block at texel (x0, y0) (inside the map, w * h < 2^30) into enter/exit, w words a
     // row: the same texels renderRows gives. Safe to call from several threads at once.
     // Hits go to 4 slots a texel (an overflow list past that) and each row walks only its covered span;
-    // the thread's scratch (36 B a texel of the largest block rendered) is kept for its next call.
+    // the thread's scratch (68 B a texel of the largest block rendered) is kept for its next call.
     void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit) const;
     // renderRect as one hit list sorted by texel, every column of a triangle's box tested: the plain
     // statement of the rules above, which the tests hold renderRect to texel for texel.
