@@ -54,7 +54,7 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
   --bake A[,B...]  instead of baking: the stored records of one light (the first file's first record's
                    light, e.g. the moon at 4096^2 and at 65536^2), one row per file and PCF radius
-  --by-level       MH and MMH also filtered by level (the coarsest hierarchy level whose texel is at
+  --by-level       MH, MMH and DAG-MH also filtered by level (the coarsest hierarchy level whose texel is at
                    most a quarter of the pixel: Module::setShadowFilter's byLevel), one more row each
   --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
                    (the rays keep the true light): a deliberately unstable map (default 0)
@@ -99,8 +99,12 @@ glm::vec3 jitterDirection(uint32_t f, uint32_t light) {
 struct Config {
     StaticMethod method;
     uint32_t res, pcf;
-    bool byLevel = false; // filtering by level (MH, MMH; setShadowFilter)
+    bool byLevel = false; // filtering by level (MH, MMH, DAG-MH; setShadowFilter)
 };
+// The methods whose lookups filter by level (static_visibility.glsl): the MH family's hierarchies.
+bool filtersByLevel(StaticMethod m) {
+    return m == StaticMethod::MH || m == StaticMethod::MMH || m == StaticMethod::DAGMH;
+}
 
 struct Options {
     std::vector<StaticMethod> methods;
@@ -421,7 +425,7 @@ int runBaked(const Options& o, const Scene& scene, const Path& path, const RayRe
         for (uint32_t r : o.pcf)
             for (bool level : {false, true}) {
                 const StaticMethod m = b->records[k].method;
-                if (level && !(o.byLevel && (m == StaticMethod::MH || m == StaticMethod::MMH))) continue;
+                if (level && !(o.byLevel && filtersByLevel(m))) continue;
                 configs.push_back({m, b->records[k].resolution, r, level});
                 fileOf.push_back(k);
             }
@@ -476,8 +480,7 @@ int runBenchFlicker(int argc, char** argv) {
         for (StaticMethod m : o.methods)
             for (uint32_t r : o.pcf) {
                 configs.push_back({m, res, r, false});
-                if (o.byLevel && (m == StaticMethod::MH || m == StaticMethod::MMH))
-                    configs.push_back({m, res, r, true});
+                if (o.byLevel && filtersByLevel(m)) configs.push_back({m, res, r, true});
             }
     std::fprintf(stderr, "bench flicker: %s, %zu lights, %u frames %ux%u, %zu configurations%s\n",
                  scene->name.c_str(), lights.size(), o.view.frames, o.view.width, o.view.height,

@@ -8,6 +8,8 @@
 // Header word indices and record sizes (dagfmt).
 const uint ML_DAG_LEVELS = 3u;
 const uint ML_DAG_SKIP_LEVEL = 4u;
+const uint ML_DAG_ROOT_KIND = 5u;
+const uint ML_DAG_ROOT_PTR = 6u;
 const uint ML_DAG_SKIP_OFFSET = 9u;
 const uint ML_DAG_NODE_OFFSET = 10u;
 const uint ML_DAG_TREELET_OFFSET = 12u;
@@ -159,11 +161,12 @@ DagmhState dagmhDescend(DagmhHeader h, uint x, uint y, DagmhState st, uint stop)
 }
 
 // The treelet step of the lookup, from the treelet's 3 words (read once by the caller: then the level
-// loop tests bits without further reads, and the taps of a PCF quad share them).
-DagmhState dagmhTreelet(DagmhHeader h, uint x, uint y, DagmhState st, uint t0, uint t1, uint t2) {
+// loop tests bits without further reads, and the taps of a PCF quad share them). Positions deeper than
+// `limit` are not looked at (h.L for the map, less for a level above it: dagmhLookupLevel).
+DagmhState dagmhTreelet(DagmhHeader h, uint x, uint y, DagmhState st, uint t0, uint t1, uint t2, uint limit) {
     for (uint i = 0u; i < 4u; ++i) {
         uint lvl = 3u - i;
-        if (st.depth + lvl > h.L) continue;
+        if (st.depth + lvl > limit) continue;
         uint idx = lvl;
         for (uint j = 1u; j <= lvl; ++j) {
             uint s = h.L - st.depth - j;
@@ -188,7 +191,7 @@ DagmhState dagmhLocate(DagmhHeader h, uint x, uint y, DagmhState st) {
     st = dagmhDescend(h, x, y, st, h.L + 1u);
     if (st.kind == 2u) {
         uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
-        st = dagmhTreelet(h, x, y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u]);
+        st = dagmhTreelet(h, x, y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u], h.L);
     }
     return st;
 }
@@ -208,6 +211,28 @@ uint dagmhLookupH(DagmhHeader h, uint x, uint y) {
 
 uint dagmhLookup(uint base, uint x, uint y) {
     return dagmhLookupH(dagmhHeader(base), x, y);
+}
+
+// The map at the level `steps` below the root (twin of dagmhLookupLevel in dagmh.h, which says why it
+// starts at the root above the skip level and does not use the value bounds), (x, y) a texel of that level.
+uint dagmhLookupLevel(uint base, uint x, uint y, uint steps) {
+    DagmhHeader h = dagmhHeader(base);
+    uint X = x << (h.L - steps), Y = y << (h.L - steps);
+    DagmhState st;
+    st.kind = ML_STATIC_DATA[base + ML_DAG_ROOT_KIND];
+    st.depth = 0u, st.dlast = 0u, st.vcount = 0u, st.vlast = 0u;
+    st.ptr = ML_STATIC_DATA[base + ML_DAG_ROOT_PTR];
+    if (steps >= h.S) st = dagmhStart(h, X, Y);
+    st = dagmhDescend(h, X, Y, st, steps);
+    if (st.kind == 1u && st.depth == steps && (ML_STATIC_DATA[h.nodes + st.ptr] & 256u) != 0u) {
+        st.vlast = st.vcount;
+        st.dlast = steps;
+    }
+    if (st.kind == 2u) {
+        uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
+        st = dagmhTreelet(h, X, Y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u], steps);
+    }
+    return dagmhLocatedValue(h, X, Y, st);
 }
 
 // The bounds test (twin of dagmhBoundsClass in dagmh.h): 1 when every texel of [x0, x1] x [y0, y1] is lit

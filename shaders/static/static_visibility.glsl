@@ -12,7 +12,7 @@
 // angles where a constant depth bias fails, and with the kernel, whose outer taps would otherwise see
 // the receiver's own surface) and then compared with a further half-texel depth bias. PCF averages the
 // binary tests of (2r+1)^2 texels around it.
-// Filtering by level (MH and MMH records with shadowRecordByLevel, off by default): footprint2 is the
+// Filtering by level (MH, MMH and DAG-MH records with shadowRecordByLevel, off by default): footprint2 is the
 // receiver's pixel footprint squared (shadowFootprint2: FrameConstants.cameraPosition.w times the squared
 // distance); shadowLevelStep picks the coarsest level whose texel is at most a quarter of it
 // (ML_LEVEL_TEXELS_PER_PIXEL), by exact doubling so the CPU twin picks the same one, and the taps, normal
@@ -46,10 +46,12 @@ uint staticDepthAt(uint method, uint base, uint x, uint y) {
     return dagmhLookup(base, x, y);
 }
 
-// The depth of texel (x, y) of the level `step` above the finest (MH and MMH only; step 0 is the map).
+// The depth of texel (x, y) of the level `step` above the finest (MH, MMH, DAG-MH; step 0 is the map).
+// The levels L are word 3 of all three headers.
 uint staticDepthAtLevel(uint method, uint base, uint x, uint y, uint step) {
     if (step == 0u) return staticDepthAt(method, base, x, y);
     uint steps = ML_STATIC_DATA[base + ML_MH_LEVELS] - step;
+    if (method == ML_STATIC_DAGMH) return dagmhLookupLevel(base, x, y, steps);
     return method == ML_STATIC_MH ? mhLookupLevel(base, x, y, steps) : mmhLookupLevel(base, x, y, steps);
 }
 
@@ -84,7 +86,7 @@ uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
     for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {
             DagmhState st;
-            if (sharedTreelet) st = dagmhTreelet(dh, uint(x), uint(y), prefix, t0, t1, t2);
+            if (sharedTreelet) st = dagmhTreelet(dh, uint(x), uint(y), prefix, t0, t1, t2, dh.L);
             else st = dagmhLocate(dh, uint(x), uint(y), usePrefix ? prefix : dagmhStart(dh, uint(x), uint(y)));
             if (st.vlast != memoIndex) {
                 memoIndex = st.vlast;
@@ -124,10 +126,10 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
-    // Filtering by level (MH, MMH): the taps, the normal offset and the depth bias are those of the level
-    // shadowLevelStep picks, so a distant receiver does not walk the whole hierarchy.
+    // Filtering by level (MH, MMH, DAG-MH): the taps, the normal offset and the depth bias are those of the
+    // level shadowLevelStep picks, so a distant receiver does not walk the whole hierarchy.
     uint step = 0u;
-    if (shadowRecordByLevel(rec) && (method == ML_STATIC_MH || method == ML_STATIC_MMH))
+    if (shadowRecordByLevel(rec) && (method == ML_STATIC_MH || method == ML_STATIC_MMH || method == ML_STATIC_DAGMH))
         step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + ML_MH_LEVELS]);
     texelWorld = texelWorld * float(1u << step);
     // Normal offset of (1 + radius) texels: the PCF taps reach `radius` texels to the side, and on a
@@ -141,7 +143,7 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res))) >> int(step);
     uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
-    if (method == ML_STATIC_DAGMH) {
+    if (method == ML_STATIC_DAGMH && step == 0u) { // a coarser level takes the per-tap loop below
         DagmhHeader dh = dagmhHeaderTop(base, dagmhLevels(res)); // once for all taps
         uint lit = 0u;
         if (radius == 0) {

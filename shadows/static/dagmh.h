@@ -224,36 +224,41 @@ inline DagmhState dagmhDescend(const uint32_t* data, uint32_t base, uint32_t x, 
     return st;
 }
 
+// The treelet step (st.kind == 2): the deepest valued position of the treelet on the path to (x, y) at
+// depth <= limit (L for the map itself, less for a level above it: dagmhLookupLevel), else st unchanged.
+inline DagmhState dagmhTreeletStep(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st,
+                                   uint32_t limit) {
+    uint32_t L = data[base + dagfmt::kLevels];
+    uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * st.ptr;
+    for (uint32_t i = 0u; i < 4u; ++i) {
+        uint32_t lvl = 3u - i;
+        if (st.depth + lvl > limit) continue;
+        uint32_t idx = lvl;
+        for (uint32_t j = 1u; j <= lvl; ++j) {
+            uint32_t s = L - st.depth - j;
+            uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
+            idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
+        }
+        uint32_t wi = idx >> 5u;
+        if (((data[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
+            uint32_t before = stat::popc(data[tb + wi] & stat::lowMask(idx & 31u));
+            if (wi > 0u) before += stat::popc(data[tb]);
+            if (wi > 1u) before += stat::popc(data[tb + 1u]);
+            st.vlast = st.vcount + before;
+            st.dlast = st.depth + lvl;
+            break;
+        }
+    }
+    return st;
+}
 // The rest of the descent and the treelet: st.vlast is then the index of (x, y)'s value and st.dlast the
 // depth of the node holding it (one node: texels with the same vlast have the same value).
 inline DagmhState dagmhLocate(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st) {
     uint32_t L = data[base + dagfmt::kLevels];
     st = dagmhDescend(data, base, x, y, st, L + 1u);
-    if (st.kind == 2u) {
-        uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * st.ptr;
-        for (uint32_t i = 0u; i < 4u; ++i) {
-            uint32_t lvl = 3u - i;
-            if (st.depth + lvl > L) continue;
-            uint32_t idx = lvl;
-            for (uint32_t j = 1u; j <= lvl; ++j) {
-                uint32_t s = L - st.depth - j;
-                uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
-                idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
-            }
-            uint32_t wi = idx >> 5u;
-            if (((data[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
-                uint32_t before = stat::popc(data[tb + wi] & stat::lowMask(idx & 31u));
-                if (wi > 0u) before += stat::popc(data[tb]);
-                if (wi > 1u) before += stat::popc(data[tb + 1u]);
-                st.vlast = st.vcount + before;
-                st.dlast = st.depth + lvl;
-                break;
-            }
-        }
-    }
+    if (st.kind == 2u) st = dagmhTreeletStep(data, base, x, y, st, L);
     return st;
 }
-
 // The value dagmhLocate found for (x, y).
 inline uint32_t dagmhLocatedValue(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y,
                                   const DagmhState& st) {
@@ -269,6 +274,28 @@ inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uin
     return dagmhFinish(data, base, x, y, dagmhStart(data, base, x, y));
 }
 
+// The map at the level `steps` below the root (steps <= L; filtering by level), (x, y) a texel of that
+// level: the value of the deepest valued node on the path down to that level, as mhLookupLevel (every level
+// a complete map, exact at steps = L). The descent starts at the skip entry when steps >= S (the entry
+// holds the state above depth S), at the root otherwise, reads the flags of the node at depth `steps`
+// itself and looks in a treelet only down to `steps`. The value bounds are not used: a cell's bounds hold
+// the values its texels decode at the finest level, and an ancestor's value need not be one of them.
+// GLSL twin dagmhLookupLevel (shaders/static/dagmh_lookup.glsl).
+inline uint32_t dagmhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y,
+                                 uint32_t steps) {
+    const uint32_t L = data[base + dagfmt::kLevels];
+    const uint32_t X = x << (L - steps), Y = y << (L - steps); // the level texel's top-left full texel
+    DagmhState st{data[base + dagfmt::kRootKind], 0u, 0u, data[base + dagfmt::kRootPtr], 0u, 0u};
+    if (steps >= dagfmt::skipLevel(data, base)) st = dagmhStart(data, base, X, Y);
+    st = dagmhDescend(data, base, X, Y, st, steps);
+    if (st.kind == 1u && st.depth == steps &&
+        (data[base + data[base + dagfmt::kNodeOffset] + st.ptr] & 256u) != 0u) {
+        st.vlast = st.vcount;
+        st.dlast = steps;
+    }
+    if (st.kind == 2u) st = dagmhTreeletStep(data, base, X, Y, st, steps);
+    return dagmhLocatedValue(data, base, X, Y, st);
+}
 // The bounds test of the texels [x0, x1] x [y0, y1] (in the map) at receiver depth `depth`: 1 when
 // every one of them is lit (depth <= value), 2 when none is, 0 when the cells' bounds do not decide.
 // GLSL twin dagmhBoundsClass (shaders/static/dagmh_lookup.glsl).

@@ -57,10 +57,11 @@ namespace {
 
 // The depth methods' mapping (SM, MH, MMH, DAG-MH): the receiver at view position vp with view normal vn,
 // offset along the normal, to its centre tap t and quantised, biased depth; false when the offset
-// receiver lies before the near plane (lit). With filtering by level (MH, MMH), step is the level above
-// the finest (shadowLevelStep: its texel at most a quarter of the pixel, footprint2), and t a texel of
-// that level. The shader's lines,
-// in its order.
+// receiver lies before the near plane (lit). With filtering by level (MH, MMH, DAG-MH), step is the level
+// above the finest (shadowLevelStep: its texel at most a quarter of the pixel, footprint2), and t a texel
+// of that level. The shader's lines, in its order.
+static_assert(uint32_t(mhfmt::kLevels) == uint32_t(dagfmt::kLevels),
+              "the levels L are the same header word in MH, MMH, DAG-MH");
 bool depthMapTap(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 vp, glm::vec3 vn,
                  float footprint2, glm::ivec2& t, uint32_t& depth, uint32_t& step) {
     const StaticMethod method = StaticMethod(gpu::shadowRecordMethod(rec));
@@ -72,7 +73,8 @@ bool depthMapTap(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec
     const float z = -vp.z;
     float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
     step = 0;
-    if (gpu::shadowRecordByLevel(rec) && (method == StaticMethod::MH || method == StaticMethod::MMH))
+    if (gpu::shadowRecordByLevel(rec) &&
+        (method == StaticMethod::MH || method == StaticMethod::MMH || method == StaticMethod::DAGMH))
         step = gpu::shadowLevelStep(texelWorld, footprint2, data[rec.info.y + mhfmt::kLevels]);
     texelWorld = texelWorld * float(1u << step);
     // Normal offset of (1 + radius) texels, as the shader (its comment says why).
@@ -138,7 +140,7 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     bool usePrefix = false;
     DagmhState prefix{};
-    if (method == StaticMethod::DAGMH && radius > 0) {
+    if (method == StaticMethod::DAGMH && radius > 0 && step == 0) {
         prefix = dagmhPcfPrefix(data, base, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
         usePrefix = prefix.kind != kDagNoPrefix;
     }
@@ -146,7 +148,7 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     // dagmhPcfLit, also shares a prefix treelet's words and a chunk's words between taps: same values).
     uint32_t memoIndex = 0xFFFFFFFFu, memoDepth = 0u;
     uint32_t lit = 0;
-    // With filtering by level (step > 0: MH, MMH), the taps are texels of that level's map.
+    // With filtering by level (step > 0: MH, MMH, DAG-MH), the taps are texels of that level's map.
     const int levelRes = int((res + (1u << step) - 1u) >> step);
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
@@ -159,7 +161,9 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
             if (step > 0) {
                 const uint32_t steps = data[base + mhfmt::kLevels] - step;
                 d = method == StaticMethod::MH ? mhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps)
-                                               : mmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps);
+                    : method == StaticMethod::MMH
+                        ? mmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps)
+                        : dagmhLookupLevel(data, base, uint32_t(x), uint32_t(y), steps);
             } else if (method == StaticMethod::DAGMH) {
                 const uint32_t ux = uint32_t(x), uy = uint32_t(y);
                 DagmhState st =

@@ -107,8 +107,8 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
 
 // Every visible static spot light gets a DAG-MH (or CPVS) bake; the evaluation pass's HDR output is
 // compared with the CPU reference (shading.h + static_visibility.cpp) on sampled pixels.
-// byLevel: MH and MMH take the level shadowLevelStep picks for the pixel (setShadowFilter); the CPU twin
-// gets the same footprint, and some pixels must see another visibility than at the finest level.
+// byLevel: MH, MMH and DAG-MH take the level shadowLevelStep picks for the pixel (setShadowFilter); the CPU
+// twin gets the same footprint, and some pixels must see another visibility than at the finest level.
 void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf, bool byLevel = false) {
     auto m = makeModule();
     auto scene = loadScene("night-city", 64, 2);
@@ -215,6 +215,12 @@ TEST(GpuStatic, EvaluationWithMhByLevel3x3MatchesCpu) {
 }
 TEST(GpuStatic, EvaluationWithMmhByLevelOneTapMatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::MMH, 0, true);
+}
+TEST(GpuStatic, EvaluationWithDagMhByLevel3x3MatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::DAGMH, 1, true);
+}
+TEST(GpuStatic, EvaluationWithDagMhByLevelOneTapMatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::DAGMH, 0, true);
 }
 TEST(GpuStatic, EvaluationWithCpvsPcf3x3MatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::CPVS, 1);

@@ -1,7 +1,8 @@
-// The MH and MMH lookups at every level of the hierarchy (mhLookupLevel, mmhLookupLevel: filtering by
-// level), at every node position of every level, against the construction tree: MH returns the midpoint
-// of the deepest valued node on the path down to that level, MMH a value inside that node's interval.
-// The GLSL text of both (compiled as C++: glsl_shims.h) answers the same.
+// The MH, MMH and DAG-MH lookups at every level of the hierarchy (mhLookupLevel, mmhLookupLevel,
+// dagmhLookupLevel: filtering by level), at every node position of every level, against the construction
+// tree: MH returns the midpoint of the deepest valued node on the path down to that level, MMH and DAG-MH a
+// value inside that node's interval. The GLSL text of each (compiled as C++: glsl_shims.h) answers the
+// same.
 #include "static_test_util.h"
 #include "glsl_shims.h"
 
@@ -28,8 +29,11 @@ void checkLevels(const DualDepthMap& m, const std::string& what) {
     far.layout = {16, 3};
     auto mh = encodeMH(*tree), mhFar = encodeMH(*tree, {16, 3});
     auto mmh = encodeMMH(*tree), mmhFar = encodeMMH(*tree, far);
-    ASSERT_TRUE(mh && mhFar && mmh && mmhFar);
+    auto dag = encodeDAGMH(*tree);
+    ASSERT_TRUE(mh && mhFar && mmh && mmhFar && dag);
     const uint32_t L = tree->levels, base = 29;
+    std::vector<uint32_t> dagShifted(base, 0xDEADBEEFu); // the GLSL reads from a base word, as in the buffer
+    dagShifted.insert(dagShifted.end(), dag->begin(), dag->end());
     std::vector<uint32_t> shifted(base, 0xDEADBEEFu);
     shifted.insert(shifted.end(), mmh->begin(), mmh->end());
     uint64_t bad = 0, positions = 0;
@@ -52,10 +56,14 @@ void checkLevels(const DualDepthMap& m, const std::string& what) {
                 ok = ok && glsl::mmhLookupLevel(base, x, y, steps) == b;
                 glsl::gStaticData = mmhFar->data();
                 ok = ok && glsl::mmhLookupLevel(0, x, y, steps) == b;
+                const uint32_t d = dagmhLookupLevel(dag->data(), 0, x, y, steps);
+                ok = ok && node.lo <= d && d <= node.hi;
+                glsl::gStaticData = dagShifted.data();
+                ok = ok && glsl::dagmhLookupLevel(base, x, y, steps) == d;
                 if (!ok && ++bad <= 5)
                     ADD_FAILURE() << "level " << steps << " texel (" << x << "," << y << "): MH " << a
-                                  << " (tree " << mid << "), MMH " << b << " outside [" << node.lo << ", "
-                                  << node.hi << "] or a twin differs";
+                                  << " (tree " << mid << "), MMH " << b << ", DAG-MH " << d << " outside ["
+                                  << node.lo << ", " << node.hi << "] or a twin differs";
                 ++positions;
             }
     }
@@ -64,7 +72,8 @@ void checkLevels(const DualDepthMap& m, const std::string& what) {
     uint64_t finest = 0;
     for (uint32_t y = 0; y < m.resolution; ++y)
         for (uint32_t x = 0; x < m.resolution; ++x)
-            finest += mhLookupLevel(mh->data(), 0, x, y, L) != mhLookup(mh->data(), x, y);
+            finest += mhLookupLevel(mh->data(), 0, x, y, L) != mhLookup(mh->data(), x, y) ||
+                      dagmhLookupLevel(dag->data(), 0, x, y, L) != dagmhLookup(dag->data(), x, y);
     EXPECT_EQ(finest, 0u);
     std::printf("  [static] %s: %llu level positions checked (levels 0..%u)\n", what.c_str(),
                 (unsigned long long)positions, L);
