@@ -213,16 +213,20 @@ uint dagmhLookup(uint base, uint x, uint y) {
     return dagmhLookupH(dagmhHeader(base), x, y);
 }
 
-// The map at the level `steps` below the root (twin of dagmhLookupLevel in dagmh.h, which says why it
-// starts at the root above the skip level and does not use the value bounds), (x, y) a texel of that level.
-uint dagmhLookupLevel(uint base, uint x, uint y, uint steps) {
-    DagmhHeader h = dagmhHeader(base);
-    uint X = x << (h.L - steps), Y = y << (h.L - steps);
+// Level lookups (twin of dagmhLookupLevel in dagmh.h, which says why it starts at the root above the skip
+// level and does not use the value bounds), in two steps so that the taps of a kernel can share the
+// descent (dagmhPcfLitLevel): where the lookup of full-resolution texel (X, Y) at depth `steps` starts,
+// and the rest of it from a state above that depth.
+DagmhState dagmhLevelStart(DagmhHeader h, uint X, uint Y, uint steps) {
+    if (steps >= h.S) return dagmhStart(h, X, Y);
     DagmhState st;
-    st.kind = ML_STATIC_DATA[base + ML_DAG_ROOT_KIND];
+    st.kind = ML_STATIC_DATA[h.base + ML_DAG_ROOT_KIND];
+    st.ptr = ML_STATIC_DATA[h.base + ML_DAG_ROOT_PTR];
     st.depth = 0u, st.dlast = 0u, st.vcount = 0u, st.vlast = 0u;
-    st.ptr = ML_STATIC_DATA[base + ML_DAG_ROOT_PTR];
-    if (steps >= h.S) st = dagmhStart(h, X, Y);
+    return st;
+}
+
+DagmhState dagmhLevelLocate(DagmhHeader h, uint X, uint Y, DagmhState st, uint steps) {
     st = dagmhDescend(h, X, Y, st, steps);
     if (st.kind == 1u && st.depth == steps && (ML_STATIC_DATA[h.nodes + st.ptr] & 256u) != 0u) {
         st.vlast = st.vcount;
@@ -232,7 +236,14 @@ uint dagmhLookupLevel(uint base, uint x, uint y, uint steps) {
         uint tb = h.treelets + ML_DAG_TREELET_WORDS * st.ptr;
         st = dagmhTreelet(h, X, Y, st, ML_STATIC_DATA[tb], ML_STATIC_DATA[tb + 1u], ML_STATIC_DATA[tb + 2u], steps);
     }
-    return dagmhLocatedValue(h, X, Y, st);
+    return st;
+}
+
+// The map at the level `steps` below the root, (x, y) a texel of that level.
+uint dagmhLookupLevel(uint base, uint x, uint y, uint steps) {
+    DagmhHeader h = dagmhHeader(base);
+    uint X = x << (h.L - steps), Y = y << (h.L - steps); // the level texel's top-left full texel
+    return dagmhLocatedValue(h, X, Y, dagmhLevelLocate(h, X, Y, dagmhLevelStart(h, X, Y, steps), steps));
 }
 
 // The bounds test (twin of dagmhBoundsClass in dagmh.h): 1 when every texel of [x0, x1] x [y0, y1] is lit

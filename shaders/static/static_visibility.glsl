@@ -46,12 +46,11 @@ uint staticDepthAt(uint method, uint base, uint x, uint y) {
     return dagmhLookup(base, x, y);
 }
 
-// The depth of texel (x, y) of the level `step` above the finest (MH, MMH, DAG-MH; step 0 is the map).
-// The levels L are word 3 of all three headers.
+// The depth of texel (x, y) of the level `step` above the finest (MH and MMH; step 0 is the map; DAG-MH
+// levels: dagmhPcfLitLevel).
 uint staticDepthAtLevel(uint method, uint base, uint x, uint y, uint step) {
     if (step == 0u) return staticDepthAt(method, base, x, y);
     uint steps = ML_STATIC_DATA[base + ML_MH_LEVELS] - step;
-    if (method == ML_STATIC_DAGMH) return dagmhLookupLevel(base, x, y, steps);
     return method == ML_STATIC_MH ? mhLookupLevel(base, x, y, steps) : mmhLookupLevel(base, x, y, steps);
 }
 
@@ -102,6 +101,46 @@ uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
     return lit;
 }
 
+// DAG-MH PCF by level: the lit taps of [t - r, t + r] on the map `steps` levels below the root, t a texel of
+// that map (levelRes a side). Each tap gets the value dagmhLookupLevel finds (the CPU twin's per-tap loop),
+// with the taps sharing the descent above the level where they part and a tap with the previous tap's
+// value index reusing its value. No value bounds here (dagmhLookupLevel says why).
+uint dagmhPcfLitLevel(DagmhHeader dh, ivec2 t, int radius, int levelRes, uint depth, uint steps) {
+    uint taps = uint((2 * radius + 1) * (2 * radius + 1));
+    ivec2 lo = max(t - radius, ivec2(0)), hi = min(t + radius, ivec2(levelRes - 1));
+    if (lo.x > hi.x || lo.y > hi.y) return taps;
+    uint lit = taps - uint((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
+    dh = dagmhSections(dh);
+    uint sh = dh.L - steps;
+    // The taps' full-resolution texels (x << sh) take the same children down to depth L - (bits of the
+    // widest difference), and never past `steps`.
+    uint diff = (uint(lo.x ^ hi.x) | uint(lo.y ^ hi.y)) << sh;
+    uint bits = 0u;
+    while ((diff >> bits) != 0u) ++bits;
+    uint sharedLevels = min(dh.L - bits, steps);
+    uint X0 = uint(lo.x) << sh, Y0 = uint(lo.y) << sh;
+    // Above the skip level each tap starts at the root (dagmhLevelStart), and so does a shared prefix.
+    DagmhState prefix = dagmhDescend(dh, X0, Y0, dagmhLevelStart(dh, X0, Y0, sharedLevels), sharedLevels);
+    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u, memoChunk = 0xFFFFFFFFu;
+    DagmhChunk chunk;
+    for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+            uint X = uint(x) << sh, Y = uint(y) << sh;
+            DagmhState st = dagmhLevelLocate(dh, X, Y, prefix, steps);
+            if (st.vlast != memoIndex) {
+                memoIndex = st.vlast;
+                if ((st.vlast >> 5u) != memoChunk) {
+                    memoChunk = st.vlast >> 5u;
+                    chunk = dagmhChunk(dh, memoChunk);
+                }
+                uint s = dh.L - st.dlast;
+                memoDepth = dagmhChunkValue(dh, chunk, st.vlast & 31u, (X >> s) << s, (Y >> s) << s);
+            }
+            if (depth <= memoDepth) lit += 1u;
+        }
+    return lit;
+}
+
 // footprint2: the squared world size of the receiver's pixel (shadowFootprint2), read only when the record
 // filters by level.
 float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
@@ -130,7 +169,7 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
     // level shadowLevelStep picks, so a distant receiver does not walk the whole hierarchy.
     uint step = 0u;
     if (shadowRecordByLevel(rec) && (method == ML_STATIC_MH || method == ML_STATIC_MMH || method == ML_STATIC_DAGMH))
-        step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + ML_MH_LEVELS]);
+        step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + ML_MH_LEVELS]); // L: word 3 of all three
     texelWorld = texelWorld * float(1u << step);
     // Normal offset of (1 + radius) texels: the PCF taps reach `radius` texels to the side, and on a
     // surface at a grazing angle to the light (flat ground under a low point light's side faces) the taps
@@ -143,10 +182,13 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
     vec2 ndc = ortho ? q.xy / orthoHalf : q.xy / (zq * tanHalf);
     ivec2 t = ivec2(floor((ndc * 0.5 + 0.5) * float(res))) >> int(step);
     uint depth = staticQuantize(max(zq - rec.bias.x * texelWorld, 0.0), far);
-    if (method == ML_STATIC_DAGMH && step == 0u) { // a coarser level takes the per-tap loop below
+    int levelRes = int((res + (1u << step) - 1u) >> step);
+    if (method == ML_STATIC_DAGMH) {
         DagmhHeader dh = dagmhHeaderTop(base, dagmhLevels(res)); // once for all taps
         uint lit = 0u;
-        if (radius == 0) {
+        if (step > 0u) {
+            lit = dagmhPcfLitLevel(dh, t, radius, levelRes, depth, dh.L - step);
+        } else if (radius == 0) {
             bool inside = t.x >= 0 && t.y >= 0 && t.x < int(res) && t.y < int(res);
             uint k = inside ? dagmhBoundsClass1(dh, uint(t.x), uint(t.y), depth) : 1u;
             if (k == 0u) k = depth <= dagmhLookupH(dagmhSections(dh), uint(t.x), uint(t.y)) ? 1u : 2u;
@@ -157,7 +199,6 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     uint lit = 0u;
-    int levelRes = int((res + (1u << step) - 1u) >> step);
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int x = t.x + dx, y = t.y + dy;
