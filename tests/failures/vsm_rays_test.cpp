@@ -5,12 +5,16 @@
 //     at every one of them, and the counting must hold together (every mismatch has one cause). The
 //     same frame compared with rays traced without the slab (a deliberately wrong truth) must count
 //     every plainly shadowed receiver as a mismatch where the VSM shadows and the rays see the light.
+//   - LargeBiasIsNamedBias: the bias cause named on a frame built to have it (see the case).
 //   - PillarUnderNearSpot: a spot light just under a ceiling fixture, beside the top of a cylindrical
 //     pillar (smooth normals: a curved receiver the light grazes) on a floor. See the case's comment.
 #include "tests/failures/failure_test_util.h"
 #include "bake/reference/vsm_rays.h"
+#include "host/scene_host.h"
 
 #include <glm/gtc/constants.hpp>
+
+#include <optional>
 
 namespace ml::test {
 namespace {
@@ -59,7 +63,9 @@ struct VsmRaysRun {
 
 // Two frames of `scene` from `camera` (the second reads the pages the first allocated and drew), then
 // the second's probes against rays traced in `raysScene`.
-VsmRaysRun runVsmRays(const Scene& scene, const CameraDesc& camera, const Scene& raysScene) {
+// `bias` (optional): every light's shadowDepthBias and shadowNormalBias, in texels.
+VsmRaysRun runVsmRays(const Scene& scene, const CameraDesc& camera, const Scene& raysScene,
+                      std::optional<glm::vec2> bias = std::nullopt) {
     VsmRaysRun out;
     resetValidationCounters();
     ModuleOptions o;
@@ -73,7 +79,14 @@ VsmRaysRun runVsmRays(const Scene& scene, const CameraDesc& camera, const Scene&
     auto binding = bindScene(module, scene);
     EXPECT_TRUE(binding.ok()) << binding.error();
     if (!binding) return out;
-    for (uint32_t k = 0; k < binding->lights.size(); ++k) out.sceneLight[binding->lights[k]] = k;
+    for (uint32_t k = 0; k < binding->lights.size(); ++k) {
+        out.sceneLight[binding->lights[k]] = k;
+        if (!bias) continue;
+        LightDesc d = toLightDesc(scene.lights[k]);
+        d.shadowDepthBias = bias->x, d.shadowNormalBias = bias->y;
+        auto r = module.setLight(binding->lights[k], d);
+        EXPECT_TRUE(r.ok()) << r.error();
+    }
     EXPECT_TRUE(module.createTargets(kWidth, kHeight).ok());
     EXPECT_TRUE(module.setCamera(camera).ok());
     EXPECT_TRUE(module.setShadowFilter(0).ok());
@@ -92,6 +105,7 @@ VsmRaysRun runVsmRays(const Scene& scene, const CameraDesc& camera, const Scene&
     if (!rays) return out;
     VsmRayOptions vo;
     vo.resolution = o.vsm.resolution;
+    if (bias) vo.depthBias = bias->x, vo.normalBias = bias->y;
     measureVsmRays(out.frame, scene, rays.value(), out.sceneLight, vo, out.counts, &out.pairs);
     EXPECT_EQ(validationErrors(), 0u);
     return out;
@@ -166,6 +180,31 @@ TEST(FailureVsmRays, KnownAnswer) {
         if (plain(p, true)) counted += p.truth && !p.vsm;
     EXPECT_EQ(counted, plainShadowed);
     EXPECT_GE(wrong.vsmShadowsLit, plainShadowed);
+}
+
+// The bias cause on a real frame: a box standing on a floor, lit from the side, so its shadow starts
+// at its base. With the lights' largest offsets (kMaxShadowBias texels of depth and normal bias) the
+// shadow detaches from the base: the VSM lights floor receivers the rays see blocked by the box within
+// the bias band, and the measure must name bias as the cause of most mismatches, where with the
+// default offsets bias causes few.
+TEST(FailureVsmRays, LargeBiasIsNamedBias) {
+    Scene scene = groundScene("vsm_rays_bias");
+    addBox(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f});
+    scene.lights.push_back(spotAt({2.0f, 3.0f, 0.0f}, {-0.5f, 0.0f, 0.0f}, 12.0f, 0.8f));
+    const CameraDesc camera = lookFrom({-3.0f, 4.0f, 3.0f}, {-0.8f, 0.0f, 0.0f});
+    VsmRaysRun normal = runVsmRays(scene, camera, scene);
+    print("default bias", normal.counts);
+    VsmRaysRun large = runVsmRays(scene, camera, scene, glm::vec2(kMaxShadowBias, kMaxShadowBias));
+    print("largest bias", large.counts);
+    ASSERT_GT(normal.counts.pairs, 0u);
+    ASSERT_GT(large.counts.pairs, 0u);
+    EXPECT_EQ(classSum(large.counts), large.counts.mismatches);
+    const uint64_t bias = large.counts.byClass[uint32_t(VsmRayClass::Bias)];
+    EXPECT_GT(large.counts.mismatches, normal.counts.mismatches);
+    EXPECT_GT(bias * 2, large.counts.mismatches);
+    EXPECT_GT(large.counts.vsmLightsShadow, 0u);
+    EXPECT_LE(normal.counts.byClass[uint32_t(VsmRayClass::Bias)] * 2,
+              std::max<uint64_t>(normal.counts.mismatches, 1));
 }
 
 // A spot light 5 cm under a ceiling fixture (a thin slab that casts too), 5 cm outside the rim of a
