@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -44,7 +45,8 @@ Table on stdout, CSV in --out; the last stdout line is JSON.
   --vsm-page N    page size (default 64)
   --vsm-pool N    physical pages (default 4096)
   --vsm-mark M    page marking: pixel (default) or cluster
-  --texels LIST   texels-per-pixel settings, one run each (default 0.5,1,2,4; --vsm-texels is not taken)
+  --texels LIST   texels-per-pixel settings (each 0.25, 0.5, 1, 2, 4 or 8), one run each (default
+                  0.5,1,2,4; --vsm-texels is not taken)
   --vsm-raster R  auto (default), mesh or vertex
   --compare-res N also a plain N^2 shadow map per static spot light, rendered every frame from that
                   frame's casters, at the same pairs (default 1024; 0: off)
@@ -71,8 +73,8 @@ Result<std::vector<float>> parseTexels(const std::string& text) {
     while (std::getline(ss, item, ',')) {
         char* end = nullptr;
         const float t = std::strtof(item.c_str(), &end);
-        if (item.empty() || *end || !(t > 0.0f))
-            return fail("--texels: '" + item + "' is not a positive number");
+        if (item.empty() || *end || !validTexelsPerPixel(t))
+            return fail("--texels: '" + item + "' is not 0.25, 0.5, 1, 2, 4 or 8");
         v.push_back(t);
     }
     if (v.empty()) return fail("--texels: empty list");
