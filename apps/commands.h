@@ -17,12 +17,13 @@ int runInspect(int argc, char** argv);
 int runVerify(int argc, char** argv);
 int runCheck(int argc, char** argv);
 int runBenchVsm(int argc, char** argv);
-int runBenchVsmRays(int argc, char** argv); // apps/bench_vsm_rays.cpp
-int runBenchCpvs(int argc, char** argv);    // apps/bench_cpvs.cpp
-int runBenchSizes(int argc, char** argv);   // apps/bench_sizes.cpp
-int runBenchCpu(int argc, char** argv);     // apps/bench_cpu.cpp
-int runBenchRecord(int argc, char** argv);  // apps/bench_record.cpp
-int runBenchSoak(int argc, char** argv);    // apps/bench_soak.cpp
+// bench vsm-rays: apps/bench_vsm_rays.cpp
+int runBenchVsmRays(int argc, char** argv);
+int runBenchCpvs(int argc, char** argv);   // apps/bench_cpvs.cpp
+int runBenchSizes(int argc, char** argv);  // apps/bench_sizes.cpp
+int runBenchCpu(int argc, char** argv);    // apps/bench_cpu.cpp
+int runBenchRecord(int argc, char** argv); // apps/bench_record.cpp
+int runBenchSoak(int argc, char** argv);   // apps/bench_soak.cpp
 int runMerge(int argc, char** argv);
 // Exit statuses of every command (README "Exit status"; `manylights help`).
 constexpr int kExitUsage = 1; // the command line: bad, missing, repeated or useless options, ranges, limits
