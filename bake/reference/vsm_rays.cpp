@@ -74,9 +74,13 @@ VsmRayClass classify(const VsmRayFrame& f, const RayReference& rays, const Place
     const float band = (o.depthBias + o.normalBias + 1.0f) * texel + o.rayBias;
     const glm::vec3 nl = glm::dot(q.n, L.position - q.p) < 0.0f ? -q.n : q.n; // the rays' rule
     if (!q.vsm && pr.depth != 0xFFFFFFFFu) {
-        // The VSM shadows: the depth it read, back in metres (vsmQuantize is linear over [0, far]).
+        // The VSM shadows: the depth it read, back in metres (vsmQuantize is linear over [0, far]). The
+        // receiver's own surface spans tan(angle to the light) texels of depth across one texel, so
+        // a surface that steep shadows itself from that far in front (acne at grazing light).
         const double occluder = double(pr.depth) / 4294967040.0 * double(map.frustum.farPlane);
-        if (double(z) - occluder < double(band)) return VsmRayClass::Bias;
+        const float c = std::clamp(glm::dot(nl, glm::normalize(L.position - q.p)), 1e-3f, 1.0f);
+        const float slope = std::sqrt(std::max(1.0f - c * c, 0.0f)) / c;
+        if (double(z) - occluder < double(band + slope * texel)) return VsmRayClass::Bias;
     } else if (q.vsm && !truth) {
         const glm::vec3 start = q.p + nl * 1e-4f, toLight = L.position - start;
         const float dist = glm::length(toLight);

@@ -12,10 +12,12 @@
 // A disagreement (the VSM's binary answer is not the rays') gets one cause, tested in this order:
 //   Fallback   the lookup ended at a coarser page than it wanted (pool full: probe status Fallback);
 //   Bias       an occluder within the lookup's bias band of the receiver: the VSM shadows and the texel's
-//              depth lies less than the band in front of the receiver's (acne: the receiver's own surface,
-//              or one touching it), or the VSM lights and the rays' first occluder lies within the band
-//              of the receiver (the normal and depth offsets stepped past it). Band: (depth bias + normal
-//              bias + 1) texels of the lookup's mip at the receiver, plus the rays' offset;
+//              depth lies less than the band plus the receiver surface's own depth span across a texel
+//              (tan of its angle to the light, in texels) in front of the receiver's (acne: the
+//              receiver's own surface, or one touching it), or the VSM lights and the rays' first occluder
+//              lies within the band of the receiver (the normal and depth offsets stepped past it).
+//              Band: (depth bias + normal bias + 1) texels of the lookup's mip at the receiver, plus the
+//              rays' offset;
 //   Seam       a neighbouring texel (8-neighbourhood at the lookup's mip) has no resident page, or a
 //              neighbouring pixel's lookup of the same light (4-neighbourhood) ended at another map or
 //              mip: the pair sits where the VSM changes level;
