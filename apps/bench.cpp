@@ -18,9 +18,10 @@
 namespace ml {
 
 static const char* kBenchHelp =
-    R"(usage: manylights bench culling|static|vsm|flicker|cpvs|sizes|cpu|record|soak [options]
+    R"(usage: manylights bench culling|static|vsm|vsm-rays|flicker|cpvs|sizes|cpu|record|soak [options]
 (`manylights bench static --help` for the static shadow benchmark, `bench flicker --help` for the
-static shadows' temporal stability along a camera path, `bench vsm`, `bench cpvs`, `bench sizes` and
+static shadows' temporal stability along a camera path, `bench vsm`, `bench vsm-rays` (virtual
+shadow maps against rays), `bench cpvs`, `bench sizes` and
 `bench cpu --help` (the module's CPU time per frame), `bench record --help` (record()'s CPU time in
 frame 0 and after an LDR/HDR switch) and `bench soak --help` (memory over 10,000 frames) for theirs)
 Culling and shading time against light count, for each culling mode, in one run; every pass timed
@@ -258,6 +259,7 @@ int runBench(int argc, char** argv) {
     }
     if (std::string(argv[2]) == "static") return runBenchStatic(argc, argv);
     if (std::string(argv[2]) == "vsm") return runBenchVsm(argc, argv);
+    if (std::string(argv[2]) == "vsm-rays") return runBenchVsmRays(argc, argv);
     if (std::string(argv[2]) == "flicker") return runBenchFlicker(argc, argv);
     if (std::string(argv[2]) == "cpvs") return runBenchCpvs(argc, argv);
     if (std::string(argv[2]) == "sizes") return runBenchSizes(argc, argv);
@@ -265,8 +267,9 @@ int runBench(int argc, char** argv) {
     if (std::string(argv[2]) == "record") return runBenchRecord(argc, argv);
     if (std::string(argv[2]) == "soak") return runBenchSoak(argc, argv);
     if (std::string(argv[2]) != "culling")
-        return usageError("bench", std::string("unknown benchmark '") + argv[2] +
-                                       "' (culling, static, vsm, flicker, cpvs, sizes, cpu, record or soak)");
+        return usageError(
+            "bench", std::string("unknown benchmark '") + argv[2] +
+                         "' (culling, static, vsm, vsm-rays, flicker, cpvs, sizes, cpu, record or soak)");
     return runBenchCulling(argc, argv);
 }
 

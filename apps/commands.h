@@ -17,6 +17,8 @@ int runInspect(int argc, char** argv);
 int runVerify(int argc, char** argv);
 int runCheck(int argc, char** argv);
 int runBenchVsm(int argc, char** argv);
+// bench vsm-rays: apps/bench_vsm_rays.cpp
+int runBenchVsmRays(int argc, char** argv);
 int runBenchCpvs(int argc, char** argv);   // apps/bench_cpvs.cpp
 int runBenchSizes(int argc, char** argv);  // apps/bench_sizes.cpp
 int runBenchCpu(int argc, char** argv);    // apps/bench_cpu.cpp

@@ -41,7 +41,8 @@ std::optional<cli::Args> commandArgs(const char* command, const char* help, Resu
 static const char* kHelp = R"(usage: manylights <command> [options]
 Many shadowed lights on Vulkan. Commands (each takes --help):
   demo    render the night city (or a glTF scene) headless; images, GPU profile and stats
-  bench   benchmarks: `bench culling`, `static`, `vsm`, `flicker`, `cpvs`, `sizes`, `cpu`, `record`, `soak`
+  bench   benchmarks: `bench culling`, `static`, `vsm`, `vsm-rays`, `flicker`, `cpvs`, `sizes`, `cpu`,
+          `record`, `soak`
   bake    bake static lights' shadows (spot, point, directional; sm, mh, mmh, dagmh, cpvs) into one file
   inspect validate a bake file and report its method, resolution, lights and bytes per part
   verify  re-render a bake file's lights and check every texel or voxel (last line JSON)

@@ -72,6 +72,7 @@ step flicker         table        docs/accuracy.md          -    "section 7: fli
 step flicker-vsm     table        docs/accuracy.md          -    "section 7: VSM flicker against plain maps"
 step vsm-texels      table        docs/accuracy.md          -    "section 7: texels per pixel 1, 2, 4 (flicker and pages)"
 step need            table        docs/accuracy.md          -    "section 8: resolution from need (whole city bakes, bench static --need)"
+step vsm-rays        table        docs/accuracy.md          -    "section 9: VSM one-tap answers against rays, night city and indoor, texels per pixel 0.5-4"
 step vsm-drive       image        docs/virtual-shadow-maps.md -  "drive path frame 39 and its page view -> docs/vsm-drive.png, docs/vsm-drive-pages.png"
 step vsm             table        docs/virtual-shadow-maps.md -  "bench vsm (no bake, bake, 128^2 pages), memory from demo stats, check vsm"
 step vsm-meshlets    table        docs/virtual-shadow-maps.md -  "mesh against vertex page draws, night city and fzk-haus, two runs each"
@@ -264,6 +265,11 @@ step_vsm-texels() {
         run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,2 --vsm-res 4096 --vsm-texels $t --out "$D/flicker_texels_$t"
         run "$ML" bench vsm --kinds static-spot,moving-spot --vsm-raster vertex --frames 8 --size 320x180 --vsm-texels $t --out "$D/bench_vsm_texels_$t"
     done
+}
+step_vsm-rays() {
+    run "$ML" bench vsm-rays --scene night-city --frames 3 --size 320x180 --out "$D/city"
+    run "$ML" bench vsm-rays --scene indoor --path static --frames 3 --size 320x180 --out "$D/indoor"
+    run "$ML" bench vsm-rays --scene night-city --frames 3 --size 320x180 --texels 2 --vsm-pool 48 --compare-res 0 --out "$D/city_pool48"
 }
 step_need() {
     local r
