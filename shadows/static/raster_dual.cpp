@@ -209,8 +209,9 @@ bool DualRasterizer::blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
 
 namespace {
 
-// renderRect's per-thread scratch, kept from call to call: a 512^2 tile's slots are 8 MiB, and
-// allocating them for every tile cost page faults and clears.
+// renderRect's per-thread scratch, kept from call to call: a 512^2 tile's slots are 16 MiB, and
+// allocating them for every tile cost page faults and clears. render() frees it when the whole map is
+// done, so a host thread that bakes does not keep a band's slots (64 MiB at 1M texels) afterwards.
 struct HitSlots {
     std::vector<uint32_t> count;    // hits per local texel
     std::vector<uint64_t> slots;    // kHitSlots planes of one key (depth << 2 | kind) a texel
@@ -219,8 +220,8 @@ struct HitSlots {
 };
 thread_local HitSlots tHits;
 
-// Hits a texel holds without the overflow list. The closed night city seen from the moon has 2-6 hits
-// a texel (ground slab, roof, floor, foliage); 4 keeps the slots at 32 B a texel.
+// Hits a texel holds without the overflow list (64 B a texel). The closed night city seen from the moon
+// has 2-6 hits a texel (ground slab, roof, floor, foliage) and up to 8.
 constexpr uint32_t kHitSlots = 8;
 
 int64_t ceilDivPositive(int64_t a, int64_t b) { // a > 0, b > 0
@@ -252,6 +253,11 @@ bool triangleEdges(const int64_t x[3], const int64_t y[3], uint32_t x0, uint32_t
 }
 
 } // namespace
+
+size_t DualRasterizer::threadScratchBytes() {
+    return tHits.count.capacity() * sizeof(uint32_t) +
+           (tHits.slots.capacity() + tHits.overflow.capacity() + tHits.texel.capacity()) * sizeof(uint64_t);
+}
 
 void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
                                 uint32_t* exit) const {
@@ -462,6 +468,7 @@ DualDepthMap DualRasterizer::render(uint64_t tileTexels) const {
         uint32_t y1 = std::min(res_, y0 + rows);
         renderRows(y0, y1, map.enter.data() + size_t(y0) * res_, map.exit.data() + size_t(y0) * res_);
     }
+    tHits = HitSlots{}; // the map is done: give the band's scratch back
     return map;
 }
 

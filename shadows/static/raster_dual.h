@@ -81,9 +81,11 @@ class DualRasterizer {
     void renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const;
     // Renders the w x h block at texel (x0, y0) (inside the map, w * h < 2^30) into enter/exit, w words a
     // row: the same texels renderRows gives. Safe to call from several threads at once.
-    // Hits go to 4 slots a texel (an overflow list past that) and each row walks only its covered span;
+    // Hits go to 8 slots a texel (an overflow list past that) and each row walks only its covered span;
     // the thread's scratch (68 B a texel of the largest block rendered) is kept for its next call.
     void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit) const;
+    // Bytes of the calling thread's renderRect scratch now (0 once render() has finished a map).
+    static size_t threadScratchBytes();
     // renderRect as one hit list sorted by texel, every column of a triangle's box tested: the plain
     // statement of the rules above, which the tests hold renderRect to texel for texel.
     void renderRectReference(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
@@ -91,7 +93,7 @@ class DualRasterizer {
     // True when no triangle's covered rows and columns (renderRect's own bounds) reach the block, so
     // renderRect would fill it with kDepthEmpty only. Conservative: false may still render empty.
     bool blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const;
-    // The whole map, in tiles of at most `tileTexels` texels.
+    // The whole map, in tiles of at most `tileTexels` texels; frees the thread's scratch at the end.
     DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
 
     size_t projectedTriangles() const { return tris_.size(); }

@@ -178,6 +178,23 @@ TEST(StaticRaster, SlotsEqualTheHitListEveryTexel) {
     }
 }
 
+// A host thread that bakes whole maps keeps no rasteriser scratch afterwards: render() frees the slots
+// that renderRect keeps between tiles (64 MiB for its default band of 2^20 texels).
+TEST(StaticRaster, RenderFreesTheThreadScratch) {
+    CasterTriangles c;
+    c.add({-1, -1, -3}, {1, -1, -3}, {0, 1, -3}, false);
+    LightFrustum fr;
+    fr.fov = 1.2f;
+    fr.farPlane = 10.0f;
+    DualRasterizer raster(c, fr, 256);
+    std::vector<uint32_t> e(64 * 64), x(64 * 64);
+    raster.renderRect(0, 0, 64, 64, e.data(), x.data());
+    EXPECT_GE(DualRasterizer::threadScratchBytes(), size_t(64 * 64 * 68)); // kept for the next tile
+    DualDepthMap m = raster.render();
+    EXPECT_EQ(DualRasterizer::threadScratchBytes(), 0u);
+    EXPECT_EQ(m.enter.size(), size_t(256) * 256);
+}
+
 TEST(StaticRaster, FarPlaneAndLightInsideMesh) {
     const uint32_t res = 64;
     LightFrustum f = originFrustum();
