@@ -48,7 +48,13 @@ TEST(NamedBindings, RefusesTwiceMissingAndPastWithTheName) {
                   ordered),
               "test_program: ML_TEST_B_FIRST (binding 0) is given twice");
     EXPECT_EQ(orderNamedDescriptors(p, {ML_BIND(ML_TEST_B_FIRST, a), ML_BIND(ML_TEST_B_THIRD, c)}, ordered),
-              "test_program: binding 1 is not given");
+              "test_program: binding 1 is not given (between ML_TEST_B_FIRST at 0 and ML_TEST_B_THIRD at 2)");
+    // A missing first or last binding is placed by its one neighbour; none given, by its number alone.
+    EXPECT_EQ(orderNamedDescriptors(p, {ML_BIND(ML_TEST_B_THIRD, c), ML_BIND(ML_TEST_B_SECOND, b)}, ordered),
+              "test_program: binding 0 is not given (before ML_TEST_B_SECOND at 1)");
+    EXPECT_EQ(orderNamedDescriptors(p, {ML_BIND(ML_TEST_B_SECOND, b), ML_BIND(ML_TEST_B_FIRST, a)}, ordered),
+              "test_program: binding 2 is not given (after ML_TEST_B_SECOND at 1)");
+    EXPECT_EQ(orderNamedDescriptors(p, {}, ordered), "test_program: binding 0 is not given");
     EXPECT_EQ(orderNamedDescriptors(p,
                                     {ML_BIND(ML_TEST_B_FIRST, a), ML_BIND(ML_TEST_B_SECOND, b),
                                      ML_BIND(ML_TEST_B_THIRD, c), ML_BIND(ML_TEST_B_PAST, c)},
