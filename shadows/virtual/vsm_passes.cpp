@@ -314,8 +314,7 @@ void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIn
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
 }
 
-void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
-                           const VsmFrameInputs& in) const {
+void VsmPasses::recordClear(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // One group per rendered page: vsm_assign counted them into the dispatch size.
@@ -323,6 +322,12 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
                      {ML_BIND(ML_VSM_CLEAR_CONSTANTS, slot.constants),
                       ML_BIND(ML_VSM_CLEAR_RENDERED, pg.rendered), ML_BIND(ML_VSM_CLEAR_PAGE_POOL, pg.pool)});
     memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
+}
+
+void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
+                           const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(slotIndex);
+    const VsmPages& pg = state_->pages();
     for (uint32_t m = 0; m < state_->layout().mips; ++m) {
         const uint32_t res = state_->settings().resolution >> m;
         beginAttachmentless(c, res, {res, res});
@@ -373,6 +378,29 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
     }
     // Physical pages -> the evaluation pass's lookups.
     memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
+}
+
+Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFrameInputs& in,
+                                   const StepRunner& step) const {
+    // Each receiver pixel (or cluster) marks the pages its lookups will read; first wants are listed.
+    ML_TRY(step(Pass::VsmMark, [&](VkCommandBuffer c) { recordMark(d, c, slot, in); }));
+    // The request list closed and sorted by priority rank (a short one also allocated, in one workgroup).
+    ML_TRY(step(Pass::VsmSort, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
+    // Invalidation, then a physical page for each wanted entry without one; dirty pages and maps listed.
+    ML_TRY(step(Pass::VsmAlloc, [&](VkCommandBuffer c) { recordAlloc(d, c, slot); }));
+    // The hierarchical page buffer: which regions of each map hold a dirty page.
+    ML_TRY(step(Pass::VsmHpb, [&](VkCommandBuffer c) { recordHpb(d, c, slot); }));
+    // Caster groups against the dirty maps: the (group, map) pairs left for the culling.
+    ML_TRY(step(Pass::VsmGroupCull, [&](VkCommandBuffer c) { recordGroupCull(d, c, slot); }));
+    if (!state_->meshPath()) // vertex path: each pair's casters into indirect draws per dirty mip
+        ML_TRY(step(Pass::VsmCull, [&](VkCommandBuffer c) { recordCull(d, c, slot); }));
+    else // mesh path: each pair's casters into meshlet lists for the task shaders
+        ML_TRY(step(Pass::VsmExpand, [&](VkCommandBuffer c) { recordExpand(d, c, slot); }));
+    // The dirty pages cleared, then the casters drawn into them (and merged with their static twins).
+    return step(Pass::VsmDraw, [&](VkCommandBuffer c) {
+        recordClear(d, c, slot);
+        recordDraw(d, c, slot, in);
+    });
 }
 
 void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
