@@ -577,6 +577,7 @@ std::string neighbours(std::initializer_list<NamedDescriptor> named, uint32_t mi
 
 std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedDescriptor> named,
                                   const Descriptor* ordered[32], const char* names[32]) {
+    const NamedDescriptor* given[32] = {};
     for (uint32_t b = 0; b < 32; ++b) {
         ordered[b] = nullptr;
         if (names) names[b] = nullptr;
@@ -588,11 +589,21 @@ std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedD
         if (ordered[n.binding])
             return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) + ") is given twice";
         ordered[n.binding] = &n.descriptor;
+        given[n.binding] = &n;
         if (names) names[n.binding] = n.name;
     }
     for (uint32_t b = 0; b < p.bindingCount; ++b)
         if (!ordered[b])
             return p.name + ": binding " + std::to_string(b) + " is not given" + neighbours(named, b);
+    // The kind of each resource, here where its binding's name is at hand (the bind checks it again for
+    // lists by position, by number only).
+    for (uint32_t b = 0; b < p.bindingCount; ++b) {
+        const bool isBuffer = p.bindingTypes[b] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
+                              p.bindingTypes[b] == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        if (isBuffer != (ordered[b]->buffer != VK_NULL_HANDLE))
+            return p.name + ": " + given[b]->name + " (binding " + std::to_string(b) + ") expects a" +
+                   (isBuffer ? " buffer" : "n image");
+    }
     return {};
 }
 

@@ -2,8 +2,8 @@
 // and for vsm_passes.cpp, which passes each resource by its name (ML_BIND, gpu/bindings.h): the dispatch
 // places it at that binding and refuses a list that names one twice, leaves one out or names one past the
 // shader's. The same buffer sits at different numbers in different passes, so each pass has its own names.
-// vsm_allocate_short_list.comp's are in vsm_alloc_bindings.h. The numbers are dense from 0 per program
-// (gpu/program.cpp requires it) and equal to the positions the passes bound before they had names.
+// vsm_allocate_short_list.comp's are in vsm_alloc_bindings.h. The numbers are dense from 0 per program,
+// as gpu/program.cpp requires (descriptors are pushed in binding order, without gaps).
 #ifndef ML_VSM_BINDINGS_H
 #define ML_VSM_BINDINGS_H
 
