@@ -1,6 +1,7 @@
-// The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; the module's
-// frame (engine/frame.h) orders and times them. Every barrier names the hazard it orders; the frame-begin
-// barrier (engine/frame_passes.cpp) orders this frame's first writes after the previous frame's reads.
+// The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; recordPath
+// puts them in order and names each step's timer, the module's frame (engine/frame.h) runs the timers.
+// Every barrier names the hazard it orders; the frame-begin barrier (engine/frame_passes.cpp) orders this
+// frame's first writes after the previous frame's reads.
 #include "shadows/virtual/vsm_passes.h"
 
 #include "gpu/bindings.h"
