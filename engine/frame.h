@@ -68,6 +68,9 @@ class FramePass {
     std::optional<Pass> timer() const { return timer_; }
     virtual bool enabled(const FrameContext&) const { return true; }
     virtual void record(FrameContext& frame) = 0;
+    // Records the pass under its timer (or untimed) into the frame's command buffer, or a fenced run's
+    // own; a pass of several timed steps times each step instead.
+    virtual Result<void> run(Profiler& profiler, FrameContext& frame);
 
   private:
     std::optional<Pass> timer_;
@@ -108,18 +111,23 @@ struct LightAssignPass final : FramePass {
     void record(FrameContext& f) override;
     LightCulling& cull;
 };
-// One virtual shadow map pass (VsmPasses::record*): Reset (untimed, VSM on), then the timed
-// ones while the slot has active maps, each under the Pass its FramePasses entry names; Cull on the
-// vertex path, Expand on the mesh path.
-struct VsmPass final : FramePass {
-    enum Kind { Reset, Mark, Sort, Alloc, Hpb, GroupCull, Cull, Expand, Draw };
-    VsmPass(const VirtualShadowMaps& v, const VsmPasses& p, Kind k, std::optional<Pass> timer = std::nullopt)
-        : FramePass(timer), vsm(v), passes(p), kind(k) {}
-    bool enabled(const FrameContext& f) const override;
+// The virtual shadow maps' per-frame clears (untimed, VSM on).
+struct VsmResetPass final : FramePass {
+    VsmResetPass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
+    bool enabled(const FrameContext&) const override { return vsm.enabled(); }
     void record(FrameContext& f) override;
     const VirtualShadowMaps& vsm;
     const VsmPasses& passes;
-    Kind kind;
+};
+// The VSM's path from marked page to drawn page (VsmPasses::recordPath), while the slot has active maps:
+// each step under the timer recordPath names for it.
+struct VsmPathPass final : FramePass {
+    VsmPathPass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
+    bool enabled(const FrameContext& f) const override { return vsm.active(f.slot); }
+    void record(FrameContext& f) override; // the steps untimed
+    Result<void> run(Profiler& profiler, FrameContext& f) override;
+    const VirtualShadowMaps& vsm;
+    const VsmPasses& passes;
 };
 // The evaluation's HDR and output images: old contents discarded (layout transition), ordered after
 // the previous frame's writes.
@@ -160,18 +168,14 @@ struct DebugViewPass final : FramePass {
 struct FramePasses {
     FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
                 const EvaluatePass& e, const StatisticsPass& s)
-        : gbuffer(g), clusterBounds(c), lightAssign(c), vsmReset(v, vp, VsmPass::Reset),
-          vsmMark(v, vp, VsmPass::Mark, Pass::VsmMark), vsmSort(v, vp, VsmPass::Sort, Pass::VsmSort),
-          vsmAlloc(v, vp, VsmPass::Alloc, Pass::VsmAlloc), vsmHpb(v, vp, VsmPass::Hpb, Pass::VsmHpb),
-          vsmGroupCull(v, vp, VsmPass::GroupCull, Pass::VsmGroupCull),
-          vsmCull(v, vp, VsmPass::Cull, Pass::VsmCull), vsmExpand(v, vp, VsmPass::Expand, Pass::VsmExpand),
-          vsmDraw(v, vp, VsmPass::Draw, Pass::VsmDraw), evaluate(e), vsmProbe(v, vp), statistics(s),
-          debugView(c, v, vp) {}
+        : gbuffer(g), clusterBounds(c), lightAssign(c), vsmReset(v, vp), vsmPath(v, vp), evaluate(e),
+          vsmProbe(v, vp), statistics(s), debugView(c, v, vp) {}
     FrameBeginPass begin;
     GBufferDrawPass gbuffer;
     ClusterBoundsPass clusterBounds;
     LightAssignPass lightAssign;
-    VsmPass vsmReset, vsmMark, vsmSort, vsmAlloc, vsmHpb, vsmGroupCull, vsmCull, vsmExpand, vsmDraw;
+    VsmResetPass vsmReset;
+    VsmPathPass vsmPath;
     EvaluationOutputsPass evaluationOutputs;
     EvaluationPass evaluate;
     VsmProbePass vsmProbe;

@@ -20,19 +20,24 @@ Result<void> runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* 
     profiler.beginFrame(frameCmd, f.slot);
     for (FramePass* pass : passes) {
         if (!pass->enabled(f)) continue;
-        auto body = [&](VkCommandBuffer c) {
-            f.cmd = c;
-            pass->record(f);
-        };
         // Only fenced runs can fail (their own command buffer or submission); the frame then stops
         // there, its later passes unrecorded, and record() returns the error.
-        auto ran = pass->timer() ? profiler.run(frameCmd, uint32_t(*pass->timer()), body)
-                                 : profiler.runUntimed(frameCmd, body);
-        f.cmd = frameCmd;
-        if (!ran) return ran;
+        if (auto ran = pass->run(profiler, f); !ran) return ran;
     }
     profiler.endFrame(frameCmd); // the frame's completion, readable by the host without waiting
     return {};
+}
+
+Result<void> FramePass::run(Profiler& profiler, FrameContext& f) {
+    const VkCommandBuffer frameCmd = f.cmd;
+    auto body = [&](VkCommandBuffer c) {
+        f.cmd = c;
+        record(f);
+    };
+    auto ran =
+        timer() ? profiler.run(frameCmd, uint32_t(*timer()), body) : profiler.runUntimed(frameCmd, body);
+    f.cmd = frameCmd;
+    return ran;
 }
 
 void FrameBeginPass::record(FrameContext& f) {
@@ -88,45 +93,26 @@ void LightAssignPass::record(FrameContext& f) {
     cull.recordAssign(*f.device, f.cmd, f.assign);
 }
 
-bool VsmPass::enabled(const FrameContext& f) const {
-    if (kind == Reset) return vsm.enabled();
-    if (!vsm.active(f.slot)) return false;
-    if (kind == Cull) return !vsm.meshPath();
-    if (kind == Expand) return vsm.meshPath();
-    return true;
+void VsmResetPass::record(FrameContext& f) {
+    passes.recordReset(f.cmd);
 }
 
-void VsmPass::record(FrameContext& f) {
-    const Device& d = *f.device;
-    switch (kind) {
-    case Reset:
-        passes.recordReset(f.cmd);
-        break;
-    case Mark:
-        passes.recordMark(d, f.cmd, f.slot, f.vsm);
-        break;
-    case Sort:
-        passes.recordSort(d, f.cmd, f.slot);
-        break;
-    case Alloc:
-        passes.recordAlloc(d, f.cmd, f.slot);
-        break;
-    case Hpb:
-        passes.recordHpb(d, f.cmd, f.slot);
-        break;
-    case GroupCull:
-        passes.recordGroupCull(d, f.cmd, f.slot);
-        break;
-    case Cull:
-        passes.recordCull(d, f.cmd, f.slot);
-        break;
-    case Expand:
-        passes.recordExpand(d, f.cmd, f.slot);
-        break;
-    case Draw:
-        passes.recordDraw(d, f.cmd, f.slot, f.vsm);
-        break;
-    }
+void VsmPathPass::record(FrameContext& f) {
+    // Every step straight into the frame's command buffer (run() times each instead); nothing here can
+    // fail, since only a fenced run has a submission of its own.
+    (void)passes.recordPath(*f.device, f.slot, f.vsm,
+                            [&](Pass, const std::function<void(VkCommandBuffer)>& body) -> Result<void> {
+                                body(f.cmd);
+                                return {};
+                            });
+}
+
+Result<void> VsmPathPass::run(Profiler& profiler, FrameContext& f) {
+    const VkCommandBuffer frameCmd = f.cmd;
+    return passes.recordPath(*f.device, f.slot, f.vsm,
+                             [&](Pass timer, const std::function<void(VkCommandBuffer)>& body) {
+                                 return profiler.run(frameCmd, uint32_t(timer), body);
+                             });
 }
 
 void EvaluationOutputsPass::record(FrameContext& f) {

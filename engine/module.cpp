@@ -623,14 +623,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
         &p.clusterBounds,     // culling (mode None: skipped): cluster bounds,
         &p.lightAssign,       //   light lists
         &p.vsmReset,          // virtual shadow maps: per-frame clears,
-        &p.vsmMark,           //   then, with active maps, mark,
-        &p.vsmSort,           //   request list closed and sorted,
-        &p.vsmAlloc,          //   invalidate / scan / allocate / assign,
-        &p.vsmHpb,            //   hierarchical page buffer,
-        &p.vsmGroupCull,      //   caster groups against the dirty maps,
-        &p.vsmCull,           //   instance culling (raster path)
-        &p.vsmExpand,         //   or expansion into meshlets (mesh path),
-        &p.vsmDraw,           //   clear and draw the dirty pages
+        &p.vsmPath,           //   then, with active maps, marked page to drawn page (a timer per step)
         &p.evaluationOutputs, // HDR and output discarded
         &p.evaluate,          // the one evaluation pass
         &p.vsmProbe,          // optional lookup probe

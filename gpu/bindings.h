@@ -25,7 +25,9 @@ struct NamedDescriptor {
 
 // The named descriptors in binding order (ordered[b] for binding b < program.bindingCount, names[b] its
 // constant's name when names is given), or the message naming what does not match the program's
-// bindings (empty when they do). Bound only on success.
+// bindings (empty when they do): a binding named twice or past the shader's, or given the wrong kind of
+// resource, by its constant; one left out, by its number and the constants given on either side of it
+// (the SPIR-V carries no names). Bound only on success.
 std::string orderNamedDescriptors(const Program& program, std::initializer_list<NamedDescriptor> named,
                                   const Descriptor* ordered[32], const char* names[32] = nullptr);
 

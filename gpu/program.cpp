@@ -495,8 +495,11 @@ void bindDescriptors(const Device& device, VkCommandBuffer cmd, const Program& p
         bool isBuffer = w.descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
                         w.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (isBuffer != (d.buffer != VK_NULL_HANDLE)) {
-            std::fprintf(stderr, "%s: %s%sbinding %u expects a%s\n", p.name.c_str(), names ? names[b] : "",
-                         names ? " " : "", b, isBuffer ? " buffer" : "n image");
+            const char* kind = isBuffer ? " buffer" : "n image";
+            if (names && names[b])
+                std::fprintf(stderr, "%s: %s (binding %u) expects a%s\n", p.name.c_str(), names[b], b, kind);
+            else
+                std::fprintf(stderr, "%s: binding %u expects a%s\n", p.name.c_str(), b, kind);
             std::abort();
         }
         if (isBuffer) {
@@ -551,8 +554,30 @@ void setBindingLog(std::vector<BoundName>* log) {
     gBindingLog = log;
 }
 
+namespace {
+// A binding left out of a named list has no name at the dispatch (the shaders are compiled without
+// debug names), so the refusal names the constants given on either side of it, which find its line in
+// the pass's bindings header: " (between ML_X_A at 2 and ML_X_C at 4)", or "" when none is given.
+std::string neighbours(std::initializer_list<NamedDescriptor> named, uint32_t missing) {
+    const NamedDescriptor* below = nullptr;
+    const NamedDescriptor* above = nullptr;
+    for (const NamedDescriptor& n : named) {
+        if (n.binding < missing && (!below || n.binding > below->binding)) below = &n;
+        if (n.binding > missing && (!above || n.binding < above->binding)) above = &n;
+    }
+    auto at = [](const NamedDescriptor* n) {
+        return std::string(n->name) + " at " + std::to_string(n->binding);
+    };
+    if (below && above) return " (between " + at(below) + " and " + at(above) + ")";
+    if (below) return " (after " + at(below) + ")";
+    if (above) return " (before " + at(above) + ")";
+    return {};
+}
+} // namespace
+
 std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedDescriptor> named,
                                   const Descriptor* ordered[32], const char* names[32]) {
+    const NamedDescriptor* given[32] = {};
     for (uint32_t b = 0; b < 32; ++b) {
         ordered[b] = nullptr;
         if (names) names[b] = nullptr;
@@ -564,10 +589,21 @@ std::string orderNamedDescriptors(const Program& p, std::initializer_list<NamedD
         if (ordered[n.binding])
             return p.name + ": " + n.name + " (binding " + std::to_string(n.binding) + ") is given twice";
         ordered[n.binding] = &n.descriptor;
+        given[n.binding] = &n;
         if (names) names[n.binding] = n.name;
     }
     for (uint32_t b = 0; b < p.bindingCount; ++b)
-        if (!ordered[b]) return p.name + ": binding " + std::to_string(b) + " is not given";
+        if (!ordered[b])
+            return p.name + ": binding " + std::to_string(b) + " is not given" + neighbours(named, b);
+    // The kind of each resource, here where its binding's name is at hand (the bind checks it again for
+    // lists by position, by number only).
+    for (uint32_t b = 0; b < p.bindingCount; ++b) {
+        const bool isBuffer = p.bindingTypes[b] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER ||
+                              p.bindingTypes[b] == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        if (isBuffer != (ordered[b]->buffer != VK_NULL_HANDLE))
+            return p.name + ": " + given[b]->name + " (binding " + std::to_string(b) + ") expects a" +
+                   (isBuffer ? " buffer" : "n image");
+    }
     return {};
 }
 

@@ -9,13 +9,14 @@
 // Rank r of vsm_assign takes avail[r]; ranks past the list are fallbacks (counted).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 2, std430) buffer BlockCounts { uint vsmBlockCounts[]; }; // in: counts, out: first ranks
-layout(binding = 3, std430) buffer ClassCounts { uint vsmClassCounts[]; }; // in: counts, out: first slots
+layout(binding = ML_VSM_ALLOC_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_ALLOC_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_ALLOC_BLOCK_COUNTS, std430) buffer BlockCounts { uint vsmBlockCounts[]; }; // in: counts, out: first ranks
+layout(binding = ML_VSM_ALLOC_CLASS_COUNTS, std430) buffer ClassCounts { uint vsmClassCounts[]; }; // in: counts, out: first slots
 
 #define VSM_NO_RUNS
 #define VSM_NO_MARKS

@@ -11,25 +11,26 @@
 // entry is ever evicted, so the writes do not race.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
-layout(binding = 2, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
-layout(binding = 4, std430) buffer Table { uint vsmTable[]; };
-layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; };
-layout(binding = 6, std430) buffer Owner { uint vsmOwner[]; };
-layout(binding = 7, std430) buffer LastUsed { uint vsmLastUsed[]; };
-layout(binding = 8, std430) readonly buffer BlockRanks { uint vsmBlockRanks[]; };
-layout(binding = 9, std430) readonly buffer Avail { uint vsmAvail[]; };
-layout(binding = 10, std430) writeonly buffer Rendered { uint vsmRendered[]; };
-layout(binding = 11, std430) buffer MapMips { uint vsmDirtyMips[]; };
-layout(binding = 12, std430) writeonly buffer DirtyMaps { uint vsmDirtyMaps[]; };
+layout(binding = ML_VSM_ASSIGN_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_ASSIGN_RUNS, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
+layout(binding = ML_VSM_ASSIGN_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_ASSIGN_LIST_A, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
+layout(binding = ML_VSM_ASSIGN_TABLE, std430) buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_ASSIGN_MARKS, std430) readonly buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_ASSIGN_OWNERS, std430) buffer Owner { uint vsmOwner[]; };
+layout(binding = ML_VSM_ASSIGN_LAST_USED, std430) buffer LastUsed { uint vsmLastUsed[]; };
+layout(binding = ML_VSM_ASSIGN_BLOCK_RANKS, std430) readonly buffer BlockRanks { uint vsmBlockRanks[]; };
+layout(binding = ML_VSM_ASSIGN_AVAIL, std430) readonly buffer Avail { uint vsmAvail[]; };
+layout(binding = ML_VSM_ASSIGN_RENDERED, std430) writeonly buffer Rendered { uint vsmRendered[]; };
+layout(binding = ML_VSM_ASSIGN_DIRTY_MIPS, std430) buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = ML_VSM_ASSIGN_DIRTY_MAPS, std430) writeonly buffer DirtyMaps { uint vsmDirtyMaps[]; };
 
-layout(binding = 13, std430) readonly buffer ListB { uint vsmListB[]; };
-layout(binding = 14, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+layout(binding = ML_VSM_ASSIGN_LIST_B, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = ML_VSM_ASSIGN_SORT_ARGS, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
 #define VSM_ASSIGN

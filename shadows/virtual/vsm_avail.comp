@@ -5,15 +5,16 @@
 // of the nine classes packed together). Pages wanted this frame (class 9) are not listed.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Marks { uint vsmMarks[]; };
-layout(binding = 2, std430) readonly buffer Owner { uint vsmOwner[]; };
-layout(binding = 3, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
-layout(binding = 4, std430) readonly buffer ClassBases { uint vsmClassBases[]; }; // per block, class
-layout(binding = 5, std430) writeonly buffer Avail { uint vsmAvail[]; };
+layout(binding = ML_VSM_AVAIL_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_AVAIL_MARKS, std430) readonly buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_AVAIL_OWNERS, std430) readonly buffer Owner { uint vsmOwner[]; };
+layout(binding = ML_VSM_AVAIL_LAST_USED, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
+layout(binding = ML_VSM_AVAIL_CLASS_BASES, std430) readonly buffer ClassBases { uint vsmClassBases[]; }; // per block, class
+layout(binding = ML_VSM_AVAIL_AVAIL, std430) writeonly buffer Avail { uint vsmAvail[]; };
 
 #define VSM_PAGE_CLASSES
 #define VSM_NO_RUNS

@@ -12,21 +12,22 @@
 // static caster skips pages redrawn from their static twin (vsmPageDrawn).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
-layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
-layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
-layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
-layout(binding = 7, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawIndexedIndirectCommand
-layout(binding = 8, std430) writeonly buffer DrawInfo { uvec4 drawInfo[]; }; // (instance, map, page, 0)
-layout(binding = 9, std430) buffer DrawCounts { uint drawCounts[]; };      // per mip
-layout(binding = 10, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 11, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
+layout(binding = ML_VSM_CULL_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_CULL_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_CULL_PAIRS, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
+layout(binding = ML_VSM_CULL_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_CULL_HPB, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
+layout(binding = ML_VSM_CULL_CASTERS, std430) readonly buffer Casters { GpuCaster casters[]; };
+layout(binding = ML_VSM_CULL_DIRTY_MIPS, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = ML_VSM_CULL_DRAWS, std430) writeonly buffer Draws { uint draws[]; }; // VkDrawIndexedIndirectCommand
+layout(binding = ML_VSM_CULL_DRAW_INFO, std430) writeonly buffer DrawInfo { uvec4 drawInfo[]; }; // (instance, map, page, 0)
+layout(binding = ML_VSM_CULL_DRAW_COUNTS, std430) buffer DrawCounts { uint drawCounts[]; };      // per mip
+layout(binding = ML_VSM_CULL_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_CULL_ORDER, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
 layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: draws per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"

@@ -12,12 +12,13 @@
 // since a helper's atomic has no effect).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bindings.h"
 
-layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 5, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 6, std430) buffer PagePool { uint vsmPool[]; };
-layout(binding = 7, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_DRAW_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_DRAW_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_DRAW_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_DRAW_PAGE_POOL, std430) buffer PagePool { uint vsmPool[]; };
+layout(binding = ML_VSM_DRAW_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(push_constant) uniform Push { VsmDrawPush push; };
 
 layout(location = 0) in float inDepth;

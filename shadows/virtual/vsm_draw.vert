@@ -6,12 +6,13 @@
 // the same operation order as the CPU reference's casters, so both rasterise the same vertices.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bindings.h"
 
-layout(binding = 0, std430) readonly buffer Vertices { GpuVertex vertices[]; };
-layout(binding = 1, std430) readonly buffer Instances { GpuInstance instances[]; };
-layout(binding = 2, std430) readonly buffer DrawInfo { uvec4 drawInfo[]; };
-layout(binding = 3, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 4) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_DRAW_VERTICES, std430) readonly buffer Vertices { GpuVertex vertices[]; };
+layout(binding = ML_VSM_DRAW_INSTANCES, std430) readonly buffer Instances { GpuInstance instances[]; };
+layout(binding = ML_VSM_DRAW_DRAW_INFO, std430) readonly buffer DrawInfo { uvec4 drawInfo[]; };
+layout(binding = ML_VSM_DRAW_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_DRAW_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
 layout(push_constant) uniform Push { VsmDrawPush push; };
 
 #include "shadows/virtual/vsm_page_clip.glsl"

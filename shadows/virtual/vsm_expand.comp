@@ -12,20 +12,21 @@
 // front of the map's near plane (the light outside it, and no front face clipped where a back face is not).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
-layout(binding = 3, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 4, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
-layout(binding = 5, std430) readonly buffer Casters { GpuCaster casters[]; };
-layout(binding = 6, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
-layout(binding = 7, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
-layout(binding = 8, std430) buffer Tasks { uint meshTasks[]; };            // per mip: x, y, z groups, count
-layout(binding = 9, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 10, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
+layout(binding = ML_VSM_EXPAND_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_EXPAND_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_EXPAND_PAIRS, std430) readonly buffer Pairs { uvec2 vsmPairs[]; }; // vsm_pairs: (group, map)
+layout(binding = ML_VSM_EXPAND_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_EXPAND_HPB, std430) readonly buffer Hpb { uint vsmHpb[]; }; // every level (vsm_math.h)
+layout(binding = ML_VSM_EXPAND_CASTERS, std430) readonly buffer Casters { GpuCaster casters[]; };
+layout(binding = ML_VSM_EXPAND_DIRTY_MIPS, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = ML_VSM_EXPAND_MESHLET_LIST, std430) writeonly buffer List { uint meshletList[]; }; // 3 words per entry, per mip
+layout(binding = ML_VSM_EXPAND_MESH_TASKS, std430) buffer Tasks { uint meshTasks[]; };            // per mip: x, y, z groups, count
+layout(binding = ML_VSM_EXPAND_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_EXPAND_ORDER, std430) readonly buffer Order { uint vsmCasterOrder[]; }; // workgroup's casters
 layout(push_constant) uniform Push { VsmCullPush push; }; // capacity: meshlet entries per mip
 
 #include "shadows/virtual/vsm_cull_common.glsl"

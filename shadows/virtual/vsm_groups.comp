@@ -8,12 +8,13 @@
 // loop of 64 box reads per group; the casters are an upload buffer the host rewrites where they changed).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
-layout(binding = 0, std430) readonly buffer Casters { GpuCaster casters[]; };
-layout(binding = 1, std430) readonly buffer Order { uint casterOrder[]; }; // buildCasterOrder (CPU)
-layout(binding = 2, std430) writeonly buffer Groups { GpuCasterGroup groups[]; };
+layout(binding = ML_VSM_GROUPS_CASTERS, std430) readonly buffer Casters { GpuCaster casters[]; };
+layout(binding = ML_VSM_GROUPS_ORDER, std430) readonly buffer Order { uint casterOrder[]; }; // buildCasterOrder (CPU)
+layout(binding = ML_VSM_GROUPS_GROUPS, std430) writeonly buffer Groups { GpuCasterGroup groups[]; };
 layout(push_constant) uniform Push { VsmCullPush push; }; // casterCount (capacity unused)
 
 void main() {

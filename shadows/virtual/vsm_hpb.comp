@@ -7,19 +7,20 @@
 // vsm_expand and the task shader then test at most 2x2 cells per caster or meshlet.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
-layout(binding = 2, std430) readonly buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
-layout(binding = 4, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; }; // (vsm_alloc_common.glsl)
-layout(binding = 6, std430) buffer Hpb { uint vsmHpb[]; };
+layout(binding = ML_VSM_HPB_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_HPB_RUNS, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
+layout(binding = ML_VSM_HPB_COUNTERS, std430) readonly buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_HPB_LIST_A, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
+layout(binding = ML_VSM_HPB_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_HPB_MARKS, std430) readonly buffer Marks { uint vsmMarks[]; }; // (vsm_alloc_common.glsl)
+layout(binding = ML_VSM_HPB_HPB, std430) buffer Hpb { uint vsmHpb[]; };
 
-layout(binding = 7, std430) readonly buffer ListB { uint vsmListB[]; };
-layout(binding = 8, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+layout(binding = ML_VSM_HPB_LIST_B, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = ML_VSM_HPB_SORT_ARGS, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
 #include "shadows/virtual/vsm_alloc_common.glsl"

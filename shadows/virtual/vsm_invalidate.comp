@@ -12,18 +12,19 @@
 // vsm_alloc's prefix sum of the available-page list.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer Stale { uint vsmStale[]; };
-layout(binding = 3, std430) buffer Table { uint vsmTable[]; };
-layout(binding = 4, std430) readonly buffer Marks { uint vsmMarks[]; };
-layout(binding = 5, std430) readonly buffer Owner { uint vsmOwner[]; };
-layout(binding = 6, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
-layout(binding = 7, std430) writeonly buffer ClassCounts { uint vsmClassCounts[]; }; // per block, class
-layout(binding = 8, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_INVALIDATE_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_INVALIDATE_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_INVALIDATE_STALE, std430) readonly buffer Stale { uint vsmStale[]; };
+layout(binding = ML_VSM_INVALIDATE_TABLE, std430) buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_INVALIDATE_MARKS, std430) readonly buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_INVALIDATE_OWNERS, std430) readonly buffer Owner { uint vsmOwner[]; };
+layout(binding = ML_VSM_INVALIDATE_LAST_USED, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
+layout(binding = ML_VSM_INVALIDATE_CLASS_COUNTS, std430) writeonly buffer ClassCounts { uint vsmClassCounts[]; }; // per block, class
+layout(binding = ML_VSM_INVALIDATE_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 
 #define VSM_PAGE_CLASSES
 #define VSM_NO_RUNS

@@ -7,15 +7,16 @@
 // ML_VSM_BLOCK entries, so their work follows the pages wanted, not the maps' virtual size.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = 1) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_LIST_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_LIST_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 // Word 0: which list buffer holds the sorted list (vsm_alloc_common.glsl's vsmListRank); word 1: 1 when
 // vsm_allocate_short_list allocated in one workgroup, else 0; word 2: its closed length; from word 4,
 // per vsm_sort pass, its indirect dispatch (x, y, z).
-layout(binding = 2, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
+layout(binding = ML_VSM_LIST_SORT_ARGS, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
 layout(push_constant) uniform Push { VsmSortPush push; }; // width: the number of merge passes
 
 #define VSM_NO_RUNS

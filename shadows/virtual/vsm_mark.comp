@@ -8,6 +8,7 @@
 // Clustered marking: the seed (RMVSM section 6) marks against every light and names this as future work.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
 // Profiling only (ML_VSM_MARK_STAGE, vsm_programs.cpp; tools/vsm_mark_stages.py): 0 marks; 1..5 stop
@@ -16,20 +17,20 @@ layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
 // 4 after the light loop's reach and facing tests, 5 marks local lights only (directional skipped).
 layout(constant_id = 0) const uint kStage = 0;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5) uniform texture2D depthImage;
-layout(binding = 6) uniform texture2D normalImage;
-layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
-layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
-layout(binding = 11, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 12, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
-layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
+layout(binding = ML_VSM_MARK_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_VSM_MARK_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_VSM_MARK_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_VSM_MARK_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_VSM_MARK_LIGHT_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_VSM_MARK_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_VSM_MARK_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_VSM_MARK_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_MARK_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_MARK_COVERAGE, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = ML_VSM_MARK_MARKS, std430) coherent buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_MARK_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_MARK_RANK_BASE, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
+layout(binding = ML_VSM_MARK_REQUESTS, std430) writeonly buffer List { uint vsmList[]; };
 
 #define VSM_CONST vsm
 #define VSM_MAPS vsmMaps

@@ -18,25 +18,26 @@
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/cluster_receivers.h"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_MAX_SLICES) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5) uniform texture2D depthImage;
-layout(binding = 6) uniform texture2D normalImage;
-layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
-layout(binding = 10, std430) coherent buffer Marks { uint vsmMarks[]; };
-layout(binding = 11, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 12, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
-layout(binding = 13, std430) writeonly buffer List { uint vsmList[]; };
-layout(binding = 14, std430) readonly buffer Receivers { ClusterReceivers clusterReceivers[]; };
-layout(binding = 15, std430) readonly buffer TileMasks { uvec2 tileMasks[]; }; // bit s: slice s occupied
+layout(binding = ML_VSM_MARK_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_VSM_MARK_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_VSM_MARK_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_VSM_MARK_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_VSM_MARK_LIGHT_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_VSM_MARK_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_VSM_MARK_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_VSM_MARK_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_MARK_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_MARK_COVERAGE, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = ML_VSM_MARK_MARKS, std430) coherent buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_MARK_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_MARK_RANK_BASE, std430) readonly buffer Ranks { uint vsmRankBase[]; }; // per (map slot, mip)
+layout(binding = ML_VSM_MARK_REQUESTS, std430) writeonly buffer List { uint vsmList[]; };
+layout(binding = ML_VSM_MARK_RECEIVERS, std430) readonly buffer Receivers { ClusterReceivers clusterReceivers[]; };
+layout(binding = ML_VSM_MARK_TILE_MASKS, std430) readonly buffer TileMasks { uvec2 tileMasks[]; }; // bit s: slice s occupied
 
 #define VSM_CONST vsm
 #define VSM_MAPS vsmMaps

@@ -10,12 +10,13 @@
 // drawn into both layers.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_CLEAR_GROUP) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Rendered { uint vsmRendered[]; };
-layout(binding = 2, std430) buffer PagePool { uint vsmPool[]; };
+layout(binding = ML_VSM_MERGE_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_MERGE_RENDERED, std430) readonly buffer Rendered { uint vsmRendered[]; };
+layout(binding = ML_VSM_MERGE_PAGE_POOL, std430) buffer PagePool { uint vsmPool[]; };
 
 void main() {
     uint texels = vsm.page.x * vsm.page.x;

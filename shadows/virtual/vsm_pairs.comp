@@ -13,16 +13,17 @@
 // one test per 64 casters here, and the culling's workgroups are the pairs left.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_math.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_CULL_GROUP) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 2, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
-layout(binding = 3, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
-layout(binding = 4, std430) readonly buffer Groups { GpuCasterGroup vsmCasterGroups[]; }; // vsm_groups
-layout(binding = 5, std430) writeonly buffer Pairs { uvec2 vsmPairs[]; }; // (group, map)
-layout(binding = 6, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_PAIRS_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_PAIRS_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_PAIRS_DIRTY_MAPS, std430) readonly buffer DirtyMaps { uint vsmDirtyMaps[]; }; // vsm_assign
+layout(binding = ML_VSM_PAIRS_DIRTY_MIPS, std430) readonly buffer MapMips { uint vsmDirtyMips[]; };
+layout(binding = ML_VSM_PAIRS_GROUPS, std430) readonly buffer Groups { GpuCasterGroup vsmCasterGroups[]; }; // vsm_groups
+layout(binding = ML_VSM_PAIRS_PAIRS, std430) writeonly buffer Pairs { uvec2 vsmPairs[]; }; // (group, map)
+layout(binding = ML_VSM_PAIRS_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(push_constant) uniform Push { VsmPairsPush push; };
 
 #define VSM_NO_PAGES

@@ -1,10 +1,12 @@
-// The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; the module's
-// frame (engine/frame.h) orders and times them. Every barrier names the hazard it orders; the frame-begin
-// barrier (engine/frame_passes.cpp) orders this frame's first writes after the previous frame's reads.
+// The virtual shadow map passes of a frame (vsm.h has the algorithm), one function per pass; recordPath
+// puts them in order and names each step's timer, the module's frame (engine/frame.h) runs the timers.
+// Every barrier names the hazard it orders; the frame-begin barrier (engine/frame_passes.cpp) orders this
+// frame's first writes after the previous frame's reads.
 #include "shadows/virtual/vsm_passes.h"
 
 #include "gpu/bindings.h"
 #include "shadows/virtual/vsm_alloc_bindings.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -95,14 +97,26 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotInde
         in.clusterReceivers && in.tileMasks)
         dispatch(d, c, programs_.markCluster, fc->size.z * ML_MAX_SLICES, fc->size.w,
                  NoPush{}, // per slice of a tile
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
-                  sampled(in.normal), slot.constants, slot.maps, slot.coverage, pg.marks, slot.counters,
-                  slot.rankBase, pg.list[0], *in.clusterReceivers, *in.tileMasks});
+                 {ML_BIND(ML_VSM_MARK_FRAME, *in.frame), ML_BIND(ML_VSM_MARK_SLICES, *in.slices),
+                  ML_BIND(ML_VSM_MARK_LIGHTS, *in.lights), ML_BIND(ML_VSM_MARK_RANGES, *in.ranges),
+                  ML_BIND(ML_VSM_MARK_LIGHT_POOL, *in.pool), ML_BIND(ML_VSM_MARK_DEPTH, sampled(in.depth)),
+                  ML_BIND(ML_VSM_MARK_NORMAL, sampled(in.normal)),
+                  ML_BIND(ML_VSM_MARK_CONSTANTS, slot.constants), ML_BIND(ML_VSM_MARK_MAPS, slot.maps),
+                  ML_BIND(ML_VSM_MARK_COVERAGE, slot.coverage), ML_BIND(ML_VSM_MARK_MARKS, pg.marks),
+                  ML_BIND(ML_VSM_MARK_COUNTERS, slot.counters), ML_BIND(ML_VSM_MARK_RANK_BASE, slot.rankBase),
+                  ML_BIND(ML_VSM_MARK_REQUESTS, pg.list[0]),
+                  ML_BIND(ML_VSM_MARK_RECEIVERS, *in.clusterReceivers),
+                  ML_BIND(ML_VSM_MARK_TILE_MASKS, *in.tileMasks)});
     else
         dispatch(d, c, programs_.mark, fc->size.x, fc->size.y, NoPush{},
-                 {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth),
-                  sampled(in.normal), slot.constants, slot.maps, slot.coverage, pg.marks, slot.counters,
-                  slot.rankBase, pg.list[0]});
+                 {ML_BIND(ML_VSM_MARK_FRAME, *in.frame), ML_BIND(ML_VSM_MARK_SLICES, *in.slices),
+                  ML_BIND(ML_VSM_MARK_LIGHTS, *in.lights), ML_BIND(ML_VSM_MARK_RANGES, *in.ranges),
+                  ML_BIND(ML_VSM_MARK_LIGHT_POOL, *in.pool), ML_BIND(ML_VSM_MARK_DEPTH, sampled(in.depth)),
+                  ML_BIND(ML_VSM_MARK_NORMAL, sampled(in.normal)),
+                  ML_BIND(ML_VSM_MARK_CONSTANTS, slot.constants), ML_BIND(ML_VSM_MARK_MAPS, slot.maps),
+                  ML_BIND(ML_VSM_MARK_COVERAGE, slot.coverage), ML_BIND(ML_VSM_MARK_MARKS, pg.marks),
+                  ML_BIND(ML_VSM_MARK_COUNTERS, slot.counters), ML_BIND(ML_VSM_MARK_RANK_BASE, slot.rankBase),
+                  ML_BIND(ML_VSM_MARK_REQUESTS, pg.list[0])});
     memoryBarrier(c, C, W, C, R | W); // marks, request list and its count -> the allocation passes
 }
 
@@ -137,7 +151,8 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
     } else {
         // The list's count and the sort's dispatch sizes.
         dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
-                 {slot.constants, slot.counters, pg.sortArgs});
+                 {ML_BIND(ML_VSM_LIST_CONSTANTS, slot.constants),
+                  ML_BIND(ML_VSM_LIST_COUNTERS, slot.counters), ML_BIND(ML_VSM_LIST_SORT_ARGS, pg.sortArgs)});
         nextAllocationPass(c); // the list's count -> the sort's dispatch sizes and reads
     }
     // Block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
@@ -147,7 +162,9 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
         const Buffer& src = pg.list[pass % 2];
         const Buffer& dst = pg.list[(pass + 1) % 2];
         dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
-                         gpu::VsmSortPush{width, 0}, {slot.counters, src, dst});
+                         gpu::VsmSortPush{width, 0},
+                         {ML_BIND(ML_VSM_SORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SORT_SRC, src),
+                          ML_BIND(ML_VSM_SORT_DST, dst)});
         // This pass's runs -> the next pass; after the last, the sorted list -> the allocation's scan
         // and assignment (and its counters' reads -> vsm_invalidate's atomics: write-after-read).
         nextAllocationPass(c);
@@ -163,7 +180,8 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     // sizes after the sort passes' (0 groups after a list it allocated); without it, as sized here.
     const VkDeviceSize args = (4 + 3 * VkDeviceSize(pg.mergePasses + 1)) * 4;
     const bool indirect = shortList_ != 0;
-    auto poolPass = [&](const Program& program, std::initializer_list<Descriptor> bound, uint32_t threads) {
+    auto poolPass = [&](const Program& program, std::initializer_list<NamedDescriptor> bound,
+                        uint32_t threads) {
         if (indirect)
             dispatchIndirect(d, c, program, pg.sortArgs, args, NoPush{}, bound);
         else
@@ -174,28 +192,47 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     // The pool pass (invalidation, class counts): it needs neither the sorted list nor the sort its
     // results, so it runs after the sort (recordSort), which keeps the sort one timed scope.
     poolPass(programs_.invalidate,
-             {slot.constants, slot.maps, slot.stale, pg.table, pg.marks, pg.owners, pg.lastUsed,
-              pg.classCounts, slot.counters},
+             {ML_BIND(ML_VSM_INVALIDATE_CONSTANTS, slot.constants),
+              ML_BIND(ML_VSM_INVALIDATE_MAPS, slot.maps), ML_BIND(ML_VSM_INVALIDATE_STALE, slot.stale),
+              ML_BIND(ML_VSM_INVALIDATE_TABLE, pg.table), ML_BIND(ML_VSM_INVALIDATE_MARKS, pg.marks),
+              ML_BIND(ML_VSM_INVALIDATE_OWNERS, pg.owners), ML_BIND(ML_VSM_INVALIDATE_LAST_USED, pg.lastUsed),
+              ML_BIND(ML_VSM_INVALIDATE_CLASS_COUNTS, pg.classCounts),
+              ML_BIND(ML_VSM_INVALIDATE_COUNTERS, slot.counters)},
              pool);
     nextAllocationPass(c); // table, class counts, counters -> the list passes
     dispatchIndirect(d, c, programs_.scan, listArgsBuffer, listArgsAt, NoPush{},
-                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.lastUsed,
-                      pg.blockCounts, pg.list[1], pg.sortArgs});
+                     {ML_BIND(ML_VSM_SCAN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SCAN_RUNS, slot.runs),
+                      ML_BIND(ML_VSM_SCAN_COUNTERS, slot.counters), ML_BIND(ML_VSM_SCAN_LIST_A, pg.list[0]),
+                      ML_BIND(ML_VSM_SCAN_TABLE, pg.table), ML_BIND(ML_VSM_SCAN_MARKS, pg.marks),
+                      ML_BIND(ML_VSM_SCAN_LAST_USED, pg.lastUsed),
+                      ML_BIND(ML_VSM_SCAN_BLOCK_COUNTS, pg.blockCounts),
+                      ML_BIND(ML_VSM_SCAN_LIST_B, pg.list[1]), ML_BIND(ML_VSM_SCAN_SORT_ARGS, pg.sortArgs)});
     nextAllocationPass(c); // block counts, last use -> alloc, avail
+    const std::initializer_list<NamedDescriptor> allocBound = {
+        ML_BIND(ML_VSM_ALLOC_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ALLOC_COUNTERS, slot.counters),
+        ML_BIND(ML_VSM_ALLOC_BLOCK_COUNTS, pg.blockCounts),
+        ML_BIND(ML_VSM_ALLOC_CLASS_COUNTS, pg.classCounts)};
     if (indirect)
-        dispatchIndirect(d, c, programs_.alloc, pg.sortArgs, args + 24, NoPush{},
-                         {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
+        dispatchIndirect(d, c, programs_.alloc, pg.sortArgs, args + 24, NoPush{}, allocBound);
     else
-        dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{},
-                 {slot.constants, slot.counters, pg.blockCounts, pg.classCounts});
+        dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{}, allocBound);
     nextAllocationPass(c); // block ranks, class bases, counters -> avail, assign
-    poolPass(programs_.avail, {slot.constants, pg.marks, pg.owners, pg.lastUsed, pg.classCounts, pg.avail},
+    poolPass(programs_.avail,
+             {ML_BIND(ML_VSM_AVAIL_CONSTANTS, slot.constants), ML_BIND(ML_VSM_AVAIL_MARKS, pg.marks),
+              ML_BIND(ML_VSM_AVAIL_OWNERS, pg.owners), ML_BIND(ML_VSM_AVAIL_LAST_USED, pg.lastUsed),
+              ML_BIND(ML_VSM_AVAIL_CLASS_BASES, pg.classCounts), ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail)},
              pool);
     nextAllocationPass(c); // the available-page list -> assign
-    dispatchIndirect(d, c, programs_.assign, listArgsBuffer, listArgsAt, NoPush{},
-                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.owners,
-                      pg.lastUsed, pg.blockCounts, pg.avail, pg.rendered, pg.dirtyMips, pg.dirtyMaps,
-                      pg.list[1], pg.sortArgs});
+    dispatchIndirect(
+        d, c, programs_.assign, listArgsBuffer, listArgsAt, NoPush{},
+        {ML_BIND(ML_VSM_ASSIGN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ASSIGN_RUNS, slot.runs),
+         ML_BIND(ML_VSM_ASSIGN_COUNTERS, slot.counters), ML_BIND(ML_VSM_ASSIGN_LIST_A, pg.list[0]),
+         ML_BIND(ML_VSM_ASSIGN_TABLE, pg.table), ML_BIND(ML_VSM_ASSIGN_MARKS, pg.marks),
+         ML_BIND(ML_VSM_ASSIGN_OWNERS, pg.owners), ML_BIND(ML_VSM_ASSIGN_LAST_USED, pg.lastUsed),
+         ML_BIND(ML_VSM_ASSIGN_BLOCK_RANKS, pg.blockCounts), ML_BIND(ML_VSM_ASSIGN_AVAIL, pg.avail),
+         ML_BIND(ML_VSM_ASSIGN_RENDERED, pg.rendered), ML_BIND(ML_VSM_ASSIGN_DIRTY_MIPS, pg.dirtyMips),
+         ML_BIND(ML_VSM_ASSIGN_DIRTY_MAPS, pg.dirtyMaps), ML_BIND(ML_VSM_ASSIGN_LIST_B, pg.list[1]),
+         ML_BIND(ML_VSM_ASSIGN_SORT_ARGS, pg.sortArgs)});
     // Page table (DIRTY), dirty mips and maps, rendered list, the clear's and the culling's dispatch
     // sizes -> HPB, group culling, cull, clear.
     nextAllocationPass(c); // (the culling passes add to the counters too)
@@ -206,8 +243,11 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     const VsmPages& pg = state_->pages();
     // One thread per listed (wanted) entry; the bits were cleared at the frame's start (recordReset).
     dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
-                     {slot.constants, slot.runs, slot.counters, pg.list[0], pg.table, pg.marks, pg.hpb,
-                      pg.list[1], pg.sortArgs});
+                     {ML_BIND(ML_VSM_HPB_CONSTANTS, slot.constants), ML_BIND(ML_VSM_HPB_RUNS, slot.runs),
+                      ML_BIND(ML_VSM_HPB_COUNTERS, slot.counters), ML_BIND(ML_VSM_HPB_LIST_A, pg.list[0]),
+                      ML_BIND(ML_VSM_HPB_TABLE, pg.table), ML_BIND(ML_VSM_HPB_MARKS, pg.marks),
+                      ML_BIND(ML_VSM_HPB_HPB, pg.hpb), ML_BIND(ML_VSM_HPB_LIST_B, pg.list[1]),
+                      ML_BIND(ML_VSM_HPB_SORT_ARGS, pg.sortArgs)});
     // HPB bits -> the culling's reads (compute; mesh path: task shaders).
     memoryBarrier(c, C, W, C | kTask, R);
 }
@@ -218,20 +258,23 @@ void VsmPasses::recordGroupCull(const Device& d, VkCommandBuffer c, uint32_t slo
     // Group bounds: one thread per ML_VSM_CULL_GROUP casters of the culling order.
     const uint32_t groups = (slot.casterCount + ML_VSM_CULL_GROUP - 1) / ML_VSM_CULL_GROUP;
     dispatch(d, c, programs_.groups, groups, 1, gpu::VsmCullPush{slot.casterCount, 0},
-             {slot.casters, slot.casterOrder, slot.casterGroups});
+             {ML_BIND(ML_VSM_GROUPS_CASTERS, slot.casters), ML_BIND(ML_VSM_GROUPS_ORDER, slot.casterOrder),
+              ML_BIND(ML_VSM_GROUPS_GROUPS, slot.casterGroups)});
     memoryBarrier(c, C, W, C, R); // group bounds -> the pair tests
     // (group, dirty map) pairs: x the CPU's group count, y vsm_assign's dirty maps (cullGroups).
     const uint32_t meshlets = state_->meshPath() ? 1u : 0u;
+    const std::initializer_list<NamedDescriptor> pairsBound = {
+        ML_BIND(ML_VSM_PAIRS_CONSTANTS, slot.constants), ML_BIND(ML_VSM_PAIRS_MAPS, slot.maps),
+        ML_BIND(ML_VSM_PAIRS_DIRTY_MAPS, pg.dirtyMaps),  ML_BIND(ML_VSM_PAIRS_DIRTY_MIPS, pg.dirtyMips),
+        ML_BIND(ML_VSM_PAIRS_GROUPS, slot.casterGroups), ML_BIND(ML_VSM_PAIRS_PAIRS, slot.cullPairs),
+        ML_BIND(ML_VSM_PAIRS_COUNTERS, slot.counters)};
     dispatchIndirect(d, c, programs_.pairs, slot.counters, offsetof(gpu::VsmCounters, cullGroupsX),
-                     gpu::VsmPairsPush{slot.casterCount, meshlets, 0, 0, slot.pairCapacity},
-                     {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups,
-                      slot.cullPairs, slot.counters});
+                     gpu::VsmPairsPush{slot.casterCount, meshlets, 0, 0, slot.pairCapacity}, pairsBound);
     memoryBarrier(c, C, W, C, R | W); // the pair count (atomics) -> the closing thread
     dispatch(d, c, programs_.pairs, 1, 1,
              gpu::VsmPairsPush{slot.casterCount, meshlets, 1, state_->settings().cullRowWorkgroups,
                                slot.pairCapacity},
-             {slot.constants, slot.maps, pg.dirtyMaps, pg.dirtyMips, slot.casterGroups, slot.cullPairs,
-              slot.counters});
+             pairsBound);
     // The culling's dispatch size -> indirect read; the pair list -> the culling's reads.
     memoryBarrier(c, C, W, C | kIndirect, R | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
@@ -241,9 +284,14 @@ void VsmPasses::recordCull(const Device& d, VkCommandBuffer c, uint32_t slotInde
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxDrawsPerMip};
     // One workgroup per (caster group, map) pair left: vsm_pairs wrote the dispatch size.
-    dispatchIndirect(d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
-                     {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
-                      pg.draws, pg.drawInfo, pg.drawCounts, slot.counters, slot.casterOrder});
+    dispatchIndirect(
+        d, c, programs_.cull, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
+        {ML_BIND(ML_VSM_CULL_CONSTANTS, slot.constants), ML_BIND(ML_VSM_CULL_MAPS, slot.maps),
+         ML_BIND(ML_VSM_CULL_PAIRS, slot.cullPairs), ML_BIND(ML_VSM_CULL_TABLE, pg.table),
+         ML_BIND(ML_VSM_CULL_HPB, pg.hpb), ML_BIND(ML_VSM_CULL_CASTERS, slot.casters),
+         ML_BIND(ML_VSM_CULL_DIRTY_MIPS, pg.dirtyMips), ML_BIND(ML_VSM_CULL_DRAWS, pg.draws),
+         ML_BIND(ML_VSM_CULL_DRAW_INFO, pg.drawInfo), ML_BIND(ML_VSM_CULL_DRAW_COUNTS, pg.drawCounts),
+         ML_BIND(ML_VSM_CULL_COUNTERS, slot.counters), ML_BIND(ML_VSM_CULL_ORDER, slot.casterOrder)});
     // Draw lists and counts -> indirect draws; draw info -> vertex shader.
     memoryBarrier(c, C, W, kIndirect | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
@@ -253,40 +301,61 @@ void VsmPasses::recordExpand(const Device& d, VkCommandBuffer c, uint32_t slotIn
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     const gpu::VsmCullPush push{slot.casterCount, state_->settings().maxMeshletsPerMip};
-    dispatchIndirect(d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
-                     {slot.constants, slot.maps, slot.cullPairs, pg.table, pg.hpb, slot.casters, pg.dirtyMips,
-                      pg.meshletList, pg.meshTasks, slot.counters, slot.casterOrder});
+    dispatchIndirect(
+        d, c, programs_.expand, slot.counters, offsetof(gpu::VsmCounters, pairGroupsX), push,
+        {ML_BIND(ML_VSM_EXPAND_CONSTANTS, slot.constants), ML_BIND(ML_VSM_EXPAND_MAPS, slot.maps),
+         ML_BIND(ML_VSM_EXPAND_PAIRS, slot.cullPairs), ML_BIND(ML_VSM_EXPAND_TABLE, pg.table),
+         ML_BIND(ML_VSM_EXPAND_HPB, pg.hpb), ML_BIND(ML_VSM_EXPAND_CASTERS, slot.casters),
+         ML_BIND(ML_VSM_EXPAND_DIRTY_MIPS, pg.dirtyMips), ML_BIND(ML_VSM_EXPAND_MESHLET_LIST, pg.meshletList),
+         ML_BIND(ML_VSM_EXPAND_MESH_TASKS, pg.meshTasks), ML_BIND(ML_VSM_EXPAND_COUNTERS, slot.counters),
+         ML_BIND(ML_VSM_EXPAND_ORDER, slot.casterOrder)});
     // Task counts -> indirect draws; lists, and the page table and HPB (written by earlier compute
     // passes) -> task and mesh shaders.
     memoryBarrier(c, C, W, kIndirect | kTask | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT,
                   VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | R);
 }
 
-void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
-                           const VsmFrameInputs& in) const {
+void VsmPasses::recordClear(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // One group per rendered page: vsm_assign counted them into the dispatch size.
     dispatchIndirect(d, c, programs_.clear, slot.counters, offsetof(gpu::VsmCounters, dispatchX), NoPush{},
-                     {slot.constants, pg.rendered, pg.pool});
+                     {ML_BIND(ML_VSM_CLEAR_CONSTANTS, slot.constants),
+                      ML_BIND(ML_VSM_CLEAR_RENDERED, pg.rendered), ML_BIND(ML_VSM_CLEAR_PAGE_POOL, pg.pool)});
     memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
+}
+
+void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
+                           const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(slotIndex);
+    const VsmPages& pg = state_->pages();
     for (uint32_t m = 0; m < state_->layout().mips; ++m) {
         const uint32_t res = state_->settings().resolution >> m;
         beginAttachmentless(c, res, {res, res});
         const gpu::VsmDrawPush push{m, state_->settings().maxMeshletsPerMip};
         if (state_->meshPath()) {
             // Spot and point maps of every light at this mip, and at mip 0 every directional clip level.
-            bindProgram(d, c, programs_.mesh, push,
-                        {*in.vertices, *in.instances, pg.meshletList, slot.maps, slot.constants, pg.table,
-                         pg.pool, slot.counters, *in.meshletVertices, *in.meshletTriangles, pg.hpb,
-                         pg.meshTasks, *in.meshlets});
+            bindProgram(
+                d, c, programs_.mesh, push,
+                {ML_BIND(ML_VSM_DRAW_VERTICES, *in.vertices), ML_BIND(ML_VSM_DRAW_INSTANCES, *in.instances),
+                 ML_BIND(ML_VSM_DRAW_MESHLET_LIST, pg.meshletList), ML_BIND(ML_VSM_DRAW_MAPS, slot.maps),
+                 ML_BIND(ML_VSM_DRAW_CONSTANTS, slot.constants), ML_BIND(ML_VSM_DRAW_TABLE, pg.table),
+                 ML_BIND(ML_VSM_DRAW_PAGE_POOL, pg.pool), ML_BIND(ML_VSM_DRAW_COUNTERS, slot.counters),
+                 ML_BIND(ML_VSM_DRAW_MESHLET_VERTICES, *in.meshletVertices),
+                 ML_BIND(ML_VSM_DRAW_MESHLET_TRIANGLES, *in.meshletTriangles),
+                 ML_BIND(ML_VSM_DRAW_HPB, pg.hpb), ML_BIND(ML_VSM_DRAW_MESH_TASKS, pg.meshTasks),
+                 ML_BIND(ML_VSM_DRAW_MESHLETS, *in.meshlets)});
             d.cmdDrawMeshTasksIndirect(c, pg.meshTasks.buffer, VkDeviceSize(m) * 16, 1, 16);
         } else {
             // Closed casters with back faces culled, then open ones (vsm_cull.comp's two lists).
             for (uint32_t list = 0; list < 2; ++list) {
-                bindProgram(d, c, list == 0 ? programs_.drawClosed : programs_.draw, push,
-                            {*in.vertices, *in.instances, pg.drawInfo, slot.maps, slot.constants, pg.table,
-                             pg.pool, slot.counters});
+                bindProgram(
+                    d, c, list == 0 ? programs_.drawClosed : programs_.draw, push,
+                    {ML_BIND(ML_VSM_DRAW_VERTICES, *in.vertices),
+                     ML_BIND(ML_VSM_DRAW_INSTANCES, *in.instances),
+                     ML_BIND(ML_VSM_DRAW_DRAW_INFO, pg.drawInfo), ML_BIND(ML_VSM_DRAW_MAPS, slot.maps),
+                     ML_BIND(ML_VSM_DRAW_CONSTANTS, slot.constants), ML_BIND(ML_VSM_DRAW_TABLE, pg.table),
+                     ML_BIND(ML_VSM_DRAW_PAGE_POOL, pg.pool), ML_BIND(ML_VSM_DRAW_COUNTERS, slot.counters)});
                 vkCmdBindIndexBuffer(c, in.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
                 const VkDeviceSize first =
                     VkDeviceSize(list * state_->layout().mips + m) * state_->settings().maxDrawsPerMip;
@@ -301,13 +370,38 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
     if (state_->settings().staticLayer && state_->settings().caching) {
         // Static twins and dynamic casters' depths -> their minimum in the page (vsm_merge.comp).
         memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R | W);
-        dispatchIndirect(d, c, programs_.merge, slot.counters, offsetof(gpu::VsmCounters, dispatchX),
-                         NoPush{}, {slot.constants, pg.rendered, pg.pool});
+        dispatchIndirect(
+            d, c, programs_.merge, slot.counters, offsetof(gpu::VsmCounters, dispatchX), NoPush{},
+            {ML_BIND(ML_VSM_MERGE_CONSTANTS, slot.constants), ML_BIND(ML_VSM_MERGE_RENDERED, pg.rendered),
+             ML_BIND(ML_VSM_MERGE_PAGE_POOL, pg.pool)});
         memoryBarrier(c, C, W, C, R); // merged pages -> the evaluation pass's lookups
         return;
     }
     // Physical pages -> the evaluation pass's lookups.
     memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
+}
+
+Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFrameInputs& in,
+                                   const StepRunner& step) const {
+    // Each receiver pixel (or cluster) marks the pages its lookups will read; first wants are listed.
+    ML_TRY(step(Pass::VsmMark, [&](VkCommandBuffer c) { recordMark(d, c, slot, in); }));
+    // The request list closed and sorted by priority rank (a short one also allocated, in one workgroup).
+    ML_TRY(step(Pass::VsmSort, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
+    // Invalidation, then a physical page for each wanted entry without one; dirty pages and maps listed.
+    ML_TRY(step(Pass::VsmAlloc, [&](VkCommandBuffer c) { recordAlloc(d, c, slot); }));
+    // The hierarchical page buffer: which regions of each map hold a dirty page.
+    ML_TRY(step(Pass::VsmHpb, [&](VkCommandBuffer c) { recordHpb(d, c, slot); }));
+    // Caster groups against the dirty maps: the (group, map) pairs left for the culling.
+    ML_TRY(step(Pass::VsmGroupCull, [&](VkCommandBuffer c) { recordGroupCull(d, c, slot); }));
+    if (!state_->meshPath()) // vertex path: each pair's casters into indirect draws per dirty mip
+        ML_TRY(step(Pass::VsmCull, [&](VkCommandBuffer c) { recordCull(d, c, slot); }));
+    else // mesh path: each pair's casters into meshlet lists for the task shaders
+        ML_TRY(step(Pass::VsmExpand, [&](VkCommandBuffer c) { recordExpand(d, c, slot); }));
+    // The dirty pages cleared, then the casters drawn into them (and merged with their static twins).
+    return step(Pass::VsmDraw, [&](VkCommandBuffer c) {
+        recordClear(d, c, slot);
+        recordDraw(d, c, slot, in);
+    });
 }
 
 void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
@@ -316,8 +410,13 @@ void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotI
     const VsmPages& pg = state_->pages();
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     dispatch(d, cmd, programs_.probe, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
-              slot.constants, slot.maps, slot.coverage, pg.table, pg.pool, slot.probes});
+             {ML_BIND(ML_VSM_PROBE_FRAME, *in.frame), ML_BIND(ML_VSM_PROBE_SLICES, *in.slices),
+              ML_BIND(ML_VSM_PROBE_LIGHTS, *in.lights), ML_BIND(ML_VSM_PROBE_RANGES, *in.ranges),
+              ML_BIND(ML_VSM_PROBE_LIGHT_POOL, *in.pool), ML_BIND(ML_VSM_PROBE_DEPTH, sampled(in.depth)),
+              ML_BIND(ML_VSM_PROBE_NORMAL, sampled(in.normal)),
+              ML_BIND(ML_VSM_PROBE_CONSTANTS, slot.constants), ML_BIND(ML_VSM_PROBE_MAPS, slot.maps),
+              ML_BIND(ML_VSM_PROBE_COVERAGE, slot.coverage), ML_BIND(ML_VSM_PROBE_TABLE, pg.table),
+              ML_BIND(ML_VSM_PROBE_PAGE_POOL, pg.pool), ML_BIND(ML_VSM_PROBE_PROBES, slot.probes)});
     memoryBarrier(cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
 }
 
@@ -329,9 +428,13 @@ void VsmPasses::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIn
     // The evaluation pass's output -> read and overwritten here.
     memoryBarrier(cmd, C, W, C, R | W);
     dispatch(d, cmd, programs_.view, fc->size.x, fc->size.y, NoPush{},
-             {*in.frame, *in.slices, *in.lights, *in.ranges, *in.pool, sampled(in.depth), sampled(in.normal),
-              slot.constants, slot.maps, slot.coverage, pg.table, pg.pool,
-              Descriptor(Image{.view = output})});
+             {ML_BIND(ML_VSM_VIEW_FRAME, *in.frame), ML_BIND(ML_VSM_VIEW_SLICES, *in.slices),
+              ML_BIND(ML_VSM_VIEW_LIGHTS, *in.lights), ML_BIND(ML_VSM_VIEW_RANGES, *in.ranges),
+              ML_BIND(ML_VSM_VIEW_LIGHT_POOL, *in.pool), ML_BIND(ML_VSM_VIEW_DEPTH, sampled(in.depth)),
+              ML_BIND(ML_VSM_VIEW_NORMAL, sampled(in.normal)), ML_BIND(ML_VSM_VIEW_CONSTANTS, slot.constants),
+              ML_BIND(ML_VSM_VIEW_MAPS, slot.maps), ML_BIND(ML_VSM_VIEW_COVERAGE, slot.coverage),
+              ML_BIND(ML_VSM_VIEW_TABLE, pg.table), ML_BIND(ML_VSM_VIEW_PAGE_POOL, pg.pool),
+              ML_BIND(ML_VSM_VIEW_OUTPUT, Image{.view = output})});
     // The view's output -> the host's reads after record().
     memoryBarrier(cmd, C, W, kOutputReaderStages, kOutputReads);
 }

@@ -1,14 +1,14 @@
 // The virtual shadow map passes (vsm.h has the algorithm) over the state VirtualShadowMaps keeps: one
-// function per pass, their programs (vsm_programs.h). The module's frame (engine/frame.h) orders and
-// times them, one timer per step (manylights/pass_times.h): reset (per-frame clears, untimed), then, when
-// the slot has active maps (state.active()), mark, sort (close and sort the request list; a short list is
-// allocated there in one workgroup, vsm_allocate_short_list), alloc (invalidate, scan, allocate, assign),
-// HPB, group culling (caster groups against the dirty maps), cull (vertex path) or expand (mesh path),
-// draw (clear and draw the dirty pages); after the evaluation the probe (state.probing()) and the debug
-// view.
+// function per pass, their programs (vsm_programs.h). The frame (engine/frame.h) records reset (per-frame
+// clears, untimed), then, when the slot has active maps (state.active()), the path from marked page to
+// drawn page that recordPath lists in order, each step under its timer (manylights/pass_times.h); after
+// the evaluation the probe (state.probing()) and the debug view.
 #pragma once
+#include "manylights/pass_times.h"
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_programs.h"
+
+#include <functional>
 
 namespace ml {
 
@@ -22,16 +22,13 @@ class VsmPasses {
     // multi-dispatch passes): ML_VSM_ONE_GROUP_LIST where the device has the shared memory and
     // invocations, lowered by ML_VSM_ALLOC_SHORT_LIST=N (0 restores the multi-dispatch path alone).
     uint32_t shortListLimit() const { return shortList_; }
-    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
-    void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
-    // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
-    void recordGroupCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    // Runs one step of the path under its timer: `body` records the step into the command buffer it is
+    // given (the frame's, or a fenced run's own). A failed run (fenced runs only) stops the path there.
+    using StepRunner =
+        std::function<Result<void>(Pass timer, const std::function<void(VkCommandBuffer)>& body)>;
+    // The path from marked page to drawn page, in order, for a slot with active maps (state.active()).
+    Result<void> recordPath(const Device& device, uint32_t slot, const VsmFrameInputs& in,
+                            const StepRunner& step) const;
     // The probe pass: records the lookups into the slot's probe buffer.
     void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot,
                      const VsmFrameInputs& in) const;
@@ -41,6 +38,18 @@ class VsmPasses {
                     VkImageView output) const;
 
   private:
+    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
+    // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
+    void recordGroupCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordClear(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+
     const VirtualShadowMaps* state_ = nullptr;
     VsmPrograms programs_;
     uint32_t shortList_ = 0;

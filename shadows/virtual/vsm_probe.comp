@@ -6,22 +6,23 @@
 // same casters at the same mip (CPU rasteriser); nothing else reads it.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5) uniform texture2D depthImage;
-layout(binding = 6) uniform texture2D normalImage;
-layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
-layout(binding = 10, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 11, std430) readonly buffer PagePool { uint vsmPool[]; };
-layout(binding = 12, std430) buffer Probes { uint probeCount; uint probeCapacity; uint probeOverflow; uint pad; GpuVsmProbe probes[]; };
+layout(binding = ML_VSM_PROBE_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_VSM_PROBE_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_VSM_PROBE_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_VSM_PROBE_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_VSM_PROBE_LIGHT_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_VSM_PROBE_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_VSM_PROBE_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_VSM_PROBE_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_PROBE_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_PROBE_COVERAGE, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = ML_VSM_PROBE_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_PROBE_PAGE_POOL, std430) readonly buffer PagePool { uint vsmPool[]; };
+layout(binding = ML_VSM_PROBE_PROBES, std430) buffer Probes { uint probeCount; uint probeCapacity; uint probeOverflow; uint pad; GpuVsmProbe probes[]; };
 
 #define VSM_CONST vsm
 #define VSM_MAPS vsmMaps

@@ -6,20 +6,21 @@
 // vsm_alloc's prefix sum.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 1, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
-layout(binding = 2, std430) buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 3, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
-layout(binding = 4, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 5, std430) readonly buffer Marks { uint vsmMarks[]; };
-layout(binding = 6, std430) buffer LastUsed { uint vsmLastUsed[]; };
-layout(binding = 7, std430) writeonly buffer BlockCounts { uint vsmBlockCounts[]; };
+layout(binding = ML_VSM_SCAN_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_SCAN_RUNS, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
+layout(binding = ML_VSM_SCAN_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_SCAN_LIST_A, std430) readonly buffer ListA { uint vsmListA[]; }; // vsm_sort's buffers: priority ranks
+layout(binding = ML_VSM_SCAN_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_SCAN_MARKS, std430) readonly buffer Marks { uint vsmMarks[]; };
+layout(binding = ML_VSM_SCAN_LAST_USED, std430) buffer LastUsed { uint vsmLastUsed[]; };
+layout(binding = ML_VSM_SCAN_BLOCK_COUNTS, std430) writeonly buffer BlockCounts { uint vsmBlockCounts[]; };
 
-layout(binding = 8, std430) readonly buffer ListB { uint vsmListB[]; };
-layout(binding = 9, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
+layout(binding = ML_VSM_SCAN_LIST_B, std430) readonly buffer ListB { uint vsmListB[]; };
+layout(binding = ML_VSM_SCAN_SORT_ARGS, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
 #include "shadows/virtual/vsm_alloc_common.glsl"

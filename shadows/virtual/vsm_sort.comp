@@ -10,12 +10,13 @@
 // n wanted pages.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_BLOCK) in;
 
-layout(binding = 0, std430) readonly buffer Counters { VsmCounters vsmCounters; };
-layout(binding = 1, std430) readonly buffer Src { uint src[]; };
-layout(binding = 2, std430) writeonly buffer Dst { uint dst[]; };
+layout(binding = ML_VSM_SORT_COUNTERS, std430) readonly buffer Counters { VsmCounters vsmCounters; };
+layout(binding = ML_VSM_SORT_SRC, std430) readonly buffer Src { uint src[]; };
+layout(binding = ML_VSM_SORT_DST, std430) writeonly buffer Dst { uint dst[]; };
 layout(push_constant) uniform Push { VsmSortPush push; };
 
 shared uint sKeys[ML_VSM_BLOCK];

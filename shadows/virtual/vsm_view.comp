@@ -7,22 +7,23 @@
 // lookup fell back to a coarser page. Blended over the shaded frame so the scene stays readable.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
+#include "shadows/virtual/vsm_bindings.h"
 
 layout(local_size_x = ML_VSM_MARK_GROUP, local_size_y = ML_VSM_MARK_GROUP) in;
 
-layout(binding = 0) uniform Frame { FrameConstants frame; };
-layout(binding = 1, std430) readonly buffer Slices { float sliceFar[]; };
-layout(binding = 2, std430) readonly buffer Lights { GpuLight lights[]; };
-layout(binding = 3, std430) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 4, std430) readonly buffer Pool { uint pool[]; };
-layout(binding = 5) uniform texture2D depthImage;
-layout(binding = 6) uniform texture2D normalImage;
-layout(binding = 7) uniform VsmConst { VsmConstants vsm; };
-layout(binding = 8, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
-layout(binding = 9, std430) readonly buffer Coverage { uint vsmCoverage[]; };
-layout(binding = 10, std430) readonly buffer Table { uint vsmTable[]; };
-layout(binding = 11, std430) readonly buffer PagePool { uint vsmPool[]; };
-layout(binding = 12, rgba8) uniform image2D outputImage;
+layout(binding = ML_VSM_VIEW_FRAME) uniform Frame { FrameConstants frame; };
+layout(binding = ML_VSM_VIEW_SLICES, std430) readonly buffer Slices { float sliceFar[]; };
+layout(binding = ML_VSM_VIEW_LIGHTS, std430) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = ML_VSM_VIEW_RANGES, std430) readonly buffer Ranges { uvec2 ranges[]; };
+layout(binding = ML_VSM_VIEW_LIGHT_POOL, std430) readonly buffer Pool { uint pool[]; };
+layout(binding = ML_VSM_VIEW_DEPTH) uniform texture2D depthImage;
+layout(binding = ML_VSM_VIEW_NORMAL) uniform texture2D normalImage;
+layout(binding = ML_VSM_VIEW_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
+layout(binding = ML_VSM_VIEW_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
+layout(binding = ML_VSM_VIEW_COVERAGE, std430) readonly buffer Coverage { uint vsmCoverage[]; };
+layout(binding = ML_VSM_VIEW_TABLE, std430) readonly buffer Table { uint vsmTable[]; };
+layout(binding = ML_VSM_VIEW_PAGE_POOL, std430) readonly buffer PagePool { uint vsmPool[]; };
+layout(binding = ML_VSM_VIEW_OUTPUT, rgba8) uniform image2D outputImage;
 
 #define VSM_CONST vsm
 #define VSM_MAPS vsmMaps
