@@ -7,12 +7,14 @@
 set -euo pipefail
 usage() {
     cat <<'USAGE'
-usage: tools/eval-ratio.sh [--rounds N] [--bake FILE | --bake-each] [--out DIR] BIN [BIN ...]
+usage: tools/eval-ratio.sh [--rounds N] [--bake FILE | --bake-each] [--by-level] [--out DIR] BIN [BIN ...]
        tools/eval-ratio.sh --summarize ROUNDS_CSV   (the median lines of an earlier run's rounds.csv)
   BIN          a manylights binary (copy old builds aside: binaries embed their shaders)
   --rounds N   rounds of alternation (default 3)
   --bake FILE  the night city's DAG-MH bake (default: made with the first BIN at 1024^2, all lights)
   --bake-each  each BIN bakes its own (builds whose bake formats differ)
+  --by-level   each round also runs the two shadowed settings filtered by level (demo --by-level),
+               reported as build "BIN by level" against the same round's unshadowed time
   --out DIR    where frames and the bakes go (default: a new temporary folder)
 Prints one CSV line per round and build: round,bin,unshadowed_ms,one_tap_ms,pcf3x3_ms,one_tap_x,pcf3x3_x,
 then per build a line with round "median": the median of each time over the rounds and the ratios of
@@ -41,7 +43,7 @@ summarize() {
             }
         }' "$1"
 }
-rounds=3 bake="" out="" each=0
+rounds=3 bake="" out="" each=0 level=0
 bins=()
 [ "${1:-}" = --summarize ] && { [ -f "${2:-}" ] || { echo "eval-ratio: --summarize needs a rounds.csv" >&2; exit 2; }; summarize "$2"; exit 0; }
 while [ $# -gt 0 ]; do
@@ -50,6 +52,7 @@ while [ $# -gt 0 ]; do
     --rounds) rounds="$2"; shift 2 ;;
     --bake) bake="$2"; shift 2 ;;
     --bake-each) each=1; shift ;;
+    --by-level) level=1; shift ;;
     --out) out="$2"; shift 2 ;;
     -*) echo "eval-ratio: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) bins+=("$1"); shift ;;
@@ -85,6 +88,12 @@ for r in $(seq 1 "$rounds"); do
         "$b" demo --size 640x360 --frames 10 --dynamic off --bake "${bakes[$i]}" --pcf 1 --out "$d/pcf" >/dev/null
         u=$(minEvaluate "$d/none/frames.csv") t=$(minEvaluate "$d/tap/frames.csv") p=$(minEvaluate "$d/pcf/frames.csv")
         awk -v r="$r" -v b="$b" -v u="$u" -v t="$t" -v p="$p" \
+            'BEGIN { printf "%s,%s,%s,%s,%s,%.2f,%.2f\n", r, b, u, t, p, t / u, p / u }' | tee -a "$out/rounds.csv"
+        [ "$level" = 1 ] || continue
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "${bakes[$i]}" --pcf 0 --by-level --out "$d/tapL" >/dev/null
+        "$b" demo --size 640x360 --frames 10 --dynamic off --bake "${bakes[$i]}" --pcf 1 --by-level --out "$d/pcfL" >/dev/null
+        t=$(minEvaluate "$d/tapL/frames.csv") p=$(minEvaluate "$d/pcfL/frames.csv")
+        awk -v r="$r" -v b="$b by level" -v u="$u" -v t="$t" -v p="$p" \
             'BEGIN { printf "%s,%s,%s,%s,%s,%.2f,%.2f\n", r, b, u, t, p, t / u, p / u }' | tee -a "$out/rounds.csv"
     done
 done
