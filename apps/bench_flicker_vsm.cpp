@@ -67,8 +67,9 @@ bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --o
                  with that frame's casters (cars included, as the VSM draws them), looked up at the same
                  receivers and radii: extra rows "static, sm N^2" over the same pairs (default 0: off)
   --out DIR      bench_flicker_vsm.csv (default out/bench_flicker_vsm)
-Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ...}; exit 0 only when pairs
-were compared and the CPU kernel agreed with every probe (M == 0, no non-resident tap, no probe overflow).
+Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ..., "pages_allocated_mean":
+P} (P: every light's pages allocated per frame, mean after the first); exit 0 only when pairs were
+compared and the CPU kernel agreed with every probe (M == 0, no non-resident tap, no probe overflow).
 )";
 
 namespace {
@@ -96,6 +97,9 @@ struct Counts {
     uint64_t lookups = 0, mismatches = 0, notResident = 0, missing = 0, directional = 0, backFacing = 0,
              fallbacks = 0, unknownLight = 0;
     uint32_t probeOverflow = 0;
+    // Pages allocated (the frame statistics', every light's maps), summed over the frames after the first:
+    // the memory a setting costs beside the flicker it buys.
+    uint64_t pagesAllocated = 0, pageFrames = 0;
     std::vector<uint64_t> perMip = std::vector<uint64_t>(16, 0); // lookups per mip they ended at
 };
 
@@ -272,6 +276,7 @@ void comparePairs(size_t K, const Samples& prev, const Samples& cur, Counts& c) 
 Result<void> measureFrame(const Run& run, VsmSession& s, uint32_t f, Counts& c, Samples& prev, Samples& cur) {
     auto report = s.frame(f);
     if (!report) return fail(report.error());
+    if (f > 0) c.pagesAllocated += report->stats.vsm.pagesAllocated, ++c.pageFrames;
     FrameState fs;
     uint32_t overflow = 0;
     fs.probes = diag::readVsmProbes(*s.module, &overflow);
@@ -292,6 +297,10 @@ Result<void> measureFrame(const Run& run, VsmSession& s, uint32_t f, Counts& c, 
     return {};
 }
 
+double pagesMean(const Counts& c) {
+    return c.pageFrames ? double(c.pagesAllocated) / double(c.pageFrames) : 0.0;
+}
+
 struct Sums {
     uint64_t pairs = 0, truthFlips = 0, flips = 0;
 };
@@ -301,9 +310,11 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
     const VsmSessionOptions& o = run.options;
     const std::vector<uint32_t>& R = run.radii;
     const size_t K = R.size();
-    std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",
-                s.scene.name.c_str(), cameraPathName(o.path), run.frames, o.width, o.height,
-                o.module.vsm.resolution, run.moduleRadius);
+    std::printf(
+        "bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, %g texels per pixel, module "
+        "PCF radius %u, pages allocated per frame %.1f (mean after the first)\n",
+        s.scene.name.c_str(), cameraPathName(o.path), run.frames, o.width, o.height, o.module.vsm.resolution,
+        double(o.module.vsm.texelsPerPixel), run.moduleRadius, pagesMean(c));
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
                 "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
@@ -382,7 +393,7 @@ int runBenchFlickerVsm(int argc, char** argv) {
     summary.integer("not_resident", c.notResident).integer("missing", c.missing);
     summary.integer("fallbacks", c.fallbacks).integer("directional", c.directional);
     summary.integer("back_facing", c.backFacing).integer("unknown_light", c.unknownLight);
-    summary.integer("probe_overflow", c.probeOverflow);
+    summary.integer("probe_overflow", c.probeOverflow).real("pages_allocated_mean", pagesMean(c), "%.1f");
     std::printf("%s\n", summary.str().c_str());
     const bool clean = c.mismatches == 0 && c.notResident == 0 && c.missing == 0 && c.probeOverflow == 0 &&
                        c.unknownLight == 0;
