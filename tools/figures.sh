@@ -269,6 +269,13 @@ step_vsm-texels() {
     for t in 1/64 2/64 4/64 2/32 4/32; do
         run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0 --vsm-res 4096 --compare-res 1024 --vsm-texels "${t%/*}" --vsm-page "${t#*/}" --out "$D/flicker_stable_${t%/*}_${t#*/}"
     done
+    for t in 2 0.5 0.25 0; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0 --vsm-res 4096 --compare-res 1024 --lamp-bias $t,0.5 --out "$D/flicker_bias_$t"
+    done
+    for t in 1 2 4; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --bilinear --out "$D/flicker_bilinear_$t"
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --lamp-bias 0.5,0.5 --bilinear --out "$D/flicker_both_$t"
+    done
 }
 step_vsm-rays() {
     run "$ML" bench vsm-rays --scene night-city --frames 3 --size 320x180 --out "$D/city"
