@@ -21,12 +21,16 @@
 // --compare-res N puts a plain shadow map beside it at the same pairs: per static spot light and frame,
 // an N^2 map of that frame's casters (CPU rasteriser, cars included), looked up by the CPU twin of the
 // shader (static_visibility.h) at the same receivers and radii.
+// Candidates beside the module's lookup: --bilinear thresholds a 2x2 bilinear answer computed on the CPU
+// over the same pages (diag::vsmBilinearLit), --lamp-bias sets the static lights' shadow bias; the pages
+// allocated per frame come with every run, since a setting that buys stability with pages must show both.
 // Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
 #include "apps/commands.h"
 #include "bake/scene_casters.h"
 #include "apps/json.h"
 #include "apps/vsm_args.h"
 #include "engine/manylights_diagnostics.h"
+#include "host/scene_host.h"
 #include "host/vsm_session.h"
 #include "shaders/shared/light_math.h"
 #include "bake/reference/raytrace.h"
@@ -66,9 +70,14 @@ bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --o
   --compare-res N  also a plain shadow map (sm) of N^2 per static spot light, re-rendered every frame
                  with that frame's casters (cars included, as the VSM draws them), looked up at the same
                  receivers and radii: extra rows "static, sm N^2" over the same pairs (default 0: off)
+  --bilinear     also a candidate filtered lookup the module does not have, on the CPU over the same pages:
+                 the 2x2 texels around each static light's lookup, weighted by the sub-texel position
+                 (row "static, VSM 2x2 bilinear"; needs a --pcf radius >= 1, so that its taps are resident)
+  --lamp-bias N,D  the static lights' shadowNormalBias and shadowDepthBias (LightDesc; default 1,0.5)
   --out DIR      bench_flicker_vsm.csv (default out/bench_flicker_vsm)
-Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ...}; exit 0 only when pairs
-were compared and the CPU kernel agreed with every probe (M == 0, no non-resident tap, no probe overflow).
+Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ..., "pages_allocated_mean":
+P} (P: every light's pages allocated per frame, mean after the first); exit 0 only when pairs were
+compared and the CPU kernel agreed with every probe (M == 0, no non-resident tap, no probe overflow).
 )";
 
 namespace {
@@ -79,10 +88,12 @@ struct Sample {
     bool truth = false;
     std::vector<float> vis;    // per PCF radius of the list
     std::vector<float> cmpVis; // --compare-res: the per-frame sm map's, per radius (static spots only)
+    float bilinear = -1.0f;    // --bilinear: the candidate's visibility (static lights; -1: none)
 };
 using Samples = std::unordered_map<uint64_t, Sample>; // by (pixel << 32 | module light)
 
-// Per kind (moving, static, static with the per-frame sm map of --compare-res) and radius.
+// Per kind (moving, static, static with the per-frame sm map of --compare-res) and radius, then one row
+// for --bilinear (at index kKinds * radii).
 constexpr uint32_t kKinds = 3;
 
 struct Counts {
@@ -94,14 +105,19 @@ struct Counts {
     std::vector<double> graded;
     // Probes: checked against the CPU kernel, or left out and why.
     uint64_t lookups = 0, mismatches = 0, notResident = 0, missing = 0, directional = 0, backFacing = 0,
-             fallbacks = 0, unknownLight = 0;
+             fallbacks = 0, unknownLight = 0, bilinearLeftOut = 0;
     uint32_t probeOverflow = 0;
+    // Pages allocated (the frame statistics', every light's maps), summed over the frames after the first:
+    // the memory a setting costs beside the flicker it buys.
+    uint64_t pagesAllocated = 0, pageFrames = 0;
     std::vector<uint64_t> perMip = std::vector<uint64_t>(16, 0); // lookups per mip they ended at
 };
 
 struct Run {
     VsmSessionOptions options;
     uint32_t frames = 0, compareRes = 0, moduleRadius = 0;
+    bool bilinear = false;
+    float normalBias = -1.0f, depthBias = -1.0f; // --lamp-bias (negative: the lights' own)
     std::vector<uint32_t> radii;
     std::string out;
     std::unordered_map<uint32_t, uint32_t> sceneLight; // module light index -> scene light
@@ -123,6 +139,15 @@ Result<Run> parseRun(const cli::Args& args) {
     run.radii = radii.value();
     run.moduleRadius = *std::max_element(run.radii.begin(), run.radii.end());
     run.compareRes = compareRes.value();
+    run.bilinear = args.has("--bilinear");
+    if (args.has("--lamp-bias")) {
+        const std::string v = args.get("--lamp-bias", "");
+        if (std::sscanf(v.c_str(), "%f,%f", &run.normalBias, &run.depthBias) != 2 ||
+            !(run.normalBias >= 0.0f) || !(run.depthBias >= 0.0f) || run.normalBias > kMaxShadowBias ||
+            run.depthBias > kMaxShadowBias)
+            return fail("--lamp-bias: '" + v + "' is not N,D (two biases in [0, kMaxShadowBias])");
+    }
+    if (run.bilinear && run.moduleRadius < 1) return fail("--bilinear needs a --pcf radius >= 1");
     run.out = args.get("--out", "out/bench_flicker_vsm");
     return run;
 }
@@ -198,6 +223,10 @@ void sampleProbe(const Run& run, const VsmSession& s, const FrameState& fs, cons
                          f, map, mip, tx, ty, p.depth, uint32_t(p.status), full, centre);
         return;
     }
+    if (run.bilinear && smp.kind == 1) {
+        smp.bilinear = diag::vsmBilinearLit(st, map, mip, P, N, tx, ty, receiver);
+        c.bilinearLeftOut += smp.bilinear < 0.0f;
+    }
     if (!(glm::dot(N, L.position - P) > 0.0f)) {
         ++c.backFacing; // unlit by N.L whatever the shadow says
         return;
@@ -266,12 +295,25 @@ void comparePairs(size_t K, const Samples& prev, const Samples& cur, Counts& c) 
             c.mipChangedFlips[i] += flip && moved;
             c.graded[i] += std::abs(double(va) - double(vb));
         }
+        if (a.bilinear < 0.0f || b.bilinear < 0.0f) continue;
+        const size_t i = kKinds * K; // --bilinear's row
+        ++c.pairs[i];
+        if (a.truth != b.truth) {
+            ++c.truthFlips[i];
+            continue;
+        }
+        c.flips[i] += (a.bilinear >= 0.5f) != (b.bilinear >= 0.5f);
+        c.mipChanged[i] += a.map != b.map || a.mip != b.mip;
+        c.mipChangedFlips[i] +=
+            (a.bilinear >= 0.5f) != (b.bilinear >= 0.5f) && (a.map != b.map || a.mip != b.mip);
+        c.graded[i] += std::abs(double(a.bilinear) - double(b.bilinear));
     }
 }
 
 Result<void> measureFrame(const Run& run, VsmSession& s, uint32_t f, Counts& c, Samples& prev, Samples& cur) {
     auto report = s.frame(f);
     if (!report) return fail(report.error());
+    if (f > 0) c.pagesAllocated += report->stats.vsm.pagesAllocated, ++c.pageFrames;
     FrameState fs;
     uint32_t overflow = 0;
     fs.probes = diag::readVsmProbes(*s.module, &overflow);
@@ -292,6 +334,10 @@ Result<void> measureFrame(const Run& run, VsmSession& s, uint32_t f, Counts& c, 
     return {};
 }
 
+double pagesMean(const Counts& c) {
+    return c.pageFrames ? double(c.pagesAllocated) / double(c.pageFrames) : 0.0;
+}
+
 struct Sums {
     uint64_t pairs = 0, truthFlips = 0, flips = 0;
 };
@@ -301,9 +347,11 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
     const VsmSessionOptions& o = run.options;
     const std::vector<uint32_t>& R = run.radii;
     const size_t K = R.size();
-    std::printf("bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, module PCF radius %u\n",
-                s.scene.name.c_str(), cameraPathName(o.path), run.frames, o.width, o.height,
-                o.module.vsm.resolution, run.moduleRadius);
+    std::printf(
+        "bench flicker --vsm: %s, path %s, %u frames %ux%u, virtual %u^2, %g texels per pixel, module "
+        "PCF radius %u, pages allocated per frame %.1f (mean after the first)\n",
+        s.scene.name.c_str(), cameraPathName(o.path), run.frames, o.width, o.height, o.module.vsm.resolution,
+        double(o.module.vsm.texelsPerPixel), run.moduleRadius, pagesMean(c));
     std::printf("| lights | pcf | pixel-light pairs in consecutive frames | rays flip %% | VSM flips where "
                 "rays do not %% "
                 "| mean abs delta visibility where rays do not flip %% | pairs at another mip %% | flips at "
@@ -318,22 +366,28 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
     csv << "lights,pcf_radius,pairs,truth_flips,flicker,graded_sum,mip_changed,mip_changed_flips\n";
     Sums all;
     const std::string smName = "static, sm " + std::to_string(run.compareRes) + "^2";
+    auto row = [&](const std::string& name, size_t i, const std::string& pcf, const std::string& radius) {
+        const uint64_t pairs = c.pairs[i], stable = pairs - c.truthFlips[i];
+        std::printf("| %s | %s | %llu | %.3f | %.4f | %.4f | %.2f | %.1f |\n", name.c_str(), pcf.c_str(),
+                    (unsigned long long)pairs, pairs ? 100.0 * double(c.truthFlips[i]) / double(pairs) : 0.0,
+                    pairs ? 100.0 * double(c.flips[i]) / double(pairs) : 0.0,
+                    stable ? 100.0 * c.graded[i] / double(stable) : 0.0,
+                    stable ? 100.0 * double(c.mipChanged[i]) / double(stable) : 0.0,
+                    c.flips[i] ? 100.0 * double(c.mipChangedFlips[i]) / double(c.flips[i]) : 0.0);
+        csv << name << "," << radius << "," << pairs << "," << c.truthFlips[i] << "," << c.flips[i] << ","
+            << c.graded[i] << "," << c.mipChanged[i] << "," << c.mipChangedFlips[i] << "\n";
+    };
     for (uint32_t kind = 0; kind < (run.compareRes ? kKinds : 2); ++kind)
         for (size_t r = 0; r < K; ++r) {
             const size_t i = kind * K + r;
-            const uint64_t pairs = c.pairs[i], stable = pairs - c.truthFlips[i];
-            const char* name = kind == 0 ? "moving" : kind == 1 ? "static" : smName.c_str();
-            std::printf("| %s | %ux%u | %llu | %.3f | %.4f | %.4f | %.2f | %.1f |\n", name, 2 * R[r] + 1,
-                        2 * R[r] + 1, (unsigned long long)pairs,
-                        pairs ? 100.0 * double(c.truthFlips[i]) / double(pairs) : 0.0,
-                        pairs ? 100.0 * double(c.flips[i]) / double(pairs) : 0.0,
-                        stable ? 100.0 * c.graded[i] / double(stable) : 0.0,
-                        stable ? 100.0 * double(c.mipChanged[i]) / double(stable) : 0.0,
-                        c.flips[i] ? 100.0 * double(c.mipChangedFlips[i]) / double(c.flips[i]) : 0.0);
-            csv << name << "," << R[r] << "," << pairs << "," << c.truthFlips[i] << "," << c.flips[i] << ","
-                << c.graded[i] << "," << c.mipChanged[i] << "," << c.mipChangedFlips[i] << "\n";
-            if (kind < 2) all.pairs += pairs, all.truthFlips += c.truthFlips[i], all.flips += c.flips[i];
+            const std::string side = std::to_string(2 * R[r] + 1);
+            row(kind == 0   ? "moving"
+                : kind == 1 ? "static"
+                            : smName,
+                i, side + "x" + side, std::to_string(R[r]));
+            if (kind < 2) all.pairs += c.pairs[i], all.truthFlips += c.truthFlips[i], all.flips += c.flips[i];
         }
+    if (run.bilinear) row("static, VSM 2x2 bilinear", kKinds * K, "2x2 bilinear", "bilinear");
     std::ofstream file(run.out + "/bench_flicker_vsm.csv");
     if (!file || !(file << csv.str())) return fail(run.out + "/bench_flicker_vsm.csv: cannot write");
     std::printf("wrote %s/bench_flicker_vsm.csv\n", run.out.c_str());
@@ -343,7 +397,8 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
 } // namespace
 
 // The flags of `bench flicker --vsm` beside its option groups.
-const cli::Flags kFlickerVsmFlags{{"--pcf", "--vsm-raster", "--out", "--compare-res"}, {}};
+const cli::Flags kFlickerVsmFlags{{"--pcf", "--vsm-raster", "--out", "--compare-res", "--lamp-bias"},
+                                  {"--bilinear"}};
 
 int runBenchFlickerVsm(int argc, char** argv) {
     int status = 0;
@@ -365,7 +420,15 @@ int runBenchFlickerVsm(int argc, char** argv) {
         return usageError("bench flicker --vsm", r.error());
     // bindScene adds the scene's lights in order to a fresh module.
     for (uint32_t k = 0; k < s.binding.lights.size(); ++k) run.sceneLight[s.binding.lights[k]] = k;
-    Counts c(kKinds * run.radii.size());
+    if (run.normalBias >= 0.0f) // static lights only: updateScene re-sets the moving ones every frame
+        for (uint32_t k = 0; k < s.binding.lights.size(); ++k) {
+            if (s.scene.lights[k].dynamic) continue;
+            LightDesc d = toLightDesc(s.scene.lights[k]);
+            d.shadowNormalBias = run.normalBias, d.shadowDepthBias = run.depthBias;
+            if (auto r = s.module->setLight(s.binding.lights[k], d); !r)
+                return runError("bench flicker --vsm", r.error());
+        }
+    Counts c(kKinds * run.radii.size() + 1);
     Samples prev, cur;
     for (uint32_t f = 0; f < run.frames; ++f)
         if (auto r = measureFrame(run, s, f, c, prev, cur); !r)
@@ -382,7 +445,12 @@ int runBenchFlickerVsm(int argc, char** argv) {
     summary.integer("not_resident", c.notResident).integer("missing", c.missing);
     summary.integer("fallbacks", c.fallbacks).integer("directional", c.directional);
     summary.integer("back_facing", c.backFacing).integer("unknown_light", c.unknownLight);
-    summary.integer("probe_overflow", c.probeOverflow);
+    if (run.bilinear) {
+        const size_t b = kKinds * run.radii.size();
+        summary.integer("bilinear_pairs", c.pairs[b]).integer("bilinear_flips", c.flips[b]);
+        summary.integer("bilinear_left_out", c.bilinearLeftOut);
+    }
+    summary.integer("probe_overflow", c.probeOverflow).real("pages_allocated_mean", pagesMean(c), "%.1f");
     std::printf("%s\n", summary.str().c_str());
     const bool clean = c.mismatches == 0 && c.notResident == 0 && c.missing == 0 && c.probeOverflow == 0 &&
                        c.unknownLight == 0;

@@ -8,6 +8,8 @@
 
 #include <glm/gtc/packing.hpp>
 
+#include <cmath>
+
 namespace ml {
 
 DeviceInfo Module::deviceInfo() const {
@@ -189,6 +191,35 @@ int vsmKernelLit(const VsmPageState& s, uint32_t map, uint32_t mip, int tx, int 
             const uint32_t d = s.pool[texel];
             if (dx == 0 && dy == 0) centre = d;
             lit += receiver <= d;
+        }
+    return lit;
+}
+
+float vsmBilinearLit(const VsmPageState& s, uint32_t map, uint32_t mip, glm::vec3 P, glm::vec3 N, int x,
+                     int y, uint32_t receiver) {
+    // vsmLocate's position (vsm_math.h: the normal offset, then the projection) before its floor.
+    const gpu::GpuVsmMap& m = s.maps[map];
+    const uint32_t res = s.c.options.z >> mip;
+    const bool ortho = m.info.x == ML_VSM_ORTHOGRAPHIC;
+    const glm::vec3 vp = gpu::vsmPoint(m.view, P), vn = gpu::vsmDirection(m.view, N);
+    const float extent = ortho ? m.params.x : (-vp.z) * m.params.x;
+    const float offset = 2.0f * extent / float(res) * m.bias.y;
+    const glm::vec3 q = vp + vn * offset;
+    const float scale = ortho ? m.params.x : (-q.z) * m.params.x;
+    if (!(scale > 0.0f)) return -1.0f;
+    const float fx = (q.x / scale * 0.5f + 0.5f) * float(res), fy = (q.y / scale * 0.5f + 0.5f) * float(res);
+    if (int(std::floor(fx)) != x || int(std::floor(fy)) != y) return -1.0f; // not the probe's texel
+    // The four texels whose centres surround the position, weighted by its distance to them.
+    const float sx = fx - 0.5f, sy = fy - 0.5f;
+    const int x0 = int(std::floor(sx)), y0 = int(std::floor(sy));
+    const float wx = sx - float(x0), wy = sy - float(y0);
+    float lit = 0.0f;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            uint32_t centre = 0;
+            const int tap = vsmKernelLit(s, map, mip, x0 + i, y0 + j, receiver, 0, centre);
+            if (tap < 0) return -1.0f;
+            lit += float(tap) * (i ? wx : 1.0f - wx) * (j ? wy : 1.0f - wy);
         }
     return lit;
 }

@@ -145,6 +145,12 @@ bool vsmTexelNeedsPage(const VsmPageState& state, uint32_t map, uint32_t mip, in
 // when no page is read there).
 int vsmKernelLit(const VsmPageState& state, uint32_t map, uint32_t mip, int x, int y, uint32_t receiverDepth,
                  int radius, uint32_t& centre);
+// A candidate filtered lookup, not one the module has: the 2x2 texels around the biased receiver's
+// sub-texel position in (map, mip), weighted bilinearly, each compared with `receiverDepth` (the
+// visibility in [0, 1] that `bench flicker --vsm --bilinear` thresholds at 0.5); -1 when a tap is not
+// resident or the position's texel is not (x, y), the probe's.
+float vsmBilinearLit(const VsmPageState& state, uint32_t map, uint32_t mip, glm::vec3 P, glm::vec3 N, int x,
+                     int y, uint32_t receiverDepth);
 
 // An instance vertex transformed exactly as the page draws transform it (bit for bit with the shaders),
 // so a CPU reference rasteriser sees the same triangles.

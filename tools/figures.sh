@@ -70,7 +70,7 @@ step directional     table        docs/accuracy.md          -    "section 5: dir
 step failures        image,table  docs/accuracy.md          -    "section 6: failure suite -> docs/failures/*.png"
 step flicker         table        docs/accuracy.md          -    "section 7: flicker of the static methods (camera path, moving lights, both)"
 step flicker-vsm     table        docs/accuracy.md          -    "section 7: VSM flicker against plain maps"
-step vsm-texels      table        docs/accuracy.md          -    "section 7: texels per pixel 1, 2, 4 (flicker and pages)"
+step vsm-texels      table        docs/accuracy.md          -    "section 7: texels per pixel 1, 2, 4 (flicker and pages; the stability target's table)"
 step need            table        docs/accuracy.md          -    "section 8: resolution from need (whole city bakes, bench static --need)"
 step vsm-rays        table        docs/accuracy.md          -    "section 9: VSM one-tap answers against rays, night city and indoor, texels per pixel 0.5-4"
 step vsm-drive       image        docs/virtual-shadow-maps.md -  "drive path frame 39 and its page view -> docs/vsm-drive.png, docs/vsm-drive-pages.png"
@@ -264,6 +264,17 @@ step_vsm-texels() {
     for t in 1 2 4; do
         run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,2 --vsm-res 4096 --vsm-texels $t --out "$D/flicker_texels_$t"
         run "$ML" bench vsm --kinds static-spot,moving-spot --vsm-raster vertex --frames 8 --size 320x180 --vsm-texels $t --out "$D/bench_vsm_texels_$t"
+    done
+    # The stability target's table: one tap (the module's default filter), pages from the same run.
+    for t in 1/64 2/64 4/64 2/32 4/32; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0 --vsm-res 4096 --compare-res 1024 --vsm-texels "${t%/*}" --vsm-page "${t#*/}" --out "$D/flicker_stable_${t%/*}_${t#*/}"
+    done
+    for t in 2 0.5 0.25 0; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0 --vsm-res 4096 --compare-res 1024 --lamp-bias $t,0.5 --out "$D/flicker_bias_$t"
+    done
+    for t in 1 2 4; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --bilinear --out "$D/flicker_bilinear_$t"
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --lamp-bias 0.5,0.5 --bilinear --out "$D/flicker_both_$t"
     done
 }
 step_vsm-rays() {
