@@ -54,13 +54,39 @@ uint staticDepthAtLevel(uint method, uint base, uint x, uint y, uint step) {
     return method == ML_STATIC_MH ? mhLookupLevel(base, x, y, steps) : mmhLookupLevel(base, x, y, steps);
 }
 
+// The value a kernel's tap located (st, at full-resolution texel (x, y)): a tap with the previous tap's
+// value index reuses its value (same MH node), and one in the same chunk the chunk's 6 words (only its
+// factor bits are read).
+struct DagmhMemo {
+    uint index, value, chunkIndex;
+    DagmhChunk chunk;
+};
+
+DagmhMemo dagmhMemoNone() {
+    DagmhMemo m;
+    m.index = 0xFFFFFFFFu, m.value = 0u, m.chunkIndex = 0xFFFFFFFFu;
+    return m;
+}
+
+uint dagmhMemoValue(DagmhHeader dh, inout DagmhMemo m, DagmhState st, uint x, uint y) {
+    if (st.vlast == m.index) return m.value;
+    m.index = st.vlast;
+    if ((st.vlast >> 5u) != m.chunkIndex) {
+        m.chunkIndex = st.vlast >> 5u;
+        m.chunk = dagmhChunk(dh, m.chunkIndex);
+    }
+    uint s = dh.L - st.dlast;
+    m.value = dagmhChunkValue(dh, m.chunk, st.vlast & 31u, (x >> s) << s, (y >> s) << s);
+    return m.value;
+}
+
 // DAG-MH PCF: the number of lit taps of [t - r, t + r] (taps outside the map count as lit; a tap is lit
 // when depth <= its decoded value). Hierarchical, and exact (each tap gets the value index and node depth
 // that dagmhLookup finds, so the count equals the per-tap loop of the CPU twin):
 // - the kernel's taps share the descent to the node that holds them all (dagmhPcfPrefix); when that
 //   descent ends in a treelet, the taps share its 3 words too (read once, not once per tap);
-// - a tap with the previous tap's value index reuses its value (same MH node), and one in the same
-//   chunk reuses the chunk's 6 words (only its factor bits are read);
+// - a tap with the previous tap's value index reuses its value, and one in the same chunk the chunk's
+//   words (dagmhMemoValue);
 // - first of all, the value bounds of the cells the kernel covers (dagmhBoundsClass) decide it
 //   whole when the receiver is nearer than every value there (all lit) or farther than every one.
 uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
@@ -80,23 +106,13 @@ uint dagmhPcfLit(DagmhHeader dh, ivec2 t, int radius, int res, uint depth) {
         uint tb = dh.treelets + ML_DAG_TREELET_WORDS * prefix.ptr;
         t0 = ML_STATIC_DATA[tb], t1 = ML_STATIC_DATA[tb + 1u], t2 = ML_STATIC_DATA[tb + 2u];
     }
-    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u, memoChunk = 0xFFFFFFFFu;
-    DagmhChunk chunk;
+    DagmhMemo memo = dagmhMemoNone();
     for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {
             DagmhState st;
             if (sharedTreelet) st = dagmhTreelet(dh, uint(x), uint(y), prefix, t0, t1, t2, dh.L);
             else st = dagmhLocate(dh, uint(x), uint(y), usePrefix ? prefix : dagmhStart(dh, uint(x), uint(y)));
-            if (st.vlast != memoIndex) {
-                memoIndex = st.vlast;
-                if ((st.vlast >> 5u) != memoChunk) {
-                    memoChunk = st.vlast >> 5u;
-                    chunk = dagmhChunk(dh, memoChunk);
-                }
-                uint s = dh.L - st.dlast;
-                memoDepth = dagmhChunkValue(dh, chunk, st.vlast & 31u, (uint(x) >> s) << s, (uint(y) >> s) << s);
-            }
-            if (depth <= memoDepth) lit += 1u;
+            if (depth <= dagmhMemoValue(dh, memo, st, uint(x), uint(y))) lit += 1u;
         }
     return lit;
 }
@@ -121,22 +137,11 @@ uint dagmhPcfLitLevel(DagmhHeader dh, ivec2 t, int radius, int levelRes, uint de
     uint X0 = uint(lo.x) << sh, Y0 = uint(lo.y) << sh;
     // Above the skip level each tap starts at the root (dagmhLevelStart), and so does a shared prefix.
     DagmhState prefix = dagmhDescend(dh, X0, Y0, dagmhLevelStart(dh, X0, Y0, sharedLevels), sharedLevels);
-    uint memoIndex = 0xFFFFFFFFu, memoDepth = 0u, memoChunk = 0xFFFFFFFFu;
-    DagmhChunk chunk;
+    DagmhMemo memo = dagmhMemoNone();
     for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {
             uint X = uint(x) << sh, Y = uint(y) << sh;
-            DagmhState st = dagmhLevelLocate(dh, X, Y, prefix, steps);
-            if (st.vlast != memoIndex) {
-                memoIndex = st.vlast;
-                if ((st.vlast >> 5u) != memoChunk) {
-                    memoChunk = st.vlast >> 5u;
-                    chunk = dagmhChunk(dh, memoChunk);
-                }
-                uint s = dh.L - st.dlast;
-                memoDepth = dagmhChunkValue(dh, chunk, st.vlast & 31u, (X >> s) << s, (Y >> s) << s);
-            }
-            if (depth <= memoDepth) lit += 1u;
+            if (depth <= dagmhMemoValue(dh, memo, dagmhLevelLocate(dh, X, Y, prefix, steps), X, Y)) lit += 1u;
         }
     return lit;
 }
