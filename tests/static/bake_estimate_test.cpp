@@ -35,8 +35,12 @@ TEST(BakeEstimate, CpvsTilesHaveTheirOwnFormulaBelowTheMhFamilys) {
     BakeBase more = base;
     more.casterTriangles += 1000;
     EXPECT_EQ(cpvsTiledPeakBytes({4096}, 512, more, 2) - cpvsTiledPeakBytes({4096}, 512, base, 2), 256000u);
-    // More threads hold more strips.
-    EXPECT_GT(cpvsTiledPeakBytes({4096}, 512, base, 16), cpvsTiledPeakBytes({4096}, 512, base, 2));
+    // Strips of at most max(T^2, 8 R) texels: more threads hold more of them where a region has more
+    // rows than the threads' strips (65536^2: R = 4096, 64 rows a strip, 16 x 76 B x 4096 x 64 against
+    // 2 x), the same where the threads split one region's rows (4096^2: R = 512, 512^2 texels either way).
+    EXPECT_EQ(cpvsTiledPeakBytes({65536}, 512, base, 16) - cpvsTiledPeakBytes({65536}, 512, base, 2),
+              uint64_t(14) * 76 * 4096 * 64);
+    EXPECT_EQ(cpvsTiledPeakBytes({4096}, 512, base, 16), cpvsTiledPeakBytes({4096}, 512, base, 2));
 }
 
 TEST(BakeEstimate, WholeMapsAndMixedBakesKeepTheWholeMapFormula) {
