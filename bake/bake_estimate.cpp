@@ -55,7 +55,7 @@ uint64_t currentResidentBytes() {
 
 BakeBase bakeBaseOf(const Scene& scene, bool gpuDevice) {
     BakeBase b;
-    b.residentBytes = currentResidentBytes(), b.gpuDevice = gpuDevice;
+    b.residentBytes = currentResidentBytes(), b.peakBytes = peakResidentBytes(), b.gpuDevice = gpuDevice;
     for (const Instance& inst : scene.instances) // castersFromScene's triangles, counted, not built
         if (!inst.dynamic && inst.mesh < scene.meshes.size())
             b.casterTriangles += scene.meshes[inst.mesh].indices.size() / 3;
@@ -74,7 +74,7 @@ uint64_t cpvsTiledPeakBytes(const std::vector<uint32_t>& faceResolutions, uint32
     }
     peak = std::max(peak, 2 * held);
     const uint64_t device = base.gpuDevice ? 128 * kMiB : 0;
-    return base.residentBytes + device + base.casterTriangles * 256 + peak;
+    return std::max(base.peakBytes, base.residentBytes + device + base.casterTriangles * 256 + peak);
 }
 
 uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMethod method, uint32_t tile,

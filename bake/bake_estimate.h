@@ -20,7 +20,8 @@
 // CPVS in tiles (cpvsTiledPeakBytes, when every map of the bake is tiled), from what the region build
 // (shadows/static/cpvs_tiled.h) holds, per map of side N, tile T, P hardware threads, region side
 // R = max(T, N / 16):
-//   base     the process's resident bytes when the estimate is made (the scene is loaded), the Vulkan
+//   base     the process's resident bytes when the estimate is made (the scene is loaded; the estimate
+//            is never below the peak so far, which the measured peak includes), the Vulkan
 //            device when the renderer is gpu (lavapipe: 74-76 MiB measured, 128 MiB allowed), and per
 //            caster triangle the rasteriser's projected triangle (88 B) and the caster soup (37 B),
 //            both allowed twice for vector growth (256 B);
@@ -28,15 +29,17 @@
 //            the rasteriser's hit slots (8 slots of 8 B and a 4 B count: 68 B a texel);
 //   region   the region's precompute (per 8x8 tile 4 B of step index and 8 B of min-max hierarchy, x4/3
 //            for its levels; 12 B a visibility step, one per 16 texels allowed: the closed city's moon
-//            has one per 64 at 4096^2, one per 110 at 16384^2, the large one per 35 at 8192^2), held
+//            has one per 64 at 4096^2, one per 110 at 16384^2, one per 136 at 65536^2, the large one
+//            per 35 at 8192^2), held
 //            twice while the strips' parts are appended, and its inserted, uncompressed nodes and leaves
 //            (36 B each, one per 8 region texels allowed: 2.4 B a texel measured at 4096^2, 2.8 B at
-//            16384^2, 3.4 B for the large city at 8192^2);
+//            16384^2, 1.8 B at 65536^2, 3.4 B for the large city at 8192^2);
 //   DAG      the distinct nodes and leaves grow with the map's side, not its area (the closed city's
 //            moon: 27.6 N at 4096^2, 30.3 N at 16384^2, 27.0 N at 65536^2; the large city's 88 N at
 //            4096^2, 113 N at 16384^2), counted at kCpvsNodesPerSide N nodes of 36 B, held three times
 //            while the last two halves merge (both inputs and the result; the live sub-DAGs measured
-//            2.1x the final DAG's bytes), then the layout's words (below the DAG's bytes) beside it.
+//            2.1x the final DAG's bytes at 4096^2 to 65536^2), then the layout's words (below the DAG's
+//            bytes) beside it.
 // A CPVS map has no proven node bound either; the counts are the measured ones with a margin, and the
 // live sub-DAGs are held to what --max-memory leaves (bakeTilesOf, apps/bake.cpp).
 #pragma once
@@ -50,6 +53,7 @@ namespace ml {
 // What a bake holds before its first map: measured where the bake runs (bakeBaseOf).
 struct BakeBase {
     uint64_t residentBytes = 0;   // this process's resident memory when the estimate is made
+    uint64_t peakBytes = 0;       // its peak so far (loading the scene may have passed what it keeps)
     uint64_t casterTriangles = 0; // the scene's static caster triangles (castersFromScene)
     bool gpuDevice = true;        // the Vulkan device will be created (--renderer gpu)
 };

@@ -64,6 +64,11 @@ TEST(BakeEstimate, BaseCountsTheScenesStaticCasterTriangles) {
     EXPECT_EQ(b.casterTriangles, castersFromScene(scene.value()).triangleCount());
     EXPECT_GT(b.residentBytes, 0u);
     EXPECT_GE(b.residentBytes, currentResidentBytes() / 2); // the same process, moments apart
+    EXPECT_GE(b.peakBytes, b.residentBytes);
+    // The estimate is never below the process's peak so far.
+    BakeBase loaded = b;
+    loaded.peakBytes = uint64_t(64) << 30;
+    EXPECT_EQ(cpvsTiledPeakBytes({1024}, 128, loaded), loaded.peakBytes);
 }
 
 } // namespace
