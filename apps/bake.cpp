@@ -14,6 +14,7 @@
 #include "io/safe_io.h"
 #include "scenes/scenes.h"
 #include "bake/bake.h"
+#include "bake/bake_estimate.h"
 #include "bake/bake_tiled.h"
 #include "bake/bake_shard.h"
 
@@ -355,41 +356,6 @@ Result<Selection> selectLights(const cli::Args& args, const BakeOptions& o, bool
     return sel;
 }
 
-// The bake's peak memory from its arguments: every record's words are held until the file is written,
-// then serialised beside them (x2), and one map at a time is rendered (enter and exit, 8 B a texel)
-// and encoded (scratch: 16 B a texel allowed). Words: 4 B a texel for every method: sm stores one
-// depth per texel (8 lights at 2048^2: 134,219,020 bytes); the compressed methods are far below it on
-// the night city (the same bake: mh 1.2 MB, dagmh 0.6 MB, cpvs 0.8 MB) but have no proven bound, so
-// they are counted as sm (conservative; --max-memory raises the limit). Base: scene, casters,
-// device and renderer, 400 MiB. Measured peak RSS (/usr/bin/time -v manylights bake --method M
-// --res 2048 --lights 0-7): sm 516 MB, mh 310, dagmh 310, cpvs 257, estimate 752 MiB.
-// Tiled maps (bakeTiled) hold no map: a tile per hardware thread (tiledWorkingBytes) and the MH tree,
-// which follows the map's detail, not its size. It is estimated at one node per 64 texels (the night
-// city's moon has 1 per 32 at 4096^2, 1 per 52 at 8192^2, 1 per 75 at 16384^2: the ratio falls as
-// resolution grows), each held twice while tiles are spliced (28 B) plus its output words (8 B);
-// bakeTilesOf turns the limit into a node bound that stops a bake whose tree outgrows it.
-// A tile shard (one of `shards` > 1) holds only its tiles' packed nodes (12 B), written once more.
-uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMethod method, uint32_t tile,
-                       uint32_t shards) {
-    uint64_t words = 0, largest = 0, tiledLargest = 0;
-    for (uint32_t r : faceResolutions) {
-        const uint64_t texels = uint64_t(r) * r;
-        if (bakeTiled(method, r, tile)) {
-            const uint64_t nodes = texels / 64;
-            tiledLargest = std::max(tiledLargest, shards > 1 ? nodes / shards * 2 * sizeof(MhPackedNode)
-                                                             : nodes * (2 * sizeof(MhTree::Node) + 8));
-            words += shards > 1 ? 0 : nodes * 8;
-            continue;
-        }
-        words += texels * 4;
-        largest = std::max(largest, texels);
-    }
-    uint64_t working = largest * (8 + 16); // the map, and the encoder's scratch
-    if (tiledLargest)
-        working = std::max(working, tiledLargest + tiledWorkingBytes(tile ? tile : kBakeDefaultTile));
-    return (uint64_t(400) << 20) + 2 * words + working;
-}
-
 // --tile and the memory limit as the bake's tiling: the tree's nodes are bounded by what --max-memory
 // leaves after the tiles' working memory (a node is held twice while tiles are spliced).
 BakeTiles bakeTilesOf(const BakeOptions& o) {
@@ -421,16 +387,25 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
                                    : "at " + std::to_string(o.byNeed ? o.need.minRes : o.res) + "^2" +
                                          (o.byNeed ? " (--need-min, before the need chooses)" : ""));
     const uint32_t shards = o.shard && bakeTiled(o.method, o.res, o.tile) ? o.shard->count : 1;
-    const uint64_t estimate = bakePeakBytes(faces, o.method, o.tile, shards);
-    // The estimate's node per 64 texels is a bound for maps of open geometry; a tiled tree is held to
-    // what --max-memory leaves (bakeTilesOf), so a tiled bake goes on and stops if the tree passes it.
+    const uint64_t estimate = bakePeakBytes(faces, o.method, o.tile, shards,
+                                            bakeBaseOf(sel.scene, o.renderer == BakeRenderer::Gpu));
+    // The estimate's node counts (a node per 64 texels; CPVS: kCpvsNodesPerSide a texel of the side) are
+    // no proven bound; a tiled tree or DAG is held to what --max-memory leaves (bakeTilesOf), so a tiled
+    // bake goes on and stops if it passes that.
     const auto tiled = [&](uint32_t r) { return bakeTiled(o.method, r, o.tile); };
     if (!faces.empty() && std::all_of(faces.begin(), faces.end(), tiled) && estimate > o.maxMemory) {
-        std::fprintf(stderr,
-                     "manylights bake: estimated peak memory %llu MiB (%s, a tree node per 64 texels) "
-                     "is over the limit %llu MiB: the tree is held to %llu nodes, the bake stops past them\n",
-                     (unsigned long long)(estimate >> 20), what.c_str(),
-                     (unsigned long long)(o.maxMemory >> 20), (unsigned long long)bakeTilesOf(o).maxNodes);
+        const uint64_t nodes = bakeTilesOf(o).maxNodes;
+        const std::string held =
+            o.method == StaticMethod::CPVS
+                ? std::to_string(kCpvsNodesPerSide) + " DAG nodes a texel of the side) is over the limit " +
+                      std::to_string(o.maxMemory >> 20) + " MiB: the DAG under construction is held to " +
+                      std::to_string((nodes * 2 * sizeof(MhTree::Node)) >> 20) +
+                      " MiB, the bake stops past it"
+                : "a tree node per 64 texels) is over the limit " + std::to_string(o.maxMemory >> 20) +
+                      " MiB: the tree is held to " + std::to_string(nodes) +
+                      " nodes, the bake stops past them";
+        std::fprintf(stderr, "manylights bake: estimated peak memory %llu MiB (%s, %s\n",
+                     (unsigned long long)(estimate >> 20), what.c_str(), held.c_str());
         return {};
     }
     return opts::checkMemory("bake", estimate, o.maxMemory,
@@ -463,6 +438,11 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
         if (l.tiles)
             std::printf(" (%u tiles, %u empty; render includes building the %llu-node tree)", l.tiles,
                         l.emptyTiles, (unsigned long long)l.treeNodes);
+        if (l.dagLiveBytes)
+            std::printf(" (CPVS: %llu steps, largest region %llu nodes + %llu leaves, sub-DAGs alive at most "
+                        "%llu bytes)",
+                        (unsigned long long)l.cpvsSteps, (unsigned long long)l.regionNodesPeak,
+                        (unsigned long long)l.regionLeavesPeak, (unsigned long long)l.dagLiveBytes);
         std::printf("\n");
     }
     if (auto w = writeBakeFile(o.out, baked->file); !w) return runError("bake", w.error());

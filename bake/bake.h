@@ -67,6 +67,9 @@ struct LightBakeStats {
     uint32_t tiles = 0;                           // tiled bakes: tiles built (0: whole map)
     uint32_t emptyTiles = 0;                      // of them, empty ones (no caster reaches): not rendered
     uint64_t treeNodes = 0;                       // tiled bakes: the MH tree's nodes
+    // Tiled CPVS (CpvsStats): visibility steps, the largest region's inserted nodes and leaves, the bytes
+    // of sub-DAGs alive at once at most: what bake/bake_estimate.h allows for, printed beside it.
+    uint64_t cpvsSteps = 0, regionNodesPeak = 0, regionLeavesPeak = 0, dagLiveBytes = 0;
 };
 
 struct BakeResult {

@@ -48,6 +48,9 @@ Result<std::vector<uint32_t>> bakeCpvsRecordTiled(const CasterTriangles& casters
     stats.coveredTexels = ts.coveredTexels, stats.closedTexels = ts.closedTexels;
     stats.tiles = ts.regions, stats.emptyTiles = ts.emptyRegions;
     stats.treeNodes = bake->stats.nodesFinal + bake->stats.leavesFinal;
+    stats.cpvsSteps = bake->stats.tileSteps, stats.dagLiveBytes = bake->stats.liveBytesPeak;
+    stats.regionNodesPeak = bake->stats.regionNodesPeak,
+    stats.regionLeavesPeak = bake->stats.regionLeavesPeak;
     return std::move(bake->data);
 }
 
