@@ -17,7 +17,18 @@ passes alone) and without it (lists up to ML_VSM_ONE_GROUP_LIST in one workgroup
 each round, and prints per round the median over frames 1.. of vsm_sort + vsm_alloc (the allocation's
 two scopes; medians, not means: on a shared machine one stalled frame of a one-workgroup dispatch, which
 runs on one core, moves a mean by several times) for each, their ratio, the last frame's pages marked and
-allocated (equal in both: the allocation is the same), then the median over every round's frames."""
+allocated (equal in both: the allocation is the same), then the median over every round's frames.
+
+The allocation of two builds at several pool sizes (the pool-sized passes: vsm_invalidate, vsm_avail):
+  python3 tools/vsm_bookkeeping.py --compare-pool OLD NEW [--pools 4096,16384] [--short-list 0]
+      [--scene night-city] [--lights 256] [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]
+runs the demo of binary OLD and NEW alternately (the order swapped each round) at each --vsm-pool size,
+with ML_VSM_ALLOC_SHORT_LIST set to --short-list when given (0: the multi-dispatch passes, where
+vsm_invalidate and vsm_avail are dispatches of one group per 256 pool pages, timed in vsm_alloc), and
+prints per pool the median over every round's frames 1.. of vsm_sort and of vsm_alloc for each binary
+(apart: the sort's scope stalls for tens of ms on a loaded machine and would hide the rest; with
+--short-list 0 vsm_alloc holds every pool-sized pass, without it a short list's whole allocation is in
+vsm_sort) and the last frame's pages allocated (equal in both, or it stops)."""
 import collections
 import csv
 import json
@@ -114,9 +125,66 @@ def compare_alloc(argv):
     return 0
 
 
+def compare_pool(argv):
+    import argparse
+    import subprocess
+    import tempfile
+    ap = argparse.ArgumentParser(prog="vsm_bookkeeping.py --compare-pool")
+    ap.add_argument("old")
+    ap.add_argument("new")
+    ap.add_argument("--pools", default="4096,16384")
+    ap.add_argument("--short-list")
+    ap.add_argument("--scene", default="night-city")
+    ap.add_argument("--lights", type=int, default=256)
+    ap.add_argument("--frames", type=int, default=8)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--size", default="640x360")
+    ap.add_argument("--out")
+    a = ap.parse_args(argv)
+    if a.frames < 2 or a.rounds < 1:
+        sys.exit("vsm_bookkeeping: --frames must be >= 2, --rounds >= 1")
+    out = a.out or tempfile.mkdtemp(prefix="vsm_pool_")
+    env = dict(os.environ)
+    env.pop("ML_VSM_ALLOC_SHORT_LIST", None)
+    if a.short_list is not None:
+        env["ML_VSM_ALLOC_SHORT_LIST"] = a.short_list
+    print(f"{a.scene}, {a.lights} lights, {a.size}, drive path, frames 1..{a.frames - 1} of {a.frames}, "
+          f"{a.rounds} rounds, ML_VSM_ALLOC_SHORT_LIST={a.short_list if a.short_list is not None else '(unset)'}, "
+          f"fenced; outputs in {out}")
+    print()
+    print("| pool pages | old sort ms | new sort ms | old alloc ms | new alloc ms | alloc new / old | "
+          "pages allocated |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    for pool in a.pools.split(","):
+        sums, pages = {(b, s): [] for b in ("old", "new") for s in ("vsm_sort", "vsm_alloc")}, {}
+        for r in range(a.rounds):
+            order = (("old", a.old), ("new", a.new))
+            for name, binary in (order if r % 2 == 0 else order[::-1]):
+                folder = os.path.join(out, f"pool{pool}_{name}_round{r}")
+                cmd = [binary, "demo", "--scene", a.scene, "--lights", str(a.lights), "--frames", str(a.frames),
+                       "--size", a.size, "--path", "drive", "--vsm-pool", pool, "--out", folder]
+                run = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                if run.returncode != 0:
+                    sys.exit(f"vsm_bookkeeping: {' '.join(cmd)} failed:\n{run.stderr[-2000:]}")
+                for scope in ("vsm_sort", "vsm_alloc"):
+                    sums[(name, scope)] += frame_sums(folder, (scope,))
+                with open(os.path.join(folder, "stats.json")) as f:
+                    vsm = json.load(f).get("vsm", {})
+                pages.setdefault(name, (vsm.get("pages_marked"), vsm.get("pages_allocated")))
+        if pages["old"] != pages["new"]:
+            sys.exit(f"vsm_bookkeeping: pool {pool}: the two builds' page counts differ: {pages}")
+        m = {k: median(v) for k, v in sums.items()}
+        print(f"| {pool} | {m[('old', 'vsm_sort')]:.3f} | {m[('new', 'vsm_sort')]:.3f} | "
+              f"{m[('old', 'vsm_alloc')]:.3f} | {m[('new', 'vsm_alloc')]:.3f} | "
+              f"{m[('new', 'vsm_alloc')] / m[('old', 'vsm_alloc')]:.2f} | {pages['new'][1]} |")
+    return 0
+
+
 def main(folders):
     if folders and folders[0] == "--compare-alloc":
         return compare_alloc(folders[1:])
+    if folders and folders[0] == "--compare-pool":
+        return compare_pool(folders[1:])
     if not folders or folders[0] in ("-h", "--help"):
         print(__doc__)
         return 0 if folders else 1

@@ -169,9 +169,13 @@ void main() {
         vsmCounters.pagesAllocated = (pool - freePages) + min(requestTotal, freePages);
     }
 
-    // 5. vsm_avail: only the first `requests` places are read. Classes are those of step 1: owners change
-    // only in step 6, and step 3 refreshed wanted pages only (class 9 either way).
-    if (requestTotal > 0u) {
+    // 5. vsm_avail: only the first `requests` places are read, so a thread whose nine first places all
+    // lie at or past them skips its pages (with enough free pages, every thread past the R-th free page).
+    // Classes are those of step 1: owners change only in step 6, and step 3 refreshed wanted pages only
+    // (class 9 either way).
+    bool needed = false;
+    for (uint c = 0u; c < kVsmClasses; ++c) needed = needed || bases[c] < requestTotal;
+    if (needed) {
         for (uint p = pageFirst; p < pageLast; ++p) {
             uint c = vsmPageClass(p);
             if (c >= kVsmClasses) continue;

@@ -2,7 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_avail (allocation 6/7): one thread per physical page writes the page into the available-page list
 // at its class's place (vsm_alloc's bases, then the index order within the block: one block prefix sum
-// of the nine classes packed together). Pages wanted this frame (class 9) are not listed.
+// of the nine classes packed together). Pages wanted this frame (class 9) are not listed. Only the first
+// `requests` places are ever read (vsm_assign's rank r < requests takes place r), so only those are
+// written, and a block whose nine first places all lie at or past `requests` returns before its scan:
+// free pages come first, so with R requests and at least R free pages only the blocks up to the one
+// holding the R-th free page scan, not the whole pool (a 4x larger pool adds free blocks, skipped).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shadows/virtual/vsm_bindings.h"
@@ -15,6 +19,7 @@ layout(binding = ML_VSM_AVAIL_OWNERS, std430) readonly buffer Owner { uint vsmOw
 layout(binding = ML_VSM_AVAIL_LAST_USED, std430) readonly buffer LastUsed { uint vsmLastUsed[]; };
 layout(binding = ML_VSM_AVAIL_CLASS_BASES, std430) readonly buffer ClassBases { uint vsmClassBases[]; }; // per block, class
 layout(binding = ML_VSM_AVAIL_AVAIL, std430) writeonly buffer Avail { uint vsmAvail[]; };
+layout(binding = ML_VSM_AVAIL_COUNTERS, std430) readonly buffer Counters { VsmCounters vsmCounters; };
 
 #define VSM_PAGE_CLASSES
 #define VSM_NO_RUNS
@@ -30,6 +35,14 @@ layout(binding = ML_VSM_AVAIL_AVAIL, std430) writeonly buffer Avail { uint vsmAv
 
 void main() {
     uint p = gl_GlobalInvocationID.x;
+    // Uniform over the workgroup (the same nine words for every thread), so returning before the scan's
+    // barriers is allowed. A class with no page in this block still has a first place; counting it
+    // only makes the test conservative (a block scanned for nothing), never skips a needed page.
+    uint requests = vsmCounters.requests;
+    bool needed = false;
+    for (uint c = 0u; c < kVsmClasses; ++c)
+        needed = needed || vsmClassBases[gl_WorkGroupID.x * kVsmClasses + c] < requests;
+    if (!needed) return;
     // Classes do not change between vsm_invalidate and here: owners change only in vsm_assign, and the
     // last-use refresh of vsm_scan touches wanted pages only (class 9 either way).
     uint cls = p < vsm.sizes.z ? vsmPageClass(p) : kVsmClasses + 1u;
@@ -39,6 +52,7 @@ void main() {
     uvec3 ranks = vsmBlockScan3(one, total);
     if (cls < kVsmClasses) {
         uint rank = (ranks[cls / 3u] >> (9u * (cls % 3u))) & 511u;
-        vsmAvail[vsmClassBases[gl_WorkGroupID.x * kVsmClasses + cls] + rank] = p;
+        uint at = vsmClassBases[gl_WorkGroupID.x * kVsmClasses + cls] + rank;
+        if (at < requests) vsmAvail[at] = p;
     }
 }

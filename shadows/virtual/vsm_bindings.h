@@ -71,6 +71,7 @@
 #define ML_VSM_AVAIL_LAST_USED 3   // frame of last use per physical page
 #define ML_VSM_AVAIL_CLASS_BASES 4 // first slot per (block, class), from vsm_alloc
 #define ML_VSM_AVAIL_AVAIL 5       // the available-page list it writes
+#define ML_VSM_AVAIL_COUNTERS 6    // VsmCounters: the request count, from vsm_alloc
 
 // vsm_assign.comp: each request that needs a page takes one; dirty pages and maps are listed.
 #define ML_VSM_ASSIGN_CONSTANTS 0   // VsmConstants (uniform)

@@ -220,7 +220,8 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     poolPass(programs_.avail,
              {ML_BIND(ML_VSM_AVAIL_CONSTANTS, slot.constants), ML_BIND(ML_VSM_AVAIL_MARKS, pg.marks),
               ML_BIND(ML_VSM_AVAIL_OWNERS, pg.owners), ML_BIND(ML_VSM_AVAIL_LAST_USED, pg.lastUsed),
-              ML_BIND(ML_VSM_AVAIL_CLASS_BASES, pg.classCounts), ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail)},
+              ML_BIND(ML_VSM_AVAIL_CLASS_BASES, pg.classCounts), ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail),
+              ML_BIND(ML_VSM_AVAIL_COUNTERS, slot.counters)},
              pool);
     nextAllocationPass(c); // the available-page list -> assign
     dispatchIndirect(

@@ -353,16 +353,19 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         const uint32_t age = std::max(frame - st.lastUsed[p], 1u);
         return 8 - std::min(uint32_t(std::bit_width(age) - 1), 7u);
     };
+    // vsm_avail: only the first `requests` places are listed (the only ones vsm_assign reads); every
+    // available page is still counted.
     std::vector<uint32_t> avail;
-    uint32_t freePages = 0;
+    uint32_t freePages = 0, available = 0;
     for (uint32_t cls = 0; cls < 9; ++cls)
         for (uint32_t p = 0; p < pool; ++p)
             if (pageClass(p) == cls) {
-                avail.push_back(p);
+                if (avail.size() < requests.size()) avail.push_back(p);
+                ++available;
                 freePages += cls == 0;
             }
     c.requests = uint32_t(requests.size());
-    c.available = uint32_t(avail.size());
+    c.available = available;
     c.pagesAllocated = (pool - freePages) + std::min(c.requests, freePages);
     c.pressure = c.requests > c.available ? 1 : 0;
     // vsm_assign.

@@ -426,7 +426,8 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
                              {"ML_VSM_AVAIL_OWNERS", pg.owners},
                              {"ML_VSM_AVAIL_LAST_USED", pg.lastUsed},
                              {"ML_VSM_AVAIL_CLASS_BASES", pg.classCounts},
-                             {"ML_VSM_AVAIL_AVAIL", pg.avail}}),
+                             {"ML_VSM_AVAIL_AVAIL", pg.avail},
+                             {"ML_VSM_AVAIL_COUNTERS", sl.counters}}),
               "");
     EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_assign_comp",
                             {{"ML_VSM_ASSIGN_CONSTANTS", sl.constants},
