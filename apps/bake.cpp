@@ -44,13 +44,14 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --method M         sm, mh, mmh, dagmh or cpvs
   --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..262144);
                      mh, mmh, dagmh and cpvs up to 262144: past 16384 they bake in tiles (see --tile);
-                     sm stops at 16384: its output is 4 B a texel (4 GiB at 32768^2, past what a device binds)
+                     sm stops at 16384: its output is 4 B a texel (4 GiB at 32768^2: past what devices bind)
   --tile T           sm, mh, mmh, dagmh, cpvs: bake tile by tile, T x T texels a tile (a power of two,
                      64..16384; default 512 past --res 16384, whole maps below it). The map is never held
                      whole: memory is a tile per hardware thread (about 30 B a tile texel and 68 B of
-                     rasteriser hit slots) and the output (sm: 4 B a texel, without the whole map's 8 B). Tiles render on the CPU rasteriser, so with
-                     --renderer gpu only directional lights may be selected; the words equal a
-                     whole-map bake's. The last line on stderr gives the measured peak memory.
+                     rasteriser hit slots) and the output (sm: 4 B a texel, without the whole map's 8 B).
+                     Tiles render on the CPU rasteriser, so with --renderer gpu only directional lights
+                     may be selected; the words equal a whole-map bake's. The last line on stderr
+                     gives the measured peak memory.
   --lights SEL       scene lights to bake: all, N, A-B, or a comma list (e.g. 0-7,12)
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
