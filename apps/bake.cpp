@@ -43,13 +43,15 @@ Bakes the static shadows of a scene's static spot and point lights (six cube fac
   --seed S           scene seed (default 1)
   --method M         sm, mh, mmh, dagmh or cpvs
   --res N            dual depth map resolution per light, 1..16384 (cpvs: a power of two, 64..262144);
-                     mh, mmh, dagmh and cpvs up to 262144: past 16384 they bake in tiles (see --tile)
-  --tile T           mh, mmh, dagmh, cpvs: bake tile by tile, T x T texels a tile (a power of two, 64..16384;
-                     default 512 past --res 16384, whole maps below it). The map is never held whole:
-                     memory is a tile per hardware thread (about 30 B a tile texel and 68 B of
-                     rasteriser hit slots) and the output. Tiles render on the CPU rasteriser, so with
-                     --renderer gpu only directional lights may be selected; the words equal a
-                     whole-map bake's. The last line on stderr gives the measured peak memory.
+                     mh, mmh, dagmh and cpvs up to 262144: past 16384 they bake in tiles (see --tile);
+                     sm stops at 16384: its output is 4 B a texel (4 GiB at 32768^2: past what devices bind)
+  --tile T           sm, mh, mmh, dagmh, cpvs: bake tile by tile, T x T texels a tile (a power of two,
+                     64..16384; default 512 past --res 16384, whole maps below it). The map is never held
+                     whole: memory is a tile per hardware thread (about 30 B a tile texel and 68 B of
+                     rasteriser hit slots) and the output (sm: 4 B a texel, without the whole map's 8 B).
+                     Tiles render on the CPU rasteriser, so with --renderer gpu only directional lights
+                     may be selected; the words equal a whole-map bake's. The last line on stderr
+                     gives the measured peak memory.
   --lights SEL       scene lights to bake: all, N, A-B, or a comma list (e.g. 0-7,12)
   --out FILE         the bake file to write
   --renderer R       gpu (default: Vulkan, tiles of <= 4096^2) or cpu (the reference rasteriser);
@@ -302,14 +304,13 @@ Result<BakeOptions> parseBake(const cli::Args& args) {
         if (!tile) return fail(tile.error());
         if (tile.value() & (tile.value() - 1))
             return fail("--tile: " + args.get("--tile", "") + " is not a power of two");
-        if (!bakeTiled(o.method, o.res, tile.value()))
-            return fail("--tile: " + std::string(staticMethodName(o.method)) +
-                        " bakes whole maps (mh, mmh, dagmh and cpvs bake in tiles)");
         o.tile = tile.value();
     }
-    if (o.res > kBakeWholeMapMax && !bakeTiled(o.method, o.res, o.tile))
-        return fail("--res: " + std::string(staticMethodName(o.method)) + " bakes whole maps, up to " +
-                    std::to_string(kBakeWholeMapMax) + " (mh, mmh, dagmh, cpvs bake larger maps in tiles)");
+    if (o.res > kBakeWholeMapMax && o.method == StaticMethod::SM)
+        return fail("--res: " + smPastLimitReason(o.res));
+    if (o.tile && !bakeTiled(o.method, o.res, o.tile))
+        return fail("--tile: " + std::string(staticMethodName(o.method)) +
+                    " bakes whole maps (sm, mh, mmh, dagmh and cpvs bake in tiles)");
     return o;
 }
 
@@ -393,7 +394,9 @@ Result<void> checkBakeMemory(const BakeOptions& o, const Selection& sel,
     // no proven bound; a tiled tree or DAG is held to what --max-memory leaves (bakeTilesOf), so a tiled
     // bake goes on and stops if it passes that.
     const auto tiled = [&](uint32_t r) { return bakeTiled(o.method, r, o.tile); };
-    if (!faces.empty() && std::all_of(faces.begin(), faces.end(), tiled) && estimate > o.maxMemory) {
+    // SM's tiles build no tree to hold to the limit: past --max-memory SM is refused as a whole map is.
+    if (o.method != StaticMethod::SM && !faces.empty() && std::all_of(faces.begin(), faces.end(), tiled) &&
+        estimate > o.maxMemory) {
         const uint64_t nodes = bakeTilesOf(o).maxNodes;
         const std::string held =
             o.method == StaticMethod::CPVS
@@ -435,7 +438,9 @@ int bakeWhole(const cli::Args& args, const BakeOptions& o, const Selection& sel,
                     l.resolution, l.renderSeconds, l.encodeSeconds,
                     100.0 * double(l.coveredTexels) / (double(l.resolution) * l.resolution),
                     (unsigned long long)l.bytes);
-        if (l.tiles)
+        if (l.tiles && o.method == StaticMethod::SM)
+            std::printf(" (%u tiles, %u empty; render includes writing the texels)", l.tiles, l.emptyTiles);
+        else if (l.tiles)
             std::printf(" (%u tiles, %u empty; render includes building the %llu-node tree)", l.tiles,
                         l.emptyTiles, (unsigned long long)l.treeNodes);
         if (l.dagLiveBytes)

@@ -102,15 +102,12 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
     if (res == 0 || res > kBakeMaxResolution)
         return fail("bake: resolution " + std::to_string(res) + " outside 1.." +
                     std::to_string(kBakeMaxResolution));
-    if (res > kBakeWholeMapMax && !bakeTiled(method, res, tiles.tile))
-        return fail("bake: " + std::string(staticMethodName(method)) + " bakes whole maps, up to " +
-                    std::to_string(kBakeWholeMapMax) +
-                    "^2 (mh, mmh, dagmh and cpvs bake larger maps in tiles)");
+    if (res > kBakeWholeMapMax && method == StaticMethod::SM) return fail("bake: " + smPastLimitReason(res));
     if (tiles.tile != 0 && (tiles.tile & (tiles.tile - 1)) != 0)
         return fail("bake: tile side " + std::to_string(tiles.tile) + " is not a power of two");
     if (tiles.tile != 0 && !bakeTiled(method, res, tiles.tile))
         return fail("bake: " + std::string(staticMethodName(method)) +
-                    " does not bake in tiles (mh, mmh, dagmh and cpvs do)");
+                    " does not bake in tiles (sm, mh, mmh, dagmh and cpvs do)");
     std::vector<uint32_t> lights = lightsIn;
     std::sort(lights.begin(), lights.end());
     lights.erase(std::unique(lights.begin(), lights.end()), lights.end());

@@ -27,18 +27,32 @@ using DualRenderFn =
 constexpr uint64_t kBakeTileTexels = uint64_t(4096) * 1024;
 // Whole-map bakes hold the dual depth map (8 B a texel) and the encoder's scratch: 16384^2 is 2 GiB of
 // map. MH, MMH and DAG-MH bake past it in tiles (bake_tiled.h) up to the bake file's kMaxResolution, CPVS
-// (bake_tiled_cpvs.h) up to kCpvsMaxResolution, holding a tile per worker and the output; SM stops here.
+// (bake_tiled_cpvs.h) up to kCpvsMaxResolution, holding a tile per worker and the output. SM stops here
+// even in tiles: its output is itself 4 B a texel (1 GiB at 16384^2; 4 GiB at 32768^2, past any storage
+// buffer a device binds: Vulkan's maxStorageBufferRange is a 32-bit byte count, below 4 GiB).
 constexpr uint32_t kBakeWholeMapMax = 16384;
 constexpr uint32_t kBakeMaxResolution = 262144; // kMhMaxResolution (shadows/static/mh.h)
 // Tiled bakes' tile side: a 512^2 tile's hit lists and counting-sort table (8 B a hit, 4 B a texel)
 // stay small, once per hardware thread; a 2048^2 tile holds 16x as much (`bake --tile` to choose).
 constexpr uint32_t kBakeDefaultTile = 512;
 // Whether a bake at `resolution` (with `tile` from --tile, 0: none asked) goes tile by tile: the MH
-// family (bake_tiled.h) and CPVS (bake_tiled_cpvs.h, regions of max(tile, its grid cell) texels).
+// family (bake_tiled.h) and CPVS (bake_tiled_cpvs.h, regions of max(tile, its grid cell) texels), and SM
+// when --tile asks, up to kBakeWholeMapMax (its output, not a tree: no larger map tiles).
 inline bool bakeTiled(StaticMethod method, uint32_t resolution, uint32_t tile) {
+    if (method == StaticMethod::SM) return tile != 0 && resolution <= kBakeWholeMapMax;
     const bool tiles = method == StaticMethod::MH || method == StaticMethod::MMH ||
                        method == StaticMethod::DAGMH || method == StaticMethod::CPVS;
     return tiles && (tile != 0 || resolution > kBakeWholeMapMax);
+}
+
+// Why SM refuses `resolution` past kBakeWholeMapMax, whole or in tiles: its output's size.
+inline std::string smPastLimitReason(uint32_t resolution) {
+    const uint64_t mib = uint64_t(resolution) * resolution * 4 >> 20;
+    return "sm stores 4 B a texel: " + std::to_string(resolution) + "^2 is " + std::to_string(mib) +
+           " MiB, past any storage buffer a device binds (under 4096 MiB); sm bakes up to " +
+           std::to_string(kBakeWholeMapMax) +
+           "^2, whole or in tiles (mh, mmh, dagmh and cpvs bake "
+           "larger maps in tiles)";
 }
 
 // The CPU rasteriser (DualRasterizer::render in row tiles).
@@ -83,9 +97,9 @@ struct BakeResult {
 // come out sorted by light index). `spec` is what re-creates `scene` (stored for verify). Fails when
 // an index is out of range, the resolution is not one the method encodes, or no selected light can be
 // baked. An empty `render` uses the CPU rasteriser, reporting progress per tile.
-// Tiles (bakeTiled): MH, MMH and DAG-MH above kBakeWholeMapMax, or at any resolution when `tiles.tile` is
-// set, render on the CPU rasteriser tile by tile (bake_tiled.h) whatever `render` is; the words equal the
-// whole-map bake's.
+// Tiles (bakeTiled): MH, MMH, DAG-MH and CPVS above kBakeWholeMapMax, or at any resolution (SM: up to
+// kBakeWholeMapMax) when `tiles.tile` is set, render on the CPU rasteriser tile by tile (bake_tiled.h)
+// whatever `render` is; the words equal the whole-map bake's.
 struct BakeTiles {
     uint32_t tile = 0;     // 0: tiles of kBakeDefaultTile, only above kBakeWholeMapMax
     uint64_t maxNodes = 0; // per record's MH tree; 0: unbounded

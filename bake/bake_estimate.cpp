@@ -84,8 +84,14 @@ uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMetho
         std::all_of(faceResolutions.begin(), faceResolutions.end(), tiled))
         return cpvsTiledPeakBytes(faceResolutions, tile, base);
     uint64_t words = 0, largest = 0, tiledLargest = 0;
+    bool anyTiled = false;
     for (uint32_t r : faceResolutions) {
         const uint64_t texels = uint64_t(r) * r;
+        anyTiled = anyTiled || tiled(r);
+        if (tiled(r) && method == StaticMethod::SM) {
+            words += texels * 4; // the output, filled tile by tile: no map, no tree
+            continue;
+        }
         if (tiled(r)) {
             const uint64_t nodes = texels / 64;
             tiledLargest = std::max(tiledLargest, shards > 1 ? nodes / shards * 2 * sizeof(MhPackedNode)
@@ -97,7 +103,7 @@ uint64_t bakePeakBytes(const std::vector<uint32_t>& faceResolutions, StaticMetho
         largest = std::max(largest, texels);
     }
     uint64_t working = largest * (8 + 16); // the map, and the encoder's scratch
-    if (tiledLargest)
+    if (anyTiled)
         working = std::max(working, tiledLargest + tiledWorkingBytes(tile ? tile : kBakeDefaultTile));
     return 400 * kMiB + 2 * words + working;
 }

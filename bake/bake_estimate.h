@@ -15,7 +15,9 @@
 //            which follows the map's detail, not its size. It is counted at one node per 64 texels (the
 //            night city's moon has 1 per 32 at 4096^2, 1 per 52 at 8192^2, 1 per 75 at 16384^2), each
 //            held twice while tiles are spliced (28 B) plus its output words (8 B). A tile shard (one of
-//            `shards` > 1) holds only its tiles' packed nodes (12 B), written once more.
+//            `shards` > 1) holds only its tiles' packed nodes (12 B), written once more. SM in tiles
+//            holds no tree: its words (4 B a texel) are filled tile by tile, so it is words and tiles,
+//            without the whole map's 24 B a texel of map and scratch.
 //
 // CPVS in tiles (cpvsTiledPeakBytes, when every map of the bake is tiled), from what the region build
 // (shadows/static/cpvs_tiled.h) holds, per map of side N, tile T, P hardware threads, region side

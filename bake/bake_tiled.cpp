@@ -4,6 +4,7 @@
 #include "bake/bake_tiled_cpvs.h"
 
 #include "shadows/static/mh_tiled.h"
+#include "shadows/static/sm.h"
 
 #include <sys/resource.h>
 
@@ -33,12 +34,79 @@ uint64_t peakResidentBytes() {
     return uint64_t(u.ru_maxrss) * 1024u; // Linux reports KiB
 }
 
+namespace {
+
+// SM in tiles: each tile's midpoints go straight to their place in the output words, so a bake holds the
+// output (4 B a texel: 256 MiB at 8192^2) and a tile per thread, never the dual map (8 B a texel more).
+// The words are encodeSM's of the whole map: the same header (smBlankWords), the same rows (a fitted
+// directional map stores mapRows(res) rows; no tile past them is rendered) and the same values.
+Result<std::vector<uint32_t>> bakeSmRecordTiled(const CasterTriangles& casters, const LightFrustum& frustum,
+                                                uint32_t res, const TiledBakeOptions& options,
+                                                LightBakeStats& stats) {
+    if (res > kBakeWholeMapMax) return fail(smPastLimitReason(res));
+    const uint32_t tile = options.tile;
+    if (tile == 0 || (tile & (tile - 1)) != 0)
+        return fail("tile side " + std::to_string(tile) + " is not a power of two");
+    const DualRasterizer raster(casters, frustum, res);
+    std::vector<uint32_t> out = smBlankWords(res, frustum.mapRows(res));
+    const uint32_t rows = smStoredRows(res, frustum.mapRows(res)), T = std::min(tile, res);
+    const uint32_t mx = (res + T - 1) / T, my = (rows + T - 1) / T, count = mx * my;
+    uint32_t* values = out.data() + smfmt::kHeaderWords;
+    std::atomic<uint32_t> next{0}, done{0};
+    std::mutex mutex; // guards the sums and progress
+    const auto t0 = Clock::now();
+    auto worker = [&]() {
+        std::vector<uint32_t> enter(size_t(T) * T), exit(size_t(T) * T);
+        uint64_t covered = 0, closed = 0;
+        uint32_t empty = 0;
+        for (uint32_t k; (k = next++) < count;) {
+            const uint32_t x0 = (k % mx) * T, y0 = (k / mx) * T, w = std::min(T, res - x0),
+                           h = std::min(T, rows - y0);
+            if (raster.blockEmpty(x0, y0, w, h)) {
+                ++empty;
+                for (uint32_t y = 0; y < h; ++y)
+                    std::fill_n(values + size_t(y0 + y) * res + x0, w, smValue(kDepthEmpty, kDepthEmpty));
+            } else {
+                raster.renderRect(x0, y0, w, h, enter.data(), exit.data());
+                for (uint32_t y = 0; y < h; ++y) {
+                    uint32_t* row = values + size_t(y0 + y) * res + x0;
+                    for (uint32_t x = 0; x < w; ++x) {
+                        const size_t i = size_t(y) * w + x;
+                        row[x] = smValue(enter[i], exit[i]);
+                        covered += enter[i] != kDepthEmpty, closed += exit[i] > enter[i];
+                    }
+                }
+            }
+            const uint32_t finished = ++done;
+            if (options.progress) {
+                std::lock_guard<std::mutex> lock(mutex);
+                options.progress(double(finished) / count);
+            }
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        stats.coveredTexels += covered, stats.closedTexels += closed, stats.emptyTiles += empty;
+    };
+    const uint32_t threads = std::min(std::max(1u, std::thread::hardware_concurrency()), count);
+    std::vector<std::thread> pool;
+    for (uint32_t i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& th : pool) th.join();
+    smSeal(out);
+    stats.tiles = count, stats.renderSeconds = secondsSince(t0); // rendering and encoding interleave
+    stats.encodeSeconds = 0;
+    return out;
+}
+
+} // namespace
+
 Result<std::vector<uint32_t>> bakeRecordTiled(StaticMethod method, const CasterTriangles& casters,
                                               const LightFrustum& frustum, uint32_t res,
                                               const TiledBakeOptions& options, LightBakeStats& stats) {
     if (method == StaticMethod::CPVS) return bakeCpvsRecordTiled(casters, frustum, res, options, stats);
+    if (method == StaticMethod::SM) return bakeSmRecordTiled(casters, frustum, res, options, stats);
     if (method != StaticMethod::MH && method != StaticMethod::MMH && method != StaticMethod::DAGMH)
-        return fail(std::string("tiled bakes build the MH family and CPVS, not ") + staticMethodName(method));
+        return fail(std::string("tiled bakes build the MH family, SM and CPVS, not ") +
+                    staticMethodName(method));
     const DualRasterizer raster(casters, frustum, res);
     MhTiledOptions to;
     to.tile = options.tile, to.maxNodes = options.maxNodes, to.progress = options.progress;

@@ -1,14 +1,15 @@
 // Out-of-core bakes and verifies of one record, tile by tile (shadows/static/mh_tiled.h): the dual depth
 // map is never held whole, so MH, MMH and DAG-MH bake past the whole-map limit (kBakeWholeMapMax) up to
 // kMhMaxResolution (262144^2). Tiles are rendered by the CPU rasteriser (DualRasterizer::renderRect) on every
-// hardware thread; a bake and its verify render the same texels whatever the tile size.
+// hardware thread; a bake and its verify render the same texels whatever the tile size. SM takes tiles
+// too, up to kBakeWholeMapMax: each tile's midpoints go straight into the output words.
 #pragma once
 #include "bake/bake.h"
 
 namespace ml {
 
-// The MH family's words for one map, built from tiles. `maxNodes` (0: none) bounds the tree: past it
-// the bake stops with the count and the memory it would need. progress gets 0..1 over the tiles.
+// The MH family's, SM's or CPVS's words for one map, built from tiles. `maxNodes` (0: none) bounds the tree:
+// past it the bake stops with the count and the memory it would need. progress gets 0..1 over the tiles.
 struct TiledBakeOptions {
     uint32_t tile = kBakeDefaultTile;
     uint64_t maxNodes = 0;

@@ -12,6 +12,7 @@
 #include "shadows/static/dual_depth.h"
 #include "shadows/static/format_common.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -23,17 +24,38 @@ constexpr uint32_t kHeaderWords = 6;
 enum : uint32_t { kMagicWord, kVersion, kResolution, kTotalWords, kChecksum, kRows, kReserved = kRows };
 } // namespace smfmt
 
-inline std::vector<uint32_t> encodeSM(const DualDepthMap& map) {
-    const uint32_t rows = map.rows != 0 && map.rows < map.resolution ? map.rows : map.resolution;
-    const size_t texels = size_t(map.resolution) * rows;
-    std::vector<uint32_t> out(smfmt::kHeaderWords + texels, 0u);
-    out[smfmt::kMagicWord] = smfmt::kMagic, out[smfmt::kVersion] = rows < map.resolution ? 2u : 1u,
-    out[smfmt::kResolution] = map.resolution;
-    out[smfmt::kRows] = rows < map.resolution ? rows : 0u;
+// A texel's stored value: the midpoint of [enter, max(enter, exit)] (kDepthEmpty for an empty texel).
+inline uint32_t smValue(uint32_t enter, uint32_t exit) {
+    return stat::midpoint(enter, std::max(enter, exit));
+}
+
+// Rows an SM record of this map stores: `rows` (DualDepthMap::rows) when 1..resolution-1, else all.
+inline uint32_t smStoredRows(uint32_t resolution, uint32_t rows) {
+    return rows != 0 && rows < resolution ? rows : resolution;
+}
+
+// The words of an SM record of resolution x smStoredRows(resolution, rows) values: the header filled,
+// values 0 and no checksum yet. encodeSM fills the values from a whole map, the tiled bake
+// (bake/bake_tiled.cpp) tile by tile; smSeal then writes the checksum.
+inline std::vector<uint32_t> smBlankWords(uint32_t resolution, uint32_t rows) {
+    const uint32_t stored = smStoredRows(resolution, rows);
+    std::vector<uint32_t> out(smfmt::kHeaderWords + size_t(resolution) * stored, 0u);
+    out[smfmt::kMagicWord] = smfmt::kMagic, out[smfmt::kVersion] = stored < resolution ? 2u : 1u,
+    out[smfmt::kResolution] = resolution;
+    out[smfmt::kRows] = stored < resolution ? stored : 0u;
     out[smfmt::kTotalWords] = uint32_t(out.size());
-    for (size_t i = 0; i < texels; ++i)
-        out[smfmt::kHeaderWords + i] = stat::midpoint(map.enter[i], std::max(map.enter[i], map.exit[i]));
+    return out;
+}
+
+inline void smSeal(std::vector<uint32_t>& out) {
     out[smfmt::kChecksum] = stat::checksumWords(out.data(), out.size(), smfmt::kChecksum);
+}
+
+inline std::vector<uint32_t> encodeSM(const DualDepthMap& map) {
+    std::vector<uint32_t> out = smBlankWords(map.resolution, map.rows);
+    const size_t texels = out.size() - smfmt::kHeaderWords;
+    for (size_t i = 0; i < texels; ++i) out[smfmt::kHeaderWords + i] = smValue(map.enter[i], map.exit[i]);
+    smSeal(out);
     return out;
 }
 

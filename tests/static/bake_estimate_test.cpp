@@ -1,8 +1,10 @@
 // The bake's memory estimate (bake/bake_estimate.h): CPVS bakes whose maps are all tiled take the region
 // build's formula, below the MH family's and growing with the map's side; the others keep the whole-map
-// and MH formula; the base counts the process, the device and the scene's caster triangles.
+// and MH formula; SM in tiles counts its words and tiles, no map; the base counts the process, the
+// device and the scene's caster triangles.
 #include "bake/bake_estimate.h"
 
+#include "bake/bake_tiled.h"
 #include "bake/scene_casters.h"
 #include "scenes/scenes.h"
 
@@ -55,6 +57,19 @@ TEST(BakeEstimate, WholeMapsAndMixedBakesKeepTheWholeMapFormula) {
     EXPECT_GE(bakePeakBytes({2048, 32768}, StaticMethod::CPVS, 0, 1, base), whole);
     EXPECT_NE(bakePeakBytes({2048, 32768}, StaticMethod::CPVS, 0, 1, base),
               cpvsTiledPeakBytes({2048, 32768}, 0, base));
+}
+
+// SM in tiles holds its words and the tiles, not the whole map's 24 B a texel of map and scratch; past
+// kBakeWholeMapMax it does not tile (bakeTiled), so the whole-map formula stays.
+TEST(BakeEstimate, SmTilesDropTheWholeMapsMapAndScratch) {
+    BakeBase base;
+    const uint64_t texels = uint64_t(8192) * 8192;
+    const uint64_t whole = bakePeakBytes({8192}, StaticMethod::SM, 0, 1, base);
+    const uint64_t tiled = bakePeakBytes({8192}, StaticMethod::SM, 512, 1, base);
+    EXPECT_EQ(whole, 400 * kMiB + 2 * texels * 4 + texels * 24);
+    EXPECT_EQ(tiled, 400 * kMiB + 2 * texels * 4 + tiledWorkingBytes(512));
+    EXPECT_EQ(bakePeakBytes({32768}, StaticMethod::SM, 512, 1, base),
+              400 * kMiB + 2 * uint64_t(32768) * 32768 * 4 + uint64_t(32768) * 32768 * 24);
 }
 
 TEST(BakeEstimate, BaseCountsTheScenesStaticCasterTriangles) {
