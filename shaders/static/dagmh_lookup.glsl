@@ -1,4 +1,5 @@
-// DAG-MH lookup: twin of dagmhValue / dagmhLookup in shadows/static/dagmh.h, the same steps except that
+// DAG-MH lookups: twins of dagmhValue / dagmhLookup / dagmhLookupLevel (a level above the finest, for
+// filtering by level) in shadows/static/dagmh.h, the same steps except that
 // the header words are read once into DagmhHeader (the CPU twin reads them where used; same values) (layout
 // documented there and in docs/dagmh-encoding.md).
 #ifndef ML_DAGMH_LOOKUP_GLSL
