@@ -55,7 +55,10 @@ uint64_t currentResidentBytes() {
 
 BakeBase bakeBaseOf(const Scene& scene, bool gpuDevice) {
     BakeBase b;
-    b.residentBytes = currentResidentBytes(), b.peakBytes = peakResidentBytes(), b.gpuDevice = gpuDevice;
+    // The peak (getrusage, KiB) and the resident bytes (/proc, pages) come from two readings; the peak so
+    // far is never below what is resident now, whatever their granularity and order.
+    b.residentBytes = currentResidentBytes(), b.gpuDevice = gpuDevice;
+    b.peakBytes = std::max(peakResidentBytes(), b.residentBytes);
     for (const Instance& inst : scene.instances) // castersFromScene's triangles, counted, not built
         if (!inst.dynamic && inst.mesh < scene.meshes.size())
             b.casterTriangles += scene.meshes[inst.mesh].indices.size() / 3;
