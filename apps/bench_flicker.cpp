@@ -40,7 +40,8 @@ int runBenchFlickerVsm(int argc, char** argv); // apps/bench_flicker_vsm.cpp
 
 static const char* kFlickerHelp = R"(usage: manylights bench flicker [options]
 Share of pixels whose static shadow flips between consecutive frames of a camera path while the
-ray-traced visibility does not, per method, resolution and PCF size. Table on stdout, CSV in --out.
+ray-traced visibility does not, per method, resolution and PCF size, and the share of samples whose
+shadow (lit at visibility >= 0.5) is not the ray's. Table on stdout, CSV in --out.
   --scene S        night-city (default), night-city-closed or a .gltf / .glb file
   --methods LIST   comma-separated, default sm,mh,mmh,dagmh,cpvs
   --res LIST       comma-separated resolutions, default 1024,2048
@@ -54,8 +55,9 @@ ray-traced visibility does not, per method, resolution and PCF size. Table on st
   --light-turn D   degrees each measured light turns about the vertical per frame (default 0)
   --bake A[,B...]  instead of baking: the stored records of one light (the first file's first record's
                    light, e.g. the moon at 4096^2 and at 65536^2), one row per file and PCF radius
-  --by-level       MH, MMH and DAG-MH also filtered by level (the coarsest hierarchy level whose texel is at
-                   most a quarter of the pixel: Module::setShadowFilter's byLevel), one more row each
+  --by-level       MH, MMH, DAG-MH and CPVS also filtered by level (the coarsest hierarchy level whose
+                   texel is at most a quarter of the pixel: Module::setShadowFilter's byLevel), one
+                   more row each
   --map-jitter M   render each frame's maps from the light moved M metres in a pseudo-random direction
                    (the rays keep the true light): a deliberately unstable map (default 0)
   --seed S         scene seed, default 1
@@ -99,11 +101,12 @@ glm::vec3 jitterDirection(uint32_t f, uint32_t light) {
 struct Config {
     StaticMethod method;
     uint32_t res, pcf;
-    bool byLevel = false; // filtering by level (MH, MMH, DAG-MH; setShadowFilter)
+    bool byLevel = false; // filtering by level (MH, MMH, DAG-MH, CPVS; setShadowFilter)
 };
-// The methods whose lookups filter by level (static_visibility.glsl): the MH family's hierarchies.
+// The methods whose lookups filter by level (static_visibility.glsl): the MH family's hierarchies and CPVS.
 bool filtersByLevel(StaticMethod m) {
-    return m == StaticMethod::MH || m == StaticMethod::MMH || m == StaticMethod::DAGMH;
+    return m == StaticMethod::MH || m == StaticMethod::MMH || m == StaticMethod::DAGMH ||
+           m == StaticMethod::CPVS;
 }
 
 struct Options {
@@ -269,12 +272,24 @@ void sampleLight(const Options& o, const std::vector<Config>& configs, const Ray
 }
 
 // Per configuration: pairs counted in consecutive frames, the rays' flips, the method's flips where the
-// rays do not, and the sum of |delta visibility| there.
+// rays do not, and the sum of |delta visibility| there; and over every frame's samples, those whose
+// visibility (lit when >= 0.5) is not the ray's.
 struct Counts {
-    explicit Counts(size_t n) : pairs(n, 0), flips(n, 0), truthFlips(n, 0), graded(n, 0.0) {}
-    std::vector<uint64_t> pairs, flips, truthFlips;
+    explicit Counts(size_t n)
+        : pairs(n, 0), flips(n, 0), truthFlips(n, 0), samples(n, 0), wrong(n, 0), graded(n, 0.0) {}
+    std::vector<uint64_t> pairs, flips, truthFlips, samples, wrong;
     std::vector<double> graded;
 };
+
+void compareWithRays(const std::vector<Sample>& cur, Counts& n) {
+    for (const Sample& a : cur) {
+        if (!a.counts) continue;
+        for (size_t c = 0; c < n.samples.size(); ++c) {
+            ++n.samples[c];
+            n.wrong[c] += (a.vis[c] >= 0.5f) != a.truth;
+        }
+    }
+}
 
 void comparePairs(const std::vector<Sample>& prev, const std::vector<Sample>& cur, Counts& n) {
     for (size_t i = 0; i < cur.size(); ++i) {
@@ -296,10 +311,11 @@ void comparePairs(const std::vector<Sample>& prev, const std::vector<Sample>& cu
 Result<json::Object> report(const Options& o, const std::vector<Config>& configs, const Counts& n) {
     std::printf(
         "| method | res | filter | pixel-light pairs in consecutive frames | rays flip %% | method flips "
-        "where rays do not %% | mean abs delta visibility where rays do not flip %% |\n"
-        "|---|---:|---|---:|---:|---:|---:|\n");
+        "where rays do not %% | mean abs delta visibility where rays do not flip %% | wrong against rays %% "
+        "|\n"
+        "|---|---:|---|---:|---:|---:|---:|---:|\n");
     std::ostringstream csv;
-    csv << "method,res,pcf_radius,by_level,pairs,truth_flips,flicker,graded_sum\n";
+    csv << "method,res,pcf_radius,by_level,pairs,truth_flips,flicker,graded_sum,samples,wrong\n";
     uint64_t allPairs = 0, allTruth = 0, allFlips = 0;
     double worstGraded = 0.0;
     for (size_t c = 0; c < configs.size(); ++c) {
@@ -309,12 +325,14 @@ Result<json::Object> report(const Options& o, const std::vector<Config>& configs
         const double meanDelta = stable ? n.graded[c] / double(stable) : 0.0;
         worstGraded = std::max(worstGraded, meanDelta);
         allPairs += pairs, allTruth += n.truthFlips[c], allFlips += n.flips[c];
-        std::printf("| %s | %u | %ux%u%s | %llu | %.3f | %.4f | %.4f |\n", staticMethodName(g.method), g.res,
-                    2 * g.pcf + 1, 2 * g.pcf + 1, g.byLevel ? " by level" : "", (unsigned long long)pairs,
-                    pairs ? 100.0 * double(n.truthFlips[c]) / double(pairs) : 0.0, 100.0 * rate,
-                    100.0 * meanDelta);
+        std::printf("| %s | %u | %ux%u%s | %llu | %.3f | %.4f | %.4f | %.3f |\n", staticMethodName(g.method),
+                    g.res, 2 * g.pcf + 1, 2 * g.pcf + 1, g.byLevel ? " by level" : "",
+                    (unsigned long long)pairs, pairs ? 100.0 * double(n.truthFlips[c]) / double(pairs) : 0.0,
+                    100.0 * rate, 100.0 * meanDelta,
+                    n.samples[c] ? 100.0 * double(n.wrong[c]) / double(n.samples[c]) : 0.0);
         csv << staticMethodName(g.method) << "," << g.res << "," << g.pcf << "," << int(g.byLevel) << ","
-            << pairs << "," << n.truthFlips[c] << "," << n.flips[c] << "," << n.graded[c] << "\n";
+            << pairs << "," << n.truthFlips[c] << "," << n.flips[c] << "," << n.graded[c] << ","
+            << n.samples[c] << "," << n.wrong[c] << "\n";
     }
     std::ofstream file(o.out + "/bench_flicker.csv");
     if (!file || !(file << csv.str())) return fail(o.out + "/bench_flicker.csv: cannot write");
@@ -343,6 +361,7 @@ Result<Counts> measure(const Options& o, const std::vector<Config>& configs, con
         cur.assign(ps.size() * lights.size(), {});
         for (size_t k = 0; k < lights.size(); ++k)
             sampleLight(o, configs, rays, maps[k], ps, ns, f2, k, lights.size(), cur);
+        compareWithRays(cur, n);
         if (f) comparePairs(prev, cur, n);
         std::swap(prev, cur);
     }
@@ -409,6 +428,7 @@ Result<Counts> measureBaked(const Options& o, const Baked& b, const std::vector<
                 s.vis.push_back(staticVisibility(rec, r.data.data(), ps[i], ns[i], f2[i]));
             }
         }
+        compareWithRays(cur, n);
         if (f) comparePairs(prev, cur, n);
         std::swap(prev, cur);
         std::fprintf(stderr, "bench flicker: frame %u of %u\n", f + 1, o.view.frames);

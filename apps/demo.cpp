@@ -86,9 +86,9 @@ Renders a scene lit by many spotlights and writes images and a GPU profile.
   --camera X,Y,Z,TX,TY,TZ  camera position and target (default: the scene's own)
   --allow-outside-scene-dir  let the glTF's buffer/image URIs leave its folder (trusted scenes only)
   --pcf R          shadow filter radius (static and dynamic): 0 one tap (default), 1 = 3x3 ... 4 = 9x9
-  --by-level       MH, MMH and DAG-MH static shadows filtered on the coarsest hierarchy level whose
-                   texel is at most a quarter of the pixel (setShadowFilter's byLevel); CPVS and SM stay
-                   at their finest level
+  --by-level       MH, MMH, DAG-MH and CPVS static shadows filtered on the coarsest hierarchy level
+                   whose texel is at most a quarter of the pixel (setShadowFilter's byLevel); SM stays
+                   at its finest level
   --path P         camera path: static (default: the scene's camera or --camera), drive, orbit
   --dynamic M      dynamic shadows: vsm (virtual shadow maps, default) or off
   --vsm-res N      virtual resolution of each shadow map (power of two, 256..16384; default 4096)

@@ -300,9 +300,10 @@ class Module {
     // renders its own G-buffer draws with it). Identity before the camera and targets are set.
     Float4x4 viewProjection() const;
     // Static shadows: attach or remove a light's bake; the PCF radius applies to every static lookup
-    // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9). byLevel: MH, MMH and DAG-MH bakes take the kernel's
-    // taps on the coarsest hierarchy level whose texel is at most a quarter of the receiver's pixel
-    // (hierarchical PCF: a distant receiver reads fewer nodes); CPVS and SM bakes filter at the finest level.
+    // (0 = one tap, 1 = 3x3, 2 = 5x5, up to 4 = 9x9). byLevel: MH, MMH, DAG-MH and CPVS bakes take the
+    // kernel's taps on the coarsest hierarchy level whose texel is at most a quarter of the receiver's
+    // pixel (hierarchical PCF: a distant receiver's taps move with the level's texels, not the finest);
+    // SM bakes filter at the finest level.
     Result<void> setStaticShadow(LightId id, const StaticShadowDesc& shadow);
     void clearStaticShadow(LightId id);
     Result<void> setShadowFilter(uint32_t pcfRadius, bool byLevel = false);

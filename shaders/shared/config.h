@@ -112,10 +112,10 @@
 // Largest PCF radius of the static lookups: 4 = 9x9 (the CPVS issue's maximum).
 #define ML_MAX_PCF_RADIUS 4
 
-// Filtering by level (MH, MMH, DAG-MH) reads the coarsest level whose texel is at most 1/4 of the receiver's
-// pixel (shadowLevelStep). A level texel as wide as the pixel puts every shadow edge on a grid of
+// Filtering by level (MH, MMH, DAG-MH, CPVS) reads the coarsest level whose texel is at most 1/4 of the
+// receiver's pixel (shadowLevelStep). A level texel as wide as the pixel puts every shadow edge on a grid of
 // pixel-sized blocks, which flips more pixels between frames than the finest level does
-// (docs/static-shadows.md, "Filtering by level (MH, MMH, DAG-MH)"); the cost is a descent two levels deeper.
+// (docs/static-shadows.md, "Filtering by level"); the cost is a descent two levels deeper.
 // A power of two, so the level search stays an exact doubling.
 #define ML_LEVEL_TEXELS_PER_PIXEL 4.0
 

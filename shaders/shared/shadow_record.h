@@ -33,9 +33,9 @@ ML_FN uint shadowRecordWithRadius(uint info, uint radius) {
     return (info & ~0xF0u) | ((radius & 15u) << 4u);
 }
 
-// info.z bit 0: filter by level (Module::setShadowFilter): the MH and MMH lookups take the coarsest
-// hierarchy level whose texel is at most a quarter of the receiver's pixel (shadowLevelStep); the other
-// methods ignore it.
+// info.z bit 0: filter by level (Module::setShadowFilter): the MH, MMH, DAG-MH and CPVS lookups take the
+// coarsest hierarchy level whose texel is at most a quarter of the receiver's pixel (shadowLevelStep); SM
+// ignores it.
 ML_FN bool shadowRecordByLevel(GpuShadowRecord r) {
     return (r.info.z & 1u) != 0u;
 }

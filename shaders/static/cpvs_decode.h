@@ -1,4 +1,5 @@
-// The CPVS decoder proper (paper section 5): a depth's slice and a voxel's bit. One source text for the
+// The CPVS decoder proper (paper section 5): a depth's slice, a voxel's bit, and the normal bias and PCF
+// kernel around them, at the finest level or a coarser one. One source text for the
 // C++ decoder (shadows/static/cpvs.h) and the GLSL one (shaders/static/cpvs_lookup.glsl), as
 // shaders/static/mh_descent.h is for MH: the same integer operations in the same order on both sides.
 // The layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
@@ -7,9 +8,11 @@
 // array named CPVS_DATA. The includer defines, before including this file:
 //   CPVS_FN          `inline` in C++, nothing in GLSL
 //   CPVS_DATA_PARAM  the leading parameter: `const uint32_t* data,` in C++, nothing in GLSL
+//   CPVS_DATA_ARG    the leading argument of a call to a function of this file: `data,` or nothing
 //   CPVS_WORD(i)     word i: `data[i]` or `CPVS_DATA[i]`
-// and `uint` must name a 32-bit unsigned integer, `int` be 32 bits, bitCount(uint) count the set bits (a
-// GLSL built-in). This file undefines the three at its end; its includers guard it.
+// and `uint` must name a 32-bit unsigned integer, `int` be 32 bits (`>>` of a negative int shifts in its
+// sign: GLSL and C++20), bitCount(uint) count the set bits (a GLSL built-in). This file undefines the four
+// at its end; its includers guard it.
 
 // Header word indices and grid entries (CpvsHeader and kCpvsLit / kCpvsShadowed in shadows/static/cpvs.h,
 // which asserts them equal).
@@ -66,6 +69,44 @@ CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
     return ((CPVS_WORD(base + ptr + (b >> 5u)) >> (b & 31u)) & 1u) != 0u;
 }
 
+// Normal bias of one axis (section 5): the lookup point moves along the voxel-space normal (nx, ny, nz),
+// any integer scale (e.g. quantised to +-1024; m = its largest absolute component), until its largest
+// component is h voxels; n's share rounds half away from 0. |n| <= 1024 and h <= 5 keep 2 |n| h < 2^31.
+CPVS_FN int cpvsBiasAxis(int n, int m, int h) {
+    int a = n < 0 ? -n : n;
+    int o = m == 0 ? 0 : (2 * a * h + m) / (2 * m); // non-negative: rounds half up
+    return n < 0 ? -o : o;
+}
+
+// Lit taps of a (2 radius + 1)^2 PCF kernel (radius 0..4, up to 9x9) around the biased receiver, on the
+// map `step` levels above the finest (step 0: the voxels themselves). A level voxel is 2^step texels a
+// side; it answers with the voxel at the centre of its texel block, at the receiver's own slice (the
+// slices stay the finest: depth keeps its precision), so a receiver's taps move only when it crosses a
+// level texel, not with every finest texel. The bias is radius + 1 level voxels (the kernel's reach, as at
+// the finest level), laterally in level texels and in depth 2^step slices each. (x, y, s): the receiver's
+// finest texel and slice; taps outside the map are lit. Visibility = float(count) / float((2 radius + 1)^2)
+// on the caller's side. Step 0 is exactly the finest-level kernel: X = x + ox, centre offset 0.
+CPVS_FN uint cpvsPcfLitLevel(CPVS_DATA_PARAM uint base, int x, int y, int s, int nx, int ny, int nz,
+                             int radius, uint step) {
+    int ax = nx < 0 ? -nx : nx, ay = ny < 0 ? -ny : ny, az = nz < 0 ? -nz : nz;
+    int m = ax > ay ? ax : ay;
+    m = m > az ? m : az;
+    int h = radius + 1;
+    int st = int(step);
+    int side = 1 << st;
+    int X = (x >> st) + cpvsBiasAxis(nx, m, h);
+    int Y = (y >> st) + cpvsBiasAxis(ny, m, h);
+    int S = s + cpvsBiasAxis(nz, m, h) * side;
+    int c = side >> 1;
+    uint lit = 0u;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx)
+            if (!cpvsShadowedVoxel(CPVS_DATA_ARG base, (X + dx) * side + c, (Y + dy) * side + c, S))
+                lit += 1u;
+    return lit;
+}
+
 #undef CPVS_FN
 #undef CPVS_DATA_PARAM
+#undef CPVS_DATA_ARG
 #undef CPVS_WORD

@@ -1,7 +1,7 @@
-// CPVS lookup (paper section 5). The decoder (a depth's slice, a voxel's bit) is one source text with the
-// C++ one: shaders/static/cpvs_decode.h. The bias and PCF below are the GLSL twins of the CPU functions at
-// the end of shadows/static/cpvs_layout.cpp: same names, same operations in the same order; keep the two
-// in step line by line. The data layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
+// CPVS lookup (paper section 5). The decoder (a depth's slice, a voxel's bit, the normal bias and the PCF
+// kernel by level) is one source text with the C++ one: shaders/static/cpvs_decode.h. cpvsVoxelNormal below
+// is the GLSL twin of the CPU function at the end of shadows/static/cpvs_layout.cpp: same operations in
+// the same order; keep the two in step line by line. The data layout is in docs/cpvs-layout.md and shadows/static/cpvs_layout.cpp.
 //
 // Usage: bind the CPVS words of all lights as one `uint` array and define CPVS_DATA before including:
 //     layout(std430, set = 0, binding = 3) readonly buffer CpvsWords { uint words[]; } cpvsBuf;
@@ -22,36 +22,16 @@
 #error "define CPVS_DATA as the uint[] array that holds the CPVS words"
 #endif
 
-// The decoder proper, cpvsSliceOfDepth and cpvsShadowedVoxel: one text with the C++ decoder.
+// The decoder proper, cpvsSliceOfDepth, cpvsShadowedVoxel and cpvsPcfLitLevel: one text with the C++ one.
 #define CPVS_FN
 #define CPVS_DATA_PARAM
+#define CPVS_DATA_ARG
 #define CPVS_WORD(i) CPVS_DATA[i]
 #include "shaders/static/cpvs_decode.h"
 
-// Normal bias: move along nq until the largest component is radius + 1 voxels, rounding half away from 0.
-ivec3 cpvsNormalOffset(ivec3 nq, int radius) {
-    int ax = nq.x < 0 ? -nq.x : nq.x, ay = nq.y < 0 ? -nq.y : nq.y, az = nq.z < 0 ? -nq.z : nq.z;
-    int m = ax > ay ? ax : ay;
-    m = m > az ? m : az;
-    int h = radius + 1;
-    ivec3 a = ivec3(ax, ay, az);
-    ivec3 outv;
-    for (int i = 0; i < 3; ++i) {
-        int o = m == 0 ? 0 : (2 * a[i] * h + m) / (2 * m); // non-negative: rounds half up
-        outv[i] = nq[i] < 0 ? -o : o;
-    }
-    return outv;
-}
-
-// Lit taps of a (2 radius + 1)^2 PCF kernel (radius 0..4, up to 9x9) around the biased voxel.
-// Visibility = float(count) / float((2 radius + 1)^2) on the caller's side.
+// Lit taps of a (2 radius + 1)^2 PCF kernel at the finest level (cpvsPcfLitLevel, step 0).
 uint cpvsPcfLitCount(uint base, int x, int y, int s, ivec3 nq, int radius) {
-    ivec3 o = cpvsNormalOffset(nq, radius);
-    uint lit = 0u;
-    for (int dy = -radius; dy <= radius; ++dy)
-        for (int dx = -radius; dx <= radius; ++dx)
-            if (!cpvsShadowedVoxel(base, x + o.x + dx, y + o.y + dy, s + o.z)) lit += 1u;
-    return lit;
+    return cpvsPcfLitLevel(base, x, y, s, nq.x, nq.y, nq.z, radius, 0u);
 }
 
 // Voxel-space direction of a light-view normal (light looks down -Z), quantised to +-1024.

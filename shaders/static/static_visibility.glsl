@@ -12,12 +12,13 @@
 // angles where a constant depth bias fails, and with the kernel, whose outer taps would otherwise see
 // the receiver's own surface) and then compared with a further half-texel depth bias. PCF averages the
 // binary tests of (2r+1)^2 texels around it.
-// Filtering by level (MH, MMH and DAG-MH records with shadowRecordByLevel, off by default): footprint2 is the
-// receiver's pixel footprint squared (shadowFootprint2: FrameConstants.cameraPosition.w times the squared
+// Filtering by level (MH, MMH, DAG-MH and CPVS records with shadowRecordByLevel, off by default):
+// footprint2 is the receiver's pixel footprint squared (shadowFootprint2: FrameConstants.cameraPosition.w times the squared
 // distance); shadowLevelStep picks the coarsest level whose texel is at most a quarter of it
 // (ML_LEVEL_TEXELS_PER_PIXEL), by exact doubling so the CPU twin picks the same one, and the taps, normal
 // offset and depth bias are that level's texels.
-// CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_lookup.glsl).
+// CPVS: the voxel lookup applies its own normal bias in integer voxel coordinates (cpvs_decode.h); by
+// level, a level voxel answers with its block's centre voxel at the receiver's own slice.
 #ifndef ML_STATIC_VISIBILITY_GLSL
 #define ML_STATIC_VISIBILITY_GLSL
 
@@ -166,7 +167,14 @@ float staticVisibility(GpuShadowRecord rec, vec3 P, vec3 N, float footprint2) {
         // Orthographic maps slice depth linearly: frustum.w is far - near there (log(far / near) else).
         ivec3 nq = ortho ? cpvsVoxelNormal(vn, 0.0, 0.0, orthoHalf, rec.frustum.w)
                          : cpvsVoxelNormal(vn, ndc.x, ndc.y, tanHalf, rec.frustum.w);
-        uint lit = cpvsPcfLitCount(base, t.x, t.y, int(s), nq, radius);
+        // Filtering by level: the level whose texel is at most a quarter of the pixel, as for the depth
+        // methods (at most log2 N levels up: one texel for the map).
+        uint step = 0u;
+        if (shadowRecordByLevel(rec)) {
+            float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);
+            step = shadowLevelStep(texelWorld, footprint2, ML_STATIC_DATA[base + CPVS_H_LOG2_RESOLUTION]);
+        }
+        uint lit = cpvsPcfLitLevel(base, t.x, t.y, int(s), nq.x, nq.y, nq.z, radius, step);
         return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
     }
     float texelWorld = ortho ? 2.0 * orthoHalf / float(res) : 2.0 * z * tanHalf / float(res);

@@ -230,19 +230,24 @@ inline int bitCount(uint32_t x) {
 }
 #define CPVS_FN inline
 #define CPVS_DATA_PARAM const uint32_t *data,
+#define CPVS_DATA_ARG data,
 #define CPVS_WORD(i) data[i]
 #include "shaders/static/cpvs_decode.h"
 static_assert(CPVS_H_RESOLUTION == kCpvsHResolution && CPVS_H_LOG2_RESOLUTION == kCpvsHLog2Resolution &&
               CPVS_H_GRID_LOG2 == kCpvsHGridLog2 && CPVS_H_THRESHOLDS == kCpvsHThresholds &&
               CPVS_H_GRID == kCpvsHGrid && CPVS_LIT == kCpvsLit && CPVS_SHADOWED == kCpvsShadowed);
 } // namespace cpvstwin
+using cpvstwin::cpvsPcfLitLevel;
 using cpvstwin::cpvsShadowedVoxel;
 using cpvstwin::cpvsSliceOfDepth;
-// The bias and PCF: CPU twins of shaders/static/cpvs_lookup.glsl's, same names, same operations, same order.
+// cpvsPcfLitLevel(data, base, x, y, s, nx, ny, nz, radius, step): the lit taps of a (2 radius + 1)^2 PCF
+// kernel (radius 0..4) around the receiver biased along its voxel normal, on the map `step` levels above
+// the finest (cpvs_decode.h says what a level voxel answers). The same text as the shader's.
 // Normal bias (section 5): the lookup point moves along the voxel-space normal nq (any integer scale,
 // e.g. quantised to +-1024) until its largest component is radius + 1 voxels; rounding half away from 0.
 void cpvsNormalOffset(const int32_t nq[3], int32_t radius, int32_t out[3]);
-// Lit taps of a (2 radius + 1)^2 PCF kernel (radius 0..4) around the biased voxel, in the x, y plane.
+// Lit taps of a (2 radius + 1)^2 PCF kernel (radius 0..4) around the biased voxel, in the x, y plane: the
+// finest level of cpvsPcfLitLevel.
 uint32_t cpvsPcfLitCount(const uint32_t* data, uint32_t base, int32_t x, int32_t y, int32_t s,
                          const int32_t nq[3], int32_t radius);
 

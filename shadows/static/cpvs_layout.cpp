@@ -14,6 +14,7 @@
 #include "shadows/static/cpvs.h"
 #include "shadows/static/cpvs_internal.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -186,30 +187,18 @@ CpvsBytes cpvsBytes(const uint32_t* d) {
     return b;
 }
 
-// ----- CPU twin of shaders/static/cpvs_lookup.glsl's bias and PCF (keep the two in step, line by line;
-// the decoder they call is one text with the shader's: shaders/static/cpvs_decode.h) -----
+// ----- The bias and PCF on arrays, from the one text (shaders/static/cpvs_decode.h), and the CPU twin of
+// shaders/static/cpvs_lookup.glsl's cpvsVoxelNormal (keep the two in step, line by line) -----
 
 void cpvsNormalOffset(const int32_t nq[3], int32_t radius, int32_t out[3]) {
     int32_t ax = nq[0] < 0 ? -nq[0] : nq[0], ay = nq[1] < 0 ? -nq[1] : nq[1], az = nq[2] < 0 ? -nq[2] : nq[2];
-    int32_t m = ax > ay ? ax : ay;
-    m = m > az ? m : az;
-    int32_t h = radius + 1;
-    int32_t a[3] = {ax, ay, az};
-    for (int i = 0; i < 3; ++i) {
-        int32_t o = m == 0 ? 0 : (2 * a[i] * h + m) / (2 * m); // non-negative: rounds half up
-        out[i] = nq[i] < 0 ? -o : o;
-    }
+    int32_t m = std::max(ax, std::max(ay, az));
+    for (int i = 0; i < 3; ++i) out[i] = cpvstwin::cpvsBiasAxis(nq[i], m, radius + 1);
 }
 
 uint32_t cpvsPcfLitCount(const uint32_t* data, uint32_t base, int32_t x, int32_t y, int32_t s,
                          const int32_t nq[3], int32_t radius) {
-    int32_t o[3];
-    cpvsNormalOffset(nq, radius, o);
-    uint32_t lit = 0u;
-    for (int32_t dy = -radius; dy <= radius; ++dy)
-        for (int32_t dx = -radius; dx <= radius; ++dx)
-            if (!cpvsShadowedVoxel(data, base, x + o[0] + dx, y + o[1] + dy, s + o[2])) lit += 1u;
-    return lit;
+    return cpvsPcfLitLevel(data, base, x, y, s, nq[0], nq[1], nq[2], radius, 0u);
 }
 
 void cpvsVoxelNormal(const float nView[3], float ndcX, float ndcY, float tanHalfFov, float logFarOverNear,

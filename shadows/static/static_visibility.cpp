@@ -130,7 +130,13 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
             cpvsVoxelNormal(nView, 0.0f, 0.0f, orthoHalf, rec.frustum.w, nq);
         else
             cpvsVoxelNormal(nView, ndc.x, ndc.y, tanHalf, rec.frustum.w, nq);
-        return float(cpvsPcfLitCount(data, base, t.x, t.y, int32_t(s), nq, radius)) / taps;
+        uint32_t step = 0;
+        if (gpu::shadowRecordByLevel(rec)) {
+            float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
+            step = gpu::shadowLevelStep(texelWorld, footprint2, data[base + kCpvsHLog2Resolution]);
+        }
+        return float(cpvsPcfLitLevel(data, base, t.x, t.y, int32_t(s), nq[0], nq[1], nq[2], radius, step)) /
+               taps;
     }
     glm::ivec2 t;
     uint32_t depth, step;

@@ -107,8 +107,8 @@ TEST(GpuStatic, DecodersAreBitIdenticalToCpu) {
 
 // Every visible static spot light gets a DAG-MH (or CPVS) bake; the evaluation pass's HDR output is
 // compared with the CPU reference (shading.h + static_visibility.cpp) on sampled pixels.
-// byLevel: MH, MMH and DAG-MH take the level shadowLevelStep picks for the pixel (setShadowFilter); the CPU
-// twin gets the same footprint, and some pixels must see another visibility than at the finest level.
+// byLevel: MH, MMH, DAG-MH and CPVS take the level shadowLevelStep picks for the pixel (setShadowFilter); the
+// CPU twin gets the same footprint, and some pixels must see another visibility than at the finest level.
 void checkEvaluationWithShadows(StaticMethod method, uint32_t pcf, bool byLevel = false) {
     auto m = makeModule();
     auto scene = loadScene("night-city", 64, 2);
@@ -224,6 +224,12 @@ TEST(GpuStatic, EvaluationWithDagMhByLevelOneTapMatchesCpu) {
 }
 TEST(GpuStatic, EvaluationWithCpvsPcf3x3MatchesCpu) {
     checkEvaluationWithShadows(StaticMethod::CPVS, 1);
+}
+TEST(GpuStatic, EvaluationWithCpvsByLevel3x3MatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::CPVS, 1, true);
+}
+TEST(GpuStatic, EvaluationWithCpvsByLevelOneTapMatchesCpu) {
+    checkEvaluationWithShadows(StaticMethod::CPVS, 0, true);
 }
 
 } // namespace ml::test

@@ -149,5 +149,47 @@ TEST(CpvsLookup, BaseOffsetPcfAndNormalBias) {
     EXPECT_EQ(v[2], -1024);
 }
 
+// Filtering by level: at every level of a 128^3 grid, each receiver's kernel reads the centre voxels of
+// level texels (floor division, also left of and below the map) at its own slice biased by whole level
+// voxels; every receiver in one level texel gets the same answer; level 0 is the finest-level kernel.
+TEST(CpvsLookup, PcfByLevelReadsTheLevelTexelsCentres) {
+    const uint32_t n = 128, levels = 7;
+    DualDepthMap m = boxesMap(n, 72, false, false);
+    CpvsBake b = bakeOrDie(m, n);
+    const uint32_t* d = b.data.data();
+    Rng r(9);
+    uint64_t shadowedTaps = 0, litTaps = 0;
+    for (int i = 0; i < 4000; ++i) {
+        int32_t x = int32_t(r.below(n + 40)) - 20, y = int32_t(r.below(n + 40)) - 20, s = int32_t(r.below(n));
+        int32_t nq[3] = {int32_t(r.below(2049)) - 1024, int32_t(r.below(2049)) - 1024,
+                         int32_t(r.below(2049)) - 1024};
+        int32_t radius = int32_t(r.below(3)), o[3];
+        cpvsNormalOffset(nq, radius, o);
+        ASSERT_EQ(cpvsPcfLitLevel(d, 0, x, y, s, nq[0], nq[1], nq[2], radius, 0u),
+                  cpvsPcfLitCount(d, 0, x, y, s, nq, radius));
+        for (uint32_t step = 0; step <= levels; ++step) {
+            const int32_t side = 1 << step;
+            auto levelOf = [&](int32_t v) { return int32_t(std::floor(double(v) / side)); };
+            uint32_t lit = 0;
+            for (int32_t dy = -radius; dy <= radius; ++dy)
+                for (int32_t dx = -radius; dx <= radius; ++dx)
+                    lit += !cpvsShadowedVoxel(d, 0, (levelOf(x) + o[0] + dx) * side + side / 2,
+                                              (levelOf(y) + o[1] + dy) * side + side / 2, s + o[2] * side);
+            const uint32_t got = cpvsPcfLitLevel(d, 0, x, y, s, nq[0], nq[1], nq[2], radius, step);
+            ASSERT_EQ(got, lit) << x << "," << y << "," << s << " step " << step;
+            litTaps += lit;
+            shadowedTaps += uint32_t((2 * radius + 1) * (2 * radius + 1)) - lit;
+            // Any other receiver in the same level texel, at the same slice, gets the same answer.
+            const int32_t x2 = levelOf(x) * side + int32_t(r.below(uint32_t(side)));
+            const int32_t y2 = levelOf(y) * side + int32_t(r.below(uint32_t(side)));
+            ASSERT_EQ(cpvsPcfLitLevel(d, 0, x2, y2, s, nq[0], nq[1], nq[2], radius, step), got);
+        }
+    }
+    std::printf("  [cpvs by level] %llu lit and %llu shadowed taps over 8 levels\n",
+                (unsigned long long)litTaps, (unsigned long long)shadowedTaps);
+    EXPECT_GT(shadowedTaps, litTaps / 20)
+        << "the boxes must shadow a share of the taps for this to test anything";
+}
+
 } // namespace
 } // namespace ml::ctest
