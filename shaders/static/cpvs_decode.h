@@ -43,19 +43,9 @@ CPVS_FN uint cpvsSliceOfDepth(CPVS_DATA_PARAM uint base, uint depth) {
     return lo - 1u;
 }
 
-// Voxel (x, y, s): x, y outside [0, N) are lit (outside the light's frustum); s is clamped to [0, N-1].
-CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
-    int n = int(CPVS_WORD(base + CPVS_H_RESOLUTION));
-    if (x < 0 || y < 0 || x >= n || y >= n) return false;
-    s = s < 0 ? 0 : (s >= n ? n - 1 : s);
-    uint ux = uint(x), uy = uint(y), us = uint(s);
-    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
-    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
-    uint cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
-    uint ptr = CPVS_WORD(base + CPVS_WORD(base + CPVS_H_GRID) + cell);
-    if (ptr == CPVS_LIT) return false;
-    if (ptr == CPVS_SHADOWED) return true;
-    uint half_ = 1u << (cellLog2 - 1u); // `half` is a reserved word in GLSL
+// The descent below a grid cell's node: from inner node `ptr` whose children are half_ voxels a side
+// (half_ >= 4; a leaf block of 4^3 voxels once half_ < 4) to the voxel (ux, uy, us) of the cell.
+CPVS_FN bool cpvsShadowedBelow(CPVS_DATA_PARAM uint base, uint ptr, uint half_, uint ux, uint uy, uint us) {
     while (half_ >= 4u) {
         uint h = CPVS_WORD(base + ptr);
         uint c =
@@ -67,6 +57,28 @@ CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
     }
     uint b = (ux & 3u) + 4u * (uy & 3u) + 16u * (us & 3u);
     return ((CPVS_WORD(base + ptr + (b >> 5u)) >> (b & 31u)) & 1u) != 0u;
+}
+
+// The grid entry of the cell that holds voxel (ux, uy, us) of the map: CPVS_LIT, CPVS_SHADOWED or the
+// word offset of the cell's root node, whose children are half a cell a side.
+CPVS_FN uint cpvsCellEntry(CPVS_DATA_PARAM uint base, uint ux, uint uy, uint us) {
+    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
+    uint cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
+    return CPVS_WORD(base + CPVS_WORD(base + CPVS_H_GRID) + cell);
+}
+
+// Voxel (x, y, s): x, y outside [0, N) are lit (outside the light's frustum); s is clamped to [0, N-1].
+CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
+    int n = int(CPVS_WORD(base + CPVS_H_RESOLUTION));
+    if (x < 0 || y < 0 || x >= n || y >= n) return false;
+    s = s < 0 ? 0 : (s >= n ? n - 1 : s);
+    uint ux = uint(x), uy = uint(y), us = uint(s);
+    uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, ux, uy, us);
+    if (ptr == CPVS_LIT) return false;
+    if (ptr == CPVS_SHADOWED) return true;
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    return cpvsShadowedBelow(CPVS_DATA_ARG base, ptr, 1u << (cellLog2 - 1u), ux, uy, us);
 }
 
 // Normal bias of one axis (section 5): the lookup point moves along the voxel-space normal (nx, ny, nz),
@@ -98,6 +110,37 @@ CPVS_FN uint cpvsPcfLitLevel(CPVS_DATA_PARAM uint base, int x, int y, int s, int
     int Y = (y >> st) + cpvsBiasAxis(ny, m, h);
     int S = s + cpvsBiasAxis(nz, m, h) * side;
     int c = side >> 1;
+    uint taps = uint((2 * radius + 1) * (2 * radius + 1));
+    // When every tap lies in the map and in one grid cell, the taps share the descent while they all take
+    // the same child: while the extreme taps x0, x1 (and y0, y1) agree in every bit from half_'s up.
+    int n = int(CPVS_WORD(base + CPVS_H_RESOLUTION));
+    int x0 = (X - radius) * side + c, x1 = (X + radius) * side + c;
+    int y0 = (Y - radius) * side + c, y1 = (Y + radius) * side + c;
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint spread = uint(x0 ^ x1) | uint(y0 ^ y1);
+    if (x0 >= 0 && y0 >= 0 && x1 < n && y1 < n && (spread >> cellLog2) == 0u) {
+        uint us = uint(S < 0 ? 0 : (S >= n ? n - 1 : S));
+        uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, uint(x0), uint(y0), us);
+        if (ptr == CPVS_LIT) return taps;
+        if (ptr == CPVS_SHADOWED) return 0u;
+        uint half_ = 1u << (cellLog2 - 1u);
+        while (half_ >= 4u && spread < half_) {
+            uint hw = CPVS_WORD(base + ptr);
+            uint ch = ((uint(x0) & half_) != 0u ? 1u : 0u) | ((uint(y0) & half_) != 0u ? 2u : 0u) |
+                      ((us & half_) != 0u ? 4u : 0u);
+            uint bit = 1u << ch;
+            if ((hw & bit) == 0u) return ((hw >> 8u) & bit) != 0u ? 0u : taps;
+            ptr = CPVS_WORD(base + ptr + 1u + uint(bitCount(hw & (bit - 1u))));
+            half_ >>= 1u;
+        }
+        uint litShared = 0u;
+        for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx)
+                if (!cpvsShadowedBelow(CPVS_DATA_ARG base, ptr, half_, uint((X + dx) * side + c),
+                                       uint((Y + dy) * side + c), us))
+                    litShared += 1u;
+        return litShared;
+    }
     uint lit = 0u;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx)

@@ -163,7 +163,7 @@ TEST(CpvsLookup, PcfByLevelReadsTheLevelTexelsCentres) {
         int32_t x = int32_t(r.below(n + 40)) - 20, y = int32_t(r.below(n + 40)) - 20, s = int32_t(r.below(n));
         int32_t nq[3] = {int32_t(r.below(2049)) - 1024, int32_t(r.below(2049)) - 1024,
                          int32_t(r.below(2049)) - 1024};
-        int32_t radius = int32_t(r.below(3)), o[3];
+        int32_t radius = int32_t(r.below(5)), o[3];
         cpvsNormalOffset(nq, radius, o);
         ASSERT_EQ(cpvsPcfLitLevel(d, 0, x, y, s, nq[0], nq[1], nq[2], radius, 0u),
                   cpvsPcfLitCount(d, 0, x, y, s, nq, radius));
