@@ -77,10 +77,10 @@ Result<Row> measureMode(Module& m, uint32_t lights, CullingMode mode, uint32_t f
     Row row{lights, mode, 0, 0, 0, 0, 0, 0, mode == CullingMode::None ? 0u : boxTests, 0, 0};
     uint32_t n = 0;
     for (const auto& r : timed.value()) {
-        row.boundsMs += r.times.ms[uint32_t(Pass::ClusterBounds)];
-        row.assignMs += r.times.ms[uint32_t(Pass::LightAssign)];
-        row.evalMs += r.times.ms[uint32_t(Pass::Evaluate)];
-        row.gbufferMs += r.times.ms[uint32_t(Pass::GBuffer)];
+        row.boundsMs += r.times.ms("cluster_bounds");
+        row.assignMs += r.times.ms("light_assign");
+        row.evalMs += r.times.ms("evaluate");
+        row.gbufferMs += r.times.ms("gbuffer");
         ++n;
     }
     row.boundsMs /= n;

@@ -96,7 +96,7 @@ double evaluateMs(Module& m, uint32_t frames) {
     auto reports = m.takeReports();
     double sum = 0;
     uint32_t n = 0;
-    for (size_t i = 1; i < reports.size(); ++i, ++n) sum += reports[i].times.ms[uint32_t(Pass::Evaluate)];
+    for (size_t i = 1; i < reports.size(); ++i, ++n) sum += reports[i].times.ms("evaluate");
     return n ? sum / n : 0.0;
 }
 

@@ -138,11 +138,11 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
         if (!r) return fail(r.error());
         const PassTimes& t = r->times;
         const VsmStats& v = r->stats.vsm;
-        auto ms = [&](Pass p) { return t.ran[uint32_t(p)] ? t.ms[uint32_t(p)] : 0.0; };
+        auto ms = [&](const char* pass) { return t.ms(pass); }; // 0 when the step did not run
         csv << row.kind << "," << (row.cached ? "cached" : "uncached") << "," << rasterName(row.raster) << ","
-            << f << "," << ms(Pass::VsmMark) << "," << ms(Pass::VsmSort) << "," << ms(Pass::VsmAlloc) << ","
-            << ms(Pass::VsmHpb) << "," << ms(Pass::VsmGroupCull) << "," << ms(Pass::VsmCull) << ","
-            << ms(Pass::VsmExpand) << "," << t.vsmBookkeepingMs() << "," << ms(Pass::VsmDraw) << ","
+            << f << "," << ms("vsm_mark") << "," << ms("vsm_sort") << "," << ms("vsm_alloc") << ","
+            << ms("vsm_hpb") << "," << ms("vsm_group_cull") << "," << ms("vsm_cull") << ","
+            << ms("vsm_expand") << "," << t.vsmBookkeepingMs() << "," << ms("vsm_draw") << ","
             << v.pagesMarked << "," << v.pagesAllocated << "," << v.pagesRendered << "," << v.pagesCached
             << "," << v.fallbacks << "," << v.instancesDrawn << "," << v.instancesCulledHpb << ","
             << v.lightsWithPages << "," << v.meshletsTotal << "," << v.meshletsAfterExpansion << ","
@@ -152,15 +152,15 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
             << v.pagesRenderedDynamic << "\n";
         row.fallbacks += v.fallbacks;
         row.overflow += v.pageClipOverflow;
-        if (f == 0) row.firstDrawMs = ms(Pass::VsmDraw);
+        if (f == 0) row.firstDrawMs = ms("vsm_draw");
         if (f == 0) continue; // first use of pipelines and memory: reported in the CSV only
-        row.markMs += ms(Pass::VsmMark);
-        row.sortMs += ms(Pass::VsmSort);
-        row.allocMs += ms(Pass::VsmAlloc);
-        row.hpbMs += ms(Pass::VsmHpb);
-        row.groupCullMs += ms(Pass::VsmGroupCull);
-        row.cullMs += ms(Pass::VsmCull);
-        row.expandMs += ms(Pass::VsmExpand);
+        row.markMs += ms("vsm_mark");
+        row.sortMs += ms("vsm_sort");
+        row.allocMs += ms("vsm_alloc");
+        row.hpbMs += ms("vsm_hpb");
+        row.groupCullMs += ms("vsm_group_cull");
+        row.cullMs += ms("vsm_cull");
+        row.expandMs += ms("vsm_expand");
         row.triangles += v.trianglesRasterized;
         row.total += v.meshletsTotal;
         row.expFrustum += v.meshletsCulledFrustum;
@@ -173,7 +173,7 @@ Result<Row> measureRun(const Config& c, const std::string& kind, bool cached, Vs
         row.trisAfterTask += v.trianglesAfterTask;
         row.trisRaster += v.trianglesRasterized;
         row.overflow += v.meshletOverflow + v.drawOverflow;
-        row.drawMs += ms(Pass::VsmDraw);
+        row.drawMs += ms("vsm_draw");
         row.marked += v.pagesMarked;
         row.allocated += v.pagesAllocated;
         row.rendered += v.pagesRendered;

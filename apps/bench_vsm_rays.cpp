@@ -190,9 +190,7 @@ Result<std::vector<Row>> measureSetting(const Config& c, float texels) {
         if (!report) return fail(report.error());
         if (f > 0 || c.frames == 1) {
             all.pages += report->stats.vsm.pagesAllocated;
-            all.ms +=
-                report->times.vsmBookkeepingMs() +
-                (report->times.ran[uint32_t(Pass::VsmDraw)] ? report->times.ms[uint32_t(Pass::VsmDraw)] : 0);
+            all.ms += report->times.vsmBookkeepingMs() + report->times.ms("vsm_draw");
             timed += 1;
         }
         auto frame = readVsmRayFrame(*s.module);

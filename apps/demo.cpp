@@ -29,11 +29,10 @@ namespace {
 std::string windowTitle(CullingMode mode, const FrameReport& r) {
     std::string t = std::string("manylights | ") + cullingName(mode);
     char buf[64];
-    for (uint32_t p = 0; p < kPassCount; ++p)
-        if (r.times.ran[p]) {
-            std::snprintf(buf, sizeof(buf), " | %s %.2f", passName(Pass(p)), r.times.ms[p]);
-            t += buf;
-        }
+    for (const PassTime& p : r.times.passes) {
+        std::snprintf(buf, sizeof(buf), " | %s %.2f", p.name.c_str(), p.ms);
+        t += buf;
+    }
     std::snprintf(buf, sizeof(buf), " | total %.2f ms", r.times.totalMs());
     return t + buf;
 }

@@ -47,19 +47,13 @@ Result<void> writeProfile(const std::string& path, const std::vector<FrameReport
     // relative to the first pass of the first frame. Opens in Perfetto and chrome://tracing.
     double origin = 1e300;
     for (const auto& r : reports)
-        for (uint32_t p = 0; p < kPassCount; ++p)
-            if (r.times.ran[p]) origin = std::min(origin, r.times.startMs[p]);
+        for (const PassTime& p : r.times.passes) origin = std::min(origin, p.startMs);
     std::vector<std::string> events;
     for (const auto& r : reports)
-        for (uint32_t p = 0; p < kPassCount; ++p) {
-            if (!r.times.ran[p]) continue;
+        for (const PassTime& p : r.times.passes) {
             json::Object e;
-            e.text("name", passName(Pass(p)))
-                .text("cat", "gpu")
-                .text("ph", "X")
-                .integer("pid", 1)
-                .integer("tid", 1);
-            e.real("ts", (r.times.startMs[p] - origin) * 1000.0).real("dur", r.times.ms[p] * 1000.0);
+            e.text("name", p.name).text("cat", "gpu").text("ph", "X").integer("pid", 1).integer("tid", 1);
+            e.real("ts", (p.startMs - origin) * 1000.0).real("dur", p.ms * 1000.0);
             e.raw("args", json::Object().integer("frame", r.frame).str(json::Style::Compact));
             events.push_back(e.str(json::Style::Compact));
         }
@@ -72,9 +66,8 @@ Result<void> writeFramesCsv(const std::string& path, const std::vector<FrameRepo
     std::ostringstream o;
     o << "frame,pass,gpu_ms\n";
     for (const auto& r : reports)
-        for (uint32_t p = 0; p < kPassCount; ++p)
-            if (r.times.ran[p])
-                o << r.frame << "," << passName(Pass(p)) << "," << json::number(r.times.ms[p]) << "\n";
+        for (const PassTime& p : r.times.passes)
+            o << r.frame << "," << p.name << "," << json::number(p.ms) << "\n";
     return writeText(path, o.str());
 }
 
@@ -87,8 +80,11 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     const size_t from = reports.size() > 1 ? 1 : 0;
     double total = 0;
     std::vector<double> frameMs;
-    std::vector<double> passMean(kPassCount, 0.0);
-    std::vector<uint32_t> passCount(kPassCount, 0);
+    // Per pass, in frame order: each frame's passes are in recording order, and a pass first seen in a
+    // later frame (the VSM steps once maps are active) goes after the pass before it in that frame.
+    std::vector<std::string> passOrder;
+    std::vector<double> passMean;
+    std::vector<uint32_t> passCount;
     // The VSM bookkeeping (the steps vsm_mark..vsm_expand, PassTimes::vsmBookkeepingMs): the mean of the
     // per-frame sums over the frames that ran it, so it equals the sum of the steps' means when each step
     // ran in those frames.
@@ -98,10 +94,21 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
         const auto& r = reports[i];
         total += r.times.totalMs();
         frameMs.push_back(r.times.totalMs());
-        for (uint32_t p = 0; p < kPassCount; ++p)
-            if (r.times.ran[p]) passMean[p] += r.times.ms[p], passCount[p]++;
-        if (r.times.ran[uint32_t(Pass::VsmMark)])
-            bookkeeping += r.times.vsmBookkeepingMs(), bookkeepingFrames++;
+        size_t at = 0; // where this frame's next new pass goes
+        bool vsmRan = false;
+        for (const PassTime& p : r.times.passes) {
+            size_t k = size_t(std::find(passOrder.begin(), passOrder.end(), p.name) - passOrder.begin());
+            if (k == passOrder.size()) {
+                k = at;
+                passOrder.insert(passOrder.begin() + std::ptrdiff_t(k), p.name);
+                passMean.insert(passMean.begin() + std::ptrdiff_t(k), 0.0);
+                passCount.insert(passCount.begin() + std::ptrdiff_t(k), 0u);
+            }
+            passMean[k] += p.ms, passCount[k]++;
+            at = k + 1;
+            vsmRan = vsmRan || p.group == kVsmBookkeeping;
+        }
+        if (vsmRan) bookkeeping += r.times.vsmBookkeepingMs(), bookkeepingFrames++;
     }
     std::sort(frameMs.begin(), frameMs.end());
     const double median = frameMs.size() % 2
@@ -110,8 +117,7 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
     const double tight =
         s.lightsPerPixelReachingMean > 0 ? s.lightsPerPixelEvaluatedMean / s.lightsPerPixelReachingMean : 0;
     json::Object passes;
-    for (uint32_t p = 0; p < kPassCount; ++p)
-        if (passCount[p]) passes.real(passName(Pass(p)), passMean[p] / passCount[p]);
+    for (size_t p = 0; p < passOrder.size(); ++p) passes.real(passOrder[p], passMean[p] / passCount[p]);
     json::Object o;
     o.text("scene", info.scene).text("culling", info.culling).text("device", info.device);
     o.integer("width", info.width).integer("height", info.height).integer("frames", reports.size());

@@ -27,6 +27,7 @@
 // explicit bounds; the slice layout follows the exponential scheme of that paper).
 #pragma once
 #include "shaders/shared/enums.h"
+#include "gpu/pass_timer.h"
 #include "gpu/program.h"
 #include "shaders/shared/cluster_receivers.h"
 #include "shaders/shared/gpu_types.h"
@@ -86,15 +87,17 @@ class LightCulling {
     Result<void> resize(const Device& device, const ClusterGrid& grid, uint32_t poolEntries = 0);
     // Sizes viewCounts for recordView (a readback buffer); call before recording a light-count view.
     Result<void> prepareView(const Device& device, uint32_t width, uint32_t height);
-    // The two passes of the frame (engine/frame.h times them): cluster bounds from the depth buffer, then
+    // The two passes of the frame, each under its timer: cluster bounds from the depth buffer, then
     // light assignment, whose mode and visible-light count are read from the frame constants
     // (a mapped upload buffer the module wrote just before; read back from it on the CPU).
     // With wantReceivers (and ensureReceivers called since the last resize) bounds also writes
     // `receivers` from the G-buffer normal (the receiver variant of cluster_bounds.comp); otherwise
     // the normal is bound but not read.
+    static constexpr PassTimer kBoundsTimer{"cluster_bounds"};
     void recordBounds(const Device& device, VkCommandBuffer cmd, const BoundsInputs& in);
     // Sizes `receivers` for the grid (32 B per cluster, only for page marking per cluster).
     Result<void> ensureReceivers(const Device& device);
+    static constexpr PassTimer kAssignTimer{"light_assign"};
     void recordAssign(const Device& device, VkCommandBuffer cmd, const AssignInputs& in);
     // Light-complexity view (lights/view_lights.comp), after the evaluation pass: overwrites the
     // output's surface pixels with the heat colour of lights evaluated (or reaching) per pixel and

@@ -1,9 +1,10 @@
-// The module's frame as a list of pass objects (Module::record): every pass has one interface,
-// record(FrameContext&), and says whether it runs this frame and under which Pass timer. The frame loop
-// (runFrame) is the one place that times passes: a timed pass is recorded between its timestamps, or in
-// Fenced mode submitted on its own and timed; an untimed one (barriers, clears, probes, views) is only
-// kept in order with them. Passes wrap the features (culling/, shadows/virtual/, lights/, engine/gbuffer),
-// which record commands and know nothing of the profiler or of this list.
+// The module's frame as a list of passes (recordFrame, engine/frame_passes.cpp; Module::record runs it):
+// each entry says what records the pass, whether it runs this frame and under which timer. The frame
+// loop (runFrame) is the one place that times passes: a timed pass is recorded between its timestamps,
+// or in Fenced mode submitted on its own and timed; an untimed one (barriers, clears, probes, views) is
+// only kept in order with them. The features (culling/, shadows/virtual/, lights/, engine/gbuffer)
+// record commands and declare their passes' timers (gpu/pass_timer.h); they know nothing of the
+// profiler or of this list.
 //
 // Order (each pass's barriers order its hazards; the frame-begin barrier orders the frame after the
 // previous one): frame begin, G-buffer (module targets only), cluster bounds, light assignment (culling on),
@@ -17,17 +18,16 @@
 #include "lights/evaluate_pass.h"
 #include "shadows/virtual/vsm_passes.h"
 
-#include <optional>
+#include <functional>
 #include <span>
-#include <vector>
 
 namespace ml {
 
 // What the passes of one frame read and write, as named fields (filled by Module::record).
-// StagedCopy (gpu/resources.h): a host-to-GPU copy recorded at the frame's start (FrameBeginPass):
-// load-time data (meshes, static shadow words) written into a staging buffer reaches its GPU-only buffer
-// without a host wait, ordered before every pass by the frame barrier. Destinations are new buffers or
-// ranges no frame has read.
+// StagedCopy (gpu/resources.h): a host-to-GPU copy recorded at the frame's start (its first pass,
+// recordFrame): load-time data (meshes, static shadow words) written into a staging buffer reaches its
+// GPU-only buffer without a host wait, ordered before every pass by the frame barrier. Destinations are new
+// buffers or ranges no frame has read.
 
 struct FrameContext {
     const Device* device = nullptr;
@@ -46,7 +46,7 @@ struct FrameContext {
     const Image* outputImage = nullptr;  // likewise (the host's output arrives GENERAL)
     VkImageView output = VK_NULL_HANDLE; // the debug views' target
     const Buffer* counters = nullptr;    // FrameCounters (atomics; read by the host one frame later)
-    std::span<const StagedCopy> copies;  // recorded first, by FrameBeginPass
+    std::span<const StagedCopy> copies;  // recorded first, by the frame-begin pass
     const FrameSetup* setup = nullptr;   // fills and copies queued while the frame was prepared (first too)
 
     // What each feature's pass reads and writes, by name: the slot's buffers (written by the host just
@@ -60,128 +60,35 @@ struct FrameContext {
     VsmFrameInputs vsm{};
 };
 
-class FramePass {
-  public:
-    explicit FramePass(std::optional<Pass> timer = std::nullopt) : timer_(timer) {}
-    virtual ~FramePass() = default;
-    // The Pass it is timed as (FrameReport::times), none for untimed work.
-    std::optional<Pass> timer() const { return timer_; }
-    virtual bool enabled(const FrameContext&) const { return true; }
-    virtual void record(FrameContext& frame) = 0;
-    // Records the pass under its timer (or untimed) into the frame's command buffer, or a fenced run's
-    // own; a pass of several timed steps times each step instead.
-    virtual Result<void> run(Profiler& profiler, FrameContext& frame);
-
-  private:
-    std::optional<Pass> timer_;
+// One entry of the frame's list (recordFrame, engine/frame_passes.cpp): what records the pass, whether it
+// runs this frame, and the timer it runs under (the feature's constant, declared beside the function
+// that records the pass; none for barriers, clears, probes and views).
+struct FramePass {
+    using Record = std::function<void(FrameContext&)>; // into frame.cmd
+    // A pass of several timed steps (the VSM path): hands each step to `step`, under the step's own timer.
+    using Steps = std::function<Result<void>(FrameContext&, const VsmPasses::StepRunner& step)>;
+    FramePass(const PassTimer* t, bool on, Record r) : timer(t), enabled(on), record(std::move(r)) {}
+    FramePass(bool on, Steps s) : enabled(on), steps(std::move(s)) {}
+    const PassTimer* timer = nullptr;
+    bool enabled = true;
+    Record record;
+    Steps steps;
 };
 
-// Records the enabled passes in order, timing each under its Pass (or untimed).
-Result<void> runFrame(Profiler& profiler, FrameContext& frame, std::span<FramePass* const> passes);
-// The profiler's timer names: one per Pass, in enum order.
-std::vector<std::string> passTimerNames();
+// Records the enabled passes in order, each under its timer (or untimed).
+Result<void> runFrame(Profiler& profiler, FrameContext& frame, std::span<const FramePass> passes);
 
-// --- the passes (engine/frame_passes.cpp) ---
-
-// Frame boundary: orders this frame's accesses after the previous frame's, and clears the counters.
-struct FrameBeginPass final : FramePass {
-    void record(FrameContext& f) override;
-};
-// Counters -> host, unless the statistics pass did it.
-struct FrameEndPass final : FramePass {
-    bool enabled(const FrameContext& f) const override { return !f.statistics; }
-    void record(FrameContext& f) override;
-};
-struct GBufferDrawPass final : FramePass {
-    explicit GBufferDrawPass(const GBufferPass& g) : FramePass(Pass::GBuffer), gbuffer(g) {}
-    bool enabled(const FrameContext& f) const override { return f.gbuffer != nullptr; }
-    void record(FrameContext& f) override;
+// The features the frame's passes record (Module::Impl's, built once).
+struct FrameFeatures {
     const GBufferPass& gbuffer;
-};
-// Cluster bounds, then light assignment into the cluster lists (culling on).
-struct ClusterBoundsPass final : FramePass {
-    explicit ClusterBoundsPass(LightCulling& c) : FramePass(Pass::ClusterBounds), cull(c) {}
-    bool enabled(const FrameContext& f) const override { return f.culling != CullingMode::None; }
-    void record(FrameContext& f) override;
     LightCulling& cull;
-};
-struct LightAssignPass final : FramePass {
-    explicit LightAssignPass(LightCulling& c) : FramePass(Pass::LightAssign), cull(c) {}
-    bool enabled(const FrameContext& f) const override { return f.culling != CullingMode::None; }
-    void record(FrameContext& f) override;
-    LightCulling& cull;
-};
-// The virtual shadow maps' per-frame clears (untimed, VSM on).
-struct VsmResetPass final : FramePass {
-    VsmResetPass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
-    bool enabled(const FrameContext&) const override { return vsm.enabled(); }
-    void record(FrameContext& f) override;
     const VirtualShadowMaps& vsm;
-    const VsmPasses& passes;
-};
-// The VSM's path from marked page to drawn page (VsmPasses::recordPath), while the slot has active maps:
-// each step under the timer recordPath names for it.
-struct VsmPathPass final : FramePass {
-    VsmPathPass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
-    bool enabled(const FrameContext& f) const override { return vsm.active(f.slot); }
-    void record(FrameContext& f) override; // the steps untimed
-    Result<void> run(Profiler& profiler, FrameContext& f) override;
-    const VirtualShadowMaps& vsm;
-    const VsmPasses& passes;
-};
-// The evaluation's HDR and output images: old contents discarded (layout transition), ordered after
-// the previous frame's writes.
-struct EvaluationOutputsPass final : FramePass {
-    void record(FrameContext& f) override;
-};
-struct EvaluationPass final : FramePass {
-    explicit EvaluationPass(const EvaluatePass& e) : FramePass(Pass::Evaluate), evaluate(e) {}
-    void record(FrameContext& f) override;
+    const VsmPasses& vsmPasses;
     const EvaluatePass& evaluate;
-};
-struct VsmProbePass final : FramePass {
-    VsmProbePass(const VirtualShadowMaps& v, const VsmPasses& p) : vsm(v), passes(p) {}
-    bool enabled(const FrameContext&) const override { return vsm.probing(); }
-    void record(FrameContext& f) override;
-    const VirtualShadowMaps& vsm;
-    const VsmPasses& passes;
-};
-struct StatisticsFramePass final : FramePass {
-    explicit StatisticsFramePass(const StatisticsPass& s) : FramePass(Pass::Statistics), statistics(s) {}
-    bool enabled(const FrameContext& f) const override { return f.statistics; }
-    void record(FrameContext& f) override;
     const StatisticsPass& statistics;
 };
-// demo --view: the VSM page view, or the light-complexity views (culling/culling.h), over the output.
-struct DebugViewPass final : FramePass {
-    DebugViewPass(LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& p)
-        : cull(c), vsm(v), passes(p) {}
-    bool enabled(const FrameContext& f) const override;
-    void record(FrameContext& f) override;
-    LightCulling& cull;
-    const VirtualShadowMaps& vsm;
-    const VsmPasses& passes;
-};
 
-// Every pass object of the module, built once over its features; each timed pass names its timer here
-// or in its class, once.
-struct FramePasses {
-    FramePasses(const GBufferPass& g, LightCulling& c, const VirtualShadowMaps& v, const VsmPasses& vp,
-                const EvaluatePass& e, const StatisticsPass& s)
-        : gbuffer(g), clusterBounds(c), lightAssign(c), vsmReset(v, vp), vsmPath(v, vp), evaluate(e),
-          vsmProbe(v, vp), statistics(s), debugView(c, v, vp) {}
-    FrameBeginPass begin;
-    GBufferDrawPass gbuffer;
-    ClusterBoundsPass clusterBounds;
-    LightAssignPass lightAssign;
-    VsmResetPass vsmReset;
-    VsmPathPass vsmPath;
-    EvaluationOutputsPass evaluationOutputs;
-    EvaluationPass evaluate;
-    VsmProbePass vsmProbe;
-    StatisticsFramePass statistics;
-    DebugViewPass debugView;
-    FrameEndPass end;
-};
+// The module's frame: its list of passes, in order, run by runFrame.
+Result<void> recordFrame(Profiler& profiler, FrameContext& frame, const FrameFeatures& features);
 
 } // namespace ml

@@ -1,4 +1,5 @@
-// The pass objects of the module's frame (engine/frame.h) and the frame loop that orders and times them.
+// The module's frame as a list of passes (engine/frame.h), the frame loop that orders and times them, and
+// the untimed passes' barriers.
 #include "engine/frame.h"
 
 namespace ml {
@@ -9,38 +10,34 @@ constexpr auto R = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
 constexpr auto W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 } // namespace
 
-std::vector<std::string> passTimerNames() {
-    std::vector<std::string> names;
-    for (uint32_t p = 0; p < kPassCount; ++p) names.emplace_back(passName(Pass(p)));
-    return names;
-}
-
-Result<void> runFrame(Profiler& profiler, FrameContext& f, std::span<FramePass* const> passes) {
+Result<void> runFrame(Profiler& profiler, FrameContext& f, std::span<const FramePass> passes) {
     const VkCommandBuffer frameCmd = f.cmd;
     profiler.beginFrame(frameCmd, f.slot);
-    for (FramePass* pass : passes) {
-        if (!pass->enabled(f)) continue;
-        // Only fenced runs can fail (their own command buffer or submission); the frame then stops
-        // there, its later passes unrecorded, and record() returns the error.
-        if (auto ran = pass->run(profiler, f); !ran) return ran;
+    for (const FramePass& pass : passes) {
+        if (!pass.enabled) continue;
+        auto body = [&](VkCommandBuffer c) {
+            f.cmd = c;
+            pass.record(f);
+        };
+        auto step = [&](const PassTimer& timer, const std::function<void(VkCommandBuffer)>& stepBody) {
+            return profiler.run(frameCmd, timer, stepBody);
+        };
+        auto ran = pass.steps   ? pass.steps(f, step)
+                   : pass.timer ? profiler.run(frameCmd, *pass.timer, body)
+                                : profiler.runUntimed(frameCmd, body);
+        f.cmd = frameCmd;
+        // Only fenced runs can fail (their own command buffer or submission), and a timer the profiler
+        // has no query pair for; the frame then stops there, its later passes unrecorded, and record()
+        // returns the error.
+        if (!ran) return ran;
     }
     profiler.endFrame(frameCmd); // the frame's completion, readable by the host without waiting
     return {};
 }
 
-Result<void> FramePass::run(Profiler& profiler, FrameContext& f) {
-    const VkCommandBuffer frameCmd = f.cmd;
-    auto body = [&](VkCommandBuffer c) {
-        f.cmd = c;
-        record(f);
-    };
-    auto ran =
-        timer() ? profiler.run(frameCmd, uint32_t(*timer()), body) : profiler.runUntimed(frameCmd, body);
-    f.cmd = frameCmd;
-    return ran;
-}
+namespace {
 
-void FrameBeginPass::record(FrameContext& f) {
+void recordFrameBegin(FrameContext& f) {
     // The frame boundary: the previous frame read and wrote the cluster buffers, the persistent VSM
     // state (page table, pool, owners, HPB: read-after-write across frames) and the targets this frame
     // rewrites (write-after-read), in every stage the module uses; later barriers of the frame chain
@@ -77,45 +74,11 @@ void FrameBeginPass::record(FrameContext& f) {
     memoryBarrier(f.cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
 }
 
-void FrameEndPass::record(FrameContext& f) {
+void recordFrameEnd(FrameContext& f) {
     memoryBarrier(f.cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // counters -> host
 }
 
-void GBufferDrawPass::record(FrameContext& f) {
-    gbuffer.record(*f.device, f.cmd, *f.gbuffer, f.geometry);
-}
-
-void ClusterBoundsPass::record(FrameContext& f) {
-    cull.recordBounds(*f.device, f.cmd, f.bounds);
-}
-
-void LightAssignPass::record(FrameContext& f) {
-    cull.recordAssign(*f.device, f.cmd, f.assign);
-}
-
-void VsmResetPass::record(FrameContext& f) {
-    passes.recordReset(f.cmd);
-}
-
-void VsmPathPass::record(FrameContext& f) {
-    // Every step straight into the frame's command buffer (run() times each instead); nothing here can
-    // fail, since only a fenced run has a submission of its own.
-    (void)passes.recordPath(*f.device, f.slot, f.vsm,
-                            [&](Pass, const std::function<void(VkCommandBuffer)>& body) -> Result<void> {
-                                body(f.cmd);
-                                return {};
-                            });
-}
-
-Result<void> VsmPathPass::run(Profiler& profiler, FrameContext& f) {
-    const VkCommandBuffer frameCmd = f.cmd;
-    return passes.recordPath(*f.device, f.slot, f.vsm,
-                             [&](Pass timer, const std::function<void(VkCommandBuffer)>& body) {
-                                 return profiler.run(frameCmd, uint32_t(timer), body);
-                             });
-}
-
-void EvaluationOutputsPass::record(FrameContext& f) {
+void recordEvaluationOutputs(FrameContext& f) {
     // The HDR and output images are rewritten whole: their old contents are discarded. Write-after-read
     // and write-after-write against the previous frame's evaluation and debug views (compute): its
     // storage writes are in the source scope, so the layout transition is ordered after them (two frames
@@ -127,32 +90,55 @@ void EvaluationOutputsPass::record(FrameContext& f) {
                  VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
 }
 
-void EvaluationPass::record(FrameContext& f) {
-    evaluate.record(*f.device, f.cmd, f.shading, f.shadows, f.evaluation);
-}
-
-void VsmProbePass::record(FrameContext& f) {
-    passes.recordProbe(*f.device, f.cmd, f.slot, f.vsm);
-}
-
-void StatisticsFramePass::record(FrameContext& f) {
-    statistics.record(*f.device, f.cmd, f.shading, *f.counters);
-}
-
-bool DebugViewPass::enabled(const FrameContext& f) const {
+bool debugViewOn(const FrameContext& f, const VirtualShadowMaps& vsm) {
     // The views write RGBA8 colours: none in HDR mode (the output is RGBA16F radiance).
     if (f.hdrOutput) return false;
     return (f.view == DebugView::Vsm && vsm.enabled()) || f.view == DebugView::LightsEvaluated ||
            f.view == DebugView::LightsReaching;
 }
 
-void DebugViewPass::record(FrameContext& f) {
+void recordDebugView(FrameContext& f, LightCulling& cull, const VsmPasses& vsmPasses) {
     if (f.view == DebugView::Vsm)
-        passes.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
+        vsmPasses.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
     else
         cull.recordView(*f.device, f.cmd,
                         {f.shading.frame, f.shading.slices, f.shading.lights, f.shading.depth, f.output,
                          f.shading.width, f.shading.height, f.view == DebugView::LightsReaching});
+}
+
+} // namespace
+
+Result<void> recordFrame(Profiler& profiler, FrameContext& f, const FrameFeatures& m) {
+    const bool culling = f.culling != CullingMode::None;
+    // The frame, in order: one entry a pass (its timer, whether it runs, what records it). A new compute
+    // pass of a feature is one more entry here, its timer a constant beside the function that records it.
+    const FramePass passes[] = {
+        {nullptr, true, recordFrameBegin},           // frame-begin barrier, counters cleared
+        {&GBufferPass::kTimer, f.gbuffer != nullptr, // module-owned targets only
+         [&](FrameContext& c) { m.gbuffer.record(*c.device, c.cmd, *c.gbuffer, c.geometry); }},
+        {&LightCulling::kBoundsTimer, culling, // culling (mode None: skipped): cluster bounds,
+         [&](FrameContext& c) { m.cull.recordBounds(*c.device, c.cmd, c.bounds); }},
+        {&LightCulling::kAssignTimer, culling, // light lists
+         [&](FrameContext& c) { m.cull.recordAssign(*c.device, c.cmd, c.assign); }},
+        {nullptr, m.vsm.enabled(), // virtual shadow maps: per-frame clears,
+         [&](FrameContext& c) { m.vsmPasses.recordReset(c.cmd); }},
+        // then, with active maps, marked page to drawn page (a timer a step)
+        {m.vsm.active(f.slot),
+         [&](FrameContext& c, const VsmPasses::StepRunner& step) {
+             return m.vsmPasses.recordPath(*c.device, c.slot, c.vsm, step);
+         }},
+        {nullptr, true, recordEvaluationOutputs}, // HDR and output discarded
+        {&EvaluatePass::kTimer, true,             // the one evaluation pass
+         [&](FrameContext& c) { m.evaluate.record(*c.device, c.cmd, c.shading, c.shadows, c.evaluation); }},
+        {nullptr, m.vsm.probing(), // optional lookup probe
+         [&](FrameContext& c) { m.vsmPasses.recordProbe(*c.device, c.cmd, c.slot, c.vsm); }},
+        {&StatisticsPass::kTimer, f.statistics, // optional per-pixel light counts
+         [&](FrameContext& c) { m.statistics.record(*c.device, c.cmd, c.shading, *c.counters); }},
+        {nullptr, debugViewOn(f, m.vsm), // --view lights / lights-reaching / vsm
+         [&](FrameContext& c) { recordDebugView(c, m.cull, m.vsmPasses); }},
+        {nullptr, !f.statistics, recordFrameEnd}, // counters -> host, unless the statistics pass did it
+    };
+    return runFrame(profiler, f, passes);
 }
 
 } // namespace ml

@@ -325,13 +325,7 @@ void Module::Impl::collectSlot(uint32_t index) {
     Slot& s = slots[index];
     FrameReport r;
     r.frame = s.frameNumber;
-    Profiler::Times times;
-    if (!profiler.read(index, times)) return;   // not complete yet: keep pending
-    for (uint32_t p = 0; p < kPassCount; ++p) { // the profiler's timers are the Pass entries, in order
-        r.times.ms[p] = times.ms[p];
-        r.times.startMs[p] = times.startMs[p];
-        r.times.ran[p] = times.ran[p];
-    }
+    if (!profiler.read(index, r.times)) return; // not complete yet: keep pending
     const auto& c = *s.counters.as<gpu::FrameCounters>();
     FrameStats& st = r.stats;
     st.lightsTotal = s.lightsTotal;

@@ -2,6 +2,7 @@
 // ML_NOT_A_RECEIVER), albedo RGBA8, material RG8 (perceptual roughness, metalness). One
 // indexed indirect multi-draw over all instances; vertices are pulled from a storage buffer.
 #pragma once
+#include "gpu/pass_timer.h"
 #include "gpu/program.h"
 
 namespace ml {
@@ -23,6 +24,7 @@ struct GBufferInputs {
 
 class GBufferPass {
   public:
+    static constexpr PassTimer kTimer{"gbuffer"}; // record()
     Result<void> create(const Device& device);
     void destroy(const Device& device);
     // On failure `out` holds what was made (destroy each image).

@@ -1,5 +1,5 @@
 // The module behind the public API (manylights/module.h): owns the scene buffers, per-slot frame data,
-// the features and the profiler, and records a frame as a list of pass objects (engine/frame.h; the host
+// the features and the profiler, and records a frame as a list of passes (engine/frame.h; the host
 // side of a frame is engine/frame_write.cpp).
 #include "manylights/manylights.h"
 
@@ -177,7 +177,7 @@ Result<void> Module::Impl::init() {
     if (vsm.enabled()) ML_TRY(vsmPasses.create(d, vsm));
     ML_TRY(evaluate.create(d));
     ML_TRY(statisticsPass.create(d));
-    ML_TRY(profiler.create(d, uint32_t(slots.size()), passTimerNames()));
+    ML_TRY(profiler.create(d, uint32_t(slots.size())));
     profiler.fenced = timing == TimingMode::Fenced;
     // Per slot: uploads the host writes every frame; the counters are the frame's readback.
     for (auto& s : slots) {
@@ -615,23 +615,8 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     const uint32_t slotIndex = began.value();
     FrameContext frame = m.frameContext(cmd, slotIndex);
     frame.setup = &m.setup;
-    FramePasses& p = m.passes;
-    // The frame, in order; each pass says when it runs (engine/frame.h) and runFrame times it.
-    FramePass* const passes[] = {
-        &p.begin,             // frame-begin barrier, counters cleared
-        &p.gbuffer,           // module-owned targets only
-        &p.clusterBounds,     // culling (mode None: skipped): cluster bounds,
-        &p.lightAssign,       //   light lists
-        &p.vsmReset,          // virtual shadow maps: per-frame clears,
-        &p.vsmPath,           //   then, with active maps, marked page to drawn page (a timer per step)
-        &p.evaluationOutputs, // HDR and output discarded
-        &p.evaluate,          // the one evaluation pass
-        &p.vsmProbe,          // optional lookup probe
-        &p.statistics,        // optional per-pixel light counts
-        &p.debugView,         // --view lights / lights-reaching / vsm
-        &p.end,               // counters -> host
-    };
-    if (auto r = runFrame(m.profiler, frame, passes); !r) return fail("record: " + r.error());
+    // The frame's list of passes, in order (engine/frame_passes.cpp); runFrame times them.
+    if (auto r = recordFrame(m.profiler, frame, m.features); !r) return fail("record: " + r.error());
     m.endFrame(slotIndex);
     m.ownOutputRecorded = m.ownOutputRecorded || m.ownTargets;
     m.retireStaged(); // the staging buffers this frame copied from (and replaced): freed once it is done

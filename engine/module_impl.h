@@ -196,7 +196,8 @@ struct Module::Impl {
     void updateLightRecords();
     void updateInstanceCache();
     Profiler profiler;
-    FramePasses passes{gbuffer, cull, vsm, vsmPasses, evaluate, statisticsPass}; // Module::record's list
+    FrameFeatures features{gbuffer,   cull,     vsm,
+                           vsmPasses, evaluate, statisticsPass}; // what the frame's passes record
     std::vector<Slot> slots;
     uint64_t frameIndex = 0;
     std::vector<FrameReport> reports;

@@ -2,51 +2,27 @@
 
 namespace ml {
 
-const char* passName(Pass pass) {
-    switch (pass) {
-    case Pass::GBuffer:
-        return "gbuffer";
-    case Pass::ClusterBounds:
-        return "cluster_bounds";
-    case Pass::LightAssign:
-        return "light_assign";
-    case Pass::VsmMark:
-        return "vsm_mark";
-    case Pass::VsmSort:
-        return "vsm_sort";
-    case Pass::VsmAlloc:
-        return "vsm_alloc";
-    case Pass::VsmHpb:
-        return "vsm_hpb";
-    case Pass::VsmGroupCull:
-        return "vsm_group_cull";
-    case Pass::VsmCull:
-        return "vsm_cull";
-    case Pass::VsmExpand:
-        return "vsm_expand";
-    case Pass::VsmDraw:
-        return "vsm_draw";
-    case Pass::Evaluate:
-        return "evaluate";
-    case Pass::Statistics:
-        return "statistics";
-    case Pass::Count:
-        break;
-    }
-    return "?";
+const PassTime* PassTimes::find(std::string_view name) const {
+    for (const PassTime& p : passes)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+double PassTimes::ms(std::string_view name) const {
+    const PassTime* p = find(name);
+    return p ? p->ms : 0.0;
 }
 
 double PassTimes::totalMs() const {
     double t = 0;
-    for (uint32_t i = 0; i < kPassCount; ++i)
-        if (ran[i]) t += ms[i];
+    for (const PassTime& p : passes) t += p.ms;
     return t;
 }
 
-double PassTimes::vsmBookkeepingMs() const {
+double PassTimes::groupMs(std::string_view group) const {
     double t = 0;
-    for (uint32_t i = 0; i < kPassCount; ++i)
-        if (ran[i] && vsmBookkeeping(Pass(i))) t += ms[i];
+    for (const PassTime& p : passes)
+        if (!group.empty() && p.group == group) t += p.ms;
     return t;
 }
 

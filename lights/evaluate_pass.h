@@ -4,6 +4,7 @@
 // them in this order after culling and the virtual shadow map passes; both read the G-buffer and the
 // cluster lists.
 #pragma once
+#include "gpu/pass_timer.h"
 #include "gpu/program.h"
 
 namespace ml {
@@ -64,6 +65,7 @@ class EvaluatePass {
     // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
     Result<void> prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
     // Writes the targets; prepare(targets.outputs) must have run.
+    static constexpr PassTimer kTimer{"evaluate"};
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
                 const ShadowInputs& shadows, const EvaluateTargets& targets) const;
 
@@ -81,6 +83,7 @@ class StatisticsPass {
     Result<void> create(const Device& device);
     void destroy(const Device& device);
     // Adds the frame's per-pixel counts to `counters` (FrameCounters) and makes them visible to the host.
+    static constexpr PassTimer kTimer{"statistics"};
     void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
                 const Buffer& counters) const;
 

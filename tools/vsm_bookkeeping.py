@@ -35,7 +35,7 @@ import json
 import os
 import sys
 
-# The bookkeeping steps, in frame order (manylights/pass_times.h: Pass::VsmMark..VsmExpand).
+# The bookkeeping steps, in frame order (the passes of group kVsmBookkeeping, manylights/pass_times.h).
 BOOKKEEPING = ("vsm_mark", "vsm_sort", "vsm_alloc", "vsm_hpb", "vsm_group_cull", "vsm_cull", "vsm_expand")
 STEPS = BOOKKEEPING + ("vsm_draw",)
 

@@ -6,7 +6,7 @@
 //   enums.h         LightKind, StaticMethod, CullingMode
 //   device.h        DeviceOptions, DeviceBorrow, DeviceInfo, memory and validation counters
 //   vsm_settings.h  VsmSettings, VsmStats (virtual shadow maps)
-//   pass_times.h    Pass, PassTimes, TimingMode
+//   pass_times.h    PassTimes, PassTime, TimingMode
 //   host_bindings.h the binding offsets of manylights.glsl (C++ and GLSL)
 //   result.h        Result<T>, Error
 //   glm.h           optional: toGlm / fromGlm for a host that uses glm (not included here)

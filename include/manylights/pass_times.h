@@ -1,46 +1,35 @@
-// Per-pass GPU times of a frame (FrameReport::times), one slot per Pass.
+// Per-pass GPU times of a frame (FrameReport::times): one entry for each timed pass the frame recorded.
 #pragma once
-#include <array>
 #include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
 
 namespace ml {
 
-// Every timed pass of the module's frame, in recording order (passName gives each its report name).
-enum class Pass : uint32_t {
-    GBuffer,
-    ClusterBounds,
-    LightAssign,
-    // Virtual shadow maps, one scope per step: VsmMark..VsmExpand are the bookkeeping
-    // (PassTimes::vsmBookkeepingMs), VsmDraw the page draws.
-    VsmMark,      // pages from the depth buffer
-    VsmSort,      // vsm_list, vsm_sort: the request list closed and sorted by priority rank
-    VsmAlloc,     // vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
-    VsmHpb,       // hierarchical page buffer
-    VsmGroupCull, // vsm_groups, vsm_pairs: caster groups' bounds, the (group, dirty map) pairs kept
-    VsmCull,      // vertex path: instance culling of the pairs into per-mip draw lists
-    VsmExpand,    // mesh path: the same culling, expanded into per-mip meshlet lists
-    VsmDraw,      // clear and draw the dirty pages
-    Evaluate,
-    Statistics, // per-pixel light counts (optional)
-    Count
+// The group of the virtual shadow maps' bookkeeping steps (vsm_mark, vsm_sort, vsm_alloc, vsm_hpb,
+// vsm_group_cull, and vsm_cull or vsm_expand): what the maps cost besides drawing pages (vsm_draw).
+inline constexpr const char* kVsmBookkeeping = "vsm_bookkeeping";
+
+// One timed pass, under the name the reports print (stats.json's pass_gpu_ms_mean, frames.csv, the
+// trace): "gbuffer", "cluster_bounds", "light_assign", the VSM steps, "evaluate", "statistics".
+struct PassTime {
+    std::string name;
+    std::string group;  // the sum it counts in (PassTimes::groupMs), empty for none
+    double ms = 0;      // GPU milliseconds
+    double startMs = 0; // start on the GPU clock (ms; only differences mean anything)
 };
-constexpr uint32_t kPassCount = uint32_t(Pass::Count);
-const char* passName(Pass pass);
 
 struct PassTimes {
-    std::array<double, kPassCount> ms{}; // GPU milliseconds per pass
-    std::array<double, kPassCount>
-        startMs{};                      // pass start on the GPU clock (ms; only differences mean anything)
-    std::array<bool, kPassCount> ran{}; // the pass was recorded this frame
+    std::vector<PassTime> passes; // the timed passes the frame recorded, in recording order
+    const PassTime* find(std::string_view name) const; // null when the pass did not run
+    bool ran(std::string_view name) const { return find(name) != nullptr; }
+    double ms(std::string_view name) const; // GPU milliseconds, 0 when the pass did not run
     double totalMs() const;
-    // The VSM bookkeeping: the steps VsmMark..VsmExpand that ran (their sum is what the maps cost
-    // besides drawing pages).
-    double vsmBookkeepingMs() const;
+    double groupMs(std::string_view group) const; // the passes of a group that ran, summed
+    // The VSM bookkeeping: the steps of kVsmBookkeeping that ran.
+    double vsmBookkeepingMs() const { return groupMs(kVsmBookkeeping); }
 };
-// Whether a pass is one of the VSM bookkeeping steps (VsmMark..VsmExpand).
-constexpr bool vsmBookkeeping(Pass p) {
-    return uint32_t(p) >= uint32_t(Pass::VsmMark) && uint32_t(p) <= uint32_t(Pass::VsmExpand);
-}
 
 // Timestamps: vkCmdWriteTimestamp2 pairs (GPUs). Fenced: each pass is submitted on its own and timed
 // with the host clock from submit to completion: what a CPU device needs, whose timestamps need not

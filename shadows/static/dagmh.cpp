@@ -55,13 +55,14 @@ struct BoundsWalk {
     uint32_t L, B, X, Y, nodes, treelets; // (X, Y): the cell at level B
     uint32_t lo = 0xFFFFFFFFu, hi = 0u;
     uint32_t memoIndex = 0xFFFFFFFFu, memoValue = 0u; // consecutive regions mostly share a value
+    DagmhHeader h = dagmhHeader(data, 0u);
 
     // Adds value `vlast`, held by the node at depth `dlast` above the node (nx, ny) at depth `depth`.
     void take(uint32_t vlast, uint32_t dlast, uint32_t depth, uint32_t nx, uint32_t ny) {
         if (vlast != memoIndex) {
             const uint32_t s = depth - dlast;
             memoIndex = vlast;
-            memoValue = dagmhValue(data, 0, vlast, (nx >> s) << (L - dlast), (ny >> s) << (L - dlast));
+            memoValue = dagmhValue(data, h, vlast, (nx >> s) << (L - dlast), (ny >> s) << (L - dlast));
         }
         lo = std::min(lo, memoValue), hi = std::max(hi, memoValue);
     }
@@ -461,10 +462,11 @@ uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data) {
     uint64_t bad = 0;
     uint32_t i = 0;
     std::vector<std::array<uint32_t, 2>> pos = nodeCorners(tree);
+    const DagmhHeader h = dagmhHeader(data, 0u);
     for (size_t n = 0; n < tree.nodes.size(); ++n) {
         const auto& nd = tree.nodes[n];
         if (!nd.valued) continue;
-        uint32_t v = dagmhValue(data, 0, i++, pos[n][0], pos[n][1]);
+        uint32_t v = dagmhValue(data, h, i++, pos[n][0], pos[n][1]);
         bad += v < nd.lo || v > nd.hi;
     }
     return bad;

@@ -54,6 +54,7 @@
 #include "shadows/static/mh.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -136,204 +137,57 @@ stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size);
 // arithmetic and counts the values outside their node's interval.
 uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data);
 
-// The b-bit field at bit `pos` of the factor stream starting at word `factors` (0 when b == 0); it may
-// straddle two words.
-inline uint32_t dagmhField(const uint32_t* data, uint32_t factors, uint32_t pos, uint32_t b) {
-    if (b == 0u) return 0u;
-    const uint32_t w = factors + (pos >> 5u), sh = pos & 31u;
-    uint32_t f = data[w] >> sh;
-    if (sh + b > 32u) f |= data[w + 1u] << (32u - sh);
-    return f & stat::lowMask(b);
+// The lookups are one source text with the GLSL decoder, shaders/static/dagmh_decode.h, compiled here with
+// the buffer as an argument: dagmhLookup(data, base, x, y), the map; dagmhLookupLevel(data, base, x, y,
+// steps), the level `steps` below the root (filtering by level); with the header read once
+// (dagmhHeader(data, base)), dagmhValue (a value by index), dagmhBoundsClass (the value bounds of a block
+// of texels), and the steps the taps of a PCF kernel share (dagmhPcfPrefix, dagmhStart, dagmhLocate,
+// dagmhLocatedValue, dagmhFinish). Only valid on a buffer validateDAGMH accepted; x, y below the
+// resolution of the level looked up.
+namespace dagtwin {
+using uint = uint32_t;
+inline uint mlPopc(uint x) {
+    return stat::popc(x);
 }
-
-// Slot j of the chunk whose words are c[0..5] (paper Alg. 2, integers, two plane classes; see
-// docs/dagmh-encoding.md). Class c = bit j of the bitmap; its factors follow class 1's when c = 0.
-inline uint32_t dagmhChunkSlot(const uint32_t* data, uint32_t base, const uint32_t* c, uint32_t j,
-                               uint32_t px, uint32_t py) {
-    const uint32_t cls = (c[0] >> j) & 1u;
-    const uint32_t before1 = stat::popc(c[0] & stat::lowMask(j)); // class-1 slots before j
-    const uint32_t cw = cls != 0u ? c[3] >> 11u : c[3];           // this class's b (bits 0-5), sh (6-10)
-    const uint32_t b = cw & 63u;
-    const uint32_t pos =
-        c[4] + (cls != 0u ? before1 * b : stat::popc(c[0]) * ((c[3] >> 11u) & 63u) + (j - before1) * b);
-    const uint32_t f = dagmhField(data, base + data[base + dagfmt::kFactorOffset], pos, b);
-    if (b == 32u) return f; // raw 32-bit value
-    const uint32_t e = base + data[base + dagfmt::kSlopeOffset] +
-                       dagfmt::kSlopeWords * (cls != 0u ? c[5] >> 16u : c[5] & 0xFFFFu);
-    return c[1u + cls] + data[e] * px + data[e + 1u] * py + (f << ((cw >> 6u) & 31u));
+inline uint mlLowMask(uint bits) {
+    return stat::lowMask(bits);
 }
-
-// The value with index `index`, (px, py) the full-resolution texel at the top-left corner of the cell of
-// the MH node that holds it. GLSL twin in shaders/static/dagmh_lookup.glsl.
-inline uint32_t dagmhValue(const uint32_t* data, uint32_t base, uint32_t index, uint32_t px, uint32_t py) {
-    const uint32_t ch = base + data[base + dagfmt::kChunkOffset] + dagfmt::kChunkWords * (index >> 5u);
-    return dagmhChunkSlot(data, base, data + ch, index & 31u, px, py);
+inline int findMSB(uint x) {
+    return x == 0u ? -1 : 31 - std::countl_zero(x);
 }
-
-// Only valid on a buffer validateDAGMH accepted; x, y < resolution.
-// The lookup in three steps, so that the taps of a PCF kernel can share the traversal above the level
-// where they part (dagmhPcfPrefix, hierarchical PCF): the skip-list entry of (x, y); the descent towards
-// (x, y) while depth < stop; the rest of the descent, the treelet and the value.
-struct DagmhState {
-    uint32_t kind, depth, dlast, ptr, vcount, vlast;
-};
-
-inline DagmhState dagmhStart(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t S = dagfmt::skipLevel(data, base);
-    uint32_t e = base + data[base + dagfmt::kSkipOffset] +
-                 dagfmt::kSkipWords * (((y >> (L - S)) << S) + (x >> (L - S)));
-    DagmhState st;
-    st.kind = data[e] & 255u;
-    st.depth = (data[e] >> 8u) & 255u;
-    st.dlast = data[e] >> 16u; // depth of the node that holds value vlast
-    st.ptr = data[e + 1u];
-    st.vcount = data[e + 2u];
-    st.vlast = data[e + 3u];
-    return st;
+inline uint min(uint a, uint b) {
+    return a < b ? a : b;
 }
-
-inline DagmhState dagmhDescend(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st,
-                               uint32_t stop) {
-    uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t nodes = base + data[base + dagfmt::kNodeOffset];
-    while (st.kind == 1u) {
-        if (st.depth >= stop) break;
-        uint32_t flags = data[nodes + st.ptr];
-        if ((flags & 256u) != 0u) {
-            st.vlast = st.vcount;
-            st.dlast = st.depth;
-        }
-        if (st.depth >= L) break;
-        uint32_t s = L - st.depth - 1u;
-        uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
-        uint32_t t = (flags >> (2u * c)) & 3u;
-        if (t == 0u) break;
-        uint32_t rank = 0u, n = 0u;
-        for (uint32_t i = 0u; i < 4u; ++i) {
-            uint32_t present = ((flags >> (2u * i)) & 3u) != 0u ? 1u : 0u;
-            if (i < c) rank += present;
-            n += present;
-        }
-        uint32_t child = data[nodes + st.ptr + 1u + rank];
-        st.vcount += rank == 0u ? ((flags >> 8u) & 1u) : data[nodes + st.ptr + n + rank];
-        st.ptr = child;
-        st.depth += 1u;
-        st.kind = t;
-    }
-    return st;
+inline uint max(uint a, uint b) {
+    return a > b ? a : b;
 }
-
-// The treelet step (st.kind == 2): the deepest valued position of the treelet on the path to (x, y) at
-// depth <= limit (L for the map itself, less for a level above it: dagmhLookupLevel), else st unchanged.
-inline DagmhState dagmhTreeletStep(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st,
-                                   uint32_t limit) {
-    uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t tb = base + data[base + dagfmt::kTreeletOffset] + dagfmt::kTreeletWords * st.ptr;
-    for (uint32_t i = 0u; i < 4u; ++i) {
-        uint32_t lvl = 3u - i;
-        if (st.depth + lvl > limit) continue;
-        uint32_t idx = lvl;
-        for (uint32_t j = 1u; j <= lvl; ++j) {
-            uint32_t s = L - st.depth - j;
-            uint32_t c = (((y >> s) & 1u) << 1u) | ((x >> s) & 1u);
-            idx += c * (j == 1u ? 21u : (j == 2u ? 5u : 1u));
-        }
-        uint32_t wi = idx >> 5u;
-        if (((data[tb + wi] >> (idx & 31u)) & 1u) != 0u) {
-            uint32_t before = stat::popc(data[tb + wi] & stat::lowMask(idx & 31u));
-            if (wi > 0u) before += stat::popc(data[tb]);
-            if (wi > 1u) before += stat::popc(data[tb + 1u]);
-            st.vlast = st.vcount + before;
-            st.dlast = st.depth + lvl;
-            break;
-        }
-    }
-    return st;
-}
-// The rest of the descent and the treelet: st.vlast is then the index of (x, y)'s value and st.dlast the
-// depth of the node holding it (one node: texels with the same vlast have the same value).
-inline DagmhState dagmhLocate(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st) {
-    uint32_t L = data[base + dagfmt::kLevels];
-    st = dagmhDescend(data, base, x, y, st, L + 1u);
-    if (st.kind == 2u) st = dagmhTreeletStep(data, base, x, y, st, L);
-    return st;
-}
-// The value dagmhLocate found for (x, y).
-inline uint32_t dagmhLocatedValue(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y,
-                                  const DagmhState& st) {
-    uint32_t s = data[base + dagfmt::kLevels] - st.dlast;
-    return dagmhValue(data, base, st.vlast, (x >> s) << s, (y >> s) << s);
-}
-
-inline uint32_t dagmhFinish(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y, DagmhState st) {
-    return dagmhLocatedValue(data, base, x, y, dagmhLocate(data, base, x, y, st));
-}
-
-inline uint32_t dagmhLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
-    return dagmhFinish(data, base, x, y, dagmhStart(data, base, x, y));
-}
-
-// The map at the level `steps` below the root (steps <= L; filtering by level), (x, y) a texel of that
-// level: the value of the deepest valued node on the path down to that level, as mhLookupLevel (every level
-// a complete map, exact at steps = L). The descent starts at the skip entry when steps >= S (the entry
-// holds the state above depth S), at the root otherwise, reads the flags of the node at depth `steps`
-// itself and looks in a treelet only down to `steps`. The value bounds are not used: a cell's bounds hold
-// the values its texels decode at the finest level, and an ancestor's value need not be one of them.
-// GLSL twin dagmhLookupLevel (shaders/static/dagmh_lookup.glsl).
-inline uint32_t dagmhLookupLevel(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y,
-                                 uint32_t steps) {
-    const uint32_t L = data[base + dagfmt::kLevels];
-    const uint32_t X = x << (L - steps), Y = y << (L - steps); // the level texel's top-left full texel
-    DagmhState st{data[base + dagfmt::kRootKind], 0u, 0u, data[base + dagfmt::kRootPtr], 0u, 0u};
-    if (steps >= dagfmt::skipLevel(data, base)) st = dagmhStart(data, base, X, Y);
-    st = dagmhDescend(data, base, X, Y, st, steps);
-    if (st.kind == 1u && st.depth == steps &&
-        (data[base + data[base + dagfmt::kNodeOffset] + st.ptr] & 256u) != 0u) {
-        st.vlast = st.vcount;
-        st.dlast = steps;
-    }
-    if (st.kind == 2u) st = dagmhTreeletStep(data, base, X, Y, st, steps);
-    return dagmhLocatedValue(data, base, X, Y, st);
-}
-// The bounds test of the texels [x0, x1] x [y0, y1] (in the map) at receiver depth `depth`: 1 when
-// every one of them is lit (depth <= value), 2 when none is, 0 when the cells' bounds do not decide.
-// GLSL twin dagmhBoundsClass (shaders/static/dagmh_lookup.glsl).
-inline uint32_t dagmhBoundsClass(const uint32_t* data, uint32_t base, uint32_t x0, uint32_t y0, uint32_t x1,
-                                 uint32_t y1, uint32_t depth) {
-    const uint32_t L = data[base + dagfmt::kLevels], S = dagfmt::skipLevel(data, base);
-    const uint32_t B = dagfmt::boundsLevel(data, base);
-    const uint32_t bounds = base + data[base + dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2u * S));
-    const uint32_t sh = L - B;
-    uint32_t lo = 0xFFFFFFFFu, hi = 0u;
-    for (uint32_t Y = y0 >> sh; Y <= y1 >> sh; ++Y)
-        for (uint32_t X = x0 >> sh; X <= x1 >> sh; ++X) {
-            uint32_t w = data[bounds + (Y << B) + X];
-            lo = std::min(lo, w << 16u);
-            hi = std::max(hi, w | 0xFFFFu);
-        }
-    return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
-}
-
-// Hierarchical PCF: the state shared by every texel of the block [x0, x1] x [y0, y1] (in the map),
-// descended once to the deepest level where all of them lie in one node. kind = kNoPrefix when the
-// block straddles skip-list entries (then each tap starts from its own entry).
-constexpr uint32_t kDagNoPrefix = 255u;
-inline DagmhState dagmhPcfPrefix(const uint32_t* data, uint32_t base, uint32_t x0, uint32_t y0, uint32_t x1,
-                                 uint32_t y1) {
-    uint32_t L = data[base + dagfmt::kLevels];
-    uint32_t S = dagfmt::skipLevel(data, base);
-    uint32_t diff = (x0 ^ x1) | (y0 ^ y1);
-    uint32_t bits = 0u;
-    while ((diff >> bits) != 0u) ++bits;
-    uint32_t sharedLevels = L - bits; // levels above which every tap takes the same children
-    DagmhState st = dagmhStart(data, base, x0, y0);
-    if (sharedLevels < S) {
-        st.kind = kDagNoPrefix;
-        return st;
-    }
-    return dagmhDescend(data, base, x0, y0, st, sharedLevels);
-}
+#define ML_DAG_FN inline
+#define ML_DAG_DATA_PARAM const uint32_t *data,
+#define ML_DAG_DATA_ARG data,
+#define ML_DAG_WORD(i) data[i]
+#include "shaders/static/dagmh_decode.h"
+static_assert(ML_DAG_LEVELS == dagfmt::kLevels && ML_DAG_SKIP_LEVEL == dagfmt::kSkipLevel &&
+              ML_DAG_ROOT_KIND == dagfmt::kRootKind && ML_DAG_ROOT_PTR == dagfmt::kRootPtr &&
+              ML_DAG_SKIP_OFFSET == dagfmt::kSkipOffset && ML_DAG_NODE_OFFSET == dagfmt::kNodeOffset &&
+              ML_DAG_TREELET_OFFSET == dagfmt::kTreeletOffset &&
+              ML_DAG_CHUNK_OFFSET == dagfmt::kChunkOffset && ML_DAG_FACTOR_OFFSET == dagfmt::kFactorOffset &&
+              ML_DAG_SLOPE_OFFSET == dagfmt::kSlopeOffset && ML_DAG_CHUNK_WORDS == dagfmt::kChunkWords &&
+              ML_DAG_SLOPE_WORDS == dagfmt::kSlopeWords && ML_DAG_TREELET_WORDS == dagfmt::kTreeletWords &&
+              ML_DAG_SKIP_WORDS == dagfmt::kSkipWords && ML_DAG_HEADER_WORDS == dagfmt::kHeaderWords);
+} // namespace dagtwin
+using dagtwin::dagmhBoundsClass;
+using dagtwin::dagmhFinish;
+using dagtwin::DagmhHeader;
+using dagtwin::dagmhHeader;
+using dagtwin::dagmhLocate;
+using dagtwin::dagmhLocatedValue;
+using dagtwin::dagmhLookup;
+using dagtwin::dagmhLookupLevel;
+using dagtwin::dagmhPcfPrefix;
+using dagtwin::dagmhStart;
+using dagtwin::DagmhState;
+using dagtwin::dagmhValue;
+constexpr uint32_t kDagNoPrefix = dagtwin::ML_DAG_NO_PREFIX;
 
 inline uint32_t dagmhLookup(const uint32_t* data, uint32_t x, uint32_t y) {
     return dagmhLookup(data, 0u, x, y);

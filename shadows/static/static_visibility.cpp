@@ -101,8 +101,8 @@ uint32_t dagmhBoundsDecision(const gpu::GpuShadowRecord& rec, const uint32_t* da
     const int radius = int(gpu::shadowRecordRadius(rec)), res = int(gpu::shadowRecordResolution(rec));
     const glm::ivec2 lo = glm::max(t - radius, glm::ivec2(0)), hi = glm::min(t + radius, glm::ivec2(res - 1));
     if (lo.x > hi.x || lo.y > hi.y) return 3; // every tap outside the map
-    return dagmhBoundsClass(data, rec.info.y, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y),
-                            depth);
+    return dagmhBoundsClass(data, dagmhHeader(data, rec.info.y), uint32_t(lo.x), uint32_t(lo.y),
+                            uint32_t(hi.x), uint32_t(hi.y), depth);
 }
 
 float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N,
@@ -146,8 +146,9 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
     glm::ivec2 hi = glm::clamp(t + radius, glm::ivec2(0), glm::ivec2(int(res) - 1));
     bool usePrefix = false;
     DagmhState prefix{};
+    const DagmhHeader dh = method == StaticMethod::DAGMH ? dagmhHeader(data, base) : DagmhHeader{};
     if (method == StaticMethod::DAGMH && radius > 0 && step == 0) {
-        prefix = dagmhPcfPrefix(data, base, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
+        prefix = dagmhPcfPrefix(data, dh, uint32_t(lo.x), uint32_t(lo.y), uint32_t(hi.x), uint32_t(hi.y));
         usePrefix = prefix.kind != kDagNoPrefix;
     }
     // DAG-MH taps in the node of the previous tap's value reuse its decoded value (the shader, in
@@ -173,10 +174,10 @@ float staticVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, gl
             } else if (method == StaticMethod::DAGMH) {
                 const uint32_t ux = uint32_t(x), uy = uint32_t(y);
                 DagmhState st =
-                    dagmhLocate(data, base, ux, uy, usePrefix ? prefix : dagmhStart(data, base, ux, uy));
+                    dagmhLocate(data, dh, ux, uy, usePrefix ? prefix : dagmhStart(data, dh, ux, uy));
                 if (st.vlast != memoIndex) {
                     memoIndex = st.vlast;
-                    memoDepth = dagmhLocatedValue(data, base, ux, uy, st);
+                    memoDepth = dagmhLocatedValue(data, dh, ux, uy, st);
                 }
                 d = memoDepth;
             } else {

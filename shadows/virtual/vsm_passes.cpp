@@ -385,21 +385,21 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
 Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFrameInputs& in,
                                    const StepRunner& step) const {
     // Each receiver pixel (or cluster) marks the pages its lookups will read; first wants are listed.
-    ML_TRY(step(Pass::VsmMark, [&](VkCommandBuffer c) { recordMark(d, c, slot, in); }));
+    ML_TRY(step(kMarkTimer, [&](VkCommandBuffer c) { recordMark(d, c, slot, in); }));
     // The request list closed and sorted by priority rank (a short one also allocated, in one workgroup).
-    ML_TRY(step(Pass::VsmSort, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
+    ML_TRY(step(kSortTimer, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
     // Invalidation, then a physical page for each wanted entry without one; dirty pages and maps listed.
-    ML_TRY(step(Pass::VsmAlloc, [&](VkCommandBuffer c) { recordAlloc(d, c, slot); }));
+    ML_TRY(step(kAllocTimer, [&](VkCommandBuffer c) { recordAlloc(d, c, slot); }));
     // The hierarchical page buffer: which regions of each map hold a dirty page.
-    ML_TRY(step(Pass::VsmHpb, [&](VkCommandBuffer c) { recordHpb(d, c, slot); }));
+    ML_TRY(step(kHpbTimer, [&](VkCommandBuffer c) { recordHpb(d, c, slot); }));
     // Caster groups against the dirty maps: the (group, map) pairs left for the culling.
-    ML_TRY(step(Pass::VsmGroupCull, [&](VkCommandBuffer c) { recordGroupCull(d, c, slot); }));
+    ML_TRY(step(kGroupCullTimer, [&](VkCommandBuffer c) { recordGroupCull(d, c, slot); }));
     if (!state_->meshPath()) // vertex path: each pair's casters into indirect draws per dirty mip
-        ML_TRY(step(Pass::VsmCull, [&](VkCommandBuffer c) { recordCull(d, c, slot); }));
+        ML_TRY(step(kCullTimer, [&](VkCommandBuffer c) { recordCull(d, c, slot); }));
     else // mesh path: each pair's casters into meshlet lists for the task shaders
-        ML_TRY(step(Pass::VsmExpand, [&](VkCommandBuffer c) { recordExpand(d, c, slot); }));
+        ML_TRY(step(kExpandTimer, [&](VkCommandBuffer c) { recordExpand(d, c, slot); }));
     // The dirty pages cleared, then the casters drawn into them (and merged with their static twins).
-    return step(Pass::VsmDraw, [&](VkCommandBuffer c) {
+    return step(kDrawTimer, [&](VkCommandBuffer c) {
         recordClear(d, c, slot);
         recordDraw(d, c, slot, in);
     });

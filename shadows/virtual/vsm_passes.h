@@ -1,9 +1,11 @@
 // The virtual shadow map passes (vsm.h has the algorithm) over the state VirtualShadowMaps keeps: one
 // function per pass, their programs (vsm_programs.h). The frame (engine/frame.h) records reset (per-frame
 // clears, untimed), then, when the slot has active maps (state.active()), the path from marked page to
-// drawn page that recordPath lists in order, each step under its timer (manylights/pass_times.h); after
-// the evaluation the probe (state.probing()) and the debug view.
+// drawn page that recordPath lists in order, each step under its timer (the k...Timer constants beside
+// the steps' functions: every step before the draws counts in the VSM bookkeeping); after the evaluation
+// the probe (state.probing()) and the debug view.
 #pragma once
+#include "gpu/pass_timer.h"
 #include "manylights/pass_times.h"
 #include "shadows/virtual/vsm.h"
 #include "shadows/virtual/vsm_programs.h"
@@ -25,7 +27,7 @@ class VsmPasses {
     // Runs one step of the path under its timer: `body` records the step into the command buffer it is
     // given (the frame's, or a fenced run's own). A failed run (fenced runs only) stops the path there.
     using StepRunner =
-        std::function<Result<void>(Pass timer, const std::function<void(VkCommandBuffer)>& body)>;
+        std::function<Result<void>(const PassTimer& timer, const std::function<void(VkCommandBuffer)>& body)>;
     // The path from marked page to drawn page, in order, for a slot with active maps (state.active()).
     Result<void> recordPath(const Device& device, uint32_t slot, const VsmFrameInputs& in,
                             const StepRunner& step) const;
@@ -38,15 +40,24 @@ class VsmPasses {
                     VkImageView output) const;
 
   private:
+    static constexpr PassTimer kMarkTimer{"vsm_mark", kVsmBookkeeping};
     void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    static constexpr PassTimer kSortTimer{"vsm_sort", kVsmBookkeeping}; // vsm_list, vsm_sort
     void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    // vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
+    static constexpr PassTimer kAllocTimer{"vsm_alloc", kVsmBookkeeping};
     void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    static constexpr PassTimer kHpbTimer{"vsm_hpb", kVsmBookkeeping};
     void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
     // vsm_pairs (the (group, dirty map) pairs inside the frustum, and the culling's dispatch size).
+    static constexpr PassTimer kGroupCullTimer{"vsm_group_cull", kVsmBookkeeping};
     void recordGroupCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    static constexpr PassTimer kCullTimer{"vsm_cull", kVsmBookkeeping}; // vertex path
     void recordCull(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    static constexpr PassTimer kExpandTimer{"vsm_expand", kVsmBookkeeping}; // mesh path
     void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    static constexpr PassTimer kDrawTimer{"vsm_draw"}; // clear and draw the dirty pages
     void recordClear(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
 

@@ -1,8 +1,9 @@
 // The GLSL decoders (shaders/static/*_lookup.glsl) compiled as C++ (glsl_shims.h). Every texel must
 // decode bit-identically to the C++ decoders, at base 0 and with the buffer placed at an odd offset
-// inside a larger array (the `base` argument). MH's and MMH's text is the C++ decoders' own
-// (shaders/static/mh_descent.h): for them this pins the GLSL instantiation (words read through
-// ML_STATIC_DATA at `base`); DAG-MH's GLSL is a text of its own. The GPU run of the same text comes with
+// inside a larger array (the `base` argument). The text is the C++ decoders' own
+// (shaders/static/mh_descent.h, dagmh_decode.h): this pins the GLSL instantiation (words read through
+// ML_STATIC_DATA at `base`). DAG-MH's bounds tests (the one-texel test, the four-word path) are compared
+// with a plain loop over the bounds cells (boundsByLoop below). The GPU run of the same text comes with
 // the GPU tests (GpuStatic.*); this pins the text itself.
 #include "static_test_util.h"
 #include "bake/bake.h"
@@ -12,6 +13,23 @@
 
 namespace ml::stest {
 namespace {
+
+// The DAG-MH bounds test as a loop over every bounds cell of the block, section offsets from the header
+// words (the decoder derives them from S and B): 1 lit, 2 shadowed, 0 undecided.
+uint32_t boundsByLoop(const uint32_t* data, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1,
+                      uint32_t depth) {
+    const uint32_t L = data[dagfmt::kLevels], S = dagfmt::skipLevel(data), B = dagfmt::boundsLevel(data);
+    const uint32_t* bounds = data + data[dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2u * S));
+    const uint32_t sh = L - B;
+    uint32_t lo = 0xFFFFFFFFu, hi = 0u;
+    for (uint32_t Y = y0 >> sh; Y <= y1 >> sh; ++Y)
+        for (uint32_t X = x0 >> sh; X <= x1 >> sh; ++X) {
+            const uint32_t w = bounds[(Y << B) + X];
+            lo = std::min(lo, w << 16u);
+            hi = std::max(hi, w | 0xFFFFu);
+        }
+    return depth <= lo ? 1u : (depth > hi ? 2u : 0u);
+}
 
 void compareTwins(const DualDepthMap& m) {
     const uint32_t base = 37;
@@ -39,24 +57,26 @@ void compareTwins(const DualDepthMap& m) {
                 if (method != 2) continue;
                 // The value-bounds test over the 1x1, 3x3 and 9x9 blocks at this texel (the one-texel
                 // test, the four-word path within 2x2 cells and the loop over more), at depths around its
-                // value: the GLSL text answers as dagmhBoundsClass does.
+                // value: the GLSL text answers as the loop does, and so does the C++ instantiation.
                 glsl::gStaticData = shifted.data();
                 const glsl::DagmhHeader h = glsl::dagmhHeader(base);
                 diff += glsl::dagmhLevels(m.resolution) != enc->data()[dagfmt::kLevels];
                 const uint32_t x0 = x > 0 ? x - 1 : 0, y0 = y > 0 ? y - 1 : 0;
                 const uint32_t x1 = std::min(x + 1, m.resolution - 1), y1 = std::min(y + 1, m.resolution - 1);
                 for (uint32_t depth : {cpu, cpu + 1u, cpu - 70000u, cpu + 70000u}) {
-                    diff += glsl::dagmhBoundsClass(h, x, y, x, y, depth) !=
-                            dagmhBoundsClass(enc->data(), 0, x, y, x, y, depth);
+                    const uint32_t* d = enc->data();
+                    diff +=
+                        glsl::dagmhBoundsClass(h, x, y, x, y, depth) != boundsByLoop(d, x, y, x, y, depth);
                     diff += glsl::dagmhBoundsClass(h, x0, y0, x1, y1, depth) !=
-                            dagmhBoundsClass(enc->data(), 0, x0, y0, x1, y1, depth);
-                    diff += glsl::dagmhBoundsClass1(h, x, y, depth) !=
-                            dagmhBoundsClass(enc->data(), 0, x, y, x, y, depth);
+                            boundsByLoop(d, x0, y0, x1, y1, depth);
+                    diff += glsl::dagmhBoundsClass1(h, x, y, depth) != boundsByLoop(d, x, y, x, y, depth);
+                    diff += dagmhBoundsClass(d, dagmhHeader(d, 0), x0, y0, x1, y1, depth) !=
+                            boundsByLoop(d, x0, y0, x1, y1, depth);
                     const uint32_t X0 = x > 4 ? x - 4 : 0, Y0 = y > 4 ? y - 4 : 0;
                     const uint32_t X1 = std::min(x + 4, m.resolution - 1),
                                    Y1 = std::min(y + 4, m.resolution - 1);
                     diff += glsl::dagmhBoundsClass(h, X0, Y0, X1, Y1, depth) !=
-                            dagmhBoundsClass(enc->data(), 0, X0, Y0, X1, Y1, depth);
+                            boundsByLoop(enc->data(), X0, Y0, X1, Y1, depth);
                 }
             }
         EXPECT_EQ(diff, 0u);

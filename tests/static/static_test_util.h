@@ -129,6 +129,7 @@ inline uint64_t countDagmhBoundsViolations(const DualDepthMap& m, const std::vec
     const uint32_t L = d[dagfmt::kLevels], S = dagfmt::skipLevel(d), B = dagfmt::boundsLevel(d), sh = L - B;
     const uint32_t* bounds = d + d[dagfmt::kSkipOffset] + (dagfmt::kSkipWords << (2 * S));
     std::vector<uint32_t> lo(size_t(1) << (2 * B), 0xFFFFFFFFu), hi(size_t(1) << (2 * B), 0u);
+    const DagmhHeader h = dagmhHeader(d, 0);
     uint64_t bad = 0;
     for (uint32_t y = 0; y < m.resolution; ++y)
         for (uint32_t x = 0; x < m.resolution; ++x) {
@@ -138,7 +139,7 @@ inline uint64_t countDagmhBoundsViolations(const DualDepthMap& m, const std::vec
             bool ok = (w << 16) <= v && v <= (w | 0xFFFFu);
             for (uint32_t depth : {v, v + 1u, v - 1u, 0u, 0xFFFFFFFFu, w << 16, (w << 16) + 1u, w | 0xFFFFu,
                                    (w | 0xFFFFu) + 1u}) {
-                const uint32_t k = dagmhBoundsClass(d, 0, x, y, x, y, depth);
+                const uint32_t k = dagmhBoundsClass(d, h, x, y, x, y, depth);
                 ok = ok && (k == 0u || (k == 1u) == (depth <= v));
             }
             if (!ok && ++bad <= 5)

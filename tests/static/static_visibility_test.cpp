@@ -121,13 +121,14 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
     auto words = boxSceneDagmh(res, f);
     ASSERT_TRUE(words.ok()) << words.error();
     const uint32_t* d = words->data();
+    const DagmhHeader h = dagmhHeader(d, 0);
     uint64_t shared = 0, taps = 0, memoHits = 0;
     for (int r = 1; r <= 4; ++r)
         for (int cy = 0; cy < int(res); ++cy)
             for (int cx = 0; cx < int(res); ++cx) {
                 int x0 = std::max(cx - r, 0), y0 = std::max(cy - r, 0);
                 int x1 = std::min(cx + r, int(res) - 1), y1 = std::min(cy + r, int(res) - 1);
-                DagmhState prefix = dagmhPcfPrefix(d, 0, x0, y0, x1, y1);
+                DagmhState prefix = dagmhPcfPrefix(d, h, x0, y0, x1, y1);
                 if (prefix.kind == kDagNoPrefix) continue;
                 ++shared;
                 // The PCF loop's memo (static_visibility.cpp): a tap whose value index equals the
@@ -136,9 +137,9 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
                 for (int y = y0; y <= y1; ++y)
                     for (int x = x0; x <= x1; ++x, ++taps) {
                         const uint32_t full = dagmhLookup(d, 0, x, y);
-                        ASSERT_EQ(dagmhFinish(d, 0, x, y, prefix), full)
+                        ASSERT_EQ(dagmhFinish(d, h, x, y, prefix), full)
                             << "block at " << cx << "," << cy << " radius " << r << " tap " << x << "," << y;
-                        DagmhState st = dagmhLocate(d, 0, x, y, prefix);
+                        DagmhState st = dagmhLocate(d, h, x, y, prefix);
                         if (st.vlast == memoIndex) {
                             ++memoHits;
                             ASSERT_EQ(memoValue, full) << "tap " << x << "," << y << " radius " << r;
