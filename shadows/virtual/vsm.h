@@ -17,8 +17,9 @@
 //                 to them (VsmPasses::shortListLimit; where the device lacks the shared memory, vsm_list
 //                 alone closes the list);
 //     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
-//     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
-//     vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner entry (light
+//     vsm_sort    sorts the list by rank (block sort, then merges of 8 runs): the allocation is
+//     deterministic; vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner
+//     entry (light
 //                 moved, moved casters' old and new projected bounds: "stale" bits prepared by the CPU,
 //                 a static caster's also invalidating the page's static twin),
 //                 page classes per block (free, then unwanted least recently used);
@@ -181,7 +182,7 @@ struct VsmPages {
     Buffer dirtyMaps;         // maps with a page rendered this frame (vsm_assign): the culling's y
     Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
                               // (then the multi-dispatch passes': vsm_allocate_short_list.comp)
-    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
+    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log8(capacity / ML_VSM_BLOCK), rounded up
 };
 // Per frame in flight: what prepare() computes and uploads for the passes.
 struct VsmSlot {

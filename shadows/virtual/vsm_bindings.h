@@ -28,7 +28,8 @@
 // vsm_list.comp: closes the request list and sizes the sort's dispatches.
 #define ML_VSM_LIST_CONSTANTS 0 // VsmConstants (uniform)
 #define ML_VSM_LIST_COUNTERS 1  // VsmCounters (the list's count)
-#define ML_VSM_LIST_SORT_ARGS 2 // the sort passes' dispatch sizes
+#define ML_VSM_LIST_SORT_ARGS 2 // the sort and allocation passes' dispatch sizes
+#define ML_VSM_LIST_OWNERS 3    // entry per physical page (the owned prefix's length)
 
 // vsm_sort.comp: one block sort or merge pass from one list buffer to the other.
 #define ML_VSM_SORT_COUNTERS 0 // VsmCounters (the list's count)
@@ -63,6 +64,7 @@
 #define ML_VSM_ALLOC_COUNTERS 1     // VsmCounters
 #define ML_VSM_ALLOC_BLOCK_COUNTS 2 // in: counts per block, out: first ranks
 #define ML_VSM_ALLOC_CLASS_COUNTS 3 // in: counts per (block, class), out: first slots
+#define ML_VSM_ALLOC_SORT_ARGS 4    // the owned pages (word 3); out: vsm_avail's dispatch size
 
 // vsm_avail.comp: per physical page, its place in the available-page list.
 #define ML_VSM_AVAIL_CONSTANTS 0   // VsmConstants (uniform)

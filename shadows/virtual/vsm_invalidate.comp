@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_invalidate (allocation 3/7): one thread per physical page (the pool, not the maps' virtual pages).
+// vsm_invalidate (allocation 3/7): one thread per owned physical page (indirect: vsm_list sized it to the
+// owned prefix, vsmOwnedPages; free pages have no entry to invalidate and their class is implicit).
 // For the entry that owns the page:
 //   - clears last frame's DIRTY bit (only owned entries are ever DIRTY: vsm_assign sets it with a page);
 //   - invalidation: the page loses VALID when its light moved or its map became active (map flag), when
@@ -8,8 +9,8 @@
 //     always with caching off; its static twin (ML_VSM_STATIC_VALID) survives the stale bits of dynamic
 //     casters: it is lost only to the map flag, caching off, or a static caster's bits (the second
 //     region of the stale bits, from word vsm.options.w).
-// Then counts the pages of each class (vsm_alloc_common.glsl) per block of ML_VSM_BLOCK pages, for
-// vsm_alloc's prefix sum of the available-page list.
+// Then counts the pages of classes 1-8 (vsm_alloc_common.glsl) per block of ML_VSM_BLOCK pages, for
+// vsm_alloc's prefix sum of the available-page list (class 0, the free pages past the prefix, stays 0).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shadows/virtual/vsm_bindings.h"
@@ -40,7 +41,7 @@ void main() {
     if (p < vsm.sizes.z) {
         vsmInvalidatePage(p);
         uint c = vsmPageClass(p);
-        if (c < kVsmClasses) atomicAdd(sClass[c], 1u); // counts: the same whatever the order
+        if (c != 0u && c < kVsmClasses) atomicAdd(sClass[c], 1u); // counts: the same whatever the order
     }
     barrier();
     if (l < kVsmClasses) vsmClassCounts[gl_WorkGroupID.x * kVsmClasses + l] = sClass[l];

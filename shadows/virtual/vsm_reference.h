@@ -11,7 +11,8 @@
 //   vsmCasterGroupsReference  vsm_groups.comp: per ML_VSM_CULL_GROUP casters of the culling order, the
 //                         union of the drawing (and of the dynamic drawing) casters' boxes, counts, meshlets;
 //   vsmCheckInvariants    what must hold after every frame (no physical page shared, owners and
-//                         table agree, every marked page allocated or counted as a fallback).
+//                         table agree, the owned pages a prefix of the pool, every marked page
+//                         allocated or counted as a fallback).
 #pragma once
 #include "shaders/shared/gpu_types.h"
 #include "shadows/virtual/vsm_types.h"

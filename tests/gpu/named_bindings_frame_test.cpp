@@ -372,7 +372,8 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
         EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_list_comp",
                                 {{"ML_VSM_LIST_CONSTANTS", sl.constants},
                                  {"ML_VSM_LIST_COUNTERS", sl.counters},
-                                 {"ML_VSM_LIST_SORT_ARGS", pg.sortArgs}}),
+                                 {"ML_VSM_LIST_SORT_ARGS", pg.sortArgs},
+                                 {"ML_VSM_LIST_OWNERS", pg.owners}}),
                   "");
     }
 
@@ -418,7 +419,8 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
                             {{"ML_VSM_ALLOC_CONSTANTS", sl.constants},
                              {"ML_VSM_ALLOC_COUNTERS", sl.counters},
                              {"ML_VSM_ALLOC_BLOCK_COUNTS", pg.blockCounts},
-                             {"ML_VSM_ALLOC_CLASS_COUNTS", pg.classCounts}}),
+                             {"ML_VSM_ALLOC_CLASS_COUNTS", pg.classCounts},
+                             {"ML_VSM_ALLOC_SORT_ARGS", pg.sortArgs}}),
               "");
     EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_avail_comp",
                             {{"ML_VSM_AVAIL_CONSTANTS", sl.constants},
