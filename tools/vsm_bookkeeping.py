@@ -19,12 +19,13 @@ two scopes; medians, not means: on a shared machine one stalled frame of a one-w
 runs on one core, moves a mean by several times) for each, their ratio, the last frame's pages marked and
 allocated (equal in both: the allocation is the same), then the median over every round's frames.
 
-The allocation of two builds at several pool sizes (the pool-sized passes: vsm_invalidate, vsm_avail):
+The allocation of two builds at several pool sizes (the pool-walking passes: vsm_scan's invalidation, vsm_avail):
   python3 tools/vsm_bookkeeping.py --compare-pool OLD NEW [--pools 4096,16384] [--short-list 0]
       [--scene night-city] [--lights 256] [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]
 runs the demo of binary OLD and NEW alternately (the order swapped each round) at each --vsm-pool size,
 with ML_VSM_ALLOC_SHORT_LIST set to --short-list when given (0: the multi-dispatch passes, where
-vsm_invalidate and vsm_avail are dispatches of one group per 256 pool pages, timed in vsm_alloc), and
+the invalidation and vsm_avail are dispatches of one group per 256 pool pages, 256 owned pages since
+the pool walks follow the owned prefix, timed in vsm_alloc), and
 prints per pool the median over every round's frames 1.. of vsm_sort and of vsm_alloc for each binary
 (apart: the sort's scope stalls for tens of ms on a loaded machine and would hide the rest; with
 --short-list 0 vsm_alloc holds every pool-sized pass, without it a short list's whole allocation is in

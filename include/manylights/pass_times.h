@@ -14,7 +14,7 @@ enum class Pass : uint32_t {
     // (PassTimes::vsmBookkeepingMs), VsmDraw the page draws.
     VsmMark,      // pages from the depth buffer
     VsmSort,      // vsm_list, vsm_sort: the request list closed and sorted by priority rank
-    VsmAlloc,     // vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
+    VsmAlloc,     // vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
     VsmHpb,       // hierarchical page buffer
     VsmGroupCull, // vsm_groups, vsm_pairs: caster groups' bounds, the (group, dirty map) pairs kept
     VsmCull,      // vertex path: instance culling of the pairs into per-mip draw lists

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_alloc (allocation 5/7), one workgroup, over per-block counts only (list blocks and pool blocks):
+// vsm_alloc (allocation 4/6), one workgroup, over per-block counts only (list blocks and pool blocks):
 //   1. exclusive prefix sum of the request list's per-block request counts (vsm_scan) -> each block's
 //      first rank;
-//   2. exclusive prefix sum of the owned blocks' class counts (vsm_invalidate) in class-major order ->
+//   2. exclusive prefix sum of the owned blocks' class counts (vsm_scan) in class-major order ->
 //      where each block's pages of each class start in the available-page list (vsm_avail writes it):
 //      after the free pages (the pool past the owned prefix, by index: places 0 .. free - 1), cached
 //      pages whose entry is not wanted, least recently used first;

@@ -1,4 +1,4 @@
-// Shared by the allocation passes (vsm_list, vsm_sort, vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail,
+// Shared by the allocation passes (vsm_list, vsm_sort, vsm_scan, vsm_alloc, vsm_avail,
 // vsm_assign, vsm_hpb; vsm_allocate_short_list does list to assignment in one workgroup with the same
 // functions): the priority order of page-table entries, the classes of physical pages and the
 // block prefix sum. The passes walk the request list (the wanted entries, sorted by priority rank) and
@@ -100,12 +100,14 @@ uint vsmOwnedPages() {
 // vsm_avail gets 0 here: vsm_alloc sizes it once it knows whether any request must evict.
 void vsmAllocArgs(uint n, uint owned, bool skip) {
     vsmSortArgs[ML_VSM_ARGS_OWNED] = owned;
-    uint sizes[4] = uint[4](skip ? 0u : (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK,
-                            skip ? 0u : (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK, skip ? 0u : 1u, 0u);
+    uint pageGroups = (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    uint listGroups = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    // vsm_scan (owned pages, then list entries), vsm_assign (list entries), vsm_alloc, vsm_avail.
+    uint sizes[4] = uint[4](pageGroups + listGroups, listGroups, 1u, 0u);
     for (uint k = 0u; k < 4u; ++k) {
-        vsmSortArgs[ML_VSM_ARGS_INVALIDATE + 3u * k] = sizes[k];
-        vsmSortArgs[ML_VSM_ARGS_INVALIDATE + 3u * k + 1u] = 1u;
-        vsmSortArgs[ML_VSM_ARGS_INVALIDATE + 3u * k + 2u] = 1u;
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k] = skip ? 0u : sizes[k];
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k + 1u] = 1u;
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k + 2u] = 1u;
     }
 }
 #endif
@@ -136,10 +138,10 @@ uint vsmPageClass(uint p) {
 #endif
 
 #ifdef VSM_INVALIDATE
-// vsm_invalidate's step for physical page p (the includer declares vsmOwner[], vsmTable[], vsmMaps[],
-// vsmStale[], vsmCounters): for the entry that owns the page, clears last frame's DIRTY bits and takes
-// VALID away when its light moved or its map became active (map flag), when a moved caster's bounds
-// overlap it (the CPU's stale bits), or always with caching off; the static twin survives dynamic
+// vsm_scan's invalidation step for owned physical page p (the includer declares vsmOwner[], vsmTable[],
+// vsmMaps[], vsmStale[], vsmCounters): for the entry that owns the page, clears last frame's DIRTY bits
+// and takes VALID away when its light moved or its map became active (map flag), when a moved caster's
+// bounds overlap it (the CPU's stale bits), or always with caching off; the static twin survives dynamic
 // casters' stale bits (the second region, from word vsm.options.w, holds static casters').
 void vsmInvalidatePage(uint p) {
     uint entry = vsmOwner[p];
@@ -157,7 +159,8 @@ void vsmInvalidatePage(uint p) {
         atomicAdd(vsmCounters.pagesInvalidated, 1u);
         if (!whole) atomicAdd(vsmCounters.pagesInvalidatedCaster, 1u);
     }
-    if (pt != before) vsmTable[entry] = pt;
+    // Only clears bits: an atomic AND, as vsm_scan's list groups read the same words in the same dispatch.
+    if (pt != before) atomicAnd(vsmTable[entry], pt);
 }
 #endif
 

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_allocate_short_list: the whole allocation of a short request list in one workgroup, one dispatch:
 // it closes the list (vsm_list), and when it holds at most push.shortList entries (ML_VSM_ONE_GROUP_LIST
-// at most; 0: never) it invalidates the owned pages (vsm_invalidate), sorts the list in shared memory,
+// at most; 0: never) it invalidates the owned pages (vsm_scan), sorts the list in shared memory,
 // refreshes last use and ranks the requests (vsm_scan), ranks the free and evictable pages by class
 // (vsm_alloc, vsm_avail) and assigns pages (vsm_assign), with the same functions of
 // vsm_alloc_common.glsl, so the page table, owners and last use equal the multi-dispatch path's and
@@ -82,7 +82,7 @@ void main() {
     uint pageFirst = min(t * pageRun, owned), pageLast = min(pageFirst + pageRun, owned);
     uint listFirst = min(t * listRun, n), listLast = min(listFirst + listRun, n);
 
-    // 1. vsm_invalidate: per owned page, and the class counts of this thread's pages (classes 1-9).
+    // 1. vsm_scan's invalidation: per owned page, and the class counts of this thread's pages (classes 1-9).
     uint counts[kVsmClasses];
     for (uint c = 0u; c < kVsmClasses; ++c) counts[c] = 0u;
     for (uint p = pageFirst; p < pageLast; ++p) {

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_assign (allocation 7/7): per entry of the sorted request list (indirect), one block per workgroup.
+// vsm_assign (allocation 6/6): per entry of the sorted request list (indirect), one block per workgroup.
 // A request of global rank r takes the r-th available page (a free one past the owned prefix, else
 // avail[r]: vsm_alloc, vsm_avail), evicting that page's previous entry;
 // past the list it is a fallback (counted; the lookup reads a coarser page). Every marked entry with a

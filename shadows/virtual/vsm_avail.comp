@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_avail (allocation 6/7): one thread per owned physical page writes the page into the available-page
+// vsm_avail (allocation 5/6): one thread per owned physical page writes the page into the available-page
 // list at its class's place (vsm_alloc's bases, then the index order within the block: one block prefix
 // sum of the nine classes packed together). Pages wanted this frame (class 9) are not listed, nor free
 // ones: they fill the first places, page owned + r at place r (vsmAssignEntry), with no list. Only the
@@ -43,7 +43,7 @@ void main() {
     for (uint c = 0u; c < kVsmClasses; ++c)
         needed = needed || vsmClassBases[gl_WorkGroupID.x * kVsmClasses + c] < requests;
     if (!needed) return;
-    // Classes do not change between vsm_invalidate and here: owners change only in vsm_assign, and the
+    // Classes do not change between vsm_scan and here: owners change only in vsm_assign, and the
     // last-use refresh of vsm_scan touches wanted pages only (class 9 either way).
     uint cls = p < vsm.sizes.z ? vsmPageClass(p) : kVsmClasses + 1u;
     if (cls == 0u) cls = kVsmClasses + 1u; // free: a place below the prefix's free count, not listed

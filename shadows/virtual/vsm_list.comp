@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_list (allocation 1/7), one thread: closes the request list vsm_mark appended to. Entries past the
+// vsm_list (allocation 1/6), one thread: closes the request list vsm_mark appended to. Entries past the
 // list's capacity (VsmConstants.order.z) were not stored: they are counted in listOverflow (reported in
 // VsmStats::requestOverflow, never silent) and get no page this frame. Writes the indirect dispatch size
 // of the passes that walk the list (vsm_sort, vsm_scan, vsm_assign, vsm_hpb): one group per
 // ML_VSM_BLOCK entries, so their work follows the pages wanted, not the maps' virtual size; and of the
-// passes that walk the pool (vsm_invalidate; vsm_avail's is vsm_alloc's): one group per ML_VSM_BLOCK
+// passes that walk the pool (vsm_scan's first groups; vsm_avail's is vsm_alloc's): one group per ML_VSM_BLOCK
 // owned pages, so a larger pool adds none.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"

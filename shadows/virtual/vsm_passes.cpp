@@ -169,7 +169,7 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
                          {ML_BIND(ML_VSM_SORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SORT_SRC, src),
                           ML_BIND(ML_VSM_SORT_DST, dst)});
         // This pass's runs -> the next pass; after the last, the sorted list -> the allocation's scan
-        // and assignment (and its counters' reads -> vsm_invalidate's atomics: write-after-read).
+        // and assignment (and its counters' reads -> vsm_scan's atomics: write-after-read).
         nextAllocationPass(c);
     }
 }
@@ -180,25 +180,20 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
     // Every pass indirect from sortArgs (words in vsm_types.h): vsm_list or vsm_allocate_short_list sized
     // them (0 groups after a list one workgroup allocated), pool passes to the owned pages only.
     auto at = [](uint32_t word) { return VkDeviceSize(word) * 4; };
-    // The pool pass (invalidation, class counts): it needs neither the sorted list nor the sort its
-    // results, so it runs after the sort (recordSort), which keeps the sort one timed scope.
+    // Invalidation and class counts of the owned pages, and the sorted list's LRU refresh and requests: one
+    // dispatch (vsm_scan.comp's two parts are independent). The invalidation needs neither the sorted list
+    // nor the sort its results, but runs after the sort (recordSort), which keeps the sort one timed scope.
     dispatchIndirect(
-        d, c, programs_.invalidate, pg.sortArgs, at(ML_VSM_ARGS_INVALIDATE), NoPush{},
-        {ML_BIND(ML_VSM_INVALIDATE_CONSTANTS, slot.constants), ML_BIND(ML_VSM_INVALIDATE_MAPS, slot.maps),
-         ML_BIND(ML_VSM_INVALIDATE_STALE, slot.stale), ML_BIND(ML_VSM_INVALIDATE_TABLE, pg.table),
-         ML_BIND(ML_VSM_INVALIDATE_MARKS, pg.marks), ML_BIND(ML_VSM_INVALIDATE_OWNERS, pg.owners),
-         ML_BIND(ML_VSM_INVALIDATE_LAST_USED, pg.lastUsed),
-         ML_BIND(ML_VSM_INVALIDATE_CLASS_COUNTS, pg.classCounts),
-         ML_BIND(ML_VSM_INVALIDATE_COUNTERS, slot.counters)});
-    nextAllocationPass(c); // table, class counts, counters -> the list passes
-    dispatchIndirect(d, c, programs_.scan, pg.sortArgs, at(ML_VSM_ARGS_LIST), NoPush{},
-                     {ML_BIND(ML_VSM_SCAN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SCAN_RUNS, slot.runs),
-                      ML_BIND(ML_VSM_SCAN_COUNTERS, slot.counters), ML_BIND(ML_VSM_SCAN_LIST_A, pg.list[0]),
-                      ML_BIND(ML_VSM_SCAN_TABLE, pg.table), ML_BIND(ML_VSM_SCAN_MARKS, pg.marks),
-                      ML_BIND(ML_VSM_SCAN_LAST_USED, pg.lastUsed),
-                      ML_BIND(ML_VSM_SCAN_BLOCK_COUNTS, pg.blockCounts),
-                      ML_BIND(ML_VSM_SCAN_LIST_B, pg.list[1]), ML_BIND(ML_VSM_SCAN_SORT_ARGS, pg.sortArgs)});
-    nextAllocationPass(c); // block counts, last use -> alloc, avail
+        d, c, programs_.scan, pg.sortArgs, at(ML_VSM_ARGS_SCAN), NoPush{},
+        {ML_BIND(ML_VSM_SCAN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SCAN_RUNS, slot.runs),
+         ML_BIND(ML_VSM_SCAN_COUNTERS, slot.counters), ML_BIND(ML_VSM_SCAN_LIST_A, pg.list[0]),
+         ML_BIND(ML_VSM_SCAN_TABLE, pg.table), ML_BIND(ML_VSM_SCAN_MARKS, pg.marks),
+         ML_BIND(ML_VSM_SCAN_LAST_USED, pg.lastUsed), ML_BIND(ML_VSM_SCAN_BLOCK_COUNTS, pg.blockCounts),
+         ML_BIND(ML_VSM_SCAN_LIST_B, pg.list[1]), ML_BIND(ML_VSM_SCAN_SORT_ARGS, pg.sortArgs),
+         ML_BIND(ML_VSM_SCAN_MAPS, slot.maps), ML_BIND(ML_VSM_SCAN_STALE, slot.stale),
+         ML_BIND(ML_VSM_SCAN_OWNERS, pg.owners), ML_BIND(ML_VSM_SCAN_CLASS_COUNTS, pg.classCounts)});
+    // Table, class counts, block counts, last use, counters -> alloc, avail, assign.
+    nextAllocationPass(c);
     dispatchIndirect(
         d, c, programs_.alloc, pg.sortArgs, at(ML_VSM_ARGS_ALLOC), NoPush{},
         {ML_BIND(ML_VSM_ALLOC_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ALLOC_COUNTERS, slot.counters),
@@ -214,7 +209,7 @@ void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotInd
                       ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail), ML_BIND(ML_VSM_AVAIL_COUNTERS, slot.counters)});
     nextAllocationPass(c); // the available-page list -> assign
     dispatchIndirect(
-        d, c, programs_.assign, pg.sortArgs, at(ML_VSM_ARGS_LIST), NoPush{},
+        d, c, programs_.assign, pg.sortArgs, at(ML_VSM_ARGS_ASSIGN), NoPush{},
         {ML_BIND(ML_VSM_ASSIGN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ASSIGN_RUNS, slot.runs),
          ML_BIND(ML_VSM_ASSIGN_COUNTERS, slot.counters), ML_BIND(ML_VSM_ASSIGN_LIST_A, pg.list[0]),
          ML_BIND(ML_VSM_ASSIGN_TABLE, pg.table), ML_BIND(ML_VSM_ASSIGN_MARKS, pg.marks),

@@ -314,11 +314,11 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         for (uint32_t p = 0; p < run.w; ++p)
             order.push_back({run.y * k.sizes.x + vsmMipOffset(s0, run.z) + p, run.y, run.z});
     (void)mips;
-    // vsm_invalidate: per physical page, its owner entry loses last frame's DIRTY bit, and VALID when
-    // stale (every owned page, whether or not its map is active: inactive maps are invalidated whole when
-    // they become active again anyway).
-    // The static twin (ML_VSM_STATIC_VALID) is lost only to the map flag, caching off, or the stale bits'
-    // second region (static casters, from word k.options.w).
+    // vsm_scan's invalidation: per physical page (the GPU walks the owned prefix: the rest have no owner),
+    // its owner entry loses last frame's DIRTY bit, and VALID when stale (every owned page, whether or not
+    // its map is active: inactive maps are invalidated whole when they become active again anyway). The
+    // static twin (ML_VSM_STATIC_VALID) is lost only to the map flag, caching off, or the stale bits' second
+    // region (static casters, from word k.options.w).
     for (uint32_t p = 0; p < pool; ++p) {
         const uint32_t e = st.owners[p];
         if (e == ML_VSM_NO_OWNER) continue;

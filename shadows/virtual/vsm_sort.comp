@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_sort (allocation 2/7): sorts the request list by priority rank, so that the allocation is the same
+// vsm_sort (allocation 2/6): sorts the request list by priority rank, so that the allocation is the same
 // whatever order the atomics of vsm_mark appended in (and a CPU reference reproduces it bit for bit).
 // Ranks are unique (one per wanted entry). Indirect over the list (vsm_list), ping-ponging two buffers:
 //   width 0: each block of ML_VSM_BLOCK entries is sorted in shared memory (rank by counting);

@@ -179,13 +179,13 @@ ML_STRUCT(GpuVsmProbe) {
 // The words of VsmPages::sortArgs (written by vsm_list or vsm_allocate_short_list each frame): 0 which
 // list buffer ends sorted, 1 one when one workgroup allocated, 2 the closed list's length, 3 the pages
 // owned at the allocation's start (a prefix of the pool: vsmOwnedPages); then indirect dispatches (x, y,
-// z) of vsm_invalidate (one group per ML_VSM_BLOCK owned pages), vsm_scan and vsm_assign (per
-// ML_VSM_BLOCK list entries), vsm_alloc (one group), vsm_avail (written by vsm_alloc: the owned pages'
-// groups when requests exceed the free pages, else none), then one per vsm_sort pass. All 0 groups
-// after a list one workgroup allocated.
+// z) of vsm_scan (one group per ML_VSM_BLOCK owned pages, then per ML_VSM_BLOCK list entries),
+// vsm_assign (per ML_VSM_BLOCK list entries), vsm_alloc (one group), vsm_avail (written by vsm_alloc:
+// the owned pages' groups when requests exceed the free pages, else none), then one per vsm_sort pass.
+// All 0 groups after a list one workgroup allocated.
 #define ML_VSM_ARGS_OWNED 3u
-#define ML_VSM_ARGS_INVALIDATE 4u
-#define ML_VSM_ARGS_LIST 7u
+#define ML_VSM_ARGS_SCAN 4u
+#define ML_VSM_ARGS_ASSIGN 7u
 #define ML_VSM_ARGS_ALLOC 10u
 #define ML_VSM_ARGS_AVAIL 13u
 #define ML_VSM_ARGS_SORT 16u
