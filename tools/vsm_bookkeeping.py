@@ -19,16 +19,16 @@ two scopes; medians, not means: on a shared machine one stalled frame of a one-w
 runs on one core, moves a mean by several times) for each, their ratio, the last frame's pages marked and
 allocated (equal in both: the allocation is the same), then the median over every round's frames.
 
-The allocation of two builds at several pool sizes (the pool-sized passes: vsm_invalidate, vsm_avail):
+The allocation of two builds at several pool sizes (the pool walks: the invalidation, vsm_avail):
   python3 tools/vsm_bookkeeping.py --compare-pool OLD NEW [--pools 4096,16384] [--short-list 0]
       [--scene night-city] [--lights 256] [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]
 runs the demo of binary OLD and NEW alternately (the order swapped each round) at each --vsm-pool size,
-with ML_VSM_ALLOC_SHORT_LIST set to --short-list when given (0: the multi-dispatch passes, where
-vsm_invalidate and vsm_avail are dispatches of one group per 256 pool pages, timed in vsm_alloc), and
-prints per pool the median over every round's frames 1.. of vsm_sort and of vsm_alloc for each binary
-(apart: the sort's scope stalls for tens of ms on a loaded machine and would hide the rest; with
---short-list 0 vsm_alloc holds every pool-sized pass, without it a short list's whole allocation is in
-vsm_sort) and the last frame's pages allocated (equal in both, or it stops)."""
+with ML_VSM_ALLOC_SHORT_LIST set to --short-list when given (0: the multi-dispatch passes, timed in
+vsm_alloc), and prints per pool the median over every round's frames 1.. of vsm_sort and of vsm_alloc
+for each binary (apart: the sort's scope stalls for tens of ms on a loaded machine and would hide the
+rest; with --short-list 0 vsm_alloc holds every pool-walking pass, without it a short list's whole
+allocation is in vsm_sort), the ratio of the medians of their per-frame sum, and the last frame's
+pages allocated (equal in both, or it stops)."""
 import collections
 import csv
 import json
@@ -153,10 +153,11 @@ def compare_pool(argv):
           f"fenced; outputs in {out}")
     print()
     print("| pool pages | old sort ms | new sort ms | old alloc ms | new alloc ms | alloc new / old | "
-          "pages allocated |")
-    print("|---:|---:|---:|---:|---:|---:|---:|")
+          "sort + alloc new / old | pages allocated |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
     for pool in a.pools.split(","):
-        sums, pages = {(b, s): [] for b in ("old", "new") for s in ("vsm_sort", "vsm_alloc")}, {}
+        scopes = ("vsm_sort", "vsm_alloc", "both")
+        sums, pages = {(b, s): [] for b in ("old", "new") for s in scopes}, {}
         for r in range(a.rounds):
             order = (("old", a.old), ("new", a.new))
             for name, binary in (order if r % 2 == 0 else order[::-1]):
@@ -168,6 +169,7 @@ def compare_pool(argv):
                     sys.exit(f"vsm_bookkeeping: {' '.join(cmd)} failed:\n{run.stderr[-2000:]}")
                 for scope in ("vsm_sort", "vsm_alloc"):
                     sums[(name, scope)] += frame_sums(folder, (scope,))
+                sums[(name, "both")] += frame_sums(folder, ("vsm_sort", "vsm_alloc"))
                 with open(os.path.join(folder, "stats.json")) as f:
                     vsm = json.load(f).get("vsm", {})
                 pages.setdefault(name, (vsm.get("pages_marked"), vsm.get("pages_allocated")))
@@ -176,7 +178,8 @@ def compare_pool(argv):
         m = {k: median(v) for k, v in sums.items()}
         print(f"| {pool} | {m[('old', 'vsm_sort')]:.3f} | {m[('new', 'vsm_sort')]:.3f} | "
               f"{m[('old', 'vsm_alloc')]:.3f} | {m[('new', 'vsm_alloc')]:.3f} | "
-              f"{m[('new', 'vsm_alloc')] / m[('old', 'vsm_alloc')]:.2f} | {pages['new'][1]} |")
+              f"{m[('new', 'vsm_alloc')] / m[('old', 'vsm_alloc')]:.2f} | "
+              f"{m[('new', 'both')] / m[('old', 'both')]:.2f} | {pages['new'][1]} |")
     return 0
 
 

@@ -132,6 +132,10 @@
 #define ML_VSM_BLOCK 256
 // One workgroup allocates request lists up to this long: 16 KiB of shared keys, 16 per thread, one core.
 #define ML_VSM_ONE_GROUP_LIST 4096
+// vsm_sort merges 2^ML_VSM_MERGE_WAYS_LOG2 = 8 sorted runs per pass (an entry's place: its index in its
+// run plus the keys below it in the 7 sibling runs): 4 merge passes from 256-entry blocks to the default
+// 2^18-entry capacity, where pairwise merges take 10, each a dispatch behind a barrier.
+#define ML_VSM_MERGE_WAYS_LOG2 3u
 // Marking and lookup: 8x8 pixels per workgroup, as the evaluation pass (neighbours share clusters).
 #define ML_VSM_MARK_GROUP 8
 // Shadow-page clear: one workgroup per rendered page, each thread clears pageSize^2 / 256 texels.

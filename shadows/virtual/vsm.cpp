@@ -108,10 +108,12 @@ Result<void> VirtualShadowMaps::create(const Device& d, const VsmSettings& s, ui
     // The request list: a power of two, so vsm_sort's merge passes end on one sorted run.
     const uint32_t capacity = std::bit_ceil(std::clamp(s.requestCapacity, uint32_t(ML_VSM_BLOCK), 1u << 26));
     settings_.requestCapacity = capacity;
-    pages_.mergePasses = uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK));
-    // Words 0-3, each sort pass's dispatch, then three more (vsm_allocate_short_list.comp).
-    ML_TRY(createDeviceBuffer(d, pages_.sortArgs, (4 + 3 * (pages_.mergePasses + 1) + 9) * 4, kIndirectUsage,
-                              "vsm_sort_args"));
+    // ML_VSM_MERGE_WAYS_LOG2 doublings of the run width per merge pass.
+    pages_.mergePasses = (uint32_t(std::countr_zero(capacity / ML_VSM_BLOCK)) + ML_VSM_MERGE_WAYS_LOG2 - 1) /
+                         ML_VSM_MERGE_WAYS_LOG2;
+    // Words 0-3, the allocation passes' four dispatches, then each sort pass's (vsm_types.h).
+    ML_TRY(createDeviceBuffer(d, pages_.sortArgs, (ML_VSM_ARGS_SORT + 3 * (pages_.mergePasses + 1)) * 4,
+                              kIndirectUsage, "vsm_sort_args"));
     for (uint32_t i = 0; i < 2; ++i)
         ML_TRY(createDeviceBuffer(d, pages_.list[i], size_t(capacity) * 4, kStorageBufferUsage,
                                   "vsm_request_list"));

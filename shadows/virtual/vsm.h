@@ -16,15 +16,18 @@
 //                 same functions: the same pages), and the passes below get 0 groups; a longer one goes
 //                 to them (VsmPasses::shortListLimit; where the device lacks the shared memory, vsm_list
 //                 alone closes the list);
-//     vsm_list    closes the list (capacity, overflow counted) and sizes the indirect dispatches below;
-//     vsm_sort    sorts the list by rank (block sort, then merges): the allocation is deterministic;
-//     vsm_invalidate  per physical page: clears last frame's DIRTY, invalidation of the owner entry (light
-//                 moved, moved casters' old and new projected bounds: "stale" bits prepared by the CPU,
-//                 a static caster's also invalidating the page's static twin),
-//                 page classes per block (free, then unwanted least recently used);
-//     vsm_scan    per listed entry: LRU refresh, requests;
+//     vsm_list    closes the list (capacity, overflow counted), finds the owned pages (a prefix of the
+//                 pool: pages are taken in index order and never freed) and sizes the indirect
+//                 dispatches below;
+//     vsm_sort    sorts the list by rank (block sort, then merges of 8 runs): the allocation is
+//                 deterministic;
+//     vsm_scan    per owned physical page: clears last frame's DIRTY, invalidation of the owner entry
+//                 (light moved, moved casters' old and new projected bounds: "stale" bits prepared by
+//                 the CPU, a static caster's also invalidating the page's static twin), page classes per
+//                 block (unwanted least recently used; free pages, past the prefix, come first); and in
+//                 the same dispatch, per listed entry: LRU refresh, requests;
 //     vsm_alloc   one workgroup over block counts: request ranks, available-page list bases;
-//     vsm_avail   per physical page: the available-page list;
+//     vsm_avail   per owned physical page, only when some request must evict: the available-page list;
 //     vsm_assign  per listed entry: pages for the requests in priority order (each light's coarsest level
 //                 first) from that list; marked pages that are not valid are rendered (DIRTY);
 //     vsm_hpb     per listed entry: a DIRTY page sets its hierarchical page buffer cells (bits in a
@@ -177,11 +180,11 @@ struct VsmPages {
         drawCounts, meshletList, meshTasks;
     Buffer hpb;               // hierarchical page buffer bits, layout().hpbWords per map slot (vsm_math.h)
     Buffer list[2];           // the request list and its sort's ping-pong twin (VsmSettings::requestCapacity)
-    Buffer classCounts;       // per pool block and page class: counts, then bases (vsm_invalidate, vsm_alloc)
+    Buffer classCounts;       // per owned-page block and page class: counts, then bases (vsm_scan, vsm_alloc)
     Buffer dirtyMaps;         // maps with a page rendered this frame (vsm_assign): the culling's y
     Buffer sortArgs;          // vsm_list: which of list[] ends sorted, and each vsm_sort pass's dispatch
                               // (then the multi-dispatch passes': vsm_allocate_short_list.comp)
-    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log2(capacity / ML_VSM_BLOCK)
+    uint32_t mergePasses = 0; // vsm_sort's merge passes at most: log8(capacity / ML_VSM_BLOCK), rounded up
 };
 // Per frame in flight: what prepare() computes and uploads for the passes.
 struct VsmSlot {

@@ -1,12 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_alloc (allocation 5/7), one workgroup, over per-block counts only (list blocks and pool blocks):
+// vsm_alloc (allocation 4/6), one workgroup, over per-block counts only (list blocks and pool blocks):
 //   1. exclusive prefix sum of the request list's per-block request counts (vsm_scan) -> each block's
 //      first rank;
-//   2. exclusive prefix sum of the pool's per-block class counts (vsm_invalidate) in class-major order ->
+//   2. exclusive prefix sum of the owned blocks' class counts (vsm_scan) in class-major order ->
 //      where each block's pages of each class start in the available-page list (vsm_avail writes it):
-//      free pages by index, then cached pages whose entry is not wanted, least recently used first.
-// Rank r of vsm_assign takes avail[r]; ranks past the list are fallbacks (counted).
+//      after the free pages (the pool past the owned prefix, by index: places 0 .. free - 1), cached
+//      pages whose entry is not wanted, least recently used first;
+//   3. vsm_avail's dispatch size: the owned blocks when the requests exceed the free pages, else none.
+// Rank r of vsm_assign takes the r-th available page; ranks past them are fallbacks (counted).
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shadows/virtual/vsm_bindings.h"
@@ -17,6 +19,7 @@ layout(binding = ML_VSM_ALLOC_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
 layout(binding = ML_VSM_ALLOC_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 layout(binding = ML_VSM_ALLOC_BLOCK_COUNTS, std430) buffer BlockCounts { uint vsmBlockCounts[]; }; // in: counts, out: first ranks
 layout(binding = ML_VSM_ALLOC_CLASS_COUNTS, std430) buffer ClassCounts { uint vsmClassCounts[]; }; // in: counts, out: first slots
+layout(binding = ML_VSM_ALLOC_SORT_ARGS, std430) buffer SortArgs { uint vsmSortArgs[]; }; // vsm_types.h
 
 #define VSM_NO_RUNS
 #define VSM_NO_MARKS
@@ -39,8 +42,10 @@ void main() {
         vsmBlockCounts[b] = base;
         base += c;
     }
-    // 2. Class bases: item k = class * poolBlocks + block, stored at block * kClasses + class.
-    uint poolBlocks = (vsm.sizes.z + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    // 2. Class bases over the owned blocks (class 0 counts 0 there; the free pages come first): item
+    // k = class * poolBlocks + block, stored at block * kClasses + class.
+    uint owned = vsmSortArgs[ML_VSM_ARGS_OWNED], freePages = vsm.sizes.z - owned;
+    uint poolBlocks = (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     uint items = kClasses * poolBlocks;
     run = (items + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     first = min(i * run, items);
@@ -48,22 +53,21 @@ void main() {
     local = 0u;
     for (uint k = first; k < last; ++k) local += vsmClassCounts[(k % poolBlocks) * kClasses + k / poolBlocks];
     uint count;
-    base = vsmBlockScan(local, count);
+    base = freePages + vsmBlockScan(local, count);
     for (uint k = first; k < last; ++k) {
         uint at = (k % poolBlocks) * kClasses + k / poolBlocks;
         uint c = vsmClassCounts[at];
         vsmClassCounts[at] = base;
         base += c;
     }
-    memoryBarrierBuffer(); // the bases other threads wrote -> thread 0
-    barrier();
     if (i == 0u) {
-        // Free pages: the whole of class 0, i.e. where class 1 starts.
-        uint freePages = poolBlocks > 0u ? vsmClassCounts[1u] : 0u;
+        uint available = freePages + count;
         vsmCounters.requests = requests;
-        vsmCounters.available = count;
-        vsmCounters.pressure = requests > count ? 1u : 0u;
-        // Owned before assignment (pool minus free), plus the free pages that requests take.
-        vsmCounters.pagesAllocated = (vsm.sizes.z - freePages) + min(requests, freePages);
+        vsmCounters.available = available;
+        vsmCounters.pressure = requests > available ? 1u : 0u;
+        // Owned before assignment, plus the free pages that requests take.
+        vsmCounters.pagesAllocated = owned + min(requests, freePages);
+        // 3. Only requests past the free pages read the list vsm_avail writes.
+        vsmSortArgs[ML_VSM_ARGS_AVAIL] = requests > freePages ? poolBlocks : 0u;
     }
 }

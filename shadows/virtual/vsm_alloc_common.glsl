@@ -1,4 +1,4 @@
-// Shared by the allocation passes (vsm_list, vsm_sort, vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail,
+// Shared by the allocation passes (vsm_list, vsm_sort, vsm_scan, vsm_alloc, vsm_avail,
 // vsm_assign, vsm_hpb; vsm_allocate_short_list does list to assignment in one workgroup with the same
 // functions): the priority order of page-table entries, the classes of physical pages and the
 // block prefix sum. The passes walk the request list (the wanted entries, sorted by priority rank) and
@@ -48,12 +48,12 @@ uint vsmListRank(uint i) { return vsmSorted == 0u ? vsmListA[i] : vsmListB[i]; }
 #endif
 
 #ifdef VSM_CLOSE_LIST
-// vsm_list's step: clamps the list to its capacity (VsmConstants.order.z; the rest counted in
-// listOverflow), writes the list passes' dispatch (ML_VSM_BLOCK entries per group) and each vsm_sort
-// pass's dispatch from word 4 of vsmSortArgs: the block sort, then a merge of runs of width w only while
-// w < n, so the passes run follow the list's length. `passes` is the merge passes at most; with `skip`
-// every sort pass gets 0 groups (the one-workgroup allocation sorted the list). Returns the closed
-// length; word 0 (which buffer ends sorted) is the caller's.
+// vsm_list's step: clamps the list to its capacity (VsmConstants.order.z; the rest counted in listOverflow),
+// writes the list passes' dispatch (ML_VSM_BLOCK entries per group) and each vsm_sort pass's dispatch from
+// word ML_VSM_ARGS_SORT of vsmSortArgs (vsm_types.h has the words): the block sort, then merge pass p of runs
+// of width w = ML_VSM_BLOCK x 8^(p - 1) only while w < n, so the passes run follow the list's length.
+// `passes` is the merge passes at most; with `skip` every sort pass gets 0 groups (the one-workgroup
+// allocation sorted the list). Returns the closed length; word 0 (which buffer ends sorted) is the caller's.
 uint vsmCloseList(uint passes, bool skip, out uint lastWritten) {
     uint n = vsmCounters.listCount;
     uint capacity = vsm.order.z;
@@ -68,14 +68,47 @@ uint vsmCloseList(uint passes, bool skip, out uint lastWritten) {
     vsmCounters.listGroupsZ = 1u;
     uint run = 1u;
     for (uint pass = 0u; pass <= passes; ++pass) {
-        bool needed = pass == 0u || (uint(ML_VSM_BLOCK) << (pass - 1u)) < n;
-        vsmSortArgs[4u + 3u * pass] = needed && !skip ? groups : 0u;
-        vsmSortArgs[4u + 3u * pass + 1u] = 1u;
-        vsmSortArgs[4u + 3u * pass + 2u] = 1u;
+        bool needed = pass == 0u || (uint(ML_VSM_BLOCK) << (ML_VSM_MERGE_WAYS_LOG2 * (pass - 1u))) < n;
+        uint at = ML_VSM_ARGS_SORT + 3u * pass;
+        vsmSortArgs[at] = needed && !skip ? groups : 0u;
+        vsmSortArgs[at + 1u] = 1u;
+        vsmSortArgs[at + 2u] = 1u;
         if (needed && pass > 0u) ++run;
     }
     lastWritten = run % 2u; // pass p writes list[(p + 1) % 2]
     return n;
+}
+
+// Physical pages are taken free ones first, in index order (vsmPageClass: class 0 by index), and never
+// given back (eviction hands an owned page to another entry), so the owned pages are a prefix of the
+// pool and the free ones its rest: the allocation walks the prefix only, and the free pages' places in
+// the available-page list are their indices minus the prefix's length (vsmAssignEntry). A binary search
+// over the owners finds the length (log2 of the pool's pages: 12 reads at 4,096). vsmCheckInvariants
+// checks the prefix every frame of the GPU tests. The includer declares vsmOwner[] and `vsm`.
+uint vsmOwnedPages() {
+    uint lo = 0u, hi = vsm.sizes.z;
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        if (vsmOwner[mid] != ML_VSM_NO_OWNER) lo = mid + 1u;
+        else hi = mid;
+    }
+    return lo;
+}
+
+// Word ML_VSM_ARGS_OWNED and the multi-dispatch allocation passes' dispatch sizes (vsm_types.h), for n
+// list entries and `owned` pages; with `skip` (one workgroup allocated) every pass gets 0 groups.
+// vsm_avail gets 0 here: vsm_alloc sizes it once it knows whether any request must evict.
+void vsmAllocArgs(uint n, uint owned, bool skip) {
+    vsmSortArgs[ML_VSM_ARGS_OWNED] = owned;
+    uint pageGroups = (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    uint listGroups = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    // vsm_scan (owned pages, then list entries), vsm_assign (list entries), vsm_alloc, vsm_avail.
+    uint sizes[4] = uint[4](pageGroups + listGroups, listGroups, 1u, 0u);
+    for (uint k = 0u; k < 4u; ++k) {
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k] = skip ? 0u : sizes[k];
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k + 1u] = 1u;
+        vsmSortArgs[ML_VSM_ARGS_SCAN + 3u * k + 2u] = 1u;
+    }
 }
 #endif
 
@@ -91,6 +124,8 @@ bool vsmWanted(uint entry) { // the third mark region: lookup or fallback mark (
 // The order in which requests take physical pages: class 0 free (no owner), then cached pages whose entry
 // is not wanted this frame, least recently used first (age buckets of powers of two: >= 128 frames is
 // class 1, ..., 1 frame class 8), by index within a class; class 9 (wanted this frame) is never taken.
+// The free pages are the pool past the owned prefix (vsmOwnedPages), so the passes count and list
+// classes 1-8 over the prefix only; rank r below the free pages takes page owned + r (vsmAssignEntry).
 // The includer declares vsmOwner[] and vsmLastUsed[].
 const uint kVsmClasses = 9u;
 uint vsmPageClass(uint p) {
@@ -103,10 +138,10 @@ uint vsmPageClass(uint p) {
 #endif
 
 #ifdef VSM_INVALIDATE
-// vsm_invalidate's step for physical page p (the includer declares vsmOwner[], vsmTable[], vsmMaps[],
-// vsmStale[], vsmCounters): for the entry that owns the page, clears last frame's DIRTY bits and takes
-// VALID away when its light moved or its map became active (map flag), when a moved caster's bounds
-// overlap it (the CPU's stale bits), or always with caching off; the static twin survives dynamic
+// vsm_scan's invalidation step for owned physical page p (the includer declares vsmOwner[], vsmTable[],
+// vsmMaps[], vsmStale[], vsmCounters): for the entry that owns the page, clears last frame's DIRTY bits
+// and takes VALID away when its light moved or its map became active (map flag), when a moved caster's
+// bounds overlap it (the CPU's stale bits), or always with caching off; the static twin survives dynamic
 // casters' stale bits (the second region, from word vsm.options.w, holds static casters').
 void vsmInvalidatePage(uint p) {
     uint entry = vsmOwner[p];
@@ -124,26 +159,29 @@ void vsmInvalidatePage(uint p) {
         atomicAdd(vsmCounters.pagesInvalidated, 1u);
         if (!whole) atomicAdd(vsmCounters.pagesInvalidatedCaster, 1u);
     }
-    if (pt != before) vsmTable[entry] = pt;
+    // Only clears bits: an atomic AND, as vsm_scan's list groups read the same words in the same dispatch.
+    if (pt != before) atomicAnd(vsmTable[entry], pt);
 }
 #endif
 
 #ifdef VSM_ASSIGN
-// vsm_assign's step for one wanted entry of the sorted list (pt: its table word after invalidation;
-// request: it had no page; rank: its place among the requests; available, pressure: vsm_alloc's). A
-// request of rank r takes vsmAvail[r], evicting that page's previous entry; past `available` it is a
-// fallback (counted). Then every marked entry with a page that is not valid is rendered this frame (under
-// pressure every reserved fallback page too). Only wanted entries are written and no wanted entry is
-// ever evicted, so the writes of different entries do not race. The includer declares the buffers.
+// vsm_assign's step for one wanted entry of the sorted list (pt: its table word after invalidation; request:
+// it had no page; rank: its place among the requests; available, pressure: vsm_alloc's; owned: the owned
+// prefix's length). A request of rank r takes the r-th available page: free page owned + r while r is below
+// the free pages (pool - owned), else vsmAvail[r] (an evictable page), evicting that page's previous entry;
+// past `available` it is a fallback (counted). Then every marked entry with a page that is not valid is
+// rendered this frame (under pressure every reserved fallback page too). Only wanted entries are written and
+// no wanted entry is ever evicted, so the writes of different entries do not race. The includer declares the
+// buffers.
 void vsmAssignEntry(uint entry, uint map, uint mip, uint pt, bool request, uint rank, uint available,
-                    bool pressure) {
+                    bool pressure, uint owned) {
     bool marked = vsmMarked(entry);
     if (request) {
         if (rank >= available) {
             atomicAdd(vsmCounters.fallbacks, 1u);
             return;
         }
-        uint p = vsmAvail[rank];
+        uint p = rank < vsm.sizes.z - owned ? owned + rank : vsmAvail[rank];
         uint old = vsmOwner[p];
         if (old != ML_VSM_NO_OWNER) {
             vsmTable[old] = 0u;

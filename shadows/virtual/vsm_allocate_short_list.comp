@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // vsm_allocate_short_list: the whole allocation of a short request list in one workgroup, one dispatch:
 // it closes the list (vsm_list), and when it holds at most push.shortList entries (ML_VSM_ONE_GROUP_LIST
-// at most; 0: never) it invalidates the pool's pages (vsm_invalidate), sorts the list in shared memory,
+// at most; 0: never) it invalidates the owned pages (vsm_scan), sorts the list in shared memory,
 // refreshes last use and ranks the requests (vsm_scan), ranks the free and evictable pages by class
 // (vsm_alloc, vsm_avail) and assigns pages (vsm_assign), with the same functions of
 // vsm_alloc_common.glsl, so the page table, owners and last use equal the multi-dispatch path's and
@@ -10,10 +10,11 @@
 // their dispatch sizes, which are 0 groups after a short list (vsm_passes.cpp records both; the GPU
 // picks, since only it knows the list's length).
 //
-// Threads own contiguous chunks (list entries and pool pages in index order), so a chunk's prefix over
-// the threads before it keeps the multi-dispatch path's order: the ranks of requests by list position,
-// and the available-page list by class, then page index. Barriers: lavapipe runs each as a pass over the
-// group's invocations; the sort takes at most 9 of them, the rest about 15.
+// Threads own contiguous chunks (list entries and pool pages in index order), so a chunk's prefix over the
+// threads before it keeps the multi-dispatch path's order: the ranks of requests by list position, and the
+// available-page list by class, then page index. The pool walks cover the owned prefix only (vsmOwnedPages):
+// free pages need no invalidation and take the first places by index without a list. Barriers: lavapipe runs
+// each as a pass over the group's invocations; the sort takes at most 9 of them, the rest about 15.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_alloc_bindings.h"
 #include "shadows/virtual/vsm_types.h"
@@ -47,7 +48,7 @@ layout(push_constant) uniform Push { VsmSortPush push; };
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 shared uint sKeys[ML_VSM_ONE_GROUP_LIST]; // the list (16 KiB at 4,096)
-shared uint sCount, sShort, sRequests, sAvailable;
+shared uint sCount, sShort, sOwned;
 
 // Both barriers: global writes of this workgroup (table, owners, last use, avail) -> its next reads.
 void allBarrier() {
@@ -66,29 +67,22 @@ void main() {
         vsmSortArgs[0] = isShort ? 1u : sorted; // here: list B
         vsmSortArgs[1] = isShort ? 1u : 0u;
         vsmSortArgs[2] = n;
-        // The multi-dispatch passes vsm_passes.cpp records after the sort: vsm_invalidate and vsm_avail
-        // (one group per ML_VSM_BLOCK pool pages), vsm_scan and vsm_assign (per ML_VSM_BLOCK list
-        // entries), vsm_alloc (one group).
-        uint at = 4u + 3u * (push.width + 1u);
-        vsmSortArgs[at] = isShort ? 0u : (vsm.sizes.z + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
-        vsmSortArgs[at + 3u] = isShort ? 0u : (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
-        vsmSortArgs[at + 6u] = isShort ? 0u : 1u;
-        for (uint k = 0u; k < 3u; ++k) {
-            vsmSortArgs[at + 3u * k + 1u] = 1u;
-            vsmSortArgs[at + 3u * k + 2u] = 1u;
-        }
+        // The multi-dispatch passes vsm_passes.cpp records after the sort (0 groups after a short list).
+        uint owned = vsmOwnedPages();
+        vsmAllocArgs(n, owned, isShort);
         sCount = n;
         sShort = isShort ? 1u : 0u;
+        sOwned = owned;
     }
     allBarrier();
     if (sShort == 0u) return; // uniform: the multi-dispatch passes allocate
-    uint n = sCount, pool = vsm.sizes.z;
-    uint pageRun = (pool + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
+    uint n = sCount, pool = vsm.sizes.z, owned = sOwned, freePages = pool - owned;
+    uint pageRun = (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     uint listRun = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
-    uint pageFirst = min(t * pageRun, pool), pageLast = min(pageFirst + pageRun, pool);
+    uint pageFirst = min(t * pageRun, owned), pageLast = min(pageFirst + pageRun, owned);
     uint listFirst = min(t * listRun, n), listLast = min(listFirst + listRun, n);
 
-    // 1. vsm_invalidate: per physical page, and the class counts of this thread's pages.
+    // 1. vsm_scan's invalidation: per owned page, and the class counts of this thread's pages (classes 1-9).
     uint counts[kVsmClasses];
     for (uint c = 0u; c < kVsmClasses; ++c) counts[c] = 0u;
     for (uint p = pageFirst; p < pageLast; ++p) {
@@ -149,32 +143,32 @@ void main() {
     uint requestTotal;
     uint requestBase = vsmBlockScan(requests, requestTotal);
 
-    // 4. vsm_alloc: where each class's pages of this thread start in the available-page list (class
-    // major, then page index).
+    // 4. vsm_alloc: where each class's pages of this thread start in the available-page list (after the
+    // free pages, class major, then page index).
     uvec3 total[3];
     uvec3 before[3];
     for (uint w = 0u; w < 3u; ++w)
         before[w] = vsmBlockScan3(uvec3(counts[3u * w], counts[3u * w + 1u], counts[3u * w + 2u]), total[w]);
     uint bases[kVsmClasses];
-    uint available = 0u;
+    uint available = freePages; // class 0's count over the owned pages is 0
     for (uint c = 0u; c < kVsmClasses; ++c) {
         bases[c] = available + before[c / 3u][c % 3u];
         available += total[c / 3u][c % 3u];
     }
     if (t == 0u) {
-        uint freePages = total[0].x;
         vsmCounters.requests = requestTotal;
         vsmCounters.available = available;
         vsmCounters.pressure = requestTotal > available ? 1u : 0u;
-        vsmCounters.pagesAllocated = (pool - freePages) + min(requestTotal, freePages);
+        vsmCounters.pagesAllocated = owned + min(requestTotal, freePages);
     }
 
     // 5. vsm_avail: only the first `requests` places are read, so a thread whose nine first places all
-    // lie at or past them skips its pages (with enough free pages, every thread past the R-th free page).
+    // lie at or past them skips its pages (with enough free pages, every thread: the free pages' places
+    // need no list).
     // Classes are those of step 1: owners change only in step 6, and step 3 refreshed wanted pages only
     // (class 9 either way).
     bool needed = false;
-    for (uint c = 0u; c < kVsmClasses; ++c) needed = needed || bases[c] < requestTotal;
+    for (uint c = 1u; c < kVsmClasses; ++c) needed = needed || bases[c] < requestTotal; // (no class 0)
     if (needed) {
         for (uint p = pageFirst; p < pageLast; ++p) {
             uint c = vsmPageClass(p);
@@ -192,7 +186,7 @@ void main() {
         if (!vsmEntryOfOrder(sKeys[i], vsm, entry, map, mip)) continue;
         uint pt = vsmTable[entry];
         bool request = (pt & ML_VSM_ALLOCATED) == 0u;
-        vsmAssignEntry(entry, map, mip, pt, request, rank, available, requestTotal > available);
+        vsmAssignEntry(entry, map, mip, pt, request, rank, available, requestTotal > available, owned);
         if (request) ++rank;
     }
 }

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_assign (allocation 7/7): per entry of the sorted request list (indirect), one block per workgroup.
-// A request of global rank r takes avail[r] (vsm_alloc, vsm_avail), evicting that page's previous entry;
+// vsm_assign (allocation 6/6): per entry of the sorted request list (indirect), one block per workgroup.
+// A request of global rank r takes the r-th available page (a free one past the owned prefix, else
+// avail[r]: vsm_alloc, vsm_avail), evicting that page's previous entry;
 // past the list it is a fallback (counted; the lookup reads a coarser page). Every marked entry with a
 // page that is not valid is then rendered this frame (and, under pressure, every reserved fallback page
 // too): DIRTY | VALID, its physical page appended to the clear list (the clear pass's indirect dispatch
@@ -45,5 +46,6 @@ void main() {
     uint sum;
     uint rank = vsmBlockRanks[gl_WorkGroupID.x] + vsmBlockScan(request ? 1u : 0u, sum);
     if (wanted)
-        vsmAssignEntry(entry, map, mip, pt, request, rank, vsmCounters.available, vsmCounters.pressure != 0u);
+        vsmAssignEntry(entry, map, mip, pt, request, rank, vsmCounters.available, vsmCounters.pressure != 0u,
+                       vsmSortArgs[ML_VSM_ARGS_OWNED]);
 }

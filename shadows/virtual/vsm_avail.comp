@@ -1,12 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_avail (allocation 6/7): one thread per physical page writes the page into the available-page list
-// at its class's place (vsm_alloc's bases, then the index order within the block: one block prefix sum
-// of the nine classes packed together). Pages wanted this frame (class 9) are not listed. Only the first
-// `requests` places are ever read (vsm_assign's rank r < requests takes place r), so only those are
-// written, and a block whose nine first places all lie at or past `requests` returns before its scan:
-// free pages come first, so with R requests and at least R free pages only the blocks up to the one
-// holding the R-th free page scan, not the whole pool (a 4x larger pool adds free blocks, skipped).
+// vsm_avail (allocation 5/6): one thread per owned physical page writes the page into the available-page
+// list at its class's place (vsm_alloc's bases, then the index order within the block: one block prefix
+// sum of the nine classes packed together). Pages wanted this frame (class 9) are not listed, nor free
+// ones: they fill the first places, page owned + r at place r (vsmAssignEntry), with no list. Only the
+// first `requests` places are ever read (vsm_assign's rank r < requests takes place r), so only those
+// are written: vsm_alloc gives this pass no groups unless some request must evict (requests past the
+// free pages), and a block whose nine first places all lie at or past `requests` returns before its scan.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shadows/virtual/vsm_bindings.h"
@@ -43,9 +43,10 @@ void main() {
     for (uint c = 0u; c < kVsmClasses; ++c)
         needed = needed || vsmClassBases[gl_WorkGroupID.x * kVsmClasses + c] < requests;
     if (!needed) return;
-    // Classes do not change between vsm_invalidate and here: owners change only in vsm_assign, and the
+    // Classes do not change between vsm_scan and here: owners change only in vsm_assign, and the
     // last-use refresh of vsm_scan touches wanted pages only (class 9 either way).
     uint cls = p < vsm.sizes.z ? vsmPageClass(p) : kVsmClasses + 1u;
+    if (cls == 0u) cls = kVsmClasses + 1u; // free: a place below the prefix's free count, not listed
     uvec3 one = uvec3(0u);
     if (cls < kVsmClasses) one[cls / 3u] = 1u << (9u * (cls % 3u));
     uvec3 total;

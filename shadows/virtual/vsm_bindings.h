@@ -28,41 +28,37 @@
 // vsm_list.comp: closes the request list and sizes the sort's dispatches.
 #define ML_VSM_LIST_CONSTANTS 0 // VsmConstants (uniform)
 #define ML_VSM_LIST_COUNTERS 1  // VsmCounters (the list's count)
-#define ML_VSM_LIST_SORT_ARGS 2 // the sort passes' dispatch sizes
+#define ML_VSM_LIST_SORT_ARGS 2 // the sort and allocation passes' dispatch sizes
+#define ML_VSM_LIST_OWNERS 3    // entry per physical page (the owned prefix's length)
 
 // vsm_sort.comp: one block sort or merge pass from one list buffer to the other.
 #define ML_VSM_SORT_COUNTERS 0 // VsmCounters (the list's count)
 #define ML_VSM_SORT_SRC 1      // the runs this pass reads
 #define ML_VSM_SORT_DST 2      // the runs it writes
 
-// vsm_invalidate.comp: per physical page, invalidation and the per-block class counts.
-#define ML_VSM_INVALIDATE_CONSTANTS 0    // VsmConstants (uniform)
-#define ML_VSM_INVALIDATE_MAPS 1         // GpuVsmMap per slot (invalidation flags)
-#define ML_VSM_INVALIDATE_STALE 2        // the CPU's stale bits
-#define ML_VSM_INVALIDATE_TABLE 3        // page table
-#define ML_VSM_INVALIDATE_MARKS 4        // lookup and fallback marks
-#define ML_VSM_INVALIDATE_OWNERS 5       // entry per physical page
-#define ML_VSM_INVALIDATE_LAST_USED 6    // frame of last use per physical page
-#define ML_VSM_INVALIDATE_CLASS_COUNTS 7 // pages per (block, class)
-#define ML_VSM_INVALIDATE_COUNTERS 8     // VsmCounters
-
-// vsm_scan.comp: per sorted request, whether it needs a page, counted per block.
-#define ML_VSM_SCAN_CONSTANTS 0    // VsmConstants (uniform)
-#define ML_VSM_SCAN_RUNS 1         // the allocation order's runs
-#define ML_VSM_SCAN_COUNTERS 2     // VsmCounters
-#define ML_VSM_SCAN_LIST_A 3       // the first list buffer (list[0])
-#define ML_VSM_SCAN_TABLE 4        // page table
-#define ML_VSM_SCAN_MARKS 5        // lookup and fallback marks
-#define ML_VSM_SCAN_LAST_USED 6    // frame of last use per physical page
-#define ML_VSM_SCAN_BLOCK_COUNTS 7 // requests needing a page, per block
-#define ML_VSM_SCAN_LIST_B 8       // the second list buffer (list[1])
-#define ML_VSM_SCAN_SORT_ARGS 9    // which list buffer holds the sorted list
+// vsm_scan.comp: per owned physical page, invalidation and the per-block class counts; per sorted request,
+// whether it needs a page, counted per block.
+#define ML_VSM_SCAN_CONSTANTS 0     // VsmConstants (uniform)
+#define ML_VSM_SCAN_RUNS 1          // the allocation order's runs
+#define ML_VSM_SCAN_COUNTERS 2      // VsmCounters
+#define ML_VSM_SCAN_LIST_A 3        // the first list buffer (list[0])
+#define ML_VSM_SCAN_TABLE 4         // page table (invalidated)
+#define ML_VSM_SCAN_MARKS 5         // lookup and fallback marks
+#define ML_VSM_SCAN_LAST_USED 6     // frame of last use per physical page (refreshed)
+#define ML_VSM_SCAN_BLOCK_COUNTS 7  // requests needing a page, per block
+#define ML_VSM_SCAN_LIST_B 8        // the second list buffer (list[1])
+#define ML_VSM_SCAN_SORT_ARGS 9     // which list buffer holds the sorted list, the owned pages
+#define ML_VSM_SCAN_MAPS 10         // GpuVsmMap per slot (invalidation flags)
+#define ML_VSM_SCAN_STALE 11        // the CPU's stale bits
+#define ML_VSM_SCAN_OWNERS 12       // entry per physical page
+#define ML_VSM_SCAN_CLASS_COUNTS 13 // pages per (block, class)
 
 // vsm_alloc.comp: the blocks' first ranks and the classes' first slots (one workgroup).
 #define ML_VSM_ALLOC_CONSTANTS 0    // VsmConstants (uniform)
 #define ML_VSM_ALLOC_COUNTERS 1     // VsmCounters
 #define ML_VSM_ALLOC_BLOCK_COUNTS 2 // in: counts per block, out: first ranks
 #define ML_VSM_ALLOC_CLASS_COUNTS 3 // in: counts per (block, class), out: first slots
+#define ML_VSM_ALLOC_SORT_ARGS 4    // the owned pages (word 3); out: vsm_avail's dispatch size
 
 // vsm_avail.comp: per physical page, its place in the available-page list.
 #define ML_VSM_AVAIL_CONSTANTS 0   // VsmConstants (uniform)

@@ -152,21 +152,24 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
         // The list's count and the sort's dispatch sizes.
         dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
                  {ML_BIND(ML_VSM_LIST_CONSTANTS, slot.constants),
-                  ML_BIND(ML_VSM_LIST_COUNTERS, slot.counters), ML_BIND(ML_VSM_LIST_SORT_ARGS, pg.sortArgs)});
-        nextAllocationPass(c); // the list's count -> the sort's dispatch sizes and reads
+                  ML_BIND(ML_VSM_LIST_COUNTERS, slot.counters), ML_BIND(ML_VSM_LIST_SORT_ARGS, pg.sortArgs),
+                  ML_BIND(ML_VSM_LIST_OWNERS, pg.owners)});
+        // The list's count and the owned pages -> the sort's and allocation's dispatch sizes and reads.
+        nextAllocationPass(c);
     }
-    // Block sort list[0] -> list[1], then merges of doubling runs, alternating; vsm_list gave the
-    // merges past the list's length no groups (an empty dispatch).
+    // Block sort list[0] -> list[1], then merges of 8 runs each (the run width x8 per pass), alternating;
+    // vsm_list gave the merges past the list's length no groups (an empty dispatch).
     for (uint32_t pass = 0; pass <= pg.mergePasses; ++pass) {
-        const uint32_t width = pass == 0 ? 0u : uint32_t(ML_VSM_BLOCK) << (pass - 1);
+        const uint32_t width =
+            pass == 0 ? 0u : uint32_t(ML_VSM_BLOCK) << (ML_VSM_MERGE_WAYS_LOG2 * (pass - 1));
         const Buffer& src = pg.list[pass % 2];
         const Buffer& dst = pg.list[(pass + 1) % 2];
-        dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 16 + 12 * VkDeviceSize(pass),
+        dispatchIndirect(d, c, programs_.sort, pg.sortArgs, 4 * (ML_VSM_ARGS_SORT + 3 * VkDeviceSize(pass)),
                          gpu::VsmSortPush{width, 0},
                          {ML_BIND(ML_VSM_SORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SORT_SRC, src),
                           ML_BIND(ML_VSM_SORT_DST, dst)});
         // This pass's runs -> the next pass; after the last, the sorted list -> the allocation's scan
-        // and assignment (and its counters' reads -> vsm_invalidate's atomics: write-after-read).
+        // and assignment (and its counters' reads -> vsm_scan's atomics: write-after-read).
         nextAllocationPass(c);
     }
 }
@@ -174,58 +177,39 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
 void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
-    const VkDeviceSize listArgs = offsetof(gpu::VsmCounters, listGroupsX);
-    const uint32_t pool = state_->settings().poolPages;
-    // With the one-workgroup path (shortList_ != 0) vsm_allocate_short_list wrote these passes' dispatch
-    // sizes after the sort passes' (0 groups after a list it allocated); without it, as sized here.
-    const VkDeviceSize args = (4 + 3 * VkDeviceSize(pg.mergePasses + 1)) * 4;
-    const bool indirect = shortList_ != 0;
-    auto poolPass = [&](const Program& program, std::initializer_list<NamedDescriptor> bound,
-                        uint32_t threads) {
-        if (indirect)
-            dispatchIndirect(d, c, program, pg.sortArgs, args, NoPush{}, bound);
-        else
-            dispatch(d, c, program, threads, 1, NoPush{}, bound);
-    };
-    const Buffer& listArgsBuffer = indirect ? pg.sortArgs : slot.counters;
-    const VkDeviceSize listArgsAt = indirect ? args + 12 : listArgs;
-    // The pool pass (invalidation, class counts): it needs neither the sorted list nor the sort its
-    // results, so it runs after the sort (recordSort), which keeps the sort one timed scope.
-    poolPass(programs_.invalidate,
-             {ML_BIND(ML_VSM_INVALIDATE_CONSTANTS, slot.constants),
-              ML_BIND(ML_VSM_INVALIDATE_MAPS, slot.maps), ML_BIND(ML_VSM_INVALIDATE_STALE, slot.stale),
-              ML_BIND(ML_VSM_INVALIDATE_TABLE, pg.table), ML_BIND(ML_VSM_INVALIDATE_MARKS, pg.marks),
-              ML_BIND(ML_VSM_INVALIDATE_OWNERS, pg.owners), ML_BIND(ML_VSM_INVALIDATE_LAST_USED, pg.lastUsed),
-              ML_BIND(ML_VSM_INVALIDATE_CLASS_COUNTS, pg.classCounts),
-              ML_BIND(ML_VSM_INVALIDATE_COUNTERS, slot.counters)},
-             pool);
-    nextAllocationPass(c); // table, class counts, counters -> the list passes
-    dispatchIndirect(d, c, programs_.scan, listArgsBuffer, listArgsAt, NoPush{},
-                     {ML_BIND(ML_VSM_SCAN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SCAN_RUNS, slot.runs),
-                      ML_BIND(ML_VSM_SCAN_COUNTERS, slot.counters), ML_BIND(ML_VSM_SCAN_LIST_A, pg.list[0]),
-                      ML_BIND(ML_VSM_SCAN_TABLE, pg.table), ML_BIND(ML_VSM_SCAN_MARKS, pg.marks),
-                      ML_BIND(ML_VSM_SCAN_LAST_USED, pg.lastUsed),
-                      ML_BIND(ML_VSM_SCAN_BLOCK_COUNTS, pg.blockCounts),
-                      ML_BIND(ML_VSM_SCAN_LIST_B, pg.list[1]), ML_BIND(ML_VSM_SCAN_SORT_ARGS, pg.sortArgs)});
-    nextAllocationPass(c); // block counts, last use -> alloc, avail
-    const std::initializer_list<NamedDescriptor> allocBound = {
-        ML_BIND(ML_VSM_ALLOC_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ALLOC_COUNTERS, slot.counters),
-        ML_BIND(ML_VSM_ALLOC_BLOCK_COUNTS, pg.blockCounts),
-        ML_BIND(ML_VSM_ALLOC_CLASS_COUNTS, pg.classCounts)};
-    if (indirect)
-        dispatchIndirect(d, c, programs_.alloc, pg.sortArgs, args + 24, NoPush{}, allocBound);
-    else
-        dispatch(d, c, programs_.alloc, ML_VSM_BLOCK, 1, NoPush{}, allocBound);
-    nextAllocationPass(c); // block ranks, class bases, counters -> avail, assign
-    poolPass(programs_.avail,
-             {ML_BIND(ML_VSM_AVAIL_CONSTANTS, slot.constants), ML_BIND(ML_VSM_AVAIL_MARKS, pg.marks),
-              ML_BIND(ML_VSM_AVAIL_OWNERS, pg.owners), ML_BIND(ML_VSM_AVAIL_LAST_USED, pg.lastUsed),
-              ML_BIND(ML_VSM_AVAIL_CLASS_BASES, pg.classCounts), ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail),
-              ML_BIND(ML_VSM_AVAIL_COUNTERS, slot.counters)},
-             pool);
+    // Every pass indirect from sortArgs (words in vsm_types.h): vsm_list or vsm_allocate_short_list sized
+    // them (0 groups after a list one workgroup allocated), pool passes to the owned pages only.
+    auto at = [](uint32_t word) { return VkDeviceSize(word) * 4; };
+    // Invalidation and class counts of the owned pages, and the sorted list's LRU refresh and requests: one
+    // dispatch (vsm_scan.comp's two parts are independent). The invalidation needs neither the sorted list
+    // nor the sort its results, but runs after the sort (recordSort), which keeps the sort one timed scope.
+    dispatchIndirect(
+        d, c, programs_.scan, pg.sortArgs, at(ML_VSM_ARGS_SCAN), NoPush{},
+        {ML_BIND(ML_VSM_SCAN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SCAN_RUNS, slot.runs),
+         ML_BIND(ML_VSM_SCAN_COUNTERS, slot.counters), ML_BIND(ML_VSM_SCAN_LIST_A, pg.list[0]),
+         ML_BIND(ML_VSM_SCAN_TABLE, pg.table), ML_BIND(ML_VSM_SCAN_MARKS, pg.marks),
+         ML_BIND(ML_VSM_SCAN_LAST_USED, pg.lastUsed), ML_BIND(ML_VSM_SCAN_BLOCK_COUNTS, pg.blockCounts),
+         ML_BIND(ML_VSM_SCAN_LIST_B, pg.list[1]), ML_BIND(ML_VSM_SCAN_SORT_ARGS, pg.sortArgs),
+         ML_BIND(ML_VSM_SCAN_MAPS, slot.maps), ML_BIND(ML_VSM_SCAN_STALE, slot.stale),
+         ML_BIND(ML_VSM_SCAN_OWNERS, pg.owners), ML_BIND(ML_VSM_SCAN_CLASS_COUNTS, pg.classCounts)});
+    // Table, class counts, block counts, last use, counters -> alloc, avail, assign.
+    nextAllocationPass(c);
+    dispatchIndirect(
+        d, c, programs_.alloc, pg.sortArgs, at(ML_VSM_ARGS_ALLOC), NoPush{},
+        {ML_BIND(ML_VSM_ALLOC_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ALLOC_COUNTERS, slot.counters),
+         ML_BIND(ML_VSM_ALLOC_BLOCK_COUNTS, pg.blockCounts),
+         ML_BIND(ML_VSM_ALLOC_CLASS_COUNTS, pg.classCounts), ML_BIND(ML_VSM_ALLOC_SORT_ARGS, pg.sortArgs)});
+    // Block ranks, class bases, counters -> avail, assign; vsm_avail's dispatch size -> indirect read.
+    nextAllocationPass(c);
+    // 0 groups unless some request must evict (vsm_alloc): free pages need no list.
+    dispatchIndirect(d, c, programs_.avail, pg.sortArgs, at(ML_VSM_ARGS_AVAIL), NoPush{},
+                     {ML_BIND(ML_VSM_AVAIL_CONSTANTS, slot.constants), ML_BIND(ML_VSM_AVAIL_MARKS, pg.marks),
+                      ML_BIND(ML_VSM_AVAIL_OWNERS, pg.owners), ML_BIND(ML_VSM_AVAIL_LAST_USED, pg.lastUsed),
+                      ML_BIND(ML_VSM_AVAIL_CLASS_BASES, pg.classCounts),
+                      ML_BIND(ML_VSM_AVAIL_AVAIL, pg.avail), ML_BIND(ML_VSM_AVAIL_COUNTERS, slot.counters)});
     nextAllocationPass(c); // the available-page list -> assign
     dispatchIndirect(
-        d, c, programs_.assign, listArgsBuffer, listArgsAt, NoPush{},
+        d, c, programs_.assign, pg.sortArgs, at(ML_VSM_ARGS_ASSIGN), NoPush{},
         {ML_BIND(ML_VSM_ASSIGN_CONSTANTS, slot.constants), ML_BIND(ML_VSM_ASSIGN_RUNS, slot.runs),
          ML_BIND(ML_VSM_ASSIGN_COUNTERS, slot.counters), ML_BIND(ML_VSM_ASSIGN_LIST_A, pg.list[0]),
          ML_BIND(ML_VSM_ASSIGN_TABLE, pg.table), ML_BIND(ML_VSM_ASSIGN_MARKS, pg.marks),

@@ -44,7 +44,7 @@ class VsmPasses {
     void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
     static constexpr PassTimer kSortTimer{"vsm_sort", kVsmBookkeeping}; // vsm_list, vsm_sort
     void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    // vsm_invalidate, vsm_scan, vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
+    // vsm_scan (with invalidation), vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
     static constexpr PassTimer kAllocTimer{"vsm_alloc", kVsmBookkeeping};
     void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     static constexpr PassTimer kHpbTimer{"vsm_hpb", kVsmBookkeeping};

@@ -13,7 +13,6 @@
 #include "vsm_expand.comp.spv.h"
 #include "vsm_groups.comp.spv.h"
 #include "vsm_hpb.comp.spv.h"
-#include "vsm_invalidate.comp.spv.h"
 #include "vsm_list.comp.spv.h"
 #include "vsm_mark.comp.spv.h"
 #include "vsm_mark_cluster.comp.spv.h"
@@ -73,7 +72,6 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
     ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
     ML_TRY(compute(allocateShortList, ML_VSM_SHADER(spv_vsm_allocate_short_list_comp)));
-    ML_TRY(compute(invalidate, ML_VSM_SHADER(spv_vsm_invalidate_comp)));
     ML_TRY(compute(scan, ML_VSM_SHADER(spv_vsm_scan_comp)));
     ML_TRY(compute(alloc, ML_VSM_SHADER(spv_vsm_alloc_comp)));
     ML_TRY(compute(avail, ML_VSM_SHADER(spv_vsm_avail_comp)));
@@ -110,17 +108,9 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
 }
 
 void VsmPrograms::destroy(const Device& d) {
-    for (Program* p : {&mark,       &markCluster,
-                       &list,       &sort,
-                       &invalidate, &scan,
-                       &alloc,      &avail,
-                       &assign,     &hpb,
-                       &groups,     &pairs,
-                       &cull,       &clear,
-                       &merge,      &probe,
-                       &view,       &draw,
-                       &drawClosed, &expand,
-                       &mesh,       &allocateShortList})
+    for (Program* p : {&mark,   &markCluster, &list,   &sort,       &scan,   &alloc, &avail,
+                       &assign, &hpb,         &groups, &pairs,      &cull,   &clear, &merge,
+                       &probe,  &view,        &draw,   &drawClosed, &expand, &mesh,  &allocateShortList})
         destroyProgram(d, *p);
     for (ShaderModule& s : shaders_) destroyShader(d, s);
     shaders_.clear();

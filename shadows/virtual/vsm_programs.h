@@ -11,8 +11,7 @@ namespace ml {
 struct VsmPrograms {
     Program mark;        // vsm_mark.comp: per receiver pixel
     Program markCluster; // vsm_mark_cluster.comp: per cluster-light pair (VsmSettings::clusterMarking)
-    Program list, sort, invalidate, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge, probe,
-        view;
+    Program list, sort, scan, alloc, avail, assign, hpb, groups, pairs, cull, clear, merge, probe, view;
     Program allocateShortList; // vsm_allocate_short_list.comp: list to assignment in one workgroup
     Program draw;              // raster path: vsm_draw.vert + vsm_draw.frag (open casters: no culling)
     Program drawClosed;        // the same with back faces culled (closed casters)

@@ -314,11 +314,11 @@ gpu::VsmCounters vsmAllocateReference(VsmAllocState& st, const std::vector<uint3
         for (uint32_t p = 0; p < run.w; ++p)
             order.push_back({run.y * k.sizes.x + vsmMipOffset(s0, run.z) + p, run.y, run.z});
     (void)mips;
-    // vsm_invalidate: per physical page, its owner entry loses last frame's DIRTY bit, and VALID when
-    // stale (every owned page, whether or not its map is active: inactive maps are invalidated whole when
-    // they become active again anyway).
-    // The static twin (ML_VSM_STATIC_VALID) is lost only to the map flag, caching off, or the stale bits'
-    // second region (static casters, from word k.options.w).
+    // vsm_scan's invalidation: per physical page (the GPU walks the owned prefix: the rest have no owner),
+    // its owner entry loses last frame's DIRTY bit, and VALID when stale (every owned page, whether or not
+    // its map is active: inactive maps are invalidated whole when they become active again anyway). The
+    // static twin (ML_VSM_STATIC_VALID) is lost only to the map flag, caching off, or the stale bits' second
+    // region (static casters, from word k.options.w).
     for (uint32_t p = 0; p < pool; ++p) {
         const uint32_t e = st.owners[p];
         if (e == ML_VSM_NO_OWNER) continue;
@@ -431,6 +431,12 @@ std::string vsmCheckInvariants(const VsmAllocState& st, const std::vector<uint32
     for (uint32_t p = 0; p < pool; ++p)
         if (st.owners[p] != ML_VSM_NO_OWNER && seen[p] != st.owners[p])
             return "physical page " + std::to_string(p) + " has an owner whose entry does not point to it";
+    // Requests take free pages first, by index, and no page is ever freed: the owned pages are a prefix
+    // of the pool, which the GPU passes walk alone (vsmOwnedPages in vsm_alloc_common.glsl).
+    for (uint32_t p = 1; p < pool; ++p)
+        if (st.owners[p] != ML_VSM_NO_OWNER && st.owners[p - 1] == ML_VSM_NO_OWNER)
+            return "physical page " + std::to_string(p) + " is owned after free page " +
+                   std::to_string(p - 1) + ": the owned pages are not a prefix of the pool";
     // Every wanted (marked or reserved) entry of an active map has a page, or is counted as a fallback.
     uint32_t unbacked = 0;
     const uint32_t s0 = k.page.z;

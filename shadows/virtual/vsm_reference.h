@@ -2,16 +2,18 @@
 //   vsmMarkReference      vsm_mark.comp: the mark bits from the G-buffer, the cluster lists, the lights
 //                         and the frame's maps (same functions of vsm_math.h, same order: bit for bit);
 //   vsmMarkClusterReference  vsm_mark_cluster.comp: the same marks per cluster-light pair (vsm_bounds.h);
-//   vsmAllocateReference  vsm_invalidate + vsm_scan + vsm_alloc + vsm_avail + vsm_assign (the passes
-//                         walk the sorted request list and the pool), and vsm_allocate_short_list, which
-//                         does them in one workgroup for a short list: invalidation, LRU refresh, requests in
-//                         priority order, the ordered list of free and evictable pages, assignment,
-//                         eviction, fallbacks, and which pages render this frame. The page table, the
-//                         owners and the last-use frames it leaves equal the GPU's exactly.
+//   vsmAllocateReference  vsm_scan (invalidation, LRU refresh) + vsm_alloc + vsm_avail + vsm_assign (the
+//                         passes walk the sorted request list and the owned pages; this, every page), and
+//                         vsm_allocate_short_list, which does them in one workgroup for a short list:
+//                         invalidation, LRU refresh, requests in priority order, the ordered list of free and
+//                         evictable pages, assignment, eviction, fallbacks, and which pages render this
+//                         frame. The page table, the owners and the last-use frames it leaves equal the GPU's
+//                         exactly.
 //   vsmCasterGroupsReference  vsm_groups.comp: per ML_VSM_CULL_GROUP casters of the culling order, the
 //                         union of the drawing (and of the dynamic drawing) casters' boxes, counts, meshlets;
 //   vsmCheckInvariants    what must hold after every frame (no physical page shared, owners and
-//                         table agree, every marked page allocated or counted as a fallback).
+//                         table agree, the owned pages a prefix of the pool, every marked page
+//                         allocated or counted as a fallback).
 #pragma once
 #include "shaders/shared/gpu_types.h"
 #include "shadows/virtual/vsm_types.h"

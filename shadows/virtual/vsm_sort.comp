@@ -1,13 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vsm_sort (allocation 2/7): sorts the request list by priority rank, so that the allocation is the same
+// vsm_sort (allocation 2/6): sorts the request list by priority rank, so that the allocation is the same
 // whatever order the atomics of vsm_mark appended in (and a CPU reference reproduces it bit for bit).
 // Ranks are unique (one per wanted entry). Indirect over the list (vsm_list), ping-ponging two buffers:
 //   width 0: each block of ML_VSM_BLOCK entries is sorted in shared memory (rank by counting);
-//   width w: runs of w sorted entries are merged pairwise; an entry's place in the merged run is its
-//            index in its own run plus the number of smaller keys in the sibling run (binary search).
-// log2(capacity / ML_VSM_BLOCK) merge passes follow the block sort: n ML_VSM_BLOCK + n log^2 n work for
-// n wanted pages.
+//   width w: runs of w sorted entries are merged k = 2^ML_VSM_MERGE_WAYS_LOG2 at a time; an entry's place
+//            in the merged run is its index in its own run plus the number of smaller keys in each of
+//            the k - 1 sibling runs (a binary search each).
+// ceil(log_k(capacity / ML_VSM_BLOCK)) merge passes follow the block sort (4 at k = 8 and 2^18 entries),
+// each a dispatch behind a barrier: n ML_VSM_BLOCK + (k - 1) n log^2 n / log k work for n wanted pages.
 #include "shaders/shared/glsl_common.glsl"
 #include "shadows/virtual/vsm_types.h"
 #include "shadows/virtual/vsm_bindings.h"
@@ -40,16 +41,19 @@ void main() {
         return;
     }
     if (i >= n) return;
-    uint w = push.width, run = i / w, sibling = run ^ 1u, key = src[i];
-    uint lo = sibling * w, hi = min(lo + w, n), before = 0u;
-    if (lo < n) { // the sibling's keys below `key`
-        uint a = lo, b = hi;
+    const uint ways = 1u << ML_VSM_MERGE_WAYS_LOG2;
+    uint w = push.width, run = i / w, first = run & ~(ways - 1u), key = src[i];
+    uint place = first * w + (i - run * w); // the merged run's start plus the index in its own run
+    for (uint sibling = first; sibling < first + ways; ++sibling) {
+        uint lo = sibling * w;
+        if (sibling == run || lo >= n) continue; // (siblings past the list hold no keys)
+        uint a = lo, b = min(lo + w, n); // the sibling's keys below `key` (keys are unique)
         while (a < b) {
             uint mid = (a + b) / 2u;
             if (src[mid] < key) a = mid + 1u;
             else b = mid;
         }
-        before = a - lo;
+        place += a - lo;
     }
-    dst[min(run, sibling) * w + (i - run * w) + before] = key;
+    dst[place] = key;
 }

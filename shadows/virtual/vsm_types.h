@@ -176,10 +176,24 @@ ML_STRUCT(GpuVsmProbe) {
     uvec4 tap;   // x the receiver's biased depth the texel is compared with, yzw unused
 };
 
+// The words of VsmPages::sortArgs (written by vsm_list or vsm_allocate_short_list each frame): 0 which
+// list buffer ends sorted, 1 one when one workgroup allocated, 2 the closed list's length, 3 the pages
+// owned at the allocation's start (a prefix of the pool: vsmOwnedPages); then indirect dispatches (x, y,
+// z) of vsm_scan (one group per ML_VSM_BLOCK owned pages, then per ML_VSM_BLOCK list entries),
+// vsm_assign (per ML_VSM_BLOCK list entries), vsm_alloc (one group), vsm_avail (written by vsm_alloc:
+// the owned pages' groups when requests exceed the free pages, else none), then one per vsm_sort pass.
+// All 0 groups after a list one workgroup allocated.
+#define ML_VSM_ARGS_OWNED 3u
+#define ML_VSM_ARGS_SCAN 4u
+#define ML_VSM_ARGS_ASSIGN 7u
+#define ML_VSM_ARGS_ALLOC 10u
+#define ML_VSM_ARGS_AVAIL 13u
+#define ML_VSM_ARGS_SORT 16u
+
 // Push blocks. vsm_sort: width 0 sorts each block of ML_VSM_BLOCK list entries in shared memory; a width
-// w >= ML_VSM_BLOCK merges pairs of sorted runs of w entries. vsm_list, vsm_allocate_short_list: width is
-// the number of merge passes; shortList the longest list one workgroup allocates (0: none, and in
-// vsm_sort, vsm_list). 8 bytes.
+// w >= ML_VSM_BLOCK merges groups of 2^ML_VSM_MERGE_WAYS_LOG2 sorted runs of w entries. vsm_list,
+// vsm_allocate_short_list: width is the number of merge passes; shortList the longest list one workgroup
+// allocates (0: none, and in vsm_sort, vsm_list). 8 bytes.
 ML_STRUCT(VsmSortPush) {
     uint width;
     uint shortList;

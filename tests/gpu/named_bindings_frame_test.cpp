@@ -372,7 +372,8 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
         EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_list_comp",
                                 {{"ML_VSM_LIST_CONSTANTS", sl.constants},
                                  {"ML_VSM_LIST_COUNTERS", sl.counters},
-                                 {"ML_VSM_LIST_SORT_ARGS", pg.sortArgs}}),
+                                 {"ML_VSM_LIST_SORT_ARGS", pg.sortArgs},
+                                 {"ML_VSM_LIST_OWNERS", pg.owners}}),
                   "");
     }
 
@@ -391,17 +392,6 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
     }
     EXPECT_EQ(sortBinds, 3 * (pg.mergePasses + 1));
 
-    EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_invalidate_comp",
-                            {{"ML_VSM_INVALIDATE_CONSTANTS", sl.constants},
-                             {"ML_VSM_INVALIDATE_MAPS", sl.maps},
-                             {"ML_VSM_INVALIDATE_STALE", sl.stale},
-                             {"ML_VSM_INVALIDATE_TABLE", pg.table},
-                             {"ML_VSM_INVALIDATE_MARKS", pg.marks},
-                             {"ML_VSM_INVALIDATE_OWNERS", pg.owners},
-                             {"ML_VSM_INVALIDATE_LAST_USED", pg.lastUsed},
-                             {"ML_VSM_INVALIDATE_CLASS_COUNTS", pg.classCounts},
-                             {"ML_VSM_INVALIDATE_COUNTERS", sl.counters}}),
-              "");
     EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_scan_comp",
                             {{"ML_VSM_SCAN_CONSTANTS", sl.constants},
                              {"ML_VSM_SCAN_RUNS", sl.runs},
@@ -412,13 +402,18 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
                              {"ML_VSM_SCAN_LAST_USED", pg.lastUsed},
                              {"ML_VSM_SCAN_BLOCK_COUNTS", pg.blockCounts},
                              {"ML_VSM_SCAN_LIST_B", pg.list[1]},
-                             {"ML_VSM_SCAN_SORT_ARGS", pg.sortArgs}}),
+                             {"ML_VSM_SCAN_SORT_ARGS", pg.sortArgs},
+                             {"ML_VSM_SCAN_MAPS", sl.maps},
+                             {"ML_VSM_SCAN_STALE", sl.stale},
+                             {"ML_VSM_SCAN_OWNERS", pg.owners},
+                             {"ML_VSM_SCAN_CLASS_COUNTS", pg.classCounts}}),
               "");
     EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_alloc_comp",
                             {{"ML_VSM_ALLOC_CONSTANTS", sl.constants},
                              {"ML_VSM_ALLOC_COUNTERS", sl.counters},
                              {"ML_VSM_ALLOC_BLOCK_COUNTS", pg.blockCounts},
-                             {"ML_VSM_ALLOC_CLASS_COUNTS", pg.classCounts}}),
+                             {"ML_VSM_ALLOC_CLASS_COUNTS", pg.classCounts},
+                             {"ML_VSM_ALLOC_SORT_ARGS", pg.sortArgs}}),
               "");
     EXPECT_EQ(checkAllBinds(f.log, "spv_vsm_avail_comp",
                             {{"ML_VSM_AVAIL_CONSTANTS", sl.constants},

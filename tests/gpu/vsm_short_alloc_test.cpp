@@ -3,7 +3,8 @@
 // the page table, owners and last-use frames of a module that allocates short lists in one workgroup
 // equal those of a module held to the multi-dispatch passes (ML_VSM_ALLOC_SHORT_LIST=0) and
 // vsmAllocateReference's. Then the limit itself: a limit equal to a frame's list length takes that frame
-// in one workgroup, one entry less sends it to the multi-dispatch passes, with the same pages.
+// in one workgroup, one entry less sends it to the multi-dispatch passes, with the same pages; and lists
+// long enough for several of vsm_sort's merge passes.
 #include "vsm_test_util.h"
 
 #include <algorithm>
@@ -150,6 +151,32 @@ TEST(GpuVsmShortAlloc, AtTheLimitOneWorkgroupJustOverItMultiDispatch) {
     EXPECT_TRUE(at[1].oneGroup) << "a list of exactly the limit (" << n << ") goes to one workgroup";
     EXPECT_FALSE(over[1].oneGroup) << "a list one past the limit (" << n - 1
                                    << ") goes to the multi-dispatch passes";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// Lists past one workgroup and past the first 8-way merge pass (runs of 256 -> 2,048, then 2,048 ->
+// 16,384; vsm_sort.comp): the indoor level at 640x360 with 1,024 lights and twice the texels per pixel.
+// The multi-dispatch passes give the pages of vsmAllocateReference every frame (runFrames checks), and
+// the default module, which sends these lists to the same passes, the same pages.
+TEST(GpuVsmShortAlloc, LongListsMergeAcrossPassesEqualCpu) {
+    resetValidationCounters();
+    VsmSessionOptions o = shortAllocOptions("indoor");
+    o.width = 640;
+    o.height = 360;
+    o.lights = 1024;
+    o.module.vsm.resolution = 4096;
+    o.module.vsm.texelsPerPixel = 2.0f;
+    o.module.vsm.poolPages = 8192;
+    const std::vector<AllocFrame> multi = runFrames(o, "0", 2);
+    const std::vector<AllocFrame> deflt = runFrames(o, "", 2);
+    expectSame(multi, deflt, "long lists");
+    uint32_t longest = 0;
+    for (const AllocFrame& a : multi) longest = std::max(longest, a.listLength);
+    std::printf("longest list %u entries\n", longest);
+    EXPECT_GT(longest, uint32_t(ML_VSM_BLOCK) << ML_VSM_MERGE_WAYS_LOG2)
+        << "no list reached the second merge pass";
+    for (const AllocFrame& a : deflt)
+        EXPECT_EQ(a.oneGroup, a.listLength <= ML_VSM_ONE_GROUP_LIST) << a.listLength << " entries";
     EXPECT_EQ(validationErrors(), 0u);
 }
 

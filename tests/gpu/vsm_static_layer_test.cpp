@@ -1,4 +1,4 @@
-// The static layer (VsmSettings::staticLayer; vsm_invalidate, vsm_assign, vsm_clear, vsm_draw.frag): a
+// The static layer (VsmSettings::staticLayer; vsm_scan, vsm_assign, vsm_clear, vsm_draw.frag): a
 // page invalidated only by a moving dynamic caster is redrawn from its static twin plus the dynamic
 // casters. On the indoor level's drive (four carts on loops, the camera following one), three sessions
 // run the same frames: cached with the layer, cached without it (every caster redrawn into such a page,
