@@ -8,9 +8,9 @@ namespace ml {
 
 // How pages are drawn: meshlets with task and mesh shaders (culling per meshlet and triangle), or the
 // indexed vertex path (instance culling only; the reference and the fallback without mesh shaders).
-// Auto: the vertex path on CPU devices (measured faster there: docs/virtual-shadow-maps.md, "Meshlets")
-// and on devices without mesh shaders, the mesh path otherwise. The choice is logged once at
-// creation.
+// Auto: the vertex path on CPU devices (measured faster there: docs/vsm-page-draws.md, "Meshlets: page
+// draws with task and mesh shaders") and on devices without mesh shaders, the mesh path otherwise. The
+// choice is logged once at creation.
 enum class VsmRaster : uint32_t { Auto, Mesh, Vertex };
 // `--vsm-raster auto|mesh|vertex` of the commands: false for any other word.
 inline bool parseVsmRaster(std::string_view word, VsmRaster& out) {

@@ -115,7 +115,7 @@
 // Filtering by level (MH, MMH, DAG-MH, CPVS) reads the coarsest level whose texel is at most 1/4 of the
 // receiver's pixel (shadowLevelStep). A level texel as wide as the pixel puts every shadow edge on a grid of
 // pixel-sized blocks, which flips more pixels between frames than the finest level does
-// (docs/static-shadows.md, "Filtering by level"); the cost is a descent two levels deeper.
+// (docs/filtering-by-level.md); the cost is a descent two levels deeper.
 // A power of two, so the level search stays an exact doubling.
 #define ML_LEVEL_TEXELS_PER_PIXEL 4.0
 
@@ -149,7 +149,7 @@
 // (VsmSettings::meshletVertices/Triangles may ask for smaller ones). Smaller meshlets cull a few more
 // triangles in the task shader but cost more task and mesh workgroups: 64/124 draws fastest where drawing
 // costs most (every page redrawn). Cost: every mesh workgroup reserves outputs for 64 vertices and 124
-// triangles. The sizes compared: docs/virtual-shadow-maps.md, "Meshlet size".
+// triangles. The sizes compared: docs/vsm-page-draws.md, "Meshlet size".
 #define ML_MESHLET_VERTICES 64
 #define ML_MESHLET_TRIANGLES 124
 // Task shader: one meshlet per invocation, 32 per workgroup (lavapipe prefers <= 64 task invocations).
