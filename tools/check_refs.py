@@ -22,6 +22,10 @@ Not references: globs (*), $VARIABLES, paths under out/, build/, /tmp, ../ (outs
 URLs, one-letter names (n.h is a dot product). A path manylights/x (the public API as a host includes
 it) must exist as include/manylights/x, but for what the build generates (see ALLOWED).
 
+Markdown links: in README.md and every docs/ page (outside code fences), a link [text](target) whose
+target is not a URL must name a file that exists (relative to the page), and an anchor (#section, on
+its own or after the page's file name) must be the GitHub slug of a heading of that page.
+
 Output: one line per problem, "file:line: names X which does not exist", and exit status 1; exit 0
 when every reference resolves. --root DIR checks another tree (the fixture); --verbose also prints
 the count of references checked.
@@ -136,6 +140,37 @@ def slug(h):
     return s.replace(" ", "-")
 
 
+def github_slug(h):
+    """GitHub's anchor for a heading: lower case, punctuation but - and _ dropped, spaces to -."""
+    s = re.sub(r"[^\w\- ]", "", h.strip().lower())
+    return s.replace(" ", "-")
+
+
+LINK_RE = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def check_markdown(tree, rel, problems, counts):
+    """The links of a markdown page: files that exist, anchors that are headings' slugs."""
+    here, fence = os.path.dirname(rel), False
+    with open(os.path.join(tree.root, rel), errors="replace") as f: lines = f.read().split("\n")
+    for no, line in enumerate(lines, 1):
+        if line.lstrip().startswith("```"): fence = not fence; continue
+        if fence: continue
+        for m in LINK_RE.finditer(line):
+            target = m.group(1)
+            if re.match(r"[a-z]+:", target): continue  # http:, https:, mailto:
+            path, _, anchor = target.partition("#")
+            page = os.path.normpath(os.path.join(here, path)) if path else rel
+            if page.startswith(".."): continue  # outside the tree (../shared/...)
+            counts[0] += 1
+            if not os.path.exists(os.path.join(tree.root, page)):
+                problems.append(f"{rel}:{no}: links to {target} which does not exist"); continue
+            if anchor and page.endswith(".md"):
+                hs = tree.heads(page) or []
+                if anchor not in {github_slug(h) for h in hs} | {slug(h) for h in hs}:
+                    problems.append(f"{rel}:{no}: links to {target} which does not exist")
+
+
 def norm(t):
     return re.sub(r"\s+", " ", re.sub(r"[`*_]", "", t)).strip().lower().rstrip(".:")
 
@@ -247,6 +282,10 @@ def main():
         if not (name.endswith(C_LIKE) or name.endswith(HASH) or name == "CMakeLists.txt"): continue
         scanned += 1
         check_file(tree, rel, problems, counts)
+    for rel in sorted(tree.files):
+        if rel.endswith(".md") and (rel == "README.md" or rel.startswith("docs" + os.sep)):
+            scanned += 1
+            check_markdown(tree, rel, problems, counts)
     for p in problems: print(p)
     if verbose or problems:
         print(f"check_refs: {scanned} files, {counts[0]} references, {len(problems)} that do not resolve",
