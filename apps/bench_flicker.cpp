@@ -368,8 +368,9 @@ Result<Counts> measure(const Options& o, const std::vector<Config>& configs, con
     return n;
 }
 // --bake: one light's stored records (the first file's first record's light, in every file), each file
-// a row per PCF radius (and by level for MH and MMH). Truth: a ray 1,000 m towards a directional light
-// (the night city's box is 455 m wide) or to a spot's position, from 1 mm off the surface.
+// a row per PCF radius (and by level for the methods filtersByLevel names). Truth: a ray 1,000 m towards
+// a directional light (the night city's box is 455 m wide) or to a spot's position, from 1 mm off the
+// surface.
 struct Baked {
     uint32_t light = 0;
     std::vector<BakeRecord> records; // one per file

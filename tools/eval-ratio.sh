@@ -1,5 +1,5 @@
 #!/bin/bash
-# The evaluation pass with DAG-MH static shadows against the unshadowed pass (docs/culling.md's ratios), for one
+# The evaluation pass with static shadows (DAG-MH by default) against the unshadowed pass (docs/culling.md's ratios), for one
 # or more builds alternated round by round: per round and build, the minimum `evaluate` time of frames 1-9
 # of `demo --size 640x360 --frames 10 --dynamic off`, unshadowed, one tap (--pcf 0) and 3x3 PCF (--pcf 1),
 # and the two ratios. Fenced timing (the demo's default on CPU devices); alternate builds on a shared
@@ -11,7 +11,8 @@ usage: tools/eval-ratio.sh [--rounds N] [--bake FILE | --bake-each] [--by-level]
        tools/eval-ratio.sh --summarize ROUNDS_CSV   (the median lines of an earlier run's rounds.csv)
   BIN          a manylights binary (copy old builds aside: binaries embed their shaders)
   --rounds N   rounds of alternation (default 3)
-  --bake FILE  the night city's DAG-MH bake (default: made with the first BIN at 1024^2, all lights)
+  --bake FILE  a bake of the night city, any method (default: DAG-MH made with the first BIN at 1024^2,
+               all lights)
   --bake-each  each BIN bakes its own (builds whose bake formats differ)
   --by-level   each round also runs the two shadowed settings filtered by level (demo --by-level),
                reported as build "BIN by level" against the same round's unshadowed time

@@ -43,14 +43,18 @@ CPVS_FN uint cpvsSliceOfDepth(CPVS_DATA_PARAM uint base, uint depth) {
     return lo - 1u;
 }
 
+// The bit of the child of a node whose children are half_ voxels a side that holds voxel (ux, uy, us).
+CPVS_FN uint cpvsChildBit(uint ux, uint uy, uint us, uint half_) {
+    return 1u << (((ux & half_) != 0u ? 1u : 0u) | ((uy & half_) != 0u ? 2u : 0u) |
+                  ((us & half_) != 0u ? 4u : 0u));
+}
+
 // The descent below a grid cell's node: from inner node `ptr` whose children are half_ voxels a side
 // (half_ >= 4; a leaf block of 4^3 voxels once half_ < 4) to the voxel (ux, uy, us) of the cell.
 CPVS_FN bool cpvsShadowedBelow(CPVS_DATA_PARAM uint base, uint ptr, uint half_, uint ux, uint uy, uint us) {
     while (half_ >= 4u) {
         uint h = CPVS_WORD(base + ptr);
-        uint c =
-            ((ux & half_) != 0u ? 1u : 0u) | ((uy & half_) != 0u ? 2u : 0u) | ((us & half_) != 0u ? 4u : 0u);
-        uint bit = 1u << c;
+        uint bit = cpvsChildBit(ux, uy, us, half_);
         if ((h & bit) == 0u) return ((h >> 8u) & bit) != 0u;
         ptr = CPVS_WORD(base + ptr + 1u + uint(bitCount(h & (bit - 1u))));
         half_ >>= 1u;
@@ -60,10 +64,10 @@ CPVS_FN bool cpvsShadowedBelow(CPVS_DATA_PARAM uint base, uint ptr, uint half_, 
 }
 
 // The grid entry of the cell that holds voxel (ux, uy, us) of the map: CPVS_LIT, CPVS_SHADOWED or the
-// word offset of the cell's root node, whose children are half a cell a side.
-CPVS_FN uint cpvsCellEntry(CPVS_DATA_PARAM uint base, uint ux, uint uy, uint us) {
-    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
-    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
+// word offset of the cell's root node, whose children are half a cell a side. The grid is 2^gridLog2
+// cells a side, a cell 2^cellLog2 voxels (header words the caller has read).
+CPVS_FN uint cpvsCellEntry(CPVS_DATA_PARAM uint base, uint ux, uint uy, uint us, uint gridLog2,
+                           uint cellLog2) {
     uint cell = (((us >> cellLog2) << gridLog2 | (uy >> cellLog2)) << gridLog2) | (ux >> cellLog2);
     return CPVS_WORD(base + CPVS_WORD(base + CPVS_H_GRID) + cell);
 }
@@ -74,10 +78,11 @@ CPVS_FN bool cpvsShadowedVoxel(CPVS_DATA_PARAM uint base, int x, int y, int s) {
     if (x < 0 || y < 0 || x >= n || y >= n) return false;
     s = s < 0 ? 0 : (s >= n ? n - 1 : s);
     uint ux = uint(x), uy = uint(y), us = uint(s);
-    uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, ux, uy, us);
+    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
+    uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, ux, uy, us, gridLog2, cellLog2);
     if (ptr == CPVS_LIT) return false;
     if (ptr == CPVS_SHADOWED) return true;
-    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - CPVS_WORD(base + CPVS_H_GRID_LOG2);
     return cpvsShadowedBelow(CPVS_DATA_ARG base, ptr, 1u << (cellLog2 - 1u), ux, uy, us);
 }
 
@@ -116,19 +121,18 @@ CPVS_FN uint cpvsPcfLitLevel(CPVS_DATA_PARAM uint base, int x, int y, int s, int
     int n = int(CPVS_WORD(base + CPVS_H_RESOLUTION));
     int x0 = (X - radius) * side + c, x1 = (X + radius) * side + c;
     int y0 = (Y - radius) * side + c, y1 = (Y + radius) * side + c;
-    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint gridLog2 = CPVS_WORD(base + CPVS_H_GRID_LOG2);
+    uint cellLog2 = CPVS_WORD(base + CPVS_H_LOG2_RESOLUTION) - gridLog2;
     uint spread = uint(x0 ^ x1) | uint(y0 ^ y1);
     if (x0 >= 0 && y0 >= 0 && x1 < n && y1 < n && (spread >> cellLog2) == 0u) {
         uint us = uint(S < 0 ? 0 : (S >= n ? n - 1 : S));
-        uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, uint(x0), uint(y0), us);
+        uint ptr = cpvsCellEntry(CPVS_DATA_ARG base, uint(x0), uint(y0), us, gridLog2, cellLog2);
         if (ptr == CPVS_LIT) return taps;
         if (ptr == CPVS_SHADOWED) return 0u;
         uint half_ = 1u << (cellLog2 - 1u);
         while (half_ >= 4u && spread < half_) {
             uint hw = CPVS_WORD(base + ptr);
-            uint ch = ((uint(x0) & half_) != 0u ? 1u : 0u) | ((uint(y0) & half_) != 0u ? 2u : 0u) |
-                      ((us & half_) != 0u ? 4u : 0u);
-            uint bit = 1u << ch;
+            uint bit = cpvsChildBit(uint(x0), uint(y0), us, half_);
             if ((hw & bit) == 0u) return ((hw >> 8u) & bit) != 0u ? 0u : taps;
             ptr = CPVS_WORD(base + ptr + 1u + uint(bitCount(hw & (bit - 1u))));
             half_ >>= 1u;
