@@ -29,6 +29,7 @@ const uint ML_DAG_FACTOR_OFFSET = 15u;
 const uint ML_DAG_SLOPE_OFFSET = 20u;
 const uint ML_DAG_CHUNK_WORDS = 6u;
 const uint ML_DAG_SLOPE_WORDS = 2u;
+const uint ML_DAG_SLOPE_FRACTION = 6u; // kOrthoSlopeFractionBits (shadows/static/dual_depth.h)
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
 const uint ML_DAG_HEADER_WORDS = 22u;
@@ -107,8 +108,11 @@ ML_DAG_FN DagmhChunk dagmhChunk(ML_DAG_DATA_PARAM DagmhHeader h, uint chunk) {
 }
 
 // Slot j of a chunk (paper Alg. 2, integers, two plane classes; docs/dagmh-encoding.md): class = bit j of
-// the bitmap, value = A + B_x px + B_y py + (factor << sh) with the class's plane, width (bits 0-5 of its
-// half of `widths`) and step (bits 6-10); class 0's factors follow class 1's.
+// the bitmap, value = A + ((D_x px + D_y py + 32) >> 6) + (factor << sh) with the class's plane (slopes
+// D / 64 a texel, int32: the rasteriser's depth planes of directional maps, shadows/static/raster_dual.h),
+// width (bits 0-5 of its half of `widths`) and step (bits 6-10); class 0's factors follow class 1's. In
+// uint32: D = 64 B + f with B = D >> 6 (arithmetic) and f < 64, so with px, py < 2^18 the plane is
+// B_x px + B_y py + ((f_x px + f_y py + 32) >> 6), whose fraction sum stays below 2^25.
 ML_DAG_FN uint dagmhChunkValue(ML_DAG_DATA_PARAM DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
     uint cls = (c.bm >> j) & 1u;
     uint before1 = mlPopc(c.bm & mlLowMask(j)); // class-1 slots before j
@@ -120,7 +124,10 @@ ML_DAG_FN uint dagmhChunkValue(ML_DAG_DATA_PARAM DagmhHeader h, DagmhChunk c, ui
     if (b == 32u) return f; // raw 32-bit value
     uint e = h.slopes + ML_DAG_SLOPE_WORDS * (cls != 0u ? c.slopes >> 16u : c.slopes & 0xFFFFu);
     uint a = cls != 0u ? c.a1 : c.a0;
-    return a + ML_DAG_WORD(e) * px + ML_DAG_WORD(e + 1u) * py + (f << ((cw >> 6u) & 31u));
+    uint dx = ML_DAG_WORD(e), dy = ML_DAG_WORD(e + 1u);
+    uint frac = ((dx & 63u) * px + (dy & 63u) * py + 32u) >> ML_DAG_SLOPE_FRACTION;
+    uint plane = uint(int(dx) >> ML_DAG_SLOPE_FRACTION) * px + uint(int(dy) >> ML_DAG_SLOPE_FRACTION) * py;
+    return a + plane + frac + (f << ((cw >> 6u) & 31u));
 }
 
 // The value with index `index`, (px, py) the full-resolution texel at the top-left corner of the cell of

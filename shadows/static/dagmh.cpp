@@ -430,6 +430,8 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     // Chunks: bitmap within the chunk's values, widths <= 32, slope entries in the table, factors inside
     // the stream (which a uint32 bit position must address).
     if (data[kSlopes] == 0 || data[kSlopes] > kMaxSlopes) return bad("slope table size out of range");
+    const uint32_t* slopes = data + data[kSlopeOffset];
+    if (slopes[0] != 0 || slopes[1] != 0) return bad("slope entry 0 is not zero");
     if (uint64_t(data[kFactorWords]) * 32u > kMaxFactorBits + 64) return bad("factor stream too long");
     const uint32_t* ch = data + data[kChunkOffset];
     const uint64_t factorBits = uint64_t(data[kFactorWords]) * 32u;

@@ -22,12 +22,14 @@
 //     the value decode (dagmhBoundsClass; a PCF kernel tests the cells it covers at once). Exact: the bounds
 //     hold every texel's decoded value (validate() recomputes them, the tests check every texel); 1 word per
 //     cell.
-//   - Values (format version 4): chunks of 32, each slot in one of two classes (a class bitmap); a class
-//     decodes value = A + B_x px + B_y py + (k << sh) (uint32 arithmetic), (px, py) the texel at the
-//     top-left corner of the value's node cell, k a factor of the class's bit width b (b = 32: raw
-//     values); the slopes (B_x, B_y) come from a table shared by all chunks (dagmh_values.h).
+//   - Values (format version 5): chunks of 32, each slot in one of two classes (a class bitmap); a class
+//     decodes value = A + ((D_x px + D_y py + 32) >> 6) + (k << sh) (uint32 arithmetic), (px, py) the
+//     texel at the top-left corner of the value's node cell, k a factor of the class's bit width b
+//     (b = 32: raw values); the slopes (D_x, D_y) / 64 come from a table shared by all chunks
+//     (dagmh_values.h). The plane is the directional rasteriser's depth rule (raster_dual.h), so an
+//     open surface's texels decode with no factor bits.
 // Layout (words):
-//   header[22]: magic 'DGM1' | version 4 | resolution | levels L | skip level S | B << 8 | root kind (1
+//   header[22]: magic 'DGM1' | version 5 | resolution | levels L | skip level S | B << 8 | root kind (1
 //     inner, 2 treelet) | root pointer | values | chunks | skip offset | node offset | node words |
 //     treelet offset | treelets | chunk offset | factor offset | factor words | total words | checksum |
 //     0 | slope offset | slopes
@@ -44,7 +46,7 @@
 //   chunks: 6 words each: class bitmap (bit j: slot j in class 1) | A_0 | A_1 | b_0 | sh_0 << 6 | b_1 << 11
 //     | sh_1 << 17 | bit offset of the chunk's factors (class 1's, then class 0's) | slope entry of class
 //     0 | slope entry of class 1 << 16.
-//   slopes: 2 words each (B_x, B_y as int32 bits); entry 0 is (0, 0).
+//   slopes: 2 words each (D_x, D_y as int32 bits, 1/64 units a texel); entry 0 is (0, 0).
 //   factors: bit stream, little-endian within words.
 // Empty texels decode to exactly kDepthEmpty.
 #pragma once
@@ -92,9 +94,9 @@ constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipW
 constexpr uint64_t kMaxFactorBits = (uint64_t(1) << 32) - 64;
 constexpr uint32_t kMaxSlopes = 1u << 16;
 
-// Format version 4 (two plane classes a value chunk, the slope table). A reader takes only its own
-// version and asks for a rebake otherwise.
-constexpr uint32_t kVersionNumber = 4;
+// Format version 5 (two plane classes a value chunk, the slope table in 1/64 units a texel). A reader
+// takes only its own version and asks for a rebake otherwise.
+constexpr uint32_t kVersionNumber = 5;
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
 // The bounds word of bounds cell (X, Y) (level B below), computed from its skip entry down (every node and
@@ -173,7 +175,8 @@ static_assert(ML_DAG_LEVELS == dagfmt::kLevels && ML_DAG_SKIP_LEVEL == dagfmt::k
               ML_DAG_CHUNK_OFFSET == dagfmt::kChunkOffset && ML_DAG_FACTOR_OFFSET == dagfmt::kFactorOffset &&
               ML_DAG_SLOPE_OFFSET == dagfmt::kSlopeOffset && ML_DAG_CHUNK_WORDS == dagfmt::kChunkWords &&
               ML_DAG_SLOPE_WORDS == dagfmt::kSlopeWords && ML_DAG_TREELET_WORDS == dagfmt::kTreeletWords &&
-              ML_DAG_SKIP_WORDS == dagfmt::kSkipWords && ML_DAG_HEADER_WORDS == dagfmt::kHeaderWords);
+              ML_DAG_SKIP_WORDS == dagfmt::kSkipWords && ML_DAG_HEADER_WORDS == dagfmt::kHeaderWords &&
+              ML_DAG_SLOPE_FRACTION == kOrthoSlopeFractionBits);
 } // namespace dagtwin
 using dagtwin::dagmhBoundsClass;
 using dagtwin::dagmhFinish;

@@ -13,18 +13,30 @@ namespace ml::dagval {
 
 namespace {
 
-using Slope = std::pair<int32_t, int32_t>; // (B_x, B_y) per texel, uint32 arithmetic on decode
+// (D_x, D_y): the slopes per texel in 1/64 units (kOrthoSlopeFractionBits), int32 in the table: the
+// rasteriser's depth planes of directional maps (raster_dual.h).
+using Slope = std::pair<int64_t, int64_t>;
+constexpr int64_t kMaxSlope = INT32_MAX;
+constexpr uint32_t kFr = kOrthoSlopeFractionBits;
 
-// One class of a chunk: value = A + B_x px + B_y py + (k << sh), or the raw value when b == 32.
+// The plane's part at texel (px, py), floor((D_x px + D_y py + 32) / 64), in int64 (|D| px < 2^49).
+int64_t planeAt(Slope s, uint32_t px, uint32_t py) {
+    return (s.first * int64_t(px) + s.second * int64_t(py) + (int64_t(1) << (kFr - 1))) >> kFr;
+}
+
+// One class of a chunk: value = A + plane + (k << sh), or the raw value when b == 32.
 struct ClassCode {
     uint32_t a = 0, sh = 0, b = 0;
     Slope slope{0, 0};
     std::vector<uint32_t> k; // one factor per slot of the class, in slot order
 };
 
+// The decoder's uint32 arithmetic (dagmhChunkValue, shaders/static/dagmh_decode.h).
 uint32_t decodeClass(const ClassCode& c, const Val& v, uint32_t f) {
     if (c.b == 32) return f;
-    return c.a + uint32_t(c.slope.first) * v.px + uint32_t(c.slope.second) * v.py + (f << c.sh);
+    const uint32_t bx = uint32_t(c.slope.first >> kFr), by = uint32_t(c.slope.second >> kFr);
+    const uint32_t fx = uint32_t(c.slope.first & 63), fy = uint32_t(c.slope.second & 63);
+    return c.a + bx * v.px + by * v.py + ((fx * v.px + fy * v.py + 32u) >> kFr) + (f << c.sh);
 }
 
 // The factors of the slots `v` under a fixed slope: A = min w, k = ceil((u - A) / 2^sh) with the lattice
@@ -35,11 +47,10 @@ ClassCode fitClass(const std::vector<const Val*>& v, Slope s) {
     out.slope = s;
     out.k.assign(v.size(), 0);
     if (v.empty()) return out;
-    const int64_t bx = s.first, by = s.second;
     int64_t maxU = INT64_MIN, minW = INT64_MAX;
     uint64_t minWidth = UINT64_MAX;
     for (const Val* p : v) {
-        const int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
+        const int64_t pr = planeAt(s, p->px, p->py);
         maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
         minWidth = std::min<uint64_t>(minWidth, uint64_t(p->hi) - p->lo);
     }
@@ -48,7 +59,7 @@ ClassCode fitClass(const std::vector<const Val*>& v, Slope s) {
     out.b = uint32_t(std::bit_width(steps)), out.sh = sh, out.a = uint32_t(uint64_t(minW));
     bool ok = out.b < 32;
     for (size_t i = 0; i < v.size() && ok; ++i) {
-        const int64_t u = int64_t(v[i]->lo) - bx * int64_t(v[i]->px) - by * int64_t(v[i]->py);
+        const int64_t u = int64_t(v[i]->lo) - planeAt(s, v[i]->px, v[i]->py);
         out.k[i] = u > minW ? uint32_t((uint64_t(u - minW) + (uint64_t(1) << sh) - 1) >> sh) : 0u;
         const uint32_t d = decodeClass(out, *v[i], out.k[i]);
         ok = d >= v[i]->lo && d <= v[i]->hi;
@@ -60,19 +71,19 @@ ClassCode fitClass(const std::vector<const Val*>& v, Slope s) {
     return out;
 }
 
-// Spread of the residual intervals under a slope: max(lo - P) - min(hi - P), convex and piecewise linear
-// in the slope; the factor width follows its log2.
+// Spread of the residual intervals under a slope: max(lo - P) - min(hi - P), nearly convex and piecewise
+// linear in the slope (the plane's floor adds at most 1); the factor width follows its log2.
 int64_t spread(const std::vector<const Val*>& v, int64_t bx, int64_t by) {
     int64_t maxU = INT64_MIN, minW = INT64_MAX;
     for (const Val* p : v) {
-        const int64_t pr = bx * int64_t(p->px) + by * int64_t(p->py);
+        const int64_t pr = planeAt({bx, by}, p->px, p->py);
         maxU = std::max(maxU, int64_t(p->lo) - pr), minW = std::min(minW, int64_t(p->hi) - pr);
     }
     return maxU - minW;
 }
 
-// The integer slope of smallest spread: least squares on the interval midpoints as the start, then a
-// pattern search over the 8 neighbours with steps 2^12 .. 1, against the zero slope.
+// The slope of smallest spread (1/64 units): least squares on the interval midpoints as the start, then a
+// pattern search over the 8 neighbours with steps 2^18 .. 1, against the zero slope.
 Slope searchSlope(const std::vector<const Val*>& v) {
     const size_t m = v.size();
     int64_t bx = 0, by = 0, best = m ? spread(v, 0, 0) : 0;
@@ -94,22 +105,23 @@ Slope searchSlope(const std::vector<const Val*>& v) {
     else if (syy > 0)
         fy = syv / syy;
     auto clampS = [](double f) {
-        return int64_t(std::llround(std::clamp(f, double(INT32_MIN), double(INT32_MAX))));
+        return int64_t(
+            std::llround(std::clamp(f * double(1u << kFr), double(-kMaxSlope), double(kMaxSlope))));
     };
     const int64_t cx = clampS(fx), cy = clampS(fy);
     if (const int64_t s = spread(v, cx, cy); s < best) best = s, bx = cx, by = cy;
     static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1}, kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-    for (int64_t step = int64_t(1) << 12; step >= 1 && best > 0; step >>= 1)
+    for (int64_t step = int64_t(1) << 18; step >= 1 && best > 0; step >>= 1)
         for (int iter = 0; iter < 64; ++iter) {
             bool moved = false;
             for (int d = 0; d < 8; ++d) {
                 const int64_t nx = bx + kDx[d] * step, ny = by + kDy[d] * step;
-                if (nx > INT32_MAX || nx < INT32_MIN || ny > INT32_MAX || ny < INT32_MIN) continue;
+                if (nx > kMaxSlope || nx < -kMaxSlope || ny > kMaxSlope || ny < -kMaxSlope) continue;
                 if (const int64_t t = spread(v, nx, ny); t < best) best = t, bx = nx, by = ny, moved = true;
             }
             if (!moved) break;
         }
-    return {int32_t(bx), int32_t(by)};
+    return {bx, by};
 }
 
 // The slope table: entry 0 is the zero slope; a slope is added when a class's code with it (charged the
@@ -209,12 +221,18 @@ ChunkCode encodeChunk(const Val* vals, uint32_t count, const SlopeTable& table) 
         if (c.bits < best.bits) best = std::move(c);
     };
     for (uint32_t mask : masks) tryMask(mask);
-    for (int round = 0; round < 2 && best.bits > 0 && best.c[0].b < 32; ++round) {
-        const ClassCode p = best.c[0]; // a copy: tryMask may replace best
+    for (int round = 0; round < 2 && best.bits > 0; ++round) {
+        // Under the best class-0 plane so far, or (its class raw: one outlier, such as an empty texel among
+        // a plane's values, spreads it past 31 bits) under the slope searched over the whole chunk.
+        ClassCode p = best.c[0]; // a copy: tryMask may replace best
+        if (p.b == 32) {
+            std::vector<const Val*> all;
+            for (uint32_t j = 0; j < count; ++j) all.push_back(&vals[j]);
+            p.slope = searchSlope(all);
+        }
         std::vector<int64_t> r(count);
         for (uint32_t j = 0; j < count; ++j)
-            r[j] = (int64_t(vals[j].lo) + int64_t(vals[j].hi)) / 2 - int64_t(p.slope.first) * vals[j].px -
-                   int64_t(p.slope.second) * vals[j].py;
+            r[j] = (int64_t(vals[j].lo) + int64_t(vals[j].hi)) / 2 - planeAt(p.slope, vals[j].px, vals[j].py);
         std::vector<int64_t> s = r;
         std::nth_element(s.begin(), s.begin() + count / 2, s.end());
         const int64_t med = s[count / 2];
@@ -230,7 +248,7 @@ ChunkCode encodeChunk(const Val* vals, uint32_t count, const SlopeTable& table) 
         int64_t maxU = INT64_MIN, minW = INT64_MAX;
         uint32_t jU = 0, jW = 0;
         for (uint32_t j = 0; j < count; ++j) {
-            const int64_t pr = int64_t(p.slope.first) * vals[j].px + int64_t(p.slope.second) * vals[j].py;
+            const int64_t pr = planeAt(p.slope, vals[j].px, vals[j].py);
             const int64_t u = int64_t(vals[j].lo) - pr, w = int64_t(vals[j].hi) - pr;
             if (u > maxU) maxU = u, jU = j;
             if (w < minW) minW = w, jW = j;
@@ -239,6 +257,32 @@ ChunkCode encodeChunk(const Val* vals, uint32_t count, const SlopeTable& table) 
         tryMask(coverage(vals[jW].lo));
     }
     return best;
+}
+
+// The chosen split's classes of 1-2 bit factors at step 1 once more (one-point values: an open surface),
+// each slope tried at its 17 x 17 neighbours (1/64 units): a class on one rasterised plane lies within a
+// few steps of its slope after the search, but near it the spread is flat up to the plane's floor (0 or
+// 1), where the pattern search stops. The fewest factor bits win (a new table entry charged 64 bits).
+void refineClasses(const Val* vals, uint32_t count, ChunkCode& code, const SlopeTable& table) {
+    constexpr int64_t kRadius = 8;
+    for (int k = 0; k < 2; ++k) {
+        ClassCode& c = code.c[k];
+        if (c.b == 0 || c.b > 2 || c.sh != 0 || c.k.empty()) continue;
+        std::vector<const Val*> v;
+        for (uint32_t j = 0; j < count; ++j)
+            if (((code.mask >> j) & 1u) == uint32_t(k)) v.push_back(&vals[j]);
+        const Slope s0 = c.slope;
+        uint64_t bestBits = uint64_t(v.size()) * c.b + (table.index.count(s0) ? 0 : 64);
+        for (int64_t dy = -kRadius; dy <= kRadius; ++dy)
+            for (int64_t dx = -kRadius; dx <= kRadius; ++dx) {
+                const Slope s{s0.first + dx, s0.second + dy};
+                if ((dx == 0 && dy == 0) || std::abs(s.first) > kMaxSlope || std::abs(s.second) > kMaxSlope)
+                    continue;
+                ClassCode t = fitClass(v, s);
+                const uint64_t bits = uint64_t(v.size()) * t.b + (t.b == 32 || table.index.count(s) ? 0 : 64);
+                if (t.b < 32 && bits < bestBits) bestBits = bits, c = std::move(t);
+            }
+    }
 }
 
 } // namespace
@@ -260,6 +304,7 @@ Result<Sections> encodeValues(const std::vector<Val>& vals, Stats* stats) {
     for (uint32_t c = 0; c < numChunks; ++c) {
         const uint32_t count = std::min(kChunkValues, numValues - c * kChunkValues);
         ChunkCode code = encodeChunk(&vals[size_t(c) * kChunkValues], count, table);
+        refineClasses(&vals[size_t(c) * kChunkValues], count, code, table);
         uint32_t entry[2];
         for (int k = 0; k < 2; ++k) {
             auto [it, added] = table.index.try_emplace(code.c[k].slope, uint32_t(table.entries.size()));

@@ -29,6 +29,11 @@
 namespace ml {
 
 constexpr uint32_t kDepthEmpty = 0xFFFFFFFFu;
+// Directional (orthographic) maps take each triangle's depth from its plane in fixed point, slopes in
+// 1/64 units a texel (raster_dual.h step 4), so that DAG-MH's value planes reproduce it exactly
+// (dagmh.h). 6 bits keep the plane within 2^-7 x 2^19 = 4096 units (1e-6 of the depth range) of the
+// triangle at 262,144^2, and a slope within 64 / span steps of a least-squares fit over a span of texels.
+constexpr uint32_t kOrthoSlopeFractionBits = 6;
 
 // Linear distance z in [0, far] -> [0, 0xFFFFFFFE]; values past far clamp. kDepthEmpty stays free.
 inline uint32_t quantizeDepth(float z, float farPlane) {

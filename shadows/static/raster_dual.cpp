@@ -44,7 +44,40 @@ int64_t floorDiv(int64_t a, int64_t b) {
     return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
+// raster_dual.h step 4, orthographic maps: the plane through the triangle's three light-space points
+// (texel coordinates u, v with texel centres at integers, quantised depth D), in double from the world
+// positions, so parallel triangles get the same slopes. False when the triangle is edge-on or steeper
+// than 2^25 units a texel (|Dx| < 2^31, DAG-MH's int32 slope words); A then stays below 2^44 in int64.
+bool orthoDepthPlane(const glm::mat4& view, const glm::vec3* p, double orthoHalf, uint32_t res, double far,
+                     int64_t& A, int64_t& Dx, int64_t& Dy) {
+    const glm::dmat4 v(view);
+    double u[3], w[3], D[3];
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec4 q = v * glm::dvec4(glm::dvec3(p[k]), 1.0);
+        u[k] = (q.x / orthoHalf + 1.0) * 0.5 * double(res) - 0.5;
+        w[k] = (q.y / orthoHalf + 1.0) * 0.5 * double(res) - 0.5;
+        D[k] = -q.z / far * 4294967294.0;
+    }
+    const double du1 = u[1] - u[0], dw1 = w[1] - w[0], du2 = u[2] - u[0], dw2 = w[2] - w[0];
+    const double det = du1 * dw2 - du2 * dw1;
+    if (!(std::abs(det) > 1e-9)) return false;
+    const double dD1 = D[1] - D[0], dD2 = D[2] - D[0];
+    const double sx = (dD1 * dw2 - dD2 * dw1) / det, sy = (dD2 * du1 - dD1 * du2) / det;
+    constexpr double kMaxSlope = 33554432.0; // 2^25 units a texel
+    if (!(std::abs(sx) < kMaxSlope && std::abs(sy) < kMaxSlope)) return false;
+    A = std::llround(D[0] - sx * u[0] - sy * w[0]);
+    constexpr double kFraction = double(1u << kOrthoSlopeFractionBits);
+    Dx = std::llround(sx * kFraction), Dy = std::llround(sy * kFraction);
+    return std::abs(Dx) <= INT32_MAX && std::abs(Dy) <= INT32_MAX;
+}
+
 } // namespace
+
+uint32_t DualRasterizer::Tri::planeDepth(int64_t x, int64_t y) const {
+    constexpr int64_t kHalf = int64_t(1) << (kOrthoSlopeFractionBits - 1);
+    const int64_t q = planeA + ((planeDx * x + planeDy * y + kHalf) >> kOrthoSlopeFractionBits);
+    return q <= 0 ? 0u : q >= int64_t(0xFFFFFFFEu) ? 0xFFFFFFFEu : uint32_t(q);
+}
 
 LightFrustum spotLightFrustum(const LightShape& light, float nearPlane) {
     LightFrustum f;
@@ -142,6 +175,9 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
     for (size_t tri = 0; tri < count; ++tri) {
+        int64_t planeA = 0, planeDx = 0, planeDy = 0;
+        const bool plane = ortho_ && orthoDepthPlane(frustum.view, &casters.positions[tri * 3], oh, res_,
+                                                     double(far_), planeA, planeDx, planeDy);
         poly.clear();
         for (int k = 0; k < 3; ++k) {
             glm::vec4 v = frustum.view * glm::vec4(casters.positions[tri * 3 + k], 1.0f);
@@ -176,6 +212,7 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
                 std::swap(tr.x[1], tr.x[2]), std::swap(tr.y[1], tr.y[2]),
                     std::swap(tr.invDepth[1], tr.invDepth[2]);
             tr.kind = casters.closed[tri] ? (front ? 0 : 2) : 1;
+            tr.plane = plane, tr.planeA = planeA, tr.planeDx = planeDx, tr.planeDy = planeDy;
             int64_t ymin = std::min({tr.y[0], tr.y[1], tr.y[2]}),
                     ymax = std::max({tr.y[0], tr.y[1], tr.y[2]});
             // Rows whose centre y*256+128 lies in [ymin, ymax].
@@ -297,10 +334,15 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
             uint32_t* count = hs.count.data() + uint64_t(y - int32_t(y0)) * w;
             uint64_t* slots = hs.slots.data() + uint64_t(y - int32_t(y0)) * w;
             for (int64_t x = lo; x <= hi; ++x) {
-                double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
-                               double(e[2]) * tr.invDepth[2]) *
-                              invArea;
-                uint32_t depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
+                uint32_t depth;
+                if (tr.plane) {
+                    depth = tr.planeDepth(x, y);
+                } else {
+                    double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
+                                   double(e[2]) * tr.invDepth[2]) *
+                                  invArea;
+                    depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
+                }
                 const uint64_t key = uint64_t(depth) << 2 | tr.kind, lx = uint64_t(x - int64_t(x0));
                 const uint32_t n = count[lx]++;
                 if (n < kHitSlots)
@@ -390,10 +432,15 @@ void DualRasterizer::renderRectReference(uint32_t x0, uint32_t y0, uint32_t w, u
             }
             for (int64_t x = c0; x <= c1; ++x) {
                 if (e[0] - bias[0] >= 0 && e[1] - bias[1] >= 0 && e[2] - bias[2] >= 0) {
-                    double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
-                                   double(e[2]) * tr.invDepth[2]) *
-                                  invArea;
-                    uint32_t depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
+                    uint32_t depth;
+                    if (tr.plane) {
+                        depth = tr.planeDepth(x, y);
+                    } else {
+                        double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
+                                       double(e[2]) * tr.invDepth[2]) *
+                                      invArea;
+                        depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
+                    }
                     uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x - int64_t(x0));
                     hits.push_back(local << 34 | uint64_t(depth) << 2 | tr.kind);
                 }

@@ -17,6 +17,15 @@
 //   4. Per covered centre a hit (depth, kind) is recorded; the depth is the linear distance along the
 //      light's -Z, interpolated perspective-correctly (1/z is affine in screen space) in double and
 //      quantised with quantizeDepth(float(z), far). Front faces are counter-clockwise seen from the light.
+//      Orthographic maps (directional lights) take the depth from the triangle's plane in fixed point
+//      instead (orthoDepthPlane): quantised depth at texel (x, y) = A + ((Dx x + Dy y + 32) >> 6) in
+//      int64, clamped to [0, 0xFFFFFFFE], where A (the plane at texel (0, 0)'s centre, rounded) and Dx, Dy
+//      (its slopes per texel in 1/64 units, kOrthoSlopeFractionBits, rounded) come from the unclipped,
+//      unsnapped triangle in double. Every texel of a triangle then lies exactly on an integer plane
+//      that a decoder can evaluate (DAG-MH's value planes, dagmh.h), and parallel triangles get the same
+//      slopes. The depth is within 2^-7 (x + y) + 1 units of the true plane: 1e-6 of the depth range at
+//      262,144^2, where step 4's float is off by up to 6e-8 of it. A triangle steeper than 2^25 units a
+//      texel (1/128 of the depth range) keeps step 4's depth, as slopes are int32 in DAG-MH's table.
 //   5. Per texel the hits are sorted by depth; at equal depth a closed front face comes first, then open
 //      faces, then closed back faces. enter = first hit. If the first hit is a closed front face, a
 //      counter over closed faces (+1 front, -1 back, open faces ignored) is run from it and exit = depth
@@ -104,6 +113,11 @@ class DualRasterizer {
     struct Tri {
         int64_t x[3], y[3]; // fixed point, 1/256 texel, counter-clockwise
         double invDepth[3]; // 1 / depth (perspective) or depth (orthographic): linear in screen space
+        // Orthographic maps: the triangle's depth plane in fixed point (step 4), in quantised depth units
+        // at texel (x, y): planeA + ((planeDx x + planeDy y + 32) >> 6). `plane` false: too steep for it.
+        int64_t planeA = 0, planeDx = 0, planeDy = 0;
+        bool plane = false;
+        uint32_t planeDepth(int64_t x, int64_t y) const;
         int32_t yMin, yMax; // covered texel rows (inclusive), before tiling
         uint8_t kind;       // 0 closed front, 1 open, 2 closed back
     };

@@ -5,6 +5,8 @@
 #include "bake/scene_casters.h"
 #include "scenes/scenes.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 
 namespace ml::stest {
@@ -105,6 +107,54 @@ TEST(StaticRaster, OpenQuadExitEqualsEnterAndEmptyElsewhere) {
             }
         }
     EXPECT_GT(quad, 1000u);
+}
+
+// Directional maps take each triangle's depth from its fixed-point plane (raster_dual.h step 4): every
+// covered texel lies within 2^-7 (x + y) + 2 units of the triangle's true depth at its centre, and on one
+// integer plane that DAG-MH's decoder evaluates, so a tilted open triangle over empty ground costs no
+// factor bits (the float rule before it left 1-9 bit factors on such planes).
+TEST(StaticRaster, DirectionalDepthIsTheTrianglesFixedPointPlane) {
+    CasterTriangles c;
+    const glm::vec3 a(-9.3f, 1.7f, -8.9f), b(9.1f, 4.9f, -7.7f), d(-2.2f, -3.1f, 9.4f);
+    c.add(a, b, d, false);
+    LightFrustum f;
+    f.view = glm::lookAt(glm::vec3(3.0f, 40.0f, 11.0f), glm::vec3(0.0f), glm::vec3(0, 0, 1));
+    f.orthoHalf = 12.0f, f.nearPlane = 1.0f, f.farPlane = 80.0f;
+    const uint32_t res = 512;
+    DualDepthMap m = rasterizeDual(c, f, res);
+    const glm::dmat4 v(f.view);
+    glm::dvec3 q[3];
+    for (int k = 0; k < 3; ++k)
+        q[k] = glm::dvec3(v * glm::dvec4(glm::dvec3(k == 0 ? a : k == 1 ? b : d), 1.0));
+    const glm::dvec3 n = glm::cross(q[1] - q[0], q[2] - q[0]);
+    uint64_t covered = 0;
+    double worst = 0.0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) {
+            const size_t i = size_t(y) * res + x;
+            if (m.enter[i] == kDepthEmpty) continue;
+            ++covered;
+            EXPECT_EQ(m.exit[i], m.enter[i]);
+            const double lx = ((x + 0.5) / res * 2 - 1) * f.orthoHalf,
+                         ly = ((y + 0.5) / res * 2 - 1) * f.orthoHalf;
+            const double z = q[0].z - (n.x * (lx - q[0].x) + n.y * (ly - q[0].y)) / n.z; // on the plane
+            const double exact = -z / double(f.farPlane) * 4294967294.0;
+            const double err = std::abs(double(m.enter[i]) - exact);
+            worst = std::max(worst, err);
+            ASSERT_LE(err, (x + y) / 128.0 + 2.0) << x << "," << y;
+        }
+    EXPECT_GT(covered, res * res / 8);
+    printf("  [static] %llu texels on the plane, worst %.2f units from the true depth\n",
+           (unsigned long long)covered, worst);
+    auto tree = buildMhTree(m);
+    ASSERT_TRUE(tree.ok());
+    DagMhStats st;
+    auto enc = encodeDAGMH(*tree, &st);
+    ASSERT_TRUE(enc.ok()) << enc.error();
+    EXPECT_EQ(st.factorBits, 0u);
+    EXPECT_EQ(st.rawChunks, 0u);
+    EXPECT_EQ(dagmhCheckValues(*tree, enc->data()), 0u);
+    encodeChecked(m, codecs()[2]);
 }
 
 TEST(StaticRaster, TilesMatchWholeMap) {
