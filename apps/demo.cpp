@@ -30,7 +30,7 @@ std::string windowTitle(CullingMode mode, const FrameReport& r) {
     std::string t = std::string("manylights | ") + cullingName(mode);
     char buf[64];
     for (const PassTime& p : r.times.passes) {
-        std::snprintf(buf, sizeof(buf), " | %s %.2f", p.name.c_str(), p.ms);
+        std::snprintf(buf, sizeof(buf), " | %.*s %.2f", int(p.name.size()), p.name.data(), p.ms);
         t += buf;
     }
     std::snprintf(buf, sizeof(buf), " | total %.2f ms", r.times.totalMs());

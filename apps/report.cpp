@@ -100,7 +100,7 @@ Result<void> writeStats(const std::string& path, const RunInfo& info,
             size_t k = size_t(std::find(passOrder.begin(), passOrder.end(), p.name) - passOrder.begin());
             if (k == passOrder.size()) {
                 k = at;
-                passOrder.insert(passOrder.begin() + std::ptrdiff_t(k), p.name);
+                passOrder.insert(passOrder.begin() + std::ptrdiff_t(k), std::string(p.name));
                 passMean.insert(passMean.begin() + std::ptrdiff_t(k), 0.0);
                 passCount.insert(passCount.begin() + std::ptrdiff_t(k), 0u);
             }

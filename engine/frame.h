@@ -42,12 +42,11 @@ struct FrameContext {
     // (in `shading`) are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten
     // whole each frame.
     const GBufferTargets* gbuffer = nullptr;
-    const Image* hdrImage = nullptr;     // the module's: full-size (own targets) or a 1x1 stub
-    const Image* outputImage = nullptr;  // likewise (the host's output arrives GENERAL)
-    VkImageView output = VK_NULL_HANDLE; // the debug views' target
-    const Buffer* counters = nullptr;    // FrameCounters (atomics; read by the host one frame later)
-    std::span<const StagedCopy> copies;  // recorded first, by the frame-begin pass
-    const FrameSetup* setup = nullptr;   // fills and copies queued while the frame was prepared (first too)
+    const Image* hdrImage = nullptr;    // the module's: full-size (own targets) or a 1x1 stub
+    const Image* outputImage = nullptr; // likewise (the host's output arrives GENERAL)
+    const Buffer* counters = nullptr;   // FrameCounters (atomics; read by the host one frame later)
+    std::span<const StagedCopy> copies; // recorded first, by the frame-begin pass
+    const FrameSetup* setup = nullptr;  // fills and copies queued while the frame was prepared (first too)
 
     // What each feature's pass reads and writes, by name: the slot's buffers (written by the host just
     // before), the geometry, the cluster lists and the G-buffer views, grouped as each pass takes them.
@@ -58,6 +57,7 @@ struct FrameContext {
     ShadowInputs shadows{};
     EvaluateTargets evaluation{};
     VsmFrameInputs vsm{};
+    ViewInputs views{}; // the debug views: the light counts, and views.output for the VSM view too
 };
 
 // One entry of the frame's list (recordFrame, engine/frame_passes.cpp): what records the pass, whether it

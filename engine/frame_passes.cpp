@@ -99,11 +99,9 @@ bool debugViewOn(const FrameContext& f, const VirtualShadowMaps& vsm) {
 
 void recordDebugView(FrameContext& f, LightCulling& cull, const VsmPasses& vsmPasses) {
     if (f.view == DebugView::Vsm)
-        vsmPasses.recordView(*f.device, f.cmd, f.slot, f.vsm, f.output);
+        vsmPasses.recordView(*f.device, f.cmd, f.slot, f.vsm, f.views.output);
     else
-        cull.recordView(*f.device, f.cmd,
-                        {f.shading.frame, f.shading.slices, f.shading.lights, f.shading.depth, f.output,
-                         f.shading.width, f.shading.height, f.view == DebugView::LightsReaching});
+        cull.recordView(*f.device, f.cmd, f.views);
 }
 
 } // namespace

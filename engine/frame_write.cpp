@@ -185,7 +185,6 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     const VkImageView depth = ownTargets ? targets.depth.view : host.depth.view;
     const VkImageView normal = ownTargets ? targets.normal.view : host.normal.view;
     const VkImageView albedo = ownTargets ? targets.albedo.view : host.albedo.view;
-    f.output = ownTargets ? output.view : host.output.view;
     if (ownTargets) // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
         f.evaluation = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both, hdr.view, output.view};
     else // the host's output takes what the mode writes; the other binding gets the stub
@@ -217,6 +216,14 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     f.vsm.meshletTriangles = &meshletTriangleBuffer;
     f.vsm.clusterReceivers = cull.wantReceivers ? &cull.receivers : nullptr;
     f.vsm.tileMasks = &cull.tileMasks;
+    f.views = {&slot.frame,
+               &slot.slices,
+               &slot.lights,
+               depth,
+               ownTargets ? output.view : host.output.view,
+               width,
+               height,
+               view == DebugView::LightsReaching};
     return f;
 }
 

@@ -1,7 +1,6 @@
 // Per-pass GPU times of a frame (FrameReport::times): one entry for each timed pass the frame recorded.
 #pragma once
 #include <cstdint>
-#include <string>
 #include <string_view>
 #include <vector>
 
@@ -12,12 +11,14 @@ namespace ml {
 inline constexpr const char* kVsmBookkeeping = "vsm_bookkeeping";
 
 // One timed pass, under the name the reports print (stats.json's pass_gpu_ms_mean, frames.csv, the
-// trace): "gbuffer", "cluster_bounds", "light_assign", the VSM steps, "evaluate", "statistics".
+// trace): "gbuffer", "cluster_bounds", "light_assign", the VSM steps, "evaluate", "statistics". The name
+// and group view string literals of the module (static storage, each null-terminated): valid for the
+// program's lifetime, and a frame's report allocates no string for them.
 struct PassTime {
-    std::string name;
-    std::string group;  // the sum it counts in (PassTimes::groupMs), empty for none
-    double ms = 0;      // GPU milliseconds
-    double startMs = 0; // start on the GPU clock (ms; only differences mean anything)
+    std::string_view name;
+    std::string_view group; // the sum it counts in (PassTimes::groupMs), empty for none
+    double ms = 0;          // GPU milliseconds
+    double startMs = 0;     // start on the GPU clock (ms; only differences mean anything)
 };
 
 struct PassTimes {

@@ -245,7 +245,7 @@ ML_DAG_FN uint dagmhLookup(ML_DAG_DATA_PARAM uint base, uint x, uint y) {
 }
 
 // Level lookups (filtering by level), in two steps so that the taps of a kernel can share the descent
-// (dagmhPcfLitLevel, shaders/static/static_visibility.glsl): where the lookup of full-resolution texel
+// (dagmhPcfLitLevel, shaders/static/static_pcf.h): where the lookup of full-resolution texel
 // (X, Y) at depth `steps` starts, and the rest of it from a state above that depth. The descent starts at
 // the skip entry when steps >= S (the entry holds the state above depth S), at the root otherwise, reads
 // the flags of the node at depth `steps` itself and looks in a treelet only down to `steps`.

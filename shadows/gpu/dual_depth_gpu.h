@@ -6,7 +6,7 @@
 // Per tile three raster passes over the light's caster triangles write R32_UINT storage images with
 // atomics (shadows/gpu/dual_depth.frag): enter (nearest surface), a closed-entry mark, exit (nearest closed
 // back face behind enter). Depth is the light-view distance, quantised like quantizeDepth but in float
-// (shaders/static/static_visibility.glsl staticQuantize), so it differs from the CPU reference's double
+// (staticQuantize, shaders/static/static_pcf.h), so it differs from the CPU reference's double
 // path by a few units of 2^-32 of the range; coverage follows Vulkan's rasterisation rules at texel
 // centres, like the CPU reference's.
 #pragma once

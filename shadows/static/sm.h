@@ -92,7 +92,7 @@ inline stat::ByteBreakdown breakdownSM(const uint32_t* data, size_t size) {
     return b;
 }
 
-// GLSL twin: staticDepthAt in shaders/static/static_visibility.glsl.
+// The shader reads the same words in staticDepthAt (shaders/static/static_pcf.h).
 inline uint32_t smLookup(const uint32_t* data, uint32_t base, uint32_t x, uint32_t y) {
     if (y >= smRows(data, base)) return kDepthEmpty; // outside a fitted directional light's rows
     return data[base + smfmt::kHeaderWords + y * data[base + smfmt::kResolution] + x];

@@ -1,6 +1,6 @@
-// CPU twin of shaders/static/static_visibility.glsl: static shadow visibility of one receiver for one
-// light's baked record (see there for the bias and the filter). Used by the evaluation pass's CPU
-// reference and by accuracy measurements that run without a GPU.
+// The CPU twin of the shader's static shadow visibility of one receiver for one light's baked record:
+// the same text, shaders/static/static_pcf.h, compiled as C++ (see there for the bias and the filter). Used
+// by the evaluation pass's CPU reference and by accuracy measurements that run without a GPU.
 #pragma once
 #include "shaders/shared/gpu_types.h"
 #include "shaders/shared/shadow_record.h"

@@ -13,7 +13,7 @@
 // A directional light's clip level L covers a square of half extent h0 * 2^L around the camera; the
 // lookup takes the coarsest level whose texel is no larger than the pixel and which holds the point.
 //
-// Bias (the same as the static methods, shaders/static/static_visibility.glsl): the receiver moves along
+// Bias (the same as the static methods, shaders/static/static_pcf.h): the receiver moves along
 // its normal by one texel of the chosen mip, and compares with a further half texel of depth; per light
 // (GpuVsmMap.bias, LightDesc::shadowNormalBias / shadowDepthBias) the offset is scaled and the depth
 // bias set (the defaults 1 and 0.5 give these values exactly).
@@ -113,7 +113,7 @@ ML_FN bool vsmFacesLight(GpuLight L, vec3 P, vec3 N) {
     return nd2 < margin;
 }
 
-// The float quantisation of shaders/static/static_visibility.glsl and vsm_draw.frag: linear depth over
+// The float quantisation of shaders/static/static_pcf.h (staticQuantize) and vsm_draw.frag: linear depth over
 // [0, far] to 32 bits (4294967040 is the largest float below 2^32).
 ML_FN uint vsmQuantize(float z, float farPlane) {
     ML_PRECISE float t = min(max(z / farPlane, 0.0f), 1.0f);

@@ -3,6 +3,7 @@
 // method and resolution. Truth is an exact ray-box test.
 #include "scenes/scene.h"
 #include "shadows/static/raster_dual.h"
+#include "shadows/static/static_method.h"
 #include "shadows/static/static_visibility.h"
 
 #include <gtest/gtest.h>
@@ -131,8 +132,8 @@ TEST(StaticHierarchicalPcf, SharedPrefixTapsEqualFullLookups) {
                 DagmhState prefix = dagmhPcfPrefix(d, h, x0, y0, x1, y1);
                 if (prefix.kind == kDagNoPrefix) continue;
                 ++shared;
-                // The PCF loop's memo (static_visibility.cpp): a tap whose value index equals the
-                // previous tap's reuses that value, so equal indices must mean equal values.
+                // The PCF loop's memo (dagmhMemoValue, shaders/static/static_pcf.h): a tap whose value index
+                // equals the previous tap's reuses that value, so equal indices must mean equal values.
                 uint32_t memoIndex = 0xFFFFFFFFu, memoValue = 0;
                 for (int y = y0; y <= y1; ++y)
                     for (int x = x0; x <= x1; ++x, ++taps) {
@@ -266,5 +267,103 @@ TEST(StaticVisibility, RecordViewMatchesTheFrustumMatrix) {
     nan[3][1] = NAN;
     EXPECT_FALSE(rigidView(nan));
     EXPECT_TRUE(rigidView(glm::mat4(1.0f)));
+}
+} // namespace ml
+
+namespace ml {
+namespace {
+// The depth methods' visibility as a plain loop: the mapping and bias of shaders/static/static_pcf.h
+// written out again, then every tap of the kernel looked up alone (lookupStaticDepth at the finest level,
+// the methods' level lookups above it), without the shared descents, memos and value bounds.
+float perTapVisibility(const gpu::GpuShadowRecord& rec, const uint32_t* data, glm::vec3 P, glm::vec3 N,
+                       float footprint2, uint32_t& stepOut) {
+    const StaticMethod method = StaticMethod(gpu::shadowRecordMethod(rec));
+    const uint32_t base = rec.info.y, res = gpu::shadowRecordResolution(rec);
+    const int radius = int(gpu::shadowRecordRadius(rec));
+    const float tanHalf = rec.frustum.x, farPlane = rec.frustum.z;
+    const bool ortho = tanHalf < 0.0f;
+    const float orthoHalf = -tanHalf;
+    const glm::vec3 vp = gpu::shadowViewPoint(rec, P), vn = gpu::shadowViewVector(rec, N);
+    const float z = -vp.z;
+    stepOut = 0;
+    if (z <= rec.frustum.y) return 1.0f;
+    float texelWorld = ortho ? 2.0f * orthoHalf / float(res) : 2.0f * z * tanHalf / float(res);
+    uint32_t step = 0;
+    if (gpu::shadowRecordByLevel(rec) && method != StaticMethod::SM)
+        step = gpu::shadowLevelStep(texelWorld, footprint2, data[base + mhfmt::kLevels]);
+    stepOut = step;
+    texelWorld = texelWorld * float(1u << step);
+    const glm::vec3 q = vp + vn * (texelWorld * float(1 + radius) * rec.bias.y);
+    const float zq = -q.z;
+    if (zq <= rec.frustum.y) return 1.0f;
+    const glm::vec2 ndc = ortho ? glm::vec2(q) / orthoHalf : glm::vec2(q) / (zq * tanHalf);
+    const glm::ivec2 t = glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * float(res))) >> int(step);
+    const uint32_t depth = staticQuantizeFloat(std::max(zq - rec.bias.x * texelWorld, 0.0f), farPlane);
+    const int levelRes = int((res + (1u << step) - 1u) >> step);
+    uint32_t lit = 0;
+    for (int y = t.y - radius; y <= t.y + radius; ++y)
+        for (int x = t.x - radius; x <= t.x + radius; ++x) {
+            if (x < 0 || y < 0 || x >= levelRes || y >= levelRes) {
+                ++lit;
+                continue;
+            }
+            const uint32_t ux = uint32_t(x), uy = uint32_t(y), steps = data[base + mhfmt::kLevels] - step;
+            const uint32_t d = step == 0                     ? lookupStaticDepth(method, data, base, ux, uy)
+                               : method == StaticMethod::MH  ? mhLookupLevel(data, base, ux, uy, steps)
+                               : method == StaticMethod::MMH ? mmhLookupLevel(data, base, ux, uy, steps)
+                                                             : dagmhLookupLevel(data, base, ux, uy, steps);
+            lit += depth <= d;
+        }
+    return float(lit) / float((2 * radius + 1) * (2 * radius + 1));
+}
+} // namespace
+
+// The PCF kernels of shaders/static/static_pcf.h (the shader's text, here compiled as C++) count the lit
+// taps a plain per-tap loop counts: SM, MH, MMH and DAG-MH (DAG-MH's bounds, shared prefix, shared
+// treelet and memos), radius 0 to 2, at the finest level and filtering by level (pixel footprints that
+// reach several levels up), on ground receivers around and under a box, the map at an odd base word.
+TEST(StaticVisibility, PcfKernelsCountTheTapsAPerTapLoopCounts) {
+    const uint32_t res = 256, base = 37;
+    const glm::vec3 lo(-0.5f, 0.0f, 1.5f), hi(0.5f, 1.0f, 2.5f);
+    Light light;
+    light.position = glm::vec3(0.3f, 6.0f, -1.0f);
+    light.direction = glm::normalize(glm::vec3(0.0f, 0.0f, 2.0f) - light.position);
+    light.range = 20.0f;
+    light.outerAngle = 0.7f;
+    const LightFrustum f = spotLightFrustum(light);
+    const DualDepthMap map = rasterizeDual(groundAndBoxForPcf(lo, hi), f, res);
+    const glm::vec3 camera(0.0f, 3.0f, -6.0f);
+    for (StaticMethod method : {StaticMethod::SM, StaticMethod::MH, StaticMethod::MMH, StaticMethod::DAGMH}) {
+        auto words = encodeStatic(method, map, {f.nearPlane, f.farPlane, {}});
+        ASSERT_TRUE(words.ok()) << words.error();
+        std::vector<uint32_t> data(base, 0xDEADBEEFu);
+        data.insert(data.end(), words->begin(), words->end());
+        for (uint32_t radius : {0u, 1u, 2u})
+            for (float pixelAngle2 : {0.0f, 1e-4f, 4e-3f}) {
+                auto rec = makeShadowRecord(method, f, base, res, radius);
+                if (pixelAngle2 > 0.0f) rec.info.z |= 1u; // filter by level
+                uint64_t diff = 0, partial = 0, byLevel = 0, receivers = 0;
+                for (float x = -4.0f; x <= 4.0f; x += 0.05f)
+                    for (float zz = -1.0f; zz <= 8.0f; zz += 0.05f) {
+                        const glm::vec3 p(x, 0.0f, zz), n(0, 1, 0);
+                        const float fp2 = gpu::shadowFootprint2(camera, p, pixelAngle2);
+                        uint32_t step = 0;
+                        const float want = perTapVisibility(rec, data.data(), p, n, fp2, step);
+                        const float got = staticVisibility(rec, data.data(), p, n, fp2);
+                        diff += got != want;
+                        partial += want > 0.0f && want < 1.0f;
+                        byLevel += step > 0;
+                        ++receivers;
+                    }
+                EXPECT_EQ(diff, 0u) << staticMethodName(method) << " radius " << radius << " pixel angle^2 "
+                                    << pixelAngle2 << ", of " << receivers;
+                if (radius > 0) {
+                    EXPECT_GT(partial, 50u) << staticMethodName(method) << " radius " << radius;
+                }
+                if (pixelAngle2 > 1e-3f && method != StaticMethod::SM) {
+                    EXPECT_GT(byLevel, receivers / 2) << staticMethodName(method);
+                }
+            }
+    }
 }
 } // namespace ml
