@@ -21,6 +21,7 @@
 #ifdef ML_WAVE_REDUCE
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_control_flow_attributes : require
 #endif
 #include "shaders/shared/glsl_common.glsl"
 #include "shaders/shared/light_math.h"
@@ -73,17 +74,19 @@ void main() {
     uint x = gl_WorkGroupID.x * ML_TILE_SIZE + gl_LocalInvocationID.x;
     uint tile = gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x;
     // This lane's pixels (one per row): slice (kNone without a surface), world key, receiver flag and
-    // normal codes.
+    // the keys of the unit normal's components. clusterNormalCode is non-decreasing in its component (a
+    // chain of correctly rounded operations, floor and clamps), so the smallest lower code of a cluster
+    // is the code of its smallest component and the largest upper code that of its largest: the codes
+    // are taken once per cluster, from the reduced components, equal to the reference's per-pixel ones.
     uint sl[ML_TILE_SIZE];
-    uvec3 key[ML_TILE_SIZE], codeLo[ML_TILE_SIZE], codeHi[ML_TILE_SIZE];
+    uvec3 key[ML_TILE_SIZE], nkey[ML_TILE_SIZE];
     bool rec[ML_TILE_SIZE];
     uint next = kNone; // the lane's smallest slice not yet reduced
-    for (uint r = 0u; r < ML_TILE_SIZE; ++r) {
+    [[unroll]] for (uint r = 0u; r < ML_TILE_SIZE; ++r) {
         uint y = gl_WorkGroupID.y * ML_TILE_SIZE + r;
         sl[r] = kNone;
         key[r] = uvec3(0u);
-        codeLo[r] = uvec3(1023u);
-        codeHi[r] = uvec3(0u);
+        nkey[r] = uvec3(0u);
         rec[r] = false;
         if (x >= frame.size.x || y >= frame.size.y) continue;
         float d = texelFetch(depthImage, ivec2(x, y), 0).r;
@@ -96,10 +99,7 @@ void main() {
             rec[r] = !(stored.w < 0.0); // as vsm_mark: ML_NOT_A_RECEIVER is -1
             if (rec[r]) {
                 vec3 n = clusterUnitNormal(stored.xyz);
-                for (int c = 0; c < 3; ++c) {
-                    codeLo[r][c] = clusterNormalCode(n[c], false);
-                    codeHi[r][c] = clusterNormalCode(n[c], true);
-                }
+                nkey[r] = uvec3(toKey(n.x), toKey(n.y), toKey(n.z));
             }
         }
         next = min(next, sl[r]);
@@ -109,15 +109,15 @@ void main() {
     for (uint s = subgroupMin(next); s != kNone; s = subgroupMin(next)) {
         // The cluster's box takes the non-receivers here (the receivers' box is added at the write).
         uvec3 lo = uvec3(kNone), hi = uvec3(0u), rlo = uvec3(kNone), rhi = uvec3(0u);
-        uvec3 nlo = uvec3(1023u), nhi = uvec3(0u);
+        uvec3 nlo = uvec3(kNone), nhi = uvec3(0u);
         next = kNone;
-        for (uint r = 0u; r < ML_TILE_SIZE; ++r) {
+        [[unroll]] for (uint r = 0u; r < ML_TILE_SIZE; ++r) {
             if (sl[r] == s) {
                 if (rec[r]) {
                     rlo = min(rlo, key[r]);
                     rhi = max(rhi, key[r]);
-                    nlo = min(nlo, codeLo[r]);
-                    nhi = max(nhi, codeHi[r]);
+                    nlo = min(nlo, nkey[r]);
+                    nhi = max(nhi, nkey[r]);
                 } else {
                     lo = min(lo, key[r]);
                     hi = max(hi, key[r]);
@@ -126,14 +126,14 @@ void main() {
                 next = min(next, sl[r]);
             }
         }
-        lo = min(subgroupMin(lo), subgroupMin(rlo));
-        hi = max(subgroupMax(hi), subgroupMax(rhi));
         if (kReceivers != 0u) {
             rlo = subgroupMin(rlo);
             rhi = subgroupMax(rhi);
             nlo = subgroupMin(nlo);
             nhi = subgroupMax(nhi);
         }
+        lo = min(subgroupMin(lo), rlo);
+        hi = max(subgroupMax(hi), rhi);
         mask[s >> 5] |= 1u << (s & 31u);
         if (subgroupElect()) {
             ClusterBounds b;
@@ -149,8 +149,13 @@ void main() {
                 if (rlo.x != kNone) {
                     rc.lo = vec3(fromKey(rlo.x), fromKey(rlo.y), fromKey(rlo.z));
                     rc.hi = vec3(fromKey(rhi.x), fromKey(rhi.y), fromKey(rhi.z));
-                    rc.normalLo = nlo.x | (nlo.y << 10u) | (nlo.z << 20u);
-                    rc.normalHi = nhi.x | (nhi.y << 10u) | (nhi.z << 20u) | ML_CLUSTER_HAS_RECEIVER;
+                    uvec3 cl, ch;
+                    for (int c = 0; c < 3; ++c) {
+                        cl[c] = clusterNormalCode(fromKey(nlo[c]), false);
+                        ch[c] = clusterNormalCode(fromKey(nhi[c]), true);
+                    }
+                    rc.normalLo = cl.x | (cl.y << 10u) | (cl.z << 20u);
+                    rc.normalHi = ch.x | (ch.y << 10u) | (ch.z << 20u) | ML_CLUSTER_HAS_RECEIVER;
                 }
                 receivers[tile * slices + s] = rc;
             }
