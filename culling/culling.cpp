@@ -6,6 +6,7 @@
 #include "shaders/shared/light_math.h"
 
 #include "cluster_bounds.comp.spv.h"
+#include "cluster_bounds_wave.comp.spv.h"
 #include "light_alloc.comp.spv.h"
 #include "light_assign.comp.spv.h"
 #include "light_fill.comp.spv.h"
@@ -14,6 +15,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace ml {
@@ -63,7 +66,29 @@ std::optional<gpu::LightFootprint> wideFootprint(const gpu::GpuLight& light,
 }
 
 Result<void> LightCulling::create(const Device& device) {
-    ML_TRY(ML_LOAD_SHADER(device, boundsShader_, spv_cluster_bounds_comp));
+    // The wave build runs a tile in one subgroup of ML_TILE_SIZE lanes (subgroupMin / Max, subgroupElect):
+    // basic + arithmetic operations in compute shaders (a SPIR-V module declaring them may not be created
+    // on a device without them), and no subgroup smaller than a workgroup (a SPIR-V 1.6 module may run at
+    // any size from minSubgroupSize up). ML_BOUNDS_WAVE=0 keeps the per-lane build (tests compare both
+    // with the reference).
+    VkPhysicalDeviceSubgroupSizeControlProperties size{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_PROPERTIES};
+    VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES, &size};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &sub};
+    vkGetPhysicalDeviceProperties2(device.physicalDevice, &props);
+    const VkSubgroupFeatureFlags need = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    const bool supported = (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                           (sub.supportedOperations & need) == need && sub.subgroupSize >= ML_TILE_SIZE &&
+                           size.minSubgroupSize >= ML_TILE_SIZE;
+    const char* env = std::getenv("ML_BOUNDS_WAVE");
+    waveBounds_ = supported && !(env && std::strcmp(env, "0") == 0);
+    if (!supported)
+        std::fprintf(stderr,
+                     "cluster_bounds: %s has no subgroup arithmetic in compute or subgroups under %u lanes: "
+                     "per-lane build\n",
+                     device.name.c_str(), unsigned(ML_TILE_SIZE));
+    ML_TRY(waveBounds_ ? ML_LOAD_SHADER(device, boundsShader_, spv_cluster_bounds_wave_comp)
+                       : ML_LOAD_SHADER(device, boundsShader_, spv_cluster_bounds_comp));
     ML_TRY(ML_LOAD_SHADER(device, assignShader_, spv_light_assign_comp));
     ML_TRY(ML_LOAD_SHADER(device, footprintShader_, spv_light_footprint_comp));
     ML_TRY(ML_LOAD_SHADER(device, allocShader_, spv_light_alloc_comp));
@@ -160,10 +185,11 @@ void LightCulling::recordBounds(const Device& device, VkCommandBuffer c, const B
     const bool withReceivers =
         wantReceivers && receivers.buffer && receivers.size >= grid.count() * sizeof(gpu::ClusterReceivers);
     constexpr VkImageLayout kRead = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    // One ML_TILE_SIZE^2 group per tile: a thread per pixel of the tile grid. The plain variant binds
-    // the bounds in the receivers' slot (never written there).
+    // One group per tile: ML_TILE_SIZE^2 threads (a thread per pixel), or in the wave build one subgroup
+    // of ML_TILE_SIZE (a thread per column). The plain variant binds the bounds in the receivers' slot
+    // (never written there).
     dispatch(device, c, withReceivers ? receiversProgram_ : boundsProgram_, grid.tilesX * ML_TILE_SIZE,
-             grid.tilesY * ML_TILE_SIZE, NoPush{},
+             waveBounds_ ? grid.tilesY : grid.tilesY * ML_TILE_SIZE, NoPush{},
              {ML_BIND(ML_BOUNDS_FRAME, *in.frame), ML_BIND(ML_BOUNDS_SLICES, *in.slices),
               ML_BIND(ML_BOUNDS_DEPTH, Descriptor(in.depth, kRead)), ML_BIND(ML_BOUNDS_OUT, bounds),
               ML_BIND(ML_BOUNDS_COUNTERS, *in.counters), ML_BIND(ML_BOUNDS_TILE_MASKS, tileMasks),

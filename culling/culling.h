@@ -8,6 +8,7 @@
 //                   each tile's occupied slices also go into a 64-bit mask.
 //                   Its receiver variant (wantReceivers: VSM page marking per cluster) also writes the
 //                   receivers' box and normal bounds per occupied cluster (ClusterReceivers).
+//                   Where the device allows, its wave build runs a tile in one subgroup (waveBounds).
 //   clustered (footprint; the default): light_footprint (count, record hits) -> light_alloc ->
 //                   light_fill (mark, append: sorted lists from per-tile light bitmasks, linear in the
 //                   hits). Each visible light (8 threads) tests only the occupied clusters inside its
@@ -94,6 +95,9 @@ class LightCulling {
     // `receivers` from the G-buffer normal (the receiver variant of cluster_bounds.comp); otherwise
     // the normal is bound but not read.
     static constexpr PassTimer kBoundsTimer{"cluster_bounds"};
+    // Whether create() loaded the wave build of cluster_bounds.comp (subgroup reduction before the shared
+    // atomics; the device has subgroup arithmetic and ML_BOUNDS_WAVE is not 0). Same output bit for bit.
+    bool waveBounds() const { return waveBounds_; }
     void recordBounds(const Device& device, VkCommandBuffer cmd, const BoundsInputs& in);
     // Sizes `receivers` for the grid (32 B per cluster, only for page marking per cluster).
     Result<void> ensureReceivers(const Device& device);
@@ -130,6 +134,7 @@ class LightCulling {
     ShaderModule boundsShader_, assignShader_, footprintShader_, allocShader_, fillShader_, viewShader_;
     Program boundsProgram_, receiversProgram_, assignProgram_, countProgram_, wideProgram_, allocProgram_;
     Program fillPrograms_[2]; // light_fill.comp's steps: mark, append
+    bool waveBounds_ = false;
     Program viewPrograms_[2]; // evaluated, reaching
 };
 

@@ -7,7 +7,7 @@
 // shadows up), so sky, and instances that receive no shadow, widen no box. Beside the world box, the
 // cluster keeps a box over the receivers' unit normals (per axis the smallest and largest component),
 // which vsmBoxFacesAway (shadows/virtual/vsm_bounds.h) tests against a light: a min / max reduction is
-// order-independent, so the GPU's shared-memory atomics equal the reference bit for bit in one pass (an
+// order-independent, so the GPU's reductions (either build) equal the reference bit for bit in one pass (an
 // axis-and-cosine cone would need a second pass over the pixels for the cosine).
 #ifndef ML_CLUSTER_RECEIVERS_H
 #define ML_CLUSTER_RECEIVERS_H

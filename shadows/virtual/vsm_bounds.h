@@ -22,9 +22,11 @@
 // the coverage test) marks from its receivers one by one instead (vsm_mark_cluster.comp), so that a box
 // straddling a cube's faces or grazing a spot's near plane does not mark whole mips. Refinement walks the
 // tile's 64 pixels in one invocation, so a low threshold costs more than the pages it saves: on the
-// night city at 640x360, 4 and 2 made the mark pass 2-5x slower than 16 (docs/results/log.md, "Virtual
+// night city at 640x360, 4 and 2 made the mark pass 2-5x slower than 16, and with the receiver and normal
+// bounds 4 doubled it indoors; 8 marks 1-3 % fewer pages than 16 at no measured cost
+// (docs/virtual-shadow-maps.md, "Receiver bounds and normal bounds"; docs/results/log.md, "Virtual
 // shadow maps: marking per cluster").
-#define ML_VSM_CLUSTER_PAGES 16u
+#define ML_VSM_CLUSTER_PAGES 8u
 
 #ifdef __cplusplus
 namespace ml::gpu {

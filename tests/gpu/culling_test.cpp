@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 
 namespace ml::test {
@@ -79,6 +80,18 @@ void compareWithReference(Module& m, CullingMode mode, uint32_t* wideOut = nullp
 
 TEST(GpuCulling, ClusteredListsEqualCpuReference) {
     auto f = renderCity(CullingMode::Clustered, 256);
+    compareWithReference(*f.module, CullingMode::Clustered);
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// The per-lane build of cluster_bounds.comp (every pixel's own shared atomics: the fallback for devices
+// without subgroup arithmetic, forced with ML_BOUNDS_WAVE=0) gives the same bounds bit for bit; the test
+// above ran the wave build where the device has it.
+TEST(GpuCulling, PerLaneBoundsEqualCpuReference) {
+    setenv("ML_BOUNDS_WAVE", "0", 1);
+    auto f = renderCity(CullingMode::Clustered, 256);
+    unsetenv("ML_BOUNDS_WAVE");
+    EXPECT_FALSE(internals(*f.module).cull.waveBounds());
     compareWithReference(*f.module, CullingMode::Clustered);
     EXPECT_EQ(validationErrors(), 0u);
 }

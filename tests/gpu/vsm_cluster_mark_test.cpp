@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "culling/culling.h"
@@ -104,6 +105,14 @@ TEST(GpuVsmClusterMark, NightCityContainsPixelMarksAndEqualsCpu) {
 
 TEST(GpuVsmClusterMark, IndoorContainsPixelMarksAndEqualsCpu) {
     expectSuperset("indoor", 4, false);
+}
+
+// The per-lane build of cluster_bounds.comp (ML_BOUNDS_WAVE=0: the fallback for devices without subgroup
+// arithmetic) writes the same receiver bounds; the tests above ran the wave build where the device has it.
+TEST(GpuVsmClusterMark, PerLaneReceiverBoundsEqualCpu) {
+    setenv("ML_BOUNDS_WAVE", "0", 1);
+    expectSuperset("night-city", 2, false);
+    unsetenv("ML_BOUNDS_WAVE");
 }
 
 // `tiled` culling has one slice per tile: the setting falls back to the per-pixel pass, whose marks equal
