@@ -46,8 +46,9 @@ int64_t floorDiv(int64_t a, int64_t b) {
 
 // raster_dual.h step 4, orthographic maps: the plane through the triangle's three light-space points
 // (texel coordinates u, v with texel centres at integers, quantised depth D), in double from the world
-// positions, so parallel triangles get the same slopes. False when the triangle is edge-on or steeper
-// than 2^25 units a texel (|Dx| < 2^31, DAG-MH's int32 slope words); A then stays below 2^44 in int64.
+// positions, so parallel triangles get the same slopes. False when the triangle is edge-on, steeper than
+// 2^25 units a texel (|Dx| < 2^31, DAG-MH's int32 slope words) or its plane at texel (0, 0) lies past
+// 2^60 units (a vertex far outside the map); Tri::depth's int64 sum then stays below 2^61.
 bool orthoDepthPlane(const glm::mat4& view, const glm::vec3* p, double orthoHalf, uint32_t res, double far,
                      int64_t& A, int64_t& Dx, int64_t& Dy) {
     const glm::dmat4 v(view);
@@ -65,7 +66,9 @@ bool orthoDepthPlane(const glm::mat4& view, const glm::vec3* p, double orthoHalf
     const double sx = (dD1 * dw2 - dD2 * dw1) / det, sy = (dD2 * du1 - dD1 * du2) / det;
     constexpr double kMaxSlope = 33554432.0; // 2^25 units a texel
     if (!(std::abs(sx) < kMaxSlope && std::abs(sy) < kMaxSlope)) return false;
-    A = std::llround(D[0] - sx * u[0] - sy * w[0]);
+    const double a = D[0] - sx * u[0] - sy * w[0];
+    if (!(std::abs(a) < 1152921504606846976.0)) return false; // 2^60
+    A = std::llround(a);
     constexpr double kFraction = double(1u << kOrthoSlopeFractionBits);
     Dx = std::llround(sx * kFraction), Dy = std::llround(sy * kFraction);
     return std::abs(Dx) <= INT32_MAX && std::abs(Dy) <= INT32_MAX;
@@ -73,10 +76,16 @@ bool orthoDepthPlane(const glm::mat4& view, const glm::vec3* p, double orthoHalf
 
 } // namespace
 
-uint32_t DualRasterizer::Tri::planeDepth(int64_t x, int64_t y) const {
-    constexpr int64_t kHalf = int64_t(1) << (kOrthoSlopeFractionBits - 1);
-    const int64_t q = planeA + ((planeDx * x + planeDy * y + kHalf) >> kOrthoSlopeFractionBits);
-    return q <= 0 ? 0u : q >= int64_t(0xFFFFFFFEu) ? 0xFFFFFFFEu : uint32_t(q);
+uint32_t DualRasterizer::Tri::depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho,
+                                    float far) const {
+    if (plane) {
+        constexpr int64_t kHalf = int64_t(1) << (kOrthoSlopeFractionBits - 1);
+        const int64_t q = planeA + ((planeDx * x + planeDy * y + kHalf) >> kOrthoSlopeFractionBits);
+        return q <= 0 ? 0u : q >= int64_t(0xFFFFFFFEu) ? 0xFFFFFFFEu : uint32_t(q);
+    }
+    const double invd =
+        (double(e[0]) * invDepth[0] + double(e[1]) * invDepth[1] + double(e[2]) * invDepth[2]) * invArea;
+    return quantizeDepth(float(ortho ? invd : 1.0 / invd), far);
 }
 
 LightFrustum spotLightFrustum(const LightShape& light, float nearPlane) {
@@ -334,15 +343,7 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
             uint32_t* count = hs.count.data() + uint64_t(y - int32_t(y0)) * w;
             uint64_t* slots = hs.slots.data() + uint64_t(y - int32_t(y0)) * w;
             for (int64_t x = lo; x <= hi; ++x) {
-                uint32_t depth;
-                if (tr.plane) {
-                    depth = tr.planeDepth(x, y);
-                } else {
-                    double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
-                                   double(e[2]) * tr.invDepth[2]) *
-                                  invArea;
-                    depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
-                }
+                const uint32_t depth = tr.depth(x, y, e, invArea, ortho_, far_);
                 const uint64_t key = uint64_t(depth) << 2 | tr.kind, lx = uint64_t(x - int64_t(x0));
                 const uint32_t n = count[lx]++;
                 if (n < kHitSlots)
@@ -432,15 +433,7 @@ void DualRasterizer::renderRectReference(uint32_t x0, uint32_t y0, uint32_t w, u
             }
             for (int64_t x = c0; x <= c1; ++x) {
                 if (e[0] - bias[0] >= 0 && e[1] - bias[1] >= 0 && e[2] - bias[2] >= 0) {
-                    uint32_t depth;
-                    if (tr.plane) {
-                        depth = tr.planeDepth(x, y);
-                    } else {
-                        double invd = (double(e[0]) * tr.invDepth[0] + double(e[1]) * tr.invDepth[1] +
-                                       double(e[2]) * tr.invDepth[2]) *
-                                      invArea;
-                        depth = quantizeDepth(float(ortho_ ? invd : 1.0 / invd), far_);
-                    }
+                    const uint32_t depth = tr.depth(x, y, e, invArea, ortho_, far_);
                     uint64_t local = uint64_t(y - int32_t(y0)) * rowTexels + uint64_t(x - int64_t(x0));
                     hits.push_back(local << 34 | uint64_t(depth) << 2 | tr.kind);
                 }

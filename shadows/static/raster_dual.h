@@ -117,7 +117,8 @@ class DualRasterizer {
         // at texel (x, y): planeA + ((planeDx x + planeDy y + 32) >> 6). `plane` false: too steep for it.
         int64_t planeA = 0, planeDx = 0, planeDy = 0;
         bool plane = false;
-        uint32_t planeDepth(int64_t x, int64_t y) const;
+        // The hit's quantised depth at texel (x, y), e the edge functions at its centre (step 4).
+        uint32_t depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho, float far) const;
         int32_t yMin, yMax; // covered texel rows (inclusive), before tiling
         uint8_t kind;       // 0 closed front, 1 open, 2 closed back
     };
