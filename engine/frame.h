@@ -42,7 +42,9 @@ struct FrameContext {
     // (in `shading`) are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten
     // whole each frame.
     const GBufferTargets* gbuffer = nullptr;
-    const Image* hdrImage = nullptr;    // the module's: full-size (own targets) or a 1x1 stub
+    // The module's: full-size with its own targets; with the host's, a 1x1 image never written, kept so
+    // the outputs barrier and the descriptors always have an image (engine/module_targets.cpp).
+    const Image* hdrImage = nullptr;
     const Image* outputImage = nullptr; // likewise (the host's output arrives GENERAL)
     const Buffer* counters = nullptr;   // FrameCounters (atomics; read by the host one frame later)
     std::span<const StagedCopy> copies; // recorded first, by the frame-begin pass

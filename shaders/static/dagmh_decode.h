@@ -125,7 +125,8 @@ ML_DAG_FN uint dagmhChunkValue(ML_DAG_DATA_PARAM DagmhHeader h, DagmhChunk c, ui
     uint e = h.slopes + ML_DAG_SLOPE_WORDS * (cls != 0u ? c.slopes >> 16u : c.slopes & 0xFFFFu);
     uint a = cls != 0u ? c.a1 : c.a0;
     uint dx = ML_DAG_WORD(e), dy = ML_DAG_WORD(e + 1u);
-    uint frac = ((dx & 63u) * px + (dy & 63u) * py + 32u) >> ML_DAG_SLOPE_FRACTION;
+    uint fmask = (1u << ML_DAG_SLOPE_FRACTION) - 1u, fround = 1u << (ML_DAG_SLOPE_FRACTION - 1u);
+    uint frac = ((dx & fmask) * px + (dy & fmask) * py + fround) >> ML_DAG_SLOPE_FRACTION;
     uint plane = uint(int(dx) >> ML_DAG_SLOPE_FRACTION) * px + uint(int(dy) >> ML_DAG_SLOPE_FRACTION) * py;
     return a + plane + frac + (f << ((cw >> 6u) & 31u));
 }

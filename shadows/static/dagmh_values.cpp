@@ -35,8 +35,9 @@ struct ClassCode {
 uint32_t decodeClass(const ClassCode& c, const Val& v, uint32_t f) {
     if (c.b == 32) return f;
     const uint32_t bx = uint32_t(c.slope.first >> kFr), by = uint32_t(c.slope.second >> kFr);
-    const uint32_t fx = uint32_t(c.slope.first & 63), fy = uint32_t(c.slope.second & 63);
-    return c.a + bx * v.px + by * v.py + ((fx * v.px + fy * v.py + 32u) >> kFr) + (f << c.sh);
+    constexpr int64_t kMask = (int64_t(1) << kFr) - 1;
+    const uint32_t fx = uint32_t(c.slope.first & kMask), fy = uint32_t(c.slope.second & kMask);
+    return c.a + bx * v.px + by * v.py + ((fx * v.px + fy * v.py + (1u << (kFr - 1))) >> kFr) + (f << c.sh);
 }
 
 // The factors of the slots `v` under a fixed slope: A = min w, k = ceil((u - A) / 2^sh) with the lattice
@@ -221,14 +222,19 @@ ChunkCode encodeChunk(const Val* vals, uint32_t count, const SlopeTable& table) 
         if (c.bits < best.bits) best = std::move(c);
     };
     for (uint32_t mask : masks) tryMask(mask);
+    bool haveChunkSlope = false;
+    Slope chunkSlope{0, 0};
     for (int round = 0; round < 2 && best.bits > 0; ++round) {
         // Under the best class-0 plane so far, or (its class raw: one outlier, such as an empty texel among
-        // a plane's values, spreads it past 31 bits) under the slope searched over the whole chunk.
+        // a plane's values, spreads it past 31 bits) under the slope searched over the whole chunk, once.
         ClassCode p = best.c[0]; // a copy: tryMask may replace best
         if (p.b == 32) {
-            std::vector<const Val*> all;
-            for (uint32_t j = 0; j < count; ++j) all.push_back(&vals[j]);
-            p.slope = searchSlope(all);
+            if (!haveChunkSlope) {
+                std::vector<const Val*> all;
+                for (uint32_t j = 0; j < count; ++j) all.push_back(&vals[j]);
+                chunkSlope = searchSlope(all), haveChunkSlope = true;
+            }
+            p.slope = chunkSlope;
         }
         std::vector<int64_t> r(count);
         for (uint32_t j = 0; j < count; ++j)

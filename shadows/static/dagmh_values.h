@@ -1,4 +1,4 @@
-// DAG-MH value section encoder (format version 4): chunks of 32 values, each split into two classes with
+// DAG-MH value section encoder (format version 5): chunks of 32 values, each split into two classes with
 // a plane each, the planes' slopes shared through a slope table. Layout and decoder: dagmh.h
 // (dagmhValue), docs/dagmh-encoding.md. Internal to the DAG-MH encoder (dagmh.cpp).
 #pragma once
