@@ -21,15 +21,18 @@ double secondsSince(Clock::time_point t0) {
 }
 
 // The CPU rasteriser, tile by tile, telling `onFraction` how far it got (DualRasterizer::render without
-// the progress would leave a long 16K^2 render silent).
+// the progress would leave a long 16K^2 render silent). `planes`: keep a directional map's enter planes
+// (4 B a texel; DAG-MH's planar tree, mh.h), else drop them.
 DualDepthMap renderTiled(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t res,
-                         uint64_t tileTexels, const std::function<void(double)>& onFraction) {
+                         uint64_t tileTexels, const std::function<void(double)>& onFraction, bool planes) {
     DualRasterizer raster(casters, frustum, res);
     DualDepthMap map = raster.blankMap();
+    if (!planes) std::vector<uint32_t>().swap(map.enterPlane), map.planes.clear();
     const uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res, 1), 1, res));
     for (uint32_t y0 = 0; y0 < res; y0 += rows) {
         const uint32_t y1 = std::min(res, y0 + rows);
-        raster.renderRows(y0, y1, map.enter.data() + size_t(y0) * res, map.exit.data() + size_t(y0) * res);
+        raster.renderRows(y0, y1, map.enter.data() + size_t(y0) * res, map.exit.data() + size_t(y0) * res,
+                          map.enterPlane.empty() ? nullptr : map.enterPlane.data() + size_t(y0) * res);
         if (onFraction) onFraction(double(y1) / res);
     }
     return map;
@@ -86,7 +89,7 @@ std::string bakeSkipReason(const Scene& scene, const Light& light) {
 DualRenderFn cpuDualRenderer(uint64_t tileTexels) {
     return [tileTexels](const CasterTriangles& casters, const LightFrustum& frustum,
                         uint32_t res) -> Result<DualDepthMap> {
-        return renderTiled(casters, frustum, res, tileTexels, {});
+        return renderTiled(casters, frustum, res, tileTexels, {}, true);
     };
 }
 
@@ -179,9 +182,12 @@ Result<BakeResult> bakeImpl(const Scene& scene, const SceneSpec& spec, StaticMet
         auto tr = Clock::now();
         Result<DualDepthMap> map =
             render ? render(casters, frustum, res)
-                   : Result<DualDepthMap>(renderTiled(casters, frustum, res, kBakeTileTexels,
-                                                      [&](double f) { report("render", 0.5 * f); }));
+                   : Result<DualDepthMap>(renderTiled(
+                         casters, frustum, res, kBakeTileTexels, [&](double f) { report("render", 0.5 * f); },
+                         method == StaticMethod::DAGMH));
         if (!map) return fail("bake: light " + std::to_string(li) + ": render: " + map.error());
+        // Only DAG-MH's planar tree reads the enter planes (mh.h).
+        if (method != StaticMethod::DAGMH) std::vector<uint32_t>().swap(map->enterPlane), map->planes.clear();
         // The projection and rows decide CPVS's slicing and SM's stored rows: from the frustum, whatever
         // renderer made the map.
         map->orthographic = frustum.orthographic(),
@@ -347,10 +353,10 @@ Result<VerifyReport> verifyBakeScene(const BakeFile& file, const Scene& scene, c
         }
         report("render", 0.0);
         auto tr = Clock::now();
-        Result<DualDepthMap> map =
-            render ? render(casters, rec.frustum, rec.resolution)
-                   : Result<DualDepthMap>(renderTiled(casters, rec.frustum, rec.resolution, kBakeTileTexels,
-                                                      [&](double f) { report("render", 0.5 * f); }));
+        Result<DualDepthMap> map = render ? render(casters, rec.frustum, rec.resolution)
+                                          : Result<DualDepthMap>(renderTiled(
+                                                casters, rec.frustum, rec.resolution, kBakeTileTexels,
+                                                [&](double f) { report("render", 0.5 * f); }, false));
         if (!map) return fail(where + ": render: " + map.error());
         map->orthographic = rec.frustum.orthographic();
         map->rows =

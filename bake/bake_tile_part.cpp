@@ -13,7 +13,9 @@ namespace ml {
 namespace {
 
 constexpr uint32_t kMagic = stat::fourcc('M', 'L', 'T', 'P');
-constexpr uint32_t kVersion = 1;
+// Version 2: a plane table (DAG-MH's planar trees) and 4 words a node (the plane id).
+constexpr uint32_t kVersion = 2;
+constexpr uint32_t kPlaneWords = 4, kNodeWords = 4, kTileWords = 6;
 constexpr uint32_t kFrustumWords = 22;
 constexpr uint32_t kFixedWords = 20 + kFrustumWords;
 constexpr uint32_t kMaxSceneBytes = 4096;
@@ -33,7 +35,7 @@ enum : uint32_t {
     kHSeed,
     kHSceneBytes,
     kHTiles,
-    kHReserved,
+    kHPlanes,
     kHFingerprintLo,
     kHFingerprintHi,
     kHBuildLo,
@@ -76,19 +78,25 @@ bool isMhFamily(StaticMethod m) {
 Result<std::vector<uint32_t>> serializeTilePart(const TilePart& p) {
     if (p.scene.scene.size() > kMaxSceneBytes) return fail("scene string longer than 4096 bytes");
     const uint32_t sceneWords = uint32_t((p.scene.scene.size() + 3) / 4);
+    if (p.planes.size() > DualRasterizer::kMaxDepthPlanes) return fail("too many depth planes");
     std::vector<uint32_t> w(kFixedWords + sceneWords, 0u);
     w[kHMagic] = kMagic, w[kHVersion] = kVersion, w[kHHeaderWords] = uint32_t(w.size());
     w[kHShard] = p.shard.index, w[kHShards] = p.shard.count, w[kHMethod] = uint32_t(p.method);
     w[kHResolution] = p.resolution, w[kHTile] = p.tile, w[kHLight] = p.light, w[kHFace] = p.face;
     w[kHRenderer] = uint32_t(p.renderer), w[kHSceneLights] = p.scene.lights, w[kHSeed] = p.scene.seed;
     w[kHSceneBytes] = uint32_t(p.scene.scene.size()), w[kHTiles] = uint32_t(p.tiles.size());
+    w[kHPlanes] = uint32_t(p.planes.size());
     w[kHFingerprintLo] = uint32_t(p.fingerprint), w[kHFingerprintHi] = uint32_t(p.fingerprint >> 32);
     w[kHBuildLo] = uint32_t(p.build), w[kHBuildHi] = uint32_t(p.build >> 32);
     putFrustum(&w[kHFrustum], p.frustum);
     if (!p.scene.scene.empty()) std::memcpy(&w[kFixedWords], p.scene.scene.data(), p.scene.scene.size());
+    for (const DepthPlane& q : p.planes)
+        w.insert(w.end(),
+                 {uint32_t(uint64_t(q.a)), uint32_t(uint64_t(q.a) >> 32), uint32_t(q.dx), uint32_t(q.dy)});
+    w[kHHeaderWords] = uint32_t(w.size());
     for (const auto& [index, t] : p.tiles) {
-        w.insert(w.end(), {index, t.lo, t.hi, t.flags, uint32_t(t.nodes.size())});
-        for (const MhPackedNode& n : t.nodes) w.insert(w.end(), {n.lo, n.hi, n.bits});
+        w.insert(w.end(), {index, t.lo, t.hi, t.flags, t.plane, uint32_t(t.nodes.size())});
+        for (const MhPackedNode& n : t.nodes) w.insert(w.end(), {n.lo, n.hi, n.bits, n.plane});
     }
     w.push_back(0u);
     w.back() = stat::checksumWords(w.data(), w.size(), w.size() - 1);
@@ -118,10 +126,17 @@ Result<TilePart> parseTilePart(const std::string& name, const uint32_t* w, size_
     p.renderer = BakeRenderer(w[kHRenderer]);
     p.scene.lights = w[kHSceneLights], p.scene.seed = w[kHSeed];
     const uint32_t sceneBytes = w[kHSceneBytes], sceneWords = (sceneBytes + 3) / 4;
-    if (sceneBytes > kMaxSceneBytes || w[kHHeaderWords] != kFixedWords + sceneWords || w[kHReserved] != 0)
-        return bad("header size does not match its scene string");
-    if (uint64_t(w[kHHeaderWords]) + 1 > count) return bad("scene string past the end");
+    const uint64_t planes = w[kHPlanes];
+    if (sceneBytes > kMaxSceneBytes || planes > DualRasterizer::kMaxDepthPlanes ||
+        w[kHHeaderWords] != kFixedWords + sceneWords + kPlaneWords * planes)
+        return bad("header size does not match its scene string and planes");
+    if (uint64_t(w[kHHeaderWords]) + 1 > count) return bad("scene string or planes past the end");
     p.scene.scene.assign(reinterpret_cast<const char*>(&w[kFixedWords]), sceneBytes);
+    p.planes.resize(size_t(planes));
+    for (size_t i = 0; i < p.planes.size(); ++i) {
+        const uint32_t* q = &w[kFixedWords + sceneWords + kPlaneWords * i];
+        p.planes[i] = {int64_t(uint64_t(q[1]) << 32 | q[0]), int32_t(q[2]), int32_t(q[3])};
+    }
     p.fingerprint = uint64_t(w[kHFingerprintHi]) << 32 | w[kHFingerprintLo];
     p.build = uint64_t(w[kHBuildHi]) << 32 | w[kHBuildLo];
     p.frustum = getFrustum(&w[kHFrustum]);
@@ -131,23 +146,26 @@ Result<TilePart> parseTilePart(const std::string& name, const uint32_t* w, size_
     if (tiles > grid->count())
         return bad(std::to_string(tiles) + " tiles for a grid of " + std::to_string(grid->count()));
     for (uint32_t i = 0; i < tiles; ++i) {
-        if (end - at < 5) return bad("tile " + std::to_string(i) + " past the end");
-        const uint32_t index = w[at], nodes = w[at + 4];
+        if (end - at < kTileWords) return bad("tile " + std::to_string(i) + " past the end");
+        const uint32_t index = w[at], nodes = w[at + 5];
         if (index >= grid->count() || index % p.shard.count != p.shard.index)
             return bad("tile index " + std::to_string(index) + " is not shard " +
                        std::to_string(p.shard.index) + "'s");
         if (!p.tiles.empty() && index <= p.tiles.back().first) return bad("tile indices not increasing");
         if (w[at + 3] > 3)
             return bad("tile " + std::to_string(index) + ": flags " + std::to_string(w[at + 3]));
-        if ((end - at - 5) / 3 < nodes) return bad("tile " + std::to_string(index) + ": nodes past the end");
+        if ((end - at - kTileWords) / kNodeWords < nodes)
+            return bad("tile " + std::to_string(index) + ": nodes past the end");
         MhTile t;
-        t.lo = w[at + 1], t.hi = w[at + 2], t.flags = uint8_t(w[at + 3]), t.built = true;
+        t.lo = w[at + 1], t.hi = w[at + 2], t.flags = uint8_t(w[at + 3]), t.plane = w[at + 4], t.built = true;
         t.nodes.resize(nodes);
-        for (uint32_t k = 0; k < nodes; ++k)
-            t.nodes[k] = {w[at + 5 + 3 * k], w[at + 6 + 3 * k], w[at + 7 + 3 * k]};
-        if (auto v = validateMhTile(*grid, t); !v)
+        for (uint32_t k = 0; k < nodes; ++k) {
+            const uint32_t* q = &w[at + kTileWords + size_t(kNodeWords) * k];
+            t.nodes[k] = {q[0], q[1], q[2], q[3]};
+        }
+        if (auto v = validateMhTile(*grid, t, p.planes.size()); !v)
             return bad("tile " + std::to_string(index) + ": " + v.error());
-        at += 5 + size_t(3) * nodes;
+        at += kTileWords + size_t(kNodeWords) * nodes;
         p.tiles.push_back({index, std::move(t)});
     }
     if (at != end) return bad("words after the last tile");
@@ -198,12 +216,13 @@ Result<TilePart> bakeTilePart(const Scene& scene, const SceneSpec& spec, StaticM
     const CasterTriangles casters = castersFromScene(scene);
     const DualRasterizer raster(casters, p.frustum, res);
     DualTileSource source = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
-                                      uint32_t* exit) -> Result<void> {
-        raster.renderRect(x0, y0, w, h, enter, exit);
+                                      uint32_t* exit, uint32_t* plane) -> Result<void> {
+        raster.renderRect(x0, y0, w, h, enter, exit, plane);
         return {};
     };
     MhTiledOptions o;
     o.tile = grid->tile, o.progress = progress;
+    if (method == StaticMethod::DAGMH) o.planes = raster.planes(), p.planes = raster.planes();
     o.emptyBlock = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
         return raster.blockEmpty(x0, y0, w, h);
     };
@@ -258,7 +277,10 @@ Result<BakeFile> mergeTileParts(std::vector<TilePart>&& parts, const std::vector
         for (auto& [index, t] : p.tiles) tiles[index] = std::move(t);
         p.tiles.clear();
     }
-    auto tree = assembleMhTree(*grid, std::move(tiles)); // a missing tile is a part that lost it: refused
+    for (const TilePart& q : parts)
+        if (q.planes != a.planes) return fail("the tile parts' depth planes differ");
+    // A missing tile is a part that lost it: refused.
+    auto tree = assembleMhTree(*grid, std::move(tiles), nullptr, a.planes);
     if (!tree) return fail(tree.error());
     Result<std::vector<uint32_t>> words = file.method == StaticMethod::MH    ? encodeMH(*tree)
                                           : file.method == StaticMethod::MMH ? encodeMMH(*tree)

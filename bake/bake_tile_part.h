@@ -5,12 +5,13 @@
 //
 // The tile part file ('MLTP'), little-endian 32-bit words:
 //   0 magic 'MLTP'        6 resolution      12 seed                  18, 19 build id (lo, hi)
-//   1 version (1)         7 tile side       13 scene string bytes S  20..41 frustum: view (16), fov,
+//   1 version (2)         7 tile side       13 scene string bytes S  20..41 frustum: view (16), fov,
 //   2 header words H      8 light           14 tiles in this part K          near, far, orthoHalf,
-//   3 shard index I       9 face            15 reserved (0)                  orthoHalfY, fitMargin
+//   3 shard index I       9 face            15 depth planes P                orthoHalfY, fitMargin
 //   4 shard count N      10 renderer (0/1)  16, 17 scene fingerprint
 //   5 method             11 scene lights    42.. the scene string (SceneSpec::scene), zero-padded
-//   then K tiles: index, lo, hi, flags, node count C, then C nodes of 3 words (MhPackedNode)
+//   then P planes of 4 words (a lo, a hi, dx, dy: DAG-MH's planar tree, mh.h; P = 0 otherwise)
+//   then K tiles: index, lo, hi, flags, plane, node count C, then C nodes of 4 words (MhPackedNode)
 //   last word: checksum, word-wise FNV-1a over every other word
 // The merge compares everything but I (scene by name, lights, seed and fingerprint; the build, because
 // another build's rasteriser or reduction may differ) and needs every tile of the grid exactly once.
@@ -29,6 +30,7 @@ struct TilePart {
     LightFrustum frustum;
     uint64_t build = 0, fingerprint = 0;
     std::vector<std::pair<uint32_t, MhTile>> tiles; // (tile index, tile), increasing index
+    std::vector<DepthPlane> planes;                 // DAG-MH: the planar tree's planes (mh.h)
 };
 
 Result<std::vector<uint32_t>> serializeTilePart(const TilePart& part);

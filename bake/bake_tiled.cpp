@@ -110,12 +110,13 @@ Result<std::vector<uint32_t>> bakeRecordTiled(StaticMethod method, const CasterT
     const DualRasterizer raster(casters, frustum, res);
     MhTiledOptions to;
     to.tile = options.tile, to.maxNodes = options.maxNodes, to.progress = options.progress;
+    if (method == StaticMethod::DAGMH) to.planes = raster.planes(); // a planar tree (mh.h)
     to.emptyBlock = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
         return raster.blockEmpty(x0, y0, w, h);
     };
     DualTileSource source = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
-                                      uint32_t* exit) -> Result<void> {
-        raster.renderRect(x0, y0, w, h, enter, exit);
+                                      uint32_t* exit, uint32_t* plane) -> Result<void> {
+        raster.renderRect(x0, y0, w, h, enter, exit, plane);
         return {};
     };
     MhTiledStats ts;

@@ -34,8 +34,8 @@ Result<std::vector<uint32_t>> bakeCpvsRecordTiled(const CasterTriangles& casters
         return raster.blockEmpty(x0, y0, w, h);
     };
     DualTileSource source = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
-                                      uint32_t* exit) -> Result<void> {
-        raster.renderRect(x0, y0, w, h, enter, exit);
+                                      uint32_t* exit, uint32_t* plane) -> Result<void> {
+        raster.renderRect(x0, y0, w, h, enter, exit, plane);
         return {};
     };
     CpvsTiledStats ts;

@@ -27,18 +27,24 @@ const uint ML_DAG_TREELET_OFFSET = 12u;
 const uint ML_DAG_CHUNK_OFFSET = 14u;
 const uint ML_DAG_FACTOR_OFFSET = 15u;
 const uint ML_DAG_SLOPE_OFFSET = 20u;
-const uint ML_DAG_CHUNK_WORDS = 6u;
+const uint ML_DAG_PLANE_OFFSET = 22u;
+const uint ML_DAG_PLANES = 23u;
+const uint ML_DAG_CHUNK_WORDS = 6u;        // 8 with a plane table (ML_DAG_PLANAR_CHUNK_WORDS)
+const uint ML_DAG_PLANAR_CHUNK_WORDS = 8u; // + the planar bitmap and the plane base
 const uint ML_DAG_SLOPE_WORDS = 2u;
 const uint ML_DAG_SLOPE_FRACTION = 6u; // kOrthoSlopeFractionBits (shadows/static/dual_depth.h)
 const uint ML_DAG_TREELET_WORDS = 3u;
 const uint ML_DAG_SKIP_WORDS = 4u;
-const uint ML_DAG_HEADER_WORDS = 22u;
+const uint ML_DAG_PLANE_WORDS = 3u;
+const uint ML_DAG_HEADER_WORDS = 24u;
+const uint ML_DAG_PLANAR_WIDTH_SHIFT = 27u; // a chunk's word 7: plane base (bits 0-26) | index width << 27
 
 // The header words the lookup needs, read once per lookup (or once per PCF kernel): in the evaluation
 // pass every buffer read is a gather across the lanes (lavapipe), and these were re-read by each step
 // and each tap. Section offsets are absolute (base added).
 struct DagmhHeader {
-    uint L, S, B, base, skip, bounds, nodes, treelets, chunks, slopes, factors;
+    uint L, S, B, base, skip, bounds, nodes, treelets, chunks, slopes, planes, factors;
+    uint chunkWords; // ML_DAG_CHUNK_WORDS, or ML_DAG_PLANAR_CHUNK_WORDS when the map has a plane table
 };
 
 // In two steps, so that a lookup the value bounds decide reads one header word (S): the levels and the
@@ -61,7 +67,8 @@ ML_DAG_FN DagmhHeader dagmhHeaderTop(ML_DAG_DATA_PARAM uint base, uint L) {
     h.bounds = h.skip + (ML_DAG_SKIP_WORDS << (2u * h.S));
     h.nodes = h.bounds + (1u << (2u * h.B));
     h.base = base;
-    h.treelets = 0u, h.chunks = 0u, h.slopes = 0u, h.factors = 0u;
+    h.treelets = 0u, h.chunks = 0u, h.slopes = 0u, h.planes = 0u, h.factors = 0u;
+    h.chunkWords = ML_DAG_CHUNK_WORDS;
     return h;
 }
 
@@ -69,6 +76,8 @@ ML_DAG_FN DagmhHeader dagmhSections(ML_DAG_DATA_PARAM DagmhHeader h) {
     h.treelets = h.base + ML_DAG_WORD(h.base + ML_DAG_TREELET_OFFSET);
     h.chunks = h.base + ML_DAG_WORD(h.base + ML_DAG_CHUNK_OFFSET);
     h.slopes = h.base + ML_DAG_WORD(h.base + ML_DAG_SLOPE_OFFSET);
+    h.planes = h.base + ML_DAG_WORD(h.base + ML_DAG_PLANE_OFFSET);
+    h.chunkWords = ML_DAG_WORD(h.base + ML_DAG_PLANES) != 0u ? ML_DAG_PLANAR_CHUNK_WORDS : ML_DAG_CHUNK_WORDS;
     h.factors = h.base + ML_DAG_WORD(h.base + ML_DAG_FACTOR_OFFSET);
     return h;
 }
@@ -89,14 +98,14 @@ ML_DAG_FN uint dagmhField(ML_DAG_DATA_PARAM DagmhHeader h, uint pos, uint b) {
     return f & mlLowMask(b);
 }
 
-// A chunk's 6 words, read once (PCF: the taps of a kernel mostly fall in one or two chunks, so a kernel
+// A chunk's 6 or 8 words, read once (PCF: the taps of a kernel mostly fall in one or two chunks, so a kernel
 // keeps the last chunk and reads only factor bits and a slope entry for the other taps).
 struct DagmhChunk {
-    uint bm, a0, a1, widths, off, slopes;
+    uint bm, a0, a1, widths, off, slopes, planar, pbase;
 };
 
 ML_DAG_FN DagmhChunk dagmhChunk(ML_DAG_DATA_PARAM DagmhHeader h, uint chunk) {
-    uint ch = h.chunks + ML_DAG_CHUNK_WORDS * chunk;
+    uint ch = h.chunks + h.chunkWords * chunk;
     DagmhChunk c;
     c.bm = ML_DAG_WORD(ch);
     c.a0 = ML_DAG_WORD(ch + 1u);
@@ -104,38 +113,67 @@ ML_DAG_FN DagmhChunk dagmhChunk(ML_DAG_DATA_PARAM DagmhHeader h, uint chunk) {
     c.widths = ML_DAG_WORD(ch + 3u);
     c.off = ML_DAG_WORD(ch + 4u);
     c.slopes = ML_DAG_WORD(ch + 5u);
+    bool planar = h.chunkWords == ML_DAG_PLANAR_CHUNK_WORDS; // no plane slots in a 6-word chunk
+    c.planar = planar ? ML_DAG_WORD(ch + 6u) : 0u;
+    c.pbase = planar ? ML_DAG_WORD(ch + 7u) : 0u;
     return c;
 }
 
-// Slot j of a chunk (paper Alg. 2, integers, two plane classes; docs/dagmh-encoding.md): class = bit j of
-// the bitmap, value = A + ((D_x px + D_y py + 32) >> 6) + (factor << sh) with the class's plane (slopes
-// D / 64 a texel, int32: the rasteriser's depth planes of directional maps, shadows/static/raster_dual.h),
-// width (bits 0-5 of its half of `widths`) and step (bits 6-10); class 0's factors follow class 1's. In
-// uint32: D = 64 B + f with B = D >> 6 (arithmetic) and f < 64, so with px, py < 2^18 the plane is
-// B_x px + B_y py + ((f_x px + f_y py + 32) >> 6), whose fraction sum stays below 2^25.
-ML_DAG_FN uint dagmhChunkValue(ML_DAG_DATA_PARAM DagmhHeader h, DagmhChunk c, uint j, uint px, uint py) {
+// The plane a + ((D_x x + D_y y + 32) >> 6) at texel (x, y), in uint32 (dx, dy: D as int32 bits, 1/64
+// units a texel: the rasteriser's depth planes of directional maps, shadows/static/raster_dual.h). D = 64 B
+// + f with B = D >> 6 (arithmetic) and f < 64, so with x, y < 2^18 the plane is B_x x + B_y y + ((f_x x +
+// f_y y + 32) >> 6), whose fraction sum stays below 2^25; the sum wraps exactly as the int64 rule does
+// wherever the value lies in [0, 2^32).
+ML_DAG_FN uint dagmhPlane(uint a, uint dx, uint dy, uint x, uint y) {
+    uint fmask = (1u << ML_DAG_SLOPE_FRACTION) - 1u, fround = 1u << (ML_DAG_SLOPE_FRACTION - 1u);
+    uint frac = ((dx & fmask) * x + (dy & fmask) * y + fround) >> ML_DAG_SLOPE_FRACTION;
+    return a + uint(int(dx) >> ML_DAG_SLOPE_FRACTION) * x + uint(int(dy) >> ML_DAG_SLOPE_FRACTION) * y + frac;
+}
+
+// Whether slot j of a chunk is a plane (bit j of its planar bitmap): its value then differs from texel to
+// texel of its node.
+ML_DAG_FN bool dagmhSlotPlanar(DagmhChunk c, uint j) {
+    return ((c.planar >> j) & 1u) != 0u;
+}
+
+// Slot j of a chunk (paper Alg. 2, integers; docs/dagmh-encoding.md), for texel (tx, ty) of the MH node
+// that holds it, (px, py) the top-left texel of that node's cell. The chunk's factor stream holds the
+// plane slots' indices (np of width bp), then class 1's factors, then class 0's.
+// - A plane slot (bit j of `planar`): plane pbase + index of the plane table, evaluated at the texel
+//   itself: a planar tree's node holds a block of texels on one plane (shadows/static/mh.h).
+// - Otherwise class = bit j of the class bitmap; value = A + ((D_x px + D_y py + 32) >> 6) + (factor <<
+//   sh) with the class's plane constant A, slopes from the table, width b (bits 0-5 of the class's half of
+//   `widths`) and step sh (bits 6-10); b = 32: the raw value. The node's corner evaluates it, so every
+//   texel of the node gets one value.
+ML_DAG_FN uint dagmhChunkValue(ML_DAG_DATA_PARAM DagmhHeader h, DagmhChunk c, uint j, uint px, uint py,
+                               uint tx, uint ty) {
+    uint below = mlLowMask(j);
+    uint bp = c.pbase >> ML_DAG_PLANAR_WIDTH_SHIFT;
+    if (dagmhSlotPlanar(c, j)) {
+        uint f = dagmhField(ML_DAG_DATA_ARG h, c.off + mlPopc(c.planar & below) * bp, bp);
+        uint q = h.planes + ML_DAG_PLANE_WORDS * ((c.pbase & mlLowMask(ML_DAG_PLANAR_WIDTH_SHIFT)) + f);
+        return dagmhPlane(ML_DAG_WORD(q), ML_DAG_WORD(q + 1u), ML_DAG_WORD(q + 2u), tx, ty);
+    }
     uint cls = (c.bm >> j) & 1u;
-    uint before1 = mlPopc(c.bm & mlLowMask(j)); // class-1 slots before j
+    uint before1 = mlPopc(c.bm & below); // class-1 slots before j
     uint cw = cls != 0u ? c.widths >> 11u : c.widths;
     uint b = cw & 63u;
     uint pos =
-        c.off + (cls != 0u ? before1 * b : mlPopc(c.bm) * ((c.widths >> 11u) & 63u) + (j - before1) * b);
+        c.off + mlPopc(c.planar) * bp +
+        (cls != 0u ? before1 * b
+                   : mlPopc(c.bm) * ((c.widths >> 11u) & 63u) + (j - before1 - mlPopc(c.planar & below)) * b);
     uint f = dagmhField(ML_DAG_DATA_ARG h, pos, b);
     if (b == 32u) return f; // raw 32-bit value
     uint e = h.slopes + ML_DAG_SLOPE_WORDS * (cls != 0u ? c.slopes >> 16u : c.slopes & 0xFFFFu);
     uint a = cls != 0u ? c.a1 : c.a0;
-    uint dx = ML_DAG_WORD(e), dy = ML_DAG_WORD(e + 1u);
-    uint fmask = (1u << ML_DAG_SLOPE_FRACTION) - 1u, fround = 1u << (ML_DAG_SLOPE_FRACTION - 1u);
-    uint frac = ((dx & fmask) * px + (dy & fmask) * py + fround) >> ML_DAG_SLOPE_FRACTION;
-    uint plane = uint(int(dx) >> ML_DAG_SLOPE_FRACTION) * px + uint(int(dy) >> ML_DAG_SLOPE_FRACTION) * py;
-    return a + plane + frac + (f << ((cw >> 6u) & 31u));
+    return dagmhPlane(a, ML_DAG_WORD(e), ML_DAG_WORD(e + 1u), px, py) + (f << ((cw >> 6u) & 31u));
 }
 
-// The value with index `index`, (px, py) the full-resolution texel at the top-left corner of the cell of
-// the MH node that holds it (paper Alg. 2, integer version).
-ML_DAG_FN uint dagmhValue(ML_DAG_DATA_PARAM DagmhHeader h, uint index, uint px, uint py) {
-    return dagmhChunkValue(ML_DAG_DATA_ARG h, dagmhChunk(ML_DAG_DATA_ARG h, index >> 5u), index & 31u, px,
-                           py);
+// The value with index `index` at texel (tx, ty), (px, py) the top-left texel of the cell of the MH node
+// that holds it (paper Alg. 2, integer version).
+ML_DAG_FN uint dagmhValue(ML_DAG_DATA_PARAM DagmhHeader h, uint index, uint px, uint py, uint tx, uint ty) {
+    return dagmhChunkValue(ML_DAG_DATA_ARG h, dagmhChunk(ML_DAG_DATA_ARG h, index >> 5u), index & 31u, px, py,
+                           tx, ty);
 }
 
 // The lookup in steps, so that the taps of a PCF kernel can share the traversal above the level where
@@ -229,7 +267,7 @@ ML_DAG_FN DagmhState dagmhLocate(ML_DAG_DATA_PARAM DagmhHeader h, uint x, uint y
 // The value dagmhLocate found for (x, y).
 ML_DAG_FN uint dagmhLocatedValue(ML_DAG_DATA_PARAM DagmhHeader h, uint x, uint y, DagmhState st) {
     uint s = h.L - st.dlast;
-    return dagmhValue(ML_DAG_DATA_ARG h, st.vlast, (x >> s) << s, (y >> s) << s);
+    return dagmhValue(ML_DAG_DATA_ARG h, st.vlast, (x >> s) << s, (y >> s) << s, x, y);
 }
 
 ML_DAG_FN uint dagmhFinish(ML_DAG_DATA_PARAM DagmhHeader h, uint x, uint y, DagmhState st) {

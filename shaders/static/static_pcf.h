@@ -63,8 +63,8 @@ ML_SV_FN uint staticDepthAtLevel(ML_SV_DATA_PARAM uint method, uint base, uint x
 }
 
 // The value a kernel's tap located (st, at full-resolution texel (x, y)): a tap with the previous tap's
-// value index reuses its value (same MH node), and one in the same chunk the chunk's 6 words (only its
-// factor bits are read).
+// value index reuses its value (same MH node) unless the value is a plane (it differs per texel), and one
+// in the same chunk the chunk's 8 words (only its factor bits are read).
 struct DagmhMemo {
     uint index, value, chunkIndex;
     DagmhChunk chunk;
@@ -76,20 +76,20 @@ ML_SV_FN DagmhMemo dagmhMemoNone() {
     // Never read before dagmhMemoValue sets it (no chunk index matches the one above); set so that the
     // C++ build copies no indeterminate words.
     m.chunk.bm = 0u, m.chunk.a0 = 0u, m.chunk.a1 = 0u, m.chunk.widths = 0u, m.chunk.off = 0u,
-    m.chunk.slopes = 0u;
+    m.chunk.slopes = 0u, m.chunk.planar = 0u, m.chunk.pbase = 0u;
     return m;
 }
 
 ML_SV_FN uint dagmhMemoValue(ML_SV_DATA_PARAM DagmhHeader dh, ML_SV_INOUT(DagmhMemo) m, DagmhState st, uint x,
                              uint y) {
     if (st.vlast == m.index) return m.value;
-    m.index = st.vlast;
     if ((st.vlast >> 5u) != m.chunkIndex) {
         m.chunkIndex = st.vlast >> 5u;
         m.chunk = dagmhChunk(ML_SV_DATA_ARG dh, m.chunkIndex);
     }
     uint s = dh.L - st.dlast;
-    m.value = dagmhChunkValue(ML_SV_DATA_ARG dh, m.chunk, st.vlast & 31u, (x >> s) << s, (y >> s) << s);
+    m.value = dagmhChunkValue(ML_SV_DATA_ARG dh, m.chunk, st.vlast & 31u, (x >> s) << s, (y >> s) << s, x, y);
+    m.index = dagmhSlotPlanar(m.chunk, st.vlast & 31u) ? 0xFFFFFFFFu : st.vlast;
     return m.value;
 }
 

@@ -74,7 +74,7 @@ Result<CpvsBake> bakeCpvsTiled(const DualTileSource& source, const CpvsParams& p
                     ++empty;
                 } else {
                     enter.resize(size_t(side) * stripRows), exit.resize(size_t(side) * stripRows);
-                    if (auto r = source(x0, y, side, stripRows, enter.data(), exit.data()); !r) {
+                    if (auto r = source(x0, y, side, stripRows, enter.data(), exit.data(), nullptr); !r) {
                         std::lock_guard<std::mutex> lock(mutex);
                         if (!failed)
                             error = "cpvs: strip (" + std::to_string(x0) + ", " + std::to_string(y) +

@@ -57,14 +57,32 @@ struct BoundsWalk {
     uint32_t memoIndex = 0xFFFFFFFFu, memoValue = 0u; // consecutive regions mostly share a value
     DagmhHeader h = dagmhHeader(data, 0u);
 
-    // Adds value `vlast`, held by the node at depth `dlast` above the node (nx, ny) at depth `depth`.
+    // Adds value `vlast`, held by the node at depth `dlast` above the node (nx, ny) at depth `depth`, for
+    // the texels of that node's cell inside the bounds cell. A plane value is smallest and largest at
+    // corners of that block (the plane's floor is monotone in x and in y).
     void take(uint32_t vlast, uint32_t dlast, uint32_t depth, uint32_t nx, uint32_t ny) {
-        if (vlast != memoIndex) {
-            const uint32_t s = depth - dlast;
-            memoIndex = vlast;
-            memoValue = dagmhValue(data, h, vlast, (nx >> s) << (L - dlast), (ny >> s) << (L - dlast));
+        const uint32_t s = depth - dlast, px = (nx >> s) << (L - dlast), py = (ny >> s) << (L - dlast);
+        if (vlast == memoIndex) {
+            lo = std::min(lo, memoValue), hi = std::max(hi, memoValue);
+            return;
         }
-        lo = std::min(lo, memoValue), hi = std::max(hi, memoValue);
+        const dagtwin::DagmhChunk c = dagtwin::dagmhChunk(data, h, vlast >> 5u);
+        if (!dagmhSlotPlanar(c, vlast & 31u)) {
+            memoIndex = vlast;
+            memoValue = dagtwin::dagmhChunkValue(data, h, c, vlast & 31u, px, py, px, py);
+            lo = std::min(lo, memoValue), hi = std::max(hi, memoValue);
+            return;
+        }
+        // The node's cell at `depth` clipped to the bounds cell (X, Y) at level B.
+        const uint32_t side = depth >= B ? 1u << (L - depth) : 1u << (L - B);
+        const uint32_t x0 = depth >= B ? nx << (L - depth) : X << (L - B);
+        const uint32_t y0 = depth >= B ? ny << (L - depth) : Y << (L - B);
+        for (uint32_t k = 0; k < 4; ++k) {
+            const uint32_t v =
+                dagtwin::dagmhChunkValue(data, h, c, vlast & 31u, px, py, x0 + (k & 1u ? side - 1u : 0u),
+                                         y0 + (k & 2u ? side - 1u : 0u));
+            lo = std::min(lo, v), hi = std::max(hi, v);
+        }
     }
     // Above the cell (depth < B) only the child towards (X, Y) is followed.
     bool onPath(uint32_t depth, uint32_t c) const {
@@ -257,17 +275,22 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     {
         std::vector<std::array<uint32_t, 2>> pos = nodeCorners(tree);
         for (size_t i = 0; i < n; ++i)
-            if (tree.nodes[i].valued)
-                vals.push_back({tree.nodes[i].lo, tree.nodes[i].hi, pos[i][0], pos[i][1]});
+            if (tree.nodes[i].valued) {
+                const auto& nd = tree.nodes[i];
+                if (nd.planarOnly() && (nd.plane == 0 || nd.plane > tree.planes.size()))
+                    return fail("DAG-MH: node " + std::to_string(i) + " has an empty interval and no plane");
+                vals.push_back({nd.lo, nd.hi, pos[i][0], pos[i][1], nd.planarOnly() ? nd.plane : 0u});
+            }
     }
     const uint32_t numValues = uint32_t(vals.size());
     const uint32_t numChunks = (numValues + kChunkValues - 1) / kChunkValues;
     dagval::Stats vst;
-    auto sections = dagval::encodeValues(vals, &vst);
+    auto sections = dagval::encodeValues(vals, tree.planes, &vst);
     if (!sections) return fail(sections.error());
     const std::vector<uint32_t>&chunks = sections->chunks, &slopes = sections->slopes,
-          &factors = sections->factors;
+          &planes = sections->planes, &factors = sections->factors;
     st.rawChunks = vst.rawClasses, st.factors = vst.factors, st.factorBits = vst.factorBits;
+    st.planarValues = vst.planarValues, st.planes = planes.size() / kPlaneWords;
     st.slopes = slopes.size() / kSlopeWords;
     st.chunks = numChunks;
     // ---- assemble ----
@@ -276,7 +299,7 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     // child, count), so dense maps take it as deep as the budget allows; nearly empty maps keep a
     // short list.
     const uint64_t restWords = nodeWords.size() + uint64_t(kTreeletWords) * treelets.size() +
-                               uint64_t(kChunkWords) * numChunks + slopes.size() + factors.size();
+                               uint64_t(chunks.size()) + slopes.size() + planes.size() + factors.size();
     uint32_t S = 0;
     while (S < std::min<uint32_t>(L, 8) && (uint64_t(kSkipWords) << (2 * (S + 1))) * 8 <= restWords) ++S;
     const uint32_t skipEntries = 1u << (2 * S);
@@ -293,9 +316,11 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
     out[kTreeletOffset] = out[kNodeOffset] + out[kNodeWords];
     out[kTreelets] = uint32_t(treelets.size());
     out[kChunkOffset] = out[kTreeletOffset] + kTreeletWords * out[kTreelets];
-    out[kSlopeOffset] = out[kChunkOffset] + kChunkWords * numChunks;
+    out[kSlopeOffset] = out[kChunkOffset] + uint32_t(chunks.size());
     out[kSlopes] = uint32_t(slopes.size() / kSlopeWords);
-    out[kFactorOffset] = out[kSlopeOffset] + uint32_t(slopes.size());
+    out[kPlaneOffset] = out[kSlopeOffset] + uint32_t(slopes.size());
+    out[kPlanes] = uint32_t(planes.size() / kPlaneWords);
+    out[kFactorOffset] = out[kPlaneOffset] + uint32_t(planes.size());
     out[kFactorWords] = uint32_t(factors.size());
     out[kTotalWords] = out[kFactorOffset] + out[kFactorWords];
     out.resize(out[kTotalWords], 0);
@@ -305,6 +330,7 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
                   out.begin() + out[kTreeletOffset] + kTreeletWords * t);
     std::copy(chunks.begin(), chunks.end(), out.begin() + out[kChunkOffset]);
     std::copy(slopes.begin(), slopes.end(), out.begin() + out[kSlopeOffset]);
+    std::copy(planes.begin(), planes.end(), out.begin() + out[kPlaneOffset]);
     std::copy(factors.begin(), factors.end(), out.begin() + out[kFactorOffset]);
     for (uint32_t Y = 0; Y < (1u << S); ++Y)
         for (uint32_t X = 0; X < (1u << S); ++X)
@@ -318,7 +344,8 @@ Result<std::vector<uint32_t>> encodeDAGMH(const MhTree& tree, DagMhStats* statsO
 }
 
 Result<std::vector<uint32_t>> encodeDAGMH(const DualDepthMap& map) {
-    auto tree = buildMhTree(map);
+    auto tree = buildMhTree(map, true); // planar where the map has its enter planes
+
     if (!tree) return fail(tree.error());
     return encodeDAGMH(*tree);
 }
@@ -356,8 +383,9 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (!section(kSkipOffset, (uint64_t(kSkipWords) << (2 * S)) + (uint64_t(1) << (2 * B))) ||
         !section(kNodeOffset, data[kNodeWords]) ||
         !section(kTreeletOffset, uint64_t(kTreeletWords) * data[kTreelets]) ||
-        !section(kChunkOffset, kChunkWords * numChunks) ||
+        !section(kChunkOffset, uint64_t(chunkWords(data[kPlanes])) * numChunks) ||
         !section(kSlopeOffset, uint64_t(kSlopeWords) * data[kSlopes]) ||
+        !section(kPlaneOffset, uint64_t(kPlaneWords) * data[kPlanes]) ||
         !section(kFactorOffset, data[kFactorWords]) || pos != size)
         return bad("section offsets do not tile the buffer");
     // Treelets: only 85 bits used.
@@ -432,11 +460,12 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
     if (data[kSlopes] == 0 || data[kSlopes] > kMaxSlopes) return bad("slope table size out of range");
     const uint32_t* slopes = data + data[kSlopeOffset];
     if (slopes[0] != 0 || slopes[1] != 0) return bad("slope entry 0 is not zero");
+    if (data[kPlanes] > kMaxPlanes) return bad("plane table size out of range");
     if (uint64_t(data[kFactorWords]) * 32u > kMaxFactorBits + 64) return bad("factor stream too long");
     const uint32_t* ch = data + data[kChunkOffset];
     const uint64_t factorBits = uint64_t(data[kFactorWords]) * 32u;
     for (uint64_t c = 0; c < numChunks; ++c) {
-        const uint32_t* w = ch + kChunkWords * c;
+        const uint32_t* w = ch + chunkWords(data[kPlanes]) * c;
         const uint32_t count = uint32_t(std::min<uint64_t>(kChunkValues, numValues - c * kChunkValues));
         const std::string name = "chunk " + std::to_string(c);
         if (w[0] & ~stat::lowMask(count)) return bad(name + " class bitmap past its values");
@@ -445,9 +474,20 @@ Result<void> validateDAGMH(const uint32_t* data, size_t size) {
         if (b0 > 32 || b1 > 32) return bad(name + " bit width over 32");
         if ((w[5] & 0xFFFFu) >= data[kSlopes] || (w[5] >> 16) >= data[kSlopes])
             return bad(name + " slope entry past the table");
-        const uint64_t n1 = stat::popc(w[0]);
-        if (uint64_t(w[4]) + n1 * b1 + (count - n1) * b0 > factorBits)
+        const bool planarChunk = data[kPlanes] != 0;
+        const uint32_t pm = planarChunk ? w[6] : 0u, pw = planarChunk ? w[7] : 0u;
+        const uint32_t bp = pw >> kPlanarWidthShift, base = pw & stat::lowMask(kPlanarWidthShift);
+        if (pm & ~stat::lowMask(count)) return bad(name + " planar bitmap past its values");
+        if (w[0] & pm) return bad(name + " has a plane slot in class 1");
+        if (bp > kPlanarWidthShift || (pm == 0 && pw != 0))
+            return bad(name + " plane index width out of range");
+        const uint64_t np = stat::popc(pm), n1 = stat::popc(w[0]);
+        if (uint64_t(w[4]) + np * bp + n1 * b1 + (count - n1 - np) * b0 > factorBits)
             return bad(name + " factors past the stream");
+        const DagmhHeader h = dagmhHeader(data, 0u);
+        for (uint64_t r = 0; r < np; ++r) // every plane slot's plane inside the table
+            if (uint64_t(base) + dagtwin::dagmhField(data, h, uint32_t(w[4] + r * bp), bp) >= data[kPlanes])
+                return bad(name + " names a plane past the table");
     }
     // Value bounds: must equal the walk from each skip entry (last: it decodes values, so every section it
     // reads has been checked above).
@@ -468,7 +508,21 @@ uint64_t dagmhCheckValues(const MhTree& tree, const uint32_t* data) {
     for (size_t n = 0; n < tree.nodes.size(); ++n) {
         const auto& nd = tree.nodes[n];
         if (!nd.valued) continue;
-        uint32_t v = dagmhValue(data, h, i++, pos[n][0], pos[n][1]);
+        const uint32_t px = pos[n][0], py = pos[n][1];
+        if (nd.planarOnly()) {
+            // A plane value: its plane's value at the cell's corners (the texels in between lie on it too).
+            const uint32_t e = px + (1u << (tree.levels - nd.depth)) - 1u,
+                           f = py + (1u << (tree.levels - nd.depth)) - 1u;
+            const DepthPlane& q = tree.planes[nd.plane - 1];
+            bool ok = true;
+            for (uint32_t c = 0; c < 4; ++c) {
+                const uint32_t x = c & 1u ? e : px, y = c & 2u ? f : py;
+                ok = ok && int64_t(dagmhValue(data, h, i, px, py, x, y)) == q.at(x, y);
+            }
+            bad += !ok, ++i;
+            continue;
+        }
+        uint32_t v = dagmhValue(data, h, i++, px, py, px, py);
         bad += v < nd.lo || v > nd.hi;
     }
     return bad;
@@ -483,8 +537,9 @@ stat::ByteBreakdown breakdownDAGMH(const uint32_t* data, size_t size) {
     b.bounds = (uint64_t(1) << (2 * boundsLevel(data))) * 4u;
     b.nodes = uint64_t(data[kNodeWords]) * 4u;
     b.treelets = uint64_t(data[kTreelets]) * kTreeletWords * 4u;
-    b.values = (uint64_t(data[kChunks]) * kChunkWords + uint64_t(data[kSlopes]) * kSlopeWords) *
-               4u; // chunks, slopes
+    b.values = (uint64_t(data[kChunks]) * chunkWords(data[kPlanes]) + uint64_t(data[kSlopes]) * kSlopeWords +
+                uint64_t(data[kPlanes]) * kPlaneWords) *
+               4u; // chunks, slopes, planes
     b.factors = uint64_t(data[kFactorWords]) * 4u;
     return b;
 }

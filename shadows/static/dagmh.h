@@ -22,17 +22,21 @@
 //     the value decode (dagmhBoundsClass; a PCF kernel tests the cells it covers at once). Exact: the bounds
 //     hold every texel's decoded value (validate() recomputes them, the tests check every texel); 1 word per
 //     cell.
-//   - Values (format version 5): chunks of 32, each slot in one of two classes (a class bitmap); a class
+//   - Values (format version 6): chunks of 32, each slot in one of two classes (a class bitmap); a class
 //     decodes value = A + ((D_x px + D_y py + 32) >> 6) + (k << sh) (uint32 arithmetic), (px, py) the
 //     texel at the top-left corner of the value's node cell, k a factor of the class's bit width b
 //     (b = 32: raw values); the slopes (D_x, D_y) / 64 come from a table shared by all chunks
 //     (dagmh_values.h). The plane is the directional rasteriser's depth rule (raster_dual.h), so an
 //     open surface's texels decode with no factor bits.
+//   - Plane values (version 6): a planar tree (mh.h) holds whole blocks of texels on one depth plane in
+//     one node. Such a slot is marked in the chunk's planar bitmap; its index k (the chunk's width bp)
+//     picks plane base + k of the plane table, evaluated at the looked-up texel itself
+//     (dagmhChunkValue). The other slots split into the two classes as above.
 // Layout (words):
-//   header[22]: magic 'DGM1' | version 5 | resolution | levels L | skip level S | B << 8 | root kind (1
+//   header[24]: magic 'DGM1' | version 6 | resolution | levels L | skip level S | B << 8 | root kind (1
 //     inner, 2 treelet) | root pointer | values | chunks | skip offset | node offset | node words |
 //     treelet offset | treelets | chunk offset | factor offset | factor words | total words | checksum |
-//     0 | slope offset | slopes
+//     0 | slope offset | slopes | plane offset | planes
 //   skip list: 4^S entries of 4 words: kind (0 resolved, 1 inner, 2 treelet) | depth << 8 | d_last << 16
 //     (depth of the node holding v_last), pointer, v_count, v_last; entry index = Y * 2^S + X.
 //   bounds: 4^B words (B in bits 8-15 of the skip level word), index Y * 2^B + X: lo >> 16 | (hi >> 16) <<
@@ -43,10 +47,14 @@
 //     treelet: treelet index) | n - 1 prefix counts (values before child rank r >= 1 in the subtree,
 //     the node's own value included). Size 2n words.
 //   treelets: 3 words each (85 bits used).
-//   chunks: 6 words each: class bitmap (bit j: slot j in class 1) | A_0 | A_1 | b_0 | sh_0 << 6 | b_1 << 11
-//     | sh_1 << 17 | bit offset of the chunk's factors (class 1's, then class 0's) | slope entry of class
-//     0 | slope entry of class 1 << 16.
+//   chunks: 8 words each (6 without a plane table, the last two then 0): class bitmap (bit j: slot j in class
+//   1; 0 at plane slots) | A_0 | A_1 | b_0 |
+//     sh_0 << 6 | b_1 << 11 | sh_1 << 17 | bit offset of the chunk's factors (the plane indices, class
+//     1's, then class 0's) | slope entry of class 0 | slope entry of class 1 << 16 | planar bitmap (bit
+//     j: slot j is a plane) | plane base | bp << 27.
 //   slopes: 2 words each (D_x, D_y as int32 bits, 1/64 units a texel); entry 0 is (0, 0).
+//   planes: 3 words each: A (its low 32 bits), D_x, D_y: depth = A + ((D_x x + D_y y + 32) >> 6) at
+//     texel (x, y), in the order the values first use them.
 //   factors: bit stream, little-endian within words.
 // Empty texels decode to exactly kDepthEmpty.
 #pragma once
@@ -87,16 +95,27 @@ enum : uint32_t {
     kReserved,
     kSlopeOffset,
     kSlopes,
+    kPlaneOffset,
+    kPlanes,
 };
-constexpr uint32_t kHeaderWords = 22;
+constexpr uint32_t kHeaderWords = 24;
 constexpr uint32_t kChunkValues = 32, kChunkWords = 6, kTreeletWords = 3, kSkipWords = 4, kSlopeWords = 2;
+// With a plane table every chunk has 8 words (the planar bitmap and the plane base); without, 6.
+constexpr uint32_t kPlanarChunkWords = 8;
+inline uint32_t chunkWords(uint32_t planes) {
+    return planes ? kPlanarChunkWords : kChunkWords;
+}
+constexpr uint32_t kPlaneWords = 3;
+// A chunk's word 7: the first plane index (27 bits) | the plane indices' width << 27 (at most 27 bits).
+constexpr uint32_t kPlanarWidthShift = 27;
+constexpr uint32_t kMaxPlanes = 1u << kPlanarWidthShift;
 // A chunk's factor offset is a bit position in a uint32, and a slope entry 16 bits.
 constexpr uint64_t kMaxFactorBits = (uint64_t(1) << 32) - 64;
 constexpr uint32_t kMaxSlopes = 1u << 16;
 
-// Format version 5 (two plane classes a value chunk, the slope table in 1/64 units a texel). A reader
-// takes only its own version and asks for a rebake otherwise.
-constexpr uint32_t kVersionNumber = 5;
+// Format version 6 (planar classes and the plane table, for planar trees). A reader takes only its own
+// version and asks for a rebake otherwise.
+constexpr uint32_t kVersionNumber = 6;
 // Traversal state at depth S for the skip-list cell (X, Y): the 4 words of a skip entry.
 void descendToSkipLevel(const uint32_t* data, uint32_t base, uint32_t X, uint32_t Y, uint32_t out[4]);
 // The bounds word of bounds cell (X, Y) (level B below), computed from its skip entry down (every node and
@@ -128,6 +147,7 @@ inline uint32_t packBounds(uint32_t lo, uint32_t hi) {
 struct DagMhStats {
     uint64_t innerNodes = 0, treelets = 0, values = 0, chunks = 0, rawChunks = 0, factors = 0, factorBits = 0;
     uint64_t slopes = 0;                      // slope table entries; rawChunks counts raw classes
+    uint64_t planarValues = 0, planes = 0;    // values that are planes (planar trees), plane table entries
     uint64_t treeInner = 0, treeTreelets = 0; // before deduplication
 };
 
@@ -174,9 +194,12 @@ static_assert(ML_DAG_LEVELS == dagfmt::kLevels && ML_DAG_SKIP_LEVEL == dagfmt::k
               ML_DAG_TREELET_OFFSET == dagfmt::kTreeletOffset &&
               ML_DAG_CHUNK_OFFSET == dagfmt::kChunkOffset && ML_DAG_FACTOR_OFFSET == dagfmt::kFactorOffset &&
               ML_DAG_SLOPE_OFFSET == dagfmt::kSlopeOffset && ML_DAG_CHUNK_WORDS == dagfmt::kChunkWords &&
+              ML_DAG_PLANAR_CHUNK_WORDS == dagfmt::kPlanarChunkWords && ML_DAG_PLANES == dagfmt::kPlanes &&
               ML_DAG_SLOPE_WORDS == dagfmt::kSlopeWords && ML_DAG_TREELET_WORDS == dagfmt::kTreeletWords &&
               ML_DAG_SKIP_WORDS == dagfmt::kSkipWords && ML_DAG_HEADER_WORDS == dagfmt::kHeaderWords &&
-              ML_DAG_SLOPE_FRACTION == kOrthoSlopeFractionBits);
+              ML_DAG_SLOPE_FRACTION == kOrthoSlopeFractionBits &&
+              ML_DAG_PLANE_OFFSET == dagfmt::kPlaneOffset && ML_DAG_PLANE_WORDS == dagfmt::kPlaneWords &&
+              ML_DAG_PLANAR_WIDTH_SHIFT == dagfmt::kPlanarWidthShift);
 } // namespace dagtwin
 using dagtwin::dagmhBoundsClass;
 using dagtwin::dagmhFinish;
@@ -187,6 +210,7 @@ using dagtwin::dagmhLocatedValue;
 using dagtwin::dagmhLookup;
 using dagtwin::dagmhLookupLevel;
 using dagtwin::dagmhPcfPrefix;
+using dagtwin::dagmhSlotPlanar;
 using dagtwin::dagmhStart;
 using dagtwin::DagmhState;
 using dagtwin::dagmhValue;

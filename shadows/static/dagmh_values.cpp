@@ -293,13 +293,37 @@ void refineClasses(const Val* vals, uint32_t count, ChunkCode& code, const Slope
 
 } // namespace
 
-Result<Sections> encodeValues(const std::vector<Val>& vals, Stats* stats) {
+// A chunk's plane slots (planar tree values): their plane table indices, renumbered in the order of
+// first use so that a chunk's indices lie close (width: the bit width of their spread).
+struct PlanarCode {
+    uint32_t mask = 0, base = 0, b = 0;
+    std::vector<uint32_t> k; // one index offset per plane slot, in slot order
+};
+
+Result<Sections> encodeValues(const std::vector<Val>& vals, const std::vector<DepthPlane>& planes,
+                              Stats* stats) {
     using namespace dagfmt;
     Sections out;
     SlopeTable table;
+    // Plane ids (1-based into `planes`) -> plane table entries, in the order the values first use them.
+    std::vector<uint32_t> renumbered(planes.size(), UINT32_MAX);
+    uint32_t used = 0;
+    for (const Val& v : vals) {
+        if (!v.plane) continue;
+        if (v.plane > planes.size())
+            return fail("DAG-MH: a value names plane " + std::to_string(v.plane) + " of " +
+                        std::to_string(planes.size()));
+        if (renumbered[v.plane - 1] != UINT32_MAX) continue;
+        if (used >= kMaxPlanes) return fail("DAG-MH: plane table exceeds 2^27 entries");
+        renumbered[v.plane - 1] = used++;
+        const DepthPlane& q = planes[v.plane - 1];
+        out.planes.push_back(uint32_t(uint64_t(q.a))), out.planes.push_back(uint32_t(q.dx));
+        out.planes.push_back(uint32_t(q.dy));
+    }
     const uint32_t numValues = uint32_t(vals.size());
     const uint32_t numChunks = (numValues + kChunkValues - 1) / kChunkValues;
-    out.chunks.assign(size_t(numChunks) * kChunkWords, 0);
+    const uint32_t cw = chunkWords(used);
+    out.chunks.assign(size_t(numChunks) * cw, 0);
     uint64_t bitPos = 0;
     auto put = [&](uint32_t k, uint32_t bits) {
         for (uint32_t bit = 0; bit < bits; ++bit, ++bitPos) {
@@ -309,8 +333,35 @@ Result<Sections> encodeValues(const std::vector<Val>& vals, Stats* stats) {
     };
     for (uint32_t c = 0; c < numChunks; ++c) {
         const uint32_t count = std::min(kChunkValues, numValues - c * kChunkValues);
-        ChunkCode code = encodeChunk(&vals[size_t(c) * kChunkValues], count, table);
-        refineClasses(&vals[size_t(c) * kChunkValues], count, code, table);
+        const Val* cv = &vals[size_t(c) * kChunkValues];
+        // The plane slots apart; the others (compacted, in slot order) split into the two classes.
+        PlanarCode pc;
+        std::vector<Val> rest;
+        std::vector<uint32_t> slotOf;
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint32_t j = 0; j < count; ++j) {
+            if (cv[j].plane) {
+                pc.mask |= 1u << j;
+                const uint32_t idx = renumbered[cv[j].plane - 1];
+                lo = std::min(lo, idx), hi = std::max(hi, idx);
+                pc.k.push_back(idx);
+            } else {
+                rest.push_back(cv[j]), slotOf.push_back(j);
+            }
+        }
+        if (pc.mask) {
+            pc.base = lo, pc.b = uint32_t(std::bit_width(hi - lo));
+            for (uint32_t& k : pc.k) k -= lo;
+        }
+        ChunkCode code;
+        if (!rest.empty()) {
+            code = encodeChunk(rest.data(), uint32_t(rest.size()), table);
+            refineClasses(rest.data(), uint32_t(rest.size()), code, table);
+        }
+        uint32_t classMask = 0;
+        for (size_t r = 0; r < slotOf.size(); ++r)
+            if ((code.mask >> r) & 1u) classMask |= 1u << slotOf[r];
+        code.mask = classMask;
         uint32_t entry[2];
         for (int k = 0; k < 2; ++k) {
             auto [it, added] = table.index.try_emplace(code.c[k].slope, uint32_t(table.entries.size()));
@@ -324,10 +375,13 @@ Result<Sections> encodeValues(const std::vector<Val>& vals, Stats* stats) {
         }
         if (bitPos + uint64_t(count) * 32 > kMaxFactorBits)
             return fail("DAG-MH: factor stream exceeds 512 MiB");
-        uint32_t* w = &out.chunks[size_t(c) * kChunkWords];
+        uint32_t* w = &out.chunks[size_t(c) * cw];
         w[0] = code.mask, w[1] = code.c[0].a, w[2] = code.c[1].a;
         w[3] = code.c[0].b | code.c[0].sh << 6 | code.c[1].b << 11 | code.c[1].sh << 17;
         w[4] = uint32_t(bitPos), w[5] = entry[0] | entry[1] << 16;
+        if (cw == kPlanarChunkWords) w[6] = pc.mask, w[7] = pc.base | pc.b << kPlanarWidthShift;
+        for (uint32_t k : pc.k) put(k, pc.b); // the plane indices first
+        if (stats) stats->planarValues += pc.k.size(), stats->factorBits += uint64_t(pc.k.size()) * pc.b;
         for (int k : {1, 0}) { // class 1's factors first: a class-0 slot skips popcount(mask) of them
             for (uint32_t f : code.c[k].k) put(f, code.c[k].b);
             if (stats) {

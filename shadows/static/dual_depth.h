@@ -46,6 +46,18 @@ inline float dequantizeDepth(uint32_t d, float farPlane) {
     return float(double(d) / 4294967294.0 * farPlane);
 }
 
+// A directional map's depth plane (raster_dual.h step 4): quantised depth at texel (x, y) = a + ((dx x +
+// dy y + 32) >> 6) in int64. Plane ids are 1-based indices into a table of them; 0 names no plane.
+struct DepthPlane {
+    int64_t a = 0;
+    int32_t dx = 0, dy = 0;
+    bool operator==(const DepthPlane&) const = default;
+    int64_t at(int64_t x, int64_t y) const {
+        return a + ((int64_t(dx) * x + int64_t(dy) * y + (int64_t(1) << (kOrthoSlopeFractionBits - 1))) >>
+                    kOrthoSlopeFractionBits);
+    }
+};
+
 struct DualDepthMap {
     uint32_t resolution = 0; // width = height (the container every codec stores)
     // Rows in the light's volume (LightFrustum::mapRows): a directional map fitted to its box is
@@ -56,6 +68,10 @@ struct DualDepthMap {
     bool orthographic = false;
     std::vector<uint32_t> enter; // resolution * resolution, row-major, row 0 at NDC y = -1
     std::vector<uint32_t> exit;
+    // Optional (orthographic maps from the CPU rasteriser; empty otherwise): per texel the id of the plane
+    // its enter depth lies on (0: none), and the planes. DAG-MH evaluates such planes per texel (dagmh.h).
+    std::vector<uint32_t> enterPlane;
+    std::vector<DepthPlane> planes;
     uint32_t at(uint32_t x, uint32_t y) const { return enter[size_t(y) * resolution + x]; }
 };
 

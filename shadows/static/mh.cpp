@@ -19,6 +19,7 @@ struct Pyramid {
     // present descendant).
     std::vector<std::vector<uint32_t>> lo, hi;
     std::vector<std::vector<uint8_t>> flags;
+    std::vector<std::vector<uint32_t>> plane; // planar builds only (mhbuild::reduceLevel's planes)
 };
 
 // The point covered by the most of the 4 intervals; returns the covering subset as a 4-bit mask.
@@ -53,6 +54,7 @@ int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y, u
     node.lo = pyr.lo[level][i], node.hi = pyr.hi[level][i];
     node.valued = (pyr.flags[level][i] & 1u) ? 1 : 0;
     node.depth = uint8_t(level + depthOffset);
+    node.plane = pyr.plane.empty() ? 0u : pyr.plane[level][i];
     out.push_back(node);
     if (pyr.flags[level][i] & 2u) {
         uint32_t cn = n * 2;
@@ -67,14 +69,76 @@ int32_t buildNodes(const Pyramid& pyr, uint32_t level, uint32_t x, uint32_t y, u
     return index;
 }
 
+// reduceLevel with planes (mh.h, "Planar trees"): the constant covering the most children with an
+// interval, against the plane id shared by the most children; the plane only when it covers more.
+void reduceLevelPlanar(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* cfl, uint32_t* plo,
+                       uint32_t* phi, uint8_t* pfl, const uint32_t* cpl, uint32_t* ppl) {
+    const uint32_t pn = n / 2;
+    for (uint32_t py = 0; py < pn; ++py)
+        for (uint32_t px = 0; px < pn; ++px) {
+            size_t ci[4];
+            uint32_t lo[4], hi[4], pl[4];
+            for (uint32_t c = 0; c < 4; ++c) {
+                ci[c] = size_t(2 * py + (c >> 1)) * n + 2 * px + (c & 1u);
+                lo[c] = clo[ci[c]], hi[c] = chi[ci[c]], pl[c] = cpl[ci[c]];
+            }
+            // Constants: bestSubset's rule over the children whose interval is not empty.
+            uint32_t cmask = 0, ccount = 0;
+            uint64_t cwidth = 0;
+            for (uint32_t k = 0; k < 4; ++k) {
+                if (lo[k] > hi[k]) continue;
+                uint32_t mask = 0, count = 0, l = 0, h = 0xFFFFFFFFu;
+                for (uint32_t i = 0; i < 4; ++i)
+                    if (lo[i] <= hi[i] && lo[i] <= lo[k] && lo[k] <= hi[i])
+                        mask |= 1u << i, ++count, l = std::max(l, lo[i]), h = std::min(h, hi[i]);
+                const uint64_t width = uint64_t(h) - l;
+                if (count > ccount || (count == ccount && width > cwidth))
+                    cmask = mask, ccount = count, cwidth = width;
+            }
+            // Planes: the id shared by the most children (ties: the first child's).
+            uint32_t pmask = 0, pcount = 0;
+            for (uint32_t k = 0; k < 4; ++k) {
+                if (pl[k] == 0) continue;
+                uint32_t mask = 0, count = 0;
+                for (uint32_t i = 0; i < 4; ++i)
+                    if (pl[i] == pl[k]) mask |= 1u << i, ++count;
+                if (count > pcount) pmask = mask, pcount = count;
+            }
+            const uint32_t mask = pcount > ccount ? pmask : cmask;
+            uint32_t l0 = 0, h0 = 0xFFFFFFFFu, common = 0;
+            bool shared = true, empty = false;
+            uint8_t below = 0;
+            for (uint32_t c = 0; c < 4; ++c) {
+                if (mask & (1u << c)) {
+                    if (lo[c] > hi[c]) empty = true;
+                    l0 = std::max(l0, lo[c]), h0 = std::min(h0, hi[c]);
+                    if (common == 0) common = pl[c];
+                    shared = shared && pl[c] != 0 && pl[c] == common;
+                    cfl[ci[c]] &= ~1u;
+                }
+                if (cfl[ci[c]] & 3u) below = 2;
+            }
+            // The parent holds every texel its chosen children held: the intersection of their intervals
+            // (empty: kept as lo = 1 > hi = 0) and their plane when they all share one.
+            if (empty || l0 > h0) l0 = 1u, h0 = 0u;
+            const size_t pi = size_t(py) * pn + px;
+            plo[pi] = l0, phi[pi] = h0, ppl[pi] = shared ? common : 0u;
+            pfl[pi] = uint8_t(1u | below);
+        }
+}
+
 // The bottom-up pass over a pyramid whose finest level L is filled: levels L-1 .. 0.
 void reducePyramid(Pyramid& pyr, uint32_t L) {
     for (uint32_t l = L; l > 0; --l) {
         const uint32_t pn = 1u << (l - 1);
         pyr.lo[l - 1].resize(size_t(pn) * pn), pyr.hi[l - 1].resize(size_t(pn) * pn);
         pyr.flags[l - 1].assign(size_t(pn) * pn, 1u);
+        const bool planar = !pyr.plane.empty();
+        if (planar) pyr.plane[l - 1].resize(size_t(pn) * pn);
         mhbuild::reduceLevel(1u << l, pyr.lo[l].data(), pyr.hi[l].data(), pyr.flags[l].data(),
-                             pyr.lo[l - 1].data(), pyr.hi[l - 1].data(), pyr.flags[l - 1].data());
+                             pyr.lo[l - 1].data(), pyr.hi[l - 1].data(), pyr.flags[l - 1].data(),
+                             planar ? pyr.plane[l].data() : nullptr,
+                             planar ? pyr.plane[l - 1].data() : nullptr);
     }
 }
 
@@ -83,7 +147,8 @@ void reducePyramid(Pyramid& pyr, uint32_t L) {
 namespace mhbuild {
 
 void reduceLevel(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* cfl, uint32_t* plo,
-                 uint32_t* phi, uint8_t* pfl) {
+                 uint32_t* phi, uint8_t* pfl, const uint32_t* cpl, uint32_t* ppl) {
+    if (cpl) return reduceLevelPlanar(n, clo, chi, cfl, plo, phi, pfl, cpl, ppl);
     const uint32_t pn = n / 2;
     for (uint32_t py = 0; py < pn; ++py)
         for (uint32_t px = 0; px < pn; ++px) {
@@ -106,7 +171,8 @@ void reduceLevel(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* 
         }
 }
 
-Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* hi, uint32_t depthOffset) {
+Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* hi, uint32_t depthOffset,
+                             const uint32_t* plane) {
     uint32_t L = 0;
     while ((1u << L) < size) ++L;
     if ((1u << L) != size) return fail("MH: tile side " + std::to_string(size) + " is not a power of two");
@@ -114,16 +180,18 @@ Result<Subtree> buildSubtree(uint32_t size, const uint32_t* lo, const uint32_t* 
     pyr.lo.resize(L + 1), pyr.hi.resize(L + 1), pyr.flags.resize(L + 1);
     pyr.lo[L].assign(lo, lo + size_t(size) * size), pyr.hi[L].assign(hi, hi + size_t(size) * size);
     pyr.flags[L].assign(size_t(size) * size, 1u);
+    if (plane) pyr.plane.resize(L + 1), pyr.plane[L].assign(plane, plane + size_t(size) * size);
     reducePyramid(pyr, L);
     Subtree t;
     t.lo = pyr.lo[0][0], t.hi = pyr.hi[0][0], t.flags = pyr.flags[0][0];
+    t.plane = plane ? pyr.plane[0][0] : 0u;
     buildNodes(pyr, 0, 0, 0, depthOffset, t.nodes);
     return t;
 }
 
 } // namespace mhbuild
 
-Result<MhTree> buildMhTree(const DualDepthMap& map) {
+Result<MhTree> buildMhTree(const DualDepthMap& map, bool planar) {
     const uint32_t res = map.resolution;
     if (res == 0 || res > kMhMaxResolution)
         return fail("MH: resolution " + std::to_string(res) + " outside 1.." +
@@ -148,10 +216,28 @@ Result<MhTree> buildMhTree(const DualDepthMap& map) {
                 hi[size_t(y) * n + x] = std::max(e, f); // a malformed exit < enter keeps just enter
             }
     }
+    planar = planar && !map.enterPlane.empty();
+    if (planar) {
+        if (map.enterPlane.size() != map.enter.size())
+            return fail("MH: the map's plane ids do not match its texels");
+        const uint32_t n = 1u << L;
+        pyr.plane.resize(L + 1);
+        pyr.plane[L].assign(size_t(n) * n, 0u);
+        for (uint32_t y = 0; y < res; ++y)
+            for (uint32_t x = 0; x < res; ++x) {
+                const uint32_t id = map.enterPlane[size_t(y) * res + x];
+                if (id > map.planes.size())
+                    return fail("MH: texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                ") names plane " + std::to_string(id) + " of " +
+                                std::to_string(map.planes.size()));
+                pyr.plane[L][size_t(y) * n + x] = id;
+            }
+    }
     reducePyramid(pyr, L);
     MhTree tree;
     tree.resolution = res, tree.levels = L;
     buildNodes(pyr, 0, 0, 0, 0, tree.nodes);
+    if (planar) tree.planes = map.planes;
     return tree;
 }
 
@@ -396,6 +482,7 @@ stat::ByteBreakdown breakdown(const uint32_t* data, size_t size) {
 } // namespace mhfmt
 
 Result<std::vector<uint32_t>> encodeMH(const MhTree& tree, const mhfmt::Layout& layout) {
+    if (tree.planar()) return fail("MH: a planar tree (DAG-MH's values) has no MH encoding");
     std::vector<uint32_t> value(tree.nodes.size());
     for (size_t i = 0; i < tree.nodes.size(); ++i)
         value[i] = stat::midpoint(tree.nodes[i].lo, tree.nodes[i].hi);

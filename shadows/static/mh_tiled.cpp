@@ -29,13 +29,13 @@ uint32_t log2Ceil(uint32_t v) {
 
 MhTile pack(const mhbuild::Subtree& t) {
     MhTile p;
-    p.lo = t.lo, p.hi = t.hi, p.flags = t.flags;
+    p.lo = t.lo, p.hi = t.hi, p.plane = t.plane, p.flags = t.flags;
     p.nodes.resize(t.nodes.size());
     for (size_t i = 0; i < t.nodes.size(); ++i) {
         const MhTree::Node& n = t.nodes[i];
         uint32_t bits = uint32_t(n.valued) << 4 | uint32_t(n.depth) << 8;
         for (uint32_t c = 0; c < 4; ++c) bits |= n.child[c] >= 0 ? 1u << c : 0u;
-        p.nodes[i] = {n.lo, n.hi, bits};
+        p.nodes[i] = {n.lo, n.hi, bits, n.plane};
     }
     return p;
 }
@@ -46,6 +46,7 @@ int32_t unpack(const std::vector<MhPackedNode>& nodes, size_t& cursor, std::vect
     const int32_t index = int32_t(out.size());
     MhTree::Node n;
     n.lo = q.lo, n.hi = q.hi, n.valued = uint8_t((q.bits >> 4) & 1u), n.depth = uint8_t(q.bits >> 8);
+    n.plane = q.plane;
     out.push_back(n);
     for (uint32_t c = 0; c < 4; ++c)
         if (q.bits & (1u << c)) {
@@ -57,7 +58,7 @@ int32_t unpack(const std::vector<MhPackedNode>& nodes, size_t& cursor, std::vect
 
 // The top pyramid: levels 0..top, level `top` holding the tile roots.
 struct Top {
-    std::vector<std::vector<uint32_t>> lo, hi;
+    std::vector<std::vector<uint32_t>> lo, hi, plane; // plane: planar trees only
     std::vector<std::vector<uint8_t>> flags;
 };
 
@@ -78,6 +79,7 @@ int32_t emit(const Top& t, uint32_t top, uint32_t level, uint32_t x, uint32_t y,
     node.lo = t.lo[level][i], node.hi = t.hi[level][i];
     node.valued = (t.flags[level][i] & 1u) ? 1 : 0;
     node.depth = uint8_t(level);
+    node.plane = t.plane.empty() ? 0u : t.plane[level][i];
     out.push_back(node);
     if (t.flags[level][i] & 2u) {
         const uint32_t cn = n * 2;
@@ -127,7 +129,9 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
     std::atomic<uint32_t> emptyCount{0};
 
     auto worker = [&]() {
-        std::vector<uint32_t> enter, exit, lo(size_t(T) * T), hi(size_t(T) * T);
+        const bool planar = !options.planes.empty();
+        std::vector<uint32_t> enter, exit, texelPlane, lo(size_t(T) * T), hi(size_t(T) * T);
+        std::vector<uint32_t> plane(planar ? size_t(T) * T : 0); // the tile's plane ids, padded
         uint64_t covered = 0, closed = 0;
         double render = 0, reduce = 0;
         // Reduces the rendered w x h texels of tile k into tiles[k]; false after an error.
@@ -140,11 +144,23 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                         const uint32_t e = enter[size_t(y) * w + x], f = exit[size_t(y) * w + x];
                         lo[o] = e, hi[o] = std::max(e, f); // a malformed exit < enter keeps just enter
                         covered += e != kDepthEmpty, closed += f > e;
+                        if (planar) plane[o] = texelPlane[size_t(y) * w + x];
                     } else {
                         lo[o] = 0, hi[o] = 0xFFFFFFFFu;
+                        if (planar) plane[o] = 0u;
                     }
                 }
-            auto sub = mhbuild::buildSubtree(T, lo.data(), hi.data(), top);
+            if (planar)
+                for (uint32_t id : plane)
+                    if (id > options.planes.size()) {
+                        std::lock_guard<std::mutex> lock(mutex);
+                        if (!failed)
+                            error = "tile " + std::to_string(k) + ": plane id " + std::to_string(id) +
+                                    " of " + std::to_string(options.planes.size());
+                        failed = true;
+                        return false;
+                    }
+            auto sub = mhbuild::buildSubtree(T, lo.data(), hi.data(), top, planar ? plane.data() : nullptr);
             if (!sub) {
                 std::lock_guard<std::mutex> lock(mutex);
                 if (!failed) error = sub.error();
@@ -166,7 +182,9 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                 std::call_once(emptyOnce, [&] {
                     std::fill(lo.begin(), lo.end(), kDepthEmpty),
                         std::fill(hi.begin(), hi.end(), kDepthEmpty);
-                    auto sub = mhbuild::buildSubtree(T, lo.data(), hi.data(), top);
+                    std::fill(plane.begin(), plane.end(), 0u);
+                    auto sub =
+                        mhbuild::buildSubtree(T, lo.data(), hi.data(), top, planar ? plane.data() : nullptr);
                     if (sub)
                         emptyTile = pack(sub.value()), emptyTile.built = true;
                     else
@@ -181,7 +199,10 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                 ++emptyCount;
             } else if (w && h) {
                 enter.resize(size_t(w) * h), exit.resize(size_t(w) * h);
-                if (auto r = source(x0, y0, w, h, enter.data(), exit.data()); !r) {
+                if (planar) texelPlane.assign(size_t(w) * h, 0u);
+                if (auto r =
+                        source(x0, y0, w, h, enter.data(), exit.data(), planar ? texelPlane.data() : nullptr);
+                    !r) {
                     std::lock_guard<std::mutex> lock(mutex);
                     if (!failed)
                         error = "tile (" + std::to_string(x0) + ", " + std::to_string(y0) + "): " + r.error();
@@ -233,7 +254,8 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
     return {};
 }
 
-Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tiles, MhTiledStats* stats) {
+Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tiles, MhTiledStats* stats,
+                              const std::vector<DepthPlane>& planes) {
     const uint32_t top = grid.top, count = grid.count();
     if (tiles.size() != count)
         return fail("MH: " + std::to_string(tiles.size()) + " tiles for a grid of " + std::to_string(count));
@@ -244,16 +266,24 @@ Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tile
     Top tp;
     tp.lo.resize(top + 1), tp.hi.resize(top + 1), tp.flags.resize(top + 1);
     tp.lo[top].resize(count), tp.hi[top].resize(count), tp.flags[top].resize(count);
-    for (uint32_t k = 0; k < count; ++k)
+    const bool planar = !planes.empty();
+    if (planar) tp.plane.resize(top + 1), tp.plane[top].resize(count);
+    for (uint32_t k = 0; k < count; ++k) {
         tp.lo[top][k] = tiles[k].lo, tp.hi[top][k] = tiles[k].hi, tp.flags[top][k] = tiles[k].flags;
+        if (planar) tp.plane[top][k] = tiles[k].plane;
+    }
     for (uint32_t l = top; l > 0; --l) {
         const size_t pn = size_t(1) << (l - 1);
         tp.lo[l - 1].resize(pn * pn), tp.hi[l - 1].resize(pn * pn), tp.flags[l - 1].resize(pn * pn);
+        if (planar) tp.plane[l - 1].resize(pn * pn);
         mhbuild::reduceLevel(1u << l, tp.lo[l].data(), tp.hi[l].data(), tp.flags[l].data(),
-                             tp.lo[l - 1].data(), tp.hi[l - 1].data(), tp.flags[l - 1].data());
+                             tp.lo[l - 1].data(), tp.hi[l - 1].data(), tp.flags[l - 1].data(),
+                             planar ? tp.plane[l].data() : nullptr,
+                             planar ? tp.plane[l - 1].data() : nullptr);
     }
     MhTree tree;
     tree.resolution = grid.resolution, tree.levels = grid.levels;
+    tree.planes = planes;
     size_t total = 0;
     for (const auto& s : tiles) total += s.nodes.size();
     tree.nodes.reserve(total + (size_t(count) * 4) / 3 + 1);
@@ -273,17 +303,18 @@ Result<MhTree> buildMhTreeTiled(uint32_t res, const DualTileSource& source, cons
     std::vector<MhTile> tiles;
     MhTiledStats st;
     if (auto r = buildMhTiles(*grid, source, options, {}, tiles, &st); !r) return fail(r.error());
-    auto tree = assembleMhTree(*grid, std::move(tiles), &st);
+    auto tree = assembleMhTree(*grid, std::move(tiles), &st, options.planes);
     if (tree && stats) *stats = st;
     return tree;
 }
 
-Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile) {
+Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile, size_t planes) {
     const size_t limit = (size_t(grid.tile) * grid.tile * 4) / 3 + 1; // a full quadtree over the tile
     if (tile.nodes.empty() || tile.nodes.size() > limit)
         return fail(std::to_string(tile.nodes.size()) + " nodes, outside 1.." + std::to_string(limit));
     const MhPackedNode& root = tile.nodes[0];
-    if (root.lo != tile.lo || root.hi != tile.hi) return fail("root interval differs from the tile's");
+    if (root.lo != tile.lo || root.hi != tile.hi || root.plane != tile.plane)
+        return fail("root interval or plane differs from the tile's");
     if ((tile.flags & ~3u) != 0 || !(tile.flags & 1u) || ((tile.flags & 2u) != 0) != ((root.bits & 15u) != 0))
         return fail("root flags " + std::to_string(tile.flags) + " do not match its children");
     // Preorder: each node's present children follow it, one level deeper, only above the texels.
@@ -299,7 +330,11 @@ Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile) {
         if ((q.bits >> 8) != depth || (q.bits & 0xE0u) != 0)
             return fail("node " + std::to_string(i) + ": bits " + std::to_string(q.bits) +
                         " (expected depth " + std::to_string(depth) + ")");
-        if (q.lo > q.hi) return fail("node " + std::to_string(i) + ": interval lo > hi");
+        if (q.plane > planes)
+            return fail("node " + std::to_string(i) + ": plane id " + std::to_string(q.plane) + " of " +
+                        std::to_string(planes));
+        if (q.lo > q.hi && q.plane == 0)
+            return fail("node " + std::to_string(i) + ": interval lo > hi without a plane");
         const uint32_t children = uint32_t(std::popcount(q.bits & 15u));
         if (children && depth >= grid.levels)
             return fail("node " + std::to_string(i) + ": a texel with children");
@@ -313,15 +348,18 @@ Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile) {
 }
 
 DualTileSource dualTileSourceOf(const DualDepthMap& map) {
-    return [&map](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
-                  uint32_t* exit) -> Result<void> {
+    return [&map](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit,
+                  uint32_t* plane) -> Result<void> {
         const uint32_t r = map.resolution;
         if (x0 + w > r || y0 + h > r || map.enter.size() != size_t(r) * r ||
             map.exit.size() != map.enter.size())
             return fail("tile outside the map");
+        if (plane && map.enterPlane.size() != map.enter.size()) return fail("the map has no plane ids");
         for (uint32_t y = 0; y < h; ++y) {
             std::copy_n(map.enter.begin() + (size_t(y0 + y) * r + x0), w, enter + size_t(y) * w);
             std::copy_n(map.exit.begin() + (size_t(y0 + y) * r + x0), w, exit + size_t(y) * w);
+            if (plane)
+                std::copy_n(map.enterPlane.begin() + (size_t(y0 + y) * r + x0), w, plane + size_t(y) * w);
         }
         return {};
     };

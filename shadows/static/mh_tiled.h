@@ -11,10 +11,10 @@
 // would. Tiles visited in quadtree order make the preorder a concatenation. TiledMh.* check the trees
 // and the MH, MMH and DAG-MH words equal the whole-map build's at 256^2-1024^2 with 64^2 tiles.
 //
-// Memory: per worker thread about 30 B a tile texel (the tile's enter/exit, its intervals and its
-// pyramid; T = 512: 8 MiB) plus the source's own scratch, and the output tree: 12 B a node while the
-// tiles are built (packed, children implicit in preorder), then 28 B a node assembled, each tile's
-// packed nodes freed as it is spliced (at most 40 B a node at once). Never the map.
+// Memory: per worker thread about 30 B a tile texel (34 B planar) (the tile's enter/exit, its intervals and
+// its pyramid; T = 512: 8 MiB) plus the source's own scratch, and the output tree: 12 B a node while the
+// tiles are built (packed, children implicit in preorder), then 32 B a node assembled, each tile's
+// packed nodes freed as it is spliced (at most 48 B a node at once). Never the map.
 #pragma once
 #include "shadows/static/mh.h"
 
@@ -23,9 +23,10 @@
 namespace ml {
 
 // Fills a w x h block of the map at texel (x0, y0) with enter and exit depths (row-major, w words a
-// row; dual_depth.h's meaning). Called from several threads at once, each with its own block.
+// row; dual_depth.h's meaning) and, when `plane` is not null (planar builds), the enter plane ids
+// (DualRasterizer::renderRect's). Called from several threads at once, each with its own block.
 using DualTileSource = std::function<Result<void>(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
-                                                  uint32_t* enter, uint32_t* exit)>;
+                                                  uint32_t* enter, uint32_t* exit, uint32_t* plane)>;
 
 struct MhTiledOptions {
     uint32_t tile = 2048;                 // tile side: a power of two; clamped to the padded map
@@ -36,6 +37,8 @@ struct MhTiledOptions {
     // Such a whole tile is not rendered: it gets a copy of the one empty tile's subtree (built once),
     // which is what rendering it would give. A fitted moon map at 262144^2 has about half its tiles empty.
     std::function<bool(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h)> emptyBlock;
+    // Not empty: a planar tree (mh.h) over these planes, the source asked for plane ids (DAG-MH).
+    std::vector<DepthPlane> planes;
 };
 
 struct MhTiledStats {
@@ -55,16 +58,17 @@ struct MhTileGrid {
 };
 Result<MhTileGrid> mhTileGrid(uint32_t resolution, uint32_t tile);
 
-// A tile's subtree kept between its build and the assembly, 12 B a node: the interval, and in `bits` the
-// present children (bits 0-3), valued (bit 4) and depth (bits 8-15). Children are implicit in preorder:
-// a node's first present child follows it, the next one follows the first one's subtree.
+// A tile's subtree kept between its build and the assembly, 16 B a node: the interval, in `bits` the
+// present children (bits 0-3), valued (bit 4) and depth (bits 8-15), and the plane id (planar trees; 0
+// otherwise). Children are implicit in preorder: a node's first present child follows it, the next one
+// follows the first one's subtree.
 struct MhPackedNode {
-    uint32_t lo = 0, hi = 0, bits = 0;
+    uint32_t lo = 0, hi = 0, bits = 0, plane = 0;
 };
 struct MhTile {
-    uint32_t lo = 0, hi = 0; // the root's interval
-    uint8_t flags = 0;       // the root's: bit 0 keeps its value (the levels above may clear it), bit 1 has
-                             // a present descendant
+    uint32_t lo = 0, hi = 0, plane = 0; // the root's interval and plane id
+    uint8_t flags = 0; // the root's: bit 0 keeps its value (the levels above may clear it), bit 1 has
+                       // a present descendant
     bool built = false;
     std::vector<MhPackedNode> nodes; // preorder, nodes[0] the root
 };
@@ -75,11 +79,13 @@ Result<void> buildMhTiles(const MhTileGrid& grid, const DualTileSource& source, 
                           const std::function<bool(uint32_t)>& select, std::vector<MhTile>& tiles,
                           MhTiledStats* stats = nullptr);
 // The tree from every tile of the grid (fails naming a missing one); frees the tiles as it splices them.
+// `planes` not empty: the tiles were built planar over them (MhTiledOptions::planes).
 Result<MhTree> assembleMhTree(const MhTileGrid& grid, std::vector<MhTile>&& tiles,
-                              MhTiledStats* stats = nullptr);
+                              MhTiledStats* stats = nullptr, const std::vector<DepthPlane>& planes = {});
 // Checks a tile read from a file: its node count, root, depths, preorder and children (no child below
-// the texels, no leaf without a value), so assembleMhTree can splice it without reading out of bounds.
-Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile);
+// the texels, no leaf without a value), plane ids up to `planes` (an empty interval only with a plane),
+// so assembleMhTree can splice it without reading out of bounds.
+Result<void> validateMhTile(const MhTileGrid& grid, const MhTile& tile, size_t planes = 0);
 
 // The MH tree of a resolution x resolution map (1..kMhMaxResolution) read tile by tile from `source`: equal
 // to buildMhTree of the whole map. Fails with the source's first error, on a tile that is not a power of two,

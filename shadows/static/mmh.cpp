@@ -86,6 +86,7 @@ struct Builder {
 } // namespace
 
 Result<std::vector<uint32_t>> encodeMMH(const MhTree& tree, const MmhOptions& options, MmhStats* statsOut) {
+    if (tree.planar()) return fail("MMH: a planar tree (DAG-MH's values) has no MMH encoding");
     Builder b(tree);
     MmhStats st;
     // Unmerged layout positions bound every redirected offset (merging only removes words between).

@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 
 namespace ml {
@@ -74,14 +75,25 @@ bool orthoDepthPlane(const glm::mat4& view, const glm::vec3* p, double orthoHalf
     return std::abs(Dx) <= INT32_MAX && std::abs(Dy) <= INT32_MAX;
 }
 
+struct PlaneHash {
+    size_t operator()(const DepthPlane& p) const {
+        uint64_t h = uint64_t(p.a) * 0x9E3779B97F4A7C15ull;
+        h ^= (uint64_t(uint32_t(p.dx)) << 32 | uint32_t(p.dy)) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+        return size_t(h ^ (h >> 29));
+    }
+};
+
 } // namespace
 
 uint32_t DualRasterizer::Tri::depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho,
-                                    float far) const {
+                                    float far, uint32_t* onPlane) const {
     if (plane) {
         constexpr int64_t kHalf = int64_t(1) << (kOrthoSlopeFractionBits - 1);
         const int64_t q = planeA + ((planeDx * x + planeDy * y + kHalf) >> kOrthoSlopeFractionBits);
-        return q <= 0 ? 0u : q >= int64_t(0xFFFFFFFEu) ? 0xFFFFFFFEu : uint32_t(q);
+        if (q <= 0) return 0u;
+        if (q >= int64_t(0xFFFFFFFEu)) return 0xFFFFFFFEu;
+        if (onPlane) *onPlane = planeId; // unclamped: the depth is the plane's value
+        return uint32_t(q);
     }
     const double invd =
         (double(e[0]) * invDepth[0] + double(e[1]) * invDepth[1] + double(e[2]) * invDepth[2]) * invArea;
@@ -183,10 +195,23 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     const double fa = frustum.farPlane;
     std::vector<V3> poly, tmp;
     size_t count = std::min(casters.closed.size(), casters.positions.size() / 3);
+    std::unordered_map<DepthPlane, uint32_t, PlaneHash> planeIds;
     for (size_t tri = 0; tri < count; ++tri) {
         int64_t planeA = 0, planeDx = 0, planeDy = 0;
         const bool plane = ortho_ && orthoDepthPlane(frustum.view, &casters.positions[tri * 3], oh, res_,
                                                      double(far_), planeA, planeDx, planeDy);
+        uint32_t planeId = 0; // stays 0 past kMaxDepthPlanes distinct planes: the texels name no plane
+        if (plane) {
+            const DepthPlane key{planeA, int32_t(planeDx), int32_t(planeDy)};
+            auto it = planeIds.find(key);
+            if (it != planeIds.end()) {
+                planeId = it->second;
+            } else if (planes_.size() < kMaxDepthPlanes) {
+                planes_.push_back(key);
+                planeId = uint32_t(planes_.size());
+                planeIds.emplace(key, planeId);
+            }
+        }
         poly.clear();
         for (int k = 0; k < 3; ++k) {
             glm::vec4 v = frustum.view * glm::vec4(casters.positions[tri * 3 + k], 1.0f);
@@ -222,6 +247,7 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
                     std::swap(tr.invDepth[1], tr.invDepth[2]);
             tr.kind = casters.closed[tri] ? (front ? 0 : 2) : 1;
             tr.plane = plane, tr.planeA = planeA, tr.planeDx = planeDx, tr.planeDy = planeDy;
+            tr.planeId = planeId;
             int64_t ymin = std::min({tr.y[0], tr.y[1], tr.y[2]}),
                     ymax = std::max({tr.y[0], tr.y[1], tr.y[2]});
             // Rows whose centre y*256+128 lies in [ymin, ymax].
@@ -236,8 +262,9 @@ DualRasterizer::DualRasterizer(const CasterTriangles& casters, const LightFrustu
     std::stable_sort(tris_.begin(), tris_.end(), [](const Tri& a, const Tri& b) { return a.yMin < b.yMin; });
 }
 
-void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const {
-    renderRect(0, y0, res_, y1 - y0, enter, exit);
+void DualRasterizer::renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit,
+                                uint32_t* enterPlane) const {
+    renderRect(0, y0, res_, y1 - y0, enter, exit, enterPlane);
 }
 
 bool DualRasterizer::blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const {
@@ -259,16 +286,27 @@ namespace {
 // allocating them for every tile cost page faults and clears. render() frees it when the whole map is
 // done, so a host thread that bakes does not keep a band's slots (64 MiB at 1M texels) afterwards.
 struct HitSlots {
-    std::vector<uint32_t> count;    // hits per local texel
-    std::vector<uint64_t> slots;    // kHitSlots planes of one key (depth << 2 | kind) a texel
-    std::vector<uint64_t> overflow; // local texel << 34 | key, the hits past a texel's slots
-    std::vector<uint64_t> texel;    // the keys of a texel past kHitSlots hits while it is resolved
+    std::vector<uint32_t> count;                         // hits per local texel
+    std::vector<uint64_t> slots;                         // kHitSlots planes of one key (hitKey) a texel
+    std::vector<std::pair<uint64_t, uint64_t>> overflow; // (local texel, key): the hits past a texel's slots
+    std::vector<uint64_t> texel; // the keys of a texel past kHitSlots hits while it is resolved
 };
 thread_local HitSlots tHits;
 
 // Hits a texel holds without the overflow list (64 B a texel). The closed night city seen from the moon
 // has 2-6 hits a texel (ground slab, roof, floor, foliage) and up to 8.
 constexpr uint32_t kHitSlots = 8;
+
+// A hit's sort key: depth (32 bits) | kind (2 bits: 0 closed front, 1 open, 2 closed back) | plane id
+// (30 bits, 0: none), so a texel's hits sort by depth, then kind (step 5), and the first one names the
+// plane its enter depth lies on.
+constexpr uint64_t kHitPlaneMask = (uint64_t(1) << 30) - 1u;
+inline uint64_t hitKey(uint32_t depth, uint32_t kind, uint32_t plane) {
+    return uint64_t(depth) << 32 | uint64_t(kind) << 30 | plane;
+}
+inline uint32_t hitKind(uint64_t key) {
+    return uint32_t(key >> 30) & 3u;
+}
 
 int64_t ceilDivPositive(int64_t a, int64_t b) { // a > 0, b > 0
     return (a + b - 1) / b;
@@ -302,11 +340,12 @@ bool triangleEdges(const int64_t x[3], const int64_t y[3], uint32_t x0, uint32_t
 
 size_t DualRasterizer::threadScratchBytes() {
     return tHits.count.capacity() * sizeof(uint32_t) +
-           (tHits.slots.capacity() + tHits.overflow.capacity() + tHits.texel.capacity()) * sizeof(uint64_t);
+           (tHits.slots.capacity() + 2 * tHits.overflow.capacity() + tHits.texel.capacity()) *
+               sizeof(uint64_t);
 }
 
 void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter,
-                                uint32_t* exit) const {
+                                uint32_t* exit, uint32_t* enterPlane) const {
     const uint32_t y1 = y0 + h;
     const uint64_t tileTexels = uint64_t(h) * w;
     HitSlots& hs = tHits;
@@ -343,13 +382,14 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
             uint32_t* count = hs.count.data() + uint64_t(y - int32_t(y0)) * w;
             uint64_t* slots = hs.slots.data() + uint64_t(y - int32_t(y0)) * w;
             for (int64_t x = lo; x <= hi; ++x) {
-                const uint32_t depth = tr.depth(x, y, e, invArea, ortho_, far_);
-                const uint64_t key = uint64_t(depth) << 2 | tr.kind, lx = uint64_t(x - int64_t(x0));
+                uint32_t plane = 0;
+                const uint32_t depth = tr.depth(x, y, e, invArea, ortho_, far_, &plane);
+                const uint64_t key = hitKey(depth, tr.kind, plane), lx = uint64_t(x - int64_t(x0));
                 const uint32_t n = count[lx]++;
                 if (n < kHitSlots)
                     slots[n * tileTexels + lx] = key; // plane n: a row's span writes one run
                 else
-                    hs.overflow.push_back((uint64_t(y - int32_t(y0)) * w + lx) << 34 | key);
+                    hs.overflow.emplace_back(uint64_t(y - int32_t(y0)) * w + lx, key);
                 for (int i = 0; i < 3; ++i) e[i] += A[i] * kSub;
             }
         }
@@ -364,6 +404,7 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
         const uint32_t n = hs.count[t];
         if (n == 0) {
             enter[t] = exit[t] = kDepthEmpty;
+            if (enterPlane) enterPlane[t] = 0u;
             continue;
         }
         uint64_t* k = buf; // the texel's keys: in registers and the stack unless it overflowed
@@ -372,8 +413,8 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
         } else {
             more.clear();
             for (uint32_t j = 0; j < kHitSlots; ++j) more.push_back(hs.slots[j * tileTexels + t]);
-            for (; ov < hs.overflow.size() && (hs.overflow[ov] >> 34) == t; ++ov)
-                more.push_back(hs.overflow[ov] & ((uint64_t(1) << 34) - 1));
+            for (; ov < hs.overflow.size() && hs.overflow[ov].first == t; ++ov)
+                more.push_back(hs.overflow[ov].second);
             k = more.data();
         }
         if (n > 32) {
@@ -389,22 +430,23 @@ void DualRasterizer::renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h
                 k[b] = v;
             }
         }
-        const uint32_t first = uint32_t(k[0] >> 2);
+        const uint32_t first = uint32_t(k[0] >> 32);
         uint32_t out = first;
-        if ((k[0] & 3u) == 0u) { // entered a closed mesh: walk until outside all closed geometry
+        if (hitKind(k[0]) == 0u) { // entered a closed mesh: walk until outside all closed geometry
             int depthCount = 0;
             out = 0xFFFFFFFEu;
             for (uint32_t j = 0; j < n; ++j) {
-                const uint32_t kind = uint32_t(k[j] & 3u);
+                const uint32_t kind = hitKind(k[j]);
                 depthCount += kind == 0 ? 1 : kind == 2 ? -1 : 0;
                 if (depthCount <= 0) {
-                    out = uint32_t(k[j] >> 2);
+                    out = uint32_t(k[j] >> 32);
                     break;
                 }
             }
         }
         enter[t] = first;
         exit[t] = out;
+        if (enterPlane) enterPlane[t] = uint32_t(k[0] & kHitPlaneMask);
     }
 }
 
@@ -498,6 +540,7 @@ DualDepthMap DualRasterizer::blankMap() const {
     map.orthographic = ortho_;
     map.enter.assign(size_t(res_) * res_, kDepthEmpty);
     map.exit.assign(size_t(res_) * res_, kDepthEmpty);
+    if (ortho_) map.enterPlane.assign(size_t(res_) * res_, 0u), map.planes = planes_;
     return map;
 }
 
@@ -506,7 +549,8 @@ DualDepthMap DualRasterizer::render(uint64_t tileTexels) const {
     uint32_t rows = uint32_t(std::clamp<uint64_t>(tileTexels / std::max<uint32_t>(res_, 1), 1, res_));
     for (uint32_t y0 = 0; y0 < res_; y0 += rows) {
         uint32_t y1 = std::min(res_, y0 + rows);
-        renderRows(y0, y1, map.enter.data() + size_t(y0) * res_, map.exit.data() + size_t(y0) * res_);
+        renderRows(y0, y1, map.enter.data() + size_t(y0) * res_, map.exit.data() + size_t(y0) * res_,
+                   map.enterPlane.empty() ? nullptr : map.enterPlane.data() + size_t(y0) * res_);
     }
     tHits = HitSlots{}; // the map is done: give the band's scratch back
     return map;

@@ -86,13 +86,19 @@ class DualRasterizer {
   public:
     DualRasterizer(const CasterTriangles& casters, const LightFrustum& frustum, uint32_t resolution);
 
-    // Renders rows [y0, y1) into enter/exit, each (y1 - y0) * resolution words, row-major.
-    void renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit) const;
+    // Renders rows [y0, y1) into enter/exit (and enterPlane, optional: renderRect's), each (y1 - y0) *
+    // resolution words, row-major.
+    void renderRows(uint32_t y0, uint32_t y1, uint32_t* enter, uint32_t* exit,
+                    uint32_t* enterPlane = nullptr) const;
     // Renders the w x h block at texel (x0, y0) (inside the map, w * h < 2^30) into enter/exit, w words a
     // row: the same texels renderRows gives. Safe to call from several threads at once.
     // Hits go to 8 slots a texel (an overflow list past that) and each row walks only its covered span;
     // the thread's scratch (68 B a texel of the largest block rendered) is kept for its next call.
-    void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit) const;
+    // enterPlane (optional, w words a row): the id of the depth plane (planes()) the texel's enter depth
+    // lies on exactly, 0 when none (empty texel, perspective map, a triangle too steep for a plane, or a
+    // depth clamped to [0, 0xFFFFFFFE]); of the planes through the enter depth, the smallest id.
+    void renderRect(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* enter, uint32_t* exit,
+                    uint32_t* enterPlane = nullptr) const;
     // Bytes of the calling thread's renderRect scratch now (0 once render() has finished a map).
     static size_t threadScratchBytes();
     // renderRect as one hit list sorted by texel, every column of a triangle's box tested: the plain
@@ -102,10 +108,15 @@ class DualRasterizer {
     // True when no triangle's covered rows and columns (renderRect's own bounds) reach the block, so
     // renderRect would fill it with kDepthEmpty only. Conservative: false may still render empty.
     bool blockEmpty(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) const;
-    // The whole map, in tiles of at most `tileTexels` texels; frees the thread's scratch at the end.
+    // The whole map, in tiles of at most `tileTexels` texels; frees the thread's scratch at the end. An
+    // orthographic map carries its enter planes (DualDepthMap::enterPlane, planes).
     DualDepthMap render(uint64_t tileTexels = 1u << 20) const;
 
     size_t projectedTriangles() const { return tris_.size(); }
+    // An orthographic map's distinct depth planes (step 4), plane id i + 1 at index i. Triangles on one
+    // plane (a ground of many quads, a wall's two halves) share it. 16 B a plane; ids stay below 2^30.
+    static constexpr uint32_t kMaxDepthPlanes = (1u << 30) - 1u;
+    const std::vector<DepthPlane>& planes() const { return planes_; }
     // An all-empty map of this rasteriser's size, rows and projection (renderRows fills its words).
     DualDepthMap blankMap() const;
 
@@ -117,12 +128,16 @@ class DualRasterizer {
         // at texel (x, y): planeA + ((planeDx x + planeDy y + 32) >> 6). `plane` false: too steep for it.
         int64_t planeA = 0, planeDx = 0, planeDy = 0;
         bool plane = false;
-        // The hit's quantised depth at texel (x, y), e the edge functions at its centre (step 4).
-        uint32_t depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho, float far) const;
+        uint32_t planeId = 0; // planes() index + 1, 0 when `plane` is false
+        // The hit's quantised depth at texel (x, y), e the edge functions at its centre (step 4);
+        // *onPlane (optional) gets planeId when the depth is the plane's unclamped value.
+        uint32_t depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho, float far,
+                       uint32_t* onPlane = nullptr) const;
         int32_t yMin, yMax; // covered texel rows (inclusive), before tiling
         uint8_t kind;       // 0 closed front, 1 open, 2 closed back
     };
     std::vector<Tri> tris_; // sorted by yMin
+    std::vector<DepthPlane> planes_;
     uint32_t res_;
     uint32_t rows_; // rows in the light's volume (LightFrustum::mapRows)
     float far_;

@@ -177,8 +177,8 @@ TEST(CpvsTiled, NightCityMoonAndSpotEqualTheWholeMapBake) {
             p.resolution = res, p.nearPlane = f.nearPlane, p.farPlane = f.farPlane;
             p.slicing = f.orthographic() ? CpvsSlicing::Linear : CpvsSlicing::Log;
             DualTileSource src = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
-                                           uint32_t* x) -> Result<void> {
-                raster.renderRect(x0, y0, w, h, e, x);
+                                           uint32_t* x, uint32_t* pl) -> Result<void> {
+                raster.renderRect(x0, y0, w, h, e, x, pl);
                 return {};
             };
             auto empty = [&raster](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
@@ -217,7 +217,7 @@ TEST(CpvsTiled, BadInputFailsCleanly) {
     expectFail(q, o, dualTileSourceOf(map), "near < far");
     expectFail(p, o, {}, "without a tile source");
     // The source's error, with the strip it failed on.
-    DualTileSource failing = [](uint32_t, uint32_t y0, uint32_t, uint32_t, uint32_t*,
+    DualTileSource failing = [](uint32_t, uint32_t y0, uint32_t, uint32_t, uint32_t*, uint32_t*,
                                 uint32_t*) -> Result<void> {
         if (y0 >= 128) return fail("disk gone");
         return {};
@@ -289,8 +289,8 @@ TEST(CpvsTiled, Resolution65536SparseMap) {
     };
     // Near the far plane: slices above 65000 (eq. 1); a closed interval in half the texels.
     const uint32_t enter = space->thresholds[65300] + 5, exit = space->thresholds[65500] + 7;
-    DualTileSource src = [&](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e,
-                             uint32_t* x) -> Result<void> {
+    DualTileSource src = [&](uint32_t x0, uint32_t y0, uint32_t w, uint32_t h, uint32_t* e, uint32_t* x,
+                             uint32_t*) -> Result<void> {
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t xx = 0; xx < w; ++xx) {
                 const bool in = inBlock(x0 + xx, y0 + y);

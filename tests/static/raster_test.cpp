@@ -157,6 +157,63 @@ TEST(StaticRaster, DirectionalDepthIsTheTrianglesFixedPointPlane) {
     encodeChecked(m, codecs()[2]);
 }
 
+// Every texel of a directional map names the plane its enter depth lies on (a quad's two triangles one
+// plane), and the planar tree (mh.h) holds the open tilted sheets in a few nodes, which DAG-MH decodes
+// exactly at every texel; a perspective map names none.
+TEST(StaticRaster, EnterPlanesNameTheirTexelsPlanes) {
+    CasterTriangles c;
+    c.add({-9.3f, 1.7f, -8.9f}, {9.1f, 4.9f, -7.7f}, {-2.2f, -3.1f, 9.4f}, false);
+    const glm::vec3 q0(-8.0f, -2.0f, -9.0f), q1(8.0f, -1.0f, -9.0f), q2(8.0f, -3.0f, 9.0f),
+        q3(-8.0f, -4.0f, 9.0f);
+    c.add(q0, q1, q2, false), c.add(q0, q2, q3, false); // one tilted quad below the triangle
+    LightFrustum f;
+    f.view = glm::lookAt(glm::vec3(3.0f, 40.0f, 11.0f), glm::vec3(0.0f), glm::vec3(0, 0, 1));
+    f.orthoHalf = 12.0f, f.nearPlane = 1.0f, f.farPlane = 80.0f;
+    const uint32_t res = 512;
+    const DualRasterizer r(c, f, res);
+    EXPECT_EQ(r.planes().size(), 2u);
+    const DualDepthMap m = r.render();
+    ASSERT_EQ(m.enterPlane.size(), m.enter.size());
+    ASSERT_EQ(m.planes, r.planes());
+    uint64_t covered = 0, named = 0, off = 0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) {
+            const size_t i = size_t(y) * res + x;
+            const uint32_t id = m.enterPlane[i];
+            covered += m.enter[i] != kDepthEmpty;
+            if (id == 0) continue;
+            ++named;
+            ASSERT_LE(id, m.planes.size());
+            off += m.planes[id - 1].at(x, y) != int64_t(m.enter[i]);
+        }
+    EXPECT_GT(covered, res * res / 4);
+    EXPECT_EQ(named, covered); // nothing clamped here: every covered texel names its plane
+    EXPECT_EQ(off, 0u);
+    auto plain = buildMhTree(m), planar = buildMhTree(m, true);
+    ASSERT_TRUE(plain.ok() && planar.ok());
+    EXPECT_TRUE(planar->planar());
+    EXPECT_LT(planar->valuedCount() * 20, plain->valuedCount());
+    DagMhStats st;
+    auto enc = encodeDAGMH(*planar, &st);
+    ASSERT_TRUE(enc.ok()) << enc.error();
+    ASSERT_TRUE(validateDAGMH(enc->data(), enc->size()).ok());
+    EXPECT_GT(st.planarValues, 0u);
+    EXPECT_EQ(dagmhCheckValues(*planar, enc->data()), 0u);
+    uint64_t wrong = 0;
+    for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) // open sheets: exit = enter, the only lossless value
+            wrong += dagmhLookup(enc->data(), x, y) != m.enter[size_t(y) * res + x];
+    EXPECT_EQ(wrong, 0u);
+    printf("  [static] planar tree %zu values (plain %zu), DAG-MH %zu B, %llu plane values\n",
+           planar->valuedCount(), plain->valuedCount(), enc->size() * 4, (unsigned long long)st.planarValues);
+    // A perspective map has no planes.
+    LightShape spot;
+    spot.type = LightKind::Spot, spot.position = {0.0f, 30.0f, 0.0f}, spot.direction = {0.0f, -1.0f, 0.0f};
+    spot.outerAngle = 0.6f, spot.range = 60.0f;
+    const DualDepthMap sm = rasterizeDual(c, spotLightFrustum(spot), 128);
+    EXPECT_TRUE(sm.enterPlane.empty());
+}
+
 TEST(StaticRaster, TilesMatchWholeMap) {
     CasterTriangles c;
     std::mt19937 rng(5);

@@ -52,7 +52,7 @@ TEST(TileParts, ShardsMergeToTheSingleBakeAndDamageIsRefused) {
             ++parsed; // a change the format cannot see (an interval bound, a frustum float): tiles valid
             auto grid = mhTileGrid(r->resolution, r->tile);
             ASSERT_TRUE(grid.ok());
-            for (const auto& [k, t] : r->tiles) EXPECT_TRUE(validateMhTile(*grid, t).ok());
+            for (const auto& [k, t] : r->tiles) EXPECT_TRUE(validateMhTile(*grid, t, r->planes.size()).ok());
         }
     EXPECT_GT(refused, 0u);
     std::printf("tile part of %zu words: %zu damaged copies refused, %zu parsed (undetectable changes)\n",
