@@ -55,9 +55,10 @@ struct FrameContext {
     GBufferInputs geometry{};
     BoundsInputs bounds{};
     AssignInputs assign{};
-    ShadingInputs shading{}; // evaluation, statistics and the light-count views
+    ShadingInputs shading{}; // the evaluation's (and the host include's bindings, engine/host_shader.cpp)
     ShadowInputs shadows{};
     EvaluateTargets evaluation{};
+    StatisticsInputs stats{}; // the optional statistics pass (`statistics` says whether it runs)
     VsmFrameInputs vsm{};
     ViewInputs views{}; // the debug views: the light counts, and views.output for the VSM view too
 };
@@ -80,17 +81,24 @@ struct FramePass {
 // Records the enabled passes in order, each under its timer (or untimed).
 Result<void> runFrame(Profiler& profiler, FrameContext& frame, std::span<const FramePass> passes);
 
-// The features the frame's passes record (Module::Impl's, built once).
+// The features whose passes the frame records, owned here (one per module, Module::Impl::features) and
+// created and destroyed together (engine/frame_passes.cpp, beside the list that records them): a new
+// feature is one member here, its lines in create and destroy, and its entries in recordFrame's list.
 struct FrameFeatures {
-    const GBufferPass& gbuffer;
-    LightCulling& cull;
-    const VirtualShadowMaps& vsm;
-    const VsmPasses& vsmPasses;
-    const EvaluatePass& evaluate;
-    const StatisticsPass& statistics;
+    GBufferPass gbuffer;
+    LightCulling cull;
+    VirtualShadowMaps vsm; // state: settings, map slots, page tables, pool; its passes are vsmPasses
+    VsmPasses vsmPasses;   // created only when the VSM is enabled
+    EvaluatePass evaluate;
+    StatisticsPass statistics;
+
+    // In this order; out of memory returns the error, what was made left for destroy (every destroy
+    // takes empty handles).
+    Result<void> create(const Device& device, const VsmSettings& vsmSettings, uint32_t framesInFlight);
+    void destroy(const Device& device); // the device idle
 };
 
 // The module's frame: its list of passes, in order, run by runFrame.
-Result<void> recordFrame(Profiler& profiler, FrameContext& frame, const FrameFeatures& features);
+Result<void> recordFrame(Profiler& profiler, FrameContext& frame, FrameFeatures& features);
 
 } // namespace ml

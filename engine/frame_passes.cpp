@@ -1,6 +1,8 @@
-// The module's frame as a list of passes (engine/frame.h), the frame loop that orders and times them, and
-// the untimed passes' barriers.
+// The module's frame as a list of passes (engine/frame.h), the frame loop that orders and times them, the
+// untimed passes' barriers, and the features those passes record, created and destroyed together.
 #include "engine/frame.h"
+
+#include "gpu/vk_check.h"
 
 namespace ml {
 
@@ -106,7 +108,25 @@ void recordDebugView(FrameContext& f, LightCulling& cull, const VsmPasses& vsmPa
 
 } // namespace
 
-Result<void> recordFrame(Profiler& profiler, FrameContext& f, const FrameFeatures& m) {
+Result<void> FrameFeatures::create(const Device& d, const VsmSettings& vsmSettings, uint32_t framesInFlight) {
+    ML_TRY(gbuffer.create(d));
+    ML_TRY(cull.create(d));
+    ML_TRY(vsm.create(d, vsmSettings, framesInFlight));
+    if (vsm.enabled()) ML_TRY(vsmPasses.create(d, vsm));
+    ML_TRY(evaluate.create(d));
+    return statistics.create(d);
+}
+
+void FrameFeatures::destroy(const Device& d) {
+    gbuffer.destroy(d);
+    cull.destroy(d);
+    evaluate.destroy(d);
+    statistics.destroy(d);
+    vsmPasses.destroy(d); // before the state whose layouts and buffers it was made from
+    vsm.destroy(d);
+}
+
+Result<void> recordFrame(Profiler& profiler, FrameContext& f, FrameFeatures& m) {
     const bool culling = f.culling != CullingMode::None;
     // The frame, in order: one entry a pass (its timer, whether it runs, what records it). A new compute
     // pass of a feature is one more entry here, its timer a constant beside the function that records it.
@@ -131,7 +151,7 @@ Result<void> recordFrame(Profiler& profiler, FrameContext& f, const FrameFeature
         {nullptr, m.vsm.probing(), // optional lookup probe
          [&](FrameContext& c) { m.vsmPasses.recordProbe(*c.device, c.cmd, c.slot, c.vsm); }},
         {&StatisticsPass::kTimer, f.statistics, // optional per-pixel light counts
-         [&](FrameContext& c) { m.statistics.record(*c.device, c.cmd, c.shading, *c.counters); }},
+         [&](FrameContext& c) { m.statistics.record(*c.device, c.cmd, c.stats); }},
         {nullptr, debugViewOn(f, m.vsm), // --view lights / lights-reaching / vsm
          [&](FrameContext& c) { recordDebugView(c, m.cull, m.vsmPasses); }},
         {nullptr, !f.statistics, recordFrameEnd}, // counters -> host, unless the statistics pass did it

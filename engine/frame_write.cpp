@@ -201,6 +201,8 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
                  depth,       normal,       albedo,       width,        height};
     f.shading.material =
         ownTargets ? (ownMaterials ? targets.material.view : VK_NULL_HANDLE) : host.material.view;
+    f.stats = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges,  &cull.pool,
+               depth,       width,        height,       &slot.counters};
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
     f.shadows = {&staticWords,
                  &slot.shadowRecords,

@@ -171,12 +171,7 @@ Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
 Result<void> Module::Impl::init() {
     device->frameSetup = &setup; // inactive outside record(): setup work before it submits and waits
     const Device& d = *device;
-    ML_TRY(gbuffer.create(d));
-    ML_TRY(cull.create(d));
-    ML_TRY(vsm.create(d, vsmSettings, uint32_t(slots.size())));
-    if (vsm.enabled()) ML_TRY(vsmPasses.create(d, vsm));
-    ML_TRY(evaluate.create(d));
-    ML_TRY(statisticsPass.create(d));
+    ML_TRY(features.create(d, vsmSettings, uint32_t(slots.size())));
     ML_TRY(profiler.create(d, uint32_t(slots.size())));
     profiler.fenced = timing == TimingMode::Fenced;
     // Per slot: uploads the host writes every frame; the counters are the frame's readback.
@@ -197,12 +192,7 @@ Result<void> Module::Impl::init() {
 void Module::Impl::destroy() {
     const Device& d = *device;
     waitIdle();
-    gbuffer.destroy(d);
-    cull.destroy(d);
-    evaluate.destroy(d);
-    statisticsPass.destroy(d);
-    vsmPasses.destroy(d);
-    vsm.destroy(d);
+    features.destroy(d);
     profiler.destroy(d);
     for (auto& s : slots) {
         destroyBuffer(d, s.frame);

@@ -145,13 +145,15 @@ struct Module::Impl {
     HostTargets host;
     Image hdr, output;
 
-    GBufferPass gbuffer;
-    LightCulling cull;
-    EvaluatePass evaluate;
-    StatisticsPass statisticsPass;
+    // The features the frame's passes record (engine/frame.h), and the names the module's code and the
+    // tests use for the ones it also drives outside the frame (targets, pipelines, VSM preparation).
+    FrameFeatures features;
+    GBufferPass& gbuffer = features.gbuffer;
+    LightCulling& cull = features.cull;
+    EvaluatePass& evaluate = features.evaluate;
+    VirtualShadowMaps& vsm = features.vsm; // state: map slots, page tables, pool
+    VsmPasses& vsmPasses = features.vsmPasses;
     bool hdrOutput = false;
-    VirtualShadowMaps vsm; // state: map slots, page tables, pool
-    VsmPasses vsmPasses;   // its GPU passes
     VsmSettings vsmSettings;
     // What the frame writes per instance, kept between frames and recomputed only for the instances whose
     // inputs changed (so that a frame with 1 % of 10,000 instances moving stays cheap): the inputs it was
@@ -196,8 +198,6 @@ struct Module::Impl {
     void updateLightRecords();
     void updateInstanceCache();
     Profiler profiler;
-    FrameFeatures features{gbuffer,   cull,     vsm,
-                           vsmPasses, evaluate, statisticsPass}; // what the frame's passes record
     std::vector<Slot> slots;
     uint64_t frameIndex = 0;
     std::vector<FrameReport> reports;

@@ -94,13 +94,12 @@ void StatisticsPass::destroy(const Device& device) {
     destroyShader(device, shader_);
 }
 
-void StatisticsPass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in,
-                            const Buffer& counters) const {
+void StatisticsPass::record(const Device& d, VkCommandBuffer c, const StatisticsInputs& in) const {
     dispatch(d, c, program_, in.width, in.height, NoPush{},
              {ML_BIND(ML_STATS_FRAME, *in.frame), ML_BIND(ML_STATS_SLICES, *in.slices),
               ML_BIND(ML_STATS_LIGHTS, *in.lights), ML_BIND(ML_STATS_RANGES, *in.ranges),
               ML_BIND(ML_STATS_POOL, *in.pool), ML_BIND(ML_STATS_DEPTH, sampled(in.depth)),
-              ML_BIND(ML_STATS_COUNTERS, counters)});
+              ML_BIND(ML_STATS_COUNTERS, *in.counters)});
     // Counters (every pass's atomics, and these sums) -> host (engine/frame_passes.cpp's frame end does
     // it when statistics are off).
     memoryBarrier(c, kCompute, kWrite, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);

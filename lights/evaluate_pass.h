@@ -9,7 +9,8 @@
 
 namespace ml {
 
-// What both passes read, by name; each is bound at its shader's named binding (lights/evaluate_bindings.h).
+// What the evaluation reads, by name; each is bound at its shader's named binding
+// (lights/evaluate_bindings.h).
 struct ShadingInputs {
     const Buffer* frame;  // FrameConstants (uniform)
     const Buffer* slices; // cluster slice boundaries
@@ -78,14 +79,26 @@ class EvaluatePass {
     Program programs_[kEvaluateOutputModes * 2 * 2]; // [(mode * 2 + pbr) * 2 + uniform loop]
 };
 
+// What the statistics pass reads and writes, by name (its shader's ML_STATS_* bindings): the evaluation's
+// cluster lists and depth, no shadows, and the frame's counters, which it adds to.
+struct StatisticsInputs {
+    const Buffer* frame;  // FrameConstants (uniform)
+    const Buffer* slices; // cluster slice boundaries
+    const Buffer* lights; // visible GpuLights
+    const Buffer* ranges; // cluster lists (culling/culling.h)
+    const Buffer* pool;
+    VkImageView depth; // SHADER_READ_ONLY_OPTIMAL
+    uint32_t width = 0, height = 0;
+    const Buffer* counters; // FrameCounters: the per-pixel sums are added to its atomics
+};
+
 class StatisticsPass {
   public:
     Result<void> create(const Device& device);
     void destroy(const Device& device);
-    // Adds the frame's per-pixel counts to `counters` (FrameCounters) and makes them visible to the host.
+    // Adds the frame's per-pixel counts to `in.counters` (FrameCounters) and makes them visible to the host.
     static constexpr PassTimer kTimer{"statistics"};
-    void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
-                const Buffer& counters) const;
+    void record(const Device& device, VkCommandBuffer cmd, const StatisticsInputs& in) const;
 
   private:
     ShaderModule shader_;
