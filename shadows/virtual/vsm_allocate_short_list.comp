@@ -4,9 +4,9 @@
 // it closes the list (vsm_list), and when it holds at most push.shortList entries (ML_VSM_ONE_GROUP_LIST
 // at most; 0: never) it invalidates the owned pages (vsm_scan), sorts the list in shared memory,
 // refreshes last use and ranks the requests (vsm_scan), ranks the free and evictable pages by class
-// (vsm_alloc, vsm_avail) and assigns pages (vsm_assign), with the same functions of
-// vsm_alloc_common.glsl, so the page table, owners and last use equal the multi-dispatch path's and
-// vsmAllocateReference's bit for bit. Longer lists are left to the multi-dispatch passes: it writes
+// (vsm_alloc, vsm_avail), assigns pages (vsm_assign) and, recorded alone, sets the HPB bits (vsm_hpb),
+// with the same functions of vsm_alloc_common.glsl, so the page table, owners, last use and HPB equal the
+// multi-dispatch path's and the CPU references' (vsmAllocateReference) bit for bit. Longer lists are left to the multi-dispatch passes: it writes
 // their dispatch sizes, which are 0 groups after a short list. vsm_passes.cpp records those passes only
 // when the slot's previous list was long (or unknown); otherwise it records this dispatch alone and sets
 // ML_VSM_ANY_LENGTH, and a list that outgrew the limit since is sorted here in the two list buffers
@@ -42,6 +42,7 @@ layout(binding = ML_VSM_SHORT_AVAIL, std430) coherent buffer Avail { uint vsmAva
 layout(binding = ML_VSM_SHORT_RENDERED, std430) writeonly buffer Rendered { uint vsmRendered[]; };
 layout(binding = ML_VSM_SHORT_DIRTY_MIPS, std430) buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = ML_VSM_SHORT_DIRTY_MAPS, std430) writeonly buffer DirtyMaps { uint vsmDirtyMaps[]; };
+layout(binding = ML_VSM_SHORT_HPB, std430) buffer Hpb { uint vsmHpb[]; }; // cleared at the frame's start
 // width: vsm_sort's merge passes at most; shortList: the longest list taken here (0: none).
 layout(push_constant) uniform Push { VsmSortPush push; };
 
@@ -49,6 +50,7 @@ layout(push_constant) uniform Push { VsmSortPush push; };
 #define VSM_PAGE_CLASSES
 #define VSM_INVALIDATE
 #define VSM_ASSIGN
+#define VSM_HPB
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 shared uint sKeys[ML_VSM_ONE_GROUP_LIST]; // the list (16 KiB at 4,096)
@@ -246,5 +248,14 @@ void main() {
         bool request = (pt & ML_VSM_ALLOCATED) == 0u;
         vsmAssignEntry(entry, map, mip, pt, request, rank, available, requestTotal > available, owned);
         if (request) ++rank;
+    }
+
+    // 7. vsm_hpb, when recorded alone (vsm_passes.cpp then records no vsm_hpb dispatch): the DIRTY
+    // entries of this thread's run set the HPB cells above them. Uniform (a push constant).
+    if ((push.shortList & ML_VSM_ANY_LENGTH) == 0u) return;
+    allBarrier(); // the assignment's DIRTY bits -> their reads here
+    for (uint i = listFirst; i < listLast; ++i) {
+        uint entry, map, mip;
+        if (vsmEntryOfOrder(sortedKey(i, inShared, inB), vsm, entry, map, mip)) vsmHpbMarkEntry(entry, map, mip);
     }
 }

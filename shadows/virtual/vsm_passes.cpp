@@ -154,7 +154,7 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
                   ML_BIND(ML_VSM_SHORT_OWNERS, pg.owners), ML_BIND(ML_VSM_SHORT_LAST_USED, pg.lastUsed),
                   ML_BIND(ML_VSM_SHORT_AVAIL, pg.avail), ML_BIND(ML_VSM_SHORT_RENDERED, pg.rendered),
                   ML_BIND(ML_VSM_SHORT_DIRTY_MIPS, pg.dirtyMips),
-                  ML_BIND(ML_VSM_SHORT_DIRTY_MAPS, pg.dirtyMaps)});
+                  ML_BIND(ML_VSM_SHORT_DIRTY_MAPS, pg.dirtyMaps), ML_BIND(ML_VSM_SHORT_HPB, pg.hpb)});
         // Short: the table, owners, rendered list, dirty maps, counters -> vsm_hpb and the culling (here
         // when recorded alone, else through the barriers below); long: the list's count and every pass's
         // dispatch size -> indirect reads.
@@ -240,12 +240,15 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // One thread per listed (wanted) entry; the bits were cleared at the frame's start (recordReset).
-    dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
-                     {ML_BIND(ML_VSM_HPB_CONSTANTS, slot.constants), ML_BIND(ML_VSM_HPB_RUNS, slot.runs),
-                      ML_BIND(ML_VSM_HPB_COUNTERS, slot.counters), ML_BIND(ML_VSM_HPB_LIST_A, pg.list[0]),
-                      ML_BIND(ML_VSM_HPB_TABLE, pg.table), ML_BIND(ML_VSM_HPB_MARKS, pg.marks),
-                      ML_BIND(ML_VSM_HPB_HPB, pg.hpb), ML_BIND(ML_VSM_HPB_LIST_B, pg.list[1]),
-                      ML_BIND(ML_VSM_HPB_SORT_ARGS, pg.sortArgs)});
+    // vsm_allocate_short_list set them where it ran alone (recordSort): no dispatch then, the barrier stays.
+    if (!oneWorkgroupOnly(slotIndex))
+        dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX),
+                         NoPush{},
+                         {ML_BIND(ML_VSM_HPB_CONSTANTS, slot.constants), ML_BIND(ML_VSM_HPB_RUNS, slot.runs),
+                          ML_BIND(ML_VSM_HPB_COUNTERS, slot.counters), ML_BIND(ML_VSM_HPB_LIST_A, pg.list[0]),
+                          ML_BIND(ML_VSM_HPB_TABLE, pg.table), ML_BIND(ML_VSM_HPB_MARKS, pg.marks),
+                          ML_BIND(ML_VSM_HPB_HPB, pg.hpb), ML_BIND(ML_VSM_HPB_LIST_B, pg.list[1]),
+                          ML_BIND(ML_VSM_HPB_SORT_ARGS, pg.sortArgs)});
     // HPB bits -> the culling's reads (compute; mesh path: task shaders).
     memoryBarrier(c, C, W, C | kTask, R);
 }

@@ -55,6 +55,7 @@ class VsmPasses {
     // of them where vsm_allocate_short_list runs alone (oneWorkgroupOnly), the scope then empty
     static constexpr PassTimer kAllocTimer{"vsm_alloc", kVsmBookkeeping};
     void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    // vsm_hpb; only its barrier where vsm_allocate_short_list ran alone and set the bits (oneWorkgroupOnly)
     static constexpr PassTimer kHpbTimer{"vsm_hpb", kVsmBookkeeping};
     void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
