@@ -28,7 +28,17 @@ vsm_alloc), and prints per pool the median over every round's frames 1.. of vsm_
 for each binary (apart: the sort's scope stalls for tens of ms on a loaded machine and would hide the
 rest; with --short-list 0 vsm_alloc holds every pool-walking pass, without it a short list's whole
 allocation is in vsm_sort), the ratio of the medians of their per-frame sum, and the last frame's
-pages allocated (equal in both, or it stops)."""
+pages allocated (equal in both, or it stops).
+
+The bookkeeping of two builds against the evaluation pass:
+  python3 tools/vsm_bookkeeping.py --compare-builds OLD NEW [--scene night-city] [--lights 256]
+      [--mark pixel] [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]
+runs the demo of binary OLD and NEW alternately (the order swapped each round; drive path, fenced
+timing, --vsm-mark pixel or cluster) and prints per build the median over every round's frames 1.. of
+the bookkeeping (the sum of its steps per frame), of the allocation (vsm_sort + vsm_alloc), of the
+evaluation pass and of the per-frame ratio bookkeeping / evaluate, then NEW / OLD of each median and
+the last frame's pages marked and allocated (equal in both, or it stops); then each step's median per
+build. Medians: on a shared machine one stalled frame moves a mean by several times."""
 import collections
 import csv
 import json
@@ -183,7 +193,82 @@ def compare_pool(argv):
     return 0
 
 
+def per_frame(folder, names):
+    """Per frame from 1 on: the sum of the named passes' times, and the evaluation pass's."""
+    book = frame_sums(folder, names)
+    ev = frame_sums(folder, ("evaluate",))
+    return book, ev
+
+
+def compare_builds(argv):
+    import argparse
+    import subprocess
+    import tempfile
+    ap = argparse.ArgumentParser(prog="vsm_bookkeeping.py --compare-builds")
+    ap.add_argument("old")
+    ap.add_argument("new")
+    ap.add_argument("--scene", default="night-city")
+    ap.add_argument("--lights", type=int, default=256)
+    ap.add_argument("--mark", default="pixel", choices=("pixel", "cluster"))
+    ap.add_argument("--frames", type=int, default=8)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--size", default="640x360")
+    ap.add_argument("--out")
+    a = ap.parse_args(argv)
+    if a.frames < 2 or a.rounds < 1:
+        sys.exit("vsm_bookkeeping: --frames must be >= 2, --rounds >= 1")
+    out = a.out or tempfile.mkdtemp(prefix="vsm_builds_")
+    env = dict(os.environ)
+    env.pop("ML_VSM_ALLOC_SHORT_LIST", None)
+    keys = ("book", "alloc", "eval", "ratio") + BOOKKEEPING
+    got = {(b, k): [] for b in ("old", "new") for k in keys}
+    pages = {}
+    for r in range(a.rounds):
+        order = (("old", a.old), ("new", a.new))
+        for name, binary in (order if r % 2 == 0 else order[::-1]):
+            folder = os.path.join(out, f"{name}_round{r}")
+            cmd = [binary, "demo", "--scene", a.scene, "--lights", str(a.lights), "--frames", str(a.frames),
+                   "--size", a.size, "--path", "drive", "--vsm-mark", a.mark, "--out", folder]
+            run = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            if run.returncode != 0:
+                sys.exit(f"vsm_bookkeeping: {' '.join(cmd)} failed:\n{run.stderr[-2000:]}")
+            book, ev = per_frame(folder, BOOKKEEPING)
+            got[(name, "book")] += book
+            got[(name, "alloc")] += frame_sums(folder, ("vsm_sort", "vsm_alloc"))
+            got[(name, "eval")] += ev
+            got[(name, "ratio")] += [b / e for b, e in zip(book, ev) if e > 0]
+            for step in BOOKKEEPING:
+                got[(name, step)] += frame_sums(folder, (step,))
+            with open(os.path.join(folder, "stats.json")) as f:
+                vsm = json.load(f).get("vsm", {})
+            pages.setdefault(name, (vsm.get("pages_marked"), vsm.get("pages_allocated")))
+    if pages["old"] != pages["new"]:
+        sys.exit(f"vsm_bookkeeping: the two builds' page counts differ: {pages}")
+    m = {k: median(v) for k, v in got.items()}
+    print(f"{a.scene}, {a.lights} lights, --vsm-mark {a.mark}, {a.size}, drive path, frames 1..{a.frames - 1} "
+          f"of {a.frames}, {a.rounds} rounds alternated, fenced, medians; outputs in {out}")
+    print()
+    print("| build | bookkeeping ms | sort + alloc ms | evaluate ms | bookkeeping / evaluate | pages marked | "
+          "pages allocated |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for b in ("old", "new"):
+        print(f"| {b} | {m[(b, 'book')]:.3f} | {m[(b, 'alloc')]:.3f} | {m[(b, 'eval')]:.2f} | "
+              f"{m[(b, 'ratio')]:.3f} | {pages[b][0]} | {pages[b][1]} |")
+    print(f"| new / old | {m[('new', 'book')] / m[('old', 'book')]:.2f} | "
+          f"{m[('new', 'alloc')] / m[('old', 'alloc')]:.2f} | {m[('new', 'eval')] / m[('old', 'eval')]:.2f} | "
+          f"{m[('new', 'ratio')] / m[('old', 'ratio')]:.2f} | | |")
+    ran = [k for k in BOOKKEEPING if got[("old", k)] or got[("new", k)]]
+    print()
+    print("| build | " + " | ".join(k.replace("vsm_", "") + " ms" for k in ran) + " |")
+    print("|---|" + "---:|" * len(ran))
+    for b in ("old", "new"):
+        print(f"| {b} | " + " | ".join(f"{m[(b, k)]:.3f}" for k in ran) + " |")
+    return 0
+
+
 def main(folders):
+    if folders and folders[0] == "--compare-builds":
+        return compare_builds(folders[1:])
     if folders and folders[0] == "--compare-alloc":
         return compare_alloc(folders[1:])
     if folders and folders[0] == "--compare-pool":

@@ -169,7 +169,8 @@ struct VsmSlotHost {
 };
 // Persistent GPU state a host copy can be read of (VirtualShadowMaps::read): the page table (entries of
 // the maps in use), physical page owners and last use, marks (lookup then fallback), the page pool, and
-// the list's words 0-3 (which buffer ends sorted, 1 when one workgroup allocated, the list's length).
+// the list's words 0-3 (which buffer ends sorted, 1 or 2 when one workgroup allocated: in shared memory or
+// in the list buffers, the list's length).
 enum class VsmState { Table, Owners, LastUsed, Marks, PagePool, SortArgs };
 
 // The GPU state the passes share, created with the settings: persistent across frames (page table,
@@ -229,6 +230,11 @@ struct VsmSlot {
     uint32_t orderMaps = 0;     // the maps in use host.runs was built for
     bool orderBuilt = false;
     bool orderChanged = true; // this frame rebuilt runs and rankBase (uploadSlot compares them only then)
+    // The request list's length in this slot's last frame, read before uploadSlot clears the counters
+    // (~0: none yet). Only the GPU knows this frame's; VsmPasses records the allocation's one workgroup
+    // alone when the last one was short (VsmPasses::oneWorkgroupOnly).
+    uint32_t listBefore = ~0u;
+    bool countersWritten = false; // the counters hold a frame's values (uploadSlot has run once)
 };
 
 // The state of the virtual shadow maps: settings, map slots, page tables, pool and per-slot buffers, and

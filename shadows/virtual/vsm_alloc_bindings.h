@@ -19,5 +19,6 @@
 #define ML_VSM_SHORT_RENDERED 13  // pages to clear and draw (the clear's dispatch)
 #define ML_VSM_SHORT_DIRTY_MIPS 14
 #define ML_VSM_SHORT_DIRTY_MAPS 15
+#define ML_VSM_SHORT_HPB 16 // hierarchical page buffer bits (vsm_hpb's step, when recorded alone)
 
 #endif

@@ -47,6 +47,22 @@ bool vsmEntryOfOrder(uint k, VsmConstants c, out uint entry, out uint map, out u
 uint vsmListRank(uint i) { return vsmSorted == 0u ? vsmListA[i] : vsmListB[i]; }
 #endif
 
+#ifdef VSM_HPB
+// vsm_hpb's step for one wanted entry (the includer declares vsmTable[], vsmHpb[] and `vsm`): a DIRTY
+// entry sets the bit of every HPB cell above it, level 1 (2x2 pages) to the mip's last level (one cell).
+void vsmHpbMarkEntry(uint entry, uint map, uint mip) {
+    if ((vsmTable[entry] & ML_VSM_DIRTY) == 0u) return;
+    uint s0 = vsm.page.z, side = s0 >> mip;
+    uint page = entry - map * vsm.sizes.x - vsmMipOffset(s0, mip);
+    uint x = page % side, y = page / side;
+    for (uint level = 1u; (side >> level) != 0u; ++level) {
+        uint bit = map * vsm.order.w * 32u + vsmHpbBit(s0, mip, level, x >> level, y >> level);
+        uint mask = 1u << (bit & 31u);
+        if ((vsmHpb[bit >> 5u] & mask) == 0u) atomicOr(vsmHpb[bit >> 5u], mask);
+    }
+}
+#endif
+
 #ifdef VSM_CLOSE_LIST
 // vsm_list's step: clamps the list to its capacity (VsmConstants.order.z; the rest counted in listOverflow),
 // writes the list passes' dispatch (ML_VSM_BLOCK entries per group) and each vsm_sort pass's dispatch from

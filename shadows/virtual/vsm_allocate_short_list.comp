@@ -4,11 +4,14 @@
 // it closes the list (vsm_list), and when it holds at most push.shortList entries (ML_VSM_ONE_GROUP_LIST
 // at most; 0: never) it invalidates the owned pages (vsm_scan), sorts the list in shared memory,
 // refreshes last use and ranks the requests (vsm_scan), ranks the free and evictable pages by class
-// (vsm_alloc, vsm_avail) and assigns pages (vsm_assign), with the same functions of
-// vsm_alloc_common.glsl, so the page table, owners and last use equal the multi-dispatch path's and
-// vsmAllocateReference's bit for bit. Longer lists are left to the multi-dispatch passes: it writes
-// their dispatch sizes, which are 0 groups after a short list (vsm_passes.cpp records both; the GPU
-// picks, since only it knows the list's length).
+// (vsm_alloc, vsm_avail), assigns pages (vsm_assign) and, recorded alone, sets the HPB bits (vsm_hpb),
+// with the same functions of vsm_alloc_common.glsl, so the page table, owners, last use and HPB equal the
+// multi-dispatch path's and the CPU references' (vsmAllocateReference) bit for bit. Longer lists are left to the multi-dispatch passes: it writes
+// their dispatch sizes, which are 0 groups after a short list. vsm_passes.cpp records those passes only
+// when the slot's previous list was long (or unknown); otherwise it records this dispatch alone and sets
+// ML_VSM_ANY_LENGTH, and a list that outgrew the limit since is sorted here in the two list buffers
+// instead of shared memory (slower, one core, but the same order), so no frame is left unallocated.
+// Word 1 of vsmSortArgs says which: 1 shared memory, 2 the list buffers, 0 the multi-dispatch passes.
 //
 // Threads own contiguous chunks (list entries and pool pages in index order), so a chunk's prefix over the
 // threads before it keeps the multi-dispatch path's order: the ranks of requests by list position, and the
@@ -24,7 +27,8 @@ layout(local_size_x = ML_VSM_BLOCK) in;
 layout(binding = ML_VSM_SHORT_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
 layout(binding = ML_VSM_SHORT_RUNS, std430) readonly buffer Runs { uvec4 vsmRuns[]; };
 layout(binding = ML_VSM_SHORT_COUNTERS, std430) coherent buffer Counters { VsmCounters vsmCounters; };
-layout(binding = ML_VSM_SHORT_REQUESTS, std430) readonly buffer ListA { uint vsmListA[]; };
+// The requests; also the second merge buffer of a list sorted in the list buffers.
+layout(binding = ML_VSM_SHORT_REQUESTS, std430) coherent buffer ListA { uint vsmListA[]; };
 layout(binding = ML_VSM_SHORT_SORTED, std430) coherent buffer ListB { uint vsmListB[]; }; // merge buffer
 layout(binding = ML_VSM_SHORT_SORT_ARGS, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
 layout(binding = ML_VSM_SHORT_MAPS, std430) readonly buffer Maps { GpuVsmMap vsmMaps[]; };
@@ -38,6 +42,7 @@ layout(binding = ML_VSM_SHORT_AVAIL, std430) coherent buffer Avail { uint vsmAva
 layout(binding = ML_VSM_SHORT_RENDERED, std430) writeonly buffer Rendered { uint vsmRendered[]; };
 layout(binding = ML_VSM_SHORT_DIRTY_MIPS, std430) buffer MapMips { uint vsmDirtyMips[]; };
 layout(binding = ML_VSM_SHORT_DIRTY_MAPS, std430) writeonly buffer DirtyMaps { uint vsmDirtyMaps[]; };
+layout(binding = ML_VSM_SHORT_HPB, std430) buffer Hpb { uint vsmHpb[]; }; // cleared at the frame's start
 // width: vsm_sort's merge passes at most; shortList: the longest list taken here (0: none).
 layout(push_constant) uniform Push { VsmSortPush push; };
 
@@ -45,10 +50,22 @@ layout(push_constant) uniform Push { VsmSortPush push; };
 #define VSM_PAGE_CLASSES
 #define VSM_INVALIDATE
 #define VSM_ASSIGN
+#define VSM_HPB
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 shared uint sKeys[ML_VSM_ONE_GROUP_LIST]; // the list (16 KiB at 4,096)
-shared uint sCount, sShort, sOwned;
+shared uint sCount, sShort, sOwned; // sShort: the path, vsmSortArgs word 1's values
+
+// A list past the shared keys (ML_VSM_ANY_LENGTH) is sorted in the list buffers: runs of this many keys
+// sorted by insertion, then pairwise merges between list B and list A, one barrier each: at 8,192
+// entries 9 merges over 32 entries a thread.
+const uint kGlobalRun = 16u;
+// The merges of the list-buffer sort for n entries; the sorted list ends in list B after an even count.
+uint globalMerges(uint n) {
+    uint merges = 0u;
+    for (uint w = kGlobalRun; w < n; w *= 2u) ++merges;
+    return merges;
+}
 
 // Both barriers: global writes of this workgroup (table, owners, last use, avail) -> its next reads.
 void allBarrier() {
@@ -57,25 +74,34 @@ void allBarrier() {
     barrier();
 }
 
+// Entry i of the sorted list: the shared keys, or the list buffer the last merge wrote.
+uint sortedKey(uint i, bool inShared, bool inB) {
+    return inShared ? sKeys[i] : inB ? vsmListB[i] : vsmListA[i];
+}
+
 void main() {
     uint t = gl_LocalInvocationIndex;
     if (t == 0u) {
         uint sorted;
         uint n = vsmCloseList(push.width, false, sorted);
-        bool isShort = push.shortList != 0u && n <= push.shortList;
-        if (isShort) vsmCloseList(push.width, true, sorted); // the same sizes, the sort passes empty
-        vsmSortArgs[0] = isShort ? 1u : sorted; // here: list B
-        vsmSortArgs[1] = isShort ? 1u : 0u;
+        uint limit = push.shortList & ~ML_VSM_ANY_LENGTH;
+        bool isShort = limit != 0u && n <= limit;
+        bool here = isShort || (push.shortList & ML_VSM_ANY_LENGTH) != 0u;
+        if (here) vsmCloseList(push.width, true, sorted); // the same sizes, the sort passes empty
+        // Shared memory: the sorted copy goes to list B; list buffers: B after an even number of merges.
+        vsmSortArgs[0] = isShort ? 1u : here ? 1u - globalMerges(n) % 2u : sorted;
+        vsmSortArgs[1] = isShort ? 1u : here ? 2u : 0u;
         vsmSortArgs[2] = n;
-        // The multi-dispatch passes vsm_passes.cpp records after the sort (0 groups after a short list).
+        // The multi-dispatch passes' sizes, where they are recorded (0 groups after a list allocated here).
         uint owned = vsmOwnedPages();
-        vsmAllocArgs(n, owned, isShort);
+        vsmAllocArgs(n, owned, here);
         sCount = n;
-        sShort = isShort ? 1u : 0u;
+        sShort = isShort ? 1u : here ? 2u : 0u;
         sOwned = owned;
     }
     allBarrier();
     if (sShort == 0u) return; // uniform: the multi-dispatch passes allocate
+    bool inShared = sShort == 1u; // uniform: shared memory or the list buffers
     uint n = sCount, pool = vsm.sizes.z, owned = sOwned, freePages = pool - owned;
     uint pageRun = (owned + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
     uint listRun = (n + ML_VSM_BLOCK - 1u) / ML_VSM_BLOCK;
@@ -97,36 +123,70 @@ void main() {
     // most log2(ML_VSM_BLOCK) = 8 merges, one barrier each, where a bitonic network over 4,096 keys takes
     // 78 (lavapipe runs each barrier as a pass over the group's invocations: 78 were about half of this
     // pass's time). Ranks are unique, so any sort gives the multi-dispatch path's order.
-    for (uint i = listFirst; i < listLast; ++i) {
-        uint key = vsmListA[i], j = i;
-        while (j > listFirst && sKeys[j - 1u] > key) {
-            sKeys[j] = sKeys[j - 1u];
-            --j;
-        }
-        sKeys[j] = key;
-    }
-    allBarrier(); // also: the invalidated table -> the scan's reads
-    bool inShared = true;
-    for (uint w = max(listRun, 1u); w < n; w *= 2u) {
-        for (uint i = t; i < n; i += ML_VSM_BLOCK) {
-            uint run = i / w, sibling = run ^ 1u, key = inShared ? sKeys[i] : vsmListB[i];
-            uint lo = sibling * w, a = lo, b = min(lo + w, n);
-            while (a < b) {
-                uint mid = (a + b) / 2u;
-                if ((inShared ? sKeys[mid] : vsmListB[mid]) < key) a = mid + 1u;
-                else b = mid;
+    bool inB = false; // list buffers: which holds the runs
+    if (inShared) {
+        for (uint i = listFirst; i < listLast; ++i) {
+            uint key = vsmListA[i], j = i;
+            while (j > listFirst && sKeys[j - 1u] > key) {
+                sKeys[j] = sKeys[j - 1u];
+                --j;
             }
-            uint at = min(run, sibling) * w + (i - run * w) + (a > lo ? a - lo : 0u);
-            if (inShared) vsmListB[at] = key;
-            else sKeys[at] = key;
+            sKeys[j] = key;
         }
-        allBarrier();
-        inShared = !inShared;
-    }
-    // The sorted list in both: list B for vsm_hpb, the shared keys for the steps below.
-    for (uint i = t; i < n; i += ML_VSM_BLOCK) {
-        if (inShared) vsmListB[i] = sKeys[i];
-        else sKeys[i] = vsmListB[i];
+        allBarrier(); // also: the invalidated table -> the scan's reads
+        for (uint w = max(listRun, 1u); w < n; w *= 2u) {
+            for (uint i = t; i < n; i += ML_VSM_BLOCK) {
+                uint run = i / w, sibling = run ^ 1u, key = inShared ? sKeys[i] : vsmListB[i];
+                uint lo = sibling * w, a = lo, b = min(lo + w, n);
+                while (a < b) {
+                    uint mid = (a + b) / 2u;
+                    if ((inShared ? sKeys[mid] : vsmListB[mid]) < key) a = mid + 1u;
+                    else b = mid;
+                }
+                uint at = min(run, sibling) * w + (i - run * w) + (a > lo ? a - lo : 0u);
+                if (inShared) vsmListB[at] = key;
+                else sKeys[at] = key;
+            }
+            allBarrier();
+            inShared = !inShared;
+        }
+        // The sorted list in both: list B for vsm_hpb, the shared keys for the steps below.
+        for (uint i = t; i < n; i += ML_VSM_BLOCK) {
+            if (inShared) vsmListB[i] = sKeys[i];
+            else sKeys[i] = vsmListB[i];
+        }
+        inShared = true;
+    } else {
+        // Runs of kGlobalRun keys sorted from list A into list B, then merged between B and A.
+        for (uint first = t * kGlobalRun; first < n; first += ML_VSM_BLOCK * kGlobalRun) {
+            uint last = min(first + kGlobalRun, n);
+            for (uint i = first; i < last; ++i) {
+                uint key = vsmListA[i], j = i;
+                while (j > first && vsmListB[j - 1u] > key) {
+                    vsmListB[j] = vsmListB[j - 1u];
+                    --j;
+                }
+                vsmListB[j] = key;
+            }
+        }
+        inB = true;
+        allBarrier(); // the runs in list B -> the merges (also: the invalidated table -> the scan's reads)
+        for (uint w = kGlobalRun; w < n; w *= 2u) {
+            for (uint i = t; i < n; i += ML_VSM_BLOCK) {
+                uint run = i / w, sibling = run ^ 1u, key = inB ? vsmListB[i] : vsmListA[i];
+                uint lo = sibling * w, a = lo, b = min(lo + w, n);
+                while (a < b) {
+                    uint mid = (a + b) / 2u;
+                    if ((inB ? vsmListB[mid] : vsmListA[mid]) < key) a = mid + 1u;
+                    else b = mid;
+                }
+                uint at = min(run, sibling) * w + (i - run * w) + (a > lo ? a - lo : 0u);
+                if (inB) vsmListA[at] = key;
+                else vsmListB[at] = key;
+            }
+            allBarrier(); // this merge's runs -> the next merge's reads
+            inB = !inB;
+        }
     }
     allBarrier();
 
@@ -134,7 +194,7 @@ void main() {
     uint requests = 0u;
     for (uint i = listFirst; i < listLast; ++i) {
         uint entry, map, mip;
-        if (!vsmEntryOfOrder(sKeys[i], vsm, entry, map, mip)) continue;
+        if (!vsmEntryOfOrder(sortedKey(i, inShared, inB), vsm, entry, map, mip)) continue;
         uint pt = vsmTable[entry];
         if (vsmMarked(entry)) atomicAdd(vsmCounters.pagesMarked, 1u);
         if ((pt & ML_VSM_ALLOCATED) != 0u) vsmLastUsed[pt & ML_VSM_PHYS_MASK] = vsm.sizes.w;
@@ -183,10 +243,19 @@ void main() {
     uint rank = requestBase;
     for (uint i = listFirst; i < listLast; ++i) {
         uint entry, map, mip;
-        if (!vsmEntryOfOrder(sKeys[i], vsm, entry, map, mip)) continue;
+        if (!vsmEntryOfOrder(sortedKey(i, inShared, inB), vsm, entry, map, mip)) continue;
         uint pt = vsmTable[entry];
         bool request = (pt & ML_VSM_ALLOCATED) == 0u;
         vsmAssignEntry(entry, map, mip, pt, request, rank, available, requestTotal > available, owned);
         if (request) ++rank;
+    }
+
+    // 7. vsm_hpb, when recorded alone (vsm_passes.cpp then records no vsm_hpb dispatch): the DIRTY
+    // entries of this thread's run set the HPB cells above them. Uniform (a push constant).
+    if ((push.shortList & ML_VSM_ANY_LENGTH) == 0u) return;
+    allBarrier(); // the assignment's DIRTY bits -> their reads here
+    for (uint i = listFirst; i < listLast; ++i) {
+        uint entry, map, mip;
+        if (vsmEntryOfOrder(sortedKey(i, inShared, inB), vsm, entry, map, mip)) vsmHpbMarkEntry(entry, map, mip);
     }
 }

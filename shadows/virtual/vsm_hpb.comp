@@ -23,6 +23,7 @@ layout(binding = ML_VSM_HPB_LIST_B, std430) readonly buffer ListB { uint vsmList
 layout(binding = ML_VSM_HPB_SORT_ARGS, std430) readonly buffer Sorted { uint vsmSortArgs[]; }; // vsm_list
 #define vsmSorted vsmSortArgs[0]
 #define VSM_LISTS
+#define VSM_HPB
 #include "shadows/virtual/vsm_alloc_common.glsl"
 
 void main() {
@@ -30,13 +31,5 @@ void main() {
     if (gl_GlobalInvocationID.x >= vsmCounters.listCount ||
         !vsmEntryOfOrder(vsmListRank(gl_GlobalInvocationID.x), vsm, entry, map, mip))
         return;
-    if ((vsmTable[entry] & ML_VSM_DIRTY) == 0u) return;
-    uint s0 = vsm.page.z, side = s0 >> mip;
-    uint page = entry - map * vsm.sizes.x - vsmMipOffset(s0, mip);
-    uint x = page % side, y = page / side;
-    for (uint level = 1u; (side >> level) != 0u; ++level) {
-        uint bit = map * vsm.order.w * 32u + vsmHpbBit(s0, mip, level, x >> level, y >> level);
-        uint mask = 1u << (bit & 31u);
-        if ((vsmHpb[bit >> 5u] & mask) == 0u) atomicOr(vsmHpb[bit >> 5u], mask);
-    }
+    vsmHpbMarkEntry(entry, map, mip);
 }

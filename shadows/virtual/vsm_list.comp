@@ -16,7 +16,7 @@ layout(local_size_x = 1) in;
 layout(binding = ML_VSM_LIST_CONSTANTS) uniform VsmConst { VsmConstants vsm; };
 layout(binding = ML_VSM_LIST_COUNTERS, std430) buffer Counters { VsmCounters vsmCounters; };
 // Word 0: which list buffer holds the sorted list (vsm_alloc_common.glsl's vsmListRank); word 1: 1 when
-// vsm_allocate_short_list allocated in one workgroup, else 0; word 2: its closed length; word 3 the owned
+// vsm_allocate_short_list allocated in one workgroup, 2 when it sorted in the list buffers, else 0; word 2: its closed length; word 3 the owned
 // pages, then the indirect dispatches (x, y, z) of the allocation and sort passes (vsm_types.h).
 layout(binding = ML_VSM_LIST_SORT_ARGS, std430) writeonly buffer SortArgs { uint vsmSortArgs[]; };
 layout(binding = ML_VSM_LIST_OWNERS, std430) readonly buffer Owner { uint vsmOwner[]; };

@@ -129,25 +129,37 @@ void nextAllocationPass(VkCommandBuffer c) {
 }
 } // namespace
 
+bool VsmPasses::oneWorkgroupOnly(uint32_t slotIndex) const {
+    if (shortList_ == 0 || sequence_ == Sequence::Both) return false;
+    // The list's length grows and shrinks with the view, a few hundred entries a frame on the drive path,
+    // so the slot's last frame predicts this one's path; a miss past the limit costs one slow frame.
+    return sequence_ == Sequence::OneWorkgroup || state_->slot(slotIndex).listBefore <= shortList_;
+}
+
 void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
+    const bool alone = oneWorkgroupOnly(slotIndex);
     if (shortList_ != 0) {
         // A list of at most shortList_ entries: closed, sorted and allocated here in one workgroup, and
-        // the passes below get 0 groups; a longer one: closed here, the passes below allocate it.
-        dispatch(
-            d, c, programs_.allocateShortList, ML_VSM_BLOCK, 1, gpu::VsmSortPush{pg.mergePasses, shortList_},
-            {ML_BIND(ML_VSM_SHORT_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SHORT_RUNS, slot.runs),
-             ML_BIND(ML_VSM_SHORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SHORT_REQUESTS, pg.list[0]),
-             ML_BIND(ML_VSM_SHORT_SORTED, pg.list[1]), ML_BIND(ML_VSM_SHORT_SORT_ARGS, pg.sortArgs),
-             ML_BIND(ML_VSM_SHORT_MAPS, slot.maps), ML_BIND(ML_VSM_SHORT_STALE, slot.stale),
-             ML_BIND(ML_VSM_SHORT_TABLE, pg.table), ML_BIND(ML_VSM_SHORT_MARKS, pg.marks),
-             ML_BIND(ML_VSM_SHORT_OWNERS, pg.owners), ML_BIND(ML_VSM_SHORT_LAST_USED, pg.lastUsed),
-             ML_BIND(ML_VSM_SHORT_AVAIL, pg.avail), ML_BIND(ML_VSM_SHORT_RENDERED, pg.rendered),
-             ML_BIND(ML_VSM_SHORT_DIRTY_MIPS, pg.dirtyMips), ML_BIND(ML_VSM_SHORT_DIRTY_MAPS, pg.dirtyMaps)});
-        // Short: the table, owners, rendered list, dirty maps, counters -> vsm_hpb and the culling (through
-        // the barriers below); long: the list's count and every pass's dispatch size -> indirect reads.
+        // the passes below get 0 groups; a longer one: closed here, the passes below allocate it. Alone
+        // (no passes below recorded), any list is allocated here.
+        const uint32_t limit = shortList_ | (alone ? ML_VSM_ANY_LENGTH : 0u);
+        dispatch(d, c, programs_.allocateShortList, ML_VSM_BLOCK, 1, gpu::VsmSortPush{pg.mergePasses, limit},
+                 {ML_BIND(ML_VSM_SHORT_CONSTANTS, slot.constants), ML_BIND(ML_VSM_SHORT_RUNS, slot.runs),
+                  ML_BIND(ML_VSM_SHORT_COUNTERS, slot.counters), ML_BIND(ML_VSM_SHORT_REQUESTS, pg.list[0]),
+                  ML_BIND(ML_VSM_SHORT_SORTED, pg.list[1]), ML_BIND(ML_VSM_SHORT_SORT_ARGS, pg.sortArgs),
+                  ML_BIND(ML_VSM_SHORT_MAPS, slot.maps), ML_BIND(ML_VSM_SHORT_STALE, slot.stale),
+                  ML_BIND(ML_VSM_SHORT_TABLE, pg.table), ML_BIND(ML_VSM_SHORT_MARKS, pg.marks),
+                  ML_BIND(ML_VSM_SHORT_OWNERS, pg.owners), ML_BIND(ML_VSM_SHORT_LAST_USED, pg.lastUsed),
+                  ML_BIND(ML_VSM_SHORT_AVAIL, pg.avail), ML_BIND(ML_VSM_SHORT_RENDERED, pg.rendered),
+                  ML_BIND(ML_VSM_SHORT_DIRTY_MIPS, pg.dirtyMips),
+                  ML_BIND(ML_VSM_SHORT_DIRTY_MAPS, pg.dirtyMaps), ML_BIND(ML_VSM_SHORT_HPB, pg.hpb)});
+        // Short: the table, owners, rendered list, dirty maps, counters -> vsm_hpb and the culling (here
+        // when recorded alone, else through the barriers below); long: the list's count and every pass's
+        // dispatch size -> indirect reads.
         nextAllocationPass(c);
+        if (alone) return;
     } else {
         // The list's count and the sort's dispatch sizes.
         dispatch(d, c, programs_.list, 1, 1, gpu::VsmSortPush{pg.mergePasses, 0},
@@ -175,6 +187,7 @@ void VsmPasses::recordSort(const Device& d, VkCommandBuffer c, uint32_t slotInde
 }
 
 void VsmPasses::recordAlloc(const Device& d, VkCommandBuffer c, uint32_t slotIndex) const {
+    if (oneWorkgroupOnly(slotIndex)) return; // vsm_allocate_short_list allocated the list (recordSort)
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // Every pass indirect from sortArgs (words in vsm_types.h): vsm_list or vsm_allocate_short_list sized
@@ -227,12 +240,15 @@ void VsmPasses::recordHpb(const Device& d, VkCommandBuffer c, uint32_t slotIndex
     const VsmSlot& slot = state_->slot(slotIndex);
     const VsmPages& pg = state_->pages();
     // One thread per listed (wanted) entry; the bits were cleared at the frame's start (recordReset).
-    dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX), NoPush{},
-                     {ML_BIND(ML_VSM_HPB_CONSTANTS, slot.constants), ML_BIND(ML_VSM_HPB_RUNS, slot.runs),
-                      ML_BIND(ML_VSM_HPB_COUNTERS, slot.counters), ML_BIND(ML_VSM_HPB_LIST_A, pg.list[0]),
-                      ML_BIND(ML_VSM_HPB_TABLE, pg.table), ML_BIND(ML_VSM_HPB_MARKS, pg.marks),
-                      ML_BIND(ML_VSM_HPB_HPB, pg.hpb), ML_BIND(ML_VSM_HPB_LIST_B, pg.list[1]),
-                      ML_BIND(ML_VSM_HPB_SORT_ARGS, pg.sortArgs)});
+    // vsm_allocate_short_list set them where it ran alone (recordSort): no dispatch then, the barrier stays.
+    if (!oneWorkgroupOnly(slotIndex))
+        dispatchIndirect(d, c, programs_.hpb, slot.counters, offsetof(gpu::VsmCounters, listGroupsX),
+                         NoPush{},
+                         {ML_BIND(ML_VSM_HPB_CONSTANTS, slot.constants), ML_BIND(ML_VSM_HPB_RUNS, slot.runs),
+                          ML_BIND(ML_VSM_HPB_COUNTERS, slot.counters), ML_BIND(ML_VSM_HPB_LIST_A, pg.list[0]),
+                          ML_BIND(ML_VSM_HPB_TABLE, pg.table), ML_BIND(ML_VSM_HPB_MARKS, pg.marks),
+                          ML_BIND(ML_VSM_HPB_HPB, pg.hpb), ML_BIND(ML_VSM_HPB_LIST_B, pg.list[1]),
+                          ML_BIND(ML_VSM_HPB_SORT_ARGS, pg.sortArgs)});
     // HPB bits -> the culling's reads (compute; mesh path: task shaders).
     memoryBarrier(c, C, W, C | kTask, R);
 }
@@ -373,6 +389,7 @@ Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFram
     // The request list closed and sorted by priority rank (a short one also allocated, in one workgroup).
     ML_TRY(step(kSortTimer, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
     // Invalidation, then a physical page for each wanted entry without one; dirty pages and maps listed.
+    // An empty scope where the sort's one workgroup allocated alone: every step keeps its scope each frame.
     ML_TRY(step(kAllocTimer, [&](VkCommandBuffer c) { recordAlloc(d, c, slot); }));
     // The hierarchical page buffer: which regions of each map hold a dirty page.
     ML_TRY(step(kHpbTimer, [&](VkCommandBuffer c) { recordHpb(d, c, slot); }));

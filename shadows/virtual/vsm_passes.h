@@ -24,6 +24,13 @@ class VsmPasses {
     // multi-dispatch passes): ML_VSM_ONE_GROUP_LIST where the device has the shared memory and
     // invocations, lowered by ML_VSM_ALLOC_SHORT_LIST=N (0 restores the multi-dispatch path alone).
     uint32_t shortListLimit() const { return shortList_; }
+    // Which allocation passes a frame records. Auto: vsm_allocate_short_list alone when the slot's last
+    // list had at most shortListLimit() entries (it then takes any length: a list that outgrew the limit
+    // is sorted in the list buffers), else it and the multi-dispatch passes, which a long list runs (9
+    // dispatches, each behind a barrier, left out for a short one). Tests force either.
+    enum class Sequence { Auto, OneWorkgroup, Both };
+    void setSequence(Sequence s) { sequence_ = s; }
+    bool oneWorkgroupOnly(uint32_t slot) const;
     // Runs one step of the path under its timer: `body` records the step into the command buffer it is
     // given (the frame's, or a fenced run's own). A failed run (fenced runs only) stops the path there.
     using StepRunner =
@@ -44,9 +51,11 @@ class VsmPasses {
     void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
     static constexpr PassTimer kSortTimer{"vsm_sort", kVsmBookkeeping}; // vsm_list, vsm_sort
     void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    // vsm_scan (with invalidation), vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU)
+    // vsm_scan (with invalidation), vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU); none
+    // of them where vsm_allocate_short_list runs alone (oneWorkgroupOnly), the scope then empty
     static constexpr PassTimer kAllocTimer{"vsm_alloc", kVsmBookkeeping};
     void recordAlloc(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
+    // vsm_hpb; only its barrier where vsm_allocate_short_list ran alone and set the bits (oneWorkgroupOnly)
     static constexpr PassTimer kHpbTimer{"vsm_hpb", kVsmBookkeeping};
     void recordHpb(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     // Ahead of vsm_cull / vsm_expand: vsm_groups (the bounds of each 64 casters of the culling order),
@@ -64,6 +73,7 @@ class VsmPasses {
     const VirtualShadowMaps* state_ = nullptr;
     VsmPrograms programs_;
     uint32_t shortList_ = 0;
+    Sequence sequence_ = Sequence::Auto;
 };
 
 } // namespace ml

@@ -713,6 +713,10 @@ Result<void> VirtualShadowMaps::uploadSlot(const Device& device, Slot& slot, uin
     else
         for (uint32_t i : slot.pendingCasters) writeCaster(i);
     slot.pendingCasters.clear();
+    // This slot's previous frame completed (the module waited for its fence): its list's length picks
+    // the allocation's recorded sequence (VsmPasses::oneWorkgroupOnly).
+    slot.listBefore = slot.countersWritten ? slot.counters.as<gpu::VsmCounters>()->listCount : ~0u;
+    slot.countersWritten = true;
     gpu::VsmCounters zero{};
     zero.dispatchY = zero.dispatchZ = 1;
     zero.listGroupsY = zero.listGroupsZ = 1;

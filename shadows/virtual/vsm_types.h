@@ -193,7 +193,10 @@ ML_STRUCT(GpuVsmProbe) {
 // Push blocks. vsm_sort: width 0 sorts each block of ML_VSM_BLOCK list entries in shared memory; a width
 // w >= ML_VSM_BLOCK merges groups of 2^ML_VSM_MERGE_WAYS_LOG2 sorted runs of w entries. vsm_list,
 // vsm_allocate_short_list: width is the number of merge passes; shortList the longest list one workgroup
-// allocates (0: none, and in vsm_sort, vsm_list). 8 bytes.
+// sorts in shared memory (0: none, and in vsm_sort, vsm_list), with ML_VSM_ANY_LENGTH set when the
+// multi-dispatch passes are not recorded (vsm_passes.cpp): longer lists are then allocated in the same
+// workgroup too, sorted in the list buffers. 8 bytes.
+#define ML_VSM_ANY_LENGTH 0x80000000u
 ML_STRUCT(VsmSortPush) {
     uint width;
     uint shortList;

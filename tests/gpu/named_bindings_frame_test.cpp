@@ -366,7 +366,8 @@ void vsmPassesBindEachResourceAtItsName(VsmRaster raster, bool clusterMarking, c
                                  {"ML_VSM_SHORT_AVAIL", pg.avail},
                                  {"ML_VSM_SHORT_RENDERED", pg.rendered},
                                  {"ML_VSM_SHORT_DIRTY_MIPS", pg.dirtyMips},
-                                 {"ML_VSM_SHORT_DIRTY_MAPS", pg.dirtyMaps}}),
+                                 {"ML_VSM_SHORT_DIRTY_MAPS", pg.dirtyMaps},
+                                 {"ML_VSM_SHORT_HPB", pg.hpb}}),
                   "");
     } else {
         EXPECT_EQ(programs.count("spv_vsm_allocate_short_list_comp"), 0u);

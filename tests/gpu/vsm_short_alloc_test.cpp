@@ -3,8 +3,10 @@
 // the page table, owners and last-use frames of a module that allocates short lists in one workgroup
 // equal those of a module held to the multi-dispatch passes (ML_VSM_ALLOC_SHORT_LIST=0) and
 // vsmAllocateReference's. Then the limit itself: a limit equal to a frame's list length takes that frame
-// in one workgroup, one entry less sends it to the multi-dispatch passes, with the same pages; and lists
-// long enough for several of vsm_sort's merge passes.
+// in one workgroup, one entry less sends it to the multi-dispatch passes, with the same pages; lists
+// long enough for several of vsm_sort's merge passes; and the one workgroup recorded alone (the
+// multi-dispatch passes left out after a short list), which allocates a list past its limit in the list
+// buffers with the same pages.
 #include "vsm_test_util.h"
 
 #include <algorithm>
@@ -17,7 +19,9 @@ namespace {
 struct AllocFrame {
     std::vector<uint32_t> table, owners, lastUsed;
     uint32_t listLength = 0, evicted = 0, fallbacks = 0;
-    bool oneGroup = false;
+    uint32_t path = 0;     // vsmSortArgs word 1: 0 multi-dispatch, 1 one workgroup, 2 one in list buffers
+    bool oneGroup = false; // path 1: sorted in the workgroup's shared memory
+    bool alone = false;    // the multi-dispatch passes were not recorded (VsmPasses::oneWorkgroupOnly)
 };
 
 VsmSessionOptions shortAllocOptions(const char* scene) {
@@ -30,8 +34,9 @@ VsmSessionOptions shortAllocOptions(const char* scene) {
 }
 
 // Runs `frames` frames with ML_VSM_ALLOC_SHORT_LIST=limit (empty: the default) and checks each frame's
-// allocation against vsmAllocateReference on the same marks.
-std::vector<AllocFrame> runFrames(const VsmSessionOptions& o, const char* limit, uint32_t frames) {
+// allocation against vsmAllocateReference on the same marks; `sequence` forces the recorded passes.
+std::vector<AllocFrame> runFrames(const VsmSessionOptions& o, const char* limit, uint32_t frames,
+                                  VsmPasses::Sequence sequence = VsmPasses::Sequence::Auto) {
     if (*limit)
         setenv("ML_VSM_ALLOC_SHORT_LIST", limit, 1);
     else
@@ -43,6 +48,7 @@ std::vector<AllocFrame> runFrames(const VsmSessionOptions& o, const char* limit,
     if (!session.ok()) return out;
     VsmSession& s = *session.value();
     Module& m = *s.module;
+    internals(m).vsmPasses.setSequence(sequence);
     const VirtualShadowMaps& vsm = internals(m).vsm;
     VsmAllocState cpu;
     cpu.table.assign(size_t(vsm.settings().maxMaps) * vsm.layout().entriesPerMap, 0);
@@ -61,7 +67,10 @@ std::vector<AllocFrame> runFrames(const VsmSessionOptions& o, const char* limit,
         a.owners = vsm.read(d, VsmState::Owners);
         a.lastUsed = vsm.read(d, VsmState::LastUsed);
         const std::vector<uint32_t> words = vsm.read(d, VsmState::SortArgs);
+        a.path = words[1];
         a.oneGroup = words[1] == 1u;
+        a.alone = internals(m).vsmPasses.oneWorkgroupOnly(slot);
+        EXPECT_TRUE(!a.alone || a.path != 0u) << "frame " << f << ": no pass allocated the list";
         a.listLength = words[2];
         a.evicted = report->stats.vsm.pagesEvicted;
         a.fallbacks = report->stats.vsm.fallbacks;
@@ -102,6 +111,8 @@ PoolEvents oneGroupEqualsMultiDispatch(const char* scene, uint32_t frames, uint3
         EXPECT_FALSE(multi[f].oneGroup) << "frame " << f << ": the limit 0 took a list in one workgroup";
         EXPECT_EQ(one[f].oneGroup, one[f].listLength <= ML_VSM_ONE_GROUP_LIST) << "frame " << f;
         oneGroupFrames += one[f].oneGroup;
+        // A slot's second frame on: its last list was short, so the multi-dispatch passes are left out.
+        EXPECT_EQ(one[f].alone, f >= o.module.framesInFlight) << "frame " << f;
         marked += one[f].listLength;
         EXPECT_EQ(one[f].evicted, multi[f].evicted) << "frame " << f;
         EXPECT_EQ(one[f].fallbacks, multi[f].fallbacks) << "frame " << f;
@@ -150,7 +161,8 @@ TEST(GpuVsmShortAlloc, AtTheLimitOneWorkgroupJustOverItMultiDispatch) {
     ASSERT_EQ(over.size(), 3u);
     EXPECT_TRUE(at[1].oneGroup) << "a list of exactly the limit (" << n << ") goes to one workgroup";
     EXPECT_FALSE(over[1].oneGroup) << "a list one past the limit (" << n - 1
-                                   << ") goes to the multi-dispatch passes";
+                                   << ") goes to the multi-dispatch passes or the list buffers";
+    EXPECT_NE(over[1].path, 1u);
     EXPECT_EQ(validationErrors(), 0u);
 }
 
@@ -177,6 +189,39 @@ TEST(GpuVsmShortAlloc, LongListsMergeAcrossPassesEqualCpu) {
         << "no list reached the second merge pass";
     for (const AllocFrame& a : deflt)
         EXPECT_EQ(a.oneGroup, a.listLength <= ML_VSM_ONE_GROUP_LIST) << a.listLength << " entries";
+    // The one workgroup alone: lists past its shared memory sorted in the list buffers, same pages.
+    const std::vector<AllocFrame> alone = runFrames(o, "", 2, VsmPasses::Sequence::OneWorkgroup);
+    expectSame(multi, alone, "long lists in one workgroup alone");
+    for (const AllocFrame& a : alone) {
+        EXPECT_TRUE(a.alone);
+        EXPECT_EQ(a.path, a.listLength <= ML_VSM_ONE_GROUP_LIST ? 1u : 2u) << a.listLength << " entries";
+    }
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
+// The one workgroup recorded alone (the prediction from the slot's last list) when this frame's list is
+// longer than the limit, forced here by ML_VSM_ALLOC_SHORT_LIST=16 under every frame's list: each list
+// is sorted in the list buffers and gives the pages of the multi-dispatch passes and of
+// vsmAllocateReference (runFrames checks), on the night city and on the indoor level with a pool of 256
+// pages that evicts and falls back.
+TEST(GpuVsmShortAlloc, AloneListsPastTheLimitSortInTheListBuffers) {
+    resetValidationCounters();
+    for (const char* scene : {"night-city", "indoor"}) {
+        VsmSessionOptions o = shortAllocOptions(scene);
+        if (std::string(scene) == "indoor") o.module.vsm.poolPages = 256;
+        const std::vector<AllocFrame> multi = runFrames(o, "0", 4);
+        const std::vector<AllocFrame> alone = runFrames(o, "16", 4, VsmPasses::Sequence::OneWorkgroup);
+        expectSame(multi, alone, scene);
+        size_t listBufferFrames = 0;
+        for (size_t f = 0; f < alone.size(); ++f) {
+            EXPECT_TRUE(alone[f].alone) << scene << ", frame " << f;
+            EXPECT_EQ(alone[f].path, alone[f].listLength <= 16u ? 1u : 2u) << scene << ", frame " << f;
+            EXPECT_EQ(alone[f].fallbacks, multi[f].fallbacks) << scene << ", frame " << f;
+            listBufferFrames += alone[f].path == 2u;
+        }
+        EXPECT_GT(listBufferFrames, 0u)
+            << scene << ": no list past the limit (the list-buffer sort untested)";
+    }
     EXPECT_EQ(validationErrors(), 0u);
 }
 
