@@ -14,8 +14,8 @@
 //   tiles    a tiled map holds no map: a tile per hardware thread (tiledWorkingBytes) and the MH tree,
 //            which follows the map's detail, not its size. It is counted at one node per 64 texels (the
 //            night city's moon has 1 per 32 at 4096^2, 1 per 52 at 8192^2, 1 per 75 at 16384^2), each
-//            held twice while tiles are spliced (28 B) plus its output words (8 B). A tile shard (one of
-//            `shards` > 1) holds only its tiles' packed nodes (12 B), written once more. SM in tiles
+//            held twice while tiles are spliced (32 B) plus its output words (8 B). A tile shard (one of
+//            `shards` > 1) holds only its tiles' packed nodes (16 B), written once more. SM in tiles
 //            holds no tree: its words (4 B a texel) are filled tile by tile, so it is words and tiles,
 //            without the whole map's 24 B a texel of map and scratch.
 //

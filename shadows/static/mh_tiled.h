@@ -11,10 +11,11 @@
 // would. Tiles visited in quadtree order make the preorder a concatenation. TiledMh.* check the trees
 // and the MH, MMH and DAG-MH words equal the whole-map build's at 256^2-1024^2 with 64^2 tiles.
 //
-// Memory: per worker thread about 30 B a tile texel (34 B planar) (the tile's enter/exit, its intervals and
-// its pyramid; T = 512: 8 MiB) plus the source's own scratch, and the output tree: 12 B a node while the
-// tiles are built (packed, children implicit in preorder), then 32 B a node assembled, each tile's
-// packed nodes freed as it is spliced (at most 48 B a node at once). Never the map.
+// Memory: per worker thread about 30 B a tile texel (43 B planar: the plane ids of the render, the tile and
+// its pyramid) (the tile's enter/exit, its intervals and its pyramid; T = 512: 8 MiB) plus the source's own
+// scratch, and the output tree: 16 B a node while the tiles are built (packed, children implicit in
+// preorder), then 32 B a node assembled, each tile's packed nodes freed as it is spliced (at most 48 B a node
+// at once). Never the map.
 #pragma once
 #include "shadows/static/mh.h"
 
