@@ -135,24 +135,35 @@ def compare_alloc(argv):
     return 0
 
 
-def compare_pool(argv):
+def compare_parser(mode):
+    """The arguments the two-build comparisons share: two binaries, the scene, the frames and rounds."""
     import argparse
-    import subprocess
-    import tempfile
-    ap = argparse.ArgumentParser(prog="vsm_bookkeeping.py --compare-pool")
+    ap = argparse.ArgumentParser(prog=f"vsm_bookkeeping.py {mode}")
     ap.add_argument("old")
     ap.add_argument("new")
-    ap.add_argument("--pools", default="4096,16384")
-    ap.add_argument("--short-list")
     ap.add_argument("--scene", default="night-city")
     ap.add_argument("--lights", type=int, default=256)
     ap.add_argument("--frames", type=int, default=8)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--size", default="640x360")
     ap.add_argument("--out")
+    return ap
+
+
+def parse_compare(ap, argv):
     a = ap.parse_args(argv)
     if a.frames < 2 or a.rounds < 1:
         sys.exit("vsm_bookkeeping: --frames must be >= 2, --rounds >= 1")
+    return a
+
+
+def compare_pool(argv):
+    import subprocess
+    import tempfile
+    ap = compare_parser("--compare-pool")
+    ap.add_argument("--pools", default="4096,16384")
+    ap.add_argument("--short-list")
+    a = parse_compare(ap, argv)
     out = a.out or tempfile.mkdtemp(prefix="vsm_pool_")
     env = dict(os.environ)
     env.pop("ML_VSM_ALLOC_SHORT_LIST", None)
@@ -201,22 +212,11 @@ def per_frame(folder, names):
 
 
 def compare_builds(argv):
-    import argparse
     import subprocess
     import tempfile
-    ap = argparse.ArgumentParser(prog="vsm_bookkeeping.py --compare-builds")
-    ap.add_argument("old")
-    ap.add_argument("new")
-    ap.add_argument("--scene", default="night-city")
-    ap.add_argument("--lights", type=int, default=256)
+    ap = compare_parser("--compare-builds")
     ap.add_argument("--mark", default="pixel", choices=("pixel", "cluster"))
-    ap.add_argument("--frames", type=int, default=8)
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--size", default="640x360")
-    ap.add_argument("--out")
-    a = ap.parse_args(argv)
-    if a.frames < 2 or a.rounds < 1:
-        sys.exit("vsm_bookkeeping: --frames must be >= 2, --rounds >= 1")
+    a = parse_compare(ap, argv)
     out = a.out or tempfile.mkdtemp(prefix="vsm_builds_")
     env = dict(os.environ)
     env.pop("ML_VSM_ALLOC_SHORT_LIST", None)
