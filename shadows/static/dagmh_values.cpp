@@ -19,9 +19,9 @@ using Slope = std::pair<int64_t, int64_t>;
 constexpr int64_t kMaxSlope = INT32_MAX;
 constexpr uint32_t kFr = kOrthoSlopeFractionBits;
 
-// The plane's part at texel (px, py), floor((D_x px + D_y py + 32) / 64), in int64 (|D| px < 2^49).
+// The plane's part at texel (px, py), floor((D_x px + D_y py + 32) / 64): the rasteriser's expression.
 int64_t planeAt(Slope s, uint32_t px, uint32_t py) {
-    return (s.first * int64_t(px) + s.second * int64_t(py) + (int64_t(1) << (kFr - 1))) >> kFr;
+    return depthPlaneSlopeAt(s.first, s.second, px, py);
 }
 
 // One class of a chunk: value = A + plane + (k << sh), or the raw value when b == 32.
@@ -336,32 +336,37 @@ Result<Sections> encodeValues(const std::vector<Val>& vals, const std::vector<De
         const Val* cv = &vals[size_t(c) * kChunkValues];
         // The plane slots apart; the others (compacted, in slot order) split into the two classes.
         PlanarCode pc;
-        std::vector<Val> rest;
-        std::vector<uint32_t> slotOf;
         uint32_t lo = UINT32_MAX, hi = 0;
         for (uint32_t j = 0; j < count; ++j) {
-            if (cv[j].plane) {
-                pc.mask |= 1u << j;
-                const uint32_t idx = renumbered[cv[j].plane - 1];
-                lo = std::min(lo, idx), hi = std::max(hi, idx);
-                pc.k.push_back(idx);
-            } else {
-                rest.push_back(cv[j]), slotOf.push_back(j);
-            }
+            if (!cv[j].plane) continue;
+            pc.mask |= 1u << j;
+            const uint32_t idx = renumbered[cv[j].plane - 1];
+            lo = std::min(lo, idx), hi = std::max(hi, idx);
+            pc.k.push_back(idx);
         }
+        // The class slots: the chunk's values as they stand, or (plane slots present) the others copied
+        // out in slot order, their class bits spread back to the slots afterwards.
+        std::vector<Val> rest;
+        std::vector<uint32_t> slotOf;
         if (pc.mask) {
             pc.base = lo, pc.b = uint32_t(std::bit_width(hi - lo));
             for (uint32_t& k : pc.k) k -= lo;
+            for (uint32_t j = 0; j < count; ++j)
+                if (!cv[j].plane) rest.push_back(cv[j]), slotOf.push_back(j);
         }
+        const Val* classVals = pc.mask ? rest.data() : cv;
+        const uint32_t classCount = pc.mask ? uint32_t(rest.size()) : count;
         ChunkCode code;
-        if (!rest.empty()) {
-            code = encodeChunk(rest.data(), uint32_t(rest.size()), table);
-            refineClasses(rest.data(), uint32_t(rest.size()), code, table);
+        if (classCount) {
+            code = encodeChunk(classVals, classCount, table);
+            refineClasses(classVals, classCount, code, table);
         }
-        uint32_t classMask = 0;
-        for (size_t r = 0; r < slotOf.size(); ++r)
-            if ((code.mask >> r) & 1u) classMask |= 1u << slotOf[r];
-        code.mask = classMask;
+        if (pc.mask) {
+            uint32_t classMask = 0;
+            for (size_t r = 0; r < slotOf.size(); ++r)
+                if ((code.mask >> r) & 1u) classMask |= 1u << slotOf[r];
+            code.mask = classMask;
+        }
         uint32_t entry[2];
         for (int k = 0; k < 2; ++k) {
             auto [it, added] = table.index.try_emplace(code.c[k].slope, uint32_t(table.entries.size()));

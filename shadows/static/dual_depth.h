@@ -48,14 +48,19 @@ inline float dequantizeDepth(uint32_t d, float farPlane) {
 
 // A directional map's depth plane (raster_dual.h step 4): quantised depth at texel (x, y) = a + ((dx x +
 // dy y + 32) >> 6) in int64. Plane ids are 1-based indices into a table of them; 0 names no plane.
+// The slope part of such a plane at texel (x, y), rounded: (dx x + dy y + 32) >> 6. The one expression
+// the rasteriser (DualRasterizer::Tri::depth), the table (DepthPlane::at) and DAG-MH's value encoder
+// (dagmh_values.cpp) evaluate, so a plane value equals the rasterised depth bit for bit. |dx|, |dy| <
+// 2^31 and x, y < 2^18 keep it within int64.
+inline int64_t depthPlaneSlopeAt(int64_t dx, int64_t dy, int64_t x, int64_t y) {
+    return (dx * x + dy * y + (int64_t(1) << (kOrthoSlopeFractionBits - 1))) >> kOrthoSlopeFractionBits;
+}
+
 struct DepthPlane {
     int64_t a = 0;
     int32_t dx = 0, dy = 0;
     bool operator==(const DepthPlane&) const = default;
-    int64_t at(int64_t x, int64_t y) const {
-        return a + ((int64_t(dx) * x + int64_t(dy) * y + (int64_t(1) << (kOrthoSlopeFractionBits - 1))) >>
-                    kOrthoSlopeFractionBits);
-    }
+    int64_t at(int64_t x, int64_t y) const { return a + depthPlaneSlopeAt(dx, dy, x, y); }
 };
 
 struct DualDepthMap {

@@ -22,17 +22,22 @@ struct Pyramid {
     std::vector<std::vector<uint32_t>> plane; // planar builds only (mhbuild::reduceLevel's planes)
 };
 
-// The point covered by the most of the 4 intervals; returns the covering subset as a 4-bit mask.
-// Ties: the widest intersection, then the lowest mask candidate order (child 0 first).
-uint32_t bestSubset(const uint32_t lo[4], const uint32_t hi[4]) {
+// The point covered by the most of the 4 intervals; returns the covering subset as a 4-bit mask and its
+// size in `covered`. Ties: the widest intersection, then the lowest mask candidate order (child 0 first).
+// Empty intervals (lo > hi: a planar tree's plane-only nodes) cover no point and are never candidates;
+// all four empty gives mask 0. A plain tree has none, so its choice is the rule without that clause.
+uint32_t bestSubset(const uint32_t lo[4], const uint32_t hi[4], uint32_t& covered) {
     // All four share a point (empty cells, closed slabs): the loop below would find all four at the
-    // first candidate with the greatest lo, and every such candidate has the same width.
+    // first candidate with the greatest lo, and every such candidate has the same width. (An empty
+    // interval makes max lo > min hi, so this never takes one.)
+    covered = 4;
     if (std::max(std::max(lo[0], lo[1]), std::max(lo[2], lo[3])) <=
         std::min(std::min(hi[0], hi[1]), std::min(hi[2], hi[3])))
         return 15u;
-    uint32_t bestMask = 1, bestCount = 0;
+    uint32_t bestMask = 0, bestCount = 0;
     uint64_t bestWidth = 0;
     for (int k = 0; k < 4; ++k) {
+        if (lo[k] > hi[k]) continue;
         uint32_t p = lo[k], mask = 0, count = 0, l = 0, h = 0xFFFFFFFFu;
         for (int i = 0; i < 4; ++i)
             if (lo[i] <= p && p <= hi[i])
@@ -41,6 +46,7 @@ uint32_t bestSubset(const uint32_t lo[4], const uint32_t hi[4]) {
         if (count > bestCount || (count == bestCount && width > bestWidth))
             bestMask = mask, bestCount = count, bestWidth = width;
     }
+    covered = bestCount;
     return bestMask;
 }
 
@@ -82,19 +88,9 @@ void reduceLevelPlanar(uint32_t n, const uint32_t* clo, const uint32_t* chi, uin
                 ci[c] = size_t(2 * py + (c >> 1)) * n + 2 * px + (c & 1u);
                 lo[c] = clo[ci[c]], hi[c] = chi[ci[c]], pl[c] = cpl[ci[c]];
             }
-            // Constants: bestSubset's rule over the children whose interval is not empty.
-            uint32_t cmask = 0, ccount = 0;
-            uint64_t cwidth = 0;
-            for (uint32_t k = 0; k < 4; ++k) {
-                if (lo[k] > hi[k]) continue;
-                uint32_t mask = 0, count = 0, l = 0, h = 0xFFFFFFFFu;
-                for (uint32_t i = 0; i < 4; ++i)
-                    if (lo[i] <= hi[i] && lo[i] <= lo[k] && lo[k] <= hi[i])
-                        mask |= 1u << i, ++count, l = std::max(l, lo[i]), h = std::min(h, hi[i]);
-                const uint64_t width = uint64_t(h) - l;
-                if (count > ccount || (count == ccount && width > cwidth))
-                    cmask = mask, ccount = count, cwidth = width;
-            }
+            // Constants: bestSubset's rule (children with an empty interval take no part).
+            uint32_t ccount = 0;
+            const uint32_t cmask = bestSubset(lo, hi, ccount);
             // Planes: the id shared by the most children (ties: the first child's).
             uint32_t pmask = 0, pcount = 0;
             for (uint32_t k = 0; k < 4; ++k) {
@@ -158,7 +154,8 @@ void reduceLevel(uint32_t n, const uint32_t* clo, const uint32_t* chi, uint8_t* 
                 ci[c] = size_t(2 * py + (c >> 1)) * n + 2 * px + (c & 1u);
                 lo[c] = clo[ci[c]], hi[c] = chi[ci[c]];
             }
-            uint32_t mask = bestSubset(lo, hi);
+            uint32_t covered = 0;
+            const uint32_t mask = bestSubset(lo, hi, covered);
             uint32_t l0 = 0, h0 = 0xFFFFFFFFu;
             uint8_t below = 0;
             for (uint32_t c = 0; c < 4; ++c) {

@@ -88,8 +88,7 @@ struct PlaneHash {
 uint32_t DualRasterizer::Tri::depth(int64_t x, int64_t y, const int64_t e[3], double invArea, bool ortho,
                                     float far, uint32_t* onPlane) const {
     if (plane) {
-        constexpr int64_t kHalf = int64_t(1) << (kOrthoSlopeFractionBits - 1);
-        const int64_t q = planeA + ((planeDx * x + planeDy * y + kHalf) >> kOrthoSlopeFractionBits);
+        const int64_t q = planeA + depthPlaneSlopeAt(planeDx, planeDy, x, y);
         if (q <= 0) return 0u;
         if (q >= int64_t(0xFFFFFFFEu)) return 0xFFFFFFFEu;
         if (onPlane) *onPlane = planeId; // unclamped: the depth is the plane's value
