@@ -1,5 +1,5 @@
 // `manylights bench cpvs`: CPVS bakes of night-city spotlights from the CPU rasteriser's dual maps. The
-// issue's goals at 8K^3: bytes <= 1/256 of a 16-bit map of the same resolution, and insert + compress no
+// targets at 8K^3: bytes <= 1/256 of a 16-bit map of the same resolution, and insert + compress no
 // longer than rendering the map. With --regions, the global bottom-up build against the region build
 // (section 4.3) for each region count: per-phase times, peak nodes per region, peak live bytes, and the
 // bytes must be equal. Minutes of CPU at the default 8192^3, so it is a command and not a ctest; the

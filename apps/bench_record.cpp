@@ -1,6 +1,6 @@
-// `manylights bench record`: Module::record's CPU time on the frames where it used to be slow, frame 0
-// (every buffer's first fill, recorded into the frame's command buffer) and the first frame after an
-// LDR <-> HDR switch (the evaluation pipelines now built by createTargets), beside the steady frames.
+// `manylights bench record`: Module::record's CPU time on the frames that do more than the steady ones,
+// frame 0 (every buffer's first fill, recorded into the frame's command buffer) and the first frame after
+// an LDR <-> HDR switch (whose evaluation pipelines createTargets builds ahead), beside the steady frames.
 // Each run makes a module on its own device (no validation layer unless ML_VALIDATION asks for it: the
 // JSON says which), binds the night city, creates the targets and times record() on the host clock, the
 // GPU idle meanwhile (each frame is submitted and waited for after its record() was timed: on lavapipe the
@@ -56,8 +56,8 @@ bool validationFromEnvironment() {
     return false;
 }
 
-// record()'s time: CPU time of the calling thread (what the budget is about: on this shared
-// 2-core machine a preemption adds a 4 ms scheduler tick to the wall time of a 1 ms call) and wall time.
+// record()'s time: CPU time of the calling thread (what --limit-ms bounds: on a loaded machine a
+// preemption adds a scheduler tick, 4 ms at 250 Hz, to the wall time of a 1 ms call) and wall time.
 struct Ms {
     double cpu = 0, wall = 0;
 };

@@ -1,6 +1,6 @@
 // `manylights bench sizes`: MH, MMH and DAG-MH bytes on real dual depth maps (CPU rasteriser) at the sizes
 // the papers compare (4K^2, 8K^2 and above): overviews of night-city and sample-building and a few of their
-// spotlights, with the ratios the issue names (MMH <= 0.85 MH, DAG-MH <= 0.75 MMH), encode times and the
+// spotlights, with the target ratios (MMH <= 0.85 MH, DAG-MH <= 0.75 MMH), encode times and the
 // DAG-MH byte breakdown. Tens of seconds per map, so it is a command and not a ctest; the ctest runs it at
 // 256^2. Every DAG-MH value is checked against its MH node's interval (dagmhCheckValues), and every texel
 // of the three encodings against the map when the map was rendered in this run. Prints a table, writes

@@ -68,8 +68,8 @@ Result<CameraDesc> cameraFromMatrices(const glm::mat4& view, const glm::mat4& p)
         p[3][1] != 0.0f)
         return fail("camera: projection has rotation or shear terms");
     if (!(p[0][0] > 0.0f)) return fail("camera: projection x scale must be > 0");
-    // Every convention problem in one line: an infinite reversed-Z projection with y up used to be
-    // reported as "y must point down" alone.
+    // Every convention problem in one line: an infinite reversed-Z projection with y up breaks two
+    // conventions, and the message names both.
     const float a = p[2][2], b = p[3][2];
     std::string problems;
     auto add = [&](const char* why) { problems += (problems.empty() ? "" : "; ") + std::string(why); };

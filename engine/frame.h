@@ -23,44 +23,49 @@
 
 namespace ml {
 
-// What the passes of one frame read and write, as named fields (filled by Module::record).
-// StagedCopy (gpu/resources.h): a host-to-GPU copy recorded at the frame's start (its first pass,
-// recordFrame): load-time data (meshes, static shadow words) written into a staging buffer reaches its
-// GPU-only buffer without a host wait, ordered before every pass by the frame barrier. Destinations are new
-// buffers or ranges no frame has read.
+// What the frame's own passes (frame begin, evaluation outputs, frame end; engine/frame_passes.cpp) read
+// and write, and the slot the frame is timed in.
+// StagedCopy (gpu/resources.h): a host-to-GPU copy recorded at the frame's start (its first pass):
+// load-time data (meshes, static shadow words) written into a staging buffer reaches its GPU-only buffer
+// without a host wait, ordered before every pass by the frame barrier. Destinations are new buffers or
+// ranges no frame has read.
+struct FrameOwnInputs {
+    uint32_t slot = 0;                  // frame-in-flight index: the profiler's query pairs for this frame
+    const Buffer* counters = nullptr;   // FrameCounters: cleared at the frame's begin (atomics; the host
+                                        // reads them one frame later)
+    std::span<const StagedCopy> copies; // recorded first, by the frame-begin pass
+    const FrameSetup* setup = nullptr;  // fills and copies queued while the frame was prepared (first too)
+    // Rewritten whole each frame, so discarded (UNDEFINED -> GENERAL) before the evaluation. The module's
+    // images: full-size with its own targets; with the host's, a 1x1 image never written, kept so the
+    // outputs barrier and the evaluation's descriptors always have an image (engine/module_targets.cpp).
+    // The host's output arrives GENERAL and is not transitioned here.
+    const Image* hdr = nullptr;
+    const Image* output = nullptr;
+};
 
+// What the passes of one frame read and write (filled by Module::Impl::frameContext,
+// engine/frame_write.cpp): which passes run, and one input struct per pass, each naming its resources by
+// field. A resource is named in the struct of every pass that binds it and nowhere else here, so a pass
+// that needs a new input adds a field to its own struct (and the line that fills it), not to this one.
 struct FrameContext {
     const Device* device = nullptr;
     VkCommandBuffer cmd = VK_NULL_HANDLE; // the current pass's (its own one when timing is Fenced)
-    uint32_t slot = 0;                    // frame-in-flight index of the per-slot buffers
+
+    // Which passes run (recordFrame's switches, with what the structs say: the G-buffer pass runs when
+    // gbuffer.targets is set, the VSM path when the state has active maps for vsm.slot, no debug view
+    // when evaluate.targets.outputs is HdrOnly).
     CullingMode culling = CullingMode::Clustered;
     bool statistics = false;
     DebugView view = DebugView::Shaded;
-    bool hdrOutput = false; // the host's output takes HDR radiance (no tone-mapped output, no views)
 
-    // Targets. gbuffer: the module's own G-buffer (it draws it), null for the host's. The G-buffer views
-    // (in `shading`) are SHADER_READ_ONLY_OPTIMAL in the compute passes; hdr and output are rewritten
-    // whole each frame.
-    const GBufferTargets* gbuffer = nullptr;
-    // The module's: full-size with its own targets; with the host's, a 1x1 image never written, kept so
-    // the outputs barrier and the descriptors always have an image (engine/module_targets.cpp).
-    const Image* hdrImage = nullptr;
-    const Image* outputImage = nullptr; // likewise (the host's output arrives GENERAL)
-    const Buffer* counters = nullptr;   // FrameCounters (atomics; read by the host one frame later)
-    std::span<const StagedCopy> copies; // recorded first, by the frame-begin pass
-    const FrameSetup* setup = nullptr;  // fills and copies queued while the frame was prepared (first too)
-
-    // What each feature's pass reads and writes, by name: the slot's buffers (written by the host just
-    // before), the geometry, the cluster lists and the G-buffer views, grouped as each pass takes them.
-    GBufferInputs geometry{};
+    FrameOwnInputs own{};
+    GBufferInputs gbuffer{}; // the module's own G-buffer draw
     BoundsInputs bounds{};
     AssignInputs assign{};
-    ShadingInputs shading{}; // the evaluation's (and the host include's bindings, engine/host_shader.cpp)
-    ShadowInputs shadows{};
-    EvaluateTargets evaluation{};
-    StatisticsInputs stats{}; // the optional statistics pass (`statistics` says whether it runs)
     VsmFrameInputs vsm{};
-    ViewInputs views{}; // the debug views: the light counts, and views.output for the VSM view too
+    EvaluateInputs evaluate{}; // (and the host include's bindings, engine/host_shader.cpp)
+    StatisticsInputs stats{};  // the optional statistics pass (`statistics` says whether it runs)
+    ViewInputs views{};        // the light-count views (the VSM page view's target is vsm.viewOutput)
 };
 
 // One entry of the frame's list (recordFrame, engine/frame_passes.cpp): what records the pass, whether it

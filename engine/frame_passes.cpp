@@ -14,7 +14,7 @@ constexpr auto W = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 
 Result<void> runFrame(Profiler& profiler, FrameContext& f, std::span<const FramePass> passes) {
     const VkCommandBuffer frameCmd = f.cmd;
-    profiler.beginFrame(frameCmd, f.slot);
+    profiler.beginFrame(frameCmd, f.own.slot);
     for (const FramePass& pass : passes) {
         if (!pass.enabled) continue;
         auto body = [&](VkCommandBuffer c) {
@@ -65,14 +65,15 @@ void recordFrameBegin(FrameContext& f) {
     // Setup first: new buffers' fills and grown buffers' copies (FrameSetup::record orders them among
     // themselves), then the staged uploads, whose destinations are new buffers or unread ranges; the
     // frame barrier below orders their transfer writes before every pass's reads.
-    if (f.setup) {
-        f.setup->record(f.cmd, f.copies);
+    const FrameOwnInputs& own = f.own;
+    if (own.setup) {
+        own.setup->record(f.cmd, own.copies);
     } else {
-        for (const StagedCopy& c : f.copies)
+        for (const StagedCopy& c : own.copies)
             vkCmdCopyBuffer(f.cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
     }
     memoryBarrier(f.cmd, frameStages, frameWrites, frameStages, frameAccesses);
-    vkCmdFillBuffer(f.cmd, f.counters->buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(f.cmd, own.counters->buffer, 0, VK_WHOLE_SIZE, 0);
     memoryBarrier(f.cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, C, R | W); // counters: clear -> atomics
 }
 
@@ -86,22 +87,21 @@ void recordEvaluationOutputs(FrameContext& f) {
     // storage writes are in the source scope, so the layout transition is ordered after them (two frames
     // in one command buffer: SyncValidation.TwoFramesInOneCommandBuffer). The host's reads of them
     // (copies, blits) reach the compute stage through the frame-begin barrier.
-    imageBarrier(f.cmd, f.hdrImage->image, f.hdrImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
-                 VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
-    imageBarrier(f.cmd, f.outputImage->image, f.outputImage->aspect, VK_IMAGE_LAYOUT_UNDEFINED,
-                 VK_IMAGE_LAYOUT_GENERAL, C, W, C, W);
+    for (const Image* image : {f.own.hdr, f.own.output})
+        imageBarrier(f.cmd, image->image, image->aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                     C, W, C, W);
 }
 
 bool debugViewOn(const FrameContext& f, const VirtualShadowMaps& vsm) {
     // The views write RGBA8 colours: none in HDR mode (the output is RGBA16F radiance).
-    if (f.hdrOutput) return false;
+    if (f.evaluate.targets.outputs == EvaluateOutputs::HdrOnly) return false;
     return (f.view == DebugView::Vsm && vsm.enabled()) || f.view == DebugView::LightsEvaluated ||
            f.view == DebugView::LightsReaching;
 }
 
 void recordDebugView(FrameContext& f, LightCulling& cull, const VsmPasses& vsmPasses) {
     if (f.view == DebugView::Vsm)
-        vsmPasses.recordView(*f.device, f.cmd, f.slot, f.vsm, f.views.output);
+        vsmPasses.recordView(*f.device, f.cmd, f.vsm);
     else
         cull.recordView(*f.device, f.cmd, f.views);
 }
@@ -131,9 +131,9 @@ Result<void> recordFrame(Profiler& profiler, FrameContext& f, FrameFeatures& m) 
     // The frame, in order: one entry a pass (its timer, whether it runs, what records it). A new compute
     // pass of a feature is one more entry here, its timer a constant beside the function that records it.
     const FramePass passes[] = {
-        {nullptr, true, recordFrameBegin},           // frame-begin barrier, counters cleared
-        {&GBufferPass::kTimer, f.gbuffer != nullptr, // module-owned targets only
-         [&](FrameContext& c) { m.gbuffer.record(*c.device, c.cmd, *c.gbuffer, c.geometry); }},
+        {nullptr, true, recordFrameBegin},                   // frame-begin barrier, counters cleared
+        {&GBufferPass::kTimer, f.gbuffer.targets != nullptr, // module-owned targets only
+         [&](FrameContext& c) { m.gbuffer.record(*c.device, c.cmd, c.gbuffer); }},
         {&LightCulling::kBoundsTimer, culling, // culling (mode None: skipped): cluster bounds,
          [&](FrameContext& c) { m.cull.recordBounds(*c.device, c.cmd, c.bounds); }},
         {&LightCulling::kAssignTimer, culling, // light lists
@@ -141,15 +141,15 @@ Result<void> recordFrame(Profiler& profiler, FrameContext& f, FrameFeatures& m) 
         {nullptr, m.vsm.enabled(), // virtual shadow maps: per-frame clears,
          [&](FrameContext& c) { m.vsmPasses.recordReset(c.cmd); }},
         // then, with active maps, marked page to drawn page (a timer a step)
-        {m.vsm.active(f.slot),
+        {m.vsm.active(f.vsm.slot),
          [&](FrameContext& c, const VsmPasses::StepRunner& step) {
-             return m.vsmPasses.recordPath(*c.device, c.slot, c.vsm, step);
+             return m.vsmPasses.recordPath(*c.device, c.vsm, step);
          }},
         {nullptr, true, recordEvaluationOutputs}, // HDR and output discarded
         {&EvaluatePass::kTimer, true,             // the one evaluation pass
-         [&](FrameContext& c) { m.evaluate.record(*c.device, c.cmd, c.shading, c.shadows, c.evaluation); }},
+         [&](FrameContext& c) { m.evaluate.record(*c.device, c.cmd, c.evaluate); }},
         {nullptr, m.vsm.probing(), // optional lookup probe
-         [&](FrameContext& c) { m.vsmPasses.recordProbe(*c.device, c.cmd, c.slot, c.vsm); }},
+         [&](FrameContext& c) { m.vsmPasses.recordProbe(*c.device, c.cmd, c.vsm); }},
         {&StatisticsPass::kTimer, f.statistics, // optional per-pixel light counts
          [&](FrameContext& c) { m.statistics.record(*c.device, c.cmd, c.stats); }},
         {nullptr, debugViewOn(f, m.vsm), // --view lights / lights-reaching / vsm

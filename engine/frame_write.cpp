@@ -172,60 +172,70 @@ FrameContext Module::Impl::frameContext(VkCommandBuffer cmd, uint32_t slotIndex)
     FrameContext f;
     f.device = device.get();
     f.cmd = cmd;
-    f.slot = slotIndex;
     f.culling = slot.mode;
     f.statistics = statistics;
     f.view = view;
-    f.hdrOutput = hdrOutput;
-    f.gbuffer = ownTargets ? &targets : nullptr;
     // The module's two evaluation images: full-size with its own targets, 1x1 stubs with the host's
     // (engine/module_targets.cpp); both transitioned each frame.
-    f.hdrImage = &hdr;
-    f.outputImage = &output;
+    f.own = {.slot = slotIndex,
+             .counters = &slot.counters,
+             .copies = stagedCopies,
+             .hdr = &hdr,
+             .output = &output};
     const VkImageView depth = ownTargets ? targets.depth.view : host.depth.view;
     const VkImageView normal = ownTargets ? targets.normal.view : host.normal.view;
     const VkImageView albedo = ownTargets ? targets.albedo.view : host.albedo.view;
-    if (ownTargets) // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
-        f.evaluation = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both, hdr.view, output.view};
-    else // the host's output takes what the mode writes; the other binding gets the stub
-        f.evaluation = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly,
-                        hdrOutput ? host.output.view : hdr.view, hdrOutput ? output.view : host.output.view};
-    f.counters = &slot.counters;
-    f.copies = stagedCopies;
-    f.geometry = {&slot.frame,     &vertexBuffer, &indexBuffer,
-                  &slot.instances, &slot.draws,   uint32_t(instances.size())};
+    // The RGBA8 output the debug views overwrite (LDR only; in HDR mode no view runs).
+    const VkImageView ldrOutput = ownTargets ? output.view : host.output.view;
+    f.gbuffer = {.targets = ownTargets ? &targets : nullptr,
+                 .frame = &slot.frame,
+                 .vertices = &vertexBuffer,
+                 .indices = &indexBuffer,
+                 .instances = &slot.instances,
+                 .draws = &slot.draws,
+                 .drawCount = uint32_t(instances.size())};
     f.bounds = {&slot.frame, &slot.slices, depth, normal, &slot.counters};
     f.assign = {&slot.frame,    &slot.slices,     &slot.lights,  &slot.wide,
                 slot.wideCount, slot.wideThreads, &slot.counters};
-    f.shading = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges, &cull.pool,
+    f.vsm = {.slot = slotIndex,
+             .frame = &slot.frame,
+             .slices = &slot.slices,
+             .lights = &slot.lights,
+             .ranges = &cull.ranges,
+             .pool = &cull.pool,
+             .depth = depth,
+             .normal = normal,
+             .vertices = &vertexBuffer,
+             .indices = &indexBuffer,
+             .instances = &slot.instances,
+             .meshlets = &meshletBuffer,
+             .meshletVertices = &meshletVertexBuffer,
+             .meshletTriangles = &meshletTriangleBuffer,
+             .clusterReceivers = cull.wantReceivers ? &cull.receivers : nullptr,
+             .tileMasks = &cull.tileMasks,
+             .viewOutput = ldrOutput};
+    EvaluateInputs& e = f.evaluate;
+    e.shading = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges, &cull.pool,
                  depth,       normal,       albedo,       width,        height};
-    f.shading.material =
+    e.shading.material =
         ownTargets ? (ownMaterials ? targets.material.view : VK_NULL_HANDLE) : host.material.view;
-    f.stats = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges,  &cull.pool,
-               depth,       width,        height,       &slot.counters};
     const bool vsmOn = vsm.enabled(); // without VSM any valid buffers fill its bindings (never read)
-    f.shadows = {&staticWords,
+    e.shadows = {&staticWords,
                  &slot.shadowRecords,
                  vsmOn ? &vsm.constants(slotIndex) : &slot.frame,
                  vsmOn ? &vsm.maps(slotIndex) : &staticWords,
                  vsmOn ? &vsm.coverage(slotIndex) : &staticWords,
                  vsmOn ? &vsm.table() : &staticWords,
                  vsmOn ? &vsm.pagePool() : &staticWords};
-    f.vsm = {&slot.frame, &slot.slices, &slot.lights,  &cull.ranges, &cull.pool,
-             depth,       normal,       &vertexBuffer, &indexBuffer, &slot.instances};
-    f.vsm.meshlets = &meshletBuffer;
-    f.vsm.meshletVertices = &meshletVertexBuffer;
-    f.vsm.meshletTriangles = &meshletTriangleBuffer;
-    f.vsm.clusterReceivers = cull.wantReceivers ? &cull.receivers : nullptr;
-    f.vsm.tileMasks = &cull.tileMasks;
-    f.views = {&slot.frame,
-               &slot.slices,
-               &slot.lights,
-               depth,
-               ownTargets ? output.view : host.output.view,
-               width,
-               height,
-               view == DebugView::LightsReaching};
+    if (ownTargets) // LDR writes both (tests and tools read the HDR image); HDR: outputImage() is hdr
+        e.targets = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::Both, hdr.view, output.view};
+    else // the host's output takes what the mode writes; the other binding gets the stub
+        e.targets = {hdrOutput ? EvaluateOutputs::HdrOnly : EvaluateOutputs::ToneOnly,
+                     hdrOutput ? host.output.view : hdr.view, hdrOutput ? output.view : host.output.view};
+    f.stats = {&slot.frame, &slot.slices, &slot.lights, &cull.ranges,  &cull.pool,
+               depth,       width,        height,       &slot.counters};
+    f.views = {&slot.frame, &slot.slices, &slot.lights, depth,
+               ldrOutput,   width,        height,       view == DebugView::LightsReaching};
     return f;
 }
 

@@ -39,8 +39,8 @@ Result<void> GBufferPass::createTargets(const Device& device, uint32_t w, uint32
     return {};
 }
 
-void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& t,
-                         const GBufferInputs& in) const {
+void GBufferPass::record(const Device& device, VkCommandBuffer cmd, const GBufferInputs& in) const {
+    const GBufferTargets& t = *in.targets;
     const auto color = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
     const auto depthStages =
         VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;

@@ -11,9 +11,11 @@ struct GBufferTargets {
     Image depth, normal, albedo, material;
 };
 
-// What the G-buffer draw reads: the frame's constants and the scene's geometry, by name (each bound at
-// gbuffer.vert's named binding, engine/gbuffer_bindings.h).
+// What the G-buffer draw reads and writes: the frame's constants and the scene's geometry, by name (each
+// bound at gbuffer.vert's named binding, engine/gbuffer_bindings.h), and the targets it draws.
 struct GBufferInputs {
+    // The module's own G-buffer; null where the host draws its own (setTargets): the pass does not run.
+    const GBufferTargets* targets = nullptr;
     const Buffer* frame = nullptr;     // FrameConstants (uniform)
     const Buffer* vertices = nullptr;  // GpuVertex, pulled by index
     const Buffer* indices = nullptr;   // uint32 indices
@@ -30,9 +32,8 @@ class GBufferPass {
     // On failure `out` holds what was made (destroy each image).
     Result<void> createTargets(const Device& device, uint32_t width, uint32_t height,
                                GBufferTargets& out) const;
-    // Leaves depth, normal, albedo and material in SHADER_READ_ONLY_OPTIMAL.
-    void record(const Device& device, VkCommandBuffer cmd, const GBufferTargets& targets,
-                const GBufferInputs& in) const;
+    // Draws in.targets (set), leaving depth, normal, albedo and material in SHADER_READ_ONLY_OPTIMAL.
+    void record(const Device& device, VkCommandBuffer cmd, const GBufferInputs& in) const;
 
   private:
     ShaderModule vs_, fs_;

@@ -99,7 +99,7 @@ static bool singularMatrix(const glm::mat4& m) {
 }
 
 Result<std::unique_ptr<Module>> Module::create(const ModuleOptions& options) {
-    // Each frame in flight has its own per-frame buffers and queries; 0 used to be clamped to 1.
+    // Each frame in flight has its own per-frame buffers and queries; 0 is refused, not taken as 1.
     if (options.framesInFlight < 1 || options.framesInFlight > 16)
         return fail("framesInFlight must be 1..16, got " + std::to_string(options.framesInFlight));
     auto impl = std::make_unique<Impl>();
@@ -593,7 +593,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
                     "buffer: submit and wait for the G-buffer, then call record(VK_NULL_HANDLE), or use "
                     "TimingChoice::Timestamps");
     // Every submit and wait made from here on is counted as record()'s (Device::recordQueueCounts): there
-    // must be none outside Fenced timing. While the frame is prepared, setup work that used to be a
+    // must be none outside Fenced timing. While the frame is prepared, setup work that would otherwise be a
     // one-time submit (a new buffer's fill, a grown buffer's copy) is queued for the frame's own command
     // buffer instead (m.setup); during the passes nothing is queued, so a buffer made there would show up
     // as a counted submit rather than go unfilled.
@@ -604,7 +604,7 @@ Result<void> Module::record(VkCommandBuffer cmd) {
     if (!began) return fail("record: " + began.error());
     const uint32_t slotIndex = began.value();
     FrameContext frame = m.frameContext(cmd, slotIndex);
-    frame.setup = &m.setup;
+    frame.own.setup = &m.setup;
     // The frame's list of passes, in order (engine/frame_passes.cpp); runFrame times them.
     if (auto r = recordFrame(m.profiler, frame, m.features); !r) return fail("record: " + r.error());
     m.endFrame(slotIndex);

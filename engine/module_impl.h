@@ -237,7 +237,7 @@ struct Module::Impl {
     void retire(Buffer& buffer);
     void retire(Image& image);
     // Staged uploads (engine/module_uploads.cpp): load-time data for GPU-only buffers, copied by the
-    // next recorded frame (FrameContext::copies); the staging buffers are retired with that frame.
+    // next recorded frame (FrameOwnInputs::copies); the staging buffers are retired with that frame.
     std::vector<Buffer> staging;
     std::vector<StagedCopy> stagedCopies;
     // Writes `bytes` into a new staging buffer and queues `copies` from it (their regions' srcOffset

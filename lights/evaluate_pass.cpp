@@ -63,8 +63,10 @@ void EvaluatePass::destroy(const Device& device) {
     destroyShader(device, shader_);
 }
 
-void EvaluatePass::record(const Device& d, VkCommandBuffer c, const ShadingInputs& in, const ShadowInputs& s,
-                          const EvaluateTargets& t) const {
+void EvaluatePass::record(const Device& d, VkCommandBuffer c, const EvaluateInputs& e) const {
+    const ShadingInputs& in = e.shading;
+    const ShadowInputs& s = e.shadows;
+    const EvaluateTargets& t = e.targets;
     // Without a material target the albedo fills its binding (a valid sampled image, never read).
     const bool pbr = in.material != VK_NULL_HANDLE;
     dispatch(d, c, programs_[programIndex(t.outputs, pbr)], in.width, in.height, NoPush{},

@@ -48,6 +48,14 @@ struct EvaluateTargets {
     VkImageView output = VK_NULL_HANDLE;
 };
 
+// What the evaluation pass reads and writes, as it takes it (EvaluatePass::record). The buffers of
+// `shading` and `shadows` are also the ones a host's own shaders bind (manylights/host_bindings.h).
+struct EvaluateInputs {
+    ShadingInputs shading;
+    ShadowInputs shadows;
+    EvaluateTargets targets;
+};
+
 class EvaluatePass {
   public:
     // Checks the device's subgroup support: with arithmetic subgroup operations in compute it loads the
@@ -65,10 +73,9 @@ class EvaluatePass {
     // Builds the mode's pipeline on first use (a mode switch costs one pipeline build, no device wait);
     // pbr: the GGX variant (kSpecPbr), which record() takes when ShadingInputs::material is set.
     Result<void> prepare(const Device& device, EvaluateOutputs outputs, bool pbr = false);
-    // Writes the targets; prepare(targets.outputs) must have run.
+    // Writes in.targets; prepare(in.targets.outputs) must have run.
     static constexpr PassTimer kTimer{"evaluate"};
-    void record(const Device& device, VkCommandBuffer cmd, const ShadingInputs& in,
-                const ShadowInputs& shadows, const EvaluateTargets& targets) const;
+    void record(const Device& device, VkCommandBuffer cmd, const EvaluateInputs& in) const;
 
   private:
     uint32_t programIndex(EvaluateOutputs outputs, bool pbr) const {

@@ -55,10 +55,10 @@ struct VsmSettings {
     // applies), 0.5 one coarser. Finer texels flicker less under a moving camera (docs/accuracy.md
     // section 7). A power of two in 1/4..8.
     float texelsPerPixel = 1.0f;
-    // Page marking per cluster-light pair against the cluster's bounds (vsm_mark_cluster.comp; a superset
-    // of the per-pixel marks) in the clustered culling modes; false, or `none` / `tiled` culling: per
-    // receiver pixel (vsm_mark.comp). Off by default: 2-5x faster marking for 1.4-1.9x the pages
-    // (docs/virtual-shadow-maps.md, "Marking per cluster").
+    // Page marking per cluster-light pair against the cluster's bounds (a superset of the per-pixel marks)
+    // in the clustered culling modes; false, or `none` / `tiled` culling: per receiver pixel. Off by
+    // default: 2-5x faster marking for 1.4-1.9x the pages (docs/virtual-shadow-maps.md, "Marking per
+    // cluster").
     bool clusterMarking = false;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     // Fallback reservations (a coarser page per lookup, drawn under pool pressure) cost marking time in
@@ -66,13 +66,13 @@ struct VsmSettings {
     // pressure: until a frame with active maps has completed, then for fallbackHoldFrames frames after a
     // completed frame that marked at least half the pool, had fallbacks or overflowed the request list. A
     // jump from under half the pool to past all of it within the frames in flight then loses shadows for
-    // those frames (counted in fallbacks). false: every frame (the behaviour before;
-    // GpuVsm.FallbacksReservedOnlyNearPressure runs both).
+    // those frames (counted in fallbacks). false: every frame (GpuVsm.FallbacksReservedOnlyNearPressure
+    // runs both).
     bool fallbacksOnDemand = true;
     uint32_t fallbackHoldFrames = 30;
     // Page draws clipped to one dirty page each (both raster paths). false: one draw per (caster, map, mip)
-    // over the mip's whole virtual resolution, fragments outside dirty pages discarded (the layout before
-    // page clipping, kept as `bench vsm --vsm-page-clip off`'s baseline; the pages come out the same).
+    // over the mip's whole virtual resolution, fragments outside dirty pages discarded (`bench vsm
+    // --vsm-page-clip off`'s baseline; the pages come out the same).
     bool pageClip = true;
     // The static layer: every physical page gets a twin holding the static casters' depths alone (the
     // pool's memory doubles: 128 MiB at the defaults). A page invalidated only by a moving dynamic caster
@@ -81,8 +81,8 @@ struct VsmSettings {
     // Exact: the static casters' depths are unchanged, and the atomic minimum is order-independent.
     bool staticLayer = true;
     uint32_t maxDrawsPerMip = 16384;
-    // The culling passes (vsm_cull / vsm_expand) run one workgroup per (caster group, map) pair that
-    // vsm_pairs left, in rows of this many workgroups: 1..65535 (Vulkan's guaranteed
+    // The caster culling (timed as vsm_cull / vsm_expand) runs one workgroup per (caster group, map) pair
+    // left by the pair test, in rows of this many workgroups: 1..65535 (Vulkan's guaranteed
     // maxComputeWorkGroupCount); tests set it small so that a frame's pairs span several rows.
     uint32_t cullRowWorkgroups = 65535;
     // Entries the request list holds (pages wanted in one frame: marked or reserved as fallbacks), rounded
@@ -92,7 +92,7 @@ struct VsmSettings {
     uint32_t kinds = 7;         // bit per light kind (1 spot, 2 point, 4 directional) that gets maps
     bool staticLights = true;   // lights that do not move get maps
     bool movingLights = true;   // moving lights (headlights) get maps
-    uint32_t probeCapacity = 0; // records of vsm_probe per frame (0: the probe pass is off)
+    uint32_t probeCapacity = 0; // lookup records the probe pass writes per frame (0: the pass is off)
     VsmRaster raster = VsmRaster::Auto;
     uint32_t maxMeshletsPerMip = 1u << 18; // meshlet-instance list entries per mip (12 B each)
     // Meshlet size limits used at Module::addMesh (meshoptimizer): at most the shaders' capacity, 64

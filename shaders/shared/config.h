@@ -3,7 +3,7 @@
 #ifndef ML_CONFIG_H
 #define ML_CONFIG_H
 
-// 4096: the mission's upper bound for lights in one scene (`--lights` up to 4096). Light indices in
+// 4096: the most lights a module holds (addLight refuses more; `--lights` up to 4096). Light indices in
 // cluster lists are 32-bit, so the bound is about memory and time, not encoding.
 #define ML_MAX_LIGHTS 4096
 
@@ -109,7 +109,7 @@
 #define ML_STATIC_DAGMH 4
 #define ML_STATIC_CPVS 5
 
-// Largest PCF radius of the static lookups: 4 = 9x9 (the CPVS issue's maximum).
+// Largest PCF radius of the static lookups: 4 = 9x9, the widest they are specified for (81 taps at most).
 #define ML_MAX_PCF_RADIUS 4
 
 // Filtering by level (MH, MMH, DAG-MH, CPVS) reads the coarsest level whose texel is at most 1/4 of the

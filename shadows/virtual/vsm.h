@@ -110,27 +110,6 @@ struct VsmCamera {
     uint32_t height = 1;
 };
 
-// Buffers of the frame that the VSM passes read.
-struct VsmFrameInputs {
-    const Buffer* frame;  // FrameConstants (uniform)
-    const Buffer* slices; // slice boundaries
-    const Buffer* lights; // visible GpuLights (info.y = first map, from prepare())
-    const Buffer* ranges; // cluster lists (culling/culling.h)
-    const Buffer* pool;
-    VkImageView depth, normal; // G-buffer, SHADER_READ_ONLY_OPTIMAL
-    const Buffer* vertices;
-    const Buffer* indices;
-    const Buffer* instances; // GpuInstance per module instance
-    // Mesh path (shadows/virtual/vsm_meshlets.h): GpuMeshlet, vertex lists, packed triangles.
-    const Buffer* meshlets = nullptr;
-    const Buffer* meshletVertices = nullptr;
-    const Buffer* meshletTriangles = nullptr;
-    // Clustered culling's receiver bounds (ClusterReceivers) and tile masks (culling/culling.h), for
-    // marking per cluster (VsmSettings::clusterMarking); without them the pages are marked per pixel.
-    const Buffer* clusterReceivers = nullptr;
-    const Buffer* tileMasks = nullptr;
-};
-
 // Per map slot, what the CPU set up this frame (tests and `check vsm` read it).
 struct VsmMapInfo {
     bool inUse = false;

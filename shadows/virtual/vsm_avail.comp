@@ -27,8 +27,9 @@ layout(binding = ML_VSM_AVAIL_COUNTERS, std430) readonly buffer Counters { VsmCo
 
 // The nine per-class ranks in one prefix sum: class c counts in bits 9 * (c % 3) of word c / 3. A block
 // holds ML_VSM_BLOCK = 256 pages, so a class's count (at most 256) fits its 9 bits and never carries
-// into the next. One scan instead of nine (lavapipe runs a barrier as a pass over every invocation of
-// the group: the nine scans were 2.0 of the allocation's 2.8 ms).
+// into the next. One scan instead of nine: each scan's barriers cost a pass over every invocation of
+// the group on a CPU device (lavapipe), where nine scans were most of the allocation's time (the
+// figures: docs/results/log.md).
 #if ML_VSM_BLOCK > 511
 #error "vsm_avail packs a block's class counts in 9 bits each"
 #endif

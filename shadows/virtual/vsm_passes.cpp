@@ -85,9 +85,8 @@ void VsmPasses::recordReset(VkCommandBuffer c) const {
                   R | W | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
 
-void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
-                           const VsmFrameInputs& in) const {
-    const VsmSlot& slot = state_->slot(slotIndex);
+void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(in.slot);
     const VsmPages& pg = state_->pages();
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     // Per cluster where the frame has cluster bounds and lists of ML_TILE_SIZE tiles (the clustered
@@ -326,9 +325,8 @@ void VsmPasses::recordClear(const Device& d, VkCommandBuffer c, uint32_t slotInd
     memoryBarrier(c, C, W, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, R | W); // cleared pages -> atomic min
 }
 
-void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotIndex,
-                           const VsmFrameInputs& in) const {
-    const VsmSlot& slot = state_->slot(slotIndex);
+void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(in.slot);
     const VsmPages& pg = state_->pages();
     for (uint32_t m = 0; m < state_->layout().mips; ++m) {
         const uint32_t res = state_->settings().resolution >> m;
@@ -382,10 +380,10 @@ void VsmPasses::recordDraw(const Device& d, VkCommandBuffer c, uint32_t slotInde
     memoryBarrier(c, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, W, C, R);
 }
 
-Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFrameInputs& in,
-                                   const StepRunner& step) const {
+Result<void> VsmPasses::recordPath(const Device& d, const VsmFrameInputs& in, const StepRunner& step) const {
+    const uint32_t slot = in.slot;
     // Each receiver pixel (or cluster) marks the pages its lookups will read; first wants are listed.
-    ML_TRY(step(kMarkTimer, [&](VkCommandBuffer c) { recordMark(d, c, slot, in); }));
+    ML_TRY(step(kMarkTimer, [&](VkCommandBuffer c) { recordMark(d, c, in); }));
     // The request list closed and sorted by priority rank (a short one also allocated, in one workgroup).
     ML_TRY(step(kSortTimer, [&](VkCommandBuffer c) { recordSort(d, c, slot); }));
     // Invalidation, then a physical page for each wanted entry without one; dirty pages and maps listed.
@@ -402,13 +400,12 @@ Result<void> VsmPasses::recordPath(const Device& d, uint32_t slot, const VsmFram
     // The dirty pages cleared, then the casters drawn into them (and merged with their static twins).
     return step(kDrawTimer, [&](VkCommandBuffer c) {
         recordClear(d, c, slot);
-        recordDraw(d, c, slot, in);
+        recordDraw(d, c, in);
     });
 }
 
-void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex,
-                            const VsmFrameInputs& in) const {
-    const VsmSlot& slot = state_->slot(slotIndex);
+void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(in.slot);
     const VsmPages& pg = state_->pages();
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     dispatch(d, cmd, programs_.probe, fc->size.x, fc->size.y, NoPush{},
@@ -422,9 +419,8 @@ void VsmPasses::recordProbe(const Device& d, VkCommandBuffer cmd, uint32_t slotI
     memoryBarrier(cmd, C, W, VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT); // probes -> host
 }
 
-void VsmPasses::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIndex, const VsmFrameInputs& in,
-                           VkImageView output) const {
-    const VsmSlot& slot = state_->slot(slotIndex);
+void VsmPasses::recordView(const Device& d, VkCommandBuffer cmd, const VsmFrameInputs& in) const {
+    const VsmSlot& slot = state_->slot(in.slot);
     const VsmPages& pg = state_->pages();
     const auto* fc = in.frame->as<gpu::FrameConstants>();
     // The evaluation pass's output -> read and overwritten here.
@@ -436,7 +432,7 @@ void VsmPasses::recordView(const Device& d, VkCommandBuffer cmd, uint32_t slotIn
               ML_BIND(ML_VSM_VIEW_NORMAL, sampled(in.normal)), ML_BIND(ML_VSM_VIEW_CONSTANTS, slot.constants),
               ML_BIND(ML_VSM_VIEW_MAPS, slot.maps), ML_BIND(ML_VSM_VIEW_COVERAGE, slot.coverage),
               ML_BIND(ML_VSM_VIEW_TABLE, pg.table), ML_BIND(ML_VSM_VIEW_PAGE_POOL, pg.pool),
-              ML_BIND(ML_VSM_VIEW_OUTPUT, Image{.view = output})});
+              ML_BIND(ML_VSM_VIEW_OUTPUT, Image{.view = in.viewOutput})});
     // The view's output -> the host's reads after record().
     memoryBarrier(cmd, C, W, kOutputReaderStages, kOutputReads);
 }

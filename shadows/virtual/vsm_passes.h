@@ -14,6 +14,34 @@
 
 namespace ml {
 
+// What the VSM passes read and write besides the state's own buffers (VirtualShadowMaps: page table,
+// pool, marks, lists; the slot's maps, constants and counters), by name; each is bound at its shader's
+// named binding (shadows/virtual/vsm_bindings.h).
+struct VsmFrameInputs {
+    // Frame-in-flight index: which of the state's per-slot buffers (VirtualShadowMaps::slot) this frame's
+    // passes bind, written by prepare() for the same slot.
+    uint32_t slot = 0;
+    const Buffer* frame = nullptr;  // FrameConstants (uniform)
+    const Buffer* slices = nullptr; // slice boundaries
+    const Buffer* lights = nullptr; // visible GpuLights (info.y = first map, from prepare())
+    const Buffer* ranges = nullptr; // cluster lists (culling/culling.h)
+    const Buffer* pool = nullptr;
+    VkImageView depth = VK_NULL_HANDLE, normal = VK_NULL_HANDLE; // G-buffer, SHADER_READ_ONLY_OPTIMAL
+    const Buffer* vertices = nullptr;
+    const Buffer* indices = nullptr;
+    const Buffer* instances = nullptr; // GpuInstance per module instance
+    // Mesh path (shadows/virtual/vsm_meshlets.h): GpuMeshlet, vertex lists, packed triangles.
+    const Buffer* meshlets = nullptr;
+    const Buffer* meshletVertices = nullptr;
+    const Buffer* meshletTriangles = nullptr;
+    // Clustered culling's receiver bounds (ClusterReceivers) and tile masks (culling/culling.h), for
+    // marking per cluster (VsmSettings::clusterMarking); without them the pages are marked per pixel.
+    const Buffer* clusterReceivers = nullptr;
+    const Buffer* tileMasks = nullptr;
+    // The page view's target (recordView): the RGBA8 output, storage, GENERAL, after the evaluation.
+    VkImageView viewOutput = VK_NULL_HANDLE;
+};
+
 class VsmPasses {
   public:
     // Programs for the state's raster path (state.meshPath()); the state outlives the passes.
@@ -35,20 +63,20 @@ class VsmPasses {
     // given (the frame's, or a fenced run's own). A failed run (fenced runs only) stops the path there.
     using StepRunner =
         std::function<Result<void>(const PassTimer& timer, const std::function<void(VkCommandBuffer)>& body)>;
-    // The path from marked page to drawn page, in order, for a slot with active maps (state.active()).
-    Result<void> recordPath(const Device& device, uint32_t slot, const VsmFrameInputs& in,
-                            const StepRunner& step) const;
+    // The path from marked page to drawn page, in order, for a slot with active maps
+    // (state.active(in.slot)).
+    Result<void> recordPath(const Device& device, const VsmFrameInputs& in, const StepRunner& step) const;
     // The probe pass: records the lookups into the slot's probe buffer.
-    void recordProbe(const Device& device, VkCommandBuffer cmd, uint32_t slot,
-                     const VsmFrameInputs& in) const;
-    // demo --view vsm: colours the output by the page each pixel's first shadowed light reads
-    // (vsm_view.comp). `output` is the RGBA8 output in GENERAL layout, after the evaluation pass.
-    void recordView(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in,
-                    VkImageView output) const;
+    void recordProbe(const Device& device, VkCommandBuffer cmd, const VsmFrameInputs& in) const;
+    // demo --view vsm: colours in.viewOutput by the page each pixel's first shadowed light reads
+    // (vsm_view.comp).
+    void recordView(const Device& device, VkCommandBuffer cmd, const VsmFrameInputs& in) const;
 
   private:
+    // The steps that bind the frame's buffers take its inputs; the others bind the state's alone and
+    // take the slot (in.slot) whose buffers they use.
     static constexpr PassTimer kMarkTimer{"vsm_mark", kVsmBookkeeping};
-    void recordMark(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    void recordMark(const Device& device, VkCommandBuffer cmd, const VsmFrameInputs& in) const;
     static constexpr PassTimer kSortTimer{"vsm_sort", kVsmBookkeeping}; // vsm_list, vsm_sort
     void recordSort(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     // vsm_scan (with invalidation), vsm_alloc, vsm_avail, vsm_assign (caching, invalidation, LRU); none
@@ -68,7 +96,7 @@ class VsmPasses {
     void recordExpand(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
     static constexpr PassTimer kDrawTimer{"vsm_draw"}; // clear and draw the dirty pages
     void recordClear(const Device& device, VkCommandBuffer cmd, uint32_t slot) const;
-    void recordDraw(const Device& device, VkCommandBuffer cmd, uint32_t slot, const VsmFrameInputs& in) const;
+    void recordDraw(const Device& device, VkCommandBuffer cmd, const VsmFrameInputs& in) const;
 
     const VirtualShadowMaps* state_ = nullptr;
     VsmPrograms programs_;

@@ -1,4 +1,4 @@
-# Issue 20: `demo` at every corner of its accepted --vsm-res / --vsm-page / --size / --lights ranges
+# `demo` at every corner of its accepted --vsm-res / --vsm-page / --size / --lights ranges
 # ends with exit 0, or exit 1 and one refusal line naming the setting and the limit; never a signal
 # (an abort on a device limit used to end 16384^2 maps at 256 lights with SIGABRT).
 #   cmake -DEXE=path/to/manylights -DOUT=dir [-DSIZES=1x1;16384x16384] -P corner_sweep.cmake
