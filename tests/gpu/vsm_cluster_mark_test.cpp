@@ -2,7 +2,8 @@
 // with the validation layer: on the night city's drive path (256 lights) and the indoor level, every
 // frame the GPU's cluster marks equal vsmMarkClusterReference bit for bit and contain every page that
 // the per-pixel marking (vsmMarkReference, itself equal to vsm_mark.comp: GpuVsm.*) marks, lookup and
-// fallback regions both (the night city's frames also refine pairs per pixel); the clusters' receiver
+// fallback regions both, and at most a set multiple of them (the night city's frames also refine pairs
+// per pixel); the clusters' receiver
 // bounds (cluster_bounds' receiver variant) equal cullReceiversReference bit for bit, and some pairs are
 // skipped because every receiver faces away from the light; `tiled` culling keeps the per-pixel pass.
 #include <algorithm>
@@ -80,7 +81,9 @@ VsmSessionOptions clusterOptions(const char* scene) {
 }
 
 // refines: the path has pairs past ML_VSM_CLUSTER_PAGES, so the per-pixel refinement is compared too.
-void expectSuperset(const char* scene, uint32_t frames, bool refines) {
+// maxRatio: the most pages the clusters may mark per page the pixels mark, a little above what the
+// bounds of vsm_bounds.h give (2026-12-07: 1.28x night city, 1.20x indoor), so that a looser bound fails.
+void expectSuperset(const char* scene, uint32_t frames, bool refines, double maxRatio) {
     resetValidationCounters();
     const MarkCounts n = compareMarks(clusterOptions(scene), frames);
     EXPECT_EQ(n.frames, frames);
@@ -88,6 +91,7 @@ void expectSuperset(const char* scene, uint32_t frames, bool refines) {
     EXPECT_EQ(n.missing, 0u) << scene << ": pages the pixels mark that the clusters miss";
     EXPECT_GT(n.pixel, 0u) << scene << ": the path marks no page (nothing tested)";
     EXPECT_GE(n.cluster, n.pixel);
+    EXPECT_LE(double(n.cluster), maxRatio * double(n.pixel)) << scene << ": cluster marks looser than before";
     EXPECT_EQ(n.receiversDiffer, 0u) << scene << ": GPU receiver bounds differ from cullReceiversReference";
     EXPECT_GT(n.receiverClusters, 0u) << scene << ": no cluster holds a receiver (nothing tested)";
     EXPECT_GT(n.facingAway, 0u) << scene << ": no pair faces away (vsmBoxFacesAway untested)";
@@ -102,18 +106,18 @@ void expectSuperset(const char* scene, uint32_t frames, bool refines) {
 }
 
 TEST(GpuVsmClusterMark, NightCityContainsPixelMarksAndEqualsCpu) {
-    expectSuperset("night-city", 4, true);
+    expectSuperset("night-city", 4, true, 1.32);
 }
 
 TEST(GpuVsmClusterMark, IndoorContainsPixelMarksAndEqualsCpu) {
-    expectSuperset("indoor", 4, false);
+    expectSuperset("indoor", 4, false, 1.22);
 }
 
 // The per-lane build of cluster_bounds.comp (ML_BOUNDS_WAVE=0: the fallback for devices without subgroup
 // arithmetic) writes the same receiver bounds; the tests above ran the wave build where the device has it.
 TEST(GpuVsmClusterMark, PerLaneReceiverBoundsEqualCpu) {
     setenv("ML_BOUNDS_WAVE", "0", 1);
-    expectSuperset("night-city", 2, false);
+    expectSuperset("night-city", 2, false, 1.32);
     unsetenv("ML_BOUNDS_WAVE");
 }
 
