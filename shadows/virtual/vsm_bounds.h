@@ -98,6 +98,36 @@ ML_FN bool vsmBoxEmpty(VsmBox b) {
     return !(b.lo.x <= b.hi.x && b.lo.y <= b.hi.y && b.lo.z <= b.hi.z);
 }
 
+// Half `side` (0 low, 1 high) of a box cut across its longest axis at its midpoint. Every point of the
+// box lies in one half or in both (each half is closed at the cut, wherever the midpoint rounds to), so
+// the pages of both halves hold every receiver's. The bounds of a half are tighter where the light's
+// projection couples the axes (a box long in light depth: vsmBoxTaps pairs its nearest depth with its
+// widest offsets), and a half may face away from the light where the whole does not.
+ML_FN VsmBox vsmHalfBox(VsmBox b, uint side) {
+    ML_PRECISE float ex = b.hi.x - b.lo.x, ey = b.hi.y - b.lo.y, ez = b.hi.z - b.lo.z;
+    VsmBox h = b;
+    if (ex >= ey && ex >= ez) {
+        ML_PRECISE float m = b.lo.x + ex * 0.5f;
+        if (side == 0u)
+            h.hi.x = m;
+        else
+            h.lo.x = m;
+    } else if (ey >= ez) {
+        ML_PRECISE float m = b.lo.y + ey * 0.5f;
+        if (side == 0u)
+            h.hi.y = m;
+        else
+            h.lo.y = m;
+    } else {
+        ML_PRECISE float m = b.lo.z + ez * 0.5f;
+        if (side == 0u)
+            h.hi.z = m;
+        else
+            h.lo.z = m;
+    }
+    return h;
+}
+
 // vsmFootprint's smallest and largest value over the box: per axis the smallest and largest |P - camera|.
 ML_FN vec2 vsmFootprintRange(vec3 camera, vec3 lo, vec3 hi, float perMetre) {
     ML_PRECISE float lx = lo.x - camera.x, ly = lo.y - camera.y, lz = lo.z - camera.z;

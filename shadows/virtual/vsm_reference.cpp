@@ -285,11 +285,26 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
                         if (facingAwayPairs) ++*facingAwayPairs;
                         continue;
                     }
-                    if (boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, false) <=
-                        ML_VSM_CLUSTER_PAGES)
-                        boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, true);
-                    else
+                    // The box, or its two halves where they count fewer pages, from 4 pages on
+                    // (vsm_mark_cluster.comp).
+                    const uint32_t whole =
+                        boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, false);
+                    const VsmBox h0 = vsmHalfBox(reach, 0), h1 = vsmHalfBox(reach, 1);
+                    const bool use0 = !vsmBoxEmpty(h0) && !vsmBoxFacesAway(L, h0.lo, h0.hi, nl, nh);
+                    const bool use1 = !vsmBoxEmpty(h1) && !vsmBoxFacesAway(L, h1.lo, h1.hi, nl, nh);
+                    const uint32_t halves =
+                        whole <= 3
+                            ? whole
+                            : (use0 ? boxPages(in, marks, L, L.info.y, h0.lo, h0.hi, nl, nh, false) : 0) +
+                                  (use1 ? boxPages(in, marks, L, L.info.y, h1.lo, h1.hi, nl, nh, false) : 0);
+                    if (std::min(whole, halves) > ML_VSM_CLUSTER_PAGES) {
                         refine.push_back({s, i});
+                    } else if (halves < whole) {
+                        if (use0) boxPages(in, marks, L, L.info.y, h0.lo, h0.hi, nl, nh, true);
+                        if (use1) boxPages(in, marks, L, L.info.y, h1.lo, h1.hi, nl, nh, true);
+                    } else {
+                        boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, true);
+                    }
                 }
             }
             if (refinedPairs) *refinedPairs += refine.size();
