@@ -56,6 +56,78 @@ ML_FN VsmViewBox vsmViewBox(mat4 m, vec3 lo, vec3 hi) {
     return b;
 }
 
+// The part of a world box [lo, hi] (a cluster's receivers) that light L reaches (lightReachesPoint:
+// the range sphere and, for a spot, the cone), as a box: the per-pixel pass marks only receivers L
+// reaches, so the pages of this box hold theirs. Empty (lo > hi on an axis) when no receiver is reached.
+// Sphere: lightReachesPoint's d2 < r * r bounds each rounded square, fl(vx * vx) < fl(r * r), so |vx| < r
+// (monotonic) and the real x - p.x < r. Spot (cone of half-angle A, 0.01 < cos A and sin A, every light
+// of the scenes): a point v of the sector has v.e <= |v| cos(max(theta - A, 0)) along an axis e at angle
+// theta from the axis d, i.e. per axis r * (d.e >= cos A ? 1 : max(d.e cos A + |d x e| sin A, 0)). The
+// rounding of the cone test (its cosine off by under 1e-6) widens A by under 4e-6 rad at sin A >= 0.01;
+// 1e-3 rad is added (the support grows by at most the added angle). The positional slack, |p| * 1e-5 +
+// 1e-4 m, holds the rounding of x - p and of the sums here. Exact where the light is directional.
+ML_STRUCT(VsmBox) {
+    vec3 lo;
+    vec3 hi;
+};
+ML_FN vec2 vsmReachAxis(float p, float r, float d, float cosA, float sinA, bool cone, float lo, float hi) {
+    ML_PRECISE float s = sqrt(max(1.0f - d * d, 0.0f));
+    ML_PRECISE float up = (!cone || d >= cosA) ? 1.0f : max(d * cosA + s * sinA, 0.0f);
+    ML_PRECISE float down = (!cone || -d >= cosA) ? 1.0f : max(s * sinA - d * cosA, 0.0f);
+    ML_PRECISE float slack = abs(p) * 1e-5f + 1e-4f;
+    ML_PRECISE float a = p - (r * (down + 1e-3f) + slack);
+    ML_PRECISE float b = p + (r * (up + 1e-3f) + slack);
+    return vec2(max(lo, a), min(hi, b));
+}
+ML_FN VsmBox vsmReachBox(GpuLight L, vec3 lo, vec3 hi) {
+    VsmBox b;
+    b.lo = lo;
+    b.hi = hi;
+    if (L.info.x == ML_LIGHT_DIRECTIONAL) return b;
+    ML_PRECISE float cosA = L.directionCosOuter.w, sinA = L.colorSinOuter.w;
+    bool cone = L.info.x == ML_LIGHT_SPOT && cosA > 0.01f && sinA > 0.01f;
+    ML_PRECISE float r = L.positionRange.w;
+    vec2 x = vsmReachAxis(L.positionRange.x, r, L.directionCosOuter.x, cosA, sinA, cone, lo.x, hi.x);
+    vec2 y = vsmReachAxis(L.positionRange.y, r, L.directionCosOuter.y, cosA, sinA, cone, lo.y, hi.y);
+    vec2 z = vsmReachAxis(L.positionRange.z, r, L.directionCosOuter.z, cosA, sinA, cone, lo.z, hi.z);
+    b.lo = vec3(x.x, y.x, z.x);
+    b.hi = vec3(x.y, y.y, z.y);
+    return b;
+}
+ML_FN bool vsmBoxEmpty(VsmBox b) {
+    return !(b.lo.x <= b.hi.x && b.lo.y <= b.hi.y && b.lo.z <= b.hi.z);
+}
+
+// Half `side` (0 low, 1 high) of a box cut across its longest axis at its midpoint. Every point of the
+// box lies in one half or in both (each half is closed at the cut, wherever the midpoint rounds to), so
+// the pages of both halves hold every receiver's. The bounds of a half are tighter where the light's
+// projection couples the axes (a box long in light depth: vsmBoxTaps pairs its nearest depth with its
+// widest offsets), and a half may face away from the light where the whole does not.
+ML_FN VsmBox vsmHalfBox(VsmBox b, uint side) {
+    ML_PRECISE float ex = b.hi.x - b.lo.x, ey = b.hi.y - b.lo.y, ez = b.hi.z - b.lo.z;
+    VsmBox h = b;
+    if (ex >= ey && ex >= ez) {
+        ML_PRECISE float m = b.lo.x + ex * 0.5f;
+        if (side == 0u)
+            h.hi.x = m;
+        else
+            h.lo.x = m;
+    } else if (ey >= ez) {
+        ML_PRECISE float m = b.lo.y + ey * 0.5f;
+        if (side == 0u)
+            h.hi.y = m;
+        else
+            h.lo.y = m;
+    } else {
+        ML_PRECISE float m = b.lo.z + ez * 0.5f;
+        if (side == 0u)
+            h.hi.z = m;
+        else
+            h.lo.z = m;
+    }
+    return h;
+}
+
 // vsmFootprint's smallest and largest value over the box: per axis the smallest and largest |P - camera|.
 ML_FN vec2 vsmFootprintRange(vec3 camera, vec3 lo, vec3 hi, float perMetre) {
     ML_PRECISE float lx = lo.x - camera.x, ly = lo.y - camera.y, lz = lo.z - camera.z;
@@ -91,6 +163,81 @@ ML_FN uvec2 vsmBoxMips(GpuVsmMap map, VsmViewBox vb, vec2 footprint, uint resolu
     ML_PRECISE float t0Near = 2.0f * (zNear * map.params.x) / float(resolution);
     ML_PRECISE float t0Far = 2.0f * (zFar * map.params.x) / float(resolution);
     return uvec2(vsmPickMip(t0Far, footprint.x, mips), vsmPickMip(t0Near, footprint.y, mips));
+}
+
+// The light-view box vb of a perspective map narrowed in depth to the receivers that pick `mip`
+// (vsmPickMip of texel0 = 2 z params.x / R against footprints in [fp.x, fp.y]). A pick of mip m > 0 needs
+// fl(fp / t0) >= 2^m, so fp / t0 >= 2^m (1 - 2^-24) and z <= fp.y R / (2^(m+1) params.x) (1 + 4e-7); a
+// pick of m < mips - 1 needs fp / t0 < 2^(m+1), so z > fp.x R / (2^(m+2) params.x) (1 - 3e-7). The
+// factors 1.0001 and 0.9999 hold those and the rounding here. Receivers far from the light pick fine
+// mips, near ones coarse mips: the fine mips, the most pages per side, lose the near receivers, whose
+// taps spread widest. Empty (lo.z > hi.z) when no receiver of the box picks `mip`.
+ML_FN VsmViewBox vsmMipBox(GpuVsmMap map, VsmViewBox vb, vec2 fp, uint resolution, uint mip, uint mips) {
+    VsmViewBox b = vb;
+    ML_PRECISE float k = float(resolution) / (2.0f * map.params.x); // light depth per metre of texel0
+    if (mip > 0u) {
+        ML_PRECISE float zMax = fp.y * k / float(1u << mip) * 1.0001f;
+        b.lo.z = max(b.lo.z, -zMax);
+    }
+    if (mip + 1u < mips) {
+        ML_PRECISE float zMin = fp.x * k / float(2u << mip) * 0.9999f;
+        b.hi.z = min(b.hi.z, -zMin);
+    }
+    return b;
+}
+
+// The part of a world box [lo, hi] where a receiver's footprint (vsmFootprint) can lie below fpMax:
+// fl(fl(sqrt(S)) * perMetre) < fpMax needs |P - camera| < fpMax / perMetre (1 + 4e-7), so on each axis
+// |P.x - camera.x| is below that too. The 1.0001 and the positional slack |camera| * 1e-5 + 1e-4 m hold
+// it and the rounding of P - camera. A mip (clip level) m below the last is picked only where the
+// footprint is under 2^(m+1) texel0, so its taps come from this box with fpMax = 2^(m+1) texel0max:
+// the fine mips take the receivers near the camera only.
+ML_FN VsmBox vsmNearBox(vec3 camera, vec3 lo, vec3 hi, float fpMax, float perMetre) {
+    ML_PRECISE float d = fpMax / perMetre * 1.0001f;
+    ML_PRECISE float sx = d + (abs(camera.x) * 1e-5f + 1e-4f);
+    ML_PRECISE float sy = d + (abs(camera.y) * 1e-5f + 1e-4f);
+    ML_PRECISE float sz = d + (abs(camera.z) * 1e-5f + 1e-4f);
+    VsmBox b;
+    b.lo = vec3(max(lo.x, camera.x - sx), max(lo.y, camera.y - sy), max(lo.z, camera.z - sz));
+    b.hi = vec3(min(hi.x, camera.x + sx), min(hi.y, camera.y + sy), min(hi.z, camera.z + sz));
+    return b;
+}
+
+// A directional light's clip level `level` below the last is taken only by receivers whose matched
+// level (vsmPickLevel) is that one or finer, whose footprint is under 2^(level+1) times level 0's texel
+// (vsmPickLevel's operations): vsmNearBox of that. The whole box at the last level.
+ML_FN VsmBox vsmLevelBox(GpuVsmMap level0, vec3 camera, vec3 lo, vec3 hi, float perMetre, uint resolution,
+                         uint level, uint levels) {
+    VsmBox b;
+    b.lo = lo;
+    b.hi = hi;
+    if (level + 1u >= levels) return b;
+    ML_PRECISE float t = 2.0f * level0.params.x / float(resolution);
+    ML_PRECISE float fpMax = t * float(2u << level);
+    return vsmNearBox(camera, lo, hi, fpMax, perMetre);
+}
+
+// The receivers of a perspective map's box that pick `mip`: vsmMipBox's depth range, then, below the
+// last mip, the part of the world box [lo, hi] near enough to the camera (vsmNearBox with the largest
+// texel0 of that depth range, vsmTexel0's operations), in the light's view. Empty (some lo > hi) when
+// no receiver picks `mip`.
+ML_FN VsmViewBox vsmMipView(GpuVsmMap map, VsmViewBox vb, vec3 lo, vec3 hi, vec3 camera, vec2 fp,
+                            float perMetre, uint resolution, uint mip, uint mips) {
+    VsmViewBox b = vsmMipBox(map, vb, fp, resolution, mip, mips);
+    if (mip + 1u >= mips || !(b.lo.z <= b.hi.z)) return b;
+    ML_PRECISE float zFar = -b.lo.z;
+    ML_PRECISE float t0Far = 2.0f * (zFar * map.params.x) / float(resolution);
+    ML_PRECISE float fpMax = t0Far * float(2u << mip);
+    VsmBox w = vsmNearBox(camera, lo, hi, fpMax, perMetre);
+    if (vsmBoxEmpty(w)) {
+        b.lo.z = 1.0f; // no receiver: lo.z > hi.z
+        b.hi.z = 0.0f;
+        return b;
+    }
+    VsmViewBox n = vsmViewBox(map.view, w.lo, w.hi);
+    b.lo = vec3(max(b.lo.x, n.lo.x), max(b.lo.y, n.lo.y), max(b.lo.z, n.lo.z));
+    b.hi = vec3(min(b.hi.x, n.hi.x), min(b.hi.y, n.hi.y), min(b.hi.z, n.hi.z));
+    return b;
 }
 
 // The taps (vsmLocate's texel, before the PCF kernel) of the box's receivers at `mip` of `map`, widened

@@ -44,7 +44,9 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi
         uint stop = last;
         for (uint l = a; l < levels; ++l) {
             GpuVsmMap map = VSM_MAPS[firstMap + l];
-            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
+            VsmBox w = vsmLevelBox(VSM_MAPS[firstMap], frame.cameraPosition.xyz, lo, hi, VSM_CONST.camera.x, R, l, levels);
+            if (vsmBoxEmpty(w)) continue; // no receiver matches this level or a finer one
+            VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, w.lo, w.hi), vsmNormalViewBox(map.view, nlo, nhi));
             if (t.ok != 0u)
                 n += vsmMarkPages(firstMap + l, 0u, vsmRectPages(t.texels, 0u, radius, R, 0u, shift), 0u, mark);
             if (l >= b && t.held != 0u) {
@@ -78,7 +80,10 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi
         uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
         int wide = radius + vsmFallbackSlack(map);
         for (uint mip = range.x; mip <= range.y; ++mip) {
-            VsmTapRect t = vsmBoxTaps(map, R, mip, vb, nb);
+            // The receivers that pick this mip.
+            VsmViewBox mb = vsmMipView(map, vb, lo, hi, frame.cameraPosition.xyz, fp, VSM_CONST.camera.x, R, mip, mips);
+            if (!(mb.lo.x <= mb.hi.x && mb.lo.y <= mb.hi.y && mb.lo.z <= mb.hi.z)) continue;
+            VsmTapRect t = vsmBoxTaps(map, R, mip, mb, nb);
             if (t.ok == 0u) continue;
             n += vsmMarkPages(m, mip, vsmRectPages(t.texels, 0u, radius, R, mip, shift), 0u, mark);
             if (!reserve) continue;

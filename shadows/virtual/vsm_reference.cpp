@@ -125,10 +125,10 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     const size_t fw = in.markWords;
     const glm::vec2 fp = vsmFootprintRange(glm::vec3(in.frame.cameraPosition), lo, hi, k.camera.x);
     uint32_t n = 0;
-    auto level = [&](uint32_t l, size_t region) {
+    auto level = [&](uint32_t l, size_t region, glm::vec3 wlo, glm::vec3 whi) {
         const GpuVsmMap& map = in.maps[firstMap + l];
         VsmTapRect t =
-            vsmBoxTaps(map, R, 0, vsmViewBox(map.view, lo, hi), vsmNormalViewBox(map.view, nlo, nhi));
+            vsmBoxTaps(map, R, 0, vsmViewBox(map.view, wlo, whi), vsmNormalViewBox(map.view, nlo, nhi));
         if (t.ok)
             n += markPages(in, marks, firstMap + l, 0, vsmRectPages(t.texels, 0, radius, R, 0, shift), region,
                            mark);
@@ -139,8 +139,11 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
         const uint32_t a = vsmPickLevel(in.maps[firstMap], fp.x, R, levels);
         const uint32_t b = vsmPickLevel(in.maps[firstMap], fp.y, R, levels);
         uint32_t stop = last;
+        const glm::vec3 camera(in.frame.cameraPosition);
         for (uint32_t l = a; l < levels; ++l) {
-            VsmTapRect t = level(l, 0);
+            const VsmBox w = vsmLevelBox(in.maps[firstMap], camera, lo, hi, k.camera.x, R, l, levels);
+            if (vsmBoxEmpty(w)) continue; // no receiver matches this level or a finer one
+            VsmTapRect t = level(l, 0, w.lo, w.hi);
             if (l >= b && t.held) {
                 stop = l;
                 break;
@@ -148,8 +151,8 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
         }
         if (!reserve) return n;
         const uint32_t f1 = std::min(stop + ML_VSM_FALLBACK_MIPS, last);
-        for (uint32_t l = std::min(a + ML_VSM_FALLBACK_MIPS, last); l <= f1; ++l) level(l, fw);
-        if (f1 != last) level(last, fw);
+        for (uint32_t l = std::min(a + ML_VSM_FALLBACK_MIPS, last); l <= f1; ++l) level(l, fw, lo, hi);
+        if (f1 != last) level(last, fw, lo, hi);
         return n;
     }
     const uint32_t faces = L.info.x == ML_LIGHT_POINT ? 6 : 1;
@@ -161,7 +164,10 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
         const glm::uvec2 range = vsmBoxMips(map, vb, fp, R, mips);
         const int wide = radius + vsmFallbackSlack(map);
         for (uint32_t mip = range.x; mip <= range.y; ++mip) {
-            VsmTapRect t = vsmBoxTaps(map, R, mip, vb, nb);
+            const VsmViewBox mb =
+                vsmMipView(map, vb, lo, hi, glm::vec3(in.frame.cameraPosition), fp, k.camera.x, R, mip, mips);
+            if (!(mb.lo.x <= mb.hi.x && mb.lo.y <= mb.hi.y && mb.lo.z <= mb.hi.z)) continue;
+            VsmTapRect t = vsmBoxTaps(map, R, mip, mb, nb);
             if (!t.ok) continue;
             n += markPages(in, marks, m, mip, vsmRectPages(t.texels, 0, radius, R, mip, shift), 0, mark);
             if (!reserve) continue;
@@ -273,14 +279,32 @@ std::vector<uint32_t> vsmMarkClusterReference(const VsmMarkInputs& in, size_t* r
                 for (uint32_t i = 0; i < countOf(r); ++i) {
                     const GpuLight& L = lightOf(r, i);
                     if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, blo, bhi)) continue;
-                    if (vsmBoxFacesAway(L, blo, bhi, nl, nh)) {
+                    const VsmBox reach = vsmReachBox(L, blo, bhi);
+                    if (vsmBoxEmpty(reach)) continue;
+                    if (vsmBoxFacesAway(L, reach.lo, reach.hi, nl, nh)) {
                         if (facingAwayPairs) ++*facingAwayPairs;
                         continue;
                     }
-                    if (boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, false) <= ML_VSM_CLUSTER_PAGES)
-                        boxPages(in, marks, L, L.info.y, blo, bhi, nl, nh, true);
-                    else
+                    // The box, or its two halves where they count fewer pages, from 4 pages on
+                    // (vsm_mark_cluster.comp).
+                    const uint32_t whole =
+                        boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, false);
+                    const VsmBox h0 = vsmHalfBox(reach, 0), h1 = vsmHalfBox(reach, 1);
+                    const bool use0 = !vsmBoxEmpty(h0) && !vsmBoxFacesAway(L, h0.lo, h0.hi, nl, nh);
+                    const bool use1 = !vsmBoxEmpty(h1) && !vsmBoxFacesAway(L, h1.lo, h1.hi, nl, nh);
+                    const uint32_t halves =
+                        whole <= 3
+                            ? whole
+                            : (use0 ? boxPages(in, marks, L, L.info.y, h0.lo, h0.hi, nl, nh, false) : 0) +
+                                  (use1 ? boxPages(in, marks, L, L.info.y, h1.lo, h1.hi, nl, nh, false) : 0);
+                    if (std::min(whole, halves) > ML_VSM_CLUSTER_PAGES) {
                         refine.push_back({s, i});
+                    } else if (halves < whole) {
+                        if (use0) boxPages(in, marks, L, L.info.y, h0.lo, h0.hi, nl, nh, true);
+                        if (use1) boxPages(in, marks, L, L.info.y, h1.lo, h1.hi, nl, nh, true);
+                    } else {
+                        boxPages(in, marks, L, L.info.y, reach.lo, reach.hi, nl, nh, true);
+                    }
                 }
             }
             if (refinedPairs) *refinedPairs += refine.size();
