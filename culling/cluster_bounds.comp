@@ -211,9 +211,9 @@ void main() {
                 // A receiver's point goes to the receivers' box only (the cluster's box is the union of
                 // both, at the end), and each atomic is skipped when the value already read bounds the
                 // pixel's: the shared value only moves towards it, so a skipped atomic would have changed
-                // nothing. Most pixels of a cluster share its normal, so most of these are skipped; with
-                // 12 unconditional atomics the variant cost 1.8x the plain pass on lavapipe (90 against
-                // 51 ms at 640x360, night city).
+                // nothing. Most pixels of a cluster share its normal, so most of these are skipped; 12
+                // unconditional atomics a pixel made the variant 1.8x the plain pass on lavapipe
+                // (docs/results/log.md has the run).
                 vec3 n = clusterUnitNormal(stored.xyz);
                 for (int c = 0; c < 3; ++c) {
                     uint k = toKey(p[c]);
