@@ -75,8 +75,8 @@ step need            table        docs/accuracy.md          -    "section 8: res
 step vsm-rays        table        docs/accuracy.md          -    "section 9: VSM one-tap answers against rays, night city and indoor, texels per pixel 0.5-4"
 step vsm-drive       image        docs/virtual-shadow-maps.md -  "drive path frame 39 and its page view -> docs/vsm-drive.png, docs/vsm-drive-pages.png"
 step vsm             table        docs/virtual-shadow-maps.md -  "bench vsm (no bake, bake, 128^2 pages), memory from demo stats, check vsm"
-step vsm-meshlets    table        docs/virtual-shadow-maps.md -  "mesh against vertex page draws, night city and fzk-haus, two runs each"
-step vsm-pageclip    table        docs/virtual-shadow-maps.md -  "page draws clipped to dirty pages against whole-mip draws, night city moon and indoor"
+step vsm-meshlets    table        docs/vsm-page-draws.md    -    "mesh against vertex page draws, night city and fzk-haus, two runs each"
+step vsm-pageclip    table        docs/vsm-page-draws.md    -    "page draws clipped to dirty pages against whole-mip draws, night city moon and indoor"
 step fuzz            table        docs/reliability.md       slow "tools/fuzz.sh 660 (bake files and glTF)"
 step sanitize        table        docs/reliability.md       slow "tools/sanitize.sh -j2 (ASan + UBSan build in build-asan/, whole ctest)"
 
