@@ -198,8 +198,17 @@ void FrameSetup::record(VkCommandBuffer cmd, std::span<const StagedCopy> more) c
     if (!fills.empty() && (!copies.empty() || !more.empty()))
         memoryBarrier(cmd, kFillStages, VK_ACCESS_2_TRANSFER_WRITE_BIT, kFillStages,
                       VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    for (const StagedCopy& c : copies)
+    // A copy reading what an earlier copy of the list wrote (read-after-write: a buffer grown twice while
+    // one frame was prepared, A -> B then B -> C) waits for it. Growth is rare, so one list scan is cheap.
+    for (size_t i = 0; i < copies.size(); ++i) {
+        const StagedCopy& c = copies[i];
+        bool after = false;
+        for (size_t j = 0; j < i && !after; ++j) after = copies[j].destination == c.source;
+        if (after)
+            memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
         vkCmdCopyBuffer(cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
+    }
     for (const StagedCopy& c : more)
         vkCmdCopyBuffer(cmd, c.source, c.destination, uint32_t(c.regions.size()), c.regions.data());
 }

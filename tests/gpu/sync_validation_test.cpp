@@ -79,4 +79,28 @@ TEST(SyncValidation, TwoFramesInOneCommandBuffer) {
     EXPECT_EQ(validationErrors(), 0u);
 }
 
+// The map slot pool grown several times while one frame is prepared (initialMaps 1, then every light that
+// needs a slot doubles it): each growth copies the page table into a new buffer, so copy k reads what
+// copy k-1 wrote. FrameSetup::record orders them (read-after-write); without that barrier
+// synchronization validation reports SYNC-HAZARD-READ-AFTER-WRITE on vsm_page_table (found by
+// ApiFuzzSyncValidation).
+TEST(SyncValidation, MapSlotsGrownTwiceInOneFrame) {
+    resetValidationCounters();
+    ModuleOptions o;
+    o.device.validationSync = true;
+    o.vsm.enabled = true;
+    o.vsm.initialMaps = 1;
+    auto created = Module::create(o);
+    ASSERT_TRUE(created.ok()) << created.error();
+    Module& m = *created.value();
+    auto scene = loadScene("night-city", 32, 2);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    ASSERT_TRUE(bindScene(m, scene.value()).ok());
+    ASSERT_TRUE(m.createTargets(160, 90).ok());
+    ASSERT_TRUE(m.submitFrame().ok());
+    vkQueueWaitIdle(m.deviceInfo().queue);
+    EXPECT_GE(internals(m).vsm.mapCapacity(), 4u) << "the pool did not grow twice (nothing tested)";
+    EXPECT_EQ(validationErrors(), 0u);
+}
+
 } // namespace ml::test
