@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -74,6 +75,8 @@ bake), Embree rays from the same G-buffer receivers. Table on stdout, CSV in --o
                  the 2x2 texels around each static light's lookup, weighted by the sub-texel position
                  (row "static, VSM 2x2 bilinear"; needs a --pcf radius >= 1, so that its taps are resident)
   --lamp-bias N,D  the static lights' shadowNormalBias and shadowDepthBias (LightDesc; default 1,0.5)
+  --lamp-texels T  the static lights' shadowTexelScale (LightDesc: T times --vsm-texels for them alone;
+                 0.25, 0.5, 1 (default), 2, 4 or 8)
   --out DIR      bench_flicker_vsm.csv (default out/bench_flicker_vsm)
 Last stdout line: {"pairs": N, "truth_flips": T, "flips": F, "mismatches": M, ..., "pages_allocated_mean":
 P} (P: every light's pages allocated per frame, mean after the first); exit 0 only when pairs were
@@ -118,6 +121,7 @@ struct Run {
     uint32_t frames = 0, compareRes = 0, moduleRadius = 0;
     bool bilinear = false;
     float normalBias = -1.0f, depthBias = -1.0f; // --lamp-bias (negative: the lights' own)
+    float lampTexels = 1.0f;                     // --lamp-texels
     std::vector<uint32_t> radii;
     std::string out;
     std::unordered_map<uint32_t, uint32_t> sceneLight; // module light index -> scene light
@@ -146,6 +150,13 @@ Result<Run> parseRun(const cli::Args& args) {
             !(run.normalBias >= 0.0f) || !(run.depthBias >= 0.0f) || run.normalBias > kMaxShadowBias ||
             run.depthBias > kMaxShadowBias)
             return fail("--lamp-bias: '" + v + "' is not N,D (two biases in [0, kMaxShadowBias])");
+    }
+    if (args.has("--lamp-texels")) {
+        const std::string v = args.get("--lamp-texels", "");
+        char* end = nullptr;
+        run.lampTexels = std::strtof(v.c_str(), &end);
+        if (v.empty() || *end || !validTexelsPerPixel(run.lampTexels))
+            return fail("--lamp-texels: '" + v + "' is not 0.25, 0.5, 1, 2, 4 or 8");
     }
     if (run.bilinear && run.moduleRadius < 1) return fail("--bilinear needs a --pcf radius >= 1");
     run.out = args.get("--out", "out/bench_flicker_vsm");
@@ -397,8 +408,8 @@ Result<Sums> report(const Run& run, const VsmSession& s, const Counts& c) {
 } // namespace
 
 // The flags of `bench flicker --vsm` beside its option groups.
-const cli::Flags kFlickerVsmFlags{{"--pcf", "--vsm-raster", "--out", "--compare-res", "--lamp-bias"},
-                                  {"--bilinear"}};
+const cli::Flags kFlickerVsmFlags{
+    {"--pcf", "--vsm-raster", "--out", "--compare-res", "--lamp-bias", "--lamp-texels"}, {"--bilinear"}};
 
 int runBenchFlickerVsm(int argc, char** argv) {
     int status = 0;
@@ -420,11 +431,13 @@ int runBenchFlickerVsm(int argc, char** argv) {
         return usageError("bench flicker --vsm", r.error());
     // bindScene adds the scene's lights in order to a fresh module.
     for (uint32_t k = 0; k < s.binding.lights.size(); ++k) run.sceneLight[s.binding.lights[k]] = k;
-    if (run.normalBias >= 0.0f) // static lights only: updateScene re-sets the moving ones every frame
-        for (uint32_t k = 0; k < s.binding.lights.size(); ++k) {
+    if (run.normalBias >= 0.0f || run.lampTexels != 1.0f) // static lights only: updateScene re-sets the
+        for (uint32_t k = 0; k < s.binding.lights.size(); ++k) { // moving ones every frame
             if (s.scene.lights[k].dynamic) continue;
             LightDesc d = toLightDesc(s.scene.lights[k]);
-            d.shadowNormalBias = run.normalBias, d.shadowDepthBias = run.depthBias;
+            if (run.normalBias >= 0.0f)
+                d.shadowNormalBias = run.normalBias, d.shadowDepthBias = run.depthBias;
+            d.shadowTexelScale = run.lampTexels;
             if (auto r = s.module->setLight(s.binding.lights[k], d); !r)
                 return runError("bench flicker --vsm", r.error());
         }

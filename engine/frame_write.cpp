@@ -158,6 +158,7 @@ void Module::Impl::updateLightRecords() {
         v.castsShadows = lightAlive[i] && l.castsShadows;
         v.depthBias = l.shadowDepthBias;
         v.normalBias = l.shadowNormalBias;
+        v.texelScaleLog2 = int32_t(std::lround(std::log2(l.shadowTexelScale))); // a power of two: exact
         const uint32_t faces = l.kind == LightKind::Point ? 6u : 1u;
         bool baked = true; // spot: face 0, point: six faces, directional: its orthographic bake
         for (uint32_t f = 0; f < faces; ++f) baked = baked && shadows[i][f].method != StaticMethod::None;

@@ -1,5 +1,7 @@
 #include "lights/lights.h"
 
+#include "manylights/vsm_settings.h"
+
 #include <cmath>
 #include <string>
 #include <utility>
@@ -41,6 +43,9 @@ Result<void> validateLight(const LightDesc& desc) {
     if (l.shadowResolution != 0 && (l.shadowResolution < 8 || l.shadowResolution > 16384))
         return fail("light shadowResolution " + std::to_string(l.shadowResolution) +
                     " is not 0 (the bake's) or in 8..16384");
+    if (!validTexelsPerPixel(l.shadowTexelScale))
+        return fail("light shadowTexelScale " + std::to_string(l.shadowTexelScale) +
+                    " is not a power of two in 1/4..8");
     if (l.kind == LightKind::Spot) {
         if (!std::isfinite(l.outerAngle) || l.outerAngle <= 0 || l.outerAngle >= 1.5707963f)
             return fail("spot outer half angle must be in (0, pi/2) radians");

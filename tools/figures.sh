@@ -276,6 +276,10 @@ step_vsm-texels() {
         run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --bilinear --out "$D/flicker_bilinear_$t"
         run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0,1 --vsm-res 4096 --compare-res 1024 --vsm-texels $t --lamp-bias 0.5,0.5 --bilinear --out "$D/flicker_both_$t"
     done
+    # Per light: the static lights' LightDesc::shadowTexelScale, every other light at 1.
+    for t in 2 4; do
+        run "$ML" bench flicker --vsm --frames 16 --size 320x180 --pcf 0 --vsm-res 4096 --compare-res 1024 --lamp-texels $t --out "$D/flicker_lamps_$t"
+    done
 }
 step_vsm-rays() {
     run "$ML" bench vsm-rays --scene night-city --frames 3 --size 320x180 --out "$D/city"

@@ -40,11 +40,18 @@ struct LightDesc {
     // Static resolution hint: Module::bakeStaticShadows renders this light's maps at shadowResolution^2
     // (8..16384) instead of the call's resolution; 0: the call's. Virtual shadow maps do not read it.
     uint32_t shadowResolution = 0;
+    // Virtual shadow maps: this light's lookups pick texels shadowTexelScale times finer per axis than
+    // VsmSettings::texelsPerPixel asks (a power of two, 1/4..8; 2 is one mip finer: up to 4x this light's
+    // pages). Finer texels flicker less under a moving camera (docs/accuracy.md section 7); a host spends
+    // them on the lights whose shadows are seen most. Page contents do not depend on it, so changing it
+    // keeps the cached pages. Static bakes do not read it (shadowResolution is theirs).
+    float shadowTexelScale = 1.0f;
 };
-// 76 bytes whatever the includer's compile definitions (bools padded to 4 before `unit`).
-static_assert(sizeof(LightDesc) == 76 && offsetof(LightDesc, position) == 4 &&
+// 80 bytes whatever the includer's compile definitions (bools padded to 4 before `unit`).
+static_assert(sizeof(LightDesc) == 80 && offsetof(LightDesc, position) == 4 &&
               offsetof(LightDesc, color) == 28 && offsetof(LightDesc, dynamic) == 56 &&
-              offsetof(LightDesc, unit) == 60 && offsetof(LightDesc, shadowResolution) == 72);
+              offsetof(LightDesc, unit) == 60 && offsetof(LightDesc, shadowResolution) == 72 &&
+              offsetof(LightDesc, shadowTexelScale) == 76);
 constexpr float kMaxShadowBias = 64.0f; // texels; past that a light's shadows detach from their casters
 
 // The intensity the shading uses (candela, or lux for a directional light) after LightDesc::unit.

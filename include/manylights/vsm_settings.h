@@ -53,7 +53,7 @@ struct VsmSettings {
     // Shadow texels per pixel footprint, per axis, in the mip (and clip level) a lookup picks: 1 matches a
     // texel to the pixel (the seed's resolution matching); 2 picks one mip finer (4x the pages where it
     // applies), 0.5 one coarser. Finer texels flicker less under a moving camera (docs/accuracy.md
-    // section 7). A power of two in 1/4..8.
+    // section 7). A power of two in 1/4..8; LightDesc::shadowTexelScale multiplies it per light.
     float texelsPerPixel = 1.0f;
     // Page marking per cluster-light pair against the cluster's bounds (a superset of the per-pixel marks)
     // in the clustered culling modes; false, or `none` / `tiled` culling: per receiver pixel. Off by

@@ -309,6 +309,7 @@ void VirtualShadowMaps::buildMap(uint32_t map, const VsmLight& l, uint32_t face,
     g.light = glm::uvec4(info.light, face, l.kind == ML_LIGHT_DIRECTIONAL ? settings_.clipLevels : mips_, 0);
     g.info.y = l.staticBake ? ML_VSM_MAP_DYNAMIC_ONLY : 0u;
     g.bias = glm::vec4(l.depthBias, l.normalBias, 0.0f, 0.0f); // texel contents do not depend on it
+    g.info.z = uint32_t(l.texelScaleLog2);                     // nor on this (vsmPerMetre)
     if (l.kind == ML_LIGHT_DIRECTIONAL) {
         // Clip level `face`: a square of half extent h around the camera, snapped to whole pages in the
         // light's plane (and to 1/8 of the depth span along it) so that cached pages stay valid while the

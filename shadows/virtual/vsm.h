@@ -84,13 +84,16 @@ struct VsmLight {
     bool staticBake = false; // every face has a static bake: maps hold dynamic casters only
     // LightDesc::shadowDepthBias / shadowNormalBias: GpuVsmMap.bias (lookups and marking, vsm_math.h).
     float depthBias = 0.5f, normalBias = 1.0f;
+    // log2 of LightDesc::shadowTexelScale (-2..3): GpuVsmMap.info.z, read by vsmPerMetre (vsm_math.h).
+    int32_t texelScaleLog2 = 0;
     // The host's stamp of the light this was made from (a new value at every change; 0: none, then
     // prepare() compares the fields). Not part of the comparison: a light set to what it was is the same.
     uint64_t version = 0;
     bool operator==(const VsmLight& o) const {
         return kind == o.kind && position == o.position && direction == o.direction && range == o.range &&
                outerAngle == o.outerAngle && castsShadows == o.castsShadows && moving == o.moving &&
-               staticBake == o.staticBake && depthBias == o.depthBias && normalBias == o.normalBias;
+               staticBake == o.staticBake && depthBias == o.depthBias && normalBias == o.normalBias &&
+               texelScaleLog2 == o.texelScaleLog2;
     }
 };
 struct VsmInstance {

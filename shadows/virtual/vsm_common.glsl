@@ -36,7 +36,7 @@ VsmChoice vsmChoose(GpuLight L, uint firstMap, vec3 P, vec3 N) {
     c.mip = 0u;
     c.tap.ok = 0u;
     uint R = VSM_CONST.options.z;
-    float footprint = vsmFootprint(frame.cameraPosition.xyz, P, VSM_CONST.camera.x);
+    float footprint = vsmFootprint(frame.cameraPosition.xyz, P, vsmPerMetre(VSM_CONST.camera.x, VSM_MAPS[firstMap]));
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         uint levels = VSM_MAPS[firstMap].light.z;
         uint level = vsmPickLevel(VSM_MAPS[firstMap], footprint, R, levels);

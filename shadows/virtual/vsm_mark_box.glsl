@@ -33,7 +33,8 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi
     int radius = int(VSM_CONST.options.x);
     bool reserve = VSM_CONST.camera.z != 0.0;
     uint fw = VSM_CONST.options.w;
-    vec2 fp = vsmFootprintRange(frame.cameraPosition.xyz, lo, hi, VSM_CONST.camera.x);
+    float perMetre = vsmPerMetre(VSM_CONST.camera.x, VSM_MAPS[firstMap]); // the light's texel scale
+    vec2 fp = vsmFootprintRange(frame.cameraPosition.xyz, lo, hi, perMetre);
     uint n = 0u;
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         // A receiver takes the first level at or above its matched one that holds it: levels [a, stop],
@@ -44,7 +45,7 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi
         uint stop = last;
         for (uint l = a; l < levels; ++l) {
             GpuVsmMap map = VSM_MAPS[firstMap + l];
-            VsmBox w = vsmLevelBox(VSM_MAPS[firstMap], frame.cameraPosition.xyz, lo, hi, VSM_CONST.camera.x, R, l, levels);
+            VsmBox w = vsmLevelBox(VSM_MAPS[firstMap], frame.cameraPosition.xyz, lo, hi, perMetre, R, l, levels);
             if (vsmBoxEmpty(w)) continue; // no receiver matches this level or a finer one
             VsmTapRect t = vsmBoxTaps(map, R, 0u, vsmViewBox(map.view, w.lo, w.hi), vsmNormalViewBox(map.view, nlo, nhi));
             if (t.ok != 0u)
@@ -81,7 +82,7 @@ uint vsmBoxPages(GpuLight L, uint firstMap, vec3 lo, vec3 hi, vec3 nlo, vec3 nhi
         int wide = radius + vsmFallbackSlack(map);
         for (uint mip = range.x; mip <= range.y; ++mip) {
             // The receivers that pick this mip.
-            VsmViewBox mb = vsmMipView(map, vb, lo, hi, frame.cameraPosition.xyz, fp, VSM_CONST.camera.x, R, mip, mips);
+            VsmViewBox mb = vsmMipView(map, vb, lo, hi, frame.cameraPosition.xyz, fp, perMetre, R, mip, mips);
             if (!(mb.lo.x <= mb.hi.x && mb.lo.y <= mb.hi.y && mb.lo.z <= mb.hi.z)) continue;
             VsmTapRect t = vsmBoxTaps(map, R, mip, mb, nb);
             if (t.ok == 0u) continue;

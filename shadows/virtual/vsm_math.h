@@ -85,7 +85,18 @@ ML_FN vec3 vsmNormalize(vec3 n) {
     ML_PRECISE float x = n.x / len, y = n.y / len, z = n.z / len;
     return vec3(x, y, z);
 }
-// Pixel footprint in metres at world point P (camera.x of VsmConstants = 2 tan(fovY/2) / height).
+// The footprint per metre of distance that a light's lookups divide by: VsmConstants.camera.x (2 tan(fovY/2)
+// / height / VsmSettings::texelsPerPixel) halved e times, e = int(GpuVsmMap.info.z) of the light's first
+// map, log2 of LightDesc::shadowTexelScale (-2..3; 0 in a map built without one). Halving and doubling are
+// exact, so the lookup, the per-pixel marks and the cluster bounds all see this one value.
+ML_FN float vsmPerMetre(float perMetre, GpuVsmMap first) {
+    int e = int(first.info.z);
+    ML_PRECISE float f = perMetre;
+    for (int i = 0; i < e; ++i) f = f * 0.5f;
+    for (int i = 0; i > e; --i) f = f * 2.0f;
+    return f;
+}
+// Pixel footprint in metres at world point P (perMetre: vsmPerMetre's).
 ML_FN float vsmFootprint(vec3 cameraPosition, vec3 P, float perMetre) {
     ML_PRECISE float dx = P.x - cameraPosition.x, dy = P.y - cameraPosition.y, dz = P.z - cameraPosition.z;
     ML_PRECISE float f = sqrt(dx * dx + dy * dy + dz * dz) * perMetre;

@@ -29,7 +29,8 @@ Choice choose(const VsmMarkInputs& in, const GpuLight& L, uint32_t firstMap, glm
     c.tap.ok = 0;
     const VsmConstants& k = in.constants;
     const uint32_t R = k.options.z;
-    const float footprint = vsmFootprint(glm::vec3(in.frame.cameraPosition), P, k.camera.x);
+    const float footprint =
+        vsmFootprint(glm::vec3(in.frame.cameraPosition), P, vsmPerMetre(k.camera.x, in.maps[firstMap]));
     if (L.info.x == ML_LIGHT_DIRECTIONAL) {
         const uint32_t levels = in.maps[firstMap].light.z;
         const uint32_t level = vsmPickLevel(in.maps[firstMap], footprint, R, levels);
@@ -123,7 +124,8 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
     const int radius = int(k.options.x);
     const bool reserve = k.camera.z != 0.0f;
     const size_t fw = in.markWords;
-    const glm::vec2 fp = vsmFootprintRange(glm::vec3(in.frame.cameraPosition), lo, hi, k.camera.x);
+    const float perMetre = vsmPerMetre(k.camera.x, in.maps[firstMap]); // the light's texel scale
+    const glm::vec2 fp = vsmFootprintRange(glm::vec3(in.frame.cameraPosition), lo, hi, perMetre);
     uint32_t n = 0;
     auto level = [&](uint32_t l, size_t region, glm::vec3 wlo, glm::vec3 whi) {
         const GpuVsmMap& map = in.maps[firstMap + l];
@@ -141,7 +143,7 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
         uint32_t stop = last;
         const glm::vec3 camera(in.frame.cameraPosition);
         for (uint32_t l = a; l < levels; ++l) {
-            const VsmBox w = vsmLevelBox(in.maps[firstMap], camera, lo, hi, k.camera.x, R, l, levels);
+            const VsmBox w = vsmLevelBox(in.maps[firstMap], camera, lo, hi, perMetre, R, l, levels);
             if (vsmBoxEmpty(w)) continue; // no receiver matches this level or a finer one
             VsmTapRect t = level(l, 0, w.lo, w.hi);
             if (l >= b && t.held) {
@@ -165,7 +167,7 @@ uint32_t boxPages(const VsmMarkInputs& in, std::vector<uint32_t>& marks, const G
         const int wide = radius + vsmFallbackSlack(map);
         for (uint32_t mip = range.x; mip <= range.y; ++mip) {
             const VsmViewBox mb =
-                vsmMipView(map, vb, lo, hi, glm::vec3(in.frame.cameraPosition), fp, k.camera.x, R, mip, mips);
+                vsmMipView(map, vb, lo, hi, glm::vec3(in.frame.cameraPosition), fp, perMetre, R, mip, mips);
             if (!(mb.lo.x <= mb.hi.x && mb.lo.y <= mb.hi.y && mb.lo.z <= mb.hi.z)) continue;
             VsmTapRect t = vsmBoxTaps(map, R, mip, mb, nb);
             if (!t.ok) continue;

@@ -54,7 +54,8 @@ ML_STRUCT(GpuVsmMap) {
     mat4 viewProj; // world -> clip of the whole map (NDC [-1,1]^2; viewport of the mip rescales)
     mat4 view;     // world -> light view, looking down -Z
     vec4 params;   // x tan(fov/2) (perspective) or half extent (orthographic), y near, z far, w unused
-    uvec4 info;    // x ML_VSM_PERSPECTIVE/ORTHOGRAPHIC, y flags, zw unused
+    uvec4 info;    // x ML_VSM_PERSPECTIVE/ORTHOGRAPHIC, y flags, z log2 of the light's texel scale as a
+                   // signed integer (vsmPerMetre), w unused
     uvec4 light;   // x module light id, y clip level (directional) or face, z mips, w unused
     vec4 bias;     // the light's shadow bias (LightDesc): x depth bias in texels of the mip read (default
                    // 0.5), y scale on the one-texel normal offset (default 1), zw 0

@@ -39,6 +39,7 @@ void printLayout() {
     ML_OFFSET(LightDesc, intensity);
     ML_OFFSET(LightDesc, unit);
     ML_OFFSET(LightDesc, shadowResolution);
+    ML_OFFSET(LightDesc, shadowTexelScale);
     ML_LAYOUT(CameraDesc);
     ML_OFFSET(CameraDesc, target);
     ML_OFFSET(CameraDesc, up);

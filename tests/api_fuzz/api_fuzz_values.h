@@ -57,6 +57,7 @@ inline Candidate<LightDesc> randomLight(Rng& r) {
     l.shadowDepthBias = r.uniform(0, 4);
     l.shadowNormalBias = r.uniform(0, 3);
     l.shadowResolution = r.chance(0.2) ? 8 + r.below(120) : 0;
+    l.shadowTexelScale = r.chance(0.2) ? 0.25f * float(1u << r.below(6)) : 1.0f; // 1/4..8
     Candidate<LightDesc> c{l};
     if (r.chance(0.25)) { // edges of the valid ranges
         switch (r.below(6)) {
@@ -89,7 +90,7 @@ inline Candidate<LightDesc> brokenLight(Rng& r) {
     Candidate<LightDesc> c = randomLight(r);
     LightDesc& l = c.value;
     c.broken = true;
-    switch (r.below(12)) {
+    switch (r.below(13)) {
     case 0:
         l.position.x = kNaN, c.what = "NaN position";
         break;
@@ -123,6 +124,9 @@ inline Candidate<LightDesc> brokenLight(Rng& r) {
         break;
     case 10:
         l.shadowResolution = r.chance(0.5) ? 3u : 1u << 20, c.what = "shadowResolution out of range";
+        break;
+    case 11:
+        l.shadowTexelScale = r.chance(0.5) ? 3.0f : kNaN, c.what = "shadowTexelScale not a power of two";
         break;
     default:
         l.kind = LightKind(3 + r.below(100)), c.what = "unknown kind";
