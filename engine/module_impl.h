@@ -129,7 +129,12 @@ struct Module::Impl {
     std::optional<CameraMatrices> hostCamera; // setCameraMatrices: used as given (plus jitter)
     bool cameraSet = false;             // record() refuses a frame before setCamera or setCameraMatrices
     CameraMatrices frameCamera() const; // view and jittered projection for the current target size
-    bool meshesDirty = true; // addMesh: vertices, indices and meshlets re-uploaded into new buffers
+    bool meshesDirty = true; // addMesh: the new vertices, indices and meshlets to upload (uploadMeshes)
+    // Mesh data is append-only (removeMesh keeps its vertices), so each of the five mesh buffers
+    // (vertices, indices, meshlets, meshlet vertices, meshlet triangles) holds a prefix of its CPU array:
+    // the bytes uploaded, with capacity to spare (doubling). Tests read meshBytesStaged: the bytes sent.
+    std::array<size_t, 5> meshBytesUploaded{};
+    uint64_t meshBytesStaged = 0;
     Buffer vertexBuffer, indexBuffer, readback;
     MeshletSet meshlets;
     Buffer meshletBuffer, meshletVertexBuffer, meshletTriangleBuffer;

@@ -41,10 +41,13 @@ void Module::Impl::retireStaged() {
 }
 
 Result<void> Module::Impl::uploadMeshes() {
-    // Frames in flight may read the old buffers: new GPU-only ones, the old ones retired. Meshes are
-    // load-time data, so the whole set is re-uploaded (once per frame with any addMesh), through one
-    // staging buffer that the frame copies at its start. A failure destroys what was made here and
-    // leaves meshesDirty set, so the next record() tries again.
+    // Meshes only grow (addMesh appends, removeMesh keeps the data), so only the bytes past what each
+    // buffer holds are staged and copied at the frame's start, into the range past the old end that no
+    // frame in flight reads (no instance of a new mesh was recorded before). A part past its buffer's
+    // capacity gets a new GPU-only buffer of twice the capacity (or what it needs) holding the whole
+    // array; frames in flight keep reading the old one, retired. So adding n meshes one frame at a time
+    // stages each byte once, plus the whole array at each doubling. A failure destroys what was made
+    // here and leaves meshesDirty set, so the next record() tries again.
     const Device& d = *device;
     struct Part {
         Buffer* buffer;
@@ -65,31 +68,45 @@ Result<void> Module::Impl::uploadMeshes() {
         {&meshletTriangleBuffer, meshlets.triangles.data(), meshlets.triangles.size() * 4,
          kStorageBufferUsage, "meshlet_triangles"}};
     constexpr size_t kParts = std::size(parts);
-    Buffer made[kParts];
-    std::vector<uint8_t> bytes; // every part at a 16-byte aligned offset
-    size_t offset[kParts];
+    static_assert(kParts == std::tuple_size_v<decltype(meshBytesUploaded)>);
+    Buffer made[kParts];                 // the parts that grow
+    size_t from[kParts], offset[kParts]; // first byte to send; its place in the staging bytes
+    std::vector<uint8_t> bytes;          // every part's new bytes at a 16-byte aligned offset
     for (size_t i = 0; i < kParts; ++i) {
+        const bool fits = parts[i].buffer->buffer && parts[i].size <= parts[i].buffer->size;
+        from[i] = fits ? std::min(meshBytesUploaded[i], parts[i].size) : 0;
         offset[i] = bytes.size();
-        bytes.resize(offset[i] + ((parts[i].size + 15) & ~size_t(15)));
-        if (parts[i].size) std::memcpy(bytes.data() + offset[i], parts[i].data, parts[i].size);
+        const size_t n = parts[i].size - from[i];
+        bytes.resize(offset[i] + ((n + 15) & ~size_t(15)));
+        if (n) std::memcpy(bytes.data() + offset[i], static_cast<const uint8_t*>(parts[i].data) + from[i], n);
     }
-    auto fresh = [&]() -> Result<void> {
+    auto staged = [&]() -> Result<void> {
         std::vector<StagedCopy> copies;
         for (size_t i = 0; i < kParts; ++i) {
-            ML_TRY(createBuffer(d, made[i], std::max<size_t>(parts[i].size, 16), parts[i].usage,
-                                parts[i].name, MemoryRole::GpuOnly));
-            if (parts[i].size)
-                copies.push_back({VK_NULL_HANDLE, made[i].buffer, {{offset[i], 0, parts[i].size}}});
+            VkBuffer target = parts[i].buffer->buffer;
+            if (!target || parts[i].size > parts[i].buffer->size) {
+                const size_t capacity =
+                    std::max({parts[i].size, size_t(2 * parts[i].buffer->size), size_t(16)});
+                ML_TRY(
+                    createBuffer(d, made[i], capacity, parts[i].usage, parts[i].name, MemoryRole::GpuOnly));
+                target = made[i].buffer;
+            }
+            if (parts[i].size > from[i])
+                copies.push_back({VK_NULL_HANDLE, target, {{offset[i], from[i], parts[i].size - from[i]}}});
         }
         return stage(bytes, std::move(copies), "mesh_staging");
     }();
-    if (!fresh) {
+    if (!staged) {
         for (Buffer& b : made) destroyBuffer(d, b);
-        return fresh;
+        return staged;
     }
     for (size_t i = 0; i < kParts; ++i) {
-        retire(*parts[i].buffer);
-        *parts[i].buffer = made[i];
+        if (made[i].buffer) {
+            retire(*parts[i].buffer);
+            *parts[i].buffer = made[i];
+        }
+        meshBytesStaged += parts[i].size - from[i];
+        meshBytesUploaded[i] = parts[i].size;
     }
     meshesDirty = false;
     return {};
