@@ -85,7 +85,7 @@ ML_FN vec3 vsmNormalize(vec3 n) {
     ML_PRECISE float x = n.x / len, y = n.y / len, z = n.z / len;
     return vec3(x, y, z);
 }
-// The footprint per metre of distance that a light's lookups divide by: VsmConstants.camera.x (2 tan(fovY/2)
+// A light's pixel footprint per metre of distance: VsmConstants.camera.x (2 tan(fovY/2)
 // / height / VsmSettings::texelsPerPixel) halved e times, e = int(GpuVsmMap.info.z) of the light's first
 // map, log2 of LightDesc::shadowTexelScale (-2..3; 0 in a map built without one). Halving and doubling are
 // exact, so the lookup, the per-pixel marks and the cluster bounds all see this one value.
