@@ -15,6 +15,27 @@
 namespace ml::test {
 namespace {
 
+// A closed box of half extents `half` around the origin: one face per axis and sign, CCW seen from outside.
+MeshDesc boxMesh(glm::vec3 half, std::string name, std::vector<MeshVertex>& v, std::vector<uint32_t>& idx) {
+    v.clear();
+    idx.clear();
+    for (int axis = 0; axis < 3; ++axis)
+        for (float s : {-1.0f, 1.0f}) {
+            glm::vec3 n(0.0f), u(0.0f), w(0.0f);
+            n[axis] = s;
+            u[(axis + 1) % 3] = 1.0f;
+            w[(axis + 2) % 3] = 1.0f;
+            if (s < 0) std::swap(u, w);
+            const uint32_t b = uint32_t(v.size());
+            for (glm::vec3 c : {n - u - w, n + u - w, n + u + w, n - u + w}) {
+                const glm::vec3 p = c * half;
+                v.push_back({{p.x, p.y, p.z}, {n.x, n.y, n.z}});
+            }
+            for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) idx.push_back(b + k);
+        }
+    return {v, idx, true, std::move(name)};
+}
+
 void addScene(Module& m, MeshId& quad, MeshId& box) {
     static const std::vector<MeshVertex> qv = {
         {{-8, 0, -8}, {0, 1, 0}}, {{8, 0, -8}, {0, 1, 0}}, {{8, 0, 8}, {0, 1, 0}}, {{-8, 0, 8}, {0, 1, 0}}};
@@ -22,20 +43,7 @@ void addScene(Module& m, MeshId& quad, MeshId& box) {
     quad = m.addMesh({qv, qi, false, "ground"}).value();
     std::vector<MeshVertex> bv;
     std::vector<uint32_t> bi;
-    for (int axis = 0; axis < 3; ++axis)
-        for (float s : {-1.0f, 1.0f}) { // one face per axis and sign, CCW seen from outside
-            glm::vec3 n(0.0f);
-            n[axis] = s;
-            glm::vec3 u(0.0f), v(0.0f);
-            u[(axis + 1) % 3] = 1.0f;
-            v[(axis + 2) % 3] = 1.0f;
-            if (s < 0) std::swap(u, v);
-            const uint32_t b = uint32_t(bv.size());
-            for (glm::vec3 c : {n - u - v, n + u - v, n + u + v, n - u + v})
-                bv.push_back({{c.x, c.y, c.z}, {n.x, n.y, n.z}});
-            for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) bi.push_back(b + k);
-        }
-    box = m.addMesh({bv, bi, true, "box"}).value();
+    box = m.addMesh(boxMesh(glm::vec3(1.0f), "box", bv, bi)).value();
     ASSERT_TRUE(m.addInstance(quad, glm::mat4(1.0f), glm::vec3(0.6f), false).ok());
     ASSERT_TRUE(m.addInstance(box, glm::translate(glm::mat4(1.0f), {0, 1, 0}), glm::vec3(0.5f), false).ok());
 }
@@ -155,21 +163,7 @@ void meshScript(Module& m, const std::function<void()>& frame) {
         const float h = 0.3f + 0.1f * float(k);
         std::vector<MeshVertex> v;
         std::vector<uint32_t> idx;
-        for (int axis = 0; axis < 3; ++axis)
-            for (float s : {-1.0f, 1.0f}) { // one face per axis and sign, CCW seen from outside
-                glm::vec3 n(0.0f), u(0.0f), w(0.0f);
-                n[axis] = s;
-                u[(axis + 1) % 3] = 1.0f;
-                w[(axis + 2) % 3] = 1.0f;
-                if (s < 0) std::swap(u, w);
-                const uint32_t b = uint32_t(v.size());
-                for (glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
-                    const glm::vec3 p = (n + c.x * u + c.y * w) * glm::vec3(0.3f, h, 0.3f);
-                    v.push_back({{p.x, p.y, p.z}, {n.x, n.y, n.z}});
-                }
-                for (uint32_t q : {0u, 1u, 2u, 0u, 2u, 3u}) idx.push_back(b + q);
-            }
-        const MeshId mesh = m.addMesh({v, idx, true, "box_" + std::to_string(k)}).value();
+        const MeshId mesh = m.addMesh(boxMesh({0.3f, h, 0.3f}, "box_" + std::to_string(k), v, idx)).value();
         const glm::vec3 at(-5.0f + float(k % 6) * 2.0f, h, k < 6 ? -3.0f : 3.0f);
         ASSERT_TRUE(
             m.addInstance(mesh, glm::translate(glm::mat4(1.0f), at), glm::vec3(0.7f), k % 2 == 0).ok());

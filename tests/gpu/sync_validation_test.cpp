@@ -54,22 +54,32 @@ namespace ml::test {
 // submits without waiting in between would): the second frame reads and rewrites what the first wrote
 // (cluster lists, the persistent virtual shadow map state, the targets). The frame-boundary barrier at
 // the start of record() must order them: synchronization validation reports nothing.
-TEST(SyncValidation, TwoFramesInOneCommandBuffer) {
+// A module with synchronization validation and virtual shadow maps on, a 32-light night city bound, 160x90
+// targets, and its first frame (uploads, layouts, slot pool growth) submitted and waited for.
+std::unique_ptr<Module> nightCityFirstFrame(ModuleOptions o) {
     resetValidationCounters();
-    ModuleOptions o;
     o.device.validationSync = true;
-    o.statistics = true;
     o.vsm.enabled = true;
-    o.framesInFlight = 2;
     auto created = Module::create(o);
-    ASSERT_TRUE(created.ok()) << created.error();
+    EXPECT_TRUE(created.ok()) << created.error();
+    if (!created) return nullptr;
     Module& m = *created.value();
     auto scene = loadScene("night-city", 32, 2);
-    ASSERT_TRUE(scene.ok()) << scene.error();
-    ASSERT_TRUE(bindScene(m, scene.value()).ok());
-    ASSERT_TRUE(m.createTargets(160, 90).ok());
-    ASSERT_TRUE(m.submitFrame().ok()); // first use (uploads, layouts) in its own submission
+    EXPECT_TRUE(scene.ok()) << scene.error();
+    if (!scene || !bindScene(m, scene.value()).ok() || !m.createTargets(160, 90).ok() ||
+        !m.submitFrame().ok())
+        return nullptr;
     vkQueueWaitIdle(m.deviceInfo().queue);
+    return std::move(created.value());
+}
+
+TEST(SyncValidation, TwoFramesInOneCommandBuffer) {
+    ModuleOptions o;
+    o.statistics = true;
+    o.framesInFlight = 2;
+    auto module = nightCityFirstFrame(o);
+    ASSERT_TRUE(module);
+    Module& m = *module;
     Device& d = deviceOf(m);
     VkCommandBuffer cmd = d.beginOneTime();
     ASSERT_TRUE(m.record(cmd).ok());
@@ -85,21 +95,11 @@ TEST(SyncValidation, TwoFramesInOneCommandBuffer) {
 // synchronization validation reports SYNC-HAZARD-READ-AFTER-WRITE on vsm_page_table (found by
 // ApiFuzzSyncValidation).
 TEST(SyncValidation, MapSlotsGrownTwiceInOneFrame) {
-    resetValidationCounters();
     ModuleOptions o;
-    o.device.validationSync = true;
-    o.vsm.enabled = true;
     o.vsm.initialMaps = 1;
-    auto created = Module::create(o);
-    ASSERT_TRUE(created.ok()) << created.error();
-    Module& m = *created.value();
-    auto scene = loadScene("night-city", 32, 2);
-    ASSERT_TRUE(scene.ok()) << scene.error();
-    ASSERT_TRUE(bindScene(m, scene.value()).ok());
-    ASSERT_TRUE(m.createTargets(160, 90).ok());
-    ASSERT_TRUE(m.submitFrame().ok());
-    vkQueueWaitIdle(m.deviceInfo().queue);
-    EXPECT_GE(internals(m).vsm.mapCapacity(), 4u) << "the pool did not grow twice (nothing tested)";
+    auto module = nightCityFirstFrame(o);
+    ASSERT_TRUE(module);
+    EXPECT_GE(internals(*module).vsm.mapCapacity(), 4u) << "the pool did not grow twice (nothing tested)";
     EXPECT_EQ(validationErrors(), 0u);
 }
 
