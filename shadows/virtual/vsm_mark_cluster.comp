@@ -23,7 +23,8 @@
 #include "shadows/virtual/vsm_bindings.h"
 
 // One workgroup per tile; its lanes share the tile's cluster-light pairs (main). A tile holds a few
-// occupied slices, so one lane per slice left most lanes idle.
+// occupied slices with a few lights each, so one lane per slice, or the lanes over one slice's lights at
+// a time, left most lanes idle.
 const uint kLanes = ML_VSM_CLUSTER_LANES;
 layout(local_size_x = kLanes) in;
 // Profiling only (ML_VSM_MARK_STAGE with --vsm-mark cluster, vsm_programs.cpp; tools/vsm_mark_stages.py
@@ -97,78 +98,91 @@ void main() {
     uvec2 tile = gl_WorkGroupID.xy;
     uint t = tile.y * frame.size.z + tile.x;
     uvec2 mask = tileMasks[t];
-    // The tile's cluster-light pairs, slice by slice in increasing order, go to the lanes in turn: pair
-    // number q (over the tile) to lane q % kLanes, so the lanes share them evenly however few slices are
-    // occupied. `base` is the number of pairs of the slices before.
-    uint base = 0u;
+    // The tile's cluster-light pairs, slice by slice in increasing order, numbered over the tile: lane l
+    // takes pairs l, l + kLanes, l + 2 kLanes, ..., so the lanes stay busy across the slices however few
+    // lights each cluster has. Each lane keeps a cursor on the slice of its next pair: `start` and
+    // `count` number that slice's pairs, `left` the occupied slices after it.
+    uvec2 left = mask;
+    uint s = 0u, start = 0u, count = 0u;
+    bool all = false;
+    uvec2 range = uvec2(0u);
+    vec3 lo = vec3(0.0), hi = vec3(0.0), nlo = vec3(0.0), nhi = vec3(0.0);
     uvec2 batch[kRefineBatch];
     uint n = 0u;
     uint kept = 0u;
-    for (uint w = 0u; w < 2u; ++w)
-        for (uint bits = mask[w]; bits != 0u; bits &= bits - 1u) {
-            uint s = w * 32u + uint(findLSB(bits)); // an occupied slice: a surface in the cluster
-            if (s >= slices) break;
+    for (uint q = lane;; q += kLanes) {
+        bool done = false;
+        while (q >= start + count) { // the pair lies in a later slice
+            start += count;
+            count = 0u;
+            uint w = left.x != 0u ? 0u : 1u;
+            if (left[w] == 0u || (s = w * 32u + uint(findLSB(left[w]))) >= slices) {
+                done = true; // no occupied slice left
+                break;
+            }
+            left[w] &= left[w] - 1u; // s: an occupied slice, a surface in the cluster
             ClusterReceivers b = clusterReceivers[t * slices + s];
             if ((b.normalHi & ML_CLUSTER_HAS_RECEIVER) == 0u) continue; // no receiver: no lookup, no page
-            uvec2 range = ranges[t * slices + s];
-            bool all = range.x == ML_CLUSTER_OVERFLOW; // the cluster overflowed: every visible light
-            uint count = all ? frame.cluster.z : range.y;
-            uint first = (lane + kLanes - base % kLanes) % kLanes;
-            base += count;
-            vec3 lo = b.lo, hi = b.hi;
-            vec3 nlo = vsmNormalLo(b), nhi = vsmNormalHi(b);
-            // The profiling stages keep their work alive with a test no real frame passes (vsm_mark.comp).
-            if (kStage == 1u) {
-                kept += floatBitsToUint(lo.x + hi.y + nlo.z + nhi.x) + first;
-                continue;
-            }
-            for (uint i = first; i < count; i += kLanes) {
-                uint index = all ? i : pool[range.x + i];
-                GpuLight L = lights[index];
-                // lightTouchesBox is conservative (light_math.h): false only when no point of the box is reached.
-                if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, lo, hi)) continue;
-                VsmBox reach = vsmReachBox(L, lo, hi); // the receivers L reaches
-                if (vsmBoxEmpty(reach)) continue;
-                if (vsmBoxFacesAway(L, reach.lo, reach.hi, nlo, nhi)) continue; // every receiver faces away from L
-                if (kStage == 2u) {
-                    kept += floatBitsToUint(reach.lo.x);
-                    continue;
-                }
-                // The box, or its two halves where they count fewer pages (vsmHalfBox; a half whose
-                // receivers all face away counts none). Halves only from 4 pages: tried on every pair of
-                // 2 or more, the three counts doubled the indoor mark pass for 1 % fewer pages
-                // (docs/results/log.md).
-                uint whole = vsmBoxPages(L, L.info.y, reach.lo, reach.hi, nlo, nhi, false);
-                if (kStage == 3u) {
-                    kept += whole;
-                    continue;
-                }
-                VsmBox h0 = vsmHalfBox(reach, 0u), h1 = vsmHalfBox(reach, 1u);
-                bool use0 = !vsmBoxEmpty(h0) && !vsmBoxFacesAway(L, h0.lo, h0.hi, nlo, nhi);
-                bool use1 = !vsmBoxEmpty(h1) && !vsmBoxFacesAway(L, h1.lo, h1.hi, nlo, nhi);
-                uint halves = whole <= 3u ? whole : (use0 ? vsmBoxPages(L, L.info.y, h0.lo, h0.hi, nlo, nhi, false) : 0u) +
-                                                        (use1 ? vsmBoxPages(L, L.info.y, h1.lo, h1.hi, nlo, nhi, false) : 0u);
-                if (kStage == 4u) {
-                    kept += halves;
-                    continue;
-                }
-                if (min(whole, halves) <= ML_VSM_CLUSTER_PAGES) {
-                    if (halves < whole) {
-                        if (use0) vsmBoxPages(L, L.info.y, h0.lo, h0.hi, nlo, nhi, true);
-                        if (use1) vsmBoxPages(L, L.info.y, h1.lo, h1.hi, nlo, nhi, true);
-                    } else {
-                        vsmBoxPages(L, L.info.y, reach.lo, reach.hi, nlo, nhi, true);
-                    }
-                    continue;
-                }
-                if (kStage == 5u) continue;
-                batch[n++] = uvec2(s, index);
-                if (n == kRefineBatch) {
-                    refine(tile, batch, n);
-                    n = 0u;
-                }
-            }
+            range = ranges[t * slices + s];
+            all = range.x == ML_CLUSTER_OVERFLOW; // the cluster overflowed: every visible light
+            count = all ? frame.cluster.z : range.y;
+            lo = b.lo;
+            hi = b.hi;
+            nlo = vsmNormalLo(b);
+            nhi = vsmNormalHi(b);
         }
+        if (done) break;
+        uint i = q - start;
+        // The profiling stages keep their work alive with a test no real frame passes (vsm_mark.comp).
+        if (kStage == 1u) {
+            kept += floatBitsToUint(lo.x + hi.y + nlo.z + nhi.x) + i;
+            continue;
+        }
+        uint index = all ? i : pool[range.x + i];
+        GpuLight L = lights[index];
+        // lightTouchesBox is conservative (light_math.h): false only when no point of the box is reached.
+        if (L.info.y == ML_VSM_NO_MAP || !lightTouchesBox(L, lo, hi)) continue;
+        VsmBox reach = vsmReachBox(L, lo, hi); // the receivers L reaches
+        if (vsmBoxEmpty(reach)) continue;
+        if (vsmBoxFacesAway(L, reach.lo, reach.hi, nlo, nhi)) continue; // every receiver faces away from L
+        if (kStage == 2u) {
+            kept += floatBitsToUint(reach.lo.x);
+            continue;
+        }
+        // The box, or its two halves where they count fewer pages (vsmHalfBox; a half whose
+        // receivers all face away counts none). Halves only from 4 pages: tried on every pair of
+        // 2 or more, the three counts doubled the indoor mark pass for 1 % fewer pages
+        // (docs/results/log.md).
+        uint whole = vsmBoxPages(L, L.info.y, reach.lo, reach.hi, nlo, nhi, false);
+        if (kStage == 3u) {
+            kept += whole;
+            continue;
+        }
+        VsmBox h0 = vsmHalfBox(reach, 0u), h1 = vsmHalfBox(reach, 1u);
+        bool use0 = !vsmBoxEmpty(h0) && !vsmBoxFacesAway(L, h0.lo, h0.hi, nlo, nhi);
+        bool use1 = !vsmBoxEmpty(h1) && !vsmBoxFacesAway(L, h1.lo, h1.hi, nlo, nhi);
+        uint halves = whole <= 3u ? whole : (use0 ? vsmBoxPages(L, L.info.y, h0.lo, h0.hi, nlo, nhi, false) : 0u) +
+                                                (use1 ? vsmBoxPages(L, L.info.y, h1.lo, h1.hi, nlo, nhi, false) : 0u);
+        if (kStage == 4u) {
+            kept += halves;
+            continue;
+        }
+        if (min(whole, halves) <= ML_VSM_CLUSTER_PAGES) {
+            if (halves < whole) {
+                if (use0) vsmBoxPages(L, L.info.y, h0.lo, h0.hi, nlo, nhi, true);
+                if (use1) vsmBoxPages(L, L.info.y, h1.lo, h1.hi, nlo, nhi, true);
+            } else {
+                vsmBoxPages(L, L.info.y, reach.lo, reach.hi, nlo, nhi, true);
+            }
+            continue;
+        }
+        if (kStage == 5u) continue;
+        batch[n++] = uvec2(s, index);
+        if (n == kRefineBatch) {
+            refine(tile, batch, n);
+            n = 0u;
+        }
+    }
     if (n > 0u) refine(tile, batch, n);
     if (kept == 0xFFFFFFFFu) atomicAdd(vsmCounters.listCount, 1u);
 }
