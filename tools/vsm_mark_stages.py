@@ -4,9 +4,10 @@
 Markdown table of the pass's mean time (frames 1.., fenced timing from frames.csv) at each stage, the
 part each stage adds, and each as a fraction of the evaluation pass of the full (stage 0) runs.
 Stages 1-5 mark nothing, so only stage 0's frames are real ones.
+With --cluster the runs mark per cluster (--vsm-mark cluster) and the stages are vsm_mark_cluster.comp's.
 
 Usage: python3 tools/vsm_mark_stages.py [--binary build/manylights] [--scene night-city] [--lights 256]
-       [--frames 8] [--rounds 3] [--size 640x360] [--out DIR]"""
+       [--frames 8] [--rounds 3] [--size 640x360] [--cluster] [--out DIR]"""
 import argparse
 import collections
 import csv
@@ -22,6 +23,14 @@ STAGES = (
     (4, "+ light loop: reach and facing tests"),
     (5, "+ marking, local lights"),
     (0, "+ marking, directional light (the full pass)"),
+)
+CLUSTER_STAGES = (
+    (1, "tile mask, receiver bounds, light range"),
+    (2, "+ light loop: reach and facing tests"),
+    (3, "+ counting the whole box's pages"),
+    (4, "+ counting the halves' pages"),
+    (5, "+ marking the boxes (no per-pixel refinement)"),
+    (0, "+ per-pixel refinement (the full pass)"),
 )
 
 
@@ -45,19 +54,21 @@ def main():
     ap.add_argument("--frames", type=int, default=8)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--size", default="640x360")
+    ap.add_argument("--cluster", action="store_true", help="time vsm_mark_cluster.comp (--vsm-mark cluster)")
     ap.add_argument("--out", help="folder for the runs' outputs (default: a temporary folder)")
     a = ap.parse_args()
     if a.frames < 2 or a.rounds < 1 or a.lights < 1:
         sys.exit("vsm_mark_stages: --frames must be >= 2, --rounds and --lights >= 1")
     out = a.out or tempfile.mkdtemp(prefix="vsm_mark_stages_")
+    stages = CLUSTER_STAGES if a.cluster else STAGES
     mark = collections.defaultdict(list)
     evaluate = []
     for r in range(a.rounds):
-        for stage, _ in STAGES:
+        for stage, _ in stages:
             folder = os.path.join(out, f"stage{stage}_round{r}")
             env = dict(os.environ, ML_VSM_MARK_STAGE=str(stage))
             cmd = [a.binary, "demo", "--scene", a.scene, "--lights", str(a.lights), "--frames", str(a.frames), "--size", a.size,
-                   "--path", "drive", "--out", folder]
+                   "--path", "drive", "--out", folder] + (["--vsm-mark", "cluster"] if a.cluster else [])
             run = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
             if run.returncode != 0:
                 sys.exit(f"vsm_mark_stages: stage {stage}: {' '.join(cmd)} failed:\n{run.stderr[-2000:]}")
@@ -65,13 +76,13 @@ def main():
             if stage == 0:
                 evaluate.append(mean_ms(folder, "evaluate"))
     ev = sum(evaluate) / len(evaluate)
-    print(f"{a.scene}, {a.lights} lights, {a.size}, {a.frames} frames x {a.rounds} rounds; evaluate (stage 0 runs) "
+    print(f"{'vsm_mark_cluster' if a.cluster else 'vsm_mark'}: {a.scene}, {a.lights} lights, {a.size}, {a.frames} frames x {a.rounds} rounds; evaluate (stage 0 runs) "
           f"{ev:.2f} ms; outputs in {out}")
     print()
     print("| stage | the pass runs up to | mark ms | added ms | mark / evaluate |")
     print("|---:|---|---:|---:|---:|")
     previous = 0.0
-    for stage, what in STAGES:
+    for stage, what in stages:
         ms = sum(mark[stage]) / len(mark[stage])
         print(f"| {stage} | {what} | {ms:.2f} | {ms - previous:+.2f} | {ms / ev:.2f} |")
         previous = ms

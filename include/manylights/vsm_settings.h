@@ -57,7 +57,8 @@ struct VsmSettings {
     float texelsPerPixel = 1.0f;
     // Page marking per cluster-light pair against the cluster's bounds (a superset of the per-pixel marks)
     // in the clustered culling modes; false, or `none` / `tiled` culling: per receiver pixel. Off by
-    // default: 2-5x faster marking for 1.4-1.9x the pages (docs/virtual-shadow-maps.md, "Marking per
+    // default: 1.7-5.6x faster marking for 1.28-1.38x the pages marked and 1.14-1.29x rendered, and the
+    // extra pages' draws can cost more than the marking saves (docs/virtual-shadow-maps.md, "Marking per
     // cluster").
     bool clusterMarking = false;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)

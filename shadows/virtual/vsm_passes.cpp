@@ -94,8 +94,8 @@ void VsmPasses::recordMark(const Device& d, VkCommandBuffer c, const VsmFrameInp
     const bool clustered = fc->cluster.w == ML_CULL_CLUSTERED || fc->cluster.w == ML_CULL_CLUSTERED_BRUTE;
     if (state_->settings().clusterMarking && clustered && fc->cluster.y == ML_TILE_SIZE &&
         in.clusterReceivers && in.tileMasks)
-        dispatch(d, c, programs_.markCluster, fc->size.z * ML_MAX_SLICES, fc->size.w,
-                 NoPush{}, // per slice of a tile
+        dispatch(d, c, programs_.markCluster, fc->size.z * ML_VSM_CLUSTER_LANES, fc->size.w,
+                 NoPush{}, // a workgroup per tile
                  {ML_BIND(ML_VSM_MARK_FRAME, *in.frame), ML_BIND(ML_VSM_MARK_SLICES, *in.slices),
                   ML_BIND(ML_VSM_MARK_LIGHTS, *in.lights), ML_BIND(ML_VSM_MARK_RANGES, *in.ranges),
                   ML_BIND(ML_VSM_MARK_LIGHT_POOL, *in.pool), ML_BIND(ML_VSM_MARK_DEPTH, sampled(in.depth)),

@@ -30,8 +30,9 @@
 namespace ml {
 
 namespace {
-// vsm_mark.comp's profiling stage (its kStage): ML_VSM_MARK_STAGE=1..5 stops the pass early to time its
-// parts (tools/vsm_mark_stages.py); those frames mark nothing. Anything but 0-5 is refused.
+// The mark passes' profiling stage (the kStage of vsm_mark.comp and of vsm_mark_cluster.comp, whichever
+// the frame runs): ML_VSM_MARK_STAGE=1..5 stops the pass early to time its parts
+// (tools/vsm_mark_stages.py); those frames mark nothing. Anything but 0-5 is refused.
 Result<uint32_t> markStage() {
     const char* env = std::getenv("ML_VSM_MARK_STAGE");
     if (!env || !*env) return 0u;
@@ -68,7 +69,9 @@ Result<void> VsmPrograms::create(const Device& d, bool meshPath) {
     auto markShader = ML_VSM_SHADER(spv_vsm_mark_comp);
     ML_TRY(markShader);
     ML_TRY(createComputeProgram(d, mark, *markShader.value(), {{/*kStage*/ 0, stage.value()}}));
-    ML_TRY(compute(markCluster, ML_VSM_SHADER(spv_vsm_mark_cluster_comp)));
+    auto markClusterShader = ML_VSM_SHADER(spv_vsm_mark_cluster_comp);
+    ML_TRY(markClusterShader);
+    ML_TRY(createComputeProgram(d, markCluster, *markClusterShader.value(), {{/*kStage*/ 0, stage.value()}}));
     ML_TRY(compute(list, ML_VSM_SHADER(spv_vsm_list_comp)));
     ML_TRY(compute(sort, ML_VSM_SHADER(spv_vsm_sort_comp)));
     ML_TRY(compute(allocateShortList, ML_VSM_SHADER(spv_vsm_allocate_short_list_comp)));

@@ -39,6 +39,10 @@
 #define ML_VSM_MAP_DYNAMIC_ONLY 1u // the light has a static bake: pages hold dynamic casters only
 #define ML_VSM_MAP_INVALIDATE 2u   // the light moved or the slot is new: every page is stale
 
+// vsm_mark_cluster.comp's workgroup: one per tile, its lanes sharing the tile's cluster-light pairs.
+// Eight is lavapipe's SIMD width: each further group of eight lanes walks the tile's slices again.
+#define ML_VSM_CLUSTER_LANES 8u
+
 // Lookup results of the probe pass (GpuVsmProbe.info.w).
 #define ML_VSM_PROBE_PAGE 0u      // read from a page at the wanted mip
 #define ML_VSM_PROBE_FALLBACK 1u  // read from a coarser allocated page (pool full)
