@@ -22,7 +22,8 @@
 // an N^2 map of that frame's casters (CPU rasteriser, cars included), looked up by the CPU twin of the
 // shader (static_visibility.h) at the same receivers and radii.
 // Candidates beside the module's lookup: --bilinear thresholds a 2x2 bilinear answer computed on the CPU
-// over the same pages (diag::vsmBilinearLit), --lamp-bias sets the static lights' shadow bias; the pages
+// over the same pages (diag::vsmBilinearLit), --lamp-bias sets the static lights' shadow bias and
+// --lamp-texels their LightDesc::shadowTexelScale; the pages
 // allocated per frame come with every run, since a setting that buys stability with pages must show both.
 // Reads the G-buffer, frame constants and VSM state through engine/manylights_diagnostics.h.
 #include "apps/commands.h"

@@ -1,9 +1,10 @@
-// Scene changes reaching the GPU without a device-wide wait: meshes into new buffers (the old
-// ones retired until the frames in flight are done), static shadow words appended to one shared arena
-// (both GPU-only: written by copies from staging buffers at the next frame's start),
-// shadow records per frame slot, rewritten in place only for the lights that changed. A slot's buffers
-// are written only in beginFrame of that slot, when the host has waited for the slot's previous frame
-// (the framesInFlight contract, manylights/module.h), so no frame in flight reads what is written.
+// Scene changes reaching the GPU without a device-wide wait: new meshes' bytes appended to the mesh
+// buffers (a buffer that outgrows its capacity is replaced, the old one retired until the frames in
+// flight are done), static shadow words appended to one shared arena (both GPU-only: written by copies from
+// staging buffers at the next frame's start), shadow records per frame slot, rewritten in place only for the
+// lights that changed. A slot's buffers are written only in beginFrame of that slot, when the host has waited
+// for the slot's previous frame (the framesInFlight contract, manylights/module.h), so no frame in flight
+// reads what is written.
 #include "engine/module_impl.h"
 #include "shadows/static/static_method.h"
 #include "shadows/static/static_visibility.h"
@@ -70,11 +71,12 @@ Result<void> Module::Impl::uploadMeshes() {
     constexpr size_t kParts = std::size(parts);
     static_assert(kParts == std::tuple_size_v<decltype(meshBytesUploaded)>);
     Buffer made[kParts];                 // the parts that grow
+    bool grows[kParts];                  // no buffer yet, or past its capacity
     size_t from[kParts], offset[kParts]; // first byte to send; its place in the staging bytes
     std::vector<uint8_t> bytes;          // every part's new bytes at a 16-byte aligned offset
     for (size_t i = 0; i < kParts; ++i) {
-        const bool fits = parts[i].buffer->buffer && parts[i].size <= parts[i].buffer->size;
-        from[i] = fits ? std::min(meshBytesUploaded[i], parts[i].size) : 0;
+        grows[i] = !parts[i].buffer->buffer || parts[i].size > parts[i].buffer->size;
+        from[i] = grows[i] ? 0 : std::min(meshBytesUploaded[i], parts[i].size);
         offset[i] = bytes.size();
         const size_t n = parts[i].size - from[i];
         bytes.resize(offset[i] + ((n + 15) & ~size_t(15)));
@@ -84,7 +86,7 @@ Result<void> Module::Impl::uploadMeshes() {
         std::vector<StagedCopy> copies;
         for (size_t i = 0; i < kParts; ++i) {
             VkBuffer target = parts[i].buffer->buffer;
-            if (!target || parts[i].size > parts[i].buffer->size) {
+            if (grows[i]) {
                 const size_t capacity =
                     std::max({parts[i].size, size_t(2 * parts[i].buffer->size), size_t(16)});
                 ML_TRY(

@@ -128,7 +128,8 @@ struct StagedCopy {
 // queue). While Module::record prepares a frame (active), a new GPU-only buffer's fill
 // (createDeviceBuffer) and a grown buffer's copy of its old contents (copyBufferInFrame) are queued here
 // instead of a one-time submit and wait, and the frame-begin pass records them at the start of the
-// frame's own command buffer, before every pass. Buffers replaced meanwhile (releaseAfterFrame) are not
+// frame's own command buffer, before every pass (a copy whose source an earlier queued copy wrote, a
+// buffer grown twice in one frame, waits for it). Buffers replaced meanwhile (releaseAfterFrame) are not
 // destroyed but handed to the module, which frees them once the frames in flight that used them (and
 // this frame's copies from them) are done. Owned by the module; Device::frameSetup points at it.
 struct FrameSetup {

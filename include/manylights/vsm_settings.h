@@ -57,9 +57,9 @@ struct VsmSettings {
     float texelsPerPixel = 1.0f;
     // Page marking per cluster-light pair against the cluster's bounds (a superset of the per-pixel marks)
     // in the clustered culling modes; false, or `none` / `tiled` culling: per receiver pixel. Off by
-    // default: 1.7-5.6x faster marking for 1.28-1.38x the pages marked and 1.14-1.29x rendered, and the
-    // extra pages' draws can cost more than the marking saves (docs/virtual-shadow-maps.md, "Marking per
-    // cluster").
+    // default: the pass is a fraction of the per-pixel one, but it marks and draws more pages, and their
+    // draws can cost more than the marking saves (figures: docs/virtual-shadow-maps.md, "Bookkeeping
+    // against the evaluation pass").
     bool clusterMarking = false;
     bool caching = true; // false: every marked page is redrawn every frame (the bench baseline)
     // Fallback reservations (a coarser page per lookup, drawn under pool pressure) cost marking time in

@@ -1,4 +1,4 @@
-// No hidden device-wide stalls: adding, changing and removing lights and instances, the
+// No hidden device-wide stalls: adding meshes, adding, changing and removing lights and instances, the
 // shadow filter and the targets' size reach the GPU through per-slot and appended uploads, with no
 // vkDeviceWaitIdle (they used to make the next record() wait for the whole borrowed device). The frames
 // drawn after each change must equal a module that made the same calls and drew once at the end.

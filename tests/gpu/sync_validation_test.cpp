@@ -1,6 +1,7 @@
 // Synchronization validation (DeviceOptions::validationSync, ML_VALIDATION_SYNC=1) is really on: a
 // write-after-write the recording leaves unordered is reported and counted as an error, and the same
-// recording with the barrier that orders it is not. The frame itself is checked with synchronization
+// recording with the barrier that orders it is not; two frames in one command buffer and a slot pool
+// grown twice in one frame report nothing. The frame itself is checked with synchronization
 // validation by the CliSyncValidation_* tests (the demo exits non-zero on any message).
 #include "gpu/device.h"
 #include "gpu/resources.h"
